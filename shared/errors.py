@@ -1,0 +1,266 @@
+"""One root exception, ``ArmplanError``, and the specific failures below it.
+
+Every failure keeps its evidence (the unreachable target, the violated limit)
+as attributes, so a caller can act on it, and as a JSON-ready ``evidence``
+dict, so the same error can cross Zenoh as a typed ``reply_err`` and be raised
+again on the other side with :func:`error_from_wire`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any, ClassVar
+
+
+def _fmt_vec(values: Sequence[float]) -> str:
+    """Format a short vector as ``(0.100, -0.120, 0.050)``."""
+    return "(" + ", ".join(f"{float(v):.4g}" for v in values) + ")"
+
+
+class ArmplanError(Exception):
+    """Root of every error armplan raises on purpose.
+
+    Attributes:
+        evidence: JSON-ready facts behind the failure.
+    """
+
+    kind: ClassVar[str] = "armplan_error"
+    registry: ClassVar[dict[str, type[ArmplanError]]] = {}
+
+    def __init__(self, message: str, **evidence: Any) -> None:
+        super().__init__(message)
+        self.message = message
+        self.evidence = evidence
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        ArmplanError.registry[cls.kind] = cls
+
+    def to_wire(self) -> dict[str, Any]:
+        """The error as a JSON-ready dict: ``{"kind", "message", "evidence"}``."""
+        return {"kind": self.kind, "message": self.message, "evidence": self.evidence}
+
+
+ArmplanError.registry[ArmplanError.kind] = ArmplanError
+
+
+class InvalidInputError(ArmplanError):
+    """A value given to armplan is malformed, out of its domain or not finite."""
+
+    kind = "invalid_input"
+
+    def __init__(self, message: str, *, field: str = "", **evidence: Any) -> None:
+        super().__init__(message, field=field, **evidence)
+        self.field = field
+
+
+class UnknownArmError(InvalidInputError):
+    """The arm name is neither ``right`` nor ``left``."""
+
+    kind = "unknown_arm"
+
+    def __init__(self, name: str) -> None:
+        super().__init__(
+            f"unknown arm {name!r}: expected 'right' or 'left'", field="arm", name=name
+        )
+        self.name = name
+
+
+class UnknownPrimitiveError(InvalidInputError):
+    """A movement primitive's name is not one of the ten."""
+
+    kind = "unknown_primitive"
+
+    def __init__(self, name: str, known: Sequence[str]) -> None:
+        super().__init__(
+            f"unknown movement primitive {name!r}; known: " + ", ".join(known),
+            field="primitive",
+            name=name,
+            known=list(known),
+        )
+        self.name = name
+
+
+class UnreachableTargetError(ArmplanError):
+    """No posture within the joint limits puts the wrist on the target.
+
+    Attributes:
+        target: Target wrist position in the torso frame [m], shape (3,).
+        distance: Distance from the shoulder to the target [m].
+        reach: Interval of shoulder-to-wrist distances the arm can make [m].
+    """
+
+    kind = "unreachable_target"
+
+    def __init__(
+        self,
+        target: Sequence[float],
+        *,
+        arm: str,
+        distance: float,
+        reach: tuple[float, float],
+        residual: float | None = None,
+    ) -> None:
+        where = (
+            f"target {_fmt_vec(target)} m is {distance:.4f} m from the {arm} shoulder"
+        )
+        span = f"the wrist reaches {reach[0]:.4f}..{reach[1]:.4f} m from it"
+        if residual is None:
+            message = f"{where}; {span}"
+        else:
+            message = (
+                f"{where} ({span}) but no posture within the joint limits gets "
+                f"closer than {residual * 1000:.1f} mm"
+            )
+        super().__init__(
+            message,
+            target=[float(v) for v in target],
+            arm=arm,
+            distance=float(distance),
+            reach=[float(reach[0]), float(reach[1])],
+            residual=None if residual is None else float(residual),
+        )
+        self.target = tuple(float(v) for v in target)
+        self.distance = float(distance)
+        self.reach = (float(reach[0]), float(reach[1]))
+        self.residual = residual
+
+
+class PrimitiveCannotReachError(ArmplanError):
+    """The chosen primitive's active joints cannot put the wrist on the target.
+
+    Attributes:
+        primitive: The primitive's name, e.g. ``"E_R W_P"``.
+        target: Target wrist position [m], shape (3,).
+        nearest: The closest wrist position the primitive reaches [m], shape (3,).
+        residual: Distance from ``nearest`` to ``target`` [m].
+    """
+
+    kind = "primitive_cannot_reach"
+
+    def __init__(
+        self,
+        primitive: str,
+        target: Sequence[float],
+        nearest: Sequence[float],
+        residual: float,
+        reason: str,
+    ) -> None:
+        super().__init__(
+            f"primitive {primitive!r} cannot reach target {_fmt_vec(target)} m: "
+            f"{reason}; closest wrist position {_fmt_vec(nearest)} m is "
+            f"{residual * 1000:.1f} mm away",
+            primitive=primitive,
+            target=[float(v) for v in target],
+            nearest=[float(v) for v in nearest],
+            residual=float(residual),
+            reason=reason,
+        )
+        self.primitive = primitive
+        self.target = tuple(float(v) for v in target)
+        self.nearest = tuple(float(v) for v in nearest)
+        self.residual = float(residual)
+
+
+class JointLimitError(ArmplanError):
+    """A joint angle lies outside its range.
+
+    Attributes:
+        joint: NAO joint name.
+        value: The offending angle [rad].
+        lower: Lower limit [rad].
+        upper: Upper limit [rad].
+    """
+
+    kind = "joint_limit"
+
+    def __init__(
+        self, joint: str, value: float, lower: float, upper: float, where: str = ""
+    ) -> None:
+        at = f" {where}" if where else ""
+        super().__init__(
+            f"{joint} = {value:.5f} rad{at} is outside its range "
+            f"[{lower:.5f}, {upper:.5f}] rad",
+            joint=joint,
+            value=float(value),
+            lower=float(lower),
+            upper=float(upper),
+            where=where,
+        )
+        self.joint = joint
+        self.value = float(value)
+        self.lower = float(lower)
+        self.upper = float(upper)
+
+
+class LimitViolationError(ArmplanError):
+    """A trajectory sample exceeds a speed, acceleration or jerk limit.
+
+    Attributes:
+        joint: NAO joint name.
+        quantity: ``"velocity"``, ``"acceleration"`` or ``"jerk"``.
+        value: The offending magnitude [rad/s, rad/s^2 or rad/s^3].
+        limit: The limit it exceeds, same unit.
+        index: Index of the sample.
+        time: Time of the sample [s].
+    """
+
+    kind = "limit_violation"
+    _units: ClassVar[dict[str, str]] = {
+        "position": "rad",
+        "velocity": "rad/s",
+        "acceleration": "rad/s^2",
+        "jerk": "rad/s^3",
+    }
+
+    def __init__(
+        self,
+        joint: str,
+        quantity: str,
+        value: float,
+        limit: float,
+        index: int,
+        time: float,
+    ) -> None:
+        unit = self._units.get(quantity, "")
+        super().__init__(
+            f"{joint} {quantity} {value:.4g} {unit} at sample {index} "
+            f"(t = {time:.3f} s) exceeds its limit {limit:.4g} {unit}",
+            joint=joint,
+            quantity=quantity,
+            value=float(value),
+            limit=float(limit),
+            index=int(index),
+            time=float(time),
+        )
+        self.joint = joint
+        self.quantity = quantity
+        self.value = float(value)
+        self.limit = float(limit)
+        self.index = int(index)
+        self.time = float(time)
+
+
+class RemoteError(ArmplanError):
+    """An error a remote armplan process reported, of a kind this side lacks."""
+
+    kind = "remote_error"
+
+
+def error_from_wire(payload: dict[str, Any]) -> ArmplanError:
+    """Rebuild an error sent with :meth:`ArmplanError.to_wire`.
+
+    The result has the sender's kind, message and evidence; its class is the
+    registered class for that kind (or :class:`RemoteError` if unknown), built
+    without running that class's own constructor.
+    """
+    kind = str(payload.get("kind", RemoteError.kind))
+    message = str(payload.get("message", "remote error without a message"))
+    evidence = payload.get("evidence") or {}
+    cls = ArmplanError.registry.get(kind, RemoteError)
+    error = cls.__new__(cls)
+    ArmplanError.__init__(error, message, **dict(evidence))
+    for name, value in dict(evidence).items():
+        if not hasattr(error, name):
+            setattr(error, name, value)
+    return error
