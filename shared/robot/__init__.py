@@ -1,0 +1,15 @@
+"""The NAO arm: robot description, kinematics, limits and reference postures."""
+
+from shared.robot.arm_model import ArmModel, ArmPoints, Kinematics, load_arm
+from shared.robot.limits import JointLimits
+from shared.robot.side import JOINTS, Side
+
+__all__ = [
+    "JOINTS",
+    "ArmModel",
+    "ArmPoints",
+    "JointLimits",
+    "Kinematics",
+    "Side",
+    "load_arm",
+]

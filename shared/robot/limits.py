@@ -1,0 +1,63 @@
+"""Joint limits of one arm, read from the robot description."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from shared.errors import JointLimitError
+
+#: Slack when checking a posture against its range [rad]: float round-off only.
+POSITION_SLACK = 1e-9
+
+
+class JointLimits(NamedTuple):
+    """Position, speed and torque limits of a set of joints.
+
+    Attributes:
+        names: NAO joint names, shape (n,).
+        lower: Lower position limits [rad], shape (n,).
+        upper: Upper position limits [rad], shape (n,).
+        velocity: Speed limits [rad/s], shape (n,).
+        effort: Torque limits [N m], shape (n,).
+    """
+
+    names: tuple[str, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    velocity: np.ndarray
+    effort: np.ndarray
+
+    @property
+    def middle(self) -> np.ndarray:
+        """Centre of each range [rad], shape (n,)."""
+        return 0.5 * (self.lower + self.upper)
+
+    @property
+    def span(self) -> np.ndarray:
+        """Width of each range [rad], shape (n,)."""
+        return self.upper - self.lower
+
+    def contains(self, q: np.ndarray, slack: float = POSITION_SLACK) -> bool:
+        """True if every angle of ``q`` (shape (..., n)) lies in its range [rad]."""
+        q = np.asarray(q, dtype=float)
+        return bool(np.all(q >= self.lower - slack) and np.all(q <= self.upper + slack))
+
+    def check(self, q: np.ndarray, where: str = "") -> None:
+        """Raise ``JointLimitError`` naming the first joint of ``q`` out of range.
+
+        Args:
+            q: Joint angles [rad], shape (n,).
+            where: Context for the message, e.g. ``"at sample 12"``.
+        """
+        q = np.asarray(q, dtype=float)
+        for name, value, low, high in zip(
+            self.names, q, self.lower, self.upper, strict=False
+        ):
+            if not low - POSITION_SLACK <= value <= high + POSITION_SLACK:
+                raise JointLimitError(name, value, low, high, where)
+
+    def clip(self, q: np.ndarray) -> np.ndarray:
+        """``q`` clipped into the ranges [rad], shape (..., n)."""
+        return np.clip(q, self.lower, self.upper)
