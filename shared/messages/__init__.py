@@ -1,0 +1,33 @@
+"""Every message armplan processes exchange, as pydantic models.
+
+Each model gives the JSON wire format and the JSON schema of its MCAP channel.
+"""
+
+from shared.messages.base import Direction, JointVector, Message, Vec3, parse
+from shared.messages.decision import Decision, PointDecision
+from shared.messages.error import ErrorReply
+from shared.messages.joint_path import JointPath, Trajectory
+from shared.messages.kinematics import FKResult, IKRequest, IKResult
+from shared.messages.method import Method
+from shared.messages.target import PlanRequest, ReachTarget
+from shared.messages.wrist_path import WristPath
+
+__all__ = [
+    "Decision",
+    "Direction",
+    "ErrorReply",
+    "FKResult",
+    "IKRequest",
+    "IKResult",
+    "JointPath",
+    "JointVector",
+    "Message",
+    "Method",
+    "PlanRequest",
+    "PointDecision",
+    "ReachTarget",
+    "Trajectory",
+    "Vec3",
+    "WristPath",
+    "parse",
+]

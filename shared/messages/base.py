@@ -1,0 +1,95 @@
+"""The base of every armplan message, and validation at the boundary.
+
+Messages are frozen pydantic models that reject unknown fields and non-finite
+numbers. The same model gives the JSON wire format (``to_json``) and the JSON
+schema of its MCAP channel (``json_schema``). Outside data enters through
+:func:`parse`, which turns pydantic's ``ValidationError`` into the project's
+typed :class:`~shared.errors.InvalidInputError` naming the field.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Annotated, Any, TypeVar
+
+import numpy as np
+from pydantic import AfterValidator, BaseModel, ConfigDict, ValidationError
+
+from shared.errors import InvalidInputError
+
+
+class Message(BaseModel):
+    """Base of every message exchanged between armplan processes."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
+
+    def to_json(self) -> str:
+        """The message as compact JSON (the wire format)."""
+        return self.model_dump_json()
+
+    @classmethod
+    def json_schema(cls) -> dict[str, Any]:
+        """The JSON schema of this message (used for MCAP channels)."""
+        return cls.model_json_schema()
+
+
+def _nonzero(v: tuple[float, float, float]) -> tuple[float, float, float]:
+    norm = float(np.linalg.norm(v))
+    if norm < 1e-9:
+        raise ValueError("a direction must not be the zero vector")
+    return (v[0] / norm, v[1] / norm, v[2] / norm)
+
+
+#: A point or vector in the torso frame [m] (or unitless for directions).
+Vec3 = tuple[float, float, float]
+#: A direction in the torso frame, normalised to unit length on input.
+Direction = Annotated[Vec3, AfterValidator(_nonzero)]
+#: Five joint angles in the paper's order (ShoulderPitch .. WristYaw) [rad].
+JointVector = tuple[float, float, float, float, float]
+
+M = TypeVar("M", bound=BaseModel)
+
+
+def describe_validation_error(error: ValidationError) -> tuple[str, str]:
+    """(field path, readable message) of the first problem in ``error``."""
+    first = error.errors()[0]
+    loc = ".".join(str(part) for part in first["loc"]) or "message"
+    problem = first["msg"].removeprefix("Value error, ")
+    if "input" in first and first["type"] not in ("missing",):
+        shown = repr(first["input"])
+        if len(shown) > 60:
+            shown = shown[:57] + "..."
+        problem = f"{problem} (got {shown})"
+    more = len(error.errors()) - 1
+    suffix = f"; and {more} more problem{'s' if more > 1 else ''}" if more > 0 else ""
+    return loc, f"{loc}: {problem}{suffix}"
+
+
+def parse(cls: type[M], data: str | bytes | dict[str, Any] | M) -> M:
+    """Validate ``data`` (JSON text or a dict) as a ``cls`` message.
+
+    Raises:
+        InvalidInputError: naming the first field that is wrong, if the data
+            is not valid JSON or does not match the message.
+    """
+    if isinstance(data, cls):
+        return data
+    try:
+        if isinstance(data, (str, bytes, bytearray)):
+            try:
+                obj = json.loads(data)
+            except (ValueError, UnicodeDecodeError) as exc:
+                raise InvalidInputError(
+                    f"{cls.__name__}: not valid JSON ({exc})", field="message"
+                ) from None
+            return cls.model_validate(obj)
+        return cls.model_validate(data)
+    except ValidationError as exc:
+        field, message = describe_validation_error(exc)
+        raise InvalidInputError(
+            f"invalid {cls.__name__}: {message}", field=field
+        ) from None
+    except RecursionError:
+        raise InvalidInputError(
+            f"invalid {cls.__name__}: nested too deeply", field="message"
+        ) from None

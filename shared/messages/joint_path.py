@@ -1,0 +1,92 @@
+"""Joint paths (from IK) and trajectories (after timing)."""
+
+from __future__ import annotations
+
+from pydantic import Field, model_validator
+
+from shared.messages.base import Message, Vec3
+from shared.messages.method import Method
+from shared.robot.side import Side
+
+Row = list[float]
+
+
+def _check_rows(name: str, rows: list[Row], n: int, width: int) -> None:
+    if len(rows) != n:
+        raise ValueError(f"{name} has {len(rows)} rows, expected {n} (one per time)")
+    for i, row in enumerate(rows):
+        if len(row) != width:
+            raise ValueError(f"{name}[{i}] has {len(row)} values, expected {width}")
+
+
+class JointPath(Message):
+    """Joint angles along a wrist path, before timing.
+
+    Attributes:
+        arm: Which arm.
+        joint_names: NAO joint names, shape (5,).
+        times: Path times [s], shape (n,).
+        positions: Joint angles [rad], shape (n, 5).
+        primitives: The primitive that moved the arm at each time, shape (n,).
+        wrist: Wrist position reached at each time [m], shape (n, 3).
+    """
+
+    arm: Side
+    joint_names: list[str]
+    times: list[float] = Field(min_length=1)
+    positions: list[Row]
+    primitives: list[str]
+    wrist: list[Vec3]
+
+    @model_validator(mode="after")
+    def _shapes(self) -> JointPath:
+        n = len(self.times)
+        _check_rows("positions", self.positions, n, len(self.joint_names))
+        if len(self.primitives) != n or len(self.wrist) != n:
+            raise ValueError("primitives and wrist need one entry per time")
+        return self
+
+
+class Trajectory(Message):
+    """A timed joint trajectory (the SPEC's trajectory JSON).
+
+    Attributes:
+        arm: Which arm.
+        joint_names: NAO joint names, e.g. ``RShoulderPitch``, shape (5,).
+        times: Sample times from the start [s], shape (n,).
+        positions: Joint angles [rad], shape (n, 5).
+        velocities: Joint speeds [rad/s], shape (n, 5).
+        accelerations: Joint accelerations [rad/s^2], shape (n, 5).
+        primitives: Primitive label at each time, shape (n,).
+        wrist_path: Wrist position followed at each time [m], shape (n, 3).
+        method: Planning method that made it.
+    """
+
+    arm: Side
+    joint_names: list[str]
+    times: list[float] = Field(min_length=1)
+    positions: list[Row]
+    velocities: list[Row]
+    accelerations: list[Row]
+    primitives: list[str]
+    wrist_path: list[Vec3]
+    method: Method = Method.MP
+
+    @model_validator(mode="after")
+    def _shapes(self) -> Trajectory:
+        n, width = len(self.times), len(self.joint_names)
+        for name in ("positions", "velocities", "accelerations"):
+            _check_rows(name, getattr(self, name), n, width)
+        if len(self.primitives) != n or len(self.wrist_path) != n:
+            raise ValueError("primitives and wrist_path need one entry per time")
+        for i in range(1, n):
+            if not self.times[i] > self.times[i - 1]:
+                raise ValueError(
+                    f"times must increase: sample {i} is not after {i - 1}"
+                )
+        return self
+
+    @property
+    def duration(self) -> float:
+        """Time from the first to the last sample [s]."""
+        return self.times[-1] - self.times[0]

@@ -1,0 +1,63 @@
+"""Forward and inverse kinematics requests and answers."""
+
+from __future__ import annotations
+
+from shared.messages.base import Direction, JointVector, Message, Vec3
+from shared.messages.method import Method
+from shared.robot.side import Side
+
+
+class FKResult(Message):
+    """Key points of the arm in the torso frame [m] (the ``armplan fk`` JSON)."""
+
+    shoulder: Vec3
+    elbow: Vec3
+    wrist: Vec3
+    hand: Vec3
+
+
+class IKRequest(Message):
+    """Solve one posture.
+
+    Attributes:
+        arm: Which arm.
+        target: Wrist target in the torso frame [m].
+        palm: Optional palm direction (wrist orientation), unit vector.
+        primitive: Primitive to use (``mp`` only); ``None`` lets armplan pick.
+        method: ``mp``, ``least-norm`` or ``single``.
+        start: Start posture [rad]; ``None`` means the arm hanging at rest.
+        swivel: Elbow swivel angle to move to, for the function primitive
+            S_R E_P W_R [rad] (pi: elbow straight down).
+    """
+
+    arm: Side = Side.RIGHT
+    target: Vec3
+    palm: Direction | None = None
+    primitive: str | None = None
+    method: Method = Method.MP
+    start: JointVector | None = None
+    swivel: float | None = None
+
+
+class IKResult(Message):
+    """A solved posture (the ``armplan ik`` JSON).
+
+    Attributes:
+        arm: Which arm.
+        joints: Joint angles keyed by NAO joint name [rad].
+        wrist: Wrist position reached [m].
+        target: The target asked for [m].
+        error: Distance from wrist to target [m].
+        primitive: The primitive whose joints moved (``None`` for baselines).
+        method: The method used.
+        iterations: Solver iterations spent.
+    """
+
+    arm: Side
+    joints: dict[str, float]
+    wrist: Vec3
+    target: Vec3
+    error: float
+    primitive: str | None
+    method: Method
+    iterations: int

@@ -1,0 +1,45 @@
+"""A timed wrist path in the torso frame."""
+
+from __future__ import annotations
+
+import math
+
+from pydantic import Field, model_validator
+
+from shared.messages.base import Direction, Message, Vec3
+from shared.robot.side import Side
+
+#: Most samples one path may hold (100 Hz for 10 minutes).
+MAX_SAMPLES = 60_000
+
+
+class WristPath(Message):
+    """Wrist positions at strictly increasing times.
+
+    Attributes:
+        arm: Which arm's wrist.
+        times: Sample times [s], shape (n,), strictly increasing.
+        positions: Wrist positions in the torso frame [m], shape (n, 3).
+        palm: Optional palm direction to hold along the path (unit vector).
+    """
+
+    arm: Side = Side.RIGHT
+    times: list[float] = Field(min_length=1, max_length=MAX_SAMPLES)
+    positions: list[Vec3] = Field(min_length=1, max_length=MAX_SAMPLES)
+    palm: Direction | None = None
+
+    @model_validator(mode="after")
+    def _consistent(self) -> WristPath:
+        if len(self.times) != len(self.positions):
+            raise ValueError(
+                f"{len(self.times)} times but {len(self.positions)} positions"
+            )
+        for i in range(1, len(self.times)):
+            if not self.times[i] > self.times[i - 1]:
+                raise ValueError(
+                    f"times must increase: sample {i} (t = {self.times[i]:g} s) "
+                    f"is not after sample {i - 1} (t = {self.times[i - 1]:g} s)"
+                )
+        if not all(math.isfinite(t) for t in self.times):
+            raise ValueError("times must be finite")
+        return self
