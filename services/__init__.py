@@ -1,0 +1,1 @@
+"""armplan processes: one package each; the algorithm apart from its Zenoh wrapper."""

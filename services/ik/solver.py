@@ -1,0 +1,327 @@
+"""Solve one posture: choose joints and measure by method and primitive, iterate.
+
+Methods (``shared.messages.Method``):
+    mp          The paper's method. With a primitive, only its active joints
+                move and its IK method applies (closed form or GPM with its
+                measure). Without one, the reaching primitive with every
+                position joint (S_R E_PR W_P), or the grasping one with all
+                five (S_R E_PR W_PR) when a palm direction is wanted.
+    least-norm  All joints, damped pseudo-inverse, no null-space term.
+    single      All joints, one measure (NTPE) for the whole movement.
+
+The iterative solver lives in ``iterate.py``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+
+from services.ik.geometric import (
+    solve_elbow_triangle,
+    solve_shoulder_rotation,
+    solve_wrist_turn,
+)
+from services.ik.iterate import ROLL_TOLERANCE, TOLERANCE, solve_gpm
+from services.ik.measures import (
+    ElbowTravel,
+    GraspBlend,
+    Measure,
+    MeasureParams,
+    NoMeasure,
+    SwivelGoal,
+    TotalPotentialEnergy,
+    WristDiscomfortEnergy,
+)
+from services.ik.task import WristTask
+from shared.errors import (
+    InvalidInputError,
+    PrimitiveCannotReachError,
+    UnreachableTargetError,
+)
+from shared.messages import IKRequest, IKResult, Method
+from shared.primitives import FULL_GRASP, FULL_REACH, IKMethod, Primitive, get_primitive
+from shared.robot.arm_model import ArmModel, Kinematics
+from shared.robot.postures import rest
+
+ALL_JOINTS = (0, 1, 2, 3, 4)
+#: Joints that move the wrist's position (WristYaw only turns it).
+POSITION_JOINTS = {0, 1, 2, 3}
+
+MeasureFactory = Callable[[Kinematics], Measure]
+
+
+class IKSolution(NamedTuple):
+    """A solved posture.
+
+    Attributes:
+        q: Joint angles [rad], shape (5,).
+        wrist: Wrist position reached [m], shape (3,).
+        error: Wrist-to-target distance [m].
+        primitive: The primitive whose joints moved, or ``None`` (baselines).
+        method: The method used.
+        iterations: Iterations spent (0 for closed-form solutions).
+    """
+
+    q: np.ndarray
+    wrist: np.ndarray
+    error: float
+    primitive: str | None
+    method: Method
+    iterations: int
+
+
+class Plan(NamedTuple):
+    """How one request will be solved: active joints and measure."""
+
+    primitive: Primitive | None
+    active: tuple[int, ...]
+    measure: MeasureFactory
+
+
+def solve_request(
+    arm: ArmModel, request: IKRequest, params: MeasureParams | None = None
+) -> IKResult:
+    """Solve an :class:`IKRequest` (validated already) and package the answer."""
+    palm = None if request.palm is None else np.array(request.palm)
+    start = rest(arm.side) if request.start is None else np.array(request.start)
+    solution = solve(
+        arm,
+        np.array(request.target),
+        method=request.method,
+        primitive=request.primitive,
+        palm=palm,
+        start=start,
+        swivel=request.swivel,
+        params=params,
+    )
+    return IKResult(
+        arm=arm.side,
+        joints=dict(zip(arm.joint_names, (float(v) for v in solution.q), strict=False)),
+        wrist=tuple(float(v) for v in solution.wrist),  # type: ignore[arg-type]
+        target=request.target,
+        error=solution.error,
+        primitive=solution.primitive,
+        method=solution.method,
+        iterations=solution.iterations,
+    )
+
+
+def solve(
+    arm: ArmModel,
+    target: np.ndarray,
+    *,
+    method: Method = Method.MP,
+    primitive: str | None = None,
+    palm: np.ndarray | None = None,
+    start: np.ndarray | None = None,
+    swivel: float | None = None,
+    params: MeasureParams | None = None,
+) -> IKSolution:
+    """The posture that puts the wrist on ``target`` (see the module docstring).
+
+    Args:
+        arm: The arm.
+        target: Wrist target in the torso frame [m], shape (3,).
+        method: ``mp``, ``least-norm`` or ``single``.
+        primitive: Name of the primitive to use (``mp`` only).
+        palm: Wanted palm direction, unit, shape (3,), or ``None``.
+        start: Start posture [rad], shape (5,); default: hanging at rest.
+        swivel: Swivel goal for S_R E_P W_R [rad].
+        params: Measure coefficients; defaults if ``None``.
+
+    Raises:
+        JointLimitError: if ``start`` is outside the joint ranges.
+        UnreachableTargetError: if no posture within the limits reaches it.
+        PrimitiveCannotReachError: if the primitive's joints cannot reach it.
+        InvalidInputError: for a primitive with a baseline method, or a palm
+            direction for a primitive that does not orient the wrist.
+    """
+    params = params or MeasureParams()
+    start = rest(arm.side) if start is None else np.asarray(start, dtype=float)
+    arm.limits.check(start, where="in the start posture")
+    target = np.asarray(target, dtype=float)
+    plan = _plan(arm, method, primitive, palm, swivel, target, params)
+    _check_shell(arm, target)
+    if plan.primitive is not None and plan.primitive.ik.geometric:
+        return _closed_form(arm, plan.primitive, start, target, palm)
+    task = WristTask(target, palm, arm.side.sign, radial=_controls_radius(plan))
+    if plan.primitive is not None and not plan.primitive.moves_wrist:
+        _check_held(arm, plan.primitive, start, target)
+    measure = plan.measure(arm.kinematics(start))
+    q, iterations = solve_gpm(arm, task, plan.active, measure, start)
+    return _accept(arm, plan, task, q, method, iterations)
+
+
+def _controls_radius(plan: Plan) -> bool:
+    """False for primitives whose shoulder swings an arm of fixed shape.
+
+    Those move the wrist with the shoulder joints while ElbowRoll is passive:
+    they control the wrist's direction from the shoulder, not its distance.
+    """
+    joints = set(plan.active)
+    return not ({0, 1} <= joints and 3 not in joints)
+
+
+def _check_shell(arm: ArmModel, target: np.ndarray) -> None:
+    """Raise if the target is nearer or farther than the wrist can ever be."""
+    shoulder = arm.fk(rest(arm.side)).shoulder
+    distance = float(np.linalg.norm(target - shoulder))
+    low, high = arm.reach
+    if not low - TOLERANCE <= distance <= high + TOLERANCE:
+        raise UnreachableTargetError(
+            target, arm=arm.side.value, distance=distance, reach=arm.reach
+        )
+
+
+def _plan(
+    arm: ArmModel,
+    method: Method,
+    name: str | None,
+    palm: np.ndarray | None,
+    swivel: float | None,
+    target: np.ndarray,
+    params: MeasureParams,
+) -> Plan:
+    if method is not Method.MP:
+        if name is not None:
+            raise InvalidInputError(
+                f"--primitive applies to method 'mp' only, not {method.value!r}",
+                field="primitive",
+            )
+        if method is Method.LEAST_NORM:
+            return Plan(None, ALL_JOINTS, lambda kin: NoMeasure())
+        return Plan(None, ALL_JOINTS, lambda kin: _ntpe(params))
+    primitive = (
+        (FULL_GRASP if palm is not None else FULL_REACH)
+        if name is None
+        else get_primitive(name)
+    )
+    if palm is not None and not primitive.orients_wrist:
+        raise InvalidInputError(
+            f"primitive {primitive.name!r} does not turn the wrist; a palm direction "
+            "needs one with W_R or W_PR",
+            field="palm",
+        )
+    return Plan(
+        primitive, primitive.active, _measure_for(primitive, target, swivel, params)
+    )
+
+
+def _ntpe(params: MeasureParams) -> WristDiscomfortEnergy:
+    return WristDiscomfortEnergy(
+        TotalPotentialEnergy(params.mu), params.omega, params.wrist_centre
+    )
+
+
+def _measure_for(
+    primitive: Primitive,
+    target: np.ndarray,
+    swivel: float | None,
+    params: MeasureParams,
+) -> MeasureFactory:
+    """The primitive's measure, built from the posture where it starts."""
+    if primitive.ik is IKMethod.GPM_TPE:
+        return lambda kin: TotalPotentialEnergy(params.mu)
+    if primitive.ik is IKMethod.GPM_GRASP:
+        return lambda kin: GraspBlend(
+            ElbowTravel(kin.elbow),
+            _ntpe(params),
+            target,
+            float(np.linalg.norm(target - kin.wrist)),
+            params.k1,
+            params.k2,
+        )
+    if swivel is not None:
+        return lambda kin: SwivelGoal(swivel, params.swivel_weight)
+    return lambda kin: _ntpe(params)
+
+
+def _closed_form(
+    arm: ArmModel,
+    primitive: Primitive,
+    start: np.ndarray,
+    target: np.ndarray,
+    palm: np.ndarray | None,
+) -> IKSolution:
+    if primitive.ik is IKMethod.ELBOW_TRIANGLE:
+        sol = solve_elbow_triangle(arm, start, target, TOLERANCE)
+    elif primitive.ik is IKMethod.SHOULDER_ROTATION:
+        sol = solve_shoulder_rotation(arm, start, target, TOLERANCE)
+    else:
+        sol = solve_wrist_turn(arm, start, target, palm, TOLERANCE)
+    return IKSolution(sol.q, sol.wrist, sol.residual, primitive.name, Method.MP, 0)
+
+
+def _check_held(
+    arm: ArmModel, primitive: Primitive, start: np.ndarray, target: np.ndarray
+) -> None:
+    wrist = arm.fk(start).wrist
+    residual = float(np.linalg.norm(wrist - target))
+    if residual > TOLERANCE:
+        raise PrimitiveCannotReachError(
+            primitive.name,
+            target,
+            wrist,
+            residual,
+            "a function primitive holds the wrist in place",
+        )
+
+
+def _why(plan: Plan, task: WristTask, kin: Kinematics) -> str:
+    """Why a primitive's active joints miss the target."""
+    assert plan.primitive is not None
+    joints = ", ".join(plan.primitive.active_joints)
+    if task.radial:
+        return f"only {joints} move"
+    reached = float(np.linalg.norm(kin.wrist - kin.shoulder))
+    wanted = float(np.linalg.norm(task.position - kin.shoulder))
+    return (
+        f"only {joints} move, so the wrist keeps its distance from the shoulder "
+        f"({reached:.4f} m; the target is {wanted:.4f} m from it)"
+    )
+
+
+def _accept(
+    arm: ArmModel,
+    plan: Plan,
+    task: WristTask,
+    q: np.ndarray,
+    method: Method,
+    iterations: int,
+) -> IKSolution:
+    """Package ``q``, or raise the error that explains why it misses."""
+    arm.limits.check(q, where="in the solution")
+    kin = arm.kinematics(q)
+    error = task.position_error(kin)
+    name = None if plan.primitive is None else plan.primitive.name
+    if error > TOLERANCE:
+        if plan.primitive is not None and not set(plan.active) >= POSITION_JOINTS:
+            raise PrimitiveCannotReachError(
+                plan.primitive.name,
+                task.position,
+                kin.wrist,
+                error,
+                _why(plan, task, kin),
+            )
+        distance = float(np.linalg.norm(task.position - kin.shoulder))
+        raise UnreachableTargetError(
+            task.position,
+            arm=arm.side.value,
+            distance=distance,
+            reach=arm.reach,
+            residual=error,
+        )
+    if task.palm_error(kin) > ROLL_TOLERANCE:
+        raise PrimitiveCannotReachError(
+            name or method.value,
+            task.position,
+            kin.wrist,
+            error,
+            f"the palm stays {math.degrees(task.palm_error(kin)):.1f} deg "
+            "from the wanted direction",
+        )
+    return IKSolution(q, kin.wrist, error, name, method, iterations)
