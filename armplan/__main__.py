@@ -1,0 +1,5 @@
+"""``python -m armplan`` runs the command line."""
+
+from armplan.cli.main import main
+
+raise SystemExit(main())

@@ -1,0 +1,38 @@
+"""Timing helpers for the benchmarks (never used by tests)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Timing(NamedTuple):
+    """Wall-clock times of repeated calls [s].
+
+    Attributes:
+        samples: One duration per call [s], shape (n,).
+    """
+
+    samples: np.ndarray
+
+    @property
+    def mean(self) -> float:
+        """Mean duration [s]."""
+        return float(self.samples.mean())
+
+    def percentile(self, p: float) -> float:
+        """The p-th percentile duration [s]."""
+        return float(np.percentile(self.samples, p))
+
+
+def time_calls(calls: list[Callable[[], object]]) -> Timing:
+    """Run each call once and time it with ``perf_counter`` [s]."""
+    samples = np.empty(len(calls))
+    for i, call in enumerate(calls):
+        start = time.perf_counter()
+        call()
+        samples[i] = time.perf_counter() - start
+    return Timing(samples)

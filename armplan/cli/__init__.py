@@ -1,0 +1,1 @@
+"""The ``armplan`` command line: one module per command."""

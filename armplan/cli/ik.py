@@ -1,0 +1,90 @@
+"""``armplan ik``: joint angles that put the wrist on a target."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from armplan.cli.output import print_json, print_table
+from armplan.cli.parsing import add_arm, add_json, finite
+from shared.messages import IKRequest, Method, parse
+from shared.robot import load_arm
+
+HELP = "inverse kinematics: joint angles that put the wrist on a target"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``ik``."""
+    parser = commands.add_parser("ik", help=HELP, description=HELP)
+    add_arm(parser)
+    parser.add_argument(
+        "--target",
+        type=float,
+        nargs=3,
+        required=True,
+        metavar=("X", "Y", "Z"),
+        help="wrist target in the torso frame [m]",
+    )
+    parser.add_argument(
+        "--primitive", help='movement primitive to use, e.g. "S_R E_PR W_P" (method mp)'
+    )
+    parser.add_argument(
+        "--method",
+        default="mp",
+        choices=[m.value for m in Method],
+        help="mp (the paper's method), least-norm or single (baselines)",
+    )
+    parser.add_argument(
+        "--palm",
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="direction the palm should face (wrist orientation), torso frame",
+    )
+    parser.add_argument(
+        "--start",
+        type=float,
+        nargs=5,
+        metavar="Q",
+        help="start posture [rad] (default: arm hanging at rest)",
+    )
+    parser.add_argument(
+        "--swivel",
+        type=float,
+        metavar="RAD",
+        help="elbow swivel angle to move to, for S_R E_P W_R [rad] (pi: elbow down)",
+    )
+    add_json(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Solve and print the posture."""
+    from services.ik import solve_request
+
+    request = parse(
+        IKRequest,
+        {
+            "arm": args.arm,
+            "target": finite(args.target, "target"),
+            "palm": finite(args.palm, "palm"),
+            "primitive": args.primitive,
+            "method": args.method,
+            "start": finite(args.start, "start"),
+            "swivel": args.swivel,
+        },
+    )
+    result = solve_request(load_arm(request.arm), request)
+    if args.json:
+        print_json(result.model_dump(mode="json"))
+        return 0
+    print_table(("joint", "angle [rad]"), list(result.joints.items()))
+    x, y, z = result.wrist
+    sys.stdout.write(
+        f"wrist ({x:.4f}, {y:.4f}, {z:.4f}) m, "
+        f"{result.error * 1000:.3f} mm from the target; "
+        f"method {result.method.value}"
+        + (f", primitive {result.primitive}" if result.primitive else "")
+        + "\n"
+    )
+    return 0

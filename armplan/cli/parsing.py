@@ -1,0 +1,45 @@
+"""Argument parsing shared by every command."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from typing import Any
+
+from shared.errors import InvalidInputError
+
+#: Negative numbers in any float spelling (-1, -.5, -1e-3) are values, not options.
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$", re.I)
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """An argparse parser that reads ``-0.12`` and ``-1e-3`` as numbers."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+
+def finite(values: list[float] | None, name: str) -> list[float] | None:
+    """``values`` if all are finite; else ``InvalidInputError`` naming ``name``."""
+    if values is None:
+        return None
+    for i, value in enumerate(values):
+        if not math.isfinite(value):
+            raise InvalidInputError(
+                f"{name}[{i}] must be a finite number, got {value}", field=name
+            )
+    return values
+
+
+def add_arm(parser: argparse.ArgumentParser) -> None:
+    """``--arm right|left`` (default right)."""
+    parser.add_argument("--arm", default="right", help="right or left (default: right)")
+
+
+def add_json(parser: argparse.ArgumentParser) -> None:
+    """``--json``: machine-readable output."""
+    parser.add_argument(
+        "--json", action="store_true", help="print JSON instead of a table"
+    )
