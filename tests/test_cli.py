@@ -1,0 +1,138 @@
+"""The armplan command line, run as a real process."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from shared.robot import load_arm
+
+
+def armplan(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+
+
+def test_fk_json_contract() -> None:
+    """fk --json prints shoulder, elbow, wrist, hand as [x, y, z] lists [m]."""
+    out = armplan(
+        "fk",
+        "--arm",
+        "right",
+        "--joints",
+        "1.2",
+        "-0.3",
+        "0.5",
+        "0.4",
+        "-1e-1",
+        "--json",
+    )
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert list(data) == ["shoulder", "elbow", "wrist", "hand"]
+    points = load_arm("right").fk(np.array([1.2, -0.3, 0.5, 0.4, -0.1]))
+    for name, value in data.items():
+        np.testing.assert_allclose(value, getattr(points, name), atol=1e-12)
+
+
+def test_ik_json_contract_and_negative_numbers() -> None:
+    """ik --json keys joints by NAO name and reports the reached wrist."""
+    out = armplan("ik", "--arm", "right", "--target", "0.12", "-0.13", "0.05", "--json")
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert list(data["joints"]) == list(load_arm("right").joint_names)
+    q = np.array(list(data["joints"].values()))
+    wrist = load_arm("right").fk(q).wrist
+    np.testing.assert_allclose(data["wrist"], wrist, atol=1e-12)
+    assert np.linalg.norm(wrist - [0.12, -0.13, 0.05]) < 1e-3
+
+
+@pytest.mark.parametrize("method", ["mp", "least-norm", "single"])
+def test_ik_methods(method: str) -> None:
+    """Every method answers the same contract."""
+    out = armplan(
+        "ik",
+        "--arm",
+        "left",
+        "--target",
+        "0.12",
+        "0.13",
+        "0.05",
+        "--method",
+        method,
+        "--json",
+    )
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["method"] == method
+
+
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (
+            ("ik", "--target", "0.5", "-0.12", "0.05"),
+            "from the right shoulder; the wrist reaches",
+        ),
+        (
+            ("ik", "--target", "nan", "-0.12", "0.05"),
+            "target[0] must be a finite number",
+        ),
+        (("ik", "--arm", "middle", "--target", "0.12", "-0.13", "0.05"), "arm"),
+        (
+            ("fk", "--arm", "middle", "--joints", "0", "0", "0", "0.5", "0"),
+            "unknown arm 'middle'",
+        ),
+        (
+            ("ik", "--target", "0.12", "-0.13", "0.05", "--primitive", "X_Y"),
+            "unknown movement primitive",
+        ),
+        (
+            ("ik", "--target", "0.12", "-0.13", "0.05", "--primitive", "E_R W_P"),
+            "cannot reach",
+        ),
+        (
+            ("fk", "--joints", "0", "0", "0", "3", "0"),
+            "RElbowRoll = 3.00000 rad is outside",
+        ),
+    ],
+)
+def test_bad_input_gives_a_clear_error_and_no_traceback(
+    args: tuple[str, ...], message: str
+) -> None:
+    """Each bad input exits 1 with 'armplan: error: ...' naming the problem."""
+    out = armplan(*args)
+    assert out.returncode == 1
+    assert out.stderr.startswith("armplan: error: ")
+    assert message in out.stderr
+    assert "Traceback" not in out.stderr
+
+
+def test_json_errors_are_machine_readable() -> None:
+    """With --json an error is also printed as {"error": {kind, message, evidence}}."""
+    out = armplan("ik", "--target", "0.5", "-0.12", "0.05", "--json")
+    assert out.returncode == 1
+    error = json.loads(out.stdout)["error"]
+    assert error["kind"] == "unreachable_target"
+    assert error["evidence"]["target"] == [0.5, -0.12, 0.05]
+
+
+def test_malformed_command_line_is_a_usage_error() -> None:
+    """Missing or non-numeric values exit 2 with argparse's usage message."""
+    out = armplan("ik", "--target", "0.1", "abc", "0.0")
+    assert out.returncode == 2 and "invalid float value: 'abc'" in out.stderr
+
+
+def test_readable_output_without_json() -> None:
+    """Without --json, ik prints a table and the reached wrist."""
+    out = armplan("ik", "--target", "0.12", "-0.13", "0.05")
+    assert out.returncode == 0
+    assert "RShoulderPitch" in out.stdout and "mm from the target" in out.stdout

@@ -1,0 +1,60 @@
+"""The error hierarchy: one root, evidence kept, wire round trips."""
+
+from __future__ import annotations
+
+import pytest
+
+from shared.errors import (
+    ArmplanError,
+    InvalidInputError,
+    JointLimitError,
+    LimitViolationError,
+    PrimitiveCannotReachError,
+    RemoteError,
+    UnknownArmError,
+    UnknownPrimitiveError,
+    UnreachableTargetError,
+    error_from_wire,
+)
+from shared.messages import ErrorReply
+
+EXAMPLES: list[ArmplanError] = [
+    InvalidInputError("bad", field="x"),
+    UnknownArmError("middle"),
+    UnknownPrimitiveError("X", ["A", "B"]),
+    UnreachableTargetError(
+        (0.5, 0.0, 0.0), arm="right", distance=0.5, reach=(0.1, 0.2)
+    ),
+    PrimitiveCannotReachError("E_R W_P", (0.1, 0, 0), (0.1, 0, 0.01), 0.01, "why"),
+    JointLimitError("RElbowRoll", 2.0, 0.03, 1.54),
+    LimitViolationError("RElbowRoll", "velocity", 9.0, 7.19, 12, 0.12),
+]
+
+
+@pytest.mark.parametrize("error", EXAMPLES, ids=lambda e: type(e).__name__)
+def test_every_error_derives_from_the_root(error: ArmplanError) -> None:
+    """All errors are ArmplanErrors with a kind, a message and evidence."""
+    assert isinstance(error, ArmplanError)
+    assert error.kind and error.message and isinstance(error.evidence, dict)
+
+
+@pytest.mark.parametrize("error", EXAMPLES, ids=lambda e: type(e).__name__)
+def test_errors_round_trip_over_the_wire(error: ArmplanError) -> None:
+    """to_wire -> ErrorReply JSON -> to_error rebuilds the same class and evidence."""
+    reply = ErrorReply.model_validate_json(ErrorReply.from_error(error).to_json())
+    again = reply.to_error()
+    assert type(again) is type(error)
+    assert again.message == error.message and again.evidence == error.evidence
+
+
+def test_unknown_kind_becomes_a_remote_error() -> None:
+    """An error kind this side does not know arrives as RemoteError."""
+    error = error_from_wire({"kind": "martian", "message": "m", "evidence": {"a": 1}})
+    assert isinstance(error, RemoteError) and error.message == "m"
+
+
+def test_messages_name_the_evidence() -> None:
+    """Messages state the facts: target, distance, limits, sample."""
+    assert "0.5000 m from the right shoulder" in str(EXAMPLES[3])
+    assert "RElbowRoll velocity 9 rad/s at sample 12 (t = 0.120 s)" in str(EXAMPLES[6])
+    assert UnknownArmError("middle").evidence == {"field": "arm", "name": "middle"}

@@ -1,0 +1,232 @@
+"""Solving postures: methods, primitives, accuracy, limits, optimality, errors."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import random_posture
+from scipy.optimize import minimize
+
+from services.ik import solve, solve_request
+from services.ik.gpm import decompose
+from services.ik.iterate import solve_gpm
+from services.ik.measures import MeasureParams, SwivelGoal, TotalPotentialEnergy
+from services.ik.task import WristTask
+from shared.errors import (
+    InvalidInputError,
+    JointLimitError,
+    PrimitiveCannotReachError,
+    UnreachableTargetError,
+)
+from shared.geometry import palm_normal, swivel_angle
+from shared.messages import IKRequest, Method, parse
+from shared.robot import ArmModel, load_arm
+from shared.robot.postures import rest
+
+MM = 1e-3
+
+
+def _reachable(
+    arm: ArmModel, rng: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray]:
+    """(posture, its wrist position): a target known to be reachable."""
+    q = random_posture(arm, rng)
+    return q, arm.fk(q).wrist
+
+
+def test_full_reach_primitive_reaches_500_random_targets(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """S_R E_PR W_P puts the wrist within 1 mm of 500 reachable targets, in range."""
+    worst = 0.0
+    for _ in range(500):
+        _, target = _reachable(arm, rng)
+        sol = solve(arm, target, primitive="S_R E_PR W_P")
+        assert arm.limits.contains(sol.q)
+        assert sol.q[4] == rest(arm.side)[4]  # WristYaw is not active
+        worst = max(worst, float(np.linalg.norm(arm.fk(sol.q).wrist - target)))
+    assert worst < MM
+
+
+def test_full_grasp_primitive_reaches_position_and_palm(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """S_R E_PR W_PR reaches 150 reachable wrist poses (position and palm)."""
+    for _ in range(150):
+        q, target = _reachable(arm, rng)
+        palm = palm_normal(arm.rotation(q, "wrist"), arm.side.sign)
+        sol = solve(arm, target, primitive="S_R E_PR W_PR", palm=palm)
+        assert arm.limits.contains(sol.q)
+        assert np.linalg.norm(arm.fk(sol.q).wrist - target) < MM
+        reached = palm_normal(arm.rotation(sol.q, "wrist"), arm.side.sign)
+        axis = arm.rotation(sol.q, "wrist")[:, 0]
+        wanted = palm - (palm @ axis) * axis
+        if np.linalg.norm(wanted) > 0.1:
+            assert reached @ wanted / np.linalg.norm(wanted) > math.cos(
+                math.radians(1.0)
+            )
+
+
+@pytest.mark.parametrize("method", [Method.LEAST_NORM, Method.SINGLE])
+def test_baselines_reach_random_targets(
+    arm: ArmModel, rng: np.random.Generator, method: Method
+) -> None:
+    """The two baselines also reach 100 reachable targets within 1 mm."""
+    for _ in range(100):
+        _, target = _reachable(arm, rng)
+        sol = solve(arm, target, method=method)
+        assert sol.primitive is None and sol.method is method
+        assert arm.limits.contains(sol.q)
+        assert np.linalg.norm(arm.fk(sol.q).wrist - target) < MM
+
+
+def test_gpm_solution_is_a_constrained_optimum_of_tpe(rng: np.random.Generator) -> None:
+    """SLSQP started at the GPM posture finds no lower TPE on the target's
+    self-motion manifold (two methods agree on the optimum)."""
+    arm = load_arm("right")
+    tpe = TotalPotentialEnergy(MeasureParams().mu)
+    free = np.arange(4)
+    bounds = list(zip(arm.limits.lower[free], arm.limits.upper[free], strict=True))
+    compared = 0
+    for _ in range(60):
+        _, target = _reachable(arm, rng)
+        sol = solve(arm, target, primitive="S_R E_PR W_P")
+        near_limit = np.minimum(
+            sol.q[free] - arm.limits.lower[free], arm.limits.upper[free] - sol.q[free]
+        )
+        if near_limit.min() < 1e-3:
+            continue  # optimum on a limit: checked by the GPM tests
+        kin = arm.kinematics(sol.q)
+        projected = (
+            decompose(kin.wrist_jacobian[:, free]).null @ tpe.gradient(kin)[free]
+        )
+        assert np.abs(projected).max() < 1e-5
+        res = minimize(
+            _tpe_of_first_four,
+            sol.q[free],
+            args=(arm, tpe, sol.q[4]),
+            method="SLSQP",
+            constraints=[
+                {"type": "eq", "fun": _wrist_miss, "args": (arm, sol.q[4], target)}
+            ],
+            bounds=bounds,
+            options={"ftol": 1e-12, "maxiter": 200},
+        )
+        assert res.fun >= tpe.value(kin) - 1e-7
+        compared += 1
+    assert compared >= 20
+
+
+def test_primitive_that_cannot_reach_says_so(arm: ArmModel) -> None:
+    """S_R E_P W_P cannot bring the wrist nearer the shoulder: a typed error
+    that names the distance it keeps."""
+    start = rest(arm.side)
+    points = arm.fk(start)
+    out = points.wrist - points.shoulder
+    target = points.shoulder + out / np.linalg.norm(out) * 0.125
+    with pytest.raises(PrimitiveCannotReachError, match="keeps its distance"):
+        solve(arm, target, primitive="S_R E_P W_P")
+
+
+def test_function_primitive_swivels_the_elbow_round_the_held_wrist(
+    arm: ArmModel,
+) -> None:
+    """S_R E_P W_R holds the wrist and moves the swivel angle to its goal."""
+    start = np.array([0.3, -0.3, 1.0, 0.9, 0.0]) * np.array([1, *[arm.side.sign] * 4])
+    points = arm.fk(start)
+    phi0 = swivel_angle(*points[:3])
+    goal = phi0 + 0.3
+    sol = solve(arm, points.wrist, primitive="S_R E_P W_R", start=start, swivel=goal)
+    after = arm.fk(sol.q)
+    assert np.linalg.norm(after.wrist - points.wrist) < MM
+    assert swivel_angle(*after[:3]) == pytest.approx(goal, abs=1e-3)
+    assert SwivelGoal(goal, 1.0).value(arm.kinematics(sol.q)) < 1e-6
+    with pytest.raises(PrimitiveCannotReachError, match="holds the wrist in place"):
+        solve(arm, points.wrist + 0.01, primitive="S_R E_P W_R", start=start)
+
+
+def test_too_far_target_names_the_reach() -> None:
+    """Outside the reach shell: UnreachableTargetError with distance and span."""
+    arm = load_arm("right")
+    with pytest.raises(UnreachableTargetError) as info:
+        solve(arm, np.array([0.5, -0.12, 0.05]))
+    assert "0.5030 m from the right shoulder" in str(info.value)
+    assert info.value.reach == pytest.approx(arm.reach)
+
+
+def test_target_behind_the_back_is_unreachable() -> None:
+    """In the shell but behind the shoulder: no posture in range reaches it."""
+    with pytest.raises(
+        UnreachableTargetError, match="no posture within the joint limits"
+    ):
+        solve(load_arm("right"), np.array([-0.15, -0.098, 0.1]))
+
+
+def test_start_outside_the_limits_is_refused() -> None:
+    """A start posture out of range raises JointLimitError naming the joint."""
+    q = rest("right")
+    q[1] = 1.0
+    with pytest.raises(JointLimitError, match=r"RShoulderRoll .* in the start posture"):
+        solve(load_arm("right"), np.array([0.12, -0.13, 0.05]), start=q)
+
+
+def test_option_mismatches_are_typed_errors() -> None:
+    """A primitive with a baseline, or a palm without W_R/W_PR, is refused."""
+    arm, target = load_arm("right"), np.array([0.12, -0.13, 0.05])
+    with pytest.raises(InvalidInputError, match="applies to method 'mp' only"):
+        solve(arm, target, method=Method.SINGLE, primitive="S_R E_PR W_P")
+    with pytest.raises(InvalidInputError, match="does not turn the wrist"):
+        solve(arm, target, primitive="S_R E_PR W_P", palm=np.array([0.0, 0.0, 1.0]))
+
+
+def test_nan_target_is_refused_at_the_boundary() -> None:
+    """The request message rejects a NaN target, naming the field."""
+    with pytest.raises(InvalidInputError, match=r"target\.0"):
+        parse(IKRequest, {"target": [float("nan"), 0.0, 0.0]})
+
+
+def test_request_result_keys_joints_by_nao_name() -> None:
+    """solve_request answers with joints keyed by NAO name and the reached wrist."""
+    arm = load_arm("left")
+    result = solve_request(arm, IKRequest(arm="left", target=(0.12, 0.13, 0.05)))
+    assert list(result.joints) == list(arm.joint_names)
+    assert result.error < MM
+    assert result.primitive == "S_R E_PR W_P"
+
+
+def test_shoulder_swing_points_the_wrist_and_keeps_the_elbow(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """S_R E_P W_P moves only the shoulder joints and puts the wrist exactly in the
+    target's direction; the distance changes only through NAO's 15 mm elbow
+    offset, at most 7.4 mm per radian of ElbowYaw."""
+    tpe = TotalPotentialEnergy(MeasureParams().mu)
+    for _ in range(50):
+        start = random_posture(arm, rng)
+        start = np.clip(start, arm.limits.lower + 0.3, arm.limits.upper - 0.3)
+        goal = start.copy()
+        goal[:2] += rng.uniform(-0.3, 0.3, size=2)
+        target = arm.fk(np.clip(goal, arm.limits.lower, arm.limits.upper)).wrist
+        task = WristTask(target, None, arm.side.sign, radial=False)
+        q, _ = solve_gpm(arm, task, (0, 1, 2), tpe, start)
+        np.testing.assert_array_equal(q[3:], start[3:])
+        p = arm.fk(q)
+        reached, wanted = p.wrist - p.shoulder, target - p.shoulder
+        cosine = reached @ wanted / (np.linalg.norm(reached) * np.linalg.norm(wanted))
+        assert cosine > 1 - 1e-12
+        drift = abs(np.linalg.norm(reached) - np.linalg.norm(wanted))
+        assert drift <= 7.4e-3 * abs(q[2] - start[2]) + 1e-9
+
+
+def _tpe_of_first_four(
+    x: np.ndarray, arm: ArmModel, tpe: TotalPotentialEnergy, wrist_yaw: float
+) -> float:
+    return tpe.value(arm.kinematics(np.append(x, wrist_yaw)))
+
+
+def _wrist_miss(
+    x: np.ndarray, arm: ArmModel, wrist_yaw: float, target: np.ndarray
+) -> np.ndarray:
+    return arm.fk(np.append(x, wrist_yaw)).wrist - target
