@@ -241,6 +241,22 @@ class LimitViolationError(ArmplanError):
         self.time = float(time)
 
 
+class RecordingError(ArmplanError):
+    """An MCAP file cannot be written or read (missing, empty, truncated, corrupt).
+
+    Attributes:
+        path: The file.
+        readable: Messages that could be read before the problem, if known.
+    """
+
+    kind = "recording_error"
+
+    def __init__(self, message: str, *, path: str, readable: int | None = None) -> None:
+        super().__init__(message, path=path, readable=readable)
+        self.path = path
+        self.readable = readable
+
+
 class RemoteError(ArmplanError):
     """An error a remote armplan process reported, of a kind this side lacks."""
 

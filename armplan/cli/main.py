@@ -3,16 +3,27 @@
 from __future__ import annotations
 
 import argparse
+import importlib
+import pkgutil
 import sys
 from collections.abc import Sequence
+from types import ModuleType
 
 from armplan import __version__
-from armplan.cli import bench, fk, ik
+from armplan.cli import commands as commands_package
 from armplan.cli.output import report_error
 from armplan.cli.parsing import ArgumentParser
 from shared.errors import ArmplanError
 
-COMMANDS = (fk, ik, bench)
+
+def command_modules() -> list[ModuleType]:
+    """Every module of ``armplan.cli.commands``, in help order."""
+    modules = [
+        importlib.import_module(f"{commands_package.__name__}.{info.name}")
+        for info in pkgutil.iter_modules(commands_package.__path__)
+        if not info.name.startswith("_")
+    ]
+    return sorted(modules, key=lambda m: (getattr(m, "ORDER", 100), m.__name__))
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -25,8 +36,8 @@ def build_parser() -> argparse.ArgumentParser:
         dest="command", metavar="COMMAND", parser_class=ArgumentParser
     )
     commands.required = True
-    for command in COMMANDS:
-        command.add_parser(commands)
+    for module in command_modules():
+        module.add_parser(commands)
     return parser
 
 

@@ -67,12 +67,12 @@ def solve_gpm(
         posture reaches it; the caller checks.
     """
     q = _approach(arm, task, active, measure, start)
-    q, iterations = _converge(arm, task, active, measure, q)
+    q, iterations = converge(arm, task, active, measure, q)
     if task_met(arm, task, q):
         return q, iterations
     best, best_key = q, _score(arm, task, measure, q)
     for seed in _seeds(arm, start, active):
-        trial, spent = _converge(arm, task, active, measure, seed)
+        trial, spent = converge(arm, task, active, measure, seed)
         iterations += spent
         key = _score(arm, task, measure, trial)
         if key < best_key:
@@ -144,7 +144,7 @@ def _approach(
     return q
 
 
-def _converge(
+def converge(
     arm: ArmModel,
     task: WristTask,
     active: tuple[int, ...],

@@ -15,7 +15,6 @@ The iterative solver lives in ``iterate.py``.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -26,17 +25,10 @@ from services.ik.geometric import (
     solve_wrist_turn,
 )
 from services.ik.iterate import ROLL_TOLERANCE, TOLERANCE, solve_gpm
-from services.ik.measures import (
-    ElbowTravel,
-    GraspBlend,
-    Measure,
-    MeasureParams,
-    NoMeasure,
-    SwivelGoal,
-    TotalPotentialEnergy,
-    WristDiscomfortEnergy,
-)
-from services.ik.task import WristTask
+from services.ik.measures import MeasureParams
+from services.ik.measures import factory as measure_factory
+from services.ik.measures.factory import MeasureFactory
+from services.ik.task import WristTask, controls_radius
 from shared.errors import (
     InvalidInputError,
     PrimitiveCannotReachError,
@@ -50,8 +42,6 @@ from shared.robot.postures import rest
 ALL_JOINTS = (0, 1, 2, 3, 4)
 #: Joints that move the wrist's position (WristYaw only turns it).
 POSITION_JOINTS = {0, 1, 2, 3}
-
-MeasureFactory = Callable[[Kinematics], Measure]
 
 
 class IKSolution(NamedTuple):
@@ -148,22 +138,12 @@ def solve(
     _check_shell(arm, target)
     if plan.primitive is not None and plan.primitive.ik.geometric:
         return _closed_form(arm, plan.primitive, start, target, palm)
-    task = WristTask(target, palm, arm.side.sign, radial=_controls_radius(plan))
+    task = WristTask(target, palm, arm.side.sign, radial=controls_radius(plan.active))
     if plan.primitive is not None and not plan.primitive.moves_wrist:
         _check_held(arm, plan.primitive, start, target)
     measure = plan.measure(arm.kinematics(start))
     q, iterations = solve_gpm(arm, task, plan.active, measure, start)
     return _accept(arm, plan, task, q, method, iterations)
-
-
-def _controls_radius(plan: Plan) -> bool:
-    """False for primitives whose shoulder swings an arm of fixed shape.
-
-    Those move the wrist with the shoulder joints while ElbowRoll is passive:
-    they control the wrist's direction from the shoulder, not its distance.
-    """
-    joints = set(plan.active)
-    return not ({0, 1} <= joints and 3 not in joints)
 
 
 def _check_shell(arm: ArmModel, target: np.ndarray) -> None:
@@ -192,9 +172,7 @@ def _plan(
                 f"--primitive applies to method 'mp' only, not {method.value!r}",
                 field="primitive",
             )
-        if method is Method.LEAST_NORM:
-            return Plan(None, ALL_JOINTS, lambda kin: NoMeasure())
-        return Plan(None, ALL_JOINTS, lambda kin: _ntpe(params))
+        return Plan(None, ALL_JOINTS, measure_factory.for_baseline(method, params))
     primitive = (
         (FULL_GRASP if palm is not None else FULL_REACH)
         if name is None
@@ -207,37 +185,10 @@ def _plan(
             field="palm",
         )
     return Plan(
-        primitive, primitive.active, _measure_for(primitive, target, swivel, params)
+        primitive,
+        primitive.active,
+        measure_factory.for_primitive(primitive, target, params, swivel),
     )
-
-
-def _ntpe(params: MeasureParams) -> WristDiscomfortEnergy:
-    return WristDiscomfortEnergy(
-        TotalPotentialEnergy(params.mu), params.omega, params.wrist_centre
-    )
-
-
-def _measure_for(
-    primitive: Primitive,
-    target: np.ndarray,
-    swivel: float | None,
-    params: MeasureParams,
-) -> MeasureFactory:
-    """The primitive's measure, built from the posture where it starts."""
-    if primitive.ik is IKMethod.GPM_TPE:
-        return lambda kin: TotalPotentialEnergy(params.mu)
-    if primitive.ik is IKMethod.GPM_GRASP:
-        return lambda kin: GraspBlend(
-            ElbowTravel(kin.elbow),
-            _ntpe(params),
-            target,
-            float(np.linalg.norm(target - kin.wrist)),
-            params.k1,
-            params.k2,
-        )
-    if swivel is not None:
-        return lambda kin: SwivelGoal(swivel, params.swivel_weight)
-    return lambda kin: _ntpe(params)
 
 
 def _closed_form(

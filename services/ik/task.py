@@ -62,3 +62,14 @@ class WristTask(NamedTuple):
         if self.palm is None:
             return 0.0
         return abs(roll_error(kin.wrist_rotation, self.sign, self.palm))
+
+
+def controls_radius(active: tuple[int, ...]) -> bool:
+    """False when the shoulder swings an arm of fixed shape (ElbowRoll passive).
+
+    Such primitives (S_R E_P W_P, S_R E_P W_PR) move the wrist with the
+    shoulder joints alone: they control its direction from the shoulder, not
+    its distance.
+    """
+    joints = set(active)
+    return not ({0, 1} <= joints and 3 not in joints)

@@ -1,1 +1,1 @@
-"""Placeholder: filled in by a later issue."""
+"""The planner: task in, trajectory out (wrist path, decision, IK, timing)."""

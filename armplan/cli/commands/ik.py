@@ -10,6 +10,7 @@ from armplan.cli.parsing import add_arm, add_json, finite
 from shared.messages import IKRequest, Method, parse
 from shared.robot import load_arm
 
+ORDER = 20
 HELP = "inverse kinematics: joint angles that put the wrist on a target"
 
 

@@ -11,6 +11,7 @@ from armplan.cli.parsing import add_arm, add_json, finite
 from shared.messages import FKResult
 from shared.robot import load_arm
 
+ORDER = 10
 HELP = "forward kinematics: shoulder, elbow, wrist and hand positions [m]"
 
 

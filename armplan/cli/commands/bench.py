@@ -8,6 +8,7 @@ from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
 from shared.errors import InvalidInputError
 
+ORDER = 90
 HELP = "measure speed beside peers run in the same process (no timed tests)"
 
 

@@ -1,0 +1,166 @@
+"""Read armplan messages back from MCAP files: clear errors or a recovered prefix."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+from typing import Any, NamedTuple
+
+from mcap.reader import NonSeekingReader
+
+from shared.errors import RecordingError
+
+
+class Record(NamedTuple):
+    """One message of a recording.
+
+    Attributes:
+        topic: Channel topic.
+        schema: Schema name (the message class), or "" if none.
+        log_time: When the message was made [ns].
+        publish_time: When it was received [ns].
+        data: The decoded JSON message.
+    """
+
+    topic: str
+    schema: str
+    log_time: int
+    publish_time: int
+    data: Any
+
+
+class Recording:
+    """The messages of one MCAP file, read in file order, stopping at damage.
+
+    Iterate it for :class:`Record` s. Reading stops quietly at the first
+    damaged byte (truncation by a killed writer, garbage); afterwards
+    ``damage`` says what was wrong (``None`` if the file was read whole) and
+    ``count`` how many messages came out.
+
+    Args:
+        path: An MCAP file with JSON messages.
+        topics: Only these topics (all if ``None``).
+
+    Raises:
+        RecordingError: if the file is missing, a folder, or empty.
+    """
+
+    def __init__(self, path: str | Path, topics: Iterable[str] | None = None) -> None:
+        self.path = Path(path)
+        self.topics = None if topics is None else set(topics)
+        self.damage: str | None = None
+        self.count = 0
+        if not self.path.exists():
+            raise RecordingError(f"{self.path}: no such file", path=str(self.path))
+        if self.path.is_dir():
+            raise RecordingError(
+                f"{self.path} is a folder, not an MCAP file", path=str(self.path)
+            )
+        if self.path.stat().st_size == 0:
+            raise RecordingError(
+                f"{self.path} is empty, not an MCAP file",
+                path=str(self.path),
+                readable=0,
+            )
+
+    def __iter__(self) -> Iterator[Record]:
+        self.damage, self.count = None, 0
+        with open(self.path, "rb") as stream:
+            messages = NonSeekingReader(stream).iter_messages(log_time_order=False)
+            while True:
+                try:
+                    schema, channel, message = next(messages)
+                    data = json.loads(message.data)
+                except StopIteration:
+                    return
+                except Exception as exc:  # any decoding failure of the bytes is damage
+                    self.damage = (
+                        f"{type(exc).__name__}: {exc}"
+                        if str(exc)
+                        else type(exc).__name__
+                    )
+                    return
+                if self.topics is not None and channel.topic not in self.topics:
+                    continue
+                self.count += 1
+                name = schema.name if schema is not None else ""
+                yield Record(
+                    channel.topic, name, message.log_time, message.publish_time, data
+                )
+
+    def error(self) -> RecordingError:
+        """The error that describes this file's damage."""
+        if (
+            self.count == 0
+            and self.damage is not None
+            and "InvalidMagic" in self.damage
+        ):
+            return RecordingError(
+                f"{self.path} is not an MCAP file (no MCAP magic at its start)",
+                path=str(self.path),
+                readable=0,
+            )
+        return RecordingError(
+            f"{self.path} is damaged after {self.count} readable messages "
+            f"({self.damage}); read it with recover=True "
+            "(armplan inspect --recover) to get that prefix",
+            path=str(self.path),
+            readable=self.count,
+        )
+
+
+def read_records(
+    path: str | Path, *, topics: Iterable[str] | None = None, recover: bool = False
+) -> Iterator[Record]:
+    """The messages of ``path`` in file order.
+
+    Args:
+        path: An MCAP file written by armplan (or any JSON-encoded MCAP).
+        topics: Only these topics (all if ``None``).
+        recover: On damage, stop at the last readable message instead of raising.
+
+    Raises:
+        RecordingError: if the file is missing, empty, not MCAP, or (without
+            ``recover``) damaged; the error says how many messages were
+            readable before the damage.
+    """
+    recording = Recording(path, topics)
+    yield from recording
+    if recording.damage is not None and not recover:
+        raise recording.error()
+
+
+class Summary(NamedTuple):
+    """What a recording holds.
+
+    Attributes:
+        channels: Per topic: (schema name, message count, first and last log time [ns]).
+        damage: What stopped the reading early, or ``None`` if the file is whole.
+    """
+
+    channels: dict[str, tuple[str, int, int, int]]
+    damage: str | None
+
+
+def summarize(path: str | Path, *, recover: bool = False) -> Summary:
+    """Channels, counts and time ranges of ``path`` (reads every message).
+
+    Raises:
+        RecordingError: if the file is damaged and ``recover`` is False.
+    """
+    recording = Recording(path)
+    channels: dict[str, tuple[str, int, int, int]] = {}
+    for r in recording:
+        schema, n, first, last = channels.get(
+            r.topic, (r.schema, 0, r.log_time, r.log_time)
+        )
+        channels[r.topic] = (
+            schema,
+            n + 1,
+            min(first, r.log_time),
+            max(last, r.log_time),
+        )
+    if recording.damage is not None and not recover:
+        raise recording.error()
+    return Summary(channels, recording.damage)
