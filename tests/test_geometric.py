@@ -89,7 +89,7 @@ def test_closed_form_and_gpm_agree(
         )
         target = arm.fk(goal).wrist
         closed = solve(arm, start, target, 1e-6)
-        task = WristTask(target, None, arm.side.sign)
+        task = WristTask.make(target, None, arm.side.sign)
         q, _ = solve_gpm(arm, task, (joint,), NoMeasure(), start)
         np.testing.assert_allclose(q, closed.q, atol=1e-6)
 

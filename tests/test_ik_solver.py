@@ -10,8 +10,9 @@ from conftest import random_posture
 from scipy.optimize import minimize
 
 from services.ik import solve, solve_request
-from services.ik.gpm import decompose
 from services.ik.iterate import solve_gpm
+from services.ik.kernel import chain_for
+from services.ik.kernel.small import NormalSolver
 from services.ik.measures import MeasureParams, SwivelGoal, TotalPotentialEnergy
 from services.ik.task import WristTask
 from shared.errors import (
@@ -98,10 +99,10 @@ def test_gpm_solution_is_a_constrained_optimum_of_tpe(rng: np.random.Generator) 
         )
         if near_limit.min() < 1e-3:
             continue  # optimum on a limit: checked by the GPM tests
-        kin = arm.kinematics(sol.q)
-        projected = (
-            decompose(kin.wrist_jacobian[:, free]).null @ tpe.gradient(kin)[free]
-        )
+        kin = chain_for(arm).state(sol.q)
+        solver = NormalSolver(kin.jw, list(free), 0.0, 1e-8)
+        grad = tpe.gradient(kin)
+        projected = np.array(grad[:4]) - solver.apply(solver.times(grad))
         assert np.abs(projected).max() < 1e-5
         res = minimize(
             _tpe_of_first_four,
@@ -142,7 +143,7 @@ def test_function_primitive_swivels_the_elbow_round_the_held_wrist(
     after = arm.fk(sol.q)
     assert np.linalg.norm(after.wrist - points.wrist) < MM
     assert swivel_angle(*after[:3]) == pytest.approx(goal, abs=1e-3)
-    assert SwivelGoal(goal, 1.0).value(arm.kinematics(sol.q)) < 1e-6
+    assert SwivelGoal(goal, 1.0).value(chain_for(arm).state(sol.q)) < 1e-6
     with pytest.raises(PrimitiveCannotReachError, match="holds the wrist in place"):
         solve(arm, points.wrist + 0.01, primitive="S_R E_P W_R", start=start)
 
@@ -209,7 +210,7 @@ def test_shoulder_swing_points_the_wrist_and_keeps_the_elbow(
         goal = start.copy()
         goal[:2] += rng.uniform(-0.3, 0.3, size=2)
         target = arm.fk(np.clip(goal, arm.limits.lower, arm.limits.upper)).wrist
-        task = WristTask(target, None, arm.side.sign, radial=False)
+        task = WristTask.make(target, None, arm.side.sign, radial=False)
         q, _ = solve_gpm(arm, task, (0, 1, 2), tpe, start)
         np.testing.assert_array_equal(q[3:], start[3:])
         p = arm.fk(q)
@@ -223,7 +224,7 @@ def test_shoulder_swing_points_the_wrist_and_keeps_the_elbow(
 def _tpe_of_first_four(
     x: np.ndarray, arm: ArmModel, tpe: TotalPotentialEnergy, wrist_yaw: float
 ) -> float:
-    return tpe.value(arm.kinematics(np.append(x, wrist_yaw)))
+    return tpe.value(chain_for(arm).state(np.append(x, wrist_yaw)))
 
 
 def _wrist_miss(

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from conftest import random_posture
 
+from services.ik.kernel import chain_for
 from services.ik.measures import (
     ElbowTravel,
     GraspBlend,
@@ -25,15 +26,15 @@ P = MeasureParams()
 
 
 def _measures(arm: ArmModel, q0: np.ndarray) -> dict[str, Measure]:
-    kin0 = arm.kinematics(q0)
+    kin0 = chain_for(arm).state(q0)
     tpe = TotalPotentialEnergy(P.mu)
     ntpe = WristDiscomfortEnergy(tpe, P.omega, P.wrist_centre)
-    target = kin0.wrist + np.array([0.03, 0.0, 0.02])
+    target = np.array(kin0.p_wrist) + np.array([0.03, 0.0, 0.02])
     return {
         "tpe": tpe,
         "ntpe": ntpe,
-        "travel": ElbowTravel(kin0.elbow + 0.01),
-        "grasp": GraspBlend(ElbowTravel(kin0.elbow), ntpe, target, 0.05, P.k1, P.k2),
+        "travel": ElbowTravel(np.array(kin0.p_elbow) + 0.01),
+        "grasp": GraspBlend(ElbowTravel(kin0.p_elbow), ntpe, target, 0.05, P.k1, P.k2),
         "swivel": SwivelGoal(2.5, P.swivel_weight),
     }
 
@@ -52,47 +53,51 @@ def test_gradients_match_finite_differences(
         measure = _measures(arm, random_posture(arm, rng))[name]
         fd = [
             (
-                measure.value(arm.kinematics(q + h * e))
-                - measure.value(arm.kinematics(q - h * e))
+                measure.value(chain_for(arm).state(q + h * e))
+                - measure.value(chain_for(arm).state(q - h * e))
             )
             / (2 * h)
             for e in np.eye(5)
         ]
-        np.testing.assert_allclose(measure.gradient(arm.kinematics(q)), fd, atol=1e-6)
+        np.testing.assert_allclose(
+            measure.gradient(chain_for(arm).state(q)), fd, atol=1e-6
+        )
         checked += 1
 
 
 def test_grasp_gradient_at_fixed_blend(arm: ArmModel, rng: np.random.Generator) -> None:
     """H_G's gradient is the blend of its parts' gradients at the current dd/d."""
     q = random_posture(arm, rng)
-    kin = arm.kinematics(q)
+    kin = chain_for(arm).state(q)
     m = _measures(arm, q)
     grasp = m["grasp"]
     assert isinstance(grasp, GraspBlend)
     b = grasp.blend(kin)
-    expected = P.k1 * (1 - b) * grasp.travel.gradient(
-        kin
-    ) + P.k2 * b * grasp.ntpe.gradient(kin)
+    expected = P.k1 * (1 - b) * np.array(
+        grasp.travel.gradient(kin)
+    ) + P.k2 * b * np.array(grasp.ntpe.gradient(kin))
     np.testing.assert_allclose(grasp.gradient(kin), expected)
 
 
 def test_grasp_blend_hands_over_from_ntpe_to_elbow_travel(arm: ArmModel) -> None:
     """At dd = d, H_G = k2 NTPE; at the target (dd = 0), H_G = k1 s (eq. 21)."""
     q = (arm.limits.lower + arm.limits.upper) / 2
-    kin = arm.kinematics(q)
+    kin = chain_for(arm).state(q)
     tpe = TotalPotentialEnergy(P.mu)
     ntpe = WristDiscomfortEnergy(tpe, P.omega, P.wrist_centre)
-    travel = ElbowTravel(kin.elbow + np.array([0.01, 0.0, 0.0]))
-    far = GraspBlend(travel, ntpe, kin.wrist + np.array([0.05, 0, 0]), 0.05, 2.0, 3.0)
+    travel = ElbowTravel(np.array(kin.p_elbow) + np.array([0.01, 0.0, 0.0]))
+    far = GraspBlend(
+        travel, ntpe, np.array(kin.p_wrist) + np.array([0.05, 0, 0]), 0.05, 2.0, 3.0
+    )
     assert far.value(kin) == pytest.approx(3.0 * ntpe.value(kin))
-    at = GraspBlend(travel, ntpe, kin.wrist, 0.05, 2.0, 3.0)
+    at = GraspBlend(travel, ntpe, kin.p_wrist, 0.05, 2.0, 3.0)
     assert at.value(kin) == pytest.approx(2.0 * travel.value(kin))
 
 
 def test_spring_energy_vanishes_with_the_elbow_down(arm: ArmModel) -> None:
     """f_EPE = mu (pi - phi)^2 / 2 is zero at phi = pi and grows away from it."""
     tpe = TotalPotentialEnergy(0.5)
-    kin = arm.kinematics((arm.limits.lower + arm.limits.upper) / 2)
+    kin = chain_for(arm).state((arm.limits.lower + arm.limits.upper) / 2)
     phi = swivel_angle(kin.shoulder, kin.elbow, kin.wrist)
     assert tpe.elastic(kin) == pytest.approx(0.25 * (math.pi - phi) ** 2)
     assert tpe.value(kin) == pytest.approx(kin.gravity_energy + tpe.elastic(kin))
@@ -102,7 +107,7 @@ def test_wrist_discomfort_is_quadratic_about_the_centre(arm: ArmModel) -> None:
     """NTPE - TPE = omega (theta_wa - theta_N)^2 (eq. 19)."""
     q = (arm.limits.lower + arm.limits.upper) / 2
     q[4] = 0.7
-    kin = arm.kinematics(q)
+    kin = chain_for(arm).state(q)
     tpe = TotalPotentialEnergy(P.mu)
     ntpe = WristDiscomfortEnergy(tpe, 0.2, 0.1)
     assert ntpe.value(kin) - tpe.value(kin) == pytest.approx(0.2 * 0.6**2)
@@ -110,5 +115,5 @@ def test_wrist_discomfort_is_quadratic_about_the_centre(arm: ArmModel) -> None:
 
 def test_no_measure_is_zero(arm: ArmModel) -> None:
     """The least-norm baseline's H is identically zero."""
-    kin = arm.kinematics((arm.limits.lower + arm.limits.upper) / 2)
-    assert NoMeasure().value(kin) == 0.0 and not NoMeasure().gradient(kin).any()
+    kin = chain_for(arm).state((arm.limits.lower + arm.limits.upper) / 2)
+    assert NoMeasure().value(kin) == 0.0 and not any(NoMeasure().gradient(kin))

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from conftest import random_posture
 
+from services.ik.kernel import chain_for
 from shared.geometry import swivel_angle, swivel_gradient
 from shared.robot import ArmModel, load_arm
 from shared.robot.postures import mirror
@@ -37,8 +38,8 @@ def test_swivel_is_undefined_for_a_straight_arm() -> None:
     """On the shoulder-wrist axis the angle falls back to pi, gradient zero."""
     e, w = np.array([0.1, 0.0, 0.0]), np.array([0.2, 0.0, 0.0])
     assert swivel_angle(S, e, w) == math.pi
-    jac = np.ones((3, 5))
-    assert not swivel_gradient(S, e, w, jac, jac).any()
+    cols = [(1.0, 1.0, 1.0)] * 5
+    assert not any(swivel_gradient(S, e, w, cols, cols))
 
 
 def test_mirrored_arms_have_mirrored_swivel(rng: np.random.Generator) -> None:
@@ -69,10 +70,8 @@ def test_swivel_gradient_matches_finite_differences(
             < 1e-3
         ):
             continue  # near the wrap-around or a straight arm
-        kin = arm.kinematics(q)
-        grad = swivel_gradient(
-            kin.shoulder, kin.elbow, kin.wrist, kin.elbow_jacobian, kin.wrist_jacobian
-        )
+        kin = chain_for(arm).state(q)
+        grad = swivel_gradient(kin.shoulder, kin.elbow, kin.wrist, kin.je, kin.jw)
         fd = [
             (
                 swivel_angle(*arm.fk(q + h * e)[:3])

@@ -16,12 +16,14 @@ from scipy.optimize import minimize
 from armplan.bench.timer import Timing, time_calls
 from services.ik import solve
 from services.ik.gpm import gpm_step
+from services.ik.kernel import chain_for
 from services.ik.measures import MeasureParams, TotalPotentialEnergy
 from services.ik.task import WristTask
 from shared.robot import ArmModel, load_arm
 from shared.robot.postures import rest
 
 ACTIVE = np.arange(4)  # S_R E_PR W_P: the full reaching primitive
+ACTIVE_JOINTS = (0, 1, 2, 3)
 
 
 class IKCost(NamedTuple):
@@ -56,14 +58,15 @@ def slsqp_ik(
 ) -> np.ndarray:
     """The peer: minimise TPE over the first four joints with the wrist on target."""
     start = rest(arm.side)
+    chain = chain_for(arm)
 
     def posture(x: np.ndarray) -> np.ndarray:
         return np.append(x, start[4])
 
     result = minimize(
-        lambda x: tpe.value(arm.kinematics(posture(x))),
+        lambda x: tpe.value(chain.state(posture(x))),
         start[ACTIVE],
-        jac=lambda x: tpe.gradient(arm.kinematics(posture(x)))[ACTIVE],
+        jac=lambda x: np.array(tpe.gradient(chain.state(posture(x))))[ACTIVE],
         method="SLSQP",
         constraints=[
             {
@@ -101,7 +104,7 @@ def run(n: int = 100, seed: int = 7) -> IKCost:
     peer_ok = _reached(arm, peer_q, targets)
     both = ours_ok & peer_ok
     gaps = [
-        tpe.value(arm.kinematics(a)) - tpe.value(arm.kinematics(b))
+        tpe.value(chain_for(arm).state(a)) - tpe.value(chain_for(arm).state(b))
         for a, b, ok in zip(ours_q, peer_q, both, strict=True)
         if ok
     ]
@@ -110,10 +113,24 @@ def run(n: int = 100, seed: int = 7) -> IKCost:
 
 
 def _one_step(arm: ArmModel, tpe: TotalPotentialEnergy, target: np.ndarray) -> None:
-    q = rest(arm.side)
-    kin = arm.kinematics(q)
-    err, jac = WristTask(target, None, arm.side.sign).residual(kin)
-    gpm_step(q, err, jac, tpe.gradient(kin), ACTIVE, arm.limits, 1.0, 0.2, 0.05)
+    """One eq. 14 step from the rest posture, as the tracker does per path point."""
+    chain = chain_for(arm)
+    q = list(rest(arm.side))
+    st = chain.state(q)
+    err, cols = WristTask.make(target, None, arm.side.sign).residual(st)
+    gpm_step(
+        q,
+        err,
+        cols,
+        tpe.gradient(st),
+        ACTIVE_JOINTS,
+        chain.lower,
+        chain.upper,
+        1.0,
+        0.2,
+        0.05,
+    )
+    chain.state(q)
 
 
 def _reached(

@@ -2,11 +2,13 @@
 
     dq = J+ dx - alpha (I - J+ J) grad H
 
-(the paper writes +k with k < 0 to descend H). One SVD of J gives both parts:
-J+ is damped below singular value ``DAMPING`` so that singular directions (a
-stretched arm, or the radial direction that S_R E_P W_P cannot move) stay
-bounded, and the null-space projector is exact, keeping the singular
-directions whose value falls below ``RANK_CUT`` out of the task's row space.
+(the paper writes +k with k < 0 to descend H). J is given by columns, one per
+joint. One factorisation of J J^T serves both parts. It is undamped where J
+is well conditioned: near an optimum the projected gradient is tiny while the
+raw gradient is not, and damping would leak lambda^2 / sigma^2 of the raw
+gradient into the task, as large as what is left to descend (that stalled
+convergence). Near a singularity (a stretched arm) the damped J+ keeps steps
+bounded.
 
 Joint limits are kept by each priority in turn, so no step ever leaves them:
     1. The task step J+ dx uses joint clamping: a joint it would push out of
@@ -20,133 +22,136 @@ Joint limits are kept by each priority in turn, so no step ever leaves them:
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import NamedTuple
 
-import numpy as np
+from services.ik.kernel.small import NormalSolver, NormalSolver3, normal_solver
 
-from shared.robot.limits import JointLimits
-
-#: Damping of the pseudo-inverse [m]: below this singular value J+ fades out.
-DAMPING = 1e-3
-#: Singular values below this count as zero for the null-space projector [m].
-RANK_CUT = 1e-6
+#: Damping near singularities [m^2]: lambda^2 with lambda = 1e-4 m.
+SINGULAR_DAMPING = 1e-8
 #: A null-space step shorter than this fraction counts as blocked by a limit.
 BLOCKED = 1e-6
+
+Columns = Sequence[Sequence[float]]
 
 
 class Step(NamedTuple):
     """Result of one GPM step.
 
     Attributes:
-        dq: Joint change [rad], shape (5,), zero outside the active joints.
+        dq: Joint change [rad], 5 floats, zero outside the active joints.
         projected_gradient: The gradient of H projected on the null space of
-            the joints the null-space motion used, zero elsewhere, shape (5,):
+            the joints the null-space motion used, zero elsewhere (5 floats):
             zero at an optimum within the limits.
         null_joints: Indices of the joints the null-space motion used.
     """
 
-    dq: np.ndarray
-    projected_gradient: np.ndarray
+    dq: list[float]
+    projected_gradient: list[float]
     null_joints: tuple[int, ...]
 
 
-class Decomposition(NamedTuple):
-    """Damped pseudo-inverse and exact null-space projector of one Jacobian."""
-
-    pinv: np.ndarray
-    null: np.ndarray
+def solver(cols: Columns, free: Sequence[int]) -> NormalSolver | NormalSolver3:
+    """The (undamped unless near-singular) pseudo-inverse of J's free columns."""
+    return normal_solver(cols, free, 0.0, SINGULAR_DAMPING)
 
 
-def decompose(jac: np.ndarray) -> Decomposition:
-    """J+ (damped, shape (n, m)) and I - J+J (exact, shape (n, n)) for J (m, n)."""
-    u, s, vt = np.linalg.svd(jac, full_matrices=True)
-    k = s.size
-    pinv = (vt[:k].T * (s / (s * s + DAMPING**2))) @ u[:, :k].T
-    rank = int(np.count_nonzero(s > RANK_CUT))
-    row = vt[:rank]
-    return Decomposition(pinv, np.eye(jac.shape[1]) - row.T @ row)
-
-
-def damped_pinv(jac: np.ndarray) -> np.ndarray:
-    """The damped pseudo-inverse of J, shape (n, m)."""
-    return decompose(jac).pinv
-
-
-def _capped(step: np.ndarray, largest: float) -> np.ndarray:
-    """``step`` scaled down so that no entry exceeds ``largest`` in size."""
-    biggest = float(np.max(np.abs(step), initial=0.0))
-    return step * (largest / biggest) if biggest > largest else step
+def _capped(step: list[float], largest: float) -> list[float]:
+    biggest = max(map(abs, step)) if step else 0.0
+    if biggest <= largest:
+        return step
+    scale = largest / biggest
+    return [v * scale for v in step]
 
 
 def task_step(
-    q: np.ndarray,
-    error: np.ndarray,
-    jacobian: np.ndarray,
-    active: np.ndarray,
-    limits: JointLimits,
+    q: Sequence[float],
+    error: Sequence[float],
+    cols: Columns,
+    active: Sequence[int],
+    lower: Sequence[float],
+    upper: Sequence[float],
     max_step: float,
-) -> np.ndarray:
-    """J+ dx on the active joints with joint clamping [rad], shape (5,)."""
-    dq = np.zeros_like(q)
-    free = np.asarray(active, dtype=int)
-    err = np.asarray(error, dtype=float).copy()
-    while free.size:
-        step = _capped(damped_pinv(jacobian[:, free]) @ err, max_step)
-        trial = q[free] + step
-        out = (trial < limits.lower[free]) | (trial > limits.upper[free])
-        if not out.any():
-            dq[free] = step
+    first: NormalSolver | NormalSolver3 | None = None,
+) -> list[float]:
+    """J+ dx on the active joints with joint clamping [rad], 5 floats."""
+    dq = [0.0] * 5
+    free = list(active)
+    err = list(error)
+    inverse = first or solver(cols, free)
+    while free:
+        step = _capped(inverse.apply(err), max_step)
+        out = [
+            k
+            for k, d in zip(free, step, strict=True)
+            if not lower[k] <= q[k] + d <= upper[k]
+        ]
+        if not out:
+            for k, d in zip(free, step, strict=True):
+                dq[k] = d
             break
-        stopped = free[out]
-        dq[stopped] = np.clip(trial[out], limits.lower[stopped], limits.upper[stopped])
-        dq[stopped] -= q[stopped]
-        err -= jacobian[:, stopped] @ dq[stopped]
-        free = free[~out]
+        for k, d in zip(free, step, strict=True):
+            if k in out:
+                dq[k] = min(max(q[k] + d, lower[k]), upper[k]) - q[k]
+                c = cols[k]
+                err = [e - c[i] * dq[k] for i, e in enumerate(err)]
+        free = [k for k in free if k not in out]
+        inverse = solver(cols, free) if free else inverse
     return dq
 
 
-def _room(
-    q: np.ndarray, step: np.ndarray, low: np.ndarray, high: np.ndarray
-) -> np.ndarray:
-    """Per joint, the fraction of ``step`` it can take before a limit, in [0, inf)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        room = np.where(
-            step > 0, (high - q) / step, np.where(step < 0, (low - q) / step, np.inf)
-        )
-    return np.maximum(room, 0.0)
-
-
 def null_step(
-    q: np.ndarray,
-    jacobian: np.ndarray,
-    gradient: np.ndarray,
-    active: np.ndarray,
-    limits: JointLimits,
+    q: Sequence[float],
+    cols: Columns,
+    gradient: Sequence[float],
+    active: Sequence[int],
+    lower: Sequence[float],
+    upper: Sequence[float],
     alpha: float,
     max_step: float,
+    first: NormalSolver | NormalSolver3 | None = None,
 ) -> Step:
     """-alpha (I - J+ J) grad H, shortened or re-projected to stay in range."""
-    dq, projected = np.zeros_like(q), np.zeros_like(q)
-    free = np.asarray(active, dtype=int)
-    while free.size:
-        null = decompose(jacobian[:, free]).null @ gradient[free]
-        step = _capped(-alpha * null, max_step)
-        room = _room(q[free], step, limits.lower[free], limits.upper[free])
-        fraction = min(1.0, float(room.min()))
-        if fraction > BLOCKED or not np.any(null):
-            dq[free], projected[free] = fraction * step, null
-            break
-        free = free[room > BLOCKED]
-    return Step(dq, projected, tuple(int(i) for i in free))
+    free = list(active)
+    inverse = first or solver(cols, free)
+    while free:
+        back = inverse.apply(inverse.times(gradient))
+        null = [gradient[k] - b for k, b in zip(free, back, strict=True)]
+        step = _capped([-alpha * n for n in null], max_step)
+        fraction = 1.0
+        blocked = []
+        for k, d in zip(free, step, strict=True):
+            room = _room(q[k], d, lower[k], upper[k])
+            if room <= BLOCKED:
+                blocked.append(k)
+            fraction = min(fraction, room)
+        if fraction > BLOCKED or not any(null):
+            dq, projected = [0.0] * 5, [0.0] * 5
+            for k, d, n in zip(free, step, null, strict=True):
+                dq[k], projected[k] = fraction * d, n
+            return Step(dq, projected, tuple(free))
+        free = [k for k in free if k not in blocked]
+        inverse = solver(cols, free) if free else inverse
+    return Step([0.0] * 5, [0.0] * 5, ())
+
+
+def _room(q: float, step: float, low: float, high: float) -> float:
+    """The fraction of ``step`` a joint can take before its limit, in [0, inf)."""
+    if step > 0.0:
+        return max((high - q) / step, 0.0)
+    if step < 0.0:
+        return max((low - q) / step, 0.0)
+    return float("inf")
 
 
 def gpm_step(
-    q: np.ndarray,
-    error: np.ndarray,
-    jacobian: np.ndarray,
-    gradient: np.ndarray,
-    active: np.ndarray,
-    limits: JointLimits,
+    q: Sequence[float],
+    error: Sequence[float],
+    cols: Columns,
+    gradient: Sequence[float],
+    active: Sequence[int],
+    lower: Sequence[float],
+    upper: Sequence[float],
     alpha: float,
     max_step: float,
     max_null_step: float,
@@ -154,12 +159,13 @@ def gpm_step(
     """One step of eq. 14 on the active joints, within the joint limits.
 
     Args:
-        q: Current joint angles [rad], shape (5,).
-        error: Task error to remove this step (dx), shape (m,).
-        jacobian: Task Jacobian over all joints, shape (m, 5).
-        gradient: dH/dq over all joints, shape (5,).
-        active: Indices of the joints allowed to move, shape (k,).
-        limits: Joint ranges.
+        q: Current joint angles [rad], 5 values.
+        error: Task error to remove this step (dx), m values.
+        cols: Task Jacobian by columns: one sequence of m values per joint (5).
+        gradient: dH/dq, 5 values.
+        active: Indices of the joints allowed to move.
+        lower: Lower joint limits [rad], 5 values.
+        upper: Upper joint limits [rad], 5 values.
         alpha: Null-space gain [rad^2 per unit of H].
         max_step: Largest change of any joint by the task part [rad].
         max_null_step: Largest change of any joint by the null-space part [rad].
@@ -167,7 +173,10 @@ def gpm_step(
     Returns:
         The step; q + dq lies within the limits.
     """
-    active = np.asarray(active, dtype=int)
-    task = task_step(q, error, jacobian, active, limits, max_step)
-    null = null_step(q + task, jacobian, gradient, active, limits, alpha, max_null_step)
-    return null._replace(dq=task + null.dq)
+    inverse = solver(cols, active)
+    task = task_step(q, error, cols, active, lower, upper, max_step, inverse)
+    moved = [a + b for a, b in zip(q, task, strict=True)]
+    null = null_step(
+        moved, cols, gradient, active, lower, upper, alpha, max_null_step, inverse
+    )
+    return null._replace(dq=[a + b for a, b in zip(task, null.dq, strict=True)])

@@ -14,10 +14,12 @@ fixed, seeded postures and keeps the reaching solution of lowest H.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
 from services.ik.gpm import gpm_step
+from services.ik.kernel.chain import Chain, ChainState, chain_for
 from services.ik.measures import Measure
 from services.ik.task import WristTask
 from shared.robot.arm_model import ArmModel
@@ -66,18 +68,19 @@ def solve_gpm(
         (q [rad] shape (5,), iterations). ``q`` may miss the task if no
         posture reaches it; the caller checks.
     """
-    q = _approach(arm, task, active, measure, start)
-    q, iterations = converge(arm, task, active, measure, q)
-    if task_met(arm, task, q):
-        return q, iterations
-    best, best_key = q, _score(arm, task, measure, q)
-    for seed in _seeds(arm, start, active):
-        trial, spent = converge(arm, task, active, measure, seed)
+    chain = chain_for(arm)
+    q = _approach(chain, task, active, measure, [float(v) for v in start])
+    q, iterations = converge(chain, task, active, measure, q)
+    if task_met(task, chain.state(q)):
+        return np.array(q), iterations
+    best, best_key = q, _score(task, measure, chain.state(q))
+    for seed in _seeds(chain, start, active):
+        trial, spent = converge(chain, task, active, measure, seed)
         iterations += spent
-        key = _score(arm, task, measure, trial)
+        key = _score(task, measure, chain.state(trial))
         if key < best_key:
             best, best_key = trial, key
-    return best, iterations
+    return np.array(best), iterations
 
 
 def shoulder_arc(
@@ -97,6 +100,7 @@ def shoulder_arc(
     Returns:
         Positions [m], shape (n, 3); the last one is ``end``.
     """
+    shoulder, start, end = (np.asarray(v, dtype=float) for v in (shoulder, start, end))
     a, b = start - shoulder, end - shoulder
     ra, rb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
     ua, ub = a / ra, b / rb
@@ -109,125 +113,115 @@ def shoulder_arc(
             angle
         )
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    return shoulder + directions * (ra + s * (rb - ra))
+    points = shoulder + directions * (ra + s * (rb - ra))
+    points[-1] = end
+    return points
 
 
 def _approach(
-    arm: ArmModel,
+    chain: Chain,
     task: WristTask,
     active: tuple[int, ...],
     measure: Measure,
-    q: np.ndarray,
-) -> np.ndarray:
+    q: list[float],
+) -> list[float]:
     """Walk the wrist to the target along an arc about the shoulder, 5 mm a step."""
-    points = arm.fk(q)
-    steps = max(
-        1,
-        math.ceil(float(np.linalg.norm(task.position - points.wrist)) / APPROACH_STEP),
-    )
-    active_idx = np.array(active)
-    for goal in shoulder_arc(points.shoulder, points.wrist, task.position, steps):
-        kin = arm.kinematics(q)
-        err, jac = task._replace(position=goal).residual(kin)
-        step = gpm_step(
-            q,
-            err,
-            jac,
-            measure.gradient(kin),
-            active_idx,
-            arm.limits,
-            ALPHA0,
-            MAX_STEP,
-            MAX_NULL_STEP,
-        )
-        q = q + step.dq
+    st = chain.state(q)
+    distance = task.position_error(st)
+    steps = max(1, math.ceil(distance / APPROACH_STEP))
+    for goal in shoulder_arc(st.p_shoulder, st.p_wrist, task.position, steps):
+        q = _step(chain, task.at(goal), active, measure, q, st, ALPHA0)[0]
+        st = chain.state(q)
     return q
 
 
+def _step(
+    chain: Chain,
+    task: WristTask,
+    active: Sequence[int],
+    measure: Measure,
+    q: list[float],
+    st: ChainState,
+    alpha: float,
+) -> tuple[list[float], list[float], tuple[int, ...], float]:
+    """One eq. 14 step: (new q, projected gradient, null joints, task error size)."""
+    err, cols = task.residual(st)
+    step = gpm_step(
+        q, err, cols, measure.gradient(st), active, chain.lower, chain.upper,
+        alpha, MAX_STEP, MAX_NULL_STEP,
+    )  # fmt: skip
+    new = [a + b for a, b in zip(q, step.dq, strict=True)]
+    return new, step.projected_gradient, step.null_joints, max(abs(e) for e in err)
+
+
 def converge(
-    arm: ArmModel,
+    chain: Chain,
     task: WristTask,
     active: tuple[int, ...],
     measure: Measure,
-    q: np.ndarray,
-) -> tuple[np.ndarray, int]:
-    """Iterate eq. 14 at the target until task error and null-space step vanish."""
-    active_idx, alpha = np.array(active), ALPHA0
-    previous: np.ndarray | None = None
+    q: list[float],
+) -> tuple[list[float], int]:
+    """Iterate eq. 14 at the target until task error and null-space step vanish.
+
+    Returns:
+        (q [rad] 5 floats, iterations spent).
+    """
+    alpha = ALPHA0
+    previous: list[float] | None = None
     joints: tuple[int, ...] = ()
     best, best_at = math.inf, 0
     for iteration in range(1, MAX_ITERATIONS + 1):
-        kin = arm.kinematics(q)
-        err, jac = task.residual(kin)
-        size = float(np.max(np.abs(err)))
+        q, projected, used, size = _step(
+            chain, task, active, measure, q, chain.state(q), alpha
+        )
         if size < 0.5 * best:
             best, best_at = size, iteration
         elif size > TOLERANCE and iteration - best_at > STALL:
             return q, iteration
-        step = gpm_step(
-            q,
-            err,
-            jac,
-            measure.gradient(kin),
-            active_idx,
-            arm.limits,
-            alpha,
-            MAX_STEP,
-            MAX_NULL_STEP,
-        )
-        q = q + step.dq
-        null_move = alpha * float(np.max(np.abs(step.projected_gradient), initial=0.0))
+        null_move = alpha * max((abs(p) for p in projected), default=0.0)
         if size < TASK_DONE and null_move < NULL_DONE:
             return q, iteration
-        if previous is not None and step.null_joints == joints:
-            alpha = _barzilai_borwein(alpha, previous, step.projected_gradient)
+        if previous is not None and used == joints:
+            alpha = _barzilai_borwein(alpha, previous, projected)
         elif previous is not None:
             alpha = ALPHA0
-        previous, joints = step.projected_gradient, step.null_joints
+        previous, joints = projected, used
     return q, MAX_ITERATIONS
 
 
-def _barzilai_borwein(alpha: float, before: np.ndarray, after: np.ndarray) -> float:
+def _barzilai_borwein(alpha: float, before: list[float], after: list[float]) -> float:
     """Next null-space gain from two successive projected gradients."""
-    pp = float(before @ before)
-    curvature = pp - float(before @ after)
+    pp = sum(b * b for b in before)
+    curvature = pp - sum(b * a for b, a in zip(before, after, strict=True))
     if pp <= 0.0 or curvature <= 0.0:
         return min(alpha * 2.0, ALPHA_MAX)
     return min(max(alpha * pp / curvature, ALPHA_MIN), ALPHA_MAX)
 
 
-def task_met(arm: ArmModel, task: WristTask, q: np.ndarray) -> bool:
-    """True if ``q`` meets the task within the accepted tolerances."""
-    kin = arm.kinematics(q)
+def task_met(task: WristTask, st: ChainState) -> bool:
+    """True if the posture ``st`` meets the task within the accepted tolerances."""
     return (
-        task.position_error(kin) <= TOLERANCE and task.palm_error(kin) <= ROLL_TOLERANCE
+        task.position_error(st) <= TOLERANCE and task.palm_error(st) <= ROLL_TOLERANCE
     )
 
 
-def _score(
-    arm: ArmModel, task: WristTask, measure: Measure, q: np.ndarray
-) -> tuple[float, float]:
+def _score(task: WristTask, measure: Measure, st: ChainState) -> tuple[float, float]:
     """Sort key: task failure first (0 if met), then H."""
-    kin = arm.kinematics(q)
-    miss = (
-        0.0
-        if task_met(arm, task, q)
-        else task.position_error(kin) + task.palm_error(kin)
-    )
-    return miss, measure.value(kin)
+    miss = 0.0 if task_met(task, st) else task.position_error(st) + task.palm_error(st)
+    return miss, measure.value(st)
 
 
 def _seeds(
-    arm: ArmModel, start: np.ndarray, active: tuple[int, ...]
-) -> list[np.ndarray]:
+    chain: Chain, start: np.ndarray, active: tuple[int, ...]
+) -> list[list[float]]:
     """Fixed restart postures: start, with the active joints drawn in their ranges."""
     rng = np.random.default_rng(SEED)
     idx = np.array(active)
-    low = arm.limits.lower[idx] + 0.05 * arm.limits.span[idx]
-    high = arm.limits.upper[idx] - 0.05 * arm.limits.span[idx]
+    lower, upper = chain.limits.lower[idx], chain.limits.upper[idx]
+    margin = 0.05 * (upper - lower)
     seeds = []
     for _ in range(N_SEEDS):
-        q = start.copy()
-        q[idx] = rng.uniform(low, high)
-        seeds.append(q)
+        q = np.array(start, dtype=float)
+        q[idx] = rng.uniform(lower + margin, upper - margin)
+        seeds.append([float(v) for v in q])
     return seeds

@@ -25,6 +25,7 @@ from services.ik.geometric import (
     solve_wrist_turn,
 )
 from services.ik.iterate import ROLL_TOLERANCE, TOLERANCE, solve_gpm
+from services.ik.kernel.chain import ChainState, chain_for
 from services.ik.measures import MeasureParams
 from services.ik.measures import factory as measure_factory
 from services.ik.measures.factory import MeasureFactory
@@ -36,7 +37,7 @@ from shared.errors import (
 )
 from shared.messages import IKRequest, IKResult, Method
 from shared.primitives import FULL_GRASP, FULL_REACH, IKMethod, Primitive, get_primitive
-from shared.robot.arm_model import ArmModel, Kinematics
+from shared.robot.arm_model import ArmModel
 from shared.robot.postures import rest
 
 ALL_JOINTS = (0, 1, 2, 3, 4)
@@ -138,10 +139,11 @@ def solve(
     _check_shell(arm, target)
     if plan.primitive is not None and plan.primitive.ik.geometric:
         return _closed_form(arm, plan.primitive, start, target, palm)
-    task = WristTask(target, palm, arm.side.sign, radial=controls_radius(plan.active))
+    radial = controls_radius(plan.active)
+    task = WristTask.make(target, palm, arm.side.sign, radial)
     if plan.primitive is not None and not plan.primitive.moves_wrist:
         _check_held(arm, plan.primitive, start, target)
-    measure = plan.measure(arm.kinematics(start))
+    measure = plan.measure(chain_for(arm).state(start))
     q, iterations = solve_gpm(arm, task, plan.active, measure, start)
     return _accept(arm, plan, task, q, method, iterations)
 
@@ -222,14 +224,14 @@ def _check_held(
         )
 
 
-def _why(plan: Plan, task: WristTask, kin: Kinematics) -> str:
+def _why(plan: Plan, task: WristTask, st: ChainState) -> str:
     """Why a primitive's active joints miss the target."""
     assert plan.primitive is not None
     joints = ", ".join(plan.primitive.active_joints)
     if task.radial:
         return f"only {joints} move"
-    reached = float(np.linalg.norm(kin.wrist - kin.shoulder))
-    wanted = float(np.linalg.norm(task.position - kin.shoulder))
+    reached = math.dist(st.p_wrist, st.p_shoulder)
+    wanted = math.dist(task.position, st.p_shoulder)
     return (
         f"only {joints} move, so the wrist keeps its distance from the shoulder "
         f"({reached:.4f} m; the target is {wanted:.4f} m from it)"
@@ -246,19 +248,19 @@ def _accept(
 ) -> IKSolution:
     """Package ``q``, or raise the error that explains why it misses."""
     arm.limits.check(q, where="in the solution")
-    kin = arm.kinematics(q)
-    error = task.position_error(kin)
+    st = chain_for(arm).state(q)
+    error = task.position_error(st)
     name = None if plan.primitive is None else plan.primitive.name
     if error > TOLERANCE:
         if plan.primitive is not None and not set(plan.active) >= POSITION_JOINTS:
             raise PrimitiveCannotReachError(
                 plan.primitive.name,
                 task.position,
-                kin.wrist,
+                st.wrist,
                 error,
-                _why(plan, task, kin),
+                _why(plan, task, st),
             )
-        distance = float(np.linalg.norm(task.position - kin.shoulder))
+        distance = math.dist(task.position, st.p_shoulder)
         raise UnreachableTargetError(
             task.position,
             arm=arm.side.value,
@@ -266,13 +268,13 @@ def _accept(
             reach=arm.reach,
             residual=error,
         )
-    if task.palm_error(kin) > ROLL_TOLERANCE:
+    if task.palm_error(st) > ROLL_TOLERANCE:
         raise PrimitiveCannotReachError(
             name or method.value,
             task.position,
-            kin.wrist,
+            st.wrist,
             error,
-            f"the palm stays {math.degrees(task.palm_error(kin)):.1f} deg "
+            f"the palm stays {math.degrees(task.palm_error(st)):.1f} deg "
             "from the wanted direction",
         )
-    return IKSolution(q, kin.wrist, error, name, method, iterations)
+    return IKSolution(q, st.wrist, error, name, method, iterations)

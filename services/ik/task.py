@@ -1,13 +1,17 @@
-"""The wrist task of an IK step: its error and Jacobian for one posture."""
+"""The wrist task of an IK step: its error and Jacobian columns for one posture."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import NamedTuple
 
-import numpy as np
-
+from services.ik.kernel.chain import ChainState
+from services.ik.kernel.small import Vec, cross, dot, norm, sub
 from shared.geometry.palm import roll_error
-from shared.robot.arm_model import Kinematics
+
+
+def _vec(v: Sequence[float]) -> Vec:
+    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 class WristTask(NamedTuple):
@@ -15,53 +19,84 @@ class WristTask(NamedTuple):
 
     With ``radial`` False the task controls only the wrist's direction from
     the shoulder, not its distance: the error and Jacobian are projected on
-    the plane normal to the shoulder-wrist line. That is the task of the
+    two directions normal to the shoulder-wrist line. That is the task of the
     primitives in which the shoulder swings an arm of fixed shape (S_R E_P
     W_P, S_R E_P W_PR): ElbowRoll is passive, so the distance is too.
 
+    Build it with :meth:`make`, which accepts numpy arrays or sequences.
+
     Attributes:
-        position: Wanted wrist position in the torso frame [m], shape (3,).
-        palm: Wanted palm direction (unit, shape (3,)) or ``None``.
+        position: Wanted wrist position in the torso frame [m].
+        palm: Wanted palm direction (unit) or ``None``.
         sign: +1 for the right hand, -1 for the left (palm side).
         radial: Whether the distance from the shoulder is controlled.
     """
 
-    position: np.ndarray
-    palm: np.ndarray | None
+    position: Vec
+    palm: Vec | None
     sign: float
     radial: bool = True
 
-    def residual(self, kin: Kinematics) -> tuple[np.ndarray, np.ndarray]:
-        """(error, Jacobian) of the task at ``kin``.
+    @classmethod
+    def make(
+        cls,
+        position: Sequence[float],
+        palm: Sequence[float] | None,
+        sign: float,
+        radial: bool = True,
+    ) -> WristTask:
+        """A task from any 3-sequences (numpy arrays included)."""
+        return cls(_vec(position), None if palm is None else _vec(palm), sign, radial)
+
+    def at(self, position: Sequence[float]) -> WristTask:
+        """The same task with another wrist position."""
+        return self._replace(position=_vec(position))
+
+    def residual(self, st: ChainState) -> tuple[list[float], list[tuple[float, ...]]]:
+        """(error, Jacobian columns) of the task at ``st``.
 
         Returns:
-            error: Position error [m] (3,), then roll error [rad] if a palm
-                direction is wanted; shape (m,), m = 3 or 4.
-            jacobian: d(task)/dq, shape (m, 5); the roll row is the wrist's
-                angular Jacobian projected on the forearm axis.
+            error: Position error [m] (3 values, or 2 for the direction task),
+                then the roll error [rad] if a palm direction is wanted.
+            cols: d(task)/dq_k for each joint k (5 tuples of as many values
+                as ``error``); the roll entry is the joint axis along the
+                forearm (the wrist's angular Jacobian projected on it).
         """
-        err, jac = self.position - kin.wrist, kin.wrist_jacobian
-        if not self.radial:
-            out = kin.wrist - kin.shoulder
-            out /= np.linalg.norm(out)
-            tangent = np.eye(3) - np.outer(out, out)
-            err, jac = tangent @ err, tangent @ jac
-        if self.palm is None:
-            return err, jac
-        roll = roll_error(kin.wrist_rotation, self.sign, self.palm)
-        axis = kin.wrist_rotation[:, 0]
-        row = axis @ kin.wrist_angular_jacobian
-        return np.append(err, roll), np.vstack((jac, row))
+        w, p = st.origins[4], self.position
+        e = (p[0] - w[0], p[1] - w[1], p[2] - w[2])
+        if self.radial:
+            err = list(e)
+            cols: list[tuple[float, ...]] = list(st.jw)
+        else:
+            t1, t2 = _tangents(sub(w, st.origins[0]))
+            err = [dot(t1, e), dot(t2, e)]
+            cols = [(dot(t1, c), dot(t2, c)) for c in st.jw]
+        if self.palm is not None:
+            axis = (st.rot[0][0], st.rot[1][0], st.rot[2][0])
+            err.append(roll_error(st.rot, self.sign, self.palm))
+            cols = [(*c, dot(axis, a)) for c, a in zip(cols, st.axes, strict=True)]
+        return err, cols
 
-    def position_error(self, kin: Kinematics) -> float:
+    def position_error(self, st: ChainState) -> float:
         """Distance from the wrist to ``position`` [m] (radial part included)."""
-        return float(np.linalg.norm(self.position - kin.wrist))
+        return norm(sub(self.position, st.origins[4]))
 
-    def palm_error(self, kin: Kinematics) -> float:
+    def palm_error(self, st: ChainState) -> float:
         """Absolute roll still needed to face the palm [rad] (0 without a palm)."""
         if self.palm is None:
             return 0.0
-        return abs(roll_error(kin.wrist_rotation, self.sign, self.palm))
+        return abs(roll_error(st.rot, self.sign, self.palm))
+
+
+def _tangents(out: Vec) -> list[Vec]:
+    """Two unit vectors normal to ``out`` and to each other."""
+    length = norm(out)
+    r = (out[0] / length, out[1] / length, out[2] / length)
+    helper: Vec = (0.0, 0.0, 1.0) if abs(r[2]) < 0.9 else (1.0, 0.0, 0.0)
+    t1 = cross(helper, r)
+    n1 = norm(t1)
+    t1 = (t1[0] / n1, t1[1] / n1, t1[2] / n1)
+    return [t1, cross(r, t1)]
 
 
 def controls_radius(active: tuple[int, ...]) -> bool:
@@ -73,3 +108,6 @@ def controls_radius(active: tuple[int, ...]) -> bool:
     """
     joints = set(active)
     return not ({0, 1} <= joints and 3 not in joints)
+
+
+__all__ = ["WristTask", "controls_radius"]

@@ -21,6 +21,7 @@ the tracker converges to the goal exactly.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -28,24 +29,30 @@ import numpy as np
 
 from services.ik.gpm import gpm_step
 from services.ik.iterate import converge
+from services.ik.kernel.chain import Chain, ChainState, chain_for
 from services.ik.measures import Measure, MeasureParams
 from services.ik.measures import factory as measure_factory
 from services.ik.task import WristTask, controls_radius
 from shared.messages.method import Method
 from shared.primitives import FULL_GRASP, FULL_REACH, Primitive
-from shared.robot.arm_model import ArmModel, Kinematics
+from shared.robot.arm_model import ArmModel
 
-#: Chooses the primitive for path point k from the arm's state there.
-Chooser = Callable[[int, Kinematics], Primitive]
+#: Chooses the primitive for path point k from the arm's state there. The
+#: state is a ChainState: it reads like shared.robot.Kinematics (numpy
+#: attributes shoulder, elbow, wrist, wrist_rotation, ...), and its float
+#: fields (origins, rot, qf) are cheaper.
+Chooser = Callable[[int, ChainState], Primitive]
 
 #: Null-space gain while following a path [rad^2 per unit of H].
 ALPHA = 1.0
 #: Largest joint change per path point by the task / null-space part [rad].
 MAX_STEP, MAX_NULL_STEP = 0.2, 0.02
 #: Newton iterations per path point at most, and their stopping error [m].
-ITERATIONS, CLOSE_ENOUGH = 3, 1e-5
+ITERATIONS, CLOSE_ENOUGH = 3, 1e-4
 #: Distance from the path beyond which a point is moved by the full-arm primitive [m].
 PROMOTE_AFTER = 0.005
+#: Largest wrist error accepted at the goal before the full arm takes over [m].
+ARRIVED = 1e-5
 ALL_JOINTS = (0, 1, 2, 3, 4)
 POSITION_JOINTS = {0, 1, 2, 3}
 
@@ -67,7 +74,7 @@ class TrackedPath(NamedTuple):
 
 class _Phase(NamedTuple):
     label: str
-    active: np.ndarray
+    active: tuple[int, ...]
     measure: Measure
     task: WristTask
 
@@ -99,48 +106,39 @@ def track_path(
         The tracked path; ``q`` stays within the joint limits.
     """
     params = params or MeasureParams()
-    positions = np.asarray(positions, dtype=float)
-    goal = positions[-1]
-    q = np.array(start, dtype=float)
-    out_q, out_wrist, labels = (
-        np.empty((len(positions), 5)),
-        np.empty((len(positions), 3)),
-        [],
-    )
+    chain = chain_for(arm)
+    points = np.asarray(positions, dtype=float).tolist()
+    goal = points[-1]
+    q = [float(v) for v in start]
+    out_q: list[list[float]] = []
+    out_wrist: list[tuple[float, float, float]] = []
+    labels: list[str] = []
     phase: _Phase | None = None
-    for k, point in enumerate(positions):
-        kin = arm.kinematics(q)
-        wanted = _wanted(arm, method, choose, k, kin)
+    st = chain.state(q)
+    for k, point in enumerate(points):
+        wanted = _wanted(method, choose, k, st)
         if phase is None or phase.label != _label(method, wanted):
-            phase = _start_phase(arm, method, wanted, kin, goal, palm, params)
-        q, kin = _follow(arm, phase, point, q, kin)
-        if wanted is not None and _strays(phase, kin, point, wanted):
-            phase = _start_phase(
-                arm, method, _full(wanted), arm.kinematics(q), goal, palm, params
-            )
-            q, kin = _follow(arm, phase, point, q, kin)
-        if k == len(positions) - 1:
-            q, _ = converge(
-                arm,
-                phase.task._replace(position=point),
-                tuple(phase.active),
-                phase.measure,
-                q,
-            )
-            kin = arm.kinematics(q)
-        out_q[k], out_wrist[k] = q, kin.wrist
+            phase = _start_phase(chain, method, wanted, st, goal, palm, params)
+        q, st = _follow(chain, phase, point, q, st)
+        if wanted is not None and _strays(st, point, wanted):
+            phase = _start_phase(chain, method, _full(wanted), st, goal, palm, params)
+            q, st = _follow(chain, phase, point, q, st)
+        if k == len(points) - 1:
+            q, st, phase = _arrive(chain, phase, point, q, wanted, method, palm, params)
+        out_q.append(q)
+        out_wrist.append(st.p_wrist)
         labels.append(phase.label)
-    return TrackedPath(out_q, out_wrist, labels)
+    return TrackedPath(np.array(out_q), np.array(out_wrist), labels)
 
 
 def _wanted(
-    arm: ArmModel, method: Method, choose: Chooser | None, k: int, kin: Kinematics
+    method: Method, choose: Chooser | None, k: int, st: ChainState
 ) -> Primitive | None:
     if method is not Method.MP:
         return None
     if choose is None:
         raise ValueError("method mp needs a chooser of primitives")
-    return choose(k, kin)
+    return choose(k, st)
 
 
 def _label(method: Method, primitive: Primitive | None) -> str:
@@ -148,59 +146,76 @@ def _label(method: Method, primitive: Primitive | None) -> str:
 
 
 def _start_phase(
-    arm: ArmModel,
+    chain: Chain,
     method: Method,
     primitive: Primitive | None,
-    kin: Kinematics,
-    goal: np.ndarray,
+    st: ChainState,
+    goal: list[float],
     palm: np.ndarray | None,
     params: MeasureParams,
 ) -> _Phase:
-    """Active joints, measure and task of a new phase, built at ``kin``."""
+    """Active joints, measure and task of a new phase, built at ``st``."""
+    sign = chain.side.sign
     if primitive is None:
         factory = measure_factory.for_baseline(method, params)
-        task = WristTask(goal, palm, arm.side.sign)
-        return _Phase(method.value, np.array(ALL_JOINTS), factory(kin), task)
+        task = WristTask.make(goal, palm, sign)
+        return _Phase(method.value, ALL_JOINTS, factory(st), task)
     factory = measure_factory.for_primitive(primitive, goal, params)
     turn = palm if primitive.orients_wrist else None
-    task = WristTask(
-        goal, turn, arm.side.sign, radial=controls_radius(primitive.active)
-    )
-    return _Phase(primitive.name, np.array(primitive.active), factory(kin), task)
+    task = WristTask.make(goal, turn, sign, controls_radius(primitive.active))
+    return _Phase(primitive.name, primitive.active, factory(st), task)
 
 
 def _follow(
-    arm: ArmModel, phase: _Phase, point: np.ndarray, q: np.ndarray, kin: Kinematics
-) -> tuple[np.ndarray, Kinematics]:
-    """Steps of eq. 14 towards ``point`` (at most ``ITERATIONS``)."""
-    task = phase.task._replace(position=point)
-    for _ in range(ITERATIONS):
-        err, jac = task.residual(kin)
+    chain: Chain, phase: _Phase, point: list[float], q: list[float], st: ChainState
+) -> tuple[list[float], ChainState]:
+    """Steps of eq. 14 towards ``point``: one, more only while still off it.
+
+    The state after each step is the next step's (and the next point's)
+    state, so checking the error costs nothing extra. A primitive that cannot
+    reach every point takes one step: iterating would not bring it closer.
+    """
+    task = phase.task.at(point)
+    iterations = ITERATIONS if set(phase.active) >= POSITION_JOINTS else 1
+    for _ in range(iterations):
+        err, cols = task.residual(st)
         step = gpm_step(
-            q,
-            err,
-            jac,
-            phase.measure.gradient(kin),
-            phase.active,
-            arm.limits,
-            ALPHA,
-            MAX_STEP,
-            MAX_NULL_STEP,
-        )
-        q = q + step.dq
-        kin = arm.kinematics(q)
-        if float(np.max(np.abs(err))) < CLOSE_ENOUGH:
+            q, err, cols, phase.measure.gradient(st), phase.active,
+            chain.lower, chain.upper, ALPHA, MAX_STEP, MAX_NULL_STEP,
+        )  # fmt: skip
+        q = [a + b for a, b in zip(q, step.dq, strict=True)]
+        st = chain.state(q)
+        if task.position_error(st) < CLOSE_ENOUGH:
             break
-    return q, kin
+    return q, st
 
 
-def _strays(
-    phase: _Phase, kin: Kinematics, point: np.ndarray, wanted: Primitive
-) -> bool:
+def _arrive(
+    chain: Chain,
+    phase: _Phase,
+    goal: list[float],
+    q: list[float],
+    wanted: Primitive | None,
+    method: Method,
+    palm: np.ndarray | None,
+    params: MeasureParams,
+) -> tuple[list[float], ChainState, _Phase]:
+    """Converge onto the goal; if the phase's joints cannot, the full arm does."""
+    task = phase.task.at(goal)
+    q, _ = converge(chain, task, phase.active, phase.measure, q)
+    st = chain.state(q)
+    if wanted is None or task.position_error(st) <= ARRIVED:
+        return q, st, phase
+    phase = _start_phase(chain, method, _full(wanted), st, goal, palm, params)
+    q, _ = converge(chain, phase.task.at(goal), phase.active, phase.measure, q)
+    return q, chain.state(q), phase
+
+
+def _strays(st: ChainState, point: list[float], wanted: Primitive) -> bool:
     """True if a primitive that cannot reach every point left the path too far."""
     if set(wanted.active) >= POSITION_JOINTS:
         return False
-    return float(np.linalg.norm(kin.wrist - point)) > PROMOTE_AFTER
+    return math.dist(st.p_wrist, point) > PROMOTE_AFTER
 
 
 def _full(primitive: Primitive) -> Primitive:

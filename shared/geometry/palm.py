@@ -6,15 +6,18 @@ therefore one-dimensional: the roll about the forearm that turns the palm
 towards a wanted direction. At zero joint angles NAO's palms face each other,
 so the palm normal is the wrist frame's +y axis on the right hand and -y on
 the left.
+
+Written on plain indexing (rotation as rows r[i][j]) so that it serves numpy
+arrays and the IK's float tuples alike.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
-
-from shared.geometry.vectors import cross
 
 #: Below this length of the wanted palm direction projected off the forearm
 #: axis, roll cannot change how well the palm faces it (palm along forearm).
@@ -28,25 +31,29 @@ def palm_normal(wrist_rotation: np.ndarray, sign: float) -> np.ndarray:
         wrist_rotation: Orientation of the wrist frame, shape (3, 3).
         sign: +1 for the right hand, -1 for the left.
     """
-    return sign * wrist_rotation[:, 1]
+    return sign * np.asarray(wrist_rotation)[:, 1]
 
 
-def roll_error(wrist_rotation: np.ndarray, sign: float, palm: np.ndarray) -> float:
+def roll_error(wrist_rotation: Any, sign: float, palm: Sequence[float]) -> float:
     """Roll about the forearm that best turns the palm towards ``palm`` [rad].
 
     Positive about the forearm axis (wrist frame x). Zero when ``palm`` lies
     within 5 degrees of the forearm axis, where roll does not matter.
 
     Args:
-        wrist_rotation: Orientation of the wrist frame, shape (3, 3).
+        wrist_rotation: Orientation of the wrist frame, 3x3 (rows r[i][j]).
         sign: +1 for the right hand, -1 for the left.
-        palm: Wanted palm direction, unit, shape (3,).
+        palm: Wanted palm direction, unit, 3 values.
     """
-    axis = wrist_rotation[:, 0]
-    wanted = palm - float(palm @ axis) * axis
-    norm = float(np.linalg.norm(wanted))
-    if norm < DEGENERATE:
+    r = wrist_rotation
+    ax, ay, az = float(r[0][0]), float(r[1][0]), float(r[2][0])
+    nx, ny, nz = sign * float(r[0][1]), sign * float(r[1][1]), sign * float(r[2][1])
+    px, py, pz = float(palm[0]), float(palm[1]), float(palm[2])
+    along = px * ax + py * ay + pz * az
+    wx, wy, wz = px - along * ax, py - along * ay, pz - along * az
+    length = math.sqrt(wx * wx + wy * wy + wz * wz)
+    if length < DEGENERATE:
         return 0.0
-    wanted = wanted / norm
-    normal = palm_normal(wrist_rotation, sign)
-    return math.atan2(float(axis @ cross(normal, wanted)), float(normal @ wanted))
+    # axis . (normal x wanted), normal . wanted (the length cancels in atan2)
+    cx, cy, cz = ny * wz - nz * wy, nz * wx - nx * wz, nx * wy - ny * wx
+    return math.atan2(ax * cx + ay * cy + az * cz, nx * wx + ny * wy + nz * wz)

@@ -15,75 +15,103 @@ through, so the energy is smooth wherever the arm is used. phi is undefined
 for a straight arm (elbow on the axis) or a vertical axis; there the formulas
 below return pi and a zero gradient rather than dividing by zero.
 
-With e = elbow - shoulder, w = wrist - shoulder, up = (0, 0, 1):
-    y = det[w, up, e] / |w|,   x = up.e - (up.w)(e.w)/|w|^2,   phi = atan2(y, x).
+With e = elbow - shoulder, w = wrist - shoulder and up = z:
+    y = (w_y e_x - w_x e_y) / |w|,   x = e_z - w_z (e.w) / |w|^2,
+    phi = atan2(y, x).
+
+Written on plain indexing and floats: it accepts tuples or numpy arrays and
+is cheap enough for the IK's inner loop (see ``services.ik.kernel``).
 """
 
 from __future__ import annotations
 
 import math
-
-import numpy as np
-
-from shared.geometry.vectors import cross
+from collections.abc import Sequence
 
 #: Swivel angle of the elbow hanging straight down [rad].
 SWIVEL_DOWN = math.pi
 
-_UP = np.array([0.0, 0.0, 1.0])
 _EPS = 1e-12
+Point = Sequence[float]
 
 
-def _terms(e: np.ndarray, w: np.ndarray) -> tuple[float, float, float]:
-    """(y, x, |w|^2) of the atan2 form above."""
-    ww = float(w @ w)
-    y = float(np.dot(cross(w, _UP), e)) / math.sqrt(max(ww, _EPS))
-    x = float(e[2] - w[2] * float(e @ w) / max(ww, _EPS))
-    return y, x, ww
-
-
-def swivel_angle(shoulder: np.ndarray, elbow: np.ndarray, wrist: np.ndarray) -> float:
+def swivel_angle(shoulder: Point, elbow: Point, wrist: Point) -> float:
     """Elbow swivel angle phi in [0, 2 pi) [rad] (pi = elbow straight down).
 
     Args:
-        shoulder: Shoulder position [m], shape (3,).
-        elbow: Elbow position [m], shape (3,).
-        wrist: Wrist position [m], shape (3,).
+        shoulder: Shoulder position [m], 3 values.
+        elbow: Elbow position [m], 3 values.
+        wrist: Wrist position [m], 3 values.
     """
-    y, x, _ = _terms(elbow - shoulder, wrist - shoulder)
+    sx, sy, sz = float(shoulder[0]), float(shoulder[1]), float(shoulder[2])
+    ex, ey, ez = float(elbow[0]) - sx, float(elbow[1]) - sy, float(elbow[2]) - sz
+    wx, wy, wz = float(wrist[0]) - sx, float(wrist[1]) - sy, float(wrist[2]) - sz
+    ww = max(wx * wx + wy * wy + wz * wz, _EPS)
+    y = (wy * ex - wx * ey) / math.sqrt(ww)
+    x = ez - wz * (ex * wx + ey * wy + ez * wz) / ww
     if x * x + y * y < _EPS**2:
         return SWIVEL_DOWN
     return math.atan2(y, x) % (2.0 * math.pi)
 
 
 def swivel_gradient(
-    shoulder: np.ndarray,
-    elbow: np.ndarray,
-    wrist: np.ndarray,
-    elbow_jacobian: np.ndarray,
-    wrist_jacobian: np.ndarray,
-) -> np.ndarray:
-    """d(phi)/dq [rad/rad], shape (n,), by the chain rule through elbow and wrist.
+    shoulder: Point,
+    elbow: Point,
+    wrist: Point,
+    elbow_columns: Sequence[Point],
+    wrist_columns: Sequence[Point],
+) -> list[float]:
+    """d(phi)/dq [rad/rad], one value per joint, by the chain rule.
 
     Args:
-        shoulder: Shoulder position [m], shape (3,); it does not move.
-        elbow: Elbow position [m], shape (3,).
-        wrist: Wrist position [m], shape (3,).
-        elbow_jacobian: d(elbow)/dq [m/rad], shape (3, n).
-        wrist_jacobian: d(wrist)/dq [m/rad], shape (3, n).
+        shoulder: Shoulder position [m]; it does not move with q.
+        elbow: Elbow position [m].
+        wrist: Wrist position [m].
+        elbow_columns: d(elbow)/dq_k [m/rad], one 3-vector per joint.
+        wrist_columns: d(wrist)/dq_k [m/rad], one 3-vector per joint.
     """
-    e, w = elbow - shoulder, wrist - shoulder
-    y, x, ww = _terms(e, w)
-    r2 = x * x + y * y
-    if r2 < _EPS**2 or ww < _EPS:
-        return np.zeros(elbow_jacobian.shape[1])
+    return swivel_and_gradient(shoulder, elbow, wrist, elbow_columns, wrist_columns)[1]
+
+
+def swivel_and_gradient(
+    shoulder: Point,
+    elbow: Point,
+    wrist: Point,
+    elbow_columns: Sequence[Point],
+    wrist_columns: Sequence[Point],
+) -> tuple[float, list[float]]:
+    """(phi [rad], d(phi)/dq [rad/rad]) in one pass (they share every term)."""
+    sx, sy, sz = shoulder[0], shoulder[1], shoulder[2]
+    ex, ey, ez = elbow[0] - sx, elbow[1] - sy, elbow[2] - sz
+    wx, wy, wz = wrist[0] - sx, wrist[1] - sy, wrist[2] - sz
+    ww = wx * wx + wy * wy + wz * wz
+    n = len(wrist_columns)
+    if ww < _EPS:
+        return SWIVEL_DOWN, [0.0] * n
     nw = math.sqrt(ww)
-    up_w, e_w = float(w[2]), float(e @ w)
-    w_x_up = cross(w, _UP)
-    dy_de = w_x_up / nw
-    dy_dw = cross(_UP, e) / nw - y * w / ww
-    dx_de = _UP - up_w * w / ww
-    dx_dw = -(e_w * _UP + up_w * e) / ww + 2.0 * up_w * e_w * w / (ww * ww)
-    dphi_de = (x * dy_de - y * dx_de) / r2
-    dphi_dw = (x * dy_dw - y * dx_dw) / r2
-    return dphi_de @ elbow_jacobian + dphi_dw @ wrist_jacobian
+    ew = ex * wx + ey * wy + ez * wz
+    y = (wy * ex - wx * ey) / nw
+    x = ez - wz * ew / ww
+    r2 = x * x + y * y
+    if r2 < _EPS**2:
+        return SWIVEL_DOWN, [0.0] * n
+    phi = math.atan2(y, x) % (2.0 * math.pi)
+    # d(phi) = (x dy - y dx) / r2, with dy, dx by e and by w
+    k = 2.0 * wz * ew / (ww * ww)
+    a, b = x / r2, y / r2
+    de0 = a * wy / nw + b * wz * wx / ww
+    de1 = -a * wx / nw + b * wz * wy / ww
+    de2 = -b * (1.0 - wz * wz / ww)
+    dw0 = a * (-ey / nw - y * wx / ww) - b * (-(wz * ex) / ww + k * wx)
+    dw1 = a * (ex / nw - y * wy / ww) - b * (-(wz * ey) / ww + k * wy)
+    dw2 = a * (-y * wz / ww) - b * (-(ew + wz * ez) / ww + k * wz)
+    grad = [
+        de0 * ce[0]
+        + de1 * ce[1]
+        + de2 * ce[2]
+        + dw0 * cw[0]
+        + dw1 * cw[1]
+        + dw2 * cw[2]
+        for ce, cw in zip(elbow_columns, wrist_columns, strict=True)
+    ]
+    return phi, grad

@@ -4,32 +4,30 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 
-import numpy as np
-
-from shared.robot.arm_model import Kinematics
+from services.ik.kernel.chain import ChainState
 
 
 class Measure(ABC):
     """A human performance measure H(q) to minimise in the null space (eq. 14).
 
     Subclasses give the value [J, or J-equivalent] and the gradient dH/dq
-    [per rad], shape (5,), from one :class:`Kinematics` pass.
+    [per rad], five floats, from one :class:`ChainState`.
     """
 
     @abstractmethod
-    def value(self, kin: Kinematics) -> float:
-        """H at the posture ``kin.q``."""
+    def value(self, st: ChainState) -> float:
+        """H at the posture ``st.qf``."""
 
     @abstractmethod
-    def gradient(self, kin: Kinematics) -> np.ndarray:
-        """dH/dq at ``kin.q``, shape (5,)."""
+    def gradient(self, st: ChainState) -> list[float]:
+        """dH/dq at ``st.qf``, five floats."""
 
 
 class NoMeasure(Measure):
     """H = 0: no null-space motion (the least-norm baseline)."""
 
-    def value(self, kin: Kinematics) -> float:
+    def value(self, st: ChainState) -> float:
         return 0.0
 
-    def gradient(self, kin: Kinematics) -> np.ndarray:
-        return np.zeros(kin.q.shape[0])
+    def gradient(self, st: ChainState) -> list[float]:
+        return [0.0] * 5

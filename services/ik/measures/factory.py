@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
+from collections.abc import Callable, Sequence
 
-import numpy as np
-
+from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure, NoMeasure
 from services.ik.measures.elbow_travel import ElbowTravel
 from services.ik.measures.grasp import GraspBlend
@@ -15,10 +15,9 @@ from services.ik.measures.swivel_goal import SwivelGoal
 from services.ik.measures.tpe import TotalPotentialEnergy
 from shared.messages.method import Method
 from shared.primitives import IKMethod, Primitive
-from shared.robot.arm_model import Kinematics
 
 #: Builds a measure from the posture where its phase of the movement starts.
-MeasureFactory = Callable[[Kinematics], Measure]
+MeasureFactory = Callable[[ChainState], Measure]
 
 
 def ntpe(params: MeasureParams) -> WristDiscomfortEnergy:
@@ -30,7 +29,7 @@ def ntpe(params: MeasureParams) -> WristDiscomfortEnergy:
 
 def for_primitive(
     primitive: Primitive,
-    goal: np.ndarray,
+    goal: Sequence[float],
     params: MeasureParams,
     swivel: float | None = None,
 ) -> MeasureFactory:
@@ -38,30 +37,30 @@ def for_primitive(
 
     Args:
         primitive: The primitive.
-        goal: Where the movement ends, wrist [m], shape (3,): H_G's target.
+        goal: Where the movement ends, wrist [m], 3 values: H_G's target.
         params: Measure coefficients.
         swivel: Swivel goal for the function primitive S_R E_P W_R [rad].
     """
     if primitive.ik is IKMethod.GPM_TPE:
-        return lambda kin: TotalPotentialEnergy(params.mu)
+        return lambda st: TotalPotentialEnergy(params.mu)
     if primitive.ik is IKMethod.GPM_GRASP:
-        return lambda kin: GraspBlend(
-            ElbowTravel(kin.elbow),
+        return lambda st: GraspBlend(
+            ElbowTravel(st.origins[2]),
             ntpe(params),
             goal,
-            float(np.linalg.norm(goal - kin.wrist)),
+            math.dist(goal, st.origins[4]),
             params.k1,
             params.k2,
         )
     if primitive.ik is IKMethod.GPM_NULL and swivel is not None:
-        return lambda kin: SwivelGoal(swivel, params.swivel_weight)
+        return lambda st: SwivelGoal(swivel, params.swivel_weight)
     if primitive.ik.geometric:
-        return lambda kin: NoMeasure()
-    return lambda kin: ntpe(params)
+        return lambda st: NoMeasure()
+    return lambda st: ntpe(params)
 
 
 def for_baseline(method: Method, params: MeasureParams) -> MeasureFactory:
     """least-norm: no measure; single: NTPE for the whole movement."""
     if method is Method.LEAST_NORM:
-        return lambda kin: NoMeasure()
-    return lambda kin: ntpe(params)
+        return lambda st: NoMeasure()
+    return lambda st: ntpe(params)

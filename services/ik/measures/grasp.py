@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-import numpy as np
+import math
+from collections.abc import Sequence
 
+from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure
 from services.ik.measures.elbow_travel import ElbowTravel
 from services.ik.measures.ntpe import WristDiscomfortEnergy
-from shared.robot.arm_model import Kinematics
 
 
 class GraspBlend(Measure):
@@ -22,7 +23,7 @@ class GraspBlend(Measure):
     Args:
         travel: Elbow-travel term s.
         ntpe: NTPE term.
-        target: Wrist target [m], shape (3,).
+        target: Wrist target [m], 3 values.
         start_distance: d [m].
         k1: Weight of s [J/m].
         k2: Weight of NTPE [-].
@@ -32,31 +33,32 @@ class GraspBlend(Measure):
         self,
         travel: ElbowTravel,
         ntpe: WristDiscomfortEnergy,
-        target: np.ndarray,
+        target: Sequence[float],
         start_distance: float,
         k1: float,
         k2: float,
     ) -> None:
         self.travel = travel
         self.ntpe = ntpe
-        self.target = np.asarray(target, dtype=float).copy()
+        self.target = (float(target[0]), float(target[1]), float(target[2]))
         self.d = max(float(start_distance), 1e-6)
         self.k1, self.k2 = k1, k2
 
-    def blend(self, kin: Kinematics) -> float:
-        """Dd / d, clipped to [0, 1]: 1 at the start, 0 at the target."""
-        dd = float(np.linalg.norm(self.target - kin.wrist))
+    def blend(self, st: ChainState) -> float:
+        """dd / d, clipped to [0, 1]: 1 at the start, 0 at the target."""
+        w, t = st.origins[4], self.target
+        dd = math.sqrt((t[0] - w[0]) ** 2 + (t[1] - w[1]) ** 2 + (t[2] - w[2]) ** 2)
         return min(max(dd / self.d, 0.0), 1.0)
 
-    def value(self, kin: Kinematics) -> float:
-        b = self.blend(kin)
+    def value(self, st: ChainState) -> float:
+        b = self.blend(st)
         return (
-            self.k1 * self.travel.value(kin) * (1.0 - b)
-            + self.k2 * self.ntpe.value(kin) * b
+            self.k1 * self.travel.value(st) * (1.0 - b)
+            + self.k2 * self.ntpe.value(st) * b
         )
 
-    def gradient(self, kin: Kinematics) -> np.ndarray:
-        b = self.blend(kin)
-        return self.k1 * (1.0 - b) * self.travel.gradient(
-            kin
-        ) + self.k2 * b * self.ntpe.gradient(kin)
+    def gradient(self, st: ChainState) -> list[float]:
+        b = self.blend(st)
+        a, c = self.k1 * (1.0 - b), self.k2 * b
+        travel, ntpe = self.travel.gradient(st), self.ntpe.gradient(st)
+        return [a * t + c * n for t, n in zip(travel, ntpe, strict=True)]

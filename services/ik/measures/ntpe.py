@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import numpy as np
-
+from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure
 from services.ik.measures.tpe import TotalPotentialEnergy
-from shared.robot.arm_model import Kinematics
 
 WRIST = 4  # index of WristYaw in the joint vector
 
@@ -25,10 +23,10 @@ class WristDiscomfortEnergy(Measure):
         self.omega = omega
         self.centre = centre
 
-    def value(self, kin: Kinematics) -> float:
-        return self.tpe.value(kin) + self.omega * (kin.q[WRIST] - self.centre) ** 2
+    def value(self, st: ChainState) -> float:
+        return self.tpe.value(st) + self.omega * (st.qf[WRIST] - self.centre) ** 2
 
-    def gradient(self, kin: Kinematics) -> np.ndarray:
-        grad = self.tpe.gradient(kin)
-        grad[WRIST] += 2.0 * self.omega * (kin.q[WRIST] - self.centre)
+    def gradient(self, st: ChainState) -> list[float]:
+        grad = self.tpe.gradient(st)
+        grad[WRIST] += 2.0 * self.omega * (st.qf[WRIST] - self.centre)
         return grad

@@ -4,11 +4,9 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
+from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure
-from shared.geometry.swivel import swivel_angle, swivel_gradient
-from shared.robot.arm_model import Kinematics
+from shared.geometry.swivel import swivel_and_gradient, swivel_angle
 
 
 def wrap(angle: float) -> float:
@@ -31,15 +29,16 @@ class SwivelGoal(Measure):
         self.goal = goal
         self.weight = weight
 
-    def error(self, kin: Kinematics) -> float:
-        """Phi - phi_goal, wrapped [rad]."""
-        return wrap(swivel_angle(kin.shoulder, kin.elbow, kin.wrist) - self.goal)
+    def error(self, st: ChainState) -> float:
+        """phi - phi_goal, wrapped [rad]."""
+        phi = swivel_angle(st.origins[0], st.origins[2], st.origins[4])
+        return wrap(phi - self.goal)
 
-    def value(self, kin: Kinematics) -> float:
-        return 0.5 * self.weight * self.error(kin) ** 2
+    def value(self, st: ChainState) -> float:
+        return 0.5 * self.weight * self.error(st) ** 2
 
-    def gradient(self, kin: Kinematics) -> np.ndarray:
-        dphi = swivel_gradient(
-            kin.shoulder, kin.elbow, kin.wrist, kin.elbow_jacobian, kin.wrist_jacobian
-        )
-        return self.weight * self.error(kin) * dphi
+    def gradient(self, st: ChainState) -> list[float]:
+        o = st.origins
+        phi, dphi = swivel_and_gradient(o[0], o[2], o[4], st.je, st.jw)
+        k = self.weight * wrap(phi - self.goal)
+        return [k * d for d in dphi]

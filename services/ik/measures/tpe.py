@@ -4,11 +4,9 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
+from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure
-from shared.geometry.swivel import swivel_angle, swivel_gradient
-from shared.robot.arm_model import Kinematics
+from shared.geometry.swivel import swivel_and_gradient, swivel_angle
 
 
 class TotalPotentialEnergy(Measure):
@@ -27,17 +25,16 @@ class TotalPotentialEnergy(Measure):
     def __init__(self, mu: float) -> None:
         self.mu = mu
 
-    def elastic(self, kin: Kinematics) -> float:
+    def elastic(self, st: ChainState) -> float:
         """Spring energy mu (pi - phi)^2 / 2 [J] (eq. 17)."""
-        phi = swivel_angle(kin.shoulder, kin.elbow, kin.wrist)
+        phi = swivel_angle(st.origins[0], st.origins[2], st.origins[4])
         return 0.5 * self.mu * (math.pi - phi) ** 2
 
-    def value(self, kin: Kinematics) -> float:
-        return kin.gravity_energy + self.elastic(kin)
+    def value(self, st: ChainState) -> float:
+        return st.energy + self.elastic(st)
 
-    def gradient(self, kin: Kinematics) -> np.ndarray:
-        phi = swivel_angle(kin.shoulder, kin.elbow, kin.wrist)
-        dphi = swivel_gradient(
-            kin.shoulder, kin.elbow, kin.wrist, kin.elbow_jacobian, kin.wrist_jacobian
-        )
-        return kin.gravity_gradient - self.mu * (math.pi - phi) * dphi
+    def gradient(self, st: ChainState) -> list[float]:
+        o = st.origins
+        phi, dphi = swivel_and_gradient(o[0], o[2], o[4], st.je, st.jw)
+        k = self.mu * (math.pi - phi)
+        return [g - k * d for g, d in zip(st.grav, dphi, strict=True)]
