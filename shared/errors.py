@@ -263,6 +263,16 @@ class RemoteError(ArmplanError):
     kind = "remote_error"
 
 
+class TimingError(ArmplanError):
+    """The time parameterisation found no timing within the limits.
+
+    Ruckig found no profile, or the sampled trajectory still broke a limit
+    after the allowed retries. ``evidence`` holds what was asked and why.
+    """
+
+    kind = "timing_error"
+
+
 def error_from_wire(payload: dict[str, Any]) -> ArmplanError:
     """Rebuild an error sent with :meth:`ArmplanError.to_wire`.
 
@@ -280,3 +290,300 @@ def error_from_wire(payload: dict[str, Any]) -> ArmplanError:
         if not hasattr(error, name):
             setattr(error, name, value)
     return error
+
+
+# Errors of the Zenoh services (shared/bus): each names the service and key.
+
+
+class ServiceUnavailableError(ArmplanError):
+    """A service a request needs is not running (no liveliness token, no router).
+
+    Attributes:
+        service: The missing service, e.g. ``"ik"`` (``"router"`` if no router).
+        key: The key expression the request was for, if any.
+        reason: What showed it was missing.
+    """
+
+    kind = "service_unavailable"
+
+    def __init__(self, service: str, *, key: str = "", reason: str = "") -> None:
+        at = f" for {key}" if key else ""
+        why = f": {reason}" if reason else ""
+        super().__init__(
+            f"service {service!r} is unavailable{at}{why}",
+            service=service,
+            key=key,
+            reason=reason,
+        )
+        self.service = service
+        self.key = key
+        self.reason = reason
+
+
+class RequestTimeoutError(ArmplanError):
+    """A service did not answer a request within its timeout.
+
+    Attributes:
+        service: The service asked, e.g. ``"ik"``.
+        key: The key expression queried.
+        timeout: How long the caller waited [s].
+    """
+
+    kind = "request_timeout"
+
+    def __init__(self, service: str, *, key: str, timeout: float) -> None:
+        super().__init__(
+            f"service {service!r} did not answer {key} within {timeout:.3f} s",
+            service=service,
+            key=key,
+            timeout=float(timeout),
+        )
+        self.service = service
+        self.key = key
+        self.timeout = float(timeout)
+
+
+class PayloadTooLargeError(InvalidInputError):
+    """A request's payload exceeds the configured size limit.
+
+    Attributes:
+        size: The payload's size [bytes].
+        limit: The largest payload accepted [bytes].
+        key: The key expression it was sent to.
+    """
+
+    kind = "payload_too_large"
+
+    def __init__(self, *, size: int, limit: int, key: str) -> None:
+        super().__init__(
+            f"payload of {size} bytes for {key} exceeds the limit of {limit} bytes",
+            field="payload",
+            size=int(size),
+            limit=int(limit),
+            key=key,
+        )
+        self.size = int(size)
+        self.limit = int(limit)
+        self.key = key
+
+
+class InternalServiceError(ArmplanError):
+    """A service failed in an unexpected way; it logged the traceback and runs on.
+
+    Attributes:
+        service: The service that failed.
+        key: The key expression of the request.
+        error_type: The unexpected exception's class name.
+        detail: The unexpected exception's message.
+    """
+
+    kind = "internal_error"
+
+    def __init__(self, service: str, *, key: str, error_type: str, detail: str) -> None:
+        super().__init__(
+            f"service {service!r} failed on {key} with an unexpected {error_type}: "
+            f"{detail} (the service keeps running; see its log)",
+            service=service,
+            key=key,
+            error_type=error_type,
+            detail=detail,
+        )
+        self.service = service
+        self.key = key
+        self.error_type = error_type
+        self.detail = detail
+
+
+class ServiceBusyError(ArmplanError):
+    """A service's request queue is full; the request was refused, not dropped.
+
+    Attributes:
+        service: The busy service.
+        key: The key expression of the refused request.
+        queued: Requests waiting when it was refused.
+    """
+
+    kind = "service_busy"
+
+    def __init__(self, service: str, *, key: str, queued: int) -> None:
+        super().__init__(
+            f"service {service!r} refused {key}: {queued} requests are already "
+            "waiting; try again later",
+            service=service,
+            key=key,
+            queued=int(queued),
+        )
+        self.service = service
+        self.key = key
+        self.queued = int(queued)
+
+
+class EndpointNotWiredError(ArmplanError):
+    """A service process runs, but its algorithm is not connected to this key yet.
+
+    Attributes:
+        service: The service.
+        key: The key expression asked.
+        todo: What is missing.
+    """
+
+    kind = "endpoint_not_wired"
+
+    def __init__(self, service: str, *, key: str, todo: str) -> None:
+        super().__init__(
+            f"service {service!r} has no algorithm wired to {key} yet: {todo}",
+            service=service,
+            key=key,
+            todo=todo,
+        )
+        self.service = service
+        self.key = key
+        self.todo = todo
+
+
+class BusConfigError(ArmplanError):
+    """The Zenoh configuration (file or option) is malformed or unsafe.
+
+    Attributes:
+        source: The file or command-line option it came from.
+        setting: The setting that is wrong, e.g. ``"scouting/multicast/enabled"``.
+    """
+
+    kind = "bus_config"
+
+    def __init__(self, problem: str, *, source: str, setting: str = "") -> None:
+        what = f" ({setting})" if setting else ""
+        super().__init__(
+            f"Zenoh configuration {source}{what}: {problem}",
+            source=source,
+            setting=setting,
+        )
+        self.source = source
+        self.setting = setting
+
+
+# Errors of the robot bridge (bridge/) and the robot it talks to over NAOqi.
+
+
+class TrajectoryRefusedError(ArmplanError):
+    """The bridge refused a whole trajectory before sending any of it to the robot.
+
+    Attributes:
+        joint: NAO joint name, e.g. ``RShoulderPitch``.
+        quantity: ``"position"``, ``"velocity"`` or ``"acceleration"``.
+        value: The offending value [rad, rad/s or rad/s^2].
+        limit: The limit it breaks, same unit (the bound crossed, for a position).
+        frame: Index of the command frame (1 is the first key; 0 is the start).
+        time: Time of that frame from the trajectory's start [s].
+    """
+
+    kind = "trajectory_refused"
+
+    def __init__(
+        self,
+        joint: str,
+        quantity: str,
+        value: float,
+        limit: float,
+        *,
+        frame: int,
+        time: float,
+        detail: str,
+    ) -> None:
+        super().__init__(
+            f"trajectory refused, nothing was sent: {joint} {detail}",
+            joint=joint,
+            quantity=quantity,
+            value=float(value),
+            limit=float(limit),
+            frame=int(frame),
+            time=float(time),
+        )
+        self.joint = joint
+        self.quantity = quantity
+        self.value = float(value)
+        self.limit = float(limit)
+        self.frame = int(frame)
+        self.time = float(time)
+
+
+class RobotUnavailableError(ArmplanError):
+    """The robot (a NAO or the simulated one) cannot be reached or stopped answering.
+
+    Attributes:
+        url: The robot's NAOqi address, e.g. ``tcp://127.0.0.1:9559``.
+        reason: What showed it, e.g. ``"Connection refused"``.
+        elapsed: Time into the running command when it was lost [s], if any.
+    """
+
+    kind = "robot_unavailable"
+
+    def __init__(self, url: str, reason: str, *, elapsed: float | None = None) -> None:
+        during = "" if elapsed is None else f" {elapsed:.2f} s into the movement"
+        super().__init__(
+            f"the robot at {url} is unavailable{during}: {reason}",
+            url=url,
+            reason=reason,
+            elapsed=None if elapsed is None else float(elapsed),
+        )
+        self.url = url
+        self.reason = reason
+        self.elapsed = None if elapsed is None else float(elapsed)
+
+
+class RobotCommandError(ArmplanError):
+    """The robot answered, but refused or failed a command.
+
+    Attributes:
+        url: The robot's NAOqi address.
+        method: The ALMotion method called, e.g. ``angleInterpolation``.
+        reason: The robot's own explanation.
+    """
+
+    kind = "robot_command_refused"
+
+    def __init__(self, url: str, method: str, reason: str) -> None:
+        super().__init__(
+            f"the robot at {url} refused {method}: {reason}",
+            url=url,
+            method=method,
+            reason=reason,
+        )
+        self.url = url
+        self.method = method
+        self.reason = reason
+
+
+# Errors of demonstration files and motion-model files (shared/demos, services/fit).
+
+
+class DemoFileError(ArmplanError):
+    """A demonstration file (MCAP, C3D, CSV, marker map) cannot be used.
+
+    Attributes:
+        path: The file.
+        reason: What is wrong with it, e.g. the missing markers.
+    """
+
+    kind = "demo_file_error"
+
+    def __init__(self, path: str, reason: str, **evidence: Any) -> None:
+        super().__init__(f"{path}: {reason}", path=path, reason=reason, **evidence)
+        self.path = path
+        self.reason = reason
+
+
+class ModelFileError(ArmplanError):
+    """A motion-model file is missing, truncated, malformed or of another version.
+
+    Attributes:
+        path: The file.
+        reason: What is wrong with it.
+    """
+
+    kind = "model_file_error"
+
+    def __init__(self, path: str, reason: str, **evidence: Any) -> None:
+        super().__init__(f"{path}: {reason}", path=path, reason=reason, **evidence)
+        self.path = path
+        self.reason = reason

@@ -7,7 +7,8 @@ import sys
 
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_arm, add_json, finite
-from shared.messages import IKRequest, Method, parse
+from armplan.cli.remote import add_remote, is_remote
+from shared.messages import IKRequest, IKResult, Method, parse
 from shared.robot import load_arm
 
 ORDER = 20
@@ -56,13 +57,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="elbow swivel angle to move to, for S_R E_P W_R [rad] (pi: elbow down)",
     )
     add_json(parser)
+    add_remote(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Solve and print the posture."""
-    from services.ik import solve_request
-
+    """Solve (in-process, or by the IK service with --remote) and print it."""
     request = parse(
         IKRequest,
         {
@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
             "swivel": args.swivel,
         },
     )
-    result = solve_request(load_arm(request.arm), request)
+    result = _solve_remote(args, request) if is_remote(args) else _solve(request)
     if args.json:
         print_json(result.model_dump(mode="json"))
         return 0
@@ -89,3 +89,17 @@ def run(args: argparse.Namespace) -> int:
         + "\n"
     )
     return 0
+
+
+def _solve(request: IKRequest) -> IKResult:
+    from services.ik import solve_request
+
+    return solve_request(load_arm(request.arm), request)
+
+
+def _solve_remote(args: argparse.Namespace, request: IKRequest) -> IKResult:
+    from armplan.cli.remote import connect
+    from shared.bus.routes import IK_SOLVE
+
+    with connect(args) as bus:
+        return bus.call(IK_SOLVE, request)

@@ -1,0 +1,81 @@
+"""``armplan status``: which services are alive on the router."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from armplan.cli.output import print_json, print_table
+from armplan.cli.parsing import add_json
+from armplan.launch import SERVICES
+from shared.bus import Bus, load_config
+from shared.errors import ServiceUnavailableError
+
+ORDER = 81
+HELP = "list the services alive on the Zenoh router (liveliness tokens)"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``status``."""
+    parser = commands.add_parser("status", help=HELP, description=HELP)
+    parser.add_argument(
+        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
+    )
+    parser.add_argument(
+        "--connect",
+        action="append",
+        metavar="ENDPOINT",
+        help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
+    )
+    parser.add_argument(
+        "--require",
+        nargs="+",
+        metavar="SERVICE",
+        default=[],
+        help="fail (exit 1) unless these services are alive (health checks)",
+    )
+    add_json(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print every known service and whether it is alive."""
+    config = load_config(args.config, tuple(args.connect or ()))
+    with Bus.connect(config) as bus:
+        alive = bus.alive()
+    rows = _rows(alive, config.namespace)
+    if args.json:
+        print_json(
+            {
+                "router": config.endpoint,
+                "namespace": config.namespace,
+                "services": [
+                    dict(zip(("service", "state", "keys"), r, strict=True))
+                    for r in rows
+                ],
+            }
+        )
+    else:
+        sys.stdout.write(f"router {config.endpoint}, namespace {config.namespace}\n")
+        print_table(("service", "state", "keys"), rows)
+    missing = [name for name in args.require if name not in alive]
+    if missing:
+        raise ServiceUnavailableError(
+            ", ".join(missing), reason=f"not alive on {config.endpoint}"
+        )
+    return 0
+
+
+def _rows(alive: list[str], namespace: str) -> list[tuple[str, str, str]]:
+    """(service, alive|absent, keys) for every known service and any other alive."""
+    known = {s.name: s for s in SERVICES}
+    rows = [
+        (
+            spec.name,
+            "alive" if spec.name in alive else "absent",
+            ", ".join(r.key(namespace) for r in spec.routes),
+        )
+        for spec in SERVICES
+    ]
+    rows += [(name, "alive", "-") for name in alive if name not in known]
+    return rows

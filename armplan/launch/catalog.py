@@ -1,0 +1,52 @@
+"""The processes ``armplan up`` starts: the router, then every service.
+
+Each service runs as ``python -m services.<name>`` (its ``__main__.py`` calls
+``shared.bus.serve``); the router as ``python -m shared.bus.router``.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+from shared.bus import Route
+from shared.bus.routes import ROUTES
+from shared.errors import InvalidInputError
+
+#: The router's module.
+ROUTER_MODULE = "shared.bus.router"
+
+
+class ServiceSpec(NamedTuple):
+    """One service process.
+
+    Attributes:
+        name: The service's name (its liveliness token), e.g. ``"ik"``.
+        module: The module run with ``python -m``, e.g. ``"services.ik"``.
+        routes: The routes it answers.
+    """
+
+    name: str
+    module: str
+    routes: tuple[Route[Any, Any], ...]
+
+
+def _spec(name: str) -> ServiceSpec:
+    routes = tuple(r for r in ROUTES if r.service == name)
+    return ServiceSpec(name, f"services.{name}", routes)
+
+
+#: Every service, in start order (the planner last: it calls the others).
+SERVICES: tuple[ServiceSpec, ...] = tuple(
+    _spec(name) for name in ("fit", "decide", "ik", "timing", "planner")
+)
+
+
+def service_spec(name: str) -> ServiceSpec:
+    """The service called ``name``; ``InvalidInputError`` listing the known ones."""
+    for spec in SERVICES:
+        if spec.name == name:
+            return spec
+    known = ", ".join(s.name for s in SERVICES)
+    raise InvalidInputError(
+        f"unknown service {name!r}; known: {known}", field="service"
+    )

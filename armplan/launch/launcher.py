@@ -1,0 +1,166 @@
+"""Start the router and the services, wait until all are alive, stop them all.
+
+Start order: the router (ready once a client session opens on it), then the
+services (ready once each one's liveliness token is seen). Stop order: the
+services, then the router; each gets SIGTERM, then SIGKILL after the grace
+period. A child that exits during start aborts the start with an error
+naming it. Children end themselves if this process dies; on Linux that is
+tied to the thread that started them, so start them from a thread that
+outlives them (the main thread). Example::
+
+    with Launcher(load_config(endpoints=(free_endpoint(),)), ["ik"]) as stack:
+        with Bus.connect(stack.config) as bus:
+            bus.call(IK_SOLVE, request)
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Sequence
+from types import TracebackType
+from typing import IO
+
+from armplan.launch.catalog import ROUTER_MODULE, SERVICES, service_spec
+from armplan.launch.child import Child, stop_all
+from shared.bus import Bus, BusConfig
+from shared.errors import ServiceUnavailableError
+
+#: Longest wait for the router, then for all services to be alive [s].
+START_TIMEOUT = 60.0
+#: Time the children get to exit after SIGTERM before SIGKILL [s].
+GRACE = 5.0
+#: Pause between liveliness checks while starting [s].
+POLL = 0.1
+
+
+class Launcher:
+    """The router and a set of services as child processes.
+
+    Attributes:
+        config: The bus settings every child gets.
+        specs: The services started.
+        router: The router process, once started.
+        services: The service processes by name, once started.
+    """
+
+    def __init__(
+        self,
+        config: BusConfig,
+        names: Sequence[str] | None = None,
+        *,
+        log: IO[str] | int | None = None,
+        stop: threading.Event | None = None,
+    ) -> None:
+        """Prepare (start nothing yet).
+
+        Args:
+            config: The bus settings (router endpoints, namespace, file).
+            names: Services to start; ``None`` starts every one.
+            log: Where the children's output goes: a file,
+                ``subprocess.DEVNULL``, or ``None`` for stderr.
+            stop: Set by a signal handler to abort a start in progress.
+        """
+        self.config = config
+        self.specs = SERVICES if names is None else tuple(map(service_spec, names))
+        self.router: Child | None = None
+        self.services: dict[str, Child] = {}
+        self._log = log
+        self._stop = stop or threading.Event()
+
+    def start(self, timeout: float = START_TIMEOUT) -> Launcher:
+        """Start the router and every service; return once all are alive.
+
+        Args:
+            timeout: Longest wait for the router and for the services [s].
+
+        Raises:
+            ServiceUnavailableError: naming the child that exited or did not
+                come alive in time (everything started is stopped again).
+        """
+        try:
+            self.router = Child.start(
+                "router", ROUTER_MODULE, self._args("--listen"), self._log
+            )
+            with self._connect(timeout) as bus:
+                for spec in self.specs:
+                    self.start_service(spec.name)
+                self._wait_alive(bus, timeout)
+        except BaseException:
+            self.stop()
+            raise
+        return self
+
+    def start_service(self, name: str) -> Child:
+        """Start (or restart) service ``name``; does not wait for it."""
+        spec = service_spec(name)
+        child = Child.start(spec.name, spec.module, self._args("--connect"), self._log)
+        self.services[spec.name] = child
+        return child
+
+    def _args(self, endpoint_option: str) -> list[str]:
+        args = [] if self.config.file is None else ["--config", self.config.file]
+        for endpoint in self.config.endpoints:
+            args += [endpoint_option, endpoint]
+        return args
+
+    def _connect(self, timeout: float) -> Bus:
+        deadline = time.monotonic() + timeout
+        while True:
+            self._check_running()
+            try:
+                return Bus.connect(self.config)
+            except ServiceUnavailableError:
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(POLL)
+
+    def _wait_alive(self, bus: Bus, timeout: float) -> None:
+        wanted = [spec.name for spec in self.specs]
+        deadline = time.monotonic() + timeout
+        while missing := bus.wait_alive(wanted, POLL):
+            self._check_running()
+            if time.monotonic() > deadline:
+                raise ServiceUnavailableError(
+                    ", ".join(missing), reason=f"not alive after {timeout:.0f} s"
+                )
+
+    def _check_running(self) -> None:
+        if self._stop.is_set():
+            raise ServiceUnavailableError(
+                "launcher", reason="stopped by a signal while starting"
+            )
+        for child in self.children():
+            code = child.exit_code()
+            if code is not None:
+                raise ServiceUnavailableError(
+                    child.name,
+                    reason=f"its process exited with code {code} while starting "
+                    "(see its log)",
+                )
+
+    def children(self) -> list[Child]:
+        """Every child started, the router first."""
+        head = [] if self.router is None else [self.router]
+        return head + list(self.services.values())
+
+    def exited(self) -> list[Child]:
+        """Children that have exited."""
+        return [c for c in self.children() if c.exit_code() is not None]
+
+    def stop(self, grace: float = GRACE) -> None:
+        """Stop the services, then the router: SIGTERM, SIGKILL after ``grace`` [s]."""
+        stop_all(list(self.services.values()), grace)
+        if self.router is not None:
+            stop_all([self.router], grace)
+
+    def __enter__(self) -> Launcher:
+        return self.start()
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.stop()

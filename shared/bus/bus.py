@@ -1,0 +1,134 @@
+"""The bus: one armplan process's Zenoh session, its settings, and what it can do.
+
+A client opens a :class:`Bus` and calls routes; a service gets one to call the
+services it needs and to publish. Example::
+
+    with Bus.connect(load_config()) as bus:
+        result = bus.call(IK_SOLVE, IKRequest(target=(0.12, -0.13, 0.05)))
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from types import TracebackType
+from typing import Any
+
+import zenoh
+
+from shared.bus.caller import call
+from shared.bus.config import BusConfig
+from shared.bus.keys import service_key
+from shared.bus.liveness import AliveServices, list_alive
+from shared.bus.route import Rep, Req, Route
+from shared.bus.session import open_client
+from shared.messages import Message
+
+#: Pause between liveliness checks while waiting for services [s].
+WAIT_POLL = 0.05
+
+
+class Bus:
+    """An open client session with the project's settings.
+
+    Attributes:
+        session: The Zenoh session.
+        config: The bus settings.
+    """
+
+    def __init__(self, session: zenoh.Session, config: BusConfig) -> None:
+        self.session = session
+        self.config = config
+        self._alive = AliveServices(session, config.namespace)
+
+    @classmethod
+    def connect(cls, config: BusConfig, wait: float = 0.0) -> Bus:
+        """Connect to the router.
+
+        Args:
+            config: The bus settings.
+            wait: How long to keep trying while no router answers [s].
+
+        Raises:
+            ServiceUnavailableError: naming the router's endpoints if none answers.
+        """
+        return cls(open_client(config, wait), config)
+
+    def key(self, path: str) -> str:
+        """The full key of ``path``, e.g. ``armplan/plan/trajectory``."""
+        return service_key(self.config.namespace, path)
+
+    def call(
+        self,
+        route: Route[Any, Rep],
+        request: Message | str | bytes,
+        *,
+        timeout: float | None = None,
+    ) -> Rep:
+        """Ask ``route``'s service; its typed reply, or its typed error raised.
+
+        Args:
+            route: The route, e.g. ``IK_SOLVE``.
+            request: The request message (or raw JSON, sent as is).
+            timeout: Longest wait [s]; default ``config.timeout``.
+
+        Raises:
+            ServiceUnavailableError: if the service is not running.
+            RequestTimeoutError: if it does not answer in time.
+            ArmplanError: the service's own error, rebuilt with its kind.
+        """
+        wait = self.config.timeout if timeout is None else timeout
+        return call(
+            self.session, self._alive, self.config.namespace, route, request, wait
+        )
+
+    def remote(self, route: Route[Req, Rep]) -> Callable[[Req], Rep]:
+        """``route`` as a plain function, to hand to an algorithm that calls it."""
+
+        def ask(request: Req) -> Rep:
+            return self.call(route, request)
+
+        return ask
+
+    def publish(self, path: str, message: Message) -> None:
+        """Put ``message``'s JSON on ``<namespace>/<path>``."""
+        self.session.put(
+            self.key(path), message.to_json(), encoding=zenoh.Encoding.APPLICATION_JSON
+        )
+
+    def alive(self) -> list[str]:
+        """Names of the services running now, sorted."""
+        return list_alive(self.session, self.config.namespace)
+
+    def wait_alive(self, services: Iterable[str], timeout: float) -> list[str]:
+        """Wait until every one of ``services`` is running.
+
+        Args:
+            services: Service names, e.g. ``["ik", "planner"]``.
+            timeout: Longest wait [s].
+
+        Returns:
+            The services still missing when it returned (empty: all alive).
+        """
+        deadline = time.monotonic() + timeout
+        while True:
+            missing = sorted(set(services) - set(self.alive()))
+            if not missing or time.monotonic() >= deadline:
+                return missing
+            time.sleep(min(WAIT_POLL, max(deadline - time.monotonic(), 0.0)))
+
+    def close(self) -> None:
+        """Close the session (after undeclaring what this bus declared)."""
+        self._alive.close()
+        self.session.close()  # type: ignore[no-untyped-call]
+
+    def __enter__(self) -> Bus:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.close()

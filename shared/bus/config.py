@@ -1,0 +1,127 @@
+"""armplan's Zenoh settings: where the router is, the namespace, the limits.
+
+One JSON5 file configures every process (``config/zenoh.json5``): it is the
+router's Zenoh configuration, and armplan's own settings ride in its
+``metadata.armplan`` section, which Zenoh carries without reading. Services
+and clients connect to the router's ``listen`` endpoints in client mode.
+:class:`BusConfig` is that file, validated; ``config_file.py`` reads it and
+``zenoh_config.py`` turns it into Zenoh configurations.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, replace
+
+from shared.bus.keys import check_path
+from shared.errors import BusConfigError, InvalidInputError
+
+#: The router's endpoint unless configured otherwise: loopback only.
+DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
+#: Key prefix of every armplan key expression.
+DEFAULT_NAMESPACE = "armplan"
+#: Largest request payload a service accepts [bytes] (16 MiB).
+DEFAULT_MAX_PAYLOAD = 16 * 1024 * 1024
+#: How long a client waits for a reply [s].
+DEFAULT_TIMEOUT = 5.0
+#: Threads per service answering queries.
+DEFAULT_WORKERS = 4
+#: Requests a service lets wait before it answers ``service_busy``.
+DEFAULT_QUEUE_LIMIT = 256
+
+_ENDPOINT = re.compile(
+    r"^(tcp|tls|udp|quic|ws)/(\[[0-9a-fA-F:.]+\]|[^\s/:\[\]]+):(\d+)$"
+)
+
+
+def check_endpoint(endpoint: str, source: str) -> str:
+    """``endpoint`` if it reads ``PROTO/HOST:PORT`` (e.g. ``tcp/127.0.0.1:7447``).
+
+    Raises:
+        BusConfigError: naming ``source`` (file or option) and the endpoint.
+    """
+    match = _ENDPOINT.match(endpoint)
+    if not match or not 0 < int(match.group(3)) < 65536:
+        raise BusConfigError(
+            f"endpoint {endpoint!r} must read PROTO/HOST:PORT, e.g. {DEFAULT_ENDPOINT}",
+            source=source,
+            setting="endpoint",
+        )
+    return endpoint
+
+
+@dataclass(frozen=True)
+class BusConfig:
+    """armplan's bus settings, validated.
+
+    Attributes:
+        endpoints: The router's endpoints: where it listens, where the others
+            connect, e.g. ``("tcp/127.0.0.1:7447",)``.
+        namespace: Prefix of every key, e.g. ``"armplan"`` (``armplan/plan``).
+        max_payload: Largest request payload a service accepts [bytes].
+        timeout: How long a client waits for a reply by default [s].
+        workers: Threads per service answering queries.
+        queue_limit: Requests waiting per service before ``service_busy``.
+        client_settings: Zenoh settings for client sessions as (path, JSON
+            value) pairs, e.g. ``("transport/auth/usrpwd/user", '"planner"')``.
+        source: Where the settings came from (file path or "built-in defaults").
+        router_text: The file's JSON5 text, the base of the router's config, or
+            ``None`` for the built-in defaults.
+    """
+
+    endpoints: tuple[str, ...] = (DEFAULT_ENDPOINT,)
+    namespace: str = DEFAULT_NAMESPACE
+    max_payload: int = DEFAULT_MAX_PAYLOAD
+    timeout: float = DEFAULT_TIMEOUT
+    workers: int = DEFAULT_WORKERS
+    queue_limit: int = DEFAULT_QUEUE_LIMIT
+    client_settings: tuple[tuple[str, str], ...] = ()
+    source: str = "built-in defaults"
+    router_text: str | None = None
+
+    def __post_init__(self) -> None:
+        if not self.endpoints:
+            raise BusConfigError(
+                "needs at least one router endpoint", source=self.source
+            )
+        for endpoint in self.endpoints:
+            check_endpoint(endpoint, self.source)
+        try:
+            check_path(self.namespace, "namespace")
+        except InvalidInputError as error:
+            raise BusConfigError(
+                error.message, source=self.source, setting="namespace"
+            ) from None
+        self._check_positive("max_payload", self.max_payload)
+        self._check_positive("timeout", self.timeout)
+        self._check_positive("workers", self.workers)
+        self._check_positive("queue_limit", self.queue_limit)
+
+    def _check_positive(self, name: str, value: float) -> None:
+        if not value > 0:
+            raise BusConfigError(
+                f"{name} must be positive, got {value}",
+                source=self.source,
+                setting=f"metadata/armplan/{name}",
+            )
+
+    def with_endpoints(self, endpoints: tuple[str, ...], source: str) -> BusConfig:
+        """The same settings with other router endpoints (``--listen``/``--connect``).
+
+        Args:
+            endpoints: The endpoints, e.g. ``("tcp/127.0.0.1:7448",)``.
+            source: The option they came from, for error messages.
+        """
+        for endpoint in endpoints:
+            check_endpoint(endpoint, source)
+        return replace(self, endpoints=tuple(endpoints))
+
+    @property
+    def file(self) -> str | None:
+        """The file the settings came from, ``None`` for the built-in defaults."""
+        return None if self.router_text is None else self.source
+
+    @property
+    def endpoint(self) -> str:
+        """The first router endpoint (for messages)."""
+        return self.endpoints[0]

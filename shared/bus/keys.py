@@ -1,0 +1,62 @@
+"""Key expressions of armplan on Zenoh: everything lives under one namespace.
+
+A namespace is one or more plain chunks (``armplan``, ``robots/nao1``), so two
+robots can share a router with namespaces ``nao1`` and ``nao2``. Under it:
+
+- ``<ns>/<path>``: a service's queryable, e.g. ``armplan/ik/solve``;
+- ``<ns>/alive/<service>``: the liveliness token of a running service.
+"""
+
+from __future__ import annotations
+
+import re
+
+from shared.errors import InvalidInputError
+
+#: One key chunk: letters, digits, ``_`` and ``-`` (no wildcards, no ``$``).
+_CHUNK = r"[A-Za-z0-9_\-]+"
+_PATH = re.compile(rf"^{_CHUNK}(/{_CHUNK})*$")
+_NAME = re.compile(rf"^{_CHUNK}$")
+#: The chunk under which liveliness tokens live.
+ALIVE = "alive"
+
+
+def check_path(path: str, what: str) -> str:
+    """``path`` if it is plain chunks joined by ``/``; else ``InvalidInputError``."""
+    if not _PATH.match(path):
+        raise InvalidInputError(
+            f"{what} {path!r} must be chunks of letters, digits, '_' or '-' "
+            "joined by '/', without wildcards",
+            field=what,
+        )
+    return path
+
+
+def check_name(name: str) -> str:
+    """``name`` if it is a valid service name (one chunk, e.g. ``"ik"``)."""
+    if not _NAME.match(name):
+        raise InvalidInputError(
+            f"service name {name!r} must be one chunk of letters, digits, '_' or '-'",
+            field="service",
+        )
+    return name
+
+
+def service_key(namespace: str, path: str) -> str:
+    """The full key of a service path, e.g. ``armplan/ik/solve``."""
+    return f"{namespace}/{path}"
+
+
+def alive_key(namespace: str, service: str) -> str:
+    """The liveliness token key of ``service``, e.g. ``armplan/alive/ik``."""
+    return f"{namespace}/{ALIVE}/{service}"
+
+
+def alive_pattern(namespace: str) -> str:
+    """The key expression matching every service's liveliness token."""
+    return f"{namespace}/{ALIVE}/*"
+
+
+def service_from_alive_key(namespace: str, key: str) -> str:
+    """The service name in a liveliness token key (inverse of :func:`alive_key`)."""
+    return key.removeprefix(f"{namespace}/{ALIVE}/")

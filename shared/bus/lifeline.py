@@ -1,0 +1,58 @@
+"""End a child process when the launcher that started it dies.
+
+``armplan up`` sets ``ARMPLAN_PARENT_PID`` for each child. The child then
+asks Linux to send it SIGTERM when its parent dies (``PR_SET_PDEATHSIG``),
+and, on any system, a watchdog thread checks every ``CHECK_EVERY`` seconds
+that the parent is still its parent. Either way the child's own SIGTERM
+handler shuts it down cleanly, so even a launcher killed with SIGKILL leaves
+no process behind.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import os
+import signal
+import sys
+import threading
+import time
+
+#: Environment variable holding the launcher's PID.
+PARENT_ENV = "ARMPLAN_PARENT_PID"
+#: Period of the watchdog's check [s].
+CHECK_EVERY = 0.5
+_PR_SET_PDEATHSIG = 1
+
+
+def watch_parent() -> bool:
+    """Arrange SIGTERM to this process when the launcher dies.
+
+    Returns:
+        ``True`` if a launcher is watched (``ARMPLAN_PARENT_PID`` set).
+    """
+    raw = os.environ.get(PARENT_ENV, "")
+    if not raw.isdigit():
+        return False
+    parent = int(raw)
+    _die_with_parent()
+    thread = threading.Thread(
+        target=_watch, args=(parent,), name="parent-watchdog", daemon=True
+    )
+    thread.start()
+    return True
+
+
+def _die_with_parent() -> None:
+    """Linux: have the kernel send SIGTERM when the parent exits."""
+    if not sys.platform.startswith("linux"):
+        return
+    libc = ctypes.CDLL(ctypes.util.find_library("c"), use_errno=True)
+    libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0)
+
+
+def _watch(parent: int) -> None:
+    """Send SIGTERM to this process once ``parent`` is no longer its parent."""
+    while os.getppid() == parent:
+        time.sleep(CHECK_EVERY)
+    os.kill(os.getpid(), signal.SIGTERM)

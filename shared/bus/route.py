@@ -1,0 +1,68 @@
+"""A route: one key a service answers, with its request and reply messages.
+
+A route is the contract between a service and its callers; both sides hold
+the same object, so the key and the message types cannot drift apart.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Generic, TypeVar
+
+from pydantic import ConfigDict
+
+from shared.bus.keys import check_name, check_path, service_key
+from shared.messages import Message
+
+Req = TypeVar("Req", bound=Message)
+Rep = TypeVar("Rep", bound=Message)
+
+
+class NoArguments(Message):
+    """The request of a query that takes no arguments (an empty payload is ``{}``)."""
+
+
+class OpaqueMessage(Message):
+    """Any JSON object; for skeleton routes whose message type is not written yet."""
+
+    model_config = ConfigDict(extra="allow")
+
+
+@dataclass(frozen=True)
+class Route(Generic[Req, Rep]):
+    """One key a service answers.
+
+    Attributes:
+        service: Name of the service process that answers it, e.g. ``"ik"``;
+            callers check its liveliness token before asking.
+        path: The key under the namespace, e.g. ``"ik/solve"``.
+        request: The request message type.
+        reply: The reply message type.
+    """
+
+    service: str
+    path: str
+    request: type[Req]
+    reply: type[Rep]
+
+    def __post_init__(self) -> None:
+        check_name(self.service)
+        check_path(self.path, "route path")
+
+    def key(self, namespace: str) -> str:
+        """The full key expression, e.g. ``armplan/ik/solve``."""
+        return service_key(namespace, self.path)
+
+
+@dataclass(frozen=True)
+class Endpoint(Generic[Req, Rep]):
+    """A route and the in-process function that answers it.
+
+    Attributes:
+        route: The route served.
+        handle: Request in, reply out; raises an ``ArmplanError`` to refuse.
+    """
+
+    route: Route[Req, Rep]
+    handle: Callable[[Req], Rep]

@@ -1,0 +1,53 @@
+"""The Zenoh router process: ``python -m shared.bus.router``.
+
+Usage: ``python -m shared.bus.router [--config FILE] [--listen ENDPOINT]``.
+A Python Zenoh session in ``mode: "router"`` listening on the configured
+endpoints only (default ``tcp/127.0.0.1:7447``), multicast scouting off. It
+runs until SIGTERM or SIGINT; it exits 1 with the reason if it cannot listen.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+from collections.abc import Sequence
+
+from shared.bus.config_file import load_config
+from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.session import open_router
+from shared.errors import ArmplanError
+
+log = logging.getLogger("armplan.bus")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the router until asked to stop; returns the exit code."""
+    args = _parser().parse_args(argv)
+    stop = start_process(args.log_level)
+    try:
+        config = load_config(args.config, tuple(args.listen or ()))
+        with open_router(config):
+            log.info("router listening on %s", ", ".join(config.endpoints))
+            wait_for(stop)
+    except ArmplanError as error:
+        log.error("router: %s", error.message)
+        return 1
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m shared.bus.router", description="armplan's Zenoh router."
+    )
+    add_common_arguments(parser)
+    parser.add_argument(
+        "--listen",
+        action="append",
+        metavar="ENDPOINT",
+        help="endpoint to listen on, e.g. tcp/127.0.0.1:7447 (default: the config's)",
+    )
+    return parser
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,72 @@
+"""The main function of every service process (``python -m services.<name>``).
+
+Usage: ``python -m services.ik [--config FILE] [--connect tcp/HOST:PORT]``.
+It connects to the router (waiting up to ``--wait`` seconds for it), serves
+the service's endpoints until SIGTERM or SIGINT, and exits 0; it exits 1 with
+the error on stderr if the configuration is wrong or no router answers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from shared.bus.bus import Bus
+from shared.bus.config_file import load_config
+from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.route import Endpoint
+from shared.bus.service import ServiceHost
+from shared.errors import ArmplanError
+
+log = logging.getLogger("armplan.bus")
+#: Builds a service's endpoints; gets the bus to call other services with.
+EndpointsFactory = Callable[[Bus], Sequence[Endpoint[Any, Any]]]
+
+
+def serve(
+    name: str, endpoints: EndpointsFactory, argv: Sequence[str] | None = None
+) -> int:
+    """Run service ``name`` until asked to stop; returns the exit code.
+
+    Args:
+        name: The service's name, e.g. ``"ik"``.
+        endpoints: Builds its endpoints from the bus.
+        argv: Command-line arguments (default: ``sys.argv[1:]``).
+    """
+    args = _parser(name).parse_args(argv)
+    stop = start_process(args.log_level)
+    try:
+        config = load_config(args.config, tuple(args.connect or ()))
+        with (
+            Bus.connect(config, wait=args.wait) as bus,
+            ServiceHost(bus, name, endpoints(bus)),
+        ):
+            wait_for(stop)
+    except ArmplanError as error:
+        log.error("service %s: %s", name, error.message)
+        return 1
+    return 0
+
+
+def _parser(name: str) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog=f"python -m services.{name}",
+        description=f"The armplan {name} service on Zenoh.",
+    )
+    add_common_arguments(parser)
+    parser.add_argument(
+        "--connect",
+        action="append",
+        metavar="ENDPOINT",
+        help="router endpoint, e.g. tcp/127.0.0.1:7447 (default: the config's)",
+    )
+    parser.add_argument(
+        "--wait",
+        type=float,
+        default=10.0,
+        metavar="S",
+        help="how long to wait for the router at start [s] (default 10)",
+    )
+    return parser

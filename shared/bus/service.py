@@ -1,0 +1,136 @@
+"""Serve in-process functions over Zenoh: the thin wrapper of every service.
+
+A :class:`ServiceHost` declares one queryable per endpoint under the
+namespace, answers each query on a small pool of worker threads (so a slow
+request never blocks Zenoh's own threads, and a handler may itself call other
+services), and declares the liveliness token ``<ns>/alive/<service>`` once it
+is ready. Every query is answered: a reply, or a ``reply_err`` carrying an
+``ErrorReply`` (see ``codec.answer``); a full queue answers ``service_busy``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import queue
+import threading
+from collections.abc import Sequence
+from types import TracebackType
+from typing import Any
+
+import zenoh
+
+from shared.bus.bus import Bus
+from shared.bus.codec import answer, reply_error
+from shared.bus.keys import alive_key, check_name
+from shared.bus.route import Endpoint
+from shared.errors import ServiceBusyError
+
+log = logging.getLogger("armplan.bus")
+#: Longest wait for a worker to finish its request when stopping [s].
+STOP_GRACE = 2.0
+
+_Job = tuple[Endpoint[Any, Any], str, zenoh.Query]
+
+
+class ServiceHost:
+    """One service on the bus: its endpoints, workers and liveliness token.
+
+    Attributes:
+        name: The service's name, e.g. ``"ik"``.
+        keys: The full key of each endpoint, e.g. ``["armplan/ik/solve"]``.
+    """
+
+    def __init__(
+        self, bus: Bus, name: str, endpoints: Sequence[Endpoint[Any, Any]]
+    ) -> None:
+        self.name = check_name(name)
+        self.keys = [e.route.key(bus.config.namespace) for e in endpoints]
+        self._bus = bus
+        self._endpoints = list(endpoints)
+        self._jobs: queue.Queue[_Job | None] = queue.Queue(bus.config.queue_limit)
+        self._workers: list[threading.Thread] = []
+        self._queryables: list[zenoh.Queryable[None]] = []
+        self._token: zenoh.LivelinessToken | None = None
+
+    def start(self) -> ServiceHost:
+        """Declare the queryables, start the workers, then announce liveliness."""
+        for i in range(self._bus.config.workers):
+            worker = threading.Thread(
+                target=self._work, name=f"{self.name}-worker-{i}", daemon=True
+            )
+            worker.start()
+            self._workers.append(worker)
+        for endpoint, key in zip(self._endpoints, self.keys, strict=True):
+            self._queryables.append(self._declare(endpoint, key))
+        token_key = alive_key(self._bus.config.namespace, self.name)
+        self._token = self._bus.session.liveliness().declare_token(token_key)
+        log.info("service %s ready on %s", self.name, ", ".join(self.keys))
+        return self
+
+    def _declare(self, endpoint: Endpoint[Any, Any], key: str) -> zenoh.Queryable[None]:
+        def enqueue(query: zenoh.Query) -> None:  # on Zenoh's thread: no waiting
+            try:
+                self._jobs.put_nowait((endpoint, key, query))
+            except queue.Full:
+                busy = ServiceBusyError(self.name, key=key, queued=self._jobs.qsize())
+                with query, contextlib.suppress(zenoh.ZError):  # caller gone
+                    query.reply_err(
+                        reply_error(busy), encoding=zenoh.Encoding.APPLICATION_JSON
+                    )
+
+        return self._bus.session.declare_queryable(key, enqueue)
+
+    def _work(self) -> None:
+        while (job := self._jobs.get()) is not None:
+            try:
+                self._serve(*job)
+            except Exception:  # a worker never dies: log, answer the next one
+                log.exception("%s: failed to serve a query", job[1])
+
+    def _serve(
+        self, endpoint: Endpoint[Any, Any], key: str, query: zenoh.Query
+    ) -> None:
+        with query:
+            payload = query.payload if query.payload is not None else b""
+            result = answer(endpoint, payload, key, self._bus.config.max_payload)
+            try:
+                if result.ok:
+                    query.reply(
+                        key, result.body, encoding=zenoh.Encoding.APPLICATION_JSON
+                    )
+                else:
+                    query.reply_err(
+                        result.body, encoding=zenoh.Encoding.APPLICATION_JSON
+                    )
+            except zenoh.ZError as error:  # the caller gave up or went away
+                log.warning("%s: could not reply (%s)", key, error)
+
+    def stop(self) -> None:
+        """Withdraw the token and queryables, finish queued requests, stop workers."""
+        if self._token is not None:
+            self._token.undeclare()  # type: ignore[no-untyped-call]
+            self._token = None
+        for queryable in self._queryables:
+            queryable.undeclare()  # type: ignore[no-untyped-call]
+        self._queryables.clear()
+        try:
+            for _ in self._workers:
+                self._jobs.put(None, timeout=STOP_GRACE)
+        except queue.Full:  # workers stuck in handlers: they are daemons
+            log.warning("service %s: workers still busy at stop", self.name)
+        for worker in self._workers:
+            worker.join(STOP_GRACE)
+        self._workers.clear()
+        log.info("service %s stopped", self.name)
+
+    def __enter__(self) -> ServiceHost:
+        return self.start()
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.stop()

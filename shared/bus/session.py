@@ -1,0 +1,60 @@
+"""Open Zenoh sessions: a router, or a client connected to the router."""
+
+from __future__ import annotations
+
+import time
+
+import zenoh
+
+from shared.bus.config import BusConfig
+from shared.bus.zenoh_config import client_config, router_config
+from shared.errors import BusConfigError, ServiceUnavailableError
+
+#: Pause between attempts to reach the router [s].
+RETRY_EVERY = 0.1
+
+
+def open_client(config: BusConfig, wait: float = 0.0) -> zenoh.Session:
+    """A client session connected to the router.
+
+    Args:
+        config: The bus settings (router endpoints).
+        wait: How long to keep trying while no router answers [s]; 0 tries once.
+
+    Raises:
+        ServiceUnavailableError: naming the router's endpoints if none answers.
+    """
+    deadline = time.monotonic() + wait
+    while True:
+        try:
+            return zenoh.open(client_config(config))
+        except zenoh.ZError as error:
+            if time.monotonic() + RETRY_EVERY > deadline:
+                raise ServiceUnavailableError(
+                    "router",
+                    reason=f"no Zenoh router answers at {', '.join(config.endpoints)} "
+                    f"({_short(error)}); start one with `armplan up`",
+                ) from None
+            time.sleep(RETRY_EVERY)
+
+
+def open_router(config: BusConfig) -> zenoh.Session:
+    """A router session listening on ``config.endpoints`` only.
+
+    Raises:
+        BusConfigError: if it cannot listen there (port in use, bad address).
+    """
+    try:
+        return zenoh.open(router_config(config))
+    except zenoh.ZError as error:
+        raise BusConfigError(
+            f"cannot listen on {', '.join(config.endpoints)} ({_short(error)}); "
+            "is another router using it?",
+            source=config.source,
+            setting="listen/endpoints",
+        ) from None
+
+
+def _short(error: Exception) -> str:
+    """Zenoh's message without its source location."""
+    return " ".join(str(error).split(" at /")[0].split())

@@ -1,0 +1,143 @@
+"""The bus settings: the repo's file, overrides, and refusals that name the setting."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import pathlib
+
+import pytest
+
+from shared.bus import BusConfig, load_config
+from shared.bus.config_file import ENV_CONFIG, REPO_CONFIG
+from shared.bus.keys import alive_key, check_path
+from shared.bus.routes import IK_SOLVE, PLAN
+from shared.bus.zenoh_config import client_config, router_config
+from shared.errors import BusConfigError, InvalidInputError
+
+ROUTER_FILE = """{{
+  mode: "router",
+  listen: {{ endpoints: ["tcp/127.0.0.1:7447"] }},
+  scouting: {{ multicast: {{ enabled: {multicast} }} }},
+  metadata: {{ armplan: {settings} }},
+}}"""
+
+
+def write(
+    tmp_path: pathlib.Path, settings: str = "{}", multicast: str = "false"
+) -> str:
+    path = tmp_path / "zenoh.json5"
+    path.write_text(ROUTER_FILE.format(settings=settings, multicast=multicast))
+    return str(path)
+
+
+def test_repo_file_holds_the_built_in_defaults() -> None:
+    """config/zenoh.json5 and BusConfig() agree on every setting."""
+    from_file = load_config(REPO_CONFIG)
+    assert from_file.file == str(REPO_CONFIG)
+    plain = dataclasses.replace(from_file, source=BusConfig().source, router_text=None)
+    assert plain == BusConfig()
+    assert from_file.endpoints == ("tcp/127.0.0.1:7447",)
+
+
+def test_settings_come_from_metadata_armplan(tmp_path: pathlib.Path) -> None:
+    """namespace, limits and client settings are read from metadata.armplan."""
+    settings = (
+        '{namespace: "robots/nao1", max_payload: 1024, timeout: 2, workers: 2, '
+        'queue_limit: 3, client: {"transport/link/tx/lease": 5000}}'
+    )
+    config = load_config(write(tmp_path, settings))
+    assert (config.namespace, config.max_payload, config.timeout) == (
+        "robots/nao1",
+        1024,
+        2,
+    )
+    assert (config.workers, config.queue_limit) == (2, 3)
+    assert config.client_settings == (("transport/link/tx/lease", "5000"),)
+    assert json.loads(client_config(config).get_json("transport/link/tx/lease")) == 5000
+
+
+def test_endpoint_override_replaces_the_files(tmp_path: pathlib.Path) -> None:
+    """--listen/--connect endpoints replace the file's listen endpoints."""
+    config = load_config(write(tmp_path), ("tcp/127.0.0.1:7555",))
+    assert config.endpoints == ("tcp/127.0.0.1:7555",)
+    assert json.loads(router_config(config).get_json("listen/endpoints")) == [
+        "tcp/127.0.0.1:7555"
+    ]
+    assert json.loads(client_config(config).get_json("connect/endpoints")) == [
+        "tcp/127.0.0.1:7555"
+    ]
+
+
+def test_environment_names_the_file(
+    tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """ARMPLAN_ZENOH_CONFIG is read when no path is given."""
+    monkeypatch.setenv(ENV_CONFIG, write(tmp_path, '{namespace: "nao2"}'))
+    assert load_config().namespace == "nao2"
+
+
+@pytest.mark.parametrize("value", [json.dumps(True), "null"], ids=["on", "unset"])
+def test_multicast_in_the_file_is_refused(tmp_path: pathlib.Path, value: str) -> None:
+    """A file that turns multicast on, or leaves Zenoh's default, is refused."""
+    with pytest.raises(BusConfigError) as caught:
+        load_config(write(tmp_path, multicast=value))
+    assert caught.value.setting == "scouting/multicast/enabled"
+    assert "multicast scouting must stay off" in caught.value.message
+
+
+def test_client_settings_cannot_turn_multicast_on(tmp_path: pathlib.Path) -> None:
+    """The rules are inserted after the client settings, so they win."""
+    on = json.dumps(True)
+    config = load_config(
+        write(tmp_path, f'{{client: {{"scouting/multicast/enabled": {on}}}}}')
+    )
+    assert (
+        json.loads(client_config(config).get_json("scouting/multicast/enabled"))
+        is False
+    )
+
+
+@pytest.mark.parametrize(
+    "settings,setting",
+    [
+        ('{colour: "red"}', "metadata/armplan/colour"),
+        ('{max_payload: "big"}', "metadata/armplan/max_payload"),
+        ("{workers: 0}", "metadata/armplan/workers"),
+        ('{namespace: "armplan/*"}', "namespace"),
+    ],
+)
+def test_bad_settings_name_the_setting(
+    tmp_path: pathlib.Path, settings: str, setting: str
+) -> None:
+    """Unknown settings, wrong types, non-positive limits, wildcards: refused."""
+    with pytest.raises(BusConfigError) as caught:
+        load_config(write(tmp_path, settings))
+    assert caught.value.setting == setting
+    assert str(tmp_path) in caught.value.message
+
+
+@pytest.mark.parametrize("endpoint", ["127.0.0.1:7447", "tcp/127.0.0.1", "tcp/h:99999"])
+def test_malformed_endpoint_is_refused(endpoint: str) -> None:
+    """Endpoints must read PROTO/HOST:PORT."""
+    with pytest.raises(BusConfigError, match="must read PROTO/HOST:PORT"):
+        load_config(None, (endpoint,))
+
+
+def test_missing_or_malformed_file_is_a_typed_error(tmp_path: pathlib.Path) -> None:
+    """No traceback: a BusConfigError naming the file."""
+    with pytest.raises(BusConfigError, match="cannot read it"):
+        load_config(tmp_path / "absent.json5")
+    bad = tmp_path / "bad.json5"
+    bad.write_text("{mode: ")
+    with pytest.raises(BusConfigError, match="not a valid Zenoh config"):
+        load_config(bad)
+
+
+def test_keys_live_under_the_namespace() -> None:
+    """Routes and liveliness tokens are prefixed by the namespace."""
+    assert PLAN.key("armplan") == "armplan/plan"
+    assert IK_SOLVE.key("robots/nao1") == "robots/nao1/ik/solve"
+    assert alive_key("armplan", "ik") == "armplan/alive/ik"
+    with pytest.raises(InvalidInputError, match="without wildcards"):
+        check_path("ik/**", "route path")

@@ -1,0 +1,179 @@
+"""ServiceHost and Bus.call over a real Zenoh router on a free loopback port.
+
+The router, the service and the client are real Zenoh sessions in this test
+process; tests/test_services_ik.py runs them as separate processes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+import time
+from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor, as_completed
+
+import pytest
+
+from armplan.launch import free_endpoint
+from shared.bus import Bus, BusConfig, Endpoint, Route, ServiceHost, open_router
+from shared.errors import (
+    InternalServiceError,
+    RequestTimeoutError,
+    ServiceBusyError,
+    ServiceUnavailableError,
+    UnknownArmError,
+)
+from shared.messages import Message
+
+
+class Text(Message):
+    text: str
+
+
+ECHO = Route("echo", "test/echo", Text, Text)
+GATED = Route("gated", "test/gated", Text, Text)
+ABSENT = Route("absent", "test/absent", Text, Text)
+
+
+def echo(request: Text) -> Text:
+    if request.text == "arm":
+        raise UnknownArmError("middle")
+    if request.text == "crash":
+        raise KeyError("boom")
+    return Text(text=request.text.upper())
+
+
+@pytest.fixture(scope="module")
+def config() -> Iterator[BusConfig]:
+    """A router on a free port; the config clients use to reach it."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="test", timeout=5.0)
+    with open_router(config):
+        yield config
+
+
+@pytest.fixture(scope="module")
+def bus(config: BusConfig) -> Iterator[Bus]:
+    """A client bus, with the echo service served by another session."""
+    with (
+        Bus.connect(config) as service_bus,
+        ServiceHost(service_bus, "echo", [Endpoint(ECHO, echo)]),
+        Bus.connect(config) as client,
+    ):
+        assert client.wait_alive(["echo"], 5.0) == []
+        yield client
+
+
+def test_a_call_returns_the_typed_reply(bus: Bus) -> None:
+    """The reply is parsed into the route's reply message."""
+    assert bus.call(ECHO, Text(text="hi")) == Text(text="HI")
+    assert "echo" in bus.alive()
+
+
+def test_errors_come_back_typed_and_the_service_answers_on(bus: Bus) -> None:
+    """A typed error, a crash and malformed JSON; then a normal reply."""
+    with pytest.raises(UnknownArmError):
+        bus.call(ECHO, Text(text="arm"))
+    with pytest.raises(InternalServiceError, match="unexpected KeyError"):
+        bus.call(ECHO, Text(text="crash"))
+    with pytest.raises(Exception, match="not valid JSON"):
+        bus.call(ECHO, b"{")
+    assert bus.call(ECHO, Text(text="again")).text == "AGAIN"
+
+
+def test_a_missing_service_is_named_at_once(bus: Bus) -> None:
+    """No liveliness token: service_unavailable naming it, without waiting."""
+    start = time.monotonic()
+    with pytest.raises(ServiceUnavailableError) as caught:
+        bus.call(ABSENT, Text(text="x"), timeout=30.0)
+    assert time.monotonic() - start < 2.0
+    assert caught.value.service == "absent"
+    assert "no liveliness token at test/alive/absent" in caught.value.message
+
+
+def test_concurrent_calls_all_get_their_own_reply(bus: Bus) -> None:
+    """50 threads sharing one bus each get the reply to their own request."""
+    words = [f"w{i}" for i in range(50)]
+    with ThreadPoolExecutor(50) as pool:
+        replies = list(pool.map(lambda w: bus.call(ECHO, Text(text=w)).text, words))
+    assert replies == [w.upper() for w in words]
+
+
+class Gate:
+    """A handler that holds each request until released."""
+
+    def __init__(self) -> None:
+        self.entered = threading.Event()
+        self.release = threading.Event()
+
+    def __call__(self, request: Text) -> Text:
+        self.entered.set()
+        self.release.wait(10.0)
+        return request
+
+
+def test_a_slow_service_times_out_with_a_typed_error(config: BusConfig) -> None:
+    """The caller waits its timeout, then gets request_timeout naming the key."""
+    gate = Gate()
+    with (
+        Bus.connect(config) as service_bus,
+        ServiceHost(service_bus, "gated", [Endpoint(GATED, gate)]),
+        Bus.connect(config) as client,
+    ):
+        assert client.wait_alive(["gated"], 5.0) == []
+        with pytest.raises(RequestTimeoutError) as caught:
+            client.call(GATED, Text(text="x"), timeout=0.5)
+        gate.release.set()
+    assert caught.value.key == "test/test/gated" and caught.value.timeout == 0.5
+
+
+def test_a_full_queue_answers_busy(config: BusConfig) -> None:
+    """One worker held, one queue slot: of two more requests, one gets service_busy."""
+    tight = dataclasses.replace(config, workers=1, queue_limit=1)
+    gate = Gate()
+    with (
+        Bus.connect(tight) as service_bus,
+        ServiceHost(service_bus, "gated", [Endpoint(GATED, gate)]),
+        Bus.connect(tight) as client,
+        ThreadPoolExecutor(3) as pool,
+    ):
+        assert client.wait_alive(["gated"], 5.0) == []
+        try:
+            held = pool.submit(client.call, GATED, Text(text="held"))
+            assert gate.entered.wait(5.0)
+            two = [pool.submit(client.call, GATED, Text(text=t)) for t in "ab"]
+            busy = next(f for f in as_completed(two, timeout=5.0))
+        finally:
+            gate.release.set()
+        error = busy.exception()
+        assert isinstance(error, ServiceBusyError)
+        assert error.service == "gated" and error.queued == 1
+        queued = two[1] if busy is two[0] else two[0]
+        assert held.result(5.0).text == "held" and queued.result(5.0).text in "ab"
+
+
+def test_a_stopped_service_withdraws_its_token(config: BusConfig) -> None:
+    """After stop, callers get service_unavailable, not a timeout."""
+    with Bus.connect(config) as service_bus, Bus.connect(config) as client:
+        host = ServiceHost(service_bus, "gated", [Endpoint(GATED, Gate())]).start()
+        assert client.wait_alive(["gated"], 5.0) == []
+        host.stop()
+        with pytest.raises(ServiceUnavailableError, match="'gated'"):
+            client.call(GATED, Text(text="x"), timeout=5.0)
+
+
+def test_a_router_restart_heals_without_restarting_the_others() -> None:
+    """Router gone: the error says so at once; router back: calls work again."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="test")
+    router = open_router(config)
+    with (
+        Bus.connect(config) as service_bus,
+        ServiceHost(service_bus, "echo", [Endpoint(ECHO, echo)]),
+        Bus.connect(config) as client,
+    ):
+        assert client.wait_alive(["echo"], 5.0) == []
+        router.close()  # type: ignore[no-untyped-call]
+        with pytest.raises(ServiceUnavailableError, match="lost its connection"):
+            client.call(ECHO, Text(text="x"), timeout=30.0)
+        with open_router(config):
+            assert client.wait_alive(["echo"], 30.0) == []
+            assert client.call(ECHO, Text(text="back")).text == "BACK"

@@ -1,0 +1,80 @@
+"""``armplan ik --remote/--connect`` against a real IK service: same output."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from collections.abc import Iterator
+
+import pytest
+
+from armplan.launch import Launcher, free_endpoint
+from shared.bus import load_config
+
+CASES = [
+    ["--target", "0.12", "-0.13", "0.05"],
+    ["--arm", "left", "--target", "0.12", "0.13", "0.05", "--method", "least-norm"],
+    ["--target", "0.12", "-0.13", "0.05", "--primitive", "S_R E_PR W_P"],
+    ["--target", "0.12", "-0.13", "0.05", "--palm", "0", "0", "-1"],
+    ["--target", "0.5", "-0.12", "0.05"],  # unreachable: the same error
+    ["--target", "0.12", "-0.13", "0.05", "--primitive", "X"],  # unknown primitive
+]
+
+
+def armplan(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+
+
+@pytest.fixture(scope="module")
+def endpoint() -> Iterator[str]:
+    """A router and an IK service on a free port."""
+    config = load_config(endpoints=(free_endpoint(),))
+    with Launcher(config, ["ik"], log=subprocess.DEVNULL):
+        yield config.endpoint
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: " ".join(c))
+@pytest.mark.parametrize("json_flag", [["--json"], []], ids=["json", "table"])
+def test_remote_output_is_the_in_process_output(
+    endpoint: str, case: list[str], json_flag: list[str]
+) -> None:
+    """Same stdout, stderr and exit code, byte for byte, with and without --remote."""
+    local = armplan("ik", *case, *json_flag)
+    remote = armplan("ik", *case, *json_flag, "--remote", "--connect", endpoint)
+    assert (remote.returncode, remote.stdout, remote.stderr) == (
+        local.returncode,
+        local.stdout,
+        local.stderr,
+    )
+
+
+def test_connect_alone_implies_remote(endpoint: str) -> None:
+    """--connect without --remote still asks the service (same answer)."""
+    out = armplan("ik", *CASES[0], "--json", "--connect", endpoint)
+    assert (
+        out.returncode == 0 and out.stdout == armplan("ik", *CASES[0], "--json").stdout
+    )
+
+
+def test_no_router_is_a_clear_error() -> None:
+    """Nothing listening: exit 1 naming the router and its endpoint, no traceback."""
+    missing = free_endpoint()
+    out = armplan("ik", *CASES[0], "--json", "--connect", missing)
+    assert out.returncode == 1 and "Traceback" not in out.stderr
+    assert f"no Zenoh router answers at {missing}" in out.stderr
+    assert '"kind": "service_unavailable"' in out.stdout
+
+
+def test_no_ik_service_names_it() -> None:
+    """A router without the IK service: the error names 'ik' and its key."""
+    config = load_config(endpoints=(free_endpoint(),))
+    with Launcher(config, [], log=subprocess.DEVNULL):
+        out = armplan("ik", *CASES[0], "--connect", config.endpoint)
+    assert out.returncode == 1
+    assert "service 'ik' is unavailable for armplan/ik/solve" in out.stderr

@@ -1,0 +1,206 @@
+"""``armplan up`` and ``armplan status`` as real processes on free loopback ports.
+
+Every test stops what it started: the launcher by signal, and anything left
+by SIGKILL in a ``finally``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+import queue
+import re
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import IO
+
+import pytest
+
+from armplan.launch import SERVICES, free_endpoint
+from shared.bus import Bus, load_config
+from shared.bus.routes import ROUTES
+from shared.errors import ArmplanError, RequestTimeoutError, ServiceUnavailableError
+
+#: Longest wait for `armplan up` to be ready, and for processes to exit [s].
+READY_TIMEOUT, EXIT_TIMEOUT = 120.0, 30.0
+PID_LINE = re.compile(r"^(\w+)\s+pid (\d+)")
+
+
+def armplan(*args: str, timeout: float = 60.0) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
+
+
+class Up:
+    """A running `armplan up`: its process and the PIDs it printed."""
+
+    def __init__(self, process: subprocess.Popen[str], lines: queue.Queue[str]) -> None:
+        self.process = process
+        self.lines = lines
+        self.pids: dict[str, int] = {}
+
+    def wait_ready(self) -> list[str]:
+        """Read its stdout until the ready line; returns the lines read."""
+        seen: list[str] = []
+        deadline = time.monotonic() + READY_TIMEOUT
+        while time.monotonic() < deadline:
+            try:
+                line = self.lines.get(timeout=0.5)
+            except queue.Empty:
+                assert self.process.poll() is None, f"armplan up exited: {seen}"
+                continue
+            seen.append(line)
+            if match := PID_LINE.match(line):
+                self.pids[match.group(1)] = int(match.group(2))
+            if line.startswith("armplan up: ready"):
+                return seen
+        raise AssertionError(f"armplan up not ready in {READY_TIMEOUT} s: {seen}")
+
+
+@contextmanager
+def armplan_up(*args: str, log: pathlib.Path) -> Iterator[Up]:
+    """Start `armplan up ARGS`; kill whatever is left on the way out."""
+    with log.open("w") as err:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "armplan", "up", *args],
+            stdout=subprocess.PIPE,
+            stderr=err,
+            text=True,
+        )
+    lines: queue.Queue[str] = queue.Queue()
+    reader = threading.Thread(target=pump, args=(process.stdout, lines), daemon=True)
+    reader.start()
+    up = Up(process, lines)
+    try:
+        yield up
+    finally:
+        for pid in [process.pid, *up.pids.values()]:
+            if not gone(pid):
+                os.kill(pid, signal.SIGKILL)
+        process.wait(EXIT_TIMEOUT)
+        reader.join(EXIT_TIMEOUT)
+
+
+def pump(stream: IO[str], lines: queue.Queue[str]) -> None:
+    """Copy ``stream``'s lines into ``lines`` until it closes."""
+    for line in stream:
+        lines.put(line.rstrip("\n"))
+
+
+def gone(pid: int) -> bool:
+    """Whether ``pid`` no longer runs (absent, or a zombie awaiting its reaper)."""
+    try:
+        stat = pathlib.Path(f"/proc/{pid}/stat").read_text()
+    except (FileNotFoundError, ProcessLookupError):
+        return True
+    return stat.rsplit(")", 1)[1].split()[0] in ("Z", "X")
+
+
+def wait_gone(pids: list[int], timeout: float = EXIT_TIMEOUT) -> list[int]:
+    """Wait until every PID is gone; returns those still running."""
+    deadline = time.monotonic() + timeout
+    while (alive := [p for p in pids if not gone(p)]) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    return alive
+
+
+def assert_every_route_answers(endpoint: str) -> None:
+    """Every route's service answers an empty request: a reply or a typed error."""
+    with Bus.connect(load_config(endpoints=(endpoint,))) as bus:
+        for route in ROUTES:
+            try:
+                bus.call(route, b"{}", timeout=30.0)
+            except (ServiceUnavailableError, RequestTimeoutError):
+                raise
+            except ArmplanError as error:
+                assert error.kind != "internal_error", error.message
+
+
+def test_up_starts_everything_status_lists_it_sigterm_stops_it(
+    tmp_path: pathlib.Path,
+) -> None:
+    """Every service comes alive, status lists them, SIGTERM leaves no process."""
+    endpoint = free_endpoint()
+    with armplan_up("--listen", endpoint, log=tmp_path / "up.log") as up:
+        lines = up.wait_ready()
+        assert f"listening on {endpoint}" in lines[0]
+        assert set(up.pids) == {"router", *(s.name for s in SERVICES)}
+        status = armplan("status", "--connect", endpoint, "--json", "--require", "ik")
+        assert status.returncode == 0, status.stderr
+        services = json.loads(status.stdout)["services"]
+        assert {s["service"]: s["state"] for s in services} == {
+            s.name: "alive" for s in SERVICES
+        }
+        assert {
+            "service": "planner",
+            "state": "alive",
+            "keys": "armplan/plan",
+        } in services
+        assert_every_route_answers(endpoint)
+        up.process.send_signal(signal.SIGTERM)
+        assert up.process.wait(EXIT_TIMEOUT) == 0
+        assert wait_gone(list(up.pids.values()), timeout=1.0) == []
+
+
+def test_sigint_stops_everything(tmp_path: pathlib.Path) -> None:
+    """Ctrl-C (SIGINT) to the launcher stops the router and the services."""
+    with armplan_up(
+        "--listen", free_endpoint(), "--only", "ik", log=tmp_path / "up.log"
+    ) as up:
+        up.wait_ready()
+        up.process.send_signal(signal.SIGINT)
+        assert up.process.wait(EXIT_TIMEOUT) == 0
+        assert wait_gone(list(up.pids.values()), timeout=1.0) == []
+
+
+def test_a_killed_launcher_takes_its_children_along(tmp_path: pathlib.Path) -> None:
+    """SIGKILL to the launcher: the children notice and exit on their own."""
+    with armplan_up(
+        "--listen", free_endpoint(), "--only", "ik", log=tmp_path / "up.log"
+    ) as up:
+        up.wait_ready()
+        up.process.kill()
+        up.process.wait(EXIT_TIMEOUT)
+        assert wait_gone(list(up.pids.values())) == []
+
+
+def test_status_without_a_router_names_the_endpoint() -> None:
+    """No router: exit 1 and an error naming where it looked."""
+    endpoint = free_endpoint()
+    out = armplan("status", "--connect", endpoint)
+    assert out.returncode == 1
+    assert (
+        f"service 'router' is unavailable: no Zenoh router answers at {endpoint}"
+        in (out.stderr)
+    )
+
+
+def test_a_port_in_use_is_reported(tmp_path: pathlib.Path) -> None:
+    """The router cannot listen: armplan up exits 1 naming the router."""
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        out = armplan("up", "--listen", f"tcp/127.0.0.1:{port}", "--only", "ik")
+    assert out.returncode == 1
+    assert "service 'router' is unavailable" in out.stderr
+    assert "exited with code 1 while starting" in out.stderr
+
+
+@pytest.mark.parametrize("bad", ["--listen=127.0.0.1:7447", "--only=everything"])
+def test_bad_options_are_refused_before_starting(bad: str) -> None:
+    """A malformed endpoint or unknown service: an error, nothing started."""
+    out = armplan("up", bad)
+    assert out.returncode in (1, 2) and "error" in out.stderr
