@@ -31,3 +31,22 @@ __all__ = [
     "WristPath",
     "parse",
 ]
+
+# Command frames and what the robot did with them (the robot bridge).
+from shared.messages.frames import (
+    CommandFrames,
+    ExecutedJointStates,
+    ExecuteReply,
+    ExecuteRequest,
+    JointState,
+    TrackingReport,
+)
+
+__all__ += [
+    "CommandFrames",
+    "ExecuteReply",
+    "ExecuteRequest",
+    "ExecutedJointStates",
+    "JointState",
+    "TrackingReport",
+]

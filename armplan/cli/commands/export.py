@@ -1,0 +1,82 @@
+"""``armplan export``: a trajectory as a Choregraphe behavior or Python script."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from armplan.cli.output import print_json
+from armplan.cli.parsing import add_json
+from shared.errors import InvalidInputError
+from shared.messages import Trajectory, parse
+
+ORDER = 60
+HELP = "write a trajectory as a Choregraphe behavior (.xar) or Python script"
+FORMATS = ("choregraphe", "python")
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``export``."""
+    parser = commands.add_parser("export", help=HELP, description=HELP)
+    parser.add_argument("format", choices=FORMATS, help="choregraphe or python")
+    parser.add_argument("trajectory", help="trajectory JSON (armplan plan --json)")
+    parser.add_argument("-o", "--output", required=True, help="file to write")
+    parser.add_argument(
+        "--rate", type=float, default=25.0, help="frame rate [Hz] (default 25)"
+    )
+    add_json(parser)
+    parser.set_defaults(run=run)
+
+
+def read_trajectory(path: str) -> Trajectory:
+    """The trajectory in a JSON file (bare, or under a ``"trajectory"`` key)."""
+    try:
+        data: Any = json.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot read {path}: {exc.strerror}", field="trajectory"
+        ) from None
+    except ValueError as exc:
+        raise InvalidInputError(
+            f"{path} is not JSON: {exc}", field="trajectory"
+        ) from None
+    if isinstance(data, dict) and isinstance(data.get("trajectory"), dict):
+        data = data["trajectory"]
+    return parse(Trajectory, data)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check the frames against the limits, then write them."""
+    from bridge import (
+        FrameLimits,
+        check_frames,
+        frames_from_trajectory,
+        write_behavior,
+        write_python,
+    )
+
+    if not 0.0 < args.rate <= 1000.0:
+        raise InvalidInputError("--rate must be in (0, 1000] Hz", field="rate")
+    trajectory = read_trajectory(args.trajectory)
+    frames = frames_from_trajectory(trajectory, args.rate)
+    check_frames(frames, FrameLimits.for_arm(trajectory.arm))
+    writer = write_behavior if args.format == "choregraphe" else write_python
+    path = writer(frames, args.output)
+    summary = {
+        "path": str(path),
+        "format": args.format,
+        "arm": trajectory.arm.value,
+        "frames": len(frames.times),
+        "rate": frames.rate,
+        "duration": frames.duration,
+    }
+    if args.json:
+        print_json(summary)
+    else:
+        print(
+            f"wrote {path}: {summary['frames']} frames at {frames.rate:g} fps "
+            f"({frames.duration:.3f} s, {summary['arm']} arm)"
+        )
+    return 0

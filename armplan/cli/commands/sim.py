@@ -1,0 +1,44 @@
+"""``armplan sim``: run the simulated NAO (ALMotion over NAOqi) in the foreground."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+ORDER = 70
+HELP = "run the simulated NAO, serving ALMotion over NAOqi until Ctrl-C"
+#: Same defaults as ``python -m bridge.sim``, which this command becomes.
+DEFAULT_LISTEN = "tcp://127.0.0.1:9559"
+PERIOD = 0.02
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``sim``."""
+    parser = commands.add_parser("sim", help=HELP, description=HELP)
+    parser.add_argument(
+        "--listen",
+        default=DEFAULT_LISTEN,
+        help=f"NAOqi address to serve at (default {DEFAULT_LISTEN}; port 0: any)",
+    )
+    parser.add_argument("--log", default=None, help="JSON-lines log file")
+    parser.add_argument(
+        "--period", type=float, default=PERIOD, help="control cycle [s] (default 0.02)"
+    )
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Become ``python -m bridge.sim``.
+
+    A fresh interpreter loads libqi before pinocchio, which this one has
+    loaded already (see shared/libqi.py).
+    """
+    argv = [sys.executable, "-m", "bridge.sim", "--listen", args.listen]
+    argv += ["--period", str(args.period)]
+    if args.log:
+        argv += ["--log", args.log]
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os.execv(sys.executable, argv)
+    return 0  # pragma: no cover (execv does not return)

@@ -1,0 +1,65 @@
+"""``python -m bridge --robot URL``: the robot bridge over standard input/output.
+
+Reads one :class:`~shared.messages.ExecuteRequest` per line (JSON) on stdin,
+plays it on the robot, and writes one line per request on stdout: the
+:class:`~shared.messages.ExecuteReply` as JSON, or ``{"error": {"kind",
+"message", "evidence"}, "at": T}`` with the monotonic time ``T`` [s] when
+the error was raised. The same bridge serves every line, so after a robot
+went away the next request connects again. The Zenoh bridge process wraps
+the same :class:`~bridge.robot_bridge.RobotBridge`; this is its stand-alone
+form, for a real NAO at ``tcp://IP:9559`` or the simulated one. Importing
+``bridge`` first loads libqi before pinocchio (see shared/libqi.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from collections.abc import Sequence
+from typing import TextIO
+
+from bridge.naoqi_client import NaoqiClient
+from bridge.robot_bridge import RobotBridge
+from shared.errors import ArmplanError
+from shared.messages import ExecuteRequest, parse
+
+
+def answer(bridge: RobotBridge, line: str) -> str:
+    """The reply line for one request line."""
+    try:
+        reply = bridge.handle(parse(ExecuteRequest, line))
+    except ArmplanError as error:
+        return json.dumps({"error": error.to_wire(), "at": time.monotonic()})
+    return reply.to_json()
+
+
+def serve(bridge: RobotBridge, source: TextIO, sink: TextIO) -> None:
+    """Answer every non-empty line of ``source`` on ``sink``, until its end."""
+    for line in source:
+        if line.strip():
+            sink.write(answer(bridge, line) + "\n")
+            sink.flush()
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point."""
+    parser = argparse.ArgumentParser(prog="python -m bridge", description=__doc__)
+    parser.add_argument(
+        "--robot",
+        default="tcp://127.0.0.1:9559",
+        help="the robot's NAOqi address (a real NAO: tcp://IP:9559)",
+    )
+    parser.add_argument("--rate", type=float, default=25.0, help="frame rate [Hz]")
+    args = parser.parse_args(argv)
+    client = NaoqiClient(args.robot)
+    try:
+        serve(RobotBridge(client, rate=args.rate), sys.stdin, sys.stdout)
+    finally:
+        client.close()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,51 @@
+"""A trajectory as command frames: joint angles at a timeline's frame rate."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from bridge.interpolation import positions_at
+from shared.messages import CommandFrames, Trajectory
+
+#: Choregraphe's default timeline frame rate [Hz].
+DEFAULT_RATE = 25.0
+
+
+def frame_times(duration: float, rate: float = DEFAULT_RATE) -> np.ndarray:
+    """Times of frames 1..m covering ``duration`` [s], shape (m,).
+
+    Frame ``k`` is at ``k / rate``; the last frame is the first one at or
+    after the end (at least one frame), so nothing of the movement is cut.
+
+    Args:
+        duration: Length of the movement [s].
+        rate: Frame rate [Hz].
+    """
+    count = max(1, math.ceil(duration * rate - 1e-9))
+    return np.arange(1, count + 1) / rate
+
+
+def frames_from_trajectory(
+    trajectory: Trajectory, rate: float = DEFAULT_RATE
+) -> CommandFrames:
+    """Sample ``trajectory`` at the frames of a ``rate`` timeline.
+
+    Args:
+        trajectory: The trajectory (times from its first sample) [s, rad].
+        rate: Frame rate [Hz], Choregraphe's 25 by default.
+
+    Returns:
+        Frames 1..m at ``k / rate`` [s] with the trajectory's angles there
+        [rad], and its first posture as the start (frame 0).
+    """
+    times = frame_times(trajectory.duration, rate)
+    return CommandFrames(
+        arm=trajectory.arm,
+        rate=rate,
+        joint_names=list(trajectory.joint_names),
+        start=[float(v) for v in trajectory.positions[0]],
+        times=times.tolist(),
+        positions=positions_at(trajectory, times).tolist(),
+    )

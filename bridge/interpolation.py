@@ -1,0 +1,33 @@
+"""A trajectory's joint angles at any time, from its samples."""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+from scipy.interpolate import CubicHermiteSpline  # type: ignore[import-untyped]
+
+from shared.messages import Trajectory
+
+
+def positions_at(trajectory: Trajectory, times: npt.ArrayLike) -> np.ndarray:
+    """Joint angles of ``trajectory`` at ``times`` [rad], shape (k, n).
+
+    Between samples the angles follow the cubic Hermite curve through the
+    samples' positions and velocities (exact for Ruckig's cubic-in-time jerk
+    phases to third order, and equal to the samples at the samples' times).
+    Before the start the arm is at the first sample; after the end it holds
+    the last one.
+
+    Args:
+        trajectory: The trajectory.
+        times: Times from the trajectory's start (``times[0]``) [s], shape (k,).
+    """
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    sample_times = np.asarray(trajectory.times) - trajectory.times[0]
+    positions = np.asarray(trajectory.positions, dtype=float)
+    if len(sample_times) == 1:
+        return np.repeat(positions, len(t), axis=0)
+    curve = CubicHermiteSpline(
+        sample_times, positions, np.asarray(trajectory.velocities), axis=0
+    )
+    return curve(np.clip(t, 0.0, sample_times[-1]))

@@ -1,0 +1,118 @@
+"""Play an ``angleInterpolation`` call and sample the measured angles meanwhile.
+
+The call runs asynchronously; while it runs, ``getAngles(names, True)`` is
+read every ``period`` seconds. A sample's time is the middle of its request
+and its answer, counted from the moment the call left (after libqi converted
+its arguments), the time base of the call's keys. If the robot drops the
+connection, stops answering for ``LOST_AFTER`` seconds, or overruns the
+call's duration, the robot is declared lost with a
+:class:`~shared.errors.RobotUnavailableError`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from bridge.almotion import AngleInterpolationCall
+from bridge.naoqi_client import NaoqiClient, wait_future
+from shared.messages import JointState
+
+#: Time between two readings of the measured angles [s] (100 Hz).
+SAMPLE_PERIOD = 0.01
+#: A robot that answers no reading for this long is lost [s].
+LOST_AFTER = 1.0
+#: Time allowed past the call's last key before the robot is declared lost [s].
+OVERRUN = 1.0
+
+
+class Samples(NamedTuple):
+    """Measured angles during a call.
+
+    Attributes:
+        times: Sample times from the call's start [s], shape (k,).
+        positions: Measured angles [rad], shape (k, n).
+    """
+
+    times: np.ndarray
+    positions: np.ndarray
+
+
+class _Reader:
+    """Reads the measured angles of ``names`` with a timeout."""
+
+    def __init__(self, motion: Any, names: list[str], timeout: float) -> None:
+        self.motion, self.names, self.timeout = motion, names, timeout
+
+    def read(self) -> tuple[float, list[float] | None, str]:
+        """(time of the reading [s, monotonic], angles or None, error text)."""
+        sent = time.monotonic()
+        future = self.motion.getAngles(self.names, True, _async=True)
+        finished = wait_future(future, self.timeout)
+        answered = time.monotonic()
+        if not finished:
+            future.cancel()
+            return answered, None, "no answer to getAngles"
+        if future.hasError():
+            return answered, None, future.error()
+        return 0.5 * (sent + answered), list(future.value()), ""
+
+
+def play_and_sample(
+    client: NaoqiClient,
+    call: AngleInterpolationCall,
+    *,
+    period: float = SAMPLE_PERIOD,
+    on_sample: Callable[[JointState], None] | None = None,
+) -> Samples:
+    """Send ``call`` and sample the measured angles until it ends.
+
+    Args:
+        client: The robot.
+        call: The ``angleInterpolation`` arguments.
+        period: Time between readings [s].
+        on_sample: Called with each measured state (e.g. to publish it).
+
+    Raises:
+        RobotUnavailableError: the robot went away during the call (within
+            :data:`LOST_AFTER` seconds of it going).
+        RobotCommandError: the robot refused the call.
+    """
+    motion = client.motion()
+    reader = _Reader(motion, call.names, min(period * 20, LOST_AFTER / 2))
+    future = motion.angleInterpolation(*call, _async=True)
+    # The keys' clock starts when the call leaves, after libqi has converted
+    # its arguments (milliseconds for a long trajectory), not before.
+    start = time.monotonic()
+    times: list[float] = []
+    rows: list[list[float]] = []
+    last_answer = start
+    while not future.isFinished():
+        stamp, angles, problem = reader.read()
+        elapsed = stamp - start
+        if angles is not None:
+            last_answer = stamp
+            times.append(elapsed)
+            rows.append(angles)
+            if on_sample is not None:
+                on_sample(
+                    JointState(time=elapsed, joint_names=call.names, positions=angles)
+                )
+        elif not client.connected or stamp - last_answer > LOST_AFTER:
+            future.cancel()
+            raise client.lost(problem, elapsed)
+        if elapsed > call.duration + OVERRUN:
+            future.cancel()
+            raise client.lost(
+                f"the movement did not end {OVERRUN:g} s after its last key", elapsed
+            )
+        time.sleep(max(0.0, period - (time.monotonic() - stamp)))
+    if future.hasError():
+        raise client.failure(
+            "angleInterpolation", future.error(), time.monotonic() - start
+        )
+    width = len(call.names)
+    return Samples(np.array(times), np.array(rows, dtype=float).reshape(-1, width))

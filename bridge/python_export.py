@@ -1,0 +1,91 @@
+"""Command frames as a Choregraphe-style "export to Python" script.
+
+Choregraphe's timeline export writes three lists, appended to per joint::
+
+    names = list()
+    times = list()
+    keys = list()
+
+    names.append("RShoulderPitch")
+    times.append([0.04, 0.08, ...])   # [s], frame / fps
+    keys.append([1.2, 1.21, ...])     # [rad]
+
+and then calls ``motion.angleInterpolation(names, keys, times, True)``. The
+script written here has exactly that block, plus a runner that works on
+Python 2 (NAOqi's ``naoqi`` module) and Python 3 (the ``qi`` package):
+connect to ALMotion (``tcp://127.0.0.1:9559`` or the address given as first
+argument), stiffen the joints, move slowly to the start posture
+(``angleInterpolationWithSpeed``, 20 % of the speed limits), then play.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from shared.messages import CommandFrames
+
+#: Fraction of the speed limits used to reach the start posture.
+START_SPEED = 0.2
+
+_RUNNER = '''
+
+def main(url="tcp://127.0.0.1:9559"):
+    """Play the keys on the ALMotion at ``url`` (a NAO: tcp://IP:9559)."""
+    try:
+        import qi
+
+        session = qi.Session()
+        session.connect(url)
+        motion = session.service("ALMotion")
+    except ImportError:
+        from naoqi import ALProxy
+
+        host, port = url.split("://")[-1].split(":")
+        motion = ALProxy("ALMotion", host, int(port))
+    motion.setStiffnesses(names, 1.0)
+    motion.angleInterpolationWithSpeed(names, start, {speed})
+    motion.angleInterpolation(names, keys, times, True)
+
+
+if __name__ == "__main__":
+    import sys
+
+    main(*sys.argv[1:2])
+'''
+
+
+def _numbers(values: list[float], digits: int) -> str:
+    return (
+        "[" + ", ".join(f"{v:.{digits}f}".rstrip("0").rstrip(".") for v in values) + "]"
+    )
+
+
+def python_script(frames: CommandFrames) -> str:
+    """The Python script that replays ``frames`` with ``angleInterpolation``."""
+    columns = list(zip(*frames.positions, strict=True))
+    lines = [
+        "# Choregraphe simplified export in Python.",
+        f"# Written by armplan: {frames.arm.value} arm, {len(frames.times)} frames "
+        f"at {frames.rate:g} fps, {frames.duration:.3f} s.",
+        "# Angles in radians, times in seconds from the start posture.",
+        "names = list()",
+        "times = list()",
+        "keys = list()",
+        "",
+    ]
+    for j, name in enumerate(frames.joint_names):
+        lines += [
+            f'names.append("{name}")',
+            f"times.append({_numbers(list(frames.times), 6)})",
+            f"keys.append({_numbers(list(columns[j]), 7)})",
+            "",
+        ]
+    lines.append(f"start = {_numbers(list(frames.start), 7)}")
+    return "\n".join(lines) + _RUNNER.format(speed=START_SPEED)
+
+
+def write_python(frames: CommandFrames, path: str | Path) -> Path:
+    """Write the replay script of ``frames`` to ``path``; returns the path."""
+    path = Path(path)
+    path.write_text(python_script(frames), encoding="utf-8")
+    return path

@@ -1,0 +1,177 @@
+"""The robot-facing core of the bridge: check, send, read back, report.
+
+:class:`RobotBridge` plays one trajectory on a NAO (real or simulated):
+
+1. the trajectory becomes command frames at the timeline's rate, and every
+   frame is checked against the joints' position, speed and acceleration
+   limits; one bad frame refuses the whole trajectory, before the robot is
+   even contacted;
+2. the robot is connected (again, if it went away), the arm's joints are
+   stiffened, and if the arm is not at the trajectory's start a slow approach
+   move (checked the same way) brings it there;
+3. the frames go out as one ``angleInterpolation`` call while the measured
+   angles are sampled at 100 Hz;
+4. the answer is the executed joint states and the tracking report (RMS and
+   largest error per joint, degrees).
+
+The Zenoh wrapper (the bridge process) only feeds requests to
+:meth:`RobotBridge.handle` and publishes what it returns.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from bridge.almotion import angle_interpolation_call
+from bridge.approach import approach_frames
+from bridge.checks import check_frames
+from bridge.frames import DEFAULT_RATE, frames_from_trajectory
+from bridge.limits import FrameLimits
+from bridge.naoqi_client import NaoqiClient
+from bridge.playback import SAMPLE_PERIOD, play_and_sample
+from bridge.tracking import executed_states, tracking_report
+from shared.errors import TrajectoryRefusedError
+from shared.messages import (
+    CommandFrames,
+    ExecuteReply,
+    ExecuteRequest,
+    JointState,
+    Trajectory,
+)
+from shared.robot import Side
+
+#: The arm counts as at the trajectory's start within this much [rad].
+START_TOLERANCE = math.radians(0.5)
+
+StateCallback = Callable[[JointState], None]
+
+
+class RobotBridge:
+    """Plays trajectories on the robot behind ``client``.
+
+    Attributes:
+        client: The robot's ALMotion over NAOqi.
+        rate: Default frame rate of the command frames [Hz].
+        sample_period: Time between readings of the measured angles [s].
+    """
+
+    def __init__(
+        self,
+        client: NaoqiClient,
+        *,
+        rate: float = DEFAULT_RATE,
+        limits: dict[Side, FrameLimits] | None = None,
+        sample_period: float = SAMPLE_PERIOD,
+    ) -> None:
+        """Set up the bridge; nothing is sent yet.
+
+        Args:
+            client: The robot.
+            rate: Default frame rate [Hz].
+            limits: Per-arm limits; default: the robot description's, with
+                :mod:`bridge.limits`' default accelerations.
+            sample_period: Time between readings [s].
+        """
+        self.client = client
+        self.rate = rate
+        self.sample_period = sample_period
+        self._limits = limits or {side: FrameLimits.for_arm(side) for side in Side}
+
+    def limits(self, arm: Side) -> FrameLimits:
+        """The limits used for ``arm``."""
+        return self._limits[arm]
+
+    def frames(
+        self, trajectory: Trajectory, rate: float | None = None
+    ) -> CommandFrames:
+        """Checked command frames of ``trajectory``; nothing is sent.
+
+        Raises:
+            TrajectoryRefusedError: naming the first frame over a limit.
+        """
+        frames = frames_from_trajectory(trajectory, rate or self.rate)
+        check_frames(frames, self.limits(trajectory.arm))
+        return frames
+
+    def handle(
+        self, request: ExecuteRequest, on_state: StateCallback | None = None
+    ) -> ExecuteReply:
+        """Answer an execute request (see :meth:`execute`)."""
+        return self.execute(
+            request.trajectory,
+            rate=request.rate,
+            approach=request.approach,
+            on_state=on_state,
+        )
+
+    def execute(
+        self,
+        trajectory: Trajectory,
+        *,
+        rate: float | None = None,
+        approach: bool = True,
+        on_state: StateCallback | None = None,
+    ) -> ExecuteReply:
+        """Play ``trajectory`` on the robot and report how well it followed.
+
+        Args:
+            trajectory: The trajectory [s, rad].
+            rate: Frame rate [Hz]; default :attr:`rate`.
+            approach: Move to the start first if the arm is elsewhere; if
+                False, an arm away from the start refuses the trajectory.
+            on_state: Called with each measured state during the movement.
+
+        Raises:
+            TrajectoryRefusedError: a frame breaks a limit (nothing sent).
+            RobotUnavailableError: the robot cannot be reached, or went away
+                during the movement (raised within 2 s of it going).
+            RobotCommandError: the robot refused a command.
+        """
+        frames = self.frames(trajectory, rate)
+        names = list(frames.joint_names)
+        self.client.stiffen(names)
+        approach_time = self._approach(frames, approach)
+        call = angle_interpolation_call(frames)
+        samples = play_and_sample(
+            self.client, call, period=self.sample_period, on_sample=on_state
+        )
+        states = executed_states(trajectory, samples)
+        return ExecuteReply(
+            report=tracking_report(states, trajectory),
+            states=states,
+            frames=len(frames.times),
+            approach_duration=approach_time,
+        )
+
+    def _approach(self, frames: CommandFrames, allowed: bool) -> float:
+        """Bring the arm to the frames' start if needed; the move's length [s]."""
+        names = list(frames.joint_names)
+        current = self.client.get_angles(names, use_sensors=False)
+        start = np.asarray(frames.start)
+        gap = np.abs(current - start)
+        if gap.max() <= START_TOLERANCE:
+            return 0.0
+        if not allowed:
+            j = int(np.argmax(gap))
+            raise TrajectoryRefusedError(
+                names[j],
+                "start",
+                current[j],
+                start[j],
+                frame=0,
+                time=0.0,
+                detail=(
+                    f"is at {current[j]:.4f} rad, {math.degrees(gap[j]):.2f} deg "
+                    f"from the trajectory's start {start[j]:.4f} rad, and the "
+                    "approach move is off"
+                ),
+            )
+        move = approach_frames(
+            frames.arm, current, start, self.limits(frames.arm), frames.rate
+        )
+        check_frames(move, self.limits(frames.arm))
+        play_and_sample(self.client, angle_interpolation_call(move), period=0.05)
+        return move.duration

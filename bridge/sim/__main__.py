@@ -1,0 +1,76 @@
+"""``python -m bridge.sim --listen tcp://127.0.0.1:9559 [--log FILE]``.
+
+Importing ``bridge`` first loads libqi before pinocchio (see shared/libqi.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+from collections.abc import Sequence
+from types import FrameType
+
+from bridge.sim.cycle import PERIOD
+from bridge.sim.server import DEFAULT_LISTEN, serve
+
+
+def parser() -> argparse.ArgumentParser:
+    """The command line of the simulated NAO."""
+    p = argparse.ArgumentParser(
+        prog="python -m bridge.sim",
+        description="A simulated NAO serving ALMotion over NAOqi (libqi).",
+    )
+    add_arguments(p)
+    return p
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """``--listen``, ``--log`` and ``--period``."""
+    p.add_argument(
+        "--listen",
+        default=DEFAULT_LISTEN,
+        help=f"NAOqi address to serve at (default {DEFAULT_LISTEN}; port 0: any)",
+    )
+    p.add_argument("--log", default=None, help="JSON-lines log of commands and states")
+    p.add_argument(
+        "--period", type=float, default=PERIOD, help="control cycle [s] (default 0.02)"
+    )
+    p.add_argument(
+        "--stop-on-stdin-eof",
+        action="store_true",
+        help="stop when standard input closes (its parent process ended)",
+    )
+
+
+def _watch_stdin(stop: threading.Event) -> None:
+    """Set ``stop`` when standard input reaches its end."""
+    for _ in sys.stdin:
+        pass
+    stop.set()
+
+
+def run(listen: str, log: str | None, period: float, stop_on_eof: bool = False) -> int:
+    """Serve until SIGINT or SIGTERM (or stdin's end); returns the exit code."""
+    stop = threading.Event()
+    if stop_on_eof:
+        threading.Thread(target=_watch_stdin, args=(stop,), daemon=True).start()
+
+    def _stop(signum: int, frame: FrameType | None) -> None:
+        stop.set()
+
+    signal.signal(signal.SIGTERM, _stop)
+    signal.signal(signal.SIGINT, _stop)
+    serve(listen, log, period, stop)
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point."""
+    args = parser().parse_args(argv)
+    return run(args.listen, args.log, args.period, args.stop_on_stdin_eof)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,45 @@
+"""ALMotion's control cycle: a thread that steps the simulated robot every 20 ms."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+from bridge.sim.robot import SimRobot
+
+#: ALMotion's documented control cycle [s].
+PERIOD = 0.02
+
+
+class ControlCycle:
+    """Calls ``robot.step()`` every ``period`` seconds on its own thread.
+
+    The schedule is absolute (cycle k at start + k * period); a cycle that
+    comes late is run at once and the schedule skips the missed ones.
+    """
+
+    def __init__(self, robot: SimRobot, period: float = PERIOD) -> None:
+        self.period = period
+        self._robot = robot
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="sim-cycle", daemon=True)
+
+    def start(self) -> None:
+        """Start cycling."""
+        self._thread.start()
+
+    def stop(self, timeout: float = 2.0) -> None:
+        """Stop cycling and wait for the thread (at most ``timeout`` [s])."""
+        self._stop.set()
+        self._thread.join(timeout)
+
+    def _run(self) -> None:
+        next_time = time.monotonic()
+        while not self._stop.is_set():
+            self._robot.step()
+            next_time += self.period
+            delay = next_time - time.monotonic()
+            if delay < 0.0:
+                next_time = time.monotonic()
+                delay = 0.0
+            self._stop.wait(delay)

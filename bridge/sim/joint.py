@@ -1,0 +1,72 @@
+"""One simulated joint: an ideal servo following its setpoint within its speed limit."""
+
+from __future__ import annotations
+
+from bridge.sim.joints import JointSpec
+from bridge.sim.timeline import KeyTimeline
+
+
+class SimJoint:
+    """A joint's state: its position, stiffness and current command.
+
+    The motor moves toward the setpoint at most ``velocity`` [rad/s]; the
+    control cycle commits its position every 20 ms, and a reading between two
+    cycles gives where the motor is at that moment (its encoder). A joint with
+    stiffness 0 does not move.
+
+    Attributes:
+        spec: Name and limits.
+        position: Position at the last commit [rad].
+        time: Time of the last commit [s, sim clock].
+    """
+
+    def __init__(self, spec: JointSpec, position: float, time: float) -> None:
+        self.spec = spec
+        self.position = position
+        self.time = time
+        self._hold = position
+        self._timeline: KeyTimeline | None = None
+        self._stiffness: KeyTimeline | None = None
+        self._stiffness_hold = 0.0
+
+    def setpoint(self, t: float) -> float:
+        """The commanded angle at sim time ``t`` [rad]."""
+        return self._timeline.at(t) if self._timeline else self._hold
+
+    def stiffness(self, t: float) -> float:
+        """Stiffness at sim time ``t`` (0..1)."""
+        return self._stiffness.at(t) if self._stiffness else self._stiffness_hold
+
+    def measured(self, t: float) -> float:
+        """The motor's angle at sim time ``t`` (>= the last commit) [rad]."""
+        if self.stiffness(t) <= 0.0:
+            return self.position
+        step = self.spec.velocity * max(0.0, t - self.time)
+        error = self.setpoint(t) - self.position
+        return self.position + min(max(error, -step), step)
+
+    @property
+    def moving(self) -> bool:
+        """True while a command is running."""
+        return self._timeline is not None
+
+    def commit(self, t: float) -> None:
+        """Advance the motor to sim time ``t`` [s]; end finished commands."""
+        if t <= self.time:
+            return
+        self.position = self.measured(t)
+        self.time = t
+        if self._timeline and t >= self._timeline.end_time:
+            self._hold, self._timeline = self._timeline.final, None
+        if self._stiffness and t >= self._stiffness.end_time:
+            self._stiffness_hold, self._stiffness = self._stiffness.final, None
+
+    def command(self, timeline: KeyTimeline | None) -> None:
+        """Follow ``timeline`` from now on (``None``: hold the current setpoint)."""
+        if timeline is None:
+            self._hold = self.setpoint(self.time)
+        self._timeline = timeline
+
+    def command_stiffness(self, timeline: KeyTimeline) -> None:
+        """Ramp the stiffness along ``timeline``."""
+        self._stiffness = timeline

@@ -1,0 +1,83 @@
+"""The simulated NAO's log: what it received and what it did, as JSON lines.
+
+Each line is one JSON object with ``t`` (seconds since the sim started, its
+monotonic clock) and ``event``:
+
+- ``start``: ``url``, ``period`` [s], ``joints`` (name -> [lower, upper,
+  velocity]), ``origin`` (the monotonic clock at ``t = 0`` [s], to line the
+  log up with other processes on the same machine).
+- ``call``: a command received: ``method`` and its arguments (``names``,
+  ``angles``/``stiffness``, ``times``, ...). Reads (``getAngles``,
+  ``getStiffnesses``, ...) are not logged.
+- ``refused``: ``method`` and ``reason``; nothing of the command executed.
+- ``motion``: an accepted command: ``method``, ``joints``, ``duration`` [s].
+- ``done`` / ``interrupted``: ``method``, ``joints`` (and ``reason``).
+- ``state``: each control cycle while a command runs: ``cycle`` and
+  ``positions`` (joint -> measured angle [rad]) of the moving joints.
+- ``stop``: the sim is shutting down.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from collections import deque
+from pathlib import Path
+from typing import Any
+
+#: Entries kept in memory.
+KEEP = 20000
+
+
+class SimLog:
+    """A thread-safe JSON-lines log, flushed at every line, also kept in memory."""
+
+    def __init__(self, path: str | Path | None = None) -> None:
+        self._origin = time.monotonic()
+        self._lock = threading.Lock()
+        self._entries: deque[dict[str, Any]] = deque(maxlen=KEEP)
+        self._file = None if path is None else open(path, "a", encoding="utf-8")  # noqa: SIM115
+
+    @property
+    def origin(self) -> float:
+        """The monotonic clock when the log started [s]."""
+        return self._origin
+
+    def since_start(self, t: float) -> float:
+        """Monotonic time ``t`` as seconds since the log started [s]."""
+        return t - self._origin
+
+    def write(self, event: str, **fields: Any) -> None:
+        """Append one entry ``{"t", "event", **fields}``."""
+        entry = {"t": round(self.since_start(time.monotonic()), 6), "event": event}
+        entry.update(fields)
+        line = json.dumps(entry)
+        with self._lock:
+            self._entries.append(entry)
+            if self._file is not None:
+                self._file.write(line + "\n")
+                self._file.flush()
+
+    def entries(self) -> list[dict[str, Any]]:
+        """A copy of the entries kept in memory."""
+        with self._lock:
+            return list(self._entries)
+
+    def close(self) -> None:
+        """Close the file."""
+        with self._lock:
+            if self._file is not None:
+                self._file.close()
+                self._file = None
+
+
+def read_log(path: str | Path) -> list[dict[str, Any]]:
+    """The entries of a sim log file (a torn last line is skipped)."""
+    entries = []
+    for line in Path(path).read_text(encoding="utf-8").splitlines():
+        try:
+            entries.append(json.loads(line))
+        except json.JSONDecodeError:
+            continue
+    return entries

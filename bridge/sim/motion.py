@@ -1,0 +1,210 @@
+"""The simulated NAO's ALMotion: the NAOqi API the bridge calls, served over libqi.
+
+Methods and arguments are NAOqi's (radians, seconds, fractions 0..1):
+``angleInterpolation``, ``angleInterpolationWithSpeed``, ``setAngles``,
+``getAngles``, ``stiffnessInterpolation``, ``setStiffnesses``,
+``getStiffnesses``, ``wakeUp``, ``rest``, ``robotIsWakeUp``, ``getLimits``,
+``killAll``. A refused command raises (the caller gets libqi's
+``RuntimeError`` with the reason) and is logged; nothing is clamped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from bridge.sim.commands import per_joint
+from bridge.sim.errors import SimCommandError
+from bridge.sim.joints import expand_names
+from bridge.sim.log import SimLog
+from bridge.sim.robot import SimRobot
+from bridge.sim.task import MotionTask
+from shared.libqi import qi
+
+#: Shortest move ``setAngles`` and ``angleInterpolationWithSpeed`` make [s].
+MIN_MOVE_TIME = 0.02
+
+
+def _accept(log: SimLog, method: str, start: Callable[[], MotionTask]) -> MotionTask:
+    """Run ``start``; log the accepted motion, or log the refusal and re-raise."""
+    try:
+        task = start()
+    except SimCommandError as error:
+        log.write("refused", method=method, reason=str(error))
+        raise
+    duration = round(task.end_time - task.start_time, 6)
+    log.write("motion", method=method, joints=task.joints, duration=duration)
+    return task
+
+
+def _fraction(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SimCommandError(f"{what} must be a number, got {value!r}")
+    if not 0.0 < value <= 1.0:
+        raise SimCommandError(f"{what} must be in (0, 1], got {value}")
+    return float(value)
+
+
+def _speed_move(
+    robot: SimRobot, t: float, names: Any, targets: Any, fraction: Any, together: bool
+) -> MotionTask:
+    """Move to ``targets`` [rad] at ``fraction`` of the speed limits.
+
+    Each joint goes straight to its target at that share of its limit; with
+    ``together`` all arrive with the slowest one.
+    """
+    share = _fraction(fraction, "fractionMaxSpeed")
+    joints = expand_names(names)
+    current = robot.angles(joints, False)
+    wanted = [row[-1] for row in per_joint(targets, len(joints), "angles")]
+    durations = [
+        max(MIN_MOVE_TIME, abs(w - c) / (share * robot.joints[j].spec.velocity))
+        for j, w, c in zip(joints, wanted, current, strict=True)
+    ]
+    if together:
+        durations = [max(durations)] * len(joints)
+    method = "angleInterpolationWithSpeed" if together else "setAngles"
+    keys = [[w] for w in wanted]
+    return robot.move(method, t, joints, keys, [[d] for d in durations])
+
+
+@qi.multiThreaded()
+class SimulatedMotion:
+    """ALMotion of the simulated NAO (served as the ``ALMotion`` service)."""
+
+    def __init__(self, robot: SimRobot, log: SimLog) -> None:
+        self._robot = robot
+        self._log = log
+
+    def angleInterpolation(
+        self, names: Any, angleLists: Any, timeLists: Any, isAbsolute: bool
+    ) -> None:
+        """Move joints through timed keys [rad, s]; blocks until done."""
+        t = self._robot.now()
+        self._log.write(
+            "call",
+            method="angleInterpolation",
+            names=names,
+            angles=angleLists,
+            times=timeLists,
+            absolute=bool(isAbsolute),
+        )
+        task = _accept(
+            self._log,
+            "angleInterpolation",
+            lambda: self._robot.move(
+                "angleInterpolation", t, names, angleLists, timeLists, bool(isAbsolute)
+            ),
+        )
+        task.wait(task.end_time - t)
+
+    def angleInterpolationWithSpeed(
+        self, names: Any, targetAngles: Any, maxSpeedFraction: float
+    ) -> None:
+        """Move joints to targets [rad] together; blocks until done.
+
+        The joint that needs longest moves at ``maxSpeedFraction`` of its
+        speed limit; the others arrive with it.
+        """
+        t = self._robot.now()
+        self._log.write(
+            "call",
+            method="angleInterpolationWithSpeed",
+            names=names,
+            angles=targetAngles,
+            fraction=maxSpeedFraction,
+        )
+        task = _accept(
+            self._log,
+            "angleInterpolationWithSpeed",
+            lambda: _speed_move(
+                self._robot, t, names, targetAngles, maxSpeedFraction, True
+            ),
+        )
+        task.wait(task.end_time - t)
+
+    def setAngles(self, names: Any, angles: Any, fractionMaxSpeed: float) -> None:
+        """Start moving joints to ``angles`` [rad]; returns at once.
+
+        Each joint moves at ``fractionMaxSpeed`` of its speed limit.
+        """
+        t = self._robot.now()
+        self._log.write(
+            "call",
+            method="setAngles",
+            names=names,
+            angles=angles,
+            fraction=fractionMaxSpeed,
+        )
+        _accept(
+            self._log,
+            "setAngles",
+            lambda: _speed_move(self._robot, t, names, angles, fractionMaxSpeed, False),
+        )
+
+    def getAngles(self, names: Any, useSensors: bool) -> list[float]:
+        """Angles now [rad]: measured if ``useSensors``, else commanded."""
+        return self._robot.angles(names, bool(useSensors))
+
+    def stiffnessInterpolation(
+        self, names: Any, stiffnessLists: Any, timeLists: Any
+    ) -> None:
+        """Ramp stiffnesses (0..1) through timed keys [s]; blocks until done."""
+        t = self._robot.now()
+        self._log.write(
+            "call",
+            method="stiffnessInterpolation",
+            names=names,
+            stiffness=stiffnessLists,
+            times=timeLists,
+        )
+        task = _accept(
+            self._log,
+            "stiffnessInterpolation",
+            lambda: self._robot.stiffen(
+                "stiffnessInterpolation", t, names, stiffnessLists, timeLists
+            ),
+        )
+        task.wait(task.end_time - t)
+
+    def setStiffnesses(self, names: Any, stiffnesses: Any) -> None:
+        """Set stiffnesses (0..1) within one control cycle."""
+        t = self._robot.now()
+        self._log.write(
+            "call", method="setStiffnesses", names=names, stiffness=stiffnesses
+        )
+        _accept(
+            self._log,
+            "setStiffnesses",
+            lambda: self._robot.stiffen(
+                "setStiffnesses", t, names, stiffnesses, MIN_MOVE_TIME
+            ),
+        )
+
+    def getStiffnesses(self, names: Any) -> list[float]:
+        """Stiffnesses now (0..1)."""
+        return self._robot.stiffnesses(names)
+
+    def wakeUp(self) -> None:
+        """Stiffen every joint (the simulated NAO has no posture to stand in)."""
+        self.stiffnessInterpolation("Body", 1.0, 0.1)
+
+    def rest(self) -> None:
+        """Stop every command and release every joint's stiffness."""
+        self.killAll()
+        self.stiffnessInterpolation("Body", 0.0, 0.1)
+
+    def robotIsWakeUp(self) -> bool:
+        """True if every joint is stiff."""
+        return min(self._robot.stiffnesses("Body")) > 0.0
+
+    def getLimits(self, name: str) -> list[list[float]]:
+        """[[lower, upper, speed limit, torque limit]] per joint [rad, rad/s, N m]."""
+        joints = expand_names(name)
+        specs = [self._robot.joints[j].spec for j in joints]
+        return [[s.lower, s.upper, s.velocity, s.effort] for s in specs]
+
+    def killAll(self) -> None:
+        """Stop every command; joints hold where they are."""
+        self._log.write("call", method="killAll")
+        self._robot.stop_all("killAll")

@@ -1,0 +1,146 @@
+"""Start and stop the simulated NAO as a separate process.
+
+The child runs ``python -m bridge.sim`` and prints ``armplan-sim ready URL``
+once ALMotion is served; :meth:`SimProcess.start` waits for that line (with
+a timeout) and keeps reading the child's output on a thread so that the
+child never blocks on a full pipe. The child's stdin is a pipe from this
+process: if this process ends in any way (even killed), the pipe closes and
+the child stops by itself, so no simulated NAO outlives its parent.
+"""
+
+from __future__ import annotations
+
+import os
+import queue
+import subprocess
+import sys
+import threading
+from collections import deque
+from pathlib import Path
+from types import TracebackType
+
+#: The line the simulated NAO prints when it serves ALMotion.
+READY = "armplan-sim ready"
+
+
+class SimProcess:
+    """A simulated NAO process.
+
+    Use as a context manager, or call :meth:`start` and then :meth:`stop`
+    (or :meth:`kill`) yourself.
+
+    Attributes:
+        url: Where its ALMotion is served, known once started.
+    """
+
+    def __init__(
+        self,
+        listen: str = "tcp://127.0.0.1:0",
+        log_path: str | Path | None = None,
+        period: float = 0.02,
+        startup_timeout: float = 30.0,
+    ) -> None:
+        """Describe the process; nothing starts yet.
+
+        Args:
+            listen: NAOqi address to serve at; port 0 picks a free one.
+            log_path: The sim's JSON-lines log file, or None.
+            period: Control cycle [s].
+            startup_timeout: Longest wait for the ready line [s].
+        """
+        self.listen = listen
+        self.log_path = None if log_path is None else Path(log_path)
+        self.period = period
+        self.startup_timeout = startup_timeout
+        self.url = ""
+        self.output: deque[str] = deque(maxlen=200)
+        self._process: subprocess.Popen[str] | None = None
+        self._ready: queue.Queue[str] = queue.Queue()
+
+    def command(self) -> list[str]:
+        """The child's command line."""
+        cmd = [sys.executable, "-m", "bridge.sim", "--listen", self.listen]
+        cmd += ["--period", str(self.period), "--stop-on-stdin-eof"]
+        if self.log_path is not None:
+            cmd += ["--log", str(self.log_path)]
+        return cmd
+
+    @property
+    def pid(self) -> int:
+        """The child's process id (0 if not started)."""
+        return 0 if self._process is None else self._process.pid
+
+    def start(self) -> str:
+        """Start the child and wait until it serves; returns its URL.
+
+        Raises:
+            RuntimeError: if it exits or is not ready within the timeout
+                (the child is ended first).
+        """
+        env = dict(os.environ, PYTHONUNBUFFERED="1")
+        self._process = subprocess.Popen(
+            self.command(),
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            stdin=subprocess.PIPE,
+            text=True,
+            env=env,
+        )
+        threading.Thread(target=self._drain, daemon=True, name="sim-output").start()
+        try:
+            line = self._ready.get(timeout=self.startup_timeout)
+        except queue.Empty:
+            self.kill()
+            raise RuntimeError(
+                f"simulated NAO not ready in {self.startup_timeout} s: "
+                + " | ".join(self.output)
+            ) from None
+        if not line:
+            self.stop()
+            raise RuntimeError("simulated NAO exited: " + " | ".join(self.output))
+        self.url = line.split()[-1]
+        return self.url
+
+    def _drain(self) -> None:
+        assert self._process is not None and self._process.stdout is not None
+        for line in self._process.stdout:
+            self.output.append(line.rstrip())
+            if line.startswith(READY):
+                self._ready.put(line.strip())
+        self._ready.put("")
+
+    def running(self) -> bool:
+        """True while the child runs."""
+        return self._process is not None and self._process.poll() is None
+
+    def stop(self, timeout: float = 5.0) -> int | None:
+        """Ask the child to stop (SIGTERM), kill it after ``timeout`` [s]."""
+        if self._process is None:
+            return None
+        if self._process.poll() is None:
+            self._process.terminate()
+            try:
+                return self._process.wait(timeout)
+            except subprocess.TimeoutExpired:
+                pass
+        return self.kill()
+
+    def kill(self, timeout: float = 5.0) -> int | None:
+        """End the child at once (SIGKILL), as a crash or a pulled cable would."""
+        if self._process is None:
+            return None
+        if self._process.poll() is None:
+            self._process.kill()
+        return self._process.wait(timeout)
+
+    def __enter__(self) -> SimProcess:
+        self.start()
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.stop()

@@ -1,0 +1,189 @@
+"""The simulated NAO's body: its joints, the commands they follow, the cycle step."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+
+from bridge.sim.commands import KeyCommand, check_range, check_speed, key_commands
+from bridge.sim.errors import SimCommandError
+from bridge.sim.joint import SimJoint
+from bridge.sim.joints import expand_names, joint_specs
+from bridge.sim.log import SimLog
+from bridge.sim.task import MotionTask
+from bridge.sim.timeline import KeyTimeline
+
+
+class SimRobot:
+    """All joints of the simulated NAO, guarded by one lock.
+
+    Commands are checked whole before any joint takes them; a joint taken by
+    a new command ends (interrupts) the command that drove it before.
+    """
+
+    def __init__(
+        self,
+        log: SimLog,
+        posture: dict[str, float],
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        """Start every joint at ``posture`` [rad] (0 if absent), stiffness 0."""
+        self._clock = clock
+        self._log = log
+        self._lock = threading.Lock()
+        now = clock()
+        self.joints = {
+            name: SimJoint(spec, posture.get(name, 0.0), now)
+            for name, spec in joint_specs().items()
+        }
+        self._owners: dict[str, MotionTask] = {}
+        self._tasks: list[MotionTask] = []
+        self.cycles = 0
+
+    def now(self) -> float:
+        """The sim clock [s]."""
+        return self._clock()
+
+    def angles(self, names: str | list[str], use_sensors: bool) -> list[float]:
+        """Measured (``use_sensors``) or commanded angles of ``names`` now [rad]."""
+        joints, t = expand_names(names), self.now()
+        with self._lock:
+            return [
+                self.joints[j].measured(t)
+                if use_sensors
+                else self.joints[j].setpoint(t)
+                for j in joints
+            ]
+
+    def stiffnesses(self, names: str | list[str]) -> list[float]:
+        """Stiffness of ``names`` now (0..1)."""
+        joints, t = expand_names(names), self.now()
+        with self._lock:
+            return [self.joints[j].stiffness(t) for j in joints]
+
+    def move(
+        self,
+        method: str,
+        t: float,
+        names: str | list[str],
+        values: object,
+        times: object,
+        absolute: bool = True,
+    ) -> MotionTask:
+        """Accept a key command received at sim time ``t``, or refuse it whole.
+
+        Args:
+            method: The ALMotion method, for the log and errors.
+            t: Reception time [s, sim clock].
+            names: Joints or chains.
+            values: Keys [rad] in any ALMotion form (offsets if not absolute).
+            times: Key times from reception [s] in any ALMotion form.
+            absolute: False: each key is an offset from the angle at reception.
+        """
+        commands = key_commands(expand_names(names), values, times)
+        with self._lock:
+            starts = self._prepare(commands, t)
+            if not absolute:
+                commands = [_offset(c, starts[c.joint]) for c in commands]
+            for command in commands:
+                spec = self.joints[command.joint].spec
+                check_range(command, spec)
+                check_speed(command, spec, starts[command.joint])
+            for command in commands:
+                timeline = KeyTimeline(
+                    t, starts[command.joint], command.times, command.values
+                )
+                self.joints[command.joint].command(timeline)
+            return self._start_task(method, commands, t)
+
+    def stiffen(
+        self,
+        method: str,
+        t: float,
+        names: str | list[str],
+        values: object,
+        times: object,
+    ) -> MotionTask:
+        """Ramp stiffnesses (0..1) through timed keys received at sim time ``t``."""
+        commands = key_commands(expand_names(names), values, times, "stiffness")
+        for c in commands:
+            if any(not 0.0 <= v <= 1.0 for v in c.values):
+                raise SimCommandError(
+                    f"{c.joint} stiffness must be in 0..1: {c.values}"
+                )
+        with self._lock:
+            for c in commands:
+                joint = self.joints[c.joint]
+                joint.commit(t)
+                start = joint.stiffness(t)
+                joint.command_stiffness(KeyTimeline(t, start, c.times, c.values))
+            return self._start_task(method, commands, t, owns=False)
+
+    def stop_all(self, reason: str) -> None:
+        """Hold every joint where it is and interrupt every running command."""
+        t = self.now()
+        with self._lock:
+            for joint in self.joints.values():
+                joint.commit(t)
+                joint.command(None)
+            for task in self._tasks:
+                task.interrupt(reason)
+            self._tasks, self._owners = [], {}
+
+    def step(self) -> None:
+        """One control cycle: advance every joint, end finished commands, log."""
+        t = self.now()
+        with self._lock:
+            self.cycles += 1
+            moving = [j for j in self.joints.values() if j.moving]
+            for joint in self.joints.values():
+                joint.commit(t)
+            finished = [task for task in self._tasks if t >= task.end_time]
+            self._tasks = [task for task in self._tasks if t < task.end_time]
+        if moving:
+            positions = {j.spec.name: round(j.position, 6) for j in moving}
+            self._log.write("state", cycle=self.cycles, positions=positions)
+        for task in finished:
+            task.finish()
+            self._log.write("done", method=task.method, joints=task.joints)
+
+    def _prepare(self, commands: list[KeyCommand], t: float) -> dict[str, float]:
+        """Commit the commanded joints to ``t``; their setpoints there [rad]."""
+        starts = {}
+        for c in commands:
+            joint = self.joints[c.joint]
+            joint.commit(t)
+            if joint.stiffness(t) <= 0.0:
+                raise SimCommandError(
+                    f"{c.joint} has stiffness 0 and cannot move: call wakeUp or "
+                    "set its stiffness first"
+                )
+            starts[c.joint] = joint.setpoint(t)
+        return starts
+
+    def _start_task(
+        self, method: str, commands: list[KeyCommand], t: float, owns: bool = True
+    ) -> MotionTask:
+        joints = [c.joint for c in commands]
+        end = t + max(c.times[-1] for c in commands)
+        task = MotionTask(method, joints, t, end)
+        if owns:
+            for joint in joints:
+                previous = self._owners.get(joint)
+                if previous is not None and not previous.finished:
+                    previous.interrupt(f"{joint} was taken by {method}")
+                    self._log.write(
+                        "interrupted",
+                        method=previous.method,
+                        joints=previous.joints,
+                        reason=f"{joint} was taken by {method}",
+                    )
+                self._owners[joint] = task
+        self._tasks = [old for old in self._tasks if not old.finished] + [task]
+        return task
+
+
+def _offset(command: KeyCommand, start: float) -> KeyCommand:
+    """``command`` with its keys as offsets from ``start`` made absolute [rad]."""
+    return command._replace(values=[start + v for v in command.values])

@@ -1,0 +1,56 @@
+"""A running motion command, which a blocking ALMotion call waits for."""
+
+from __future__ import annotations
+
+import threading
+
+from bridge.sim.errors import SimCommandError
+
+#: Extra time a blocking call waits past its command's end before failing [s].
+GRACE = 5.0
+
+
+class MotionTask:
+    """One accepted command on a set of joints.
+
+    Attributes:
+        method: The ALMotion method that made it.
+        joints: Joints it drives.
+        start_time: When it was received [s, sim clock].
+        end_time: When its last key is reached [s, sim clock].
+    """
+
+    def __init__(
+        self, method: str, joints: list[str], start_time: float, end_time: float
+    ) -> None:
+        self.method = method
+        self.start_time = start_time
+        self.joints = joints
+        self.end_time = end_time
+        self._done = threading.Event()
+        self._error: str | None = None
+
+    def finish(self) -> None:
+        """The command's joints reached their last keys."""
+        self._done.set()
+
+    def interrupt(self, reason: str) -> None:
+        """Another command took its joints, or everything was stopped."""
+        self._error = reason
+        self._done.set()
+
+    @property
+    def finished(self) -> bool:
+        """True once finished or interrupted."""
+        return self._done.is_set()
+
+    def wait(self, duration: float) -> None:
+        """Block until done (at most ``duration`` + :data:`GRACE` [s]).
+
+        Raises:
+            SimCommandError: if it was interrupted or never finished.
+        """
+        if not self._done.wait(duration + GRACE):
+            raise SimCommandError(f"{self.method} did not finish in time")
+        if self._error is not None:
+            raise SimCommandError(f"{self.method} was interrupted: {self._error}")

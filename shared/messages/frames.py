@@ -1,0 +1,185 @@
+"""Command frames for the robot, and what the robot did with them.
+
+A trajectory becomes *command frames*: joint angles at the frames of a
+timeline (Choregraphe's, 25 fps by default). Frame ``k`` (``k = 1 .. m``) is
+reached ``k / rate`` seconds after the start; the start posture itself is
+frame 0. The bridge sends the frames to a NAO (real or simulated), samples
+the measured angles while it moves, and answers with the executed joint
+states and a tracking report.
+"""
+
+from __future__ import annotations
+
+from pydantic import Field, model_validator
+
+from shared.messages.base import Message
+from shared.messages.joint_path import Row, Trajectory
+from shared.robot.side import Side
+
+#: Highest frame rate a timeline may have [Hz]; ALMotion's cycle is 50 Hz.
+MAX_FRAME_RATE = 1000.0
+
+
+def _check_table(name: str, rows: list[Row], n: int, width: int) -> None:
+    if len(rows) != n:
+        raise ValueError(f"{name} has {len(rows)} rows, expected {n} (one per time)")
+    for i, row in enumerate(rows):
+        if len(row) != width:
+            raise ValueError(f"{name}[{i}] has {len(row)} values, expected {width}")
+
+
+def _check_increasing(times: list[float], first_above: float | None) -> None:
+    if first_above is not None and times and not times[0] > first_above:
+        raise ValueError(f"times[0] must be above {first_above} s, got {times[0]}")
+    for i in range(1, len(times)):
+        if not times[i] > times[i - 1]:
+            raise ValueError(f"times must increase: time {i} is not after {i - 1}")
+
+
+class CommandFrames(Message):
+    """Joint angles at the frames of a timeline.
+
+    Attributes:
+        arm: Which arm.
+        rate: Frame rate of the timeline [Hz] (Choregraphe's default is 25).
+        joint_names: NAO joint names, shape (n,).
+        start: Posture at frame 0, the trajectory's start [rad], shape (n,).
+        times: Time of frames 1..m from the start [s], shape (m,); frame k is
+            at ``k / rate``.
+        positions: Joint angles at those frames [rad], shape (m, n).
+    """
+
+    arm: Side
+    rate: float = Field(gt=0.0, le=MAX_FRAME_RATE)
+    joint_names: list[str] = Field(min_length=1)
+    start: list[float]
+    times: list[float] = Field(min_length=1)
+    positions: list[Row]
+
+    @model_validator(mode="after")
+    def _shapes(self) -> CommandFrames:
+        width = len(self.joint_names)
+        if len(self.start) != width:
+            raise ValueError(f"start has {len(self.start)} values, expected {width}")
+        _check_table("positions", self.positions, len(self.times), width)
+        _check_increasing(self.times, first_above=0.0)
+        return self
+
+    @property
+    def frame_numbers(self) -> list[int]:
+        """Timeline frame number of each frame (``round(time * rate)``), shape (m,)."""
+        return [round(t * self.rate) for t in self.times]
+
+    @property
+    def duration(self) -> float:
+        """Time of the last frame [s]."""
+        return self.times[-1]
+
+
+class JointState(Message):
+    """Measured joint angles at one moment of an execution.
+
+    Attributes:
+        time: Time from the start of the movement [s].
+        joint_names: NAO joint names, shape (n,).
+        positions: Measured angles [rad], shape (n,).
+    """
+
+    time: float
+    joint_names: list[str]
+    positions: list[float]
+
+    @model_validator(mode="after")
+    def _shapes(self) -> JointState:
+        if len(self.positions) != len(self.joint_names):
+            raise ValueError("positions need one value per joint name")
+        return self
+
+
+class ExecutedJointStates(Message):
+    """What the robot did: measured angles beside the commanded ones.
+
+    Attributes:
+        arm: Which arm.
+        joint_names: NAO joint names, shape (n,).
+        times: Sample times from the start of the movement [s], shape (k,).
+        measured: Angles the robot reported (ALMotion ``getAngles``) [rad], (k, n).
+        commanded: The trajectory's angles at ``times - latency`` [rad], (k, n):
+            what each measured sample is compared with.
+        latency: Delay between a command and the robot reporting it [s]: the
+            shift that best aligns measured with commanded (see
+            ``bridge.tracking``).
+    """
+
+    arm: Side
+    joint_names: list[str]
+    times: list[float]
+    measured: list[Row]
+    commanded: list[Row]
+    latency: float = Field(default=0.0, ge=0.0)
+
+    @model_validator(mode="after")
+    def _shapes(self) -> ExecutedJointStates:
+        width = len(self.joint_names)
+        _check_table("measured", self.measured, len(self.times), width)
+        _check_table("commanded", self.commanded, len(self.times), width)
+        _check_increasing(self.times, first_above=None)
+        return self
+
+
+class TrackingReport(Message):
+    """How closely the robot followed the commanded trajectory.
+
+    Attributes:
+        joint_names: NAO joint names, shape (n,).
+        tracking_rms_deg: Root-mean-square of measured minus commanded, per
+            joint [deg], once the measurement latency is taken out.
+        tracking_max_deg: Largest absolute error, per joint [deg], likewise.
+        latency: The measurement latency taken out [s]: sensor cycle and
+            transport, the same for every joint.
+        unaligned_rms_deg: The RMS error without taking the latency out [deg].
+        samples: Number of measured samples compared.
+        sample_period: Mean time between samples [s].
+        duration: Time of the last sample from the start [s].
+    """
+
+    joint_names: list[str]
+    tracking_rms_deg: dict[str, float]
+    tracking_max_deg: dict[str, float]
+    latency: float = Field(default=0.0, ge=0.0)
+    unaligned_rms_deg: dict[str, float] = Field(default_factory=dict)
+    samples: int = Field(ge=0)
+    sample_period: float = Field(ge=0.0)
+    duration: float = Field(ge=0.0)
+
+
+class ExecuteRequest(Message):
+    """Ask the bridge to play a trajectory on the robot.
+
+    Attributes:
+        trajectory: The trajectory (the SPEC's trajectory form).
+        rate: Frame rate of the command frames [Hz].
+        approach: Move the arm to the trajectory's start first, slowly, if it
+            is elsewhere; if false, a robot away from the start is refused.
+    """
+
+    trajectory: Trajectory
+    rate: float = Field(default=25.0, gt=0.0, le=MAX_FRAME_RATE)
+    approach: bool = True
+
+
+class ExecuteReply(Message):
+    """The bridge's answer to an :class:`ExecuteRequest`.
+
+    Attributes:
+        report: Tracking error per joint.
+        states: Measured and commanded angles during the movement.
+        frames: Number of command frames sent.
+        approach_duration: Length of the move to the start before it [s]
+            (0 if the arm was already there).
+    """
+
+    report: TrackingReport
+    states: ExecutedJointStates
+    frames: int = Field(ge=0)
+    approach_duration: float = Field(default=0.0, ge=0.0)

@@ -1,0 +1,147 @@
+"""Exports: the angleInterpolation call, the Python script, the CLI command."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armplan.cli.main import main
+from bridge.almotion import angle_interpolation_call
+from bridge.choregraphe import read_behavior
+from bridge.frames import frames_from_trajectory
+from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.python_export import python_script, write_python
+from bridge.sim import SimProcess
+from bridge.sim.log import read_log
+from shared.messages import Trajectory
+from shared.robot.postures import rest
+
+
+def trajectory() -> Trajectory:
+    start = rest("right")
+    return minimum_jerk_trajectory(
+        "right", [start, start + np.array([-0.6, -0.3, -0.4, 0.5, 0.7])], [0.6]
+    )
+
+
+def script_lists(text: str) -> dict[str, list]:
+    """Run the script's list block (not its runner) and return its lists."""
+    block = text.split("\n\ndef main", 1)[0]
+    namespace: dict[str, list] = {}
+    exec(block, namespace)
+    return namespace
+
+
+def test_the_call_has_one_key_list_per_joint() -> None:
+    """angleInterpolation(names, angleLists, timeLists, True): n lists of m keys."""
+    frames = frames_from_trajectory(trajectory())
+    call = angle_interpolation_call(frames)
+    names, angles, times, absolute = call
+    assert names == frames.joint_names and absolute is True
+    assert len(angles) == len(times) == 5
+    assert all(t == frames.times for t in times)
+    assert np.allclose(np.array(angles).T, frames.positions)
+    assert call.duration == pytest.approx(0.6)
+
+
+def test_the_script_holds_choregraphes_names_times_keys() -> None:
+    """names/times/keys appended per joint, as Choregraphe exports them."""
+    frames = frames_from_trajectory(trajectory())
+    text = python_script(frames)
+    assert text.startswith("# Choregraphe simplified export in Python.")
+    assert "motion.angleInterpolation(names, keys, times, True)" in text
+    lists = script_lists(text)
+    assert lists["names"] == frames.joint_names
+    assert np.allclose(lists["times"], [frames.times] * 5)
+    assert np.allclose(np.array(lists["keys"]).T, frames.positions, atol=1e-7)
+    assert np.allclose(lists["start"], frames.start, atol=1e-7)
+
+
+def test_the_script_plays_on_the_simulated_nao(tmp_path: Path) -> None:
+    """Run as a program against the simulated NAO, the script's keys arrive."""
+    frames = frames_from_trajectory(trajectory())
+    script = write_python(frames, tmp_path / "play.py")
+    log = tmp_path / "sim.jsonl"
+    with SimProcess(log_path=log) as sim:
+        run = subprocess.run(
+            [sys.executable, str(script), sim.url],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            check=False,
+        )
+        assert run.returncode == 0, run.stdout + run.stderr
+    entries = read_log(log)
+    calls = [
+        e
+        for e in entries
+        if e["event"] == "call" and e["method"] == "angleInterpolation"
+    ]
+    assert len(calls) == 1
+    assert np.allclose(np.array(calls[0]["angles"]).T, frames.positions, atol=1e-7)
+    done = [
+        e
+        for e in entries
+        if e["event"] == "done" and e["method"] == "angleInterpolation"
+    ]
+    assert len(done) == 1
+
+
+def test_cli_writes_both_exports(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """armplan export choregraphe|python TRAJ.json -o FILE writes checked frames."""
+    source = tmp_path / "trajectory.json"
+    source.write_text(trajectory().to_json())
+    assert (
+        main(
+            [
+                "export",
+                "choregraphe",
+                str(source),
+                "-o",
+                str(tmp_path / "b.xar"),
+                "--json",
+            ]
+        )
+        == 0
+    )
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["frames"] == 15 and summary["rate"] == 25.0
+    assert read_behavior(tmp_path / "b.xar").names[0] == "RShoulderPitch"
+    assert main(["export", "python", str(source), "-o", str(tmp_path / "p.py")]) == 0
+    assert "wrote" in capsys.readouterr().out
+    assert script_lists((tmp_path / "p.py").read_text())["names"][4] == "RWristYaw"
+
+
+def test_cli_refuses_an_unsafe_trajectory(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A trajectory over a speed limit is not exported; exit code 1 and the reason."""
+    fast = minimum_jerk_trajectory(
+        "right", [rest("right"), rest("right") - [2.0, 0, 0, 0, 0]], [0.3]
+    )
+    source = tmp_path / "fast.json"
+    source.write_text(fast.to_json())
+    assert (
+        main(["export", "choregraphe", str(source), "-o", str(tmp_path / "f.xar")]) == 1
+    )
+    assert "RShoulderPitch speed" in capsys.readouterr().err
+    assert not (tmp_path / "f.xar").exists()
+    assert (
+        main(
+            [
+                "export",
+                "python",
+                str(tmp_path / "missing.json"),
+                "-o",
+                str(tmp_path / "x.py"),
+            ]
+        )
+        == 1
+    )

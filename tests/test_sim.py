@@ -1,0 +1,142 @@
+"""The simulated NAO, reached only through a real libqi session on 127.0.0.1."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import qi
+
+from bridge.sim import SimProcess
+from bridge.sim.log import read_log
+from shared.robot import load_arm
+
+
+@pytest.fixture(scope="module")
+def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[SimProcess]:
+    process = SimProcess(log_path=tmp_path_factory.mktemp("sim") / "sim.jsonl")
+    process.start()
+    try:
+        yield process
+    finally:
+        process.stop()
+
+
+@pytest.fixture(scope="module")
+def motion(sim: SimProcess) -> Iterator[Any]:
+    session = qi.Session()
+    session.connect(sim.url)
+    try:
+        yield session.service("ALMotion")
+    finally:
+        session.close()
+
+
+def log_of(sim: SimProcess) -> list[dict[str, Any]]:
+    assert sim.log_path is not None
+    return read_log(Path(sim.log_path))
+
+
+def test_a_limp_joint_refuses_to_move(sim: SimProcess, motion: Any) -> None:
+    """At start every stiffness is 0; a motion command is refused, not ignored."""
+    assert motion.getStiffnesses("LArm") == [0.0] * 6
+    with pytest.raises(RuntimeError, match="LShoulderPitch has stiffness 0"):
+        motion.angleInterpolation("LShoulderPitch", 1.0, 1.0, True)
+
+
+def test_out_of_range_angles_are_refused_not_clamped(
+    sim: SimProcess, motion: Any
+) -> None:
+    """RElbowRoll to 1.7 rad (range ends at 1.54462): error, logged, no motion."""
+    motion.setStiffnesses("RArm", 1.0)
+    time.sleep(0.1)
+    before = motion.getAngles("RArm", True)
+    with pytest.raises(
+        RuntimeError, match=r"RElbowRoll key 1 = 1\.70000 rad is outside its range"
+    ):
+        motion.angleInterpolation(["RElbowRoll"], [[1.7]], [[1.0]], True)
+    with pytest.raises(
+        RuntimeError,
+        match=r"RHand key 1 = 1\.50000 is outside its range \[0\.00000, 1\.00000\]",
+    ):
+        motion.setAngles("RHand", 1.5, 0.5)
+    time.sleep(0.1)
+    assert motion.getAngles("RArm", True) == before
+    refused = [e for e in log_of(sim) if e["event"] == "refused"]
+    assert "RElbowRoll key 1 = 1.70000 rad" in refused[-2]["reason"]
+
+
+def test_over_speed_timing_is_refused(sim: SimProcess, motion: Any) -> None:
+    """Keys too far apart for their time, or speed fractions above 1: errors."""
+    motion.setStiffnesses("RArm", 1.0)
+    start = motion.getAngles("RShoulderPitch", False)[0]
+    with pytest.raises(
+        RuntimeError, match=r"RShoulderPitch key 2 \(t = 0\.150 s\) needs"
+    ):
+        motion.angleInterpolation(
+            "RShoulderPitch", [start, start - 1.0], [0.1, 0.15], True
+        )
+    with pytest.raises(RuntimeError, match=r"fractionMaxSpeed must be in \(0, 1\]"):
+        motion.setAngles("RShoulderPitch", 0.0, 1.5)
+    assert motion.getAngles("RShoulderPitch", False)[0] == start
+
+
+def test_keys_are_followed_within_the_speed_limit(sim: SimProcess, motion: Any) -> None:
+    """A blocking angleInterpolation lasts its keys' time; readings follow the
+    straight lines between keys; the 20 ms cycle's logged states never exceed
+    the speed limit."""
+    motion.setStiffnesses("RArm", 1.0)
+    time.sleep(0.05)
+    q0 = motion.getAngles("RShoulderPitch", True)[0]
+    keys, times = [q0 - 0.6, q0 - 0.2], [0.5, 1.0]
+    sent = time.monotonic()
+    future = motion.angleInterpolation("RShoulderPitch", keys, times, True, _async=True)
+    started = time.monotonic()
+    readings = []
+    while not future.isFinished():
+        a = time.monotonic()
+        value = motion.getAngles("RShoulderPitch", True)[0]
+        readings.append((0.5 * (a + time.monotonic()) - started, value))
+        time.sleep(0.01)
+    assert not future.hasError()
+    assert 0.98 < time.monotonic() - sent < 1.3
+    t, measured = np.array(readings).T
+    expected = np.interp(t, [0.0, *times], [q0, *keys])
+    assert np.degrees(np.abs(measured - expected)).max() < 2.0
+    states = [
+        e
+        for e in log_of(sim)
+        if e["event"] == "state" and "RShoulderPitch" in e["positions"]
+    ]
+    stamps = np.array([e["t"] for e in states])
+    angles = np.array([e["positions"]["RShoulderPitch"] for e in states])
+    assert np.median(np.diff(stamps)) == pytest.approx(0.02, abs=0.004)
+    assert np.max(np.abs(np.diff(angles)) / np.diff(stamps)) <= 8.26797 * 1.02
+
+
+def test_set_angles_moves_at_the_fraction_of_its_speed(motion: Any) -> None:
+    """setAngles returns at once; the joint moves at fraction x its speed limit."""
+    motion.setStiffnesses("RArm", 1.0)
+    time.sleep(0.05)
+    q0 = motion.getAngles("RWristYaw", True)[0]
+    began = time.monotonic()
+    motion.setAngles("RWristYaw", q0 + 1.0, 0.1)
+    assert time.monotonic() - began < 0.1
+    time.sleep(0.2)
+    moved = motion.getAngles("RWristYaw", True)[0] - q0
+    elapsed = time.monotonic() - began
+    assert moved == pytest.approx(0.1 * 24.6229 * elapsed, abs=0.1)
+    time.sleep(0.4)
+    assert motion.getAngles("RWristYaw", True)[0] == pytest.approx(q0 + 1.0, abs=1e-9)
+
+
+def test_limits_are_the_robot_descriptions(motion: Any) -> None:
+    """getLimits gives [min, max, speed, torque] from the URDF."""
+    limits = load_arm("left").limits
+    got = np.array(motion.getLimits("LArm"))[:5]
+    assert np.allclose(got[:, 0], limits.lower) and np.allclose(got[:, 1], limits.upper)
+    assert np.allclose(got[:, 2], limits.velocity)
