@@ -2,6 +2,7 @@
 
 from shared.robot.arm_model import ArmModel, ArmPoints, Kinematics, load_arm
 from shared.robot.limits import JointLimits
+from shared.robot.motion_limits import MotionLimits, motion_limits
 from shared.robot.side import JOINTS, Side
 
 __all__ = [
@@ -10,6 +11,8 @@ __all__ = [
     "ArmPoints",
     "JointLimits",
     "Kinematics",
+    "MotionLimits",
     "Side",
     "load_arm",
+    "motion_limits",
 ]

@@ -1,0 +1,148 @@
+"""Speed, acceleration and jerk limits of one arm's joints, for timing and checks.
+
+Speed limits and position ranges come from the robot description (the URDF,
+through :class:`~shared.robot.limits.JointLimits`); they are never repeated
+here. Acceleration and jerk limits are not in a URDF: by default each joint
+may reach its full speed from rest in ``ACCELERATION_TIME`` and build its full
+acceleration in ``JERK_TIME``, so
+
+    acceleration = velocity / ACCELERATION_TIME   [rad/s^2]
+    jerk = acceleration / JERK_TIME               [rad/s^3]
+
+Why a NAO can follow these (defaults: 0.25 s and 0.05 s):
+
+- Torque: at the default accelerations the torque the arm's own links need
+  (joint-space inertia from the URDF times the accelerations, plus gravity)
+  stays below 75 % of each joint's effort limit in every posture, which leaves
+  room for the motors' rotor inertia and friction that the URDF does not hold
+  (``tests/test_motion_limits.py`` checks it over random postures).
+- Control: ALMotion runs a 20 ms cycle; a 50 ms jerk ramp spans 2.5 cycles, so
+  the position loop sees a smooth reference instead of a step in acceleration.
+- Human reaches fit inside: a minimum-jerk-like 0.55 s reach (Table 4's
+  shortest) moving a shoulder joint by 1.5 rad needs about 26 rad/s^2 and
+  about 420 rad/s^3, below the defaults' 33 rad/s^2 and 660 rad/s^3.
+
+Either default can be replaced, per joint or for all joints, with
+:func:`motion_limits`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import numpy.typing as npt
+
+from shared.errors import InvalidInputError
+from shared.robot.limits import JointLimits
+
+#: Time from rest to full speed at the default acceleration limit [s].
+ACCELERATION_TIME = 0.25
+#: Time from zero to full acceleration at the default jerk limit [s].
+JERK_TIME = 0.05
+
+
+class MotionLimits(NamedTuple):
+    """Position, speed, acceleration and jerk limits of a set of joints.
+
+    Attributes:
+        names: NAO joint names, shape (n,).
+        lower: Lower position limits [rad], shape (n,).
+        upper: Upper position limits [rad], shape (n,).
+        velocity: Speed limits [rad/s], shape (n,).
+        acceleration: Acceleration limits [rad/s^2], shape (n,).
+        jerk: Jerk limits [rad/s^3], shape (n,).
+    """
+
+    names: tuple[str, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    jerk: np.ndarray
+
+    def scaled(self, factor: float) -> MotionLimits:
+        """These limits with speed, acceleration and jerk times ``factor`` (0, 1]."""
+        if not 0.0 < factor <= 1.0:
+            raise InvalidInputError(
+                f"limit scale factor {factor} is outside (0, 1]", field="factor"
+            )
+        return self._replace(
+            velocity=_frozen(self.velocity * factor),
+            acceleration=_frozen(self.acceleration * factor),
+            jerk=_frozen(self.jerk * factor),
+        )
+
+
+def motion_limits(
+    joints: JointLimits,
+    *,
+    acceleration: npt.ArrayLike | None = None,
+    jerk: npt.ArrayLike | None = None,
+) -> MotionLimits:
+    """The motion limits of ``joints``, defaults where a value is not given.
+
+    Args:
+        joints: Position and speed limits from the robot description
+            (``ArmModel.limits``).
+        acceleration: Acceleration limits [rad/s^2], a scalar for every joint
+            or shape (n,); default ``velocity / ACCELERATION_TIME``.
+        jerk: Jerk limits [rad/s^3], a scalar or shape (n,); default
+            ``acceleration / JERK_TIME``.
+
+    Raises:
+        InvalidInputError: a limit is not a positive finite number, or has
+            the wrong shape.
+    """
+    velocity = np.asarray(joints.velocity, dtype=float)
+    acc = _per_joint(
+        "acceleration", velocity / ACCELERATION_TIME, acceleration, joints.names
+    )
+    jrk = _per_joint("jerk", acc / JERK_TIME, jerk, joints.names)
+    return MotionLimits(
+        names=tuple(joints.names),
+        lower=_frozen(joints.lower),
+        upper=_frozen(joints.upper),
+        velocity=_frozen(velocity),
+        acceleration=acc,
+        jerk=jrk,
+    )
+
+
+def _per_joint(
+    name: str,
+    default: np.ndarray,
+    given: npt.ArrayLike | None,
+    names: tuple[str, ...],
+) -> np.ndarray:
+    """``given`` broadcast to one value per joint (``default`` if None), checked."""
+    if given is None:
+        return _frozen(default)
+    try:
+        values = np.broadcast_to(np.asarray(given, dtype=float), default.shape)
+    except ValueError:
+        raise InvalidInputError(
+            f"{name} limits need one value or {len(names)} values, got "
+            f"shape {np.shape(given)}",
+            field=name,
+        ) from None
+    bad = ~(np.isfinite(values) & (values > 0.0))
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise InvalidInputError(
+            f"{name} limit of {names[k]} is {values[k]}: it must be a positive "
+            "finite number",
+            field=name,
+            joint=names[k],
+        )
+    return _frozen(values)
+
+
+def _frozen(values: npt.ArrayLike) -> np.ndarray:
+    """A read-only float copy of ``values``."""
+    array = np.array(values, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
+__all__ = ["ACCELERATION_TIME", "JERK_TIME", "MotionLimits", "motion_limits"]

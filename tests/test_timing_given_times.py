@@ -1,0 +1,67 @@
+"""Wrist-path mode: joint angles at exactly the given times, checked, not retimed."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from services.timing import time_given
+from shared.errors import InvalidInputError, LimitViolationError
+from shared.robot import load_arm, motion_limits
+
+LIMITS = motion_limits(load_arm("right").limits)
+HOME = load_arm("right").limits.middle
+
+
+def _minimum_jerk(times: np.ndarray, change: np.ndarray) -> np.ndarray:
+    tau = (times - times[0]) / (times[-1] - times[0])
+    return HOME + np.outer(tau**3 * (10 - 15 * tau + 6 * tau**2), change)
+
+
+def test_times_and_positions_are_kept_exactly() -> None:
+    """Uneven times come back unchanged, with the angles given."""
+    times = np.cumsum(np.r_[0.0, np.random.default_rng(0).uniform(0.008, 0.012, 99)])
+    q = _minimum_jerk(times, np.full(5, 0.3))
+    out = time_given(times, q, LIMITS)
+    assert np.array_equal(out.times, times)
+    assert np.array_equal(out.positions, q)
+    assert np.array_equal(out.path_index, np.arange(100))
+
+
+def test_velocities_match_the_analytic_derivative() -> None:
+    """Second-order differences give the minimum-jerk speed closely."""
+    times = np.linspace(0.0, 1.0, 101)
+    q = _minimum_jerk(times, np.full(5, 0.3))
+    out = time_given(times, q, LIMITS)
+    tau = times
+    exact = np.outer(30 * tau**2 * (1 - tau) ** 2, np.full(5, 0.3))
+    assert np.allclose(out.velocities, exact, atol=2e-3)
+
+
+def test_too_fast_a_timing_is_refused_naming_the_sample() -> None:
+    """A 1.5 rad move in 0.1 s: LimitViolationError with joint and sample."""
+    times = np.linspace(0.0, 0.1, 11)
+    q = _minimum_jerk(times, np.array([1.5, 0.0, 0.0, 0.0, 0.0]))
+    with pytest.raises(LimitViolationError) as caught:
+        time_given(times, q, LIMITS)
+    assert caught.value.joint == "RShoulderPitch"
+    assert 0 < caught.value.index < 11
+
+
+def test_times_that_do_not_increase_are_refused() -> None:
+    """Sample 2 at the time of sample 1: named."""
+    q = np.tile(HOME, (3, 1))
+    with pytest.raises(InvalidInputError, match=r"sample 2 .* is not after sample 1"):
+        time_given([0.0, 0.1, 0.1], q, LIMITS)
+
+
+def test_one_posture_per_time() -> None:
+    """Different counts of times and postures are refused."""
+    with pytest.raises(InvalidInputError, match="2 postures for 3 times"):
+        time_given([0.0, 0.1, 0.2], np.tile(HOME, (2, 1)), LIMITS)
+
+
+def test_a_single_sample_is_a_still_trajectory() -> None:
+    """One time, one posture: zero speed."""
+    out = time_given([0.5], [HOME], LIMITS)
+    assert out.velocities.tolist() == [[0.0] * 5]
