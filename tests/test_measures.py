@@ -20,6 +20,7 @@ from services.ik.measures import (
     WristDiscomfortEnergy,
 )
 from shared.geometry import swivel_angle
+from shared.geometry.swivel import elbow_offset_and_gradient
 from shared.robot import ArmModel
 
 P = MeasureParams()
@@ -95,11 +96,14 @@ def test_grasp_blend_hands_over_from_ntpe_to_elbow_travel(arm: ArmModel) -> None
 
 
 def test_spring_energy_vanishes_with_the_elbow_down(arm: ArmModel) -> None:
-    """f_EPE = mu (pi - phi)^2 / 2 is zero at phi = pi and grows away from it."""
+    """f_EPE = mu (pi - phi)^2 / 2 with mu = mu0 (r / L_u)^2: zero at phi = pi."""
     tpe = TotalPotentialEnergy(0.5)
     kin = chain_for(arm).state((arm.limits.lower + arm.limits.upper) / 2)
     phi = swivel_angle(kin.shoulder, kin.elbow, kin.wrist)
-    assert tpe.elastic(kin) == pytest.approx(0.25 * (math.pi - phi) ** 2)
+    e, w = kin.elbow - kin.shoulder, kin.wrist - kin.shoulder
+    r = np.linalg.norm(e - (e @ w) / (w @ w) * w)
+    stiffness = 0.5 * (r / np.linalg.norm(e)) ** 2
+    assert tpe.elastic(kin) == pytest.approx(0.5 * stiffness * (math.pi - phi) ** 2)
     assert tpe.value(kin) == pytest.approx(kin.gravity_energy + tpe.elastic(kin))
 
 
@@ -117,3 +121,53 @@ def test_no_measure_is_zero(arm: ArmModel) -> None:
     """The least-norm baseline's H is identically zero."""
     kin = chain_for(arm).state((arm.limits.lower + arm.limits.upper) / 2)
     assert NoMeasure().value(kin) == 0.0 and not any(NoMeasure().gradient(kin))
+
+
+def test_a_straight_arm_has_no_spring() -> None:
+    """With the elbow on the shoulder-wrist line the swivel is undefined: r = 0."""
+    r2, grad = elbow_offset_and_gradient(
+        (0.0, 0.0, 0.0),
+        (0.1, 0.0, -0.05),
+        (0.2, 0.0, -0.1),
+        [(0.0, 0.0, 1.0)],
+        [(0, 0, 0)],
+    )
+    assert r2 == pytest.approx(0.0, abs=1e-15)
+    assert grad[0] == pytest.approx(
+        0.0, abs=1e-15
+    )  # moving the elbow off the line: 2nd order
+
+
+def test_elbow_offset_gradient_matches_finite_differences(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """d(r^2)/dq equals central differences of r^2."""
+    chain = chain_for(arm)
+
+    def r2(q: np.ndarray) -> float:
+        s = chain.state(q)
+        return elbow_offset_and_gradient(s.p_shoulder, s.p_elbow, s.p_wrist, (), ())[0]
+
+    for _ in range(40):
+        q = random_posture(arm, rng)
+        s = chain.state(q)
+        _, grad = elbow_offset_and_gradient(
+            s.p_shoulder, s.p_elbow, s.p_wrist, s.je, s.jw
+        )
+        fd = [(r2(q + 1e-6 * e) - r2(q - 1e-6 * e)) / 2e-6 for e in np.eye(5)]
+        np.testing.assert_allclose(grad, fd, atol=1e-9)
+
+
+def test_nao_at_its_straightest_has_a_weak_spring(arm: ArmModel) -> None:
+    """NAO's straightest arm keeps its 15 mm elbow offset: a spring under 5 % of a
+    bent arm's at the same swivel error."""
+    chain = chain_for(arm)
+    q = np.array([0.0, 0.0, 0.5, 0.0, 0.0])
+    q[3] = arm.limits.lower[3] if arm.side.value == "right" else arm.limits.upper[3]
+    straight = chain.state(q)
+    q[3] = 1.2 * arm.side.sign
+    bent = chain.state(q)
+    tpe = TotalPotentialEnergy(1.0)
+    k_straight, _ = tpe._spring(straight)
+    k_bent, _ = tpe._spring(bent)
+    assert k_straight < 0.05 * k_bent

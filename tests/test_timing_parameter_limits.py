@@ -12,7 +12,8 @@ from services.timing.parameter_limits import (
     parameter_limits,
     rest_to_rest_time,
 )
-from services.timing.spacing import fit_spline
+from services.timing.path_spline import PathSpline
+from services.timing.time_path import knot_widths
 from shared.robot import load_arm, motion_limits
 
 LIMITS = motion_limits(load_arm("right").limits)
@@ -46,7 +47,9 @@ def test_derived_limits_satisfy_the_chain_rule_bounds_on_every_piece() -> None:
     rng = np.random.default_rng(1)
     for _ in range(50):
         path = random_smooth_path(rng, LIMITS, 60)
-        spline = fit_spline(path, LIMITS)
+        spline = PathSpline(
+            path, knot_widths(path, None, LIMITS), LIMITS.lower, LIMITS.upper
+        )
         b = spline.bounds()
         v, a, j = parameter_limits(b, LIMITS, spline.length)
         assert np.all(b.first * v <= LIMITS.velocity * (1 + 1e-12))
@@ -60,7 +63,9 @@ def test_derived_limits_satisfy_the_chain_rule_bounds_on_every_piece() -> None:
 def test_caps_are_respected() -> None:
     """With caps, V, A and J never exceed them."""
     path = random_smooth_path(np.random.default_rng(2), LIMITS, 60)
-    spline = fit_spline(path, LIMITS)
+    spline = PathSpline(
+        path, knot_widths(path, None, LIMITS), LIMITS.lower, LIMITS.upper
+    )
     caps = ParameterLimits(0.01, 0.02, 0.03)
     got = parameter_limits(spline.bounds(), LIMITS, spline.length, caps)
     assert got.velocity <= 0.01 and got.acceleration <= 0.02 and got.jerk <= 0.03

@@ -16,8 +16,13 @@ Joint limits are kept by each priority in turn, so no step ever leaves them:
     2. The null-space step is shortened so that no joint crosses a limit; a
        joint already on a limit that the null-space motion would push further
        is dropped from that motion, which is projected again without it.
-       When H's optimum lies beyond a limit this leaves the posture on the
-       limit: the optimum within the range.
+       With ``margin`` > 0 a joint moving towards a limit closer than
+       ``margin`` also scales the step down by smoothstep(distance / margin),
+       so it slows down smoothly (no kink in its velocity) and never quite
+       reaches the limit: the path tracker uses this, as its joint path must
+       stay smooth; the posture solver uses margin = 0, where only the end
+       matters. When H's optimum lies beyond a limit this leaves the posture
+       on (or at) the limit: the optimum within the range.
 """
 
 from __future__ import annotations
@@ -110,8 +115,13 @@ def null_step(
     alpha: float,
     max_step: float,
     first: NormalSolver | NormalSolver3 | None = None,
+    margin: float = 0.0,
 ) -> Step:
-    """-alpha (I - J+ J) grad H, shortened or re-projected to stay in range."""
+    """-alpha (I - J+ J) grad H, shortened or re-projected to stay in range.
+
+    ``margin`` [rad]: joints moving towards a limit closer than this slow
+    the step down smoothly (see the module docstring).
+    """
     free = list(active)
     inverse = first or solver(cols, free)
     while free:
@@ -122,6 +132,8 @@ def null_step(
         blocked = []
         for k, d in zip(free, step, strict=True):
             room = _room(q[k], d, lower[k], upper[k])
+            if margin > 0.0:
+                room = min(room, _ease(q[k], d, lower[k], upper[k], margin))
             if room <= BLOCKED:
                 blocked.append(k)
             fraction = min(fraction, room)
@@ -133,6 +145,15 @@ def null_step(
         free = [k for k in free if k not in blocked]
         inverse = solver(cols, free) if free else inverse
     return Step([0.0] * 5, [0.0] * 5, ())
+
+
+def _ease(q: float, step: float, low: float, high: float, margin: float) -> float:
+    """smoothstep(distance to the limit ahead / margin), 1 beyond the margin."""
+    if step == 0.0:
+        return 1.0
+    distance = (high - q) if step > 0.0 else (q - low)
+    t = min(max(distance / margin, 0.0), 1.0)
+    return t * t * (3.0 - 2.0 * t)
 
 
 def _room(q: float, step: float, low: float, high: float) -> float:
@@ -155,6 +176,7 @@ def gpm_step(
     alpha: float,
     max_step: float,
     max_null_step: float,
+    margin: float = 0.0,
 ) -> Step:
     """One step of eq. 14 on the active joints, within the joint limits.
 
@@ -169,6 +191,8 @@ def gpm_step(
         alpha: Null-space gain [rad^2 per unit of H].
         max_step: Largest change of any joint by the task part [rad].
         max_null_step: Largest change of any joint by the null-space part [rad].
+        margin: Distance to a limit below which a joint moving towards it
+            slows the null-space part down smoothly [rad]; 0: no slowing.
 
     Returns:
         The step; q + dq lies within the limits.
@@ -177,6 +201,15 @@ def gpm_step(
     task = task_step(q, error, cols, active, lower, upper, max_step, inverse)
     moved = [a + b for a, b in zip(q, task, strict=True)]
     null = null_step(
-        moved, cols, gradient, active, lower, upper, alpha, max_null_step, inverse
+        moved,
+        cols,
+        gradient,
+        active,
+        lower,
+        upper,
+        alpha,
+        max_null_step,
+        inverse,
+        margin,
     )
     return null._replace(dq=[a + b for a, b in zip(task, null.dq, strict=True)])

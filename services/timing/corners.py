@@ -7,8 +7,8 @@ direction of motion jumps, so the acceleration would be unbounded unless the
 speed is nearly zero there. The timing therefore stops at such a corner: the
 path is split there, and each side is timed from rest to rest by its own
 spline (which then does not have to bend round the corner at all, so the
-corner is followed exactly). Gentler turns stay inside one spline and are
-slowed down locally (:mod:`services.timing.spacing`).
+corner is followed exactly). Gentler turns stay inside one spline, which
+rounds them; the stretch that keeps every limit then allows for them.
 """
 
 from __future__ import annotations
@@ -21,8 +21,9 @@ import numpy as np
 #: corner [rad] (smooth paths sampled at 100 Hz turn by less than 0.2 rad).
 CORNER_ANGLE = 0.3
 #: Shortest section a corner may cut off, as a share of the path's length:
-#: near the ends the arm is slow anyway, and the profile's own check
-#: (:mod:`services.timing.profile_scale`) handles a turn there.
+#: near the ends the arm is slow anyway, and the stretch that keeps every
+#: limit (:func:`services.timing.time_path.required_stretch`) handles a turn
+#: there.
 SHORTEST_SECTION = 0.05
 
 

@@ -96,7 +96,6 @@ class PathSpline:
             self.control = _control_points(points, slope, curve, self.widths)
         self._power = _power_basis(self.control)
         self._bounds: DerivativeBounds | None = None
-        self._stacked: np.ndarray | None = None
 
     @property
     def length(self) -> float:
@@ -115,16 +114,6 @@ class PathSpline:
         if self._bounds is None:
             self._bounds = self._compute_bounds()
         return self._bounds
-
-    def stacked_bounds(self) -> np.ndarray:
-        """The bounds side by side (first, second, third) and a row of zeros.
-
-        Shape (K, 3 n): the layout :mod:`services.timing.profile_scale` reduces.
-        """
-        if self._stacked is None:
-            stacked = np.hstack(self.bounds())
-            self._stacked = np.vstack((stacked, np.zeros((1, stacked.shape[1]))))
-        return self._stacked
 
     def _compute_bounds(self) -> DerivativeBounds:
         shape = (self._power.shape[0], self._power.shape[2])

@@ -1,43 +1,44 @@
-"""Time an IK joint path with Ruckig without bending it.
+"""Time a joint path with Ruckig without bending it.
 
-1. Corners (:mod:`services.timing.corners`): where the path turns sharply the
-   arm stops; the path is cut into sections there.
+1. Corners (:mod:`services.timing.corners`): where the path turns sharply
+   the arm stops, and each section is timed on its own.
 2. Each section becomes a C2 quintic spline q(u) through every one of its
-   points (:mod:`services.timing.path_spline`), with knots at "time at the
-   local speed limit" (:mod:`services.timing.spacing`), and guaranteed
-   bounds of |q'|, |q''|, |q'''| on every piece.
-3. Ruckig times the scalar u from rest to rest (one DoF, no waypoints,
-   :mod:`services.timing.scalar_profile`), as a human bell or as fast as
-   possible, run just slow enough for every joint's speed, acceleration and
-   jerk limits by the chain rule (:mod:`services.timing.profile_fit`).
-4. Samples every period are q(u(t)) with the chain rule for the derivatives.
-   Only u's timing is chosen, so the joint path, and with it the hand path,
-   is the input's.
+   points, inside the joint ranges (:mod:`services.timing.path_spline`). The
+   parameter u is, by default, the joint-space chord length scaled by the
+   speed limits; a caller may give its own, e.g. the hand's arc length along
+   an IK path, so that a bell-shaped motion of u is a bell-shaped hand speed,
+   as people move (see :func:`knot_widths`).
+3. Ruckig (community edition: one degree of freedom, rest to rest, no
+   waypoints, never ``intermediate_positions``) times u: the human bell of a
+   given duration (:mod:`services.timing.human_pace`), or the fastest
+   profile (the better of the bell and the time-optimal profile under
+   constant limits on u).
+4. The joints' speed, acceleration and jerk follow from the chain rule,
+   evaluated at four times the sample rate. A time-optimal profile under
+   limits (V / r, A / r^2, J / r^3) is the same profile run r times slower,
+   and the joints' derivatives then shrink by exactly r, r^2 and r^3, so one
+   evaluation tells the smallest r that fits every limit: the profile is
+   stretched by it once (and to a whole number of sample periods), never
+   shortened below the human duration.
 
-Paces:
-    - ``duration=None``: as fast as the limits allow.
-    - ``duration=T`` (the human default, see :mod:`services.timing.human_duration`
-      and :mod:`services.timing.human_pace`): a minimum-jerk-like bell of T,
-      shared among the sections by their length, slowed down where the
-      limits do not allow T.
-
-Every result passes :func:`services.timing.check.check_limits` on its samples
-(finite differences, not Ruckig's word); if it did not (it should not: the
-bounds are guaranteed), the limits are tightened and the timing recomputed,
-``RETRIES`` times at most, else :class:`~shared.errors.TimingError`.
+Every result also passes :func:`services.timing.check.check_limits` on its
+samples (divided differences, independent of Ruckig's word); should it fail,
+the limits are tightened and the timing redone, ``RETRIES`` times at most.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import numpy.typing as npt
 
 from services.timing.check import check_limits, check_path
 from services.timing.corners import corner_indices, sections
+from services.timing.human_pace import bell_limits
+from services.timing.parameter_limits import ParameterLimits, parameter_limits
 from services.timing.path_spline import PathSpline
-from services.timing.profile_fit import fit_profile
-from services.timing.scalar_profile import ScalarProfile
-from services.timing.spacing import fit_spline, step_times
+from services.timing.scalar_profile import ScalarProfile, plan_rest_to_rest, scaled
 from services.timing.trajectory import TimedTrajectory, concatenate
 from shared.errors import InvalidInputError, LimitViolationError, TimingError
 from shared.robot.motion_limits import MotionLimits
@@ -50,6 +51,12 @@ REPEAT = 1e-9
 RETRIES = 3
 #: Factor applied to the limits at each retry.
 TIGHTEN = 0.8
+#: Evaluations of the joints' derivatives per sample period, per spline
+#: piece and per Ruckig phase, at least, when fitting the stretch.
+OVERSAMPLE, PER_KNOT, PER_PHASE = 4, 8, 32
+#: Share of a section's mean knot width that a caller's parameter may not go
+#: below: where the hand stands still the joints may still move.
+FLOOR = 0.2
 
 
 def time_path(
@@ -58,6 +65,7 @@ def time_path(
     *,
     duration: float | None = None,
     rate: float = RATE,
+    parameter: npt.ArrayLike | None = None,
 ) -> TimedTrajectory:
     """A jerk-limited trajectory along the joint path ``q``, at rest at both ends.
 
@@ -68,6 +76,9 @@ def time_path(
             or None for the fastest timing the limits allow. The result takes
             longer if the limits need it, and is rounded up to whole periods.
         rate: Sample rate [Hz].
+        parameter: The path parameter at each point, shape (n,),
+            non-decreasing (e.g. the hand's arc length along the path [m]);
+            None: the speed-scaled joint chord length.
 
     Returns:
         Samples every ``1 / rate`` s from 0 to the duration; the first and
@@ -75,19 +86,22 @@ def time_path(
 
     Raises:
         InvalidInputError: malformed path (wrong shape, NaN/inf, all points
-            equal) or a bad duration or rate; names the point.
+            equal) or a bad duration, rate or parameter; names the point.
         JointLimitError: a path point outside a joint's range.
         TimingError: no timing within the limits was found.
     """
     path = check_path(q, limits, minimum=2)
     period = sample_period(rate)
     _check_duration(duration)
+    given = _check_parameter(parameter, len(path))
     points, index = distinct_points(path)
     spans = sections(len(points), corner_indices(points, limits.velocity))
-    splines = [fit_spline(points[a : b + 1], limits) for a, b in spans]
-    lengths = np.array(
-        [step_times(points[a : b + 1], limits.velocity).sum() for a, b in spans]
-    )
+    widths = knot_widths(points, None if given is None else given[index], limits)
+    splines = [
+        PathSpline(points[a : b + 1], widths[a:b], limits.lower, limits.upper)
+        for a, b in spans
+    ]
+    lengths = np.array([spline.length for spline in splines])
     wanted = [
         None if duration is None else duration * share
         for share in lengths / lengths.sum()
@@ -108,6 +122,32 @@ def time_path(
     )
 
 
+def knot_widths(
+    points: np.ndarray, parameter: np.ndarray | None, limits: MotionLimits
+) -> np.ndarray:
+    """Spacing of consecutive path points in u, shape (K - 1,).
+
+    Without a parameter: the speed-scaled joint chord |dq / v| [s], floored
+    smoothly at ``FLOOR`` times its mean: crowded points (a joint dwelling at
+    its limit) would otherwise give pieces hundreds of times shorter than
+    their neighbours, and the quintic's higher derivatives on them drown in
+    rounding error.
+
+    With a parameter: its increments, with the chord (rescaled to the
+    parameter's mean step) added in quadrature at ``FLOOR`` weight, so that a
+    stretch where the parameter stands still (the hand waits while the arm
+    turns) still gets room. No floor: near the ends of a reach the hand
+    creeps (minimum jerk) and the joints with it, so both terms shrink
+    together and q(u) stays nearly straight; a floor would bend it there.
+    """
+    chord = np.linalg.norm(np.diff(points, axis=0) / limits.velocity, axis=1)
+    if parameter is None:
+        return np.sqrt(chord**2 + (FLOOR * chord.mean()) ** 2)
+    step = np.diff(parameter)
+    scale = FLOOR * step.mean() / chord.mean()
+    return np.sqrt(step**2 + (scale * chord) ** 2)
+
+
 def _timed(
     splines: list[PathSpline],
     indices: list[np.ndarray],
@@ -124,6 +164,74 @@ def _timed(
         start += part.duration
     result = concatenate(parts)
     return result._replace(times=np.arange(len(result.times)) * period)
+
+
+def fit_profile(
+    spline: PathSpline, limits: MotionLimits, duration: float | None, period: float
+) -> ScalarProfile:
+    """u(t) along ``spline``: the bell of ``duration`` [s], or the fastest (None).
+
+    The fastest bell is found once: Ruckig's bell of 1 s, stretched by the
+    factor the joints need. A human bell of ``duration`` is that same profile
+    run slower, so it keeps every limit whenever it is not shorter; if it
+    would be, the fastest bell is the answer. The fastest timing is the
+    shorter of the fastest bell and the time-optimal profile under constant
+    limits on u. Durations are whole numbers of ``period``.
+    """
+    length = spline.length
+    bell = _fitted(spline, bell_limits(length, 1.0), limits, period)
+    if duration is not None:
+        if bell.duration >= duration:
+            return bell
+        periods = math.ceil(duration / period - 1e-9)
+        return plan_rest_to_rest(length, bell_limits(length, periods * period))
+    try:
+        shape = parameter_limits(spline.bounds(), limits, length)
+    except TimingError:
+        return bell
+    optimal = _fitted(spline, shape, limits, period)
+    return min((bell, optimal), key=lambda profile: profile.duration)
+
+
+def _fitted(
+    spline: PathSpline, shape: ParameterLimits, limits: MotionLimits, period: float
+) -> ScalarProfile:
+    """Ruckig's profile under ``shape``, stretched or shrunk to just fit the joints."""
+    profile = plan_rest_to_rest(spline.length, shape)
+    factor = required_stretch(spline, profile, limits, period)
+    periods = max(math.ceil(profile.duration * factor / period - 1e-9), 1)
+    return plan_rest_to_rest(
+        spline.length, scaled(shape, periods * period / profile.duration)
+    )
+
+
+def required_stretch(
+    spline: PathSpline, profile: ScalarProfile, limits: MotionLimits, period: float
+) -> float:
+    """Smallest r such that the profile run r times slower keeps every limit.
+
+    Joint speed scales by 1 / r, acceleration by 1 / r^2, jerk by 1 / r^3;
+    they are evaluated ``OVERSAMPLE`` times per sample period of the profile,
+    and at least ``PER_KNOT`` times per spline piece and ``PER_PHASE`` times
+    per Ruckig phase (a short profile, stretched a lot, must not have been
+    judged on a handful of points).
+    """
+    count = 1 + max(
+        math.ceil(profile.duration / period) * OVERSAMPLE,
+        PER_KNOT * len(spline.widths),
+        PER_PHASE * len(profile.starts),
+    )
+    t = np.linspace(0.0, profile.duration, count)
+    u = profile.sample(t)
+    s = spline.evaluate(u.position)
+    ud, udd, uddd = u.velocity[:, None], u.acceleration[:, None], u.jerk[:, None]
+    speed = np.abs(s.first * ud) / limits.velocity
+    accel = np.abs(s.second * ud**2 + s.first * udd) / limits.acceleration
+    jerk = (
+        np.abs(s.third * ud**3 + 3.0 * s.second * ud * udd + s.first * uddd)
+        / limits.jerk
+    )
+    return float(max(speed.max(), math.sqrt(accel.max()), math.cbrt(jerk.max())))
 
 
 def distinct_points(path: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -178,6 +286,32 @@ def sample_period(rate: float) -> float:
     return 1.0 / rate
 
 
+def _check_parameter(parameter: npt.ArrayLike | None, n: int) -> np.ndarray | None:
+    """The caller's path parameter, checked: n finite, non-decreasing values."""
+    if parameter is None:
+        return None
+    values = np.asarray(parameter, dtype=float)
+    if values.shape != (n,):
+        raise InvalidInputError(
+            f"parameter has shape {values.shape}, expected ({n},): one per point",
+            field="parameter",
+        )
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise InvalidInputError(
+            f"parameter[{bad[0]}] is {values[bad[0]]}, not a finite number",
+            field="parameter",
+        )
+    back = np.flatnonzero(np.diff(values) < 0.0)
+    if back.size:
+        k = int(back[0]) + 1
+        raise InvalidInputError(
+            f"parameter decreases at point {k}: {values[k]:g} < {values[k - 1]:g}",
+            field="parameter",
+        )
+    return values
+
+
 def _check_duration(duration: float | None) -> None:
     if duration is not None and not (np.isfinite(duration) and duration > 0.0):
         raise InvalidInputError(
@@ -185,4 +319,11 @@ def _check_duration(duration: float | None) -> None:
         )
 
 
-__all__ = ["RATE", "distinct_points", "sample_period", "time_path"]
+__all__ = [
+    "RATE",
+    "distinct_points",
+    "fit_profile",
+    "knot_widths",
+    "sample_period",
+    "time_path",
+]

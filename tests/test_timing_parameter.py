@@ -1,0 +1,71 @@
+"""Timing by a caller's path parameter: the hand's arc length gives a human bell."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from test_timing_paths import distance_to_polyline
+
+from services.ik.track import track_path
+from services.planner.wrist_path import reach_path
+from services.timing import check_limits, reach_duration, time_path
+from shared.errors import InvalidInputError
+from shared.primitives import FULL_REACH
+from shared.robot import load_arm, motion_limits
+from shared.robot.postures import rest
+
+ARM = load_arm("right")
+LIMITS = motion_limits(ARM.limits)
+
+
+def _reach(goal: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """IK joint path of a reach and the hand's arc length along it."""
+    points = ARM.fk(rest("right"))
+    path = reach_path(points.shoulder, points.wrist, np.array(goal), 1.0)
+    tracked = track_path(ARM, path.positions, rest("right"), lambda k, st: FULL_REACH)
+    steps = np.linalg.norm(np.diff(tracked.wrist, axis=0), axis=1)
+    return tracked.q, np.concatenate(([0.0], np.cumsum(steps)))
+
+
+def test_hand_arc_length_gives_a_minimum_jerk_hand_speed() -> None:
+    """At the human duration the hand's speed is a bell within 3 % (RMS of the
+    peak) of the minimum-jerk profile, peaking mid-movement."""
+    q, arc = _reach((0.12, -0.13, 0.05))
+    duration = reach_duration(ARM, q[0], q[-1])
+    out = time_path(q, LIMITS, duration=duration, parameter=arc)
+    assert out.duration == pytest.approx(duration, abs=0.011)
+    check_limits(out.times, out.positions, LIMITS)
+    hand = np.array([ARM.fk(p).wrist for p in out.positions])
+    speed = np.linalg.norm(np.diff(hand, axis=0), axis=1) / np.diff(out.times)
+    tau = (np.arange(len(speed)) + 0.5) / len(speed)
+    ideal = 30 * tau**2 * (1 - tau) ** 2
+    ideal *= speed.sum() / ideal.sum()
+    assert np.sqrt(np.mean((speed - ideal) ** 2)) < 0.03 * speed.max()
+    assert 0.4 < tau[np.argmax(speed)] < 0.6
+
+
+def test_the_parameter_does_not_bend_the_path() -> None:
+    """Timed by arc length, the samples still pass through the path's ends and
+    the hand stays within 1 mm of the IK wrist path."""
+    q, arc = _reach((0.12, -0.13, 0.05))
+    out = time_path(q, LIMITS, parameter=arc)
+    assert np.array_equal(out.positions[0], q[0])
+    assert np.allclose(out.positions[-1], q[-1], atol=1e-12)
+    ik_wrist = np.array([ARM.fk(p).wrist for p in q])
+    timed_wrist = np.array([ARM.fk(p).wrist for p in out.positions])
+    assert distance_to_polyline(timed_wrist, ik_wrist).max() < 1e-3
+
+
+@pytest.mark.parametrize(
+    "parameter,message",
+    [
+        (np.zeros(5), "shape"),
+        (np.array([0.0, 1.0, np.nan, 3.0, 4.0, 5.0]), r"parameter\[2\]"),
+        (np.array([0.0, 1.0, 0.5, 3.0, 4.0, 5.0]), "decreases at point 2"),
+    ],
+)
+def test_bad_parameters_are_named(parameter: np.ndarray, message: str) -> None:
+    """A parameter of the wrong shape, non-finite or decreasing is refused."""
+    q = np.linspace(ARM.limits.middle, ARM.limits.middle + 0.3, 6)
+    with pytest.raises(InvalidInputError, match=message):
+        time_path(q, LIMITS, parameter=parameter)
