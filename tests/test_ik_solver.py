@@ -91,7 +91,7 @@ def test_gpm_solution_is_a_constrained_optimum_of_tpe(rng: np.random.Generator) 
     free = np.arange(4)
     bounds = list(zip(arm.limits.lower[free], arm.limits.upper[free], strict=True))
     compared = 0
-    for _ in range(60):
+    for _ in range(100):
         _, target = _reachable(arm, rng)
         sol = solve(arm, target, primitive="S_R E_PR W_P")
         near_limit = np.minimum(
