@@ -50,3 +50,8 @@ __all__ += [
     "JointState",
     "TrackingReport",
 ]
+
+# Human demonstrations (demonstration MCAP files, shared/demos).
+from shared.messages.demo import DemoSample, DemoSubject  # noqa: E402
+
+__all__ += ["DemoSample", "DemoSubject"]

@@ -1,0 +1,218 @@
+"""``armplan decide``: the motion decision along a reach or a wrist path.
+
+    armplan decide --target X Y Z [--arm right|left] [--start Q1..Q5]
+                   [--palm X Y Z] [--duration S] [--model FILE]
+                   [--json] [--plot decision.png]
+    armplan decide --wrist-path FILE.csv [...]
+    armplan decide --grid [--demos DEMOS.mcap] [--json]
+
+With ``--target`` the wrist path is the planner's human-like reach from the
+start posture (default: the arm hanging at rest) to the target, ``--duration``
+seconds long at 100 Hz; with ``--wrist-path`` it is read from a CSV file
+(header ``t,x,y,z``, torso frame, s and m). The decision runs inside the IK
+tracker (``services.decide.path``) and prints, per run of one primitive, its
+times and points (``--json``: the ``Decision`` message, every point's
+primitive, matrix and every g). ``--plot`` draws it like the paper's Fig. 7.
+``--grid`` prints the Table-4-like sequences of primitives on the paper's 16
+grid points (and with ``--demos`` the demonstrations' own sequences).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import numpy as np
+
+from armplan.cli.output import print_json, print_table
+from armplan.cli.parsing import add_arm, add_json, finite
+from shared.errors import InvalidInputError
+
+ORDER = 25
+HELP = "motion decision: which movement primitive drives each path point"
+#: Default movement time of a reach [s] and sample rate [Hz].
+DURATION, RATE = 0.8, 100.0
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``decide``."""
+    parser = commands.add_parser("decide", help=HELP, description=HELP)
+    add_arm(parser)
+    what = parser.add_mutually_exclusive_group(required=True)
+    what.add_argument(
+        "--target", type=float, nargs=3, metavar=("X", "Y", "Z"), help="wrist goal [m]"
+    )
+    what.add_argument(
+        "--wrist-path", metavar="FILE.csv", help="timed wrist path, header t,x,y,z"
+    )
+    what.add_argument(
+        "--grid", action="store_true", help="Table-4-like table on the 16 grid points"
+    )
+    parser.add_argument(
+        "--start", type=float, nargs=5, metavar="Q", help="start posture [rad]"
+    )
+    parser.add_argument(
+        "--palm", type=float, nargs=3, metavar=("X", "Y", "Z"), help="palm direction"
+    )
+    parser.add_argument(
+        "--duration",
+        type=float,
+        default=DURATION,
+        help=f"movement time of --target [s] (default {DURATION})",
+    )
+    parser.add_argument(
+        "--model", metavar="FILE", help="motion model (default: shipped)"
+    )
+    parser.add_argument("--plot", metavar="FILE.png", help="draw the decision (Fig. 7)")
+    parser.add_argument(
+        "--demos", metavar="FILE.mcap", help="with --grid: also the demos' sequences"
+    )
+    add_json(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Decide and print."""
+    from services.fit import default_model, load_model
+
+    model = load_model(args.model) if args.model else default_model()
+    if args.grid:
+        return _grid(args, model)
+    from services.decide.path import decide_path
+    from shared.robot import load_arm
+    from shared.robot.postures import rest
+
+    arm = load_arm(args.arm)
+    start = (
+        rest(arm.side) if args.start is None else np.array(finite(args.start, "start"))
+    )
+    arm.limits.check(start, where="in the start posture")
+    palm = _palm(args.palm)
+    times, positions = _path(args, arm, start)
+    decision, tracked = decide_path(
+        model, arm, positions, start, palm=palm, times=times
+    )
+    if args.plot:
+        from services.decide.plot import plot_decision
+
+        plot_decision(decision, args.plot, title=_title(args, positions))
+    if args.json:
+        print_json(decision.model_dump(mode="json"))
+        return 0
+    _print_runs(decision, tracked, positions)
+    return 0
+
+
+def _palm(values: list[float] | None) -> np.ndarray | None:
+    if values is None:
+        return None
+    palm = np.array(finite(values, "palm"))
+    norm = float(np.linalg.norm(palm))
+    if norm < 1e-9:
+        raise InvalidInputError("--palm must not be the zero vector", field="palm")
+    return palm / norm
+
+
+def _path(
+    args: argparse.Namespace, arm: Any, start: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(times [s], positions [m]) of the wrist path to decide along."""
+    if args.wrist_path:
+        from services.decide.wrist_csv import read_wrist_csv
+
+        path = read_wrist_csv(args.wrist_path, arm.side)
+        return np.array(path.times), np.array(path.positions)
+    from services.planner.wrist_path import reach_path
+
+    if not 0.05 <= args.duration <= 60.0:
+        raise InvalidInputError("--duration must be 0.05..60 s", field="duration")
+    target = np.array(finite(args.target, "target"))
+    _check_reachable(arm, target)
+    kin = arm.kinematics(start)
+    path = reach_path(kin.shoulder, kin.wrist, target, args.duration, RATE)
+    return path.times, path.positions
+
+
+def _check_reachable(arm: Any, target: np.ndarray) -> None:
+    from shared.errors import UnreachableTargetError
+
+    shoulder = arm.fk(np.zeros(5)).shoulder
+    distance = float(np.linalg.norm(target - shoulder))
+    low, high = arm.reach
+    if not low - 1e-4 <= distance <= high + 1e-4:
+        raise UnreachableTargetError(
+            target, arm=arm.side.value, distance=distance, reach=arm.reach
+        )
+
+
+def _title(args: argparse.Namespace, positions: np.ndarray) -> str:
+    goal = ", ".join(f"{v:.3f}" for v in positions[-1])
+    return f"{args.arm} arm to ({goal}) m"
+
+
+def _print_runs(decision: Any, tracked: Any, positions: np.ndarray) -> None:
+    from services.decide.grid_table import runs
+
+    rows, at = [], 0
+    for name, count in runs(decision.primitives):
+        rows.append((name, decision.times[at], decision.times[at + count - 1], count))
+        at += count
+    print_table(("primitive", "from [s]", "to [s]", "points"), rows)
+    error = float(np.linalg.norm(tracked.wrist[-1] - positions[-1]))
+    sys.stdout.write(
+        f"{len(decision.points)} points; wrist {error * 1000:.3f} mm from the goal "
+        "at the end\n"
+    )
+
+
+def _grid(args: argparse.Namespace, model: Any) -> int:
+    from services.decide.grid_table import MIN_POINTS, demo_rows, grid_rows
+
+    rows = grid_rows(model, args.arm)
+    demo = []
+    if args.demos:
+        from shared.demos import read_demos
+
+        demo = demo_rows(read_demos(args.demos))
+    if args.json:
+        print_json(
+            {
+                "nao": [r._asdict() for r in rows],
+                "demonstrations": [r._asdict() for r in demo],
+            }
+        )
+        return 0
+    sys.stdout.write(
+        "NAO, decision along the planner's reach from the hanging arm "
+        f"(switches shorter than {MIN_POINTS} points counted apart):\n"
+    )
+    print_table(
+        ("point", "time [s]", "primitives in order", "count", "short"),
+        [
+            (
+                f"P{r.point}",
+                r.duration,
+                "  ->  ".join(r.sequence),
+                len(r.sequence),
+                r.short,
+            )
+            for r in rows
+        ],
+    )
+    if demo:
+        sys.stdout.write("\ndemonstrations (labels), most common sequence per point:\n")
+        print_table(
+            ("point", "time [s]", "primitives in order", "count", "share"),
+            [
+                (
+                    f"P{r.point}",
+                    r.duration,
+                    "  ->  ".join(r.sequence),
+                    len(r.sequence),
+                    r.share,
+                )
+                for r in demo
+            ],
+        )
+    return 0

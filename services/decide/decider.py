@@ -1,0 +1,149 @@
+"""The decision of eq. 10 at one moment, from precomputed tables (fast path).
+
+At a path point the five motion variables fall into states z (``discretize``)
+and the primitive before was m_prev. For every motion primitive m the
+network (``services.fit.network``) gives
+
+    P(m, z) = P(m | m_prev) P(s_r | m) P(e_p, e_r | s_r, m) P(w_p, w_r | e_r, m)
+
+and the primitive's g is the transient mutual information of the primitive
+node and the arm's state (eq. 5 with X = M, Y = Z):
+
+    g_m = P(m, z) log[ P(m, z) / (P(m) P(z)) ],   P(m) = P(m | m_prev).
+
+Its logarithm splits along the network into the AMI's terms: serial from
+shoulder to elbow to wrist (eq. 7), each node's two attributes together
+given the nodes before (the TCMI of eq. 6 in the parallel form of eq. 8);
+``accumulate`` computes them one by one and the tests check that they add
+up to this g. The largest g wins (eq. 10). Primitives the demonstrations
+never show have no tables: their g is 0 and they are not candidates.
+
+Without a wanted palm direction W_R is not observed: the wrist's table is
+summed over it. Everything here is plain Python on nested lists, built once
+per model: a decision costs a few microseconds.
+"""
+
+from __future__ import annotations
+
+import math
+from bisect import bisect_right
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from services.fit.model import MotionModel
+from shared.primitives import MOTION_PRIMITIVES
+
+#: The candidates of eq. 10, in the paper's order.
+CANDIDATES: tuple[str, ...] = tuple(p.name for p in MOTION_PRIMITIVES)
+
+
+class Choice(NamedTuple):
+    """The decision at one moment.
+
+    Attributes:
+        index: The winner, index into ``CANDIDATES``.
+        state: The winner, index into the model's primitives (the M node).
+        g: g of every candidate, in ``CANDIDATES`` order [nat].
+    """
+
+    index: int
+    state: int
+    g: tuple[float, ...]
+
+    @property
+    def name(self) -> str:
+        """The winner's name, e.g. ``"S_R E_P W_P"``."""
+        return CANDIDATES[self.index]
+
+
+def _log(values: np.ndarray) -> list[Any]:
+    """Natural log as nested lists, with the primitive axis last."""
+    return list(np.log(np.moveaxis(values, 0, -1)).tolist())
+
+
+def transition_for(transition: np.ndarray, ratio: float) -> np.ndarray:
+    """The per-sample transition table for a step ``ratio`` samples long.
+
+    Whole samples by matrix powers, the fraction by a linear step towards it
+    (exact for ratio integer): T^floor(r) (I + (r - floor(r)) (T - I)).
+    """
+    whole = math.floor(ratio)
+    power = np.linalg.matrix_power(transition, whole)
+    part = np.eye(len(transition)) + (ratio - whole) * (
+        transition - np.eye(len(transition))
+    )
+    return power @ part
+
+
+class Decider:
+    """A motion model compiled for fast decisions at path points.
+
+    Args:
+        model: The fitted motion model.
+        step: Time between two decisions [s]; the transition table is scaled
+            to it. Default: the demonstrations' sample interval.
+    """
+
+    def __init__(self, model: MotionModel, step: float | None = None) -> None:
+        self.model = model
+        self.primitives = tuple(model.primitives)
+        self.candidate = [CANDIDATES.index(name) for name in self.primitives]
+        tables = model.conditionals()
+        self.edges = model.edges()
+        self.step = 1.0 / model.sample_rate if step is None else float(step)
+        moved = transition_for(tables.transition, self.step * model.sample_rate)
+        self.log_start = np.log(tables.start).tolist()
+        self.log_next = np.log(moved).tolist()
+        self.shoulder = _log(tables.shoulder)
+        self.elbow = _log(tables.elbow)
+        self.wrist = _log(tables.wrist)
+        self.wrist_any = _log(tables.wrist.sum(axis=3))
+
+    def with_step(self, step: float) -> Decider:
+        """The same model for decisions ``step`` seconds apart [s]."""
+        return Decider(self.model, step)
+
+    def states(self, values: tuple[float, ...]) -> tuple[int, int, int, int, int]:
+        """The states of the five variables' values."""
+        e = self.edges
+        return (
+            bisect_right(e[0], values[0]),
+            bisect_right(e[1], values[1]),
+            bisect_right(e[2], values[2]),
+            bisect_right(e[3], values[3]),
+            bisect_right(e[4], values[4]),
+        )
+
+    def decide(
+        self,
+        values: tuple[float, ...],
+        oriented: bool,
+        previous: int | None = None,
+    ) -> Choice:
+        """The winner and every g for the variables' ``values``.
+
+        Args:
+            values: (S_R, E_P, E_R, W_P, W_R) at this moment.
+            oriented: Whether W_R is observed (a palm direction is wanted).
+            previous: The primitive decided at the point before, as an index
+                into the model's primitives (``Choice.state``); ``None`` at a
+                movement's start.
+        """
+        s, ep, er, wp, wr = self.states(values)
+        prior = self.log_start if previous is None else self.log_next[previous]
+        shoulder, elbow = self.shoulder[s], self.elbow[s][ep][er]
+        wrist = self.wrist[er][wp][wr] if oriented else self.wrist_any[er][wp]
+        joint = [
+            prior[m] + shoulder[m] + elbow[m] + wrist[m] for m in range(len(prior))
+        ]
+        top = max(joint)
+        evidence = top + math.log(sum(math.exp(v - top) for v in joint))
+        g = [0.0] * len(CANDIDATES)
+        best, best_g = 0, -math.inf
+        for m, log_p in enumerate(joint):
+            value = math.exp(log_p) * (log_p - prior[m] - evidence)
+            g[self.candidate[m]] = value
+            if value > best_g:
+                best, best_g = m, value
+        return Choice(self.candidate[best], best, tuple(g))

@@ -1,0 +1,134 @@
+"""The paper's Table 4 on NAO: which primitives, in which order, per grid point.
+
+For each of the 16 grid points (``shared.demos.nao_grid``) NAO's arm starts
+hanging at rest and follows the planner's human-like wrist path
+(``services.planner.wrist_path.reach_path``) to the point in the average
+subject's movement time; the decision runs along it (``path``). A row lists
+the primitives in the order they win. Switches lasting fewer than
+``MIN_POINTS`` path points (the IK tracker's corrections show up as one-point
+switches) are counted apart and not as primitives of the sequence.
+
+``demo_rows`` gives the same table from labelled demonstrations: per point
+the most common sequence of labels and how many trials follow it.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Sequence
+from typing import NamedTuple
+
+import numpy as np
+
+from services.decide.decider import Decider
+from services.decide.path import decide_path
+from services.fit.model import MotionModel
+from services.planner.wrist_path import reach_path
+from shared.demos.nao_grid import nao_grid
+from shared.demos.trial import DemoSet
+from shared.robot.arm_model import load_arm
+from shared.robot.postures import rest
+from shared.robot.side import Side
+
+#: Shortest run of one primitive that counts in a sequence [path points].
+MIN_POINTS = 3
+#: Sample rate of the wrist paths [Hz].
+RATE = 100.0
+
+
+class GridRow(NamedTuple):
+    """One grid point's decision.
+
+    Attributes:
+        point: 1..16.
+        duration: Movement time [s].
+        sequence: Primitives in the order they win (runs >= MIN_POINTS).
+        short: Runs shorter than MIN_POINTS.
+        error: Distance of the wrist from the point at the end [m].
+    """
+
+    point: int
+    duration: float
+    sequence: list[str]
+    short: int
+    error: float
+
+
+class DemoRow(NamedTuple):
+    """One grid point in the demonstrations.
+
+    Attributes:
+        point: 1..16.
+        duration: Mean movement time [s].
+        sequence: The most common sequence of labels.
+        share: Fraction of the point's trials with that sequence.
+        trials: Trials at the point.
+    """
+
+    point: int
+    duration: float
+    sequence: list[str]
+    share: float
+    trials: int
+
+
+def runs(labels: Sequence[str]) -> list[tuple[str, int]]:
+    """Consecutive equal labels as (label, count), in order."""
+    out: list[tuple[str, int]] = []
+    for label in labels:
+        if out and out[-1][0] == label:
+            out[-1] = (label, out[-1][1] + 1)
+        else:
+            out.append((label, 1))
+    return out
+
+
+def sequence(labels: Sequence[str], min_points: int = 1) -> tuple[list[str], int]:
+    """(primitives in order, runs shorter than ``min_points``) of ``labels``."""
+    kept, short = [], 0
+    for label, count in runs(labels):
+        if count < min_points:
+            short += 1
+        elif not kept or kept[-1] != label:
+            kept.append(label)
+    return kept, short
+
+
+def grid_rows(model: MotionModel, side: Side | str = Side.RIGHT) -> list[GridRow]:
+    """The decision's Table 4 on NAO (see the module docstring)."""
+    arm = load_arm(side)
+    decider = Decider(model, 1.0 / RATE)
+    start = rest(arm.side)
+    hand = arm.kinematics(start)
+    out = []
+    for target in nao_grid(arm.side):
+        path = reach_path(
+            hand.shoulder, hand.wrist, target.wrist, target.duration, RATE
+        )
+        decision, tracked = decide_path(
+            decider, arm, path.positions, start, times=path.times
+        )
+        kept, short = sequence(decision.primitives, MIN_POINTS)
+        error = float(np.linalg.norm(tracked.wrist[-1] - target.wrist))
+        out.append(GridRow(target.point, target.duration, kept, short, error))
+    return out
+
+
+def demo_rows(demos: DemoSet) -> list[DemoRow]:
+    """Per grid point, the demonstrations' most common label sequence."""
+    by_point: dict[int, list[tuple[tuple[str, ...], float]]] = {}
+    for trial in demos.trials:
+        if trial.point and trial.labels is not None:
+            kept, _ = sequence(trial.labels)
+            by_point.setdefault(trial.point, []).append(
+                (tuple(kept), float(trial.times[-1]))
+            )
+    rows = []
+    for point in sorted(by_point):
+        seen = by_point[point]
+        common, count = Counter(s for s, _ in seen).most_common(1)[0]
+        duration = float(np.mean([d for _, d in seen]))
+        rows.append(
+            DemoRow(point, duration, list(common), count / len(seen), len(seen))
+        )
+    return rows

@@ -1,0 +1,69 @@
+"""A timed wrist path from a CSV file (``armplan decide --wrist-path``).
+
+The format (the same as ``armplan plan --wrist-path``): a header row
+``t,x,y,z``, then one row per point: time [s], strictly increasing, and the
+wrist position in NAO's torso frame [m].
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+from shared.errors import InvalidInputError
+from shared.messages import WristPath, parse
+from shared.robot.side import Side
+
+HEADER = ["t", "x", "y", "z"]
+
+
+def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
+    """The wrist path in ``path``, validated.
+
+    Raises:
+        InvalidInputError: naming the file, and the line or field that is
+            wrong (missing file, wrong header, a cell that is not a number,
+            times that do not increase, too many points).
+    """
+    path = Path(path)
+    try:
+        with open(path, newline="") as stream:
+            rows = [row for row in csv.reader(stream) if row]
+    except OSError as exc:
+        raise InvalidInputError(
+            f"{path}: cannot read the wrist path ({exc.strerror})", field="wrist_path"
+        ) from None
+    except (csv.Error, UnicodeDecodeError) as exc:
+        raise InvalidInputError(
+            f"{path}: not a CSV file ({exc})", field="wrist_path"
+        ) from None
+    if not rows or [c.strip().lower() for c in rows[0]] != HEADER:
+        raise InvalidInputError(
+            f"{path}: the first row must be the header t,x,y,z", field="wrist_path"
+        )
+    times, positions = [], []
+    for line, row in enumerate(rows[1:], start=2):
+        values = _numbers(row, path, line)
+        times.append(values[0])
+        positions.append(values[1:])
+    try:
+        return parse(
+            WristPath, {"arm": Side.parse(arm), "times": times, "positions": positions}
+        )
+    except InvalidInputError as exc:
+        raise InvalidInputError(f"{path}: {exc.message}", field=exc.field) from None
+
+
+def _numbers(row: list[str], path: Path, line: int) -> list[float]:
+    if len(row) != 4:
+        raise InvalidInputError(
+            f"{path}: line {line} has {len(row)} cells, expected 4 (t,x,y,z)",
+            field="wrist_path",
+        )
+    try:
+        return [float(cell) for cell in row]
+    except ValueError:
+        raise InvalidInputError(
+            f"{path}: line {line} holds a cell that is not a number: {row}",
+            field="wrist_path",
+        ) from None

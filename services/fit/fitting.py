@@ -1,0 +1,141 @@
+"""Fitting the motion model to demonstrations.
+
+For every trial: its labels (the generator's, or ``labelling`` for recorded
+data) and its five motion variables (``demo_variables``). Then, per
+variable, the exponential density (rate by maximum likelihood, checked by
+leave-one-out cross-validation) and its equal-probability states; finally
+the network's tables (``conditionals``), counted over all samples.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from services.fit.conditionals import count_tables
+from services.fit.demo_variables import trial_variables
+from services.fit.discretize import bin_edges, bin_indices
+from services.fit.exponential import ExponentialFit, fit_exponential
+from services.fit.labelling import infer_labels
+from services.fit.model import (
+    MODEL_VERSION,
+    UNITS,
+    UNOBSERVED_RATE,
+    ArmLengths,
+    MotionModel,
+    VariableFit,
+    rounded,
+)
+from services.fit.variables import VARIABLES, W_R
+from shared.demos.retarget import nao_arm_size
+from shared.demos.trial import DemoSet
+from shared.errors import InvalidInputError
+from shared.primitives import MOTION_PRIMITIVES
+
+#: States per variable.
+BINS = 20
+#: Pseudo-count in every table cell.
+SMOOTHING = 1.0
+
+#: Called after each trial with (trials done, trials in all).
+Progress = Callable[[int, int], None]
+
+
+def fit_model(
+    demos: DemoSet,
+    *,
+    bins: int = BINS,
+    smoothing: float = SMOOTHING,
+    sources: Sequence[str] = (),
+    progress: Progress | None = None,
+) -> MotionModel:
+    """The motion model of ``demos``.
+
+    Args:
+        demos: Retargeted demonstrations (at least one trial).
+        bins: States per variable (2..64).
+        smoothing: Pseudo-count added to every table cell (> 0).
+        sources: Names of the files the demonstrations came from.
+        progress: Told after each trial's variables are computed.
+
+    Raises:
+        InvalidInputError: if there are no trials, the options are out of
+            range, or a variable cannot be fitted (e.g. all zero).
+    """
+    if not demos.trials:
+        raise InvalidInputError("no demonstrations to fit", field="demos")
+    if not 2 <= bins <= 64 or not smoothing > 0:
+        raise InvalidInputError(
+            f"bins must be 2..64 and smoothing > 0, got {bins} and {smoothing}",
+            field="bins",
+        )
+    size = nao_arm_size(demos.trials[0].arm)
+    values, names, first, oriented = [], [], [], []
+    for done, trial in enumerate(demos.trials, start=1):
+        n = len(trial.times)
+        values.append(trial_variables(trial, size.upper_arm, size.forearm))
+        names.extend(trial.labels if trial.labels is not None else infer_labels(trial))
+        first.extend([True] + [False] * (n - 1))
+        oriented.extend([trial.wrist_frame is not None] * n)
+        if progress is not None:
+            progress(done, len(demos.trials))
+    data, seen = np.vstack(values), np.array(oriented)
+    fits = [_fit(data, seen, i) for i in range(len(VARIABLES))]
+    edges = [bin_edges(fit.rate, bins) for fit in fits]
+    states = np.stack([bin_indices(data[:, i], e) for i, e in enumerate(edges)], 1)
+    states[~seen, W_R] = -1
+    shown = tuple(p.name for p in MOTION_PRIMITIVES if p.name in set(names))
+    labels = np.array([shown.index(name) for name in names])
+    tables = count_tables(states, labels, np.array(first), shown, bins, smoothing)
+    return MotionModel(
+        version=MODEL_VERSION,
+        arm=ArmLengths(upper_arm=size.upper_arm, forearm=size.forearm),
+        sample_rate=_sample_rate(demos),
+        bins=bins,
+        smoothing=smoothing,
+        variables=[
+            _variable(i, fit, e)
+            for i, (fit, e) in enumerate(zip(fits, edges, strict=True))
+        ],
+        primitives=list(shown),
+        prior=rounded(tables.prior),
+        start=rounded(tables.start),
+        transition=rounded(tables.transition),
+        shoulder=rounded(tables.shoulder),
+        elbow=rounded(tables.elbow),
+        wrist=rounded(tables.wrist),
+        subjects=sorted({t.subject for t in demos.trials}),
+        sources=list(sources),
+        samples=len(data),
+    )
+
+
+def _fit(data: np.ndarray, seen: np.ndarray, index: int) -> ExponentialFit:
+    """The variable's density; W_R only from samples that observe it."""
+    if index != W_R:
+        return fit_exponential(data[:, index], VARIABLES[index])
+    if int(seen.sum()) < 2 or not np.any(data[seen, W_R] > 0):
+        return ExponentialFit(UNOBSERVED_RATE, 0, math.nan, math.nan)
+    return fit_exponential(data[seen, W_R], VARIABLES[W_R])
+
+
+def _variable(index: int, fit: ExponentialFit, edges: np.ndarray) -> VariableFit:
+    return VariableFit(
+        name=VARIABLES[index],
+        unit=UNITS[index],
+        rate=fit.rate,
+        samples=fit.samples,
+        log_likelihood=None if fit.samples == 0 else fit.log_likelihood,
+        loo_log_likelihood=None if fit.samples == 0 else fit.loo_log_likelihood,
+        edges=rounded(edges, 12),
+    )
+
+
+def _sample_rate(demos: DemoSet) -> float:
+    """Median sample rate of the trials [Hz]."""
+    steps = np.concatenate([np.diff(t.times) for t in demos.trials if len(t.times) > 1])
+    if steps.size == 0:
+        raise InvalidInputError("every trial has a single sample", field="demos")
+    return float(1.0 / np.median(steps))

@@ -1,0 +1,27 @@
+"""Human demonstrations: a synthetic set, motion-capture import, MCAP files.
+
+- ``synthetic``: the paper's protocol (16 subjects, 4 x 4 grid, 5 trials,
+  100 Hz) made by a human reach model (``reach_model``) with per-subject arm
+  sizes from anthropometric tables (``anthropometry``).
+- ``c3d_import``, ``csv_import``: recorded markers (``markers`` maps them).
+- ``retarget``: human arm data to NAO, segment directions kept.
+- ``demo_file``: demonstration MCAP files (``DemoSubject``, ``DemoSample``).
+"""
+
+from shared.demos.anthropometry import Subject
+from shared.demos.demo_file import read_demos, write_demos
+from shared.demos.retarget import ArmSize, nao_arm_size, retarget
+from shared.demos.synthetic import synthesize
+from shared.demos.trial import DemoSet, Trial
+
+__all__ = [
+    "ArmSize",
+    "DemoSet",
+    "Subject",
+    "Trial",
+    "nao_arm_size",
+    "read_demos",
+    "retarget",
+    "synthesize",
+    "write_demos",
+]

@@ -1,0 +1,235 @@
+"""Demonstration files: MCAP with one JSON channel per message type.
+
+Topics (each channel's schema is the pydantic model's JSON schema):
+    ``demo/subject``  one ``DemoSubject`` per subject, first;
+    ``demo/sample``   one ``DemoSample`` per sample, trial after trial.
+
+Reading validates every message once, here, and turns any problem (missing,
+empty, truncated or foreign file, a malformed message, a trial out of order)
+into a ``DemoFileError`` that names the file and what is wrong.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+from typing import TypeVar
+
+import numpy as np
+
+from shared.demos.anthropometry import Subject
+from shared.demos.rotations import matrix_from_quaternion, quaternion_from_matrix
+from shared.demos.trial import DemoSet, Trial
+from shared.errors import DemoFileError, InvalidInputError, RecordingError
+from shared.messages.base import parse
+from shared.messages.demo import DemoSample, DemoSubject
+from shared.recording import MessageWriter
+from shared.recording.reader import Recording
+
+SUBJECT_TOPIC = "demo/subject"
+SAMPLE_TOPIC = "demo/sample"
+#: Gap between trials on the file's clock [ns].
+_TRIAL_GAP_NS = 1_000_000_000
+
+
+def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
+    """Write ``demos`` to an MCAP file; returns the number of samples written.
+
+    Args:
+        path: File to create (overwritten).
+        demos: Subjects and trials (retargeted to NAO).
+        source: Where the data came from, stored with each subject.
+    """
+    clock = 0
+    with MessageWriter(path) as writer:
+        for subject in demos.subjects.values():
+            writer.write(SUBJECT_TOPIC, _subject_message(subject, source), clock)
+        # One channel lookup, then raw writes: MessageWriter.write builds the
+        # class's JSON schema on every call, which costs milliseconds.
+        channel = writer.channel_id(
+            SAMPLE_TOPIC, DemoSample.__name__, DemoSample.json_schema()
+        )
+        for trial in demos.trials:
+            for sample in samples_of(trial):
+                stamp = clock + round(sample.time * 1e9)
+                writer.write_raw(channel, sample.to_json().encode(), stamp)
+            clock += round(float(trial.times[-1]) * 1e9) + _TRIAL_GAP_NS
+        return writer.count - len(demos.subjects)
+
+
+def _subject_message(subject: Subject, source: str) -> DemoSubject:
+    return DemoSubject(
+        name=subject.name,
+        stature=subject.stature if subject.stature > 0 else None,
+        upper_arm=subject.upper_arm,
+        forearm=subject.forearm,
+        source=source,
+    )
+
+
+def samples_of(trial: Trial) -> list[DemoSample]:
+    """The messages of one trial, one per sample."""
+    quats = (
+        None
+        if trial.wrist_frame is None
+        else quaternion_from_matrix(trial.wrist_frame).tolist()
+    )
+    target = tuple(float(v) for v in trial.target)
+    out = []
+    for k, time in enumerate(trial.times.tolist()):
+        out.append(
+            DemoSample(
+                subject=trial.subject,
+                trial=trial.trial,
+                point=trial.point,
+                arm=trial.arm,
+                time=time,
+                shoulder=tuple(trial.shoulder[k].tolist()),
+                elbow=tuple(trial.elbow[k].tolist()),
+                wrist=tuple(trial.wrist[k].tolist()),
+                wrist_orientation=None if quats is None else tuple(quats[k]),
+                target=target,
+                primitive=None if trial.labels is None else trial.labels[k],
+            )
+        )
+    return out
+
+
+def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
+    """The demonstrations in one or more MCAP files, validated.
+
+    Raises:
+        DemoFileError: naming the file and the problem, if a file is missing,
+            empty, truncated, not MCAP, holds a malformed message or no
+            samples, or has a trial whose samples are out of order.
+    """
+    if isinstance(paths, (str, Path)):
+        paths = [paths]
+    subjects: dict[str, Subject] = {}
+    trials: list[Trial] = []
+    for path in paths:
+        more = _read_one(Path(path))
+        subjects.update(more.subjects)
+        trials.extend(more.trials)
+    return DemoSet(subjects, trials)
+
+
+def _read_one(path: Path) -> DemoSet:
+    subjects: dict[str, Subject] = {}
+    samples: list[DemoSample] = []
+    try:
+        recording = Recording(path)
+        for index, record in enumerate(recording):
+            if record.topic == SUBJECT_TOPIC:
+                s = _parse(DemoSubject, record.data, path, index, record.topic)
+                subjects[s.name] = Subject(
+                    s.name, s.stature or 0.0, s.upper_arm, s.forearm
+                )
+            elif record.topic == SAMPLE_TOPIC:
+                samples.append(
+                    _parse(DemoSample, record.data, path, index, SAMPLE_TOPIC)
+                )
+    except RecordingError as exc:
+        raise DemoFileError(str(path), _why(exc)) from None
+    if recording.damage is not None:
+        if recording.count == 0 and "InvalidMagic" in recording.damage:
+            raise DemoFileError(
+                str(path), "not an MCAP file (no MCAP magic at its start)"
+            )
+        raise DemoFileError(
+            str(path),
+            f"truncated or damaged after {recording.count} readable messages "
+            f"({recording.damage})",
+            readable=recording.count,
+        )
+    if not samples:
+        raise DemoFileError(
+            str(path), f"holds no demonstration samples (topic {SAMPLE_TOPIC!r})"
+        )
+    return DemoSet(subjects, _trials(samples, subjects, path))
+
+
+def _why(error: RecordingError) -> str:
+    """The recording error's message without its leading file name."""
+    text = error.message
+    prefix = f"{error.path}"
+    return text[len(prefix) :].lstrip(": ") if text.startswith(prefix) else text
+
+
+M = TypeVar("M", DemoSubject, DemoSample)
+
+
+def _parse(cls: type[M], data: object, path: Path, index: int, topic: str) -> M:
+    """Validate one message; a problem names the file, message and field."""
+    try:
+        return parse(cls, data)  # type: ignore[arg-type]
+    except InvalidInputError as exc:
+        raise DemoFileError(
+            str(path), f"message {index} on {topic!r} is malformed: {exc.message}"
+        ) from None
+
+
+def _trials(
+    samples: list[DemoSample], subjects: dict[str, Subject], path: Path
+) -> list[Trial]:
+    """Consecutive samples of one (subject, trial, arm) make one trial."""
+    groups: list[list[DemoSample]] = []
+    seen: set[tuple[str, int]] = set()
+    for sample in samples:
+        key = (sample.subject, sample.trial)
+        if groups and (groups[-1][0].subject, groups[-1][0].trial) == key:
+            groups[-1].append(sample)
+            continue
+        if key in seen:
+            raise DemoFileError(
+                str(path),
+                f"the samples of trial {sample.trial} of subject {sample.subject!r} "
+                "are not consecutive",
+            )
+        if sample.subject not in subjects:
+            raise DemoFileError(
+                str(path),
+                f"samples of subject {sample.subject!r} but no {SUBJECT_TOPIC!r} "
+                "record for it",
+            )
+        seen.add(key)
+        groups.append([sample])
+    return [_trial(group, path) for group in groups]
+
+
+def _trial(group: list[DemoSample], path: Path) -> Trial:
+    first = group[0]
+    name = f"trial {first.trial} of subject {first.subject!r}"
+    times = np.array([s.time for s in group])
+    if len(times) > 1 and not np.all(np.diff(times) > 0):
+        bad = int(np.argmin(np.diff(times) > 0)) + 1
+        raise DemoFileError(
+            str(path),
+            f"{name}: sample {bad} (t = {times[bad]:g} s) is not after the one before",
+        )
+    oriented = [s.wrist_orientation is not None for s in group]
+    labelled = [s.primitive is not None for s in group]
+    if any(oriented) != all(oriented) or any(labelled) != all(labelled):
+        raise DemoFileError(
+            str(path),
+            f"{name}: wrist orientations and primitive labels must be given for "
+            "every sample of a trial or for none",
+        )
+    frames = (
+        matrix_from_quaternion(np.array([s.wrist_orientation for s in group]))
+        if all(oriented)
+        else None
+    )
+    return Trial(
+        subject=first.subject,
+        trial=first.trial,
+        point=first.point,
+        arm=first.arm,
+        times=times,
+        shoulder=np.array([s.shoulder for s in group]),
+        elbow=np.array([s.elbow for s in group]),
+        wrist=np.array([s.wrist for s in group]),
+        wrist_frame=frames,
+        target=np.array(group[-1].target),
+        labels=[str(s.primitive) for s in group] if all(labelled) else None,
+    )

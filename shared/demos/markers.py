@@ -1,0 +1,102 @@
+"""The marker map: which recorded markers are the shoulder, elbow and wrist.
+
+A JSON file, read by ``armplan demos import ... --markers MAP.json``::
+
+    {
+      "shoulder": "RSHO",      marker on the shoulder joint centre (acromion)
+      "elbow": "RELB",         marker on the elbow (lateral epicondyle)
+      "wrist": "RWRB",         marker on the wrist (ulnar styloid)
+      "thumb": "RWRA",         optional: thumb-side wrist marker (radial
+                               styloid); gives the forearm's roll
+      "arm": "right",          optional: which arm (default right)
+      "units": "mm",           optional: m, cm or mm; default the file's own
+                               (C3D POINT:UNITS) or m for CSV
+      "axes": ["x", "y", "z"], optional: the file's axes pointing forward,
+                               left and up, a leading "-" flips one; e.g.
+                               ["-z", "-x", "y"] for a Y-up capture facing -z
+      "subject": "P01",        optional: subject name (default the file name)
+      "stature": 1.72          optional: the subject's height [m]
+    }
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import Field, field_validator
+
+from shared.demos.rotations import FloatArray
+from shared.errors import DemoFileError, InvalidInputError
+from shared.messages.base import Message, parse
+from shared.robot.side import Side
+
+#: Metres per unit.
+UNIT_SCALE = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+_AXES = ("x", "y", "z")
+
+
+class MarkerMap(Message):
+    """Marker names and conventions of a recording (see the module docstring)."""
+
+    shoulder: str = Field(min_length=1)
+    elbow: str = Field(min_length=1)
+    wrist: str = Field(min_length=1)
+    thumb: str | None = None
+    arm: Side = Side.RIGHT
+    units: Literal["m", "cm", "mm"] | None = None
+    axes: tuple[str, str, str] = ("x", "y", "z")
+    subject: str | None = Field(default=None, min_length=1, max_length=64)
+    stature: float | None = Field(default=None, gt=0.0, le=3.0)
+
+    @field_validator("axes")
+    @classmethod
+    def _check_axes(cls, axes: tuple[str, str, str]) -> tuple[str, str, str]:
+        names = [a.lstrip("-").lower() for a in axes]
+        if sorted(names) != list(_AXES) or any(a.count("-") > 1 for a in axes):
+            raise ValueError(
+                f"axes must name x, y and z once each, optionally with '-', got {axes}"
+            )
+        return axes
+
+    @property
+    def names(self) -> dict[str, str]:
+        """Role (shoulder, elbow, wrist, thumb) to marker name, for given ones."""
+        roles = {"shoulder": self.shoulder, "elbow": self.elbow, "wrist": self.wrist}
+        if self.thumb is not None:
+            roles["thumb"] = self.thumb
+        return roles
+
+    def to_torso_axes(self, points: FloatArray) -> FloatArray:
+        """Points in the file's axes to forward/left/up axes, shape (..., 3)."""
+        out = np.empty_like(points)
+        for column, axis in enumerate(self.axes):
+            sign = -1.0 if axis.startswith("-") else 1.0
+            out[..., column] = sign * points[..., _AXES.index(axis.lstrip("-").lower())]
+        return out
+
+
+def read_marker_map(path: str | Path) -> MarkerMap:
+    """The marker map in a JSON file.
+
+    Raises:
+        DemoFileError: if the file is missing, not JSON, or not a marker map
+            (naming the field that is wrong).
+    """
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise DemoFileError(
+            str(path), f"cannot read the marker map: {exc.strerror}"
+        ) from None
+    try:
+        return parse(MarkerMap, json.loads(text))
+    except json.JSONDecodeError as exc:
+        raise DemoFileError(
+            str(path), f"the marker map is not valid JSON ({exc})"
+        ) from None
+    except InvalidInputError as exc:
+        raise DemoFileError(str(path), exc.message) from None

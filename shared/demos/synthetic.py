@@ -1,0 +1,109 @@
+"""The synthetic demonstration set: the paper's protocol, made by a model.
+
+16 subjects (``anthropometry``) each reach the 16 grid points (``grid``) 5
+times from the hanging arm, sampled at 100 Hz, moving as ``reach_model``
+describes; marker noise is added and every trial is retargeted to NAO
+(``retarget``). The same seed gives the same set, bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from shared.demos.anthropometry import Subject, draw_subjects
+from shared.demos.grid import grid_targets
+from shared.demos.reach_model import (
+    MARKER_NOISE,
+    Style,
+    draw_style,
+    plan_reach,
+    sample_reach,
+)
+from shared.demos.retarget import ArmSize, ArmTrack, nao_arm_size, retarget
+from shared.demos.rotations import FloatArray, matrix_from_rotation_vector
+from shared.demos.trial import DemoSet, Trial
+from shared.robot.side import Side
+
+#: The paper's protocol (Section V.A).
+SUBJECTS, TRIALS, RATE = 16, 5, 100.0
+#: Orientation noise of the wrist frame [rad].
+ORIENTATION_NOISE = 0.01
+
+
+def synthesize(
+    seed: int = 0,
+    *,
+    subjects: int = SUBJECTS,
+    trials: int = TRIALS,
+    rate: float = RATE,
+    points: tuple[int, ...] | None = None,
+) -> DemoSet:
+    """The synthetic demonstrations, retargeted to NAO's right arm.
+
+    Args:
+        seed: Seed of the one random generator everything is drawn from.
+        subjects: Number of subjects.
+        trials: Trials per subject and point.
+        rate: Sample rate [Hz].
+        points: Grid points to reach (1..16); all if ``None``.
+    """
+    rng = np.random.default_rng(seed)
+    people = draw_subjects(subjects, rng)
+    styles = [draw_style(rng) for _ in people]
+    size = nao_arm_size(Side.RIGHT)
+    chosen = points or tuple(range(1, 17))
+    out: list[Trial] = []
+    for person, style in zip(people, styles, strict=True):
+        targets = grid_targets(person.arm_length)
+        number = 0
+        for point in chosen:
+            for _ in range(trials):
+                out.append(
+                    _trial(
+                        person,
+                        style,
+                        targets[point - 1],
+                        point,
+                        number,
+                        rng,
+                        rate,
+                        size,
+                    )
+                )
+                number += 1
+    return DemoSet({p.name: p for p in people}, out)
+
+
+def _trial(
+    person: Subject,
+    style: Style,
+    target: FloatArray,
+    point: int,
+    number: int,
+    rng: np.random.Generator,
+    rate: float,
+    size: ArmSize,
+) -> Trial:
+    """One reach: plan, sample, add marker noise, retarget."""
+    reach = sample_reach(plan_reach(person, style, target, rng), person, rate)
+    n = len(reach.times)
+    noisy = ArmTrack(
+        rng.normal(0.0, MARKER_NOISE, size=(n, 3)),
+        reach.elbow + rng.normal(0.0, MARKER_NOISE, size=(n, 3)),
+        reach.wrist + rng.normal(0.0, MARKER_NOISE, size=(n, 3)),
+    )
+    track = retarget(noisy, size)
+    wobble = matrix_from_rotation_vector(rng.normal(0.0, ORIENTATION_NOISE, (n, 3)))
+    return Trial(
+        person.name,
+        number,
+        point,
+        Side.RIGHT,
+        reach.times,
+        track.shoulder,
+        track.elbow,
+        track.wrist,
+        wobble @ reach.wrist_frame,
+        track.wrist[-1].copy(),
+        reach.labels,
+    )

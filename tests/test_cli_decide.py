@@ -1,0 +1,140 @@
+"""armplan decide: JSON contract, wrist-path CSV, Fig. 7 plot, grid, clear errors."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from armplan.cli.main import main
+from services.fit import default_model, save_model
+from shared.messages import Decision, parse
+from shared.primitives import BY_NAME
+
+
+def armplan(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+
+
+def test_target_json_is_a_decision_message() -> None:
+    """--json prints the Decision: per point primitive, matrix and every g."""
+    out = armplan(
+        "decide", "--arm", "right", "--target", "0.12", "-0.09", "0.05", "--json"
+    )
+    assert out.returncode == 0, out.stderr
+    decision = parse(Decision, out.stdout)
+    assert decision.arm == "right" and len(decision.points) == 81
+    assert decision.times[-1] == pytest.approx(0.8)
+    for point in decision.points:
+        assert point.matrix == BY_NAME[point.primitive].matrix
+        assert len(point.g) == 8
+
+
+def test_wrist_path_csv_keeps_its_times(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--wrist-path reads t,x,y,z and decides at exactly those times."""
+    times = np.linspace(0.0, 0.5, 26)
+    start, goal = np.array([0.011, -0.129, -0.058]), np.array([0.11, -0.1, 0.02])
+    s = 3 * (times / 0.5) ** 2 - 2 * (times / 0.5) ** 3
+    points = start + s[:, None] * (goal - start)
+    path = tmp_path / "path.csv"
+    rows = ["t,x,y,z"] + [
+        f"{t:.3f},{p[0]},{p[1]},{p[2]}" for t, p in zip(times, points, strict=True)
+    ]
+    path.write_text("\n".join(rows) + "\n")
+    assert main(["decide", "--wrist-path", str(path), "--json"]) == 0
+    decision = parse(Decision, capsys.readouterr().out)
+    np.testing.assert_allclose(decision.times, np.round(times, 3))
+
+
+def test_plot_writes_a_png(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--plot draws the decision like Fig. 7 into a PNG file."""
+    png = tmp_path / "decision.png"
+    code = main(["decide", "--target", "0.12", "-0.1", "0.04", "--plot", str(png)])
+    assert code == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    text = capsys.readouterr().out
+    assert "S_R E_P W_P" in text and "mm from the goal" in text
+
+
+def test_grid_prints_the_table_4_like_table(capsys: pytest.CaptureFixture[str]) -> None:
+    """--grid prints one row per point with the primitives in order."""
+    assert main(["decide", "--grid", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [row["point"] for row in data["nao"]] == list(range(1, 17))
+    assert all(row["sequence"][0] == "S_R E_P W_P" for row in data["nao"][:4])
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--target", "0.5", "-0.1", "0.05"], "m from the right shoulder"),
+        (["--target", "0.12", "nan", "0.05"], "target[1] must be a finite number"),
+        (
+            ["--target", "0.12", "-0.1", "0.05", "--start", "9", "0", "0", "0", "0"],
+            "RShoulderPitch",
+        ),
+        (["--target", "0.12", "-0.1", "0.05", "--palm", "0", "0", "0"], "zero vector"),
+    ],
+)
+def test_bad_input_is_a_clear_error(
+    args: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Unreachable, NaN, out-of-range or zero inputs: exit 1 and a named error."""
+    assert main(["decide", *args]) == 1
+    assert message in capsys.readouterr().err
+
+
+def test_bad_wrist_path_file(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A CSV without the header, or with decreasing times, names the problem."""
+    path = tmp_path / "bad.csv"
+    path.write_text("time,x,y,z\n0,0.1,-0.1,0\n")
+    assert main(["decide", "--wrist-path", str(path)]) == 1
+    assert "header t,x,y,z" in capsys.readouterr().err
+    path.write_text("t,x,y,z\n0,0.1,-0.1,0\n0,0.1,-0.1,0\n")
+    assert main(["decide", "--wrist-path", str(path)]) == 1
+    assert "times must increase" in capsys.readouterr().err
+
+
+def test_wrong_model_version_is_refused_without_traceback(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A model file of another version: exit 1, the version named, no traceback."""
+    data = json.loads(default_model().to_json())
+    data["version"] = 7
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps(data))
+    out = armplan(
+        "decide", "--target", "0.12", "-0.09", "0.05", "--model", str(path), "--json"
+    )
+    assert out.returncode == 1
+    assert "Traceback" not in out.stderr
+    assert "motion-model file version 7" in out.stderr
+    assert json.loads(out.stdout)["error"]["kind"] == "model_file_error"
+
+
+def test_a_given_model_file_is_used(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--model reads the file given."""
+    path = tmp_path / "model.json"
+    save_model(default_model(), path)
+    assert (
+        main(["decide", "--target", "0.12", "-0.09", "0.05", "--model", str(path)]) == 0
+    )
+    assert "primitive" in capsys.readouterr().out

@@ -1,0 +1,82 @@
+"""armplan demos synth / info and armplan fit: progress, rate table, held-out report."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+
+import pytest
+
+from armplan.cli.main import main
+from services.fit import load_model
+
+
+@pytest.fixture(scope="module")
+def demos(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
+    path = tmp_path_factory.mktemp("demos") / "demos.mcap"
+    assert (
+        main(["demos", "synth", "-o", str(path), "--subjects", "4", "--trials", "1"])
+        == 0
+    )
+    return path
+
+
+def test_synth_and_info(
+    demos: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """info counts the synthetic file's subjects, trials and labels."""
+    capsys.readouterr()
+    assert main(["demos", "info", str(demos), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["subjects"] == ["S01", "S02", "S03", "S04"]
+    assert info["trials"] == 64
+    assert info["labels"]["S_R E_P W_P"] > 0
+
+
+def test_fit_prints_rates_and_cross_validation(
+    demos: pathlib.Path, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """fit writes the model and prints each rate with its LOO CV log-likelihood."""
+    out = tmp_path / "model.json"
+    assert main(["fit", str(demos), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    model = load_model(out)
+    assert "LOO CV log-lik." in text
+    for variable in model.variables:
+        assert variable.name in text and f"{variable.rate:.4f}" in text
+
+
+def test_fit_hold_out_reports_agreement_and_confusion(
+    demos: pathlib.Path, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--hold-out 1 fits on three subjects and compares with the fourth."""
+    out = tmp_path / "model.json"
+    assert main(["fit", str(demos), "-o", str(out), "--hold-out", "1", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["held_out"]["subjects"] == ["S04"]
+    assert report["subjects"] == ["S01", "S02", "S03"]
+    confusion = report["held_out"]["confusion"]
+    total = sum(sum(row) for row in confusion.values())
+    assert total == report["held_out"]["samples"]
+    assert 0.0 <= report["held_out"]["agreement"] <= 1.0
+
+
+def test_fit_refuses_a_bad_hold_out(
+    demos: pathlib.Path, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Holding out every subject is an error naming the option."""
+    assert (
+        main(["fit", str(demos), "-o", str(tmp_path / "m.json"), "--hold-out", "4"])
+        == 1
+    )
+    assert "--hold-out must be 0..3" in capsys.readouterr().err
+
+
+def test_fit_of_a_truncated_file_is_a_clear_error(
+    demos: pathlib.Path, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A truncated demonstration file stops the fit with the file named."""
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(demos.read_bytes()[:20000])
+    assert main(["fit", str(cut), "-o", str(tmp_path / "m.json")]) == 1
+    assert f"{cut}: truncated" in capsys.readouterr().err

@@ -1,0 +1,207 @@
+"""C3D import: real files written with ezc3d, read back, retargeted to NAO."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import subprocess
+import sys
+from typing import NamedTuple
+
+import ezc3d
+import numpy as np
+import pytest
+
+from shared.demos import nao_arm_size, read_demos
+from shared.demos.anthropometry import subject_from_stature
+from shared.demos.c3d_import import read_c3d
+from shared.demos.grid import grid_targets
+from shared.demos.markers import MarkerMap, read_marker_map
+from shared.demos.reach_model import AVERAGE_STYLE, plan_reach, sample_reach
+from shared.demos.retarget import ArmTrack, retarget
+from shared.errors import DemoFileError
+
+#: The lab's shoulder [mm], in a Y-up lab whose -z is the subject's forward.
+LAB_SHOULDER = np.array([250.0, 1400.0, -300.0])
+MAP = {
+    "shoulder": "RSHO",
+    "elbow": "RELB",
+    "wrist": "RWRB",
+    "thumb": "RWRA",
+    "axes": ["-z", "-x", "y"],
+    "subject": "P01",
+}
+
+
+class Recorded(NamedTuple):
+    """A human reach in the subject's torso axes [m]."""
+
+    elbow: np.ndarray
+    wrist: np.ndarray
+    thumb: np.ndarray
+    frame: np.ndarray
+    upper: float
+    forearm: float
+
+
+def _reach() -> Recorded:
+    person = subject_from_stature("P01", 1.74)
+    target = grid_targets(person.arm_length)[13]
+    reach = sample_reach(plan_reach(person, AVERAGE_STYLE, target), person, 100.0)
+    thumb = reach.wrist + 0.02 * reach.wrist_frame[:, :, 2]
+    return Recorded(
+        reach.elbow,
+        reach.wrist,
+        thumb,
+        reach.wrist_frame,
+        person.upper_arm,
+        person.forearm,
+    )
+
+
+def _to_lab(points: np.ndarray) -> np.ndarray:
+    """Torso axes (forward, left, up) [m] to the lab's (x, y, z) [mm]."""
+    forward, left, up = points[:, 0], points[:, 1], points[:, 2]
+    return LAB_SHOULDER + 1000.0 * np.stack((-left, up, -forward), axis=1)
+
+
+def _write_c3d(path: pathlib.Path, markers: dict[str, np.ndarray]) -> None:
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [100.0]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = tuple(markers)
+    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
+    frames = len(next(iter(markers.values())))
+    cloud = np.ones((4, len(markers), frames))
+    for i, points in enumerate(markers.values()):
+        cloud[:3, i, :] = points.T
+    c3d["data"]["points"] = cloud
+    c3d.write(str(path))
+
+
+@pytest.fixture(scope="module")
+def recorded() -> Recorded:
+    return _reach()
+
+
+@pytest.fixture
+def c3d_file(tmp_path: pathlib.Path, recorded: Recorded) -> pathlib.Path:
+    path = tmp_path / "reach.c3d"
+    zeros = np.zeros_like(recorded.wrist)
+    _write_c3d(
+        path,
+        {
+            "Sub:RSHO": _to_lab(zeros),
+            "Sub:RELB": _to_lab(recorded.elbow),
+            "Sub:RWRB": _to_lab(recorded.wrist),
+            "Sub:RWRA": _to_lab(recorded.thumb),
+            "Sub:HEAD": _to_lab(zeros + np.array([0.0, 0.2, 0.3])),
+        },
+    )
+    return path
+
+
+def test_c3d_import_retargets_the_recorded_arm(
+    c3d_file: pathlib.Path, recorded: Recorded
+) -> None:
+    """Units, axes, prefixes handled; NAO keeps the human segment directions."""
+    trial, person = read_c3d(c3d_file, MarkerMap.model_validate(MAP))
+    zeros = np.zeros_like(recorded.wrist)
+    expected = retarget(
+        ArmTrack(zeros, recorded.elbow, recorded.wrist), nao_arm_size("right")
+    )
+    np.testing.assert_allclose(trial.elbow, expected.elbow, atol=1e-6)
+    np.testing.assert_allclose(trial.wrist, expected.wrist, atol=1e-6)
+    np.testing.assert_allclose(trial.times, np.arange(len(trial.times)) / 100.0)
+    np.testing.assert_allclose(trial.target, expected.wrist[-1], atol=1e-6)
+    assert person.name == "P01"
+    assert person.upper_arm == pytest.approx(recorded.upper, abs=1e-5)
+    assert person.forearm == pytest.approx(recorded.forearm, abs=1e-5)
+    assert trial.wrist_frame is not None
+    np.testing.assert_allclose(trial.wrist_frame, recorded.frame, atol=1e-4)
+
+
+def test_missing_markers_are_named(c3d_file: pathlib.Path) -> None:
+    """A C3D without the mapped markers: the error names them and lists the file's."""
+    markers = MarkerMap.model_validate({**MAP, "elbow": "LELB", "wrist": "LWRB"})
+    with pytest.raises(DemoFileError, match="lacks the mapped markers") as caught:
+        read_c3d(c3d_file, markers)
+    message = caught.value.message
+    assert "elbow 'LELB'" in message and "wrist 'LWRB'" in message
+    assert "Sub:RELB" in message
+
+
+def test_frames_with_a_gap_are_dropped(
+    tmp_path: pathlib.Path, recorded: Recorded
+) -> None:
+    """A frame where a marker is missing (NaN) is left out."""
+    wrist = _to_lab(recorded.wrist)
+    wrist[10] = np.nan
+    path = tmp_path / "gap.c3d"
+    _write_c3d(
+        path,
+        {
+            "RSHO": _to_lab(np.zeros_like(recorded.wrist)),
+            "RELB": _to_lab(recorded.elbow),
+            "RWRB": wrist,
+        },
+    )
+    markers = MarkerMap.model_validate({k: v for k, v in MAP.items() if k != "thumb"})
+    trial, _ = read_c3d(path, markers)
+    assert len(trial.times) == len(recorded.wrist) - 1
+    assert trial.wrist_frame is None
+
+
+def test_not_a_c3d_file(tmp_path: pathlib.Path) -> None:
+    """A file that is not C3D says so."""
+    path = tmp_path / "bad.c3d"
+    path.write_bytes(b"no c3d here" * 50)
+    with pytest.raises(DemoFileError, match="not a readable C3D file"):
+        read_c3d(path, MarkerMap.model_validate(MAP))
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("{not json", "not valid JSON"),
+        ('{"shoulder": "A", "elbow": "B"}', "wrist"),
+        (
+            '{"shoulder": "A", "elbow": "B", "wrist": "C", "axes": ["x", "x", "z"]}',
+            "axes",
+        ),
+        ('{"shoulder": "A", "elbow": "B", "wrist": "C", "units": "inch"}', "units"),
+    ],
+)
+def test_bad_marker_maps(tmp_path: pathlib.Path, content: str, message: str) -> None:
+    """A marker map that is not JSON or misses a field names the problem."""
+    path = tmp_path / "map.json"
+    path.write_text(content)
+    with pytest.raises(DemoFileError, match=message):
+        read_marker_map(path)
+
+
+def test_cli_imports_c3d_to_mcap_and_fits(
+    tmp_path: pathlib.Path, c3d_file: pathlib.Path
+) -> None:
+    """armplan demos import writes the MCAP form; armplan fit learns from it."""
+    markers = tmp_path / "map.json"
+    markers.write_text(json.dumps(MAP))
+    out = tmp_path / "imported.mcap"
+    run = subprocess.run(
+        [
+            *(sys.executable, "-m", "armplan", "demos", "import", str(c3d_file)),
+            *("--markers", str(markers), "-o", str(out)),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr
+    demos = read_demos(out)
+    assert list(demos.subjects) == ["P01"] and len(demos.trials) == 1
+    assert demos.trials[0].labels is None
+    from services.fit import fit_model
+
+    model = fit_model(demos)
+    assert model.samples == len(demos.trials[0].times)
+    assert "S_R E_P W_P" in model.primitives

@@ -1,0 +1,99 @@
+"""CSV import: the documented column format, trials, units and clear errors."""
+
+from __future__ import annotations
+
+import csv
+import pathlib
+
+import numpy as np
+import pytest
+
+from shared.demos import nao_arm_size
+from shared.demos.csv_import import read_csv
+from shared.demos.markers import MarkerMap
+from shared.demos.retarget import ArmTrack, retarget
+from shared.errors import DemoFileError
+
+MARKERS = MarkerMap(shoulder="SHO", elbow="ELB", wrist="WRI", units="cm")
+
+
+def _arm(n: int, phase: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Shoulder, elbow, wrist [m] of a simple swing, shape (n, 3) each."""
+    angle = np.linspace(0.0, 1.2, n) + phase
+    shoulder = np.tile([0.1, -0.2, 1.4], (n, 1))
+    elbow = shoulder + 0.3 * np.stack(
+        (np.sin(angle), np.zeros(n), -np.cos(angle)), axis=1
+    )
+    wrist = elbow + 0.25 * np.stack(
+        (np.sin(angle + 0.6), np.zeros(n) + 0.05, -np.cos(angle + 0.6)), axis=1
+    )
+    return shoulder, elbow, wrist
+
+
+def _write(path: pathlib.Path, trials: list[int], n: int = 30) -> None:
+    header = ["time", "trial", "note"] + [
+        f"{m}_{a}" for m in ("SHO", "ELB", "WRI") for a in "xyz"
+    ]
+    with open(path, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(header)
+        for trial in trials:
+            points = _arm(n, 0.1 * trial)
+            for k in range(n):
+                cells = [f"{k / 100:.2f}", trial, "x"]
+                cells += [f"{100 * v:.6f}" for p in points for v in p[k]]
+                writer.writerow(cells)
+
+
+def test_csv_trials_are_read_retargeted_and_numbered(tmp_path: pathlib.Path) -> None:
+    """Two trials in centimetres come back as two retargeted trials."""
+    path = tmp_path / "rec.csv"
+    _write(path, [3, 4])
+    trials, person = read_csv(path, MARKERS)
+    assert [t.trial for t in trials] == [3, 4]
+    assert person.name == "rec"
+    assert person.upper_arm == pytest.approx(0.3, abs=1e-5)
+    for trial, number in zip(trials, (3, 4), strict=True):
+        shoulder, elbow, wrist = _arm(30, 0.1 * number)
+        expected = retarget(ArmTrack(shoulder, elbow, wrist), nao_arm_size("right"))
+        np.testing.assert_allclose(trial.wrist, expected.wrist, atol=1e-7)
+        assert trial.wrist_frame is None and trial.labels is None
+
+
+def test_missing_column_is_named(tmp_path: pathlib.Path) -> None:
+    """A marker without its columns: the error names the columns."""
+    path = tmp_path / "rec.csv"
+    _write(path, [0])
+    markers = MARKERS.model_copy(update={"elbow": "RELB"})
+    with pytest.raises(DemoFileError, match="RELB_x, RELB_y, RELB_z"):
+        read_csv(path, markers)
+
+
+def test_cells_that_are_not_numbers(tmp_path: pathlib.Path) -> None:
+    """A cell that is not a number names its column and value."""
+    path = tmp_path / "rec.csv"
+    _write(path, [0])
+    text = path.read_text().splitlines()
+    text[5] = text[5].replace(text[5].split(",")[4], "oops", 1)
+    path.write_text("\n".join(text) + "\n")
+    with pytest.raises(DemoFileError, match="'oops', which is not a number"):
+        read_csv(path, MARKERS)
+
+
+def test_times_must_increase(tmp_path: pathlib.Path) -> None:
+    """Repeated times within a trial are refused."""
+    path = tmp_path / "rec.csv"
+    _write(path, [0])
+    lines = path.read_text().splitlines()
+    lines[3] = lines[2]
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(DemoFileError, match="times of trial 0"):
+        read_csv(path, MARKERS)
+
+
+def test_empty_csv(tmp_path: pathlib.Path) -> None:
+    """A header without rows is not a recording."""
+    path = tmp_path / "rec.csv"
+    path.write_text("time,SHO_x\n")
+    with pytest.raises(DemoFileError, match="at least one data row"):
+        read_csv(path, MARKERS)

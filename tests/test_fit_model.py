@@ -1,0 +1,169 @@
+"""Fitting the model and its file: tables are counts, files fail clearly."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+
+import numpy as np
+import pytest
+
+from services.fit import (
+    MODEL_VERSION,
+    MotionModel,
+    default_model,
+    fit_model,
+    load_model,
+    save_model,
+)
+from services.fit.conditionals import CONDITIONED
+from services.fit.demo_variables import trial_variables
+from shared.demos import DemoSet, nao_arm_size, synthesize
+from shared.errors import InvalidInputError, ModelFileError
+
+
+@pytest.fixture(scope="module")
+def demos() -> DemoSet:
+    return synthesize(3, subjects=3, trials=1)
+
+
+@pytest.fixture(scope="module")
+def model(demos: DemoSet) -> MotionModel:
+    return fit_model(demos, bins=8, smoothing=0.5, sources=["mem"])
+
+
+def test_rates_are_the_maximum_likelihood_of_the_variables(
+    demos: DemoSet, model: MotionModel
+) -> None:
+    """Each rate is samples over the sum of that variable's values."""
+    size = nao_arm_size("right")
+    values = np.vstack(
+        [trial_variables(t, size.upper_arm, size.forearm) for t in demos.trials]
+    )
+    rates = [v.rate for v in model.variables]
+    np.testing.assert_allclose(rates, 1.0 / values.mean(axis=0), rtol=1e-12)
+    assert all(v.loo_log_likelihood < v.log_likelihood for v in model.variables)
+
+
+def test_tables_count_the_samples_plus_smoothing(
+    demos: DemoSet, model: MotionModel
+) -> None:
+    """Each table holds n samples plus 0.5 per cell; rows normalise to 1."""
+    n = demos.samples
+    counts, tables = model.counts(), model.conditionals()
+    for name in ("prior", "shoulder", "elbow", "wrist"):
+        table = getattr(counts, name)
+        assert table.sum() == pytest.approx(n + 0.5 * table.size)
+    assert counts.transition.sum() == pytest.approx(
+        n - len(demos.trials) + 0.5 * counts.transition.size
+    )
+    for name, conditioned in CONDITIONED.items():
+        table = getattr(tables, name)
+        sums = table.sum(axis=tuple(range(conditioned, table.ndim)))
+        np.testing.assert_allclose(sums, 1.0)
+    assert model.primitives[0] == "S_R E_P W_P"
+
+
+def test_round_trip_through_a_file(tmp_path: pathlib.Path, model: MotionModel) -> None:
+    """A saved model loads back equal."""
+    path = tmp_path / "model.json"
+    save_model(model, path)
+    assert load_model(path) == model
+    assert json.loads(path.read_text())["version"] == MODEL_VERSION
+
+
+def test_shipped_default_model_loads() -> None:
+    """The default model inside the package is current and complete."""
+    model = default_model()
+    assert model.version == MODEL_VERSION
+    assert len(model.subjects) == 16 and model.samples > 100_000
+    assert "S_R E_P W_P" in model.primitives
+
+
+def _broken(
+    tmp_path: pathlib.Path, model: MotionModel, **change: object
+) -> pathlib.Path:
+    data = json.loads(model.to_json())
+    data.update(change)
+    path = tmp_path / "broken.json"
+    path.write_text(json.dumps(data))
+    return path
+
+
+def test_wrong_version(tmp_path: pathlib.Path, model: MotionModel) -> None:
+    """A model of another version is refused, saying which and what to do."""
+    path = _broken(tmp_path, model, version=MODEL_VERSION + 98)
+    with pytest.raises(ModelFileError, match=r"version 99; .* reads version 1.*refit"):
+        load_model(path)
+
+
+def test_truncated_file(tmp_path: pathlib.Path, model: MotionModel) -> None:
+    """A file cut short is named truncated."""
+    path = tmp_path / "cut.json"
+    path.write_text(model.to_json()[:5000])
+    with pytest.raises(ModelFileError, match="truncated"):
+        load_model(path)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("", "empty"),
+        ("[1, 2]", "expected a JSON object"),
+        ('{"bins": 3}', "no 'version' field"),
+        ("{oops", "not valid JSON"),
+    ],
+)
+def test_files_that_are_not_models(
+    tmp_path: pathlib.Path, text: str, message: str
+) -> None:
+    """Empty, foreign or broken JSON files name their problem."""
+    path = tmp_path / "model.json"
+    path.write_text(text)
+    with pytest.raises(ModelFileError, match=message):
+        load_model(path)
+
+
+def test_missing_file(tmp_path: pathlib.Path) -> None:
+    """A missing model file names itself."""
+    with pytest.raises(ModelFileError, match="no such motion-model file"):
+        load_model(tmp_path / "none.json")
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("prior", [-1.0, 2.0, 3.0, 4.0], "prior: counts must be >= 0"),
+        ("shoulder", [[1.0, 2.0]], "shoulder: shape"),
+        ("primitives", ["S_R E_P W_P", "W_R"], "primitives must be distinct motion"),
+        ("bins", 1, "bins"),
+    ],
+)
+def test_malformed_models_name_the_field(
+    tmp_path: pathlib.Path, model: MotionModel, field: str, value: object, message: str
+) -> None:
+    """A model whose content is wrong names the field."""
+    path = _broken(tmp_path, model, **{field: value})
+    with pytest.raises(ModelFileError, match=message):
+        load_model(path)
+
+
+def test_fit_refuses_bad_options(demos: DemoSet) -> None:
+    """No trials, or bins out of range, are clear errors."""
+    with pytest.raises(InvalidInputError, match="no demonstrations"):
+        fit_model(DemoSet({}, []))
+    with pytest.raises(InvalidInputError, match=r"bins must be 2\.\.64"):
+        fit_model(demos, bins=1)
+
+
+def test_recordings_without_orientation_leave_w_r_unobserved(demos: DemoSet) -> None:
+    """Without wrist frames W_R gets no density; its table rows stay normalised."""
+    blind = DemoSet(
+        demos.subjects,
+        [t._replace(wrist_frame=None, labels=None) for t in demos.trials],
+    )
+    model = fit_model(blind, bins=6)
+    w_r = model.variables[-1]
+    assert w_r.samples == 0 and w_r.loo_log_likelihood is None
+    wrist = model.conditionals().wrist
+    np.testing.assert_allclose(wrist.sum(axis=(2, 3)), 1.0)
