@@ -115,3 +115,49 @@ def swivel_and_gradient(
         for ce, cw in zip(elbow_columns, wrist_columns, strict=True)
     ]
     return phi, grad
+
+
+def elbow_offset_and_gradient(
+    shoulder: Point,
+    elbow: Point,
+    wrist: Point,
+    elbow_columns: Sequence[Point],
+    wrist_columns: Sequence[Point],
+) -> tuple[float, list[float]]:
+    """(r^2 [m^2], d(r^2)/dq [m^2/rad]) of the elbow's offset from the arm's line.
+
+    r is the elbow's distance from the shoulder-wrist line: it says how well
+    the swivel angle is defined.
+
+    r^2 = |e|^2 - (e.w)^2 / |w|^2 with e, w the elbow and wrist from the
+    shoulder; it is zero for a straight arm.
+
+    Args:
+        shoulder: Shoulder position [m]; it does not move with q.
+        elbow: Elbow position [m].
+        wrist: Wrist position [m].
+        elbow_columns: d(elbow)/dq_k [m/rad], one 3-vector per joint.
+        wrist_columns: d(wrist)/dq_k [m/rad], one 3-vector per joint.
+    """
+    sx, sy, sz = shoulder[0], shoulder[1], shoulder[2]
+    ex, ey, ez = elbow[0] - sx, elbow[1] - sy, elbow[2] - sz
+    wx, wy, wz = wrist[0] - sx, wrist[1] - sy, wrist[2] - sz
+    ww = wx * wx + wy * wy + wz * wz
+    if ww < _EPS:
+        return 0.0, [0.0] * len(wrist_columns)
+    ew = ex * wx + ey * wy + ez * wz
+    r2 = max(ex * ex + ey * ey + ez * ez - ew * ew / ww, 0.0)
+    a, b = 2.0 * ew / ww, 2.0 * ew * ew / (ww * ww)
+    # d(r^2) = 2 e.de - a (w.de + e.dw) + b w.dw
+    ge = (2.0 * ex - a * wx, 2.0 * ey - a * wy, 2.0 * ez - a * wz)
+    gw = (b * wx - a * ex, b * wy - a * ey, b * wz - a * ez)
+    grad = [
+        ge[0] * ce[0]
+        + ge[1] * ce[1]
+        + ge[2] * ce[2]
+        + gw[0] * cw[0]
+        + gw[1] * cw[1]
+        + gw[2] * cw[2]
+        for ce, cw in zip(elbow_columns, wrist_columns, strict=True)
+    ]
+    return r2, grad
