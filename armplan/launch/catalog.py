@@ -50,3 +50,13 @@ def service_spec(name: str) -> ServiceSpec:
     raise InvalidInputError(
         f"unknown service {name!r}; known: {known}", field="service"
     )
+
+
+#: The recorder process (``python -m services.recorder``, liveliness token
+#: ``recorder``). Not in ``SERVICES``: ``armplan up`` does not start it, since
+#: it writes files; ``armplan demo`` starts it with
+#: ``services.recorder.RecorderProcess`` and docker-compose runs it with a
+#: volume for the recordings. It answers no route.
+RECORDER = ServiceSpec("recorder", "services.recorder", ())
+#: Every process the catalogue knows besides the router.
+PROCESSES: tuple[ServiceSpec, ...] = (*SERVICES, RECORDER)

@@ -21,6 +21,7 @@ class Record(NamedTuple):
         log_time: When the message was made [ns].
         publish_time: When it was received [ns].
         data: The decoded JSON message.
+        raw: The message's bytes as recorded (its JSON, byte for byte).
     """
 
     topic: str
@@ -28,6 +29,7 @@ class Record(NamedTuple):
     log_time: int
     publish_time: int
     data: Any
+    raw: bytes = b""
 
 
 class Recording:
@@ -66,7 +68,13 @@ class Recording:
 
     def __iter__(self) -> Iterator[Record]:
         self.damage, self.count = None, 0
-        with open(self.path, "rb") as stream:
+        try:
+            stream = open(self.path, "rb")  # noqa: SIM115 (closed below)
+        except OSError as exc:
+            raise RecordingError(
+                f"cannot read {self.path}: {exc.strerror}", path=str(self.path)
+            ) from None
+        with stream:
             messages = NonSeekingReader(stream).iter_messages(log_time_order=False)
             while True:
                 try:
@@ -86,8 +94,26 @@ class Recording:
                 self.count += 1
                 name = schema.name if schema is not None else ""
                 yield Record(
-                    channel.topic, name, message.log_time, message.publish_time, data
+                    channel.topic,
+                    name,
+                    message.log_time,
+                    message.publish_time,
+                    data,
+                    message.data,
                 )
+
+    def check(self, recover: bool) -> None:
+        """After reading: raise if damaged (unless ``recover``) or not MCAP at all.
+
+        Raises:
+            RecordingError: :meth:`error`, if the file was damaged and
+                ``recover`` is False, or if nothing in it was MCAP (even with
+                ``recover``: there is no prefix to recover).
+        """
+        if self.damage is None:
+            return
+        if not recover or (self.count == 0 and "InvalidMagic" in self.damage):
+            raise self.error()
 
     def error(self) -> RecordingError:
         """The error that describes this file's damage."""

@@ -57,6 +57,7 @@ class MessageWriter:
         self._writer.start(profile=PROFILE, library="armplan")
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
+        self._typed_channels: dict[tuple[str, str], int] = {}
         self._chunked = chunked
         self._flush_every = flush_every
         self._last_flush = time.monotonic()
@@ -76,6 +77,30 @@ class MessageWriter:
             sid = self.schema_id(schema_name, schema)
             self._channels[topic] = self._writer.register_channel(topic, "json", sid)
         return self._channels[topic]
+
+    def add_channel(self, topic: str, schema_name: str, schema: dict[str, Any]) -> int:
+        """The id of the channel for ``topic`` with schema ``schema_name``.
+
+        Unlike :meth:`channel_id`, one topic may have several channels, one
+        per schema (e.g. a typed channel and a schemaless ``"json"`` one for
+        payloads that do not parse as the topic's class). Registers on first use.
+        """
+        key = (topic, schema_name)
+        if key not in self._typed_channels:
+            sid = self.schema_id(schema_name, schema)
+            self._typed_channels[key] = self._writer.register_channel(
+                topic, "json", sid
+            )
+        return self._typed_channels[key]
+
+    def add_metadata(self, name: str, data: dict[str, str]) -> None:
+        """Append a metadata record ``name`` (string keys and values)."""
+        self._writer.add_metadata(name, data)
+
+    @property
+    def size(self) -> int:
+        """Bytes written to the file so far [bytes] (buffered ones included)."""
+        return self._file.tell()
 
     def write(
         self,

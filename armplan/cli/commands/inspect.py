@@ -1,0 +1,137 @@
+"""``armplan inspect FILE.mcap``: channels, counts and time range of a recording.
+
+A damaged file (a recorder killed mid-write, a truncated copy) is an error
+naming how many messages were readable; ``--recover`` shows that readable
+prefix instead. ``--validate`` also checks every message against its
+channel's schema (exit 1 if one does not match).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from typing import Any
+
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from armplan.cli.output import print_json
+from armplan.cli.parsing import add_json
+from shared.errors import RecordingError
+from shared.recording.inventory import Inventory, take_inventory
+
+ORDER = 92
+HELP = "show a recording's channels, message counts and time range"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``inspect``."""
+    parser = commands.add_parser("inspect", help=HELP, description=HELP)
+    parser.add_argument("file", metavar="FILE.mcap", help="the recording")
+    parser.add_argument(
+        "--recover",
+        action="store_true",
+        help="show the readable prefix of a damaged file instead of failing",
+    )
+    parser.add_argument(
+        "--validate",
+        action="store_true",
+        help="check every message against its channel's schema",
+    )
+    add_json(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the recording's summary; exit 1 on damage (without --recover)."""
+    inventory = take_inventory(args.file, recover=args.recover, validate=args.validate)
+    if args.json:
+        print_json(as_json(inventory))
+    else:
+        _print(inventory, args.validate)
+    invalid = sum(c.invalid for c in inventory.channels)
+    if invalid:
+        raise RecordingError(
+            f"{inventory.path}: {invalid} messages do not match their channel's "
+            f"schema, e.g. {inventory.problems[0]}",
+            path=str(inventory.path),
+        )
+    return 0
+
+
+def as_json(inventory: Inventory) -> dict[str, Any]:
+    """The inventory as JSON-ready data (times in [ns] and [s])."""
+    first, last = inventory.first, inventory.last
+    return {
+        "path": str(inventory.path),
+        "messages": inventory.count,
+        "start_ns": first,
+        "end_ns": last,
+        "duration": None if first is None or last is None else (last - first) / 1e9,
+        "damage": inventory.damage,
+        "metadata": inventory.metadata,
+        "channels": [
+            {
+                "topic": c.topic,
+                "schema": c.schema,
+                "messages": c.count,
+                "start_ns": c.first,
+                "end_ns": c.last,
+                "duration": c.duration,
+                "invalid": c.invalid,
+            }
+            for c in inventory.channels
+        ],
+        "problems": inventory.problems,
+    }
+
+
+def _clock(ns: int | None) -> str:
+    """``ns`` [ns since the epoch] as local date and time to the millisecond."""
+    if ns is None:
+        return "-"
+    stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(ns / 1e9))
+    return f"{stamp}.{ns // 1_000_000 % 1000:03d}"
+
+
+def _print(inventory: Inventory, validate: bool) -> None:
+    console = Console(width=None if sys.stdout.isatty() else 200)
+    first, last = inventory.first, inventory.last
+    span = 0.0 if first is None or last is None else (last - first) / 1e9
+    namespace = inventory.metadata.get("armplan", {}).get("namespace", "-")
+    console.print(
+        f"[bold]{escape(str(inventory.path))}[/bold]: {inventory.count} messages "
+        f"on {len(inventory.channels)} channels, namespace {escape(namespace)}\n"
+        f"from {_clock(first)} to {_clock(last)} ({span:.3f} s)"
+    )
+    console.print(_table(inventory, validate))
+    if inventory.damage is not None:
+        console.print(
+            f"[yellow]damaged after {inventory.count} readable messages "
+            f"({escape(inventory.damage)}); shown: the readable prefix[/yellow]"
+        )
+
+
+def _table(inventory: Inventory, validate: bool) -> Table:
+    table = Table(show_edge=False)
+    table.add_column("topic", no_wrap=True)
+    table.add_column("schema", no_wrap=True)
+    for name in ("messages", "start [s]", "duration [s]", "rate [Hz]"):
+        table.add_column(escape(name), justify="right")
+    if validate:
+        table.add_column("invalid", justify="right")
+    origin = inventory.first or 0
+    for c in inventory.channels:
+        rate = (c.count - 1) / c.duration if c.duration > 0 else 0.0
+        row = [
+            escape(c.topic),
+            escape(c.schema or "-"),
+            str(c.count),
+            f"{(c.first - origin) / 1e9:.3f}",
+            f"{c.duration:.3f}",
+            f"{rate:.1f}",
+        ]
+        table.add_row(*row, *([str(c.invalid)] if validate else []))
+    return table

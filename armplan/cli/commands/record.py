@@ -1,0 +1,91 @@
+"""``armplan record``: record Zenoh key expressions to MCAP until stopped.
+
+The recorder runs in this process (``services.recorder.Recorder``); Ctrl-C,
+SIGTERM or ``--duration`` stop it, and the file is closed with its summary.
+See ``docs/recording.md`` for the channels and how to open them in Foxglove.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+import time
+
+from services.recorder.arguments import (
+    add_bus_arguments,
+    add_recorder_arguments,
+    bus_config,
+    options_from_args,
+)
+from services.recorder.service import Recorder
+from shared.bus import Bus
+from shared.errors import InvalidInputError
+
+ORDER = 90
+HELP = "record Zenoh key expressions to an MCAP file until Ctrl-C"
+#: Period at which the command checks for its stop request [s].
+POLL = 0.2
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``record``."""
+    parser = commands.add_parser("record", help=HELP, description=HELP)
+    add_recorder_arguments(parser)
+    parser.add_argument(
+        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
+    )
+    add_bus_arguments(parser)
+    parser.add_argument(
+        "--duration",
+        type=float,
+        metavar="S",
+        help="stop after this many seconds (default: at Ctrl-C or SIGTERM)",
+    )
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Record until stopped; print the files and what they hold."""
+    if args.duration is not None and not args.duration > 0:
+        raise InvalidInputError(
+            f"--duration must be positive, got {args.duration}", field="duration"
+        )
+    config = bus_config(args)
+    options = options_from_args(args)
+    stop = _stop_on_signals()
+    with Bus.connect(config) as bus, Recorder(bus, options) as recorder:
+        _say(
+            f"armplan record: recording {' '.join(recorder.keys)} to "
+            f"{recorder.sink.paths[0]}; Ctrl-C stops"
+        )
+        _wait(stop, args.duration)
+    sink = recorder.sink
+    files = ", ".join(map(str, sink.paths))
+    _say(f"armplan record: {sink.written} messages in {files}")
+    return 0
+
+
+def _wait(stop: threading.Event, duration: float | None) -> None:
+    """Until ``stop`` is set or ``duration`` [s] has passed (signals stay live)."""
+    deadline = None if duration is None else time.monotonic() + duration
+    while deadline is None or (left := deadline - time.monotonic()) > 0:
+        if stop.wait(POLL if deadline is None else min(POLL, left)):
+            return
+
+
+def _stop_on_signals() -> threading.Event:
+    stop = threading.Event()
+
+    def request_stop(signum: int, frame: object) -> None:
+        stop.set()
+
+    signal.signal(signal.SIGTERM, request_stop)
+    signal.signal(signal.SIGINT, request_stop)
+    return stop
+
+
+def _say(line: str) -> None:
+    sys.stdout.write(line + "\n")
+    sys.stdout.flush()

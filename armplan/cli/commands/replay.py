@@ -1,0 +1,115 @@
+"""``armplan replay FILE.mcap``: publish a recording's messages again over Zenoh.
+
+Each recorded Zenoh message goes out again on its key, under the current
+namespace, with its original payload bytes and its original timing (from
+the log times) divided by ``--speed``. The derived Foxglove channels
+(``/tf/...``, ...) are not sent. A bridge subscribed to ``plan/trajectory``
+drives the (simulated) NAO from the replayed trajectories: ``armplan replay
+session.mcap --keys plan/trajectory --wait-for bridge``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+
+import zenoh
+
+from services.recorder.arguments import add_bus_arguments, bus_config
+from services.recorder.replay import replay, replay_items
+from shared.bus import Bus
+from shared.errors import ServiceUnavailableError
+
+ORDER = 91
+HELP = "publish a recording's messages again over Zenoh with their timing"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``replay``."""
+    parser = commands.add_parser("replay", help=HELP, description=HELP)
+    parser.add_argument(
+        "files",
+        nargs="+",
+        metavar="FILE.mcap",
+        help="the recording (the numbered files of a rotating one, in order)",
+    )
+    parser.add_argument(
+        "--speed",
+        type=float,
+        default=1.0,
+        metavar="X",
+        help="time scale: 2 plays twice as fast (default 1, the original timing)",
+    )
+    parser.add_argument(
+        "--keys",
+        nargs="+",
+        metavar="KEY",
+        help="only these key expressions, relative to the namespace, e.g. "
+        "plan/trajectory (default: every recorded key)",
+    )
+    parser.add_argument(
+        "--recover",
+        action="store_true",
+        help="replay the readable prefix of a damaged file",
+    )
+    parser.add_argument(
+        "--wait-for",
+        nargs="+",
+        default=[],
+        metavar="SERVICE",
+        help="wait until these services are alive first, e.g. bridge",
+    )
+    parser.add_argument(
+        "--wait",
+        type=float,
+        default=10.0,
+        metavar="S",
+        help="how long to wait for the router and --wait-for services [s]",
+    )
+    parser.add_argument(
+        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
+    )
+    add_bus_arguments(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Read the file, then send its messages at their (scaled) times."""
+    items = replay_items(args.files, keys=args.keys, recover=args.recover)
+    config = bus_config(args)
+    stop = _stop_on_signals()
+    with Bus.connect(config, wait=args.wait) as bus:
+        missing = bus.wait_alive(args.wait_for, args.wait)
+        if missing:
+            raise ServiceUnavailableError(
+                ", ".join(missing), reason=f"not alive after {args.wait:g} s"
+            )
+
+        def publish(path: str, payload: bytes, encoding: str) -> None:
+            bus.session.put(
+                bus.key(path),
+                payload,
+                encoding=zenoh.Encoding(encoding),
+                congestion_control=zenoh.CongestionControl.BLOCK,
+            )
+
+        stats = replay(items, publish, speed=args.speed, stop=stop)
+    sys.stdout.write(
+        f"armplan replay: sent {stats.sent} of {len(items)} messages in "
+        f"{stats.duration:.3f} s (speed {args.speed:g}, at most "
+        f"{stats.late * 1000:.1f} ms late)\n"
+    )
+    return 0
+
+
+def _stop_on_signals() -> threading.Event:
+    stop = threading.Event()
+
+    def request_stop(signum: int, frame: object) -> None:
+        stop.set()
+
+    signal.signal(signal.SIGTERM, request_stop)
+    signal.signal(signal.SIGINT, request_stop)
+    return stop

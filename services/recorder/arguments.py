@@ -1,0 +1,124 @@
+"""The recorder's command-line options.
+
+Shared by ``python -m services.recorder`` and ``armplan record``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import re
+from pathlib import Path
+
+from services.recorder.options import RecorderOptions, default_output
+from shared.bus import BusConfig, load_config
+from shared.bus.topics import topic_paths
+from shared.errors import InvalidInputError
+from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
+
+_SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kKmMgG]?)i?[bB]?\s*$")
+_UNITS = {"": 1, "k": 1024, "m": 1024**2, "g": 1024**3}
+
+
+def parse_size(text: str) -> int:
+    """A size like ``"500000"``, ``"64k"``, ``"100M"`` or ``"1G"`` [bytes].
+
+    Raises:
+        InvalidInputError: if ``text`` is not such a size.
+    """
+    match = _SIZE.match(text)
+    if not match:
+        raise InvalidInputError(
+            f"rotation size {text!r} must read like 500000, 64k, 100M or 1G",
+            field="rotate_size",
+        )
+    return int(float(match.group(1)) * _UNITS[match.group(2).lower()])
+
+
+def add_recorder_arguments(parser: argparse.ArgumentParser) -> None:
+    """``-o``, ``--keys``, ``--rotate-size``, ``--rotate-duration``, ..."""
+    parser.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE.mcap",
+        help="the recording (default: armplan-<date>-<time>.mcap here); with "
+        "rotation, FILE-0001.mcap, FILE-0002.mcap, ...",
+    )
+    parser.add_argument(
+        "--keys",
+        nargs="+",
+        metavar="KEY",
+        help="key expressions under the namespace, e.g. plan/trajectory "
+        "'bridge/**' (default: " + " ".join(topic_paths()) + ")",
+    )
+    parser.add_argument(
+        "--rotate-size",
+        metavar="SIZE",
+        help="start a new file at this size, e.g. 100M (default: never)",
+    )
+    parser.add_argument(
+        "--rotate-duration",
+        type=float,
+        metavar="S",
+        help="start a new file after this many seconds (default: never)",
+    )
+    parser.add_argument(
+        "--flush-every",
+        type=float,
+        default=FLUSH_EVERY,
+        metavar="S",
+        help=f"longest time between flushes to disk [s] (default {FLUSH_EVERY})",
+    )
+    parser.add_argument(
+        "--no-foxglove",
+        action="store_true",
+        help="do not write the derived Foxglove channels (/tf/..., /decision, ...)",
+    )
+
+
+def options_from_args(args: argparse.Namespace) -> RecorderOptions:
+    """The recorder options the command line asks for.
+
+    Raises:
+        InvalidInputError: naming the option that is wrong.
+    """
+    rotation = RotationPolicy(
+        max_bytes=None if args.rotate_size is None else parse_size(args.rotate_size),
+        max_seconds=args.rotate_duration,
+    )
+    return RecorderOptions(
+        output=Path(args.output) if args.output else default_output(),
+        keys=tuple(args.keys) if args.keys else topic_paths(),
+        rotation=rotation,
+        flush_every=args.flush_every,
+        foxglove=not args.no_foxglove,
+    )
+
+
+def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--connect ENDPOINT`` and ``--namespace NS`` (``--config`` is added apart)."""
+    parser.add_argument(
+        "--connect",
+        action="append",
+        metavar="ENDPOINT",
+        help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
+    )
+    parser.add_argument(
+        "--namespace",
+        metavar="NS",
+        help="key namespace (default: the config's, armplan)",
+    )
+
+
+def bus_config(args: argparse.Namespace) -> BusConfig:
+    """The bus settings of ``--config``, ``--connect`` and ``--namespace``.
+
+    Raises:
+        BusConfigError: if the file, an endpoint or the namespace is malformed.
+    """
+    config = load_config(args.config, tuple(args.connect or ()))
+    if args.namespace:
+        config = dataclasses.replace(
+            config, namespace=args.namespace, source=f"{config.source} + --namespace"
+        )
+    return config

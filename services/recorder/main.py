@@ -1,0 +1,69 @@
+"""``python -m services.recorder``: the recorder process.
+
+Usage: ``python -m services.recorder [-o FILE.mcap] [--keys KEY ...]
+[--rotate-size SIZE] [--rotate-duration S] [--config FILE]
+[--connect ENDPOINT] [--namespace NS] [--wait S]``. It connects to the
+router, records until SIGTERM or SIGINT, then closes its file with its
+summary and exits 0. Once recording it prints one line, ``recording <keys>
+to <file>``, on stdout (what ``services.recorder.control`` waits for). It
+exits 1 with the error on stderr if the configuration is wrong, no router
+answers or the file cannot be created.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from collections.abc import Sequence
+
+from services.recorder.arguments import (
+    add_bus_arguments,
+    add_recorder_arguments,
+    bus_config,
+    options_from_args,
+)
+from services.recorder.service import NAME, Recorder
+from shared.bus import Bus
+from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.errors import ArmplanError
+
+log = logging.getLogger("armplan.recorder")
+#: The line the recorder prints on stdout once it records.
+READY_PREFIX = "recording "
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Record until asked to stop; returns the exit code."""
+    args = _parser().parse_args(argv)
+    stop = start_process(args.log_level)
+    try:
+        config = bus_config(args)
+        options = options_from_args(args)
+        with Bus.connect(config, wait=args.wait) as bus, Recorder(bus, options) as rec:
+            keys = " ".join(rec.keys)
+            sys.stdout.write(f"{READY_PREFIX}{keys} to {rec.sink.paths[0]}\n")
+            sys.stdout.flush()
+            wait_for(stop)
+    except ArmplanError as error:
+        log.error("%s: %s", NAME, error.message)
+        return 1
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m services.recorder",
+        description="The armplan recorder: Zenoh key expressions to MCAP.",
+    )
+    add_common_arguments(parser)
+    add_recorder_arguments(parser)
+    add_bus_arguments(parser)
+    parser.add_argument(
+        "--wait",
+        type=float,
+        default=10.0,
+        metavar="S",
+        help="how long to wait for the router at start [s] (default 10)",
+    )
+    return parser

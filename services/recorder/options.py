@@ -1,0 +1,72 @@
+"""What a recorder records, where, and how it splits and flushes its files."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import zenoh
+
+from shared.bus.topics import topic_paths
+from shared.errors import InvalidInputError
+from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
+
+
+def default_output() -> Path:
+    """``armplan-YYYYmmdd-HHMMSS.mcap`` in the current folder (local time)."""
+    return Path(time.strftime("armplan-%Y%m%d-%H%M%S.mcap"))
+
+
+def check_keys(keys: tuple[str, ...], namespace: str) -> tuple[str, ...]:
+    """``keys`` if each, under ``namespace``, is a valid Zenoh key expression.
+
+    Raises:
+        InvalidInputError: naming the first bad key expression.
+    """
+    if not keys:
+        raise InvalidInputError("no key expression to record", field="keys")
+    for key in keys:
+        try:
+            zenoh.KeyExpr(f"{namespace}/{key}")
+        except zenoh.ZError:
+            raise InvalidInputError(
+                f"{key!r} is not a Zenoh key expression relative to the namespace "
+                f"(e.g. plan/trajectory, bridge/*, **)",
+                field="keys",
+            ) from None
+    return keys
+
+
+@dataclass(frozen=True)
+class RecorderOptions:
+    """A recorder's settings.
+
+    Attributes:
+        output: The MCAP file (with rotation: the stem of the numbered files).
+        keys: Key expressions relative to the namespace, e.g.
+            ``("plan/trajectory", "bridge/**")``; default: every registered
+            topic (``shared.bus.topics``).
+        rotation: When to start a new file (default: never).
+        flush_every: Longest time between flushes to the OS [s]; a recorder
+            killed with SIGKILL loses at most about this much.
+        foxglove: Also write the derived Foxglove channels (``/tf/...``,
+            ``/decision``, ``/robot_description``).
+        planned_prefix: Frame prefix of the planned arm ("" moves the URDF).
+        executed_prefix: Frame prefix of the executed arm.
+    """
+
+    output: Path = field(default_factory=default_output)
+    keys: tuple[str, ...] = field(default_factory=topic_paths)
+    rotation: RotationPolicy = field(default_factory=RotationPolicy)
+    flush_every: float = FLUSH_EVERY
+    foxglove: bool = True
+    planned_prefix: str = ""
+    executed_prefix: str = "executed/"
+
+    def __post_init__(self) -> None:
+        if not 0 < self.flush_every <= 10.0:
+            raise InvalidInputError(
+                f"flush_every must be in (0, 10] s, got {self.flush_every}",
+                field="flush_every",
+            )

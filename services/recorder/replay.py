@@ -1,0 +1,187 @@
+"""A recording's messages, sent again with their original timing, scaled.
+
+:func:`replay_items` reads the recorded Zenoh messages of a file (not the
+derived ``/...`` Foxglove channels) in file order, which is the order the
+recorder received them, with each one's offset from the first [s] (from the
+log times) and its original bytes (a ``RawPayload`` is unwrapped). Keys are
+made relative to the recorded namespace, so a replay may publish under
+another one. :func:`replay` sends them through a ``publish`` function at
+``offset / speed`` after the start; the caller supplies the Zenoh put.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+from typing import NamedTuple
+
+import zenoh
+
+from shared.errors import InvalidInputError, RecordingError
+from shared.recording.metadata import ARMPLAN_METADATA, read_metadata
+from shared.recording.raw_payload import RawPayload
+from shared.recording.reader import Record, Recording
+
+#: Encoding of the JSON messages when sent again.
+JSON_ENCODING = "application/json"
+_NS_PER_S = 1e9
+
+Publish = Callable[[str, bytes, str], None]
+
+
+class ReplayItem(NamedTuple):
+    """One message to send again.
+
+    Attributes:
+        offset: Its log time minus the first message's [s].
+        path: Its key relative to the recorded namespace, e.g. ``plan/trajectory``.
+        payload: Its original bytes.
+        encoding: Its Zenoh encoding.
+    """
+
+    offset: float
+    path: str
+    payload: bytes
+    encoding: str
+
+
+class ReplayStats(NamedTuple):
+    """What a replay sent.
+
+    Attributes:
+        sent: Messages sent.
+        duration: Wall time from the first to the last send [s].
+        late: Largest delay of a send behind its scheduled time [s].
+    """
+
+    sent: int
+    duration: float
+    late: float
+
+
+def _matcher(keys: Sequence[str] | None) -> Callable[[str], bool]:
+    """Whether a relative key matches one of ``keys`` (all if ``None``)."""
+    if not keys:
+        return lambda path: True
+    try:
+        exprs = [zenoh.KeyExpr(f"r/{key}") for key in keys]
+    except zenoh.ZError:
+        raise InvalidInputError(
+            f"--keys {' '.join(keys)}: not Zenoh key expressions", field="keys"
+        ) from None
+    return lambda path: any(e.intersects(f"r/{path}") for e in exprs)
+
+
+def _item(record: Record, namespace: str, first: int) -> ReplayItem:
+    path = record.topic.removeprefix(f"{namespace}/") if namespace else record.topic
+    offset = (record.log_time - first) / _NS_PER_S
+    if record.schema == RawPayload.__name__:
+        raw = RawPayload.model_validate_json(record.raw)
+        return ReplayItem(offset, path, raw.payload(), raw.encoding)
+    return ReplayItem(offset, path, record.raw, JSON_ENCODING)
+
+
+def _records(
+    path: str | Path, namespace: str, keys: Sequence[str] | None, recover: bool
+) -> list[Record]:
+    """The recorded Zenoh messages of one file matching ``keys``, in file order."""
+    wanted = _matcher(keys)
+    recording = Recording(path)
+    records = [
+        r
+        for r in recording
+        if not r.topic.startswith("/") and wanted(r.topic.removeprefix(f"{namespace}/"))
+    ]
+    recording.check(recover)
+    return records
+
+
+def _namespace(path: str | Path) -> str:
+    """The namespace the recorder recorded ``path`` under ("" if unknown)."""
+    return read_metadata(path).get(ARMPLAN_METADATA, {}).get("namespace", "")
+
+
+def replay_items(
+    paths: str | Path | Sequence[str | Path],
+    *,
+    keys: Sequence[str] | None = None,
+    recover: bool = False,
+) -> list[ReplayItem]:
+    """The recorded Zenoh messages to send again, in file order.
+
+    Args:
+        paths: An MCAP file written by the recorder, or the numbered files of
+            a rotating recording, in order (offsets run on across them).
+        keys: Only keys matching these expressions (relative to the
+            namespace, e.g. ``plan/trajectory``, ``bridge/*``); all if ``None``.
+        recover: Replay the readable prefix of a damaged file.
+
+    Raises:
+        RecordingError: if a file cannot be read (or is damaged, without
+            ``recover``), or a raw payload in it is malformed.
+    """
+    files = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    per_file = []
+    for path in files:
+        namespace = _namespace(path)
+        per_file.append((path, namespace, _records(path, namespace, keys, recover)))
+    firsts = [records[0].log_time for _, _, records in per_file if records]
+    if not firsts:
+        return []
+    items = []
+    for path, namespace, records in per_file:
+        try:
+            items += [_item(r, namespace, firsts[0]) for r in records]
+        except ValueError as exc:
+            raise RecordingError(
+                f"{path}: a raw payload cannot be decoded ({exc})", path=str(path)
+            ) from None
+    return items
+
+
+def check_speed(speed: float) -> float:
+    """``speed`` if it is a finite positive factor; else ``InvalidInputError``."""
+    if not (math.isfinite(speed) and speed > 0):
+        raise InvalidInputError(
+            f"speed must be a positive number (1 = original timing), got {speed}",
+            field="speed",
+        )
+    return speed
+
+
+def replay(
+    items: Iterable[ReplayItem],
+    publish: Publish,
+    *,
+    speed: float = 1.0,
+    stop: threading.Event | None = None,
+    clock: Callable[[], float] = time.monotonic,
+) -> ReplayStats:
+    """Send ``items`` at ``offset / speed`` seconds after the start.
+
+    Args:
+        items: The messages, in the order to send them.
+        publish: Sends one: ``publish(relative key, payload, encoding)``.
+        speed: Time scale: 2 plays twice as fast, 0.5 at half speed.
+        stop: Set to end the replay early.
+        clock: Monotonic time [s].
+
+    Raises:
+        InvalidInputError: if ``speed`` is not positive and finite.
+    """
+    check_speed(speed)
+    stop = stop or threading.Event()
+    start = clock()
+    sent, late, last = 0, 0.0, start
+    for item in items:
+        due = start + item.offset / speed
+        if stop.wait(max(due - clock(), 0.0)):
+            break
+        last = clock()
+        late = max(late, last - due)
+        publish(item.path, item.payload, item.encoding)
+        sent += 1
+    return ReplayStats(sent, last - start, late)

@@ -1,0 +1,140 @@
+"""The recorder on Zenoh: subscribe to key expressions, hand samples to the sink.
+
+Keys (namespace ``armplan`` by default):
+    ``armplan/**``               one subscriber; samples whose key matches a
+                                 recorded key expression are kept
+    ``armplan/alive/recorder``   liveliness token while it records
+
+One subscriber, not one per key expression: zenoh-python runs each
+subscriber's callback on its own thread, so samples of different
+subscribers would reach the writer out of the order they crossed the bus.
+With one subscriber the file's order is the order the router sent them.
+
+Run it with ``python -m services.recorder [-o FILE.mcap] [--keys K ...]``, or
+in-process with :class:`Recorder` on an open :class:`~shared.bus.Bus`
+(``armplan record`` does). The token is declared after the subscribers, so
+a publisher that sees it knows its messages will be recorded.
+
+Log time of each message: the Zenoh timestamp of the sample, which is the
+publisher's when it sets one (``put(..., timestamp=session.new_timestamp())``)
+and otherwise the router's, stamped as the sample enters it (Zenoh routers
+have ``timestamping/enabled`` on by default; the project's router keeps it).
+A sample without a timestamp (peer-to-peer, timestamping off) gets its
+receipt time. Publish time is always the receipt time.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from pathlib import Path
+from types import TracebackType
+
+import zenoh
+
+from services.recorder.options import RecorderOptions, check_keys
+from services.recorder.routing import Incoming
+from services.recorder.sink import RecordingSink
+from shared.bus import Bus
+from shared.bus.keys import alive_key
+
+NAME = "recorder"
+log = logging.getLogger("armplan.recorder")
+
+
+def log_time_of(sample: zenoh.Sample, received: int) -> int:
+    """The sample's Zenoh timestamp [ns since the epoch], else ``received``."""
+    stamp = sample.timestamp
+    if stamp is None:
+        return received
+    return int(stamp.get_time_as_ntp64().as_nanos())
+
+
+class Recorder:
+    """Records key expressions of one bus into MCAP files.
+
+    Args:
+        bus: An open bus (its namespace prefixes every key).
+        options: What to record and where.
+
+    Attributes:
+        sink: The writer behind the subscriptions.
+    """
+
+    def __init__(self, bus: Bus, options: RecorderOptions | None = None) -> None:
+        self.options = options or RecorderOptions()
+        namespace = bus.config.namespace
+        check_keys(self.options.keys, namespace)
+        self.keys = [f"{namespace}/{key}" for key in self.options.keys]
+        self.sink = RecordingSink(self.options, namespace)
+        self._bus = bus
+        self._exprs = [zenoh.KeyExpr(key) for key in self.keys]
+        self._subscriber: zenoh.Subscriber[None] | None = None
+        self._token: zenoh.LivelinessToken | None = None
+
+    def start(self) -> Recorder:
+        """Open the file, subscribe, then announce liveliness.
+
+        Raises:
+            RecordingError: if the file cannot be created.
+        """
+        self.sink.start()
+        session = self._bus.session
+        namespace = self._bus.config.namespace
+        try:
+            everything = f"{namespace}/**"
+            self._subscriber = session.declare_subscriber(everything, self._on_sample)
+            self._token = session.liveliness().declare_token(alive_key(namespace, NAME))
+        except BaseException:  # leave nothing half-started: close the file
+            self.stop()
+            raise
+        log.info("recording %s to %s", ", ".join(self.keys), self.sink.paths[0])
+        return self
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        """Time-stamp and queue a sample of a recorded key (Zenoh's thread)."""
+        received = time.time_ns()
+        if sample.kind != zenoh.SampleKind.PUT:
+            return
+        if not any(expr.intersects(sample.key_expr) for expr in self._exprs):
+            return
+        self.sink.put(
+            Incoming(
+                str(sample.key_expr),
+                sample.payload.to_bytes(),
+                str(sample.encoding),
+                log_time_of(sample, received),
+                received,
+            )
+        )
+
+    def stop(self) -> list[Path]:
+        """Withdraw the token and subscriptions, write out the rest, close.
+
+        Returns:
+            The files written, in order.
+        """
+        if self._token is not None:
+            self._token.undeclare()  # type: ignore[no-untyped-call]
+            self._token = None
+        if self._subscriber is not None:
+            self._subscriber.undeclare()  # type: ignore[no-untyped-call]
+            self._subscriber = None
+        paths = self.sink.stop()
+        log.info(
+            "recorder stopped: %d messages in %s",
+            self.sink.written,
+            ", ".join(map(str, paths)),
+        )
+        return paths
+
+    def __enter__(self) -> Recorder:
+        return self.start()
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.stop()

@@ -1,0 +1,167 @@
+"""The recorder's writer: received samples in, MCAP files out, on one thread.
+
+Zenoh calls the recorder from its own threads; they only time-stamp each
+sample and queue it (:meth:`RecordingSink.put` never blocks). One writer
+thread takes the samples in arrival order, gives each its channel
+(``routing.route``), writes it and its derived Foxglove messages, and
+flushes the file to the OS at least every ``flush_every`` seconds, also
+when no message comes. :meth:`RecordingSink.stop` writes what is still
+queued, then closes the file with its summary.
+"""
+
+from __future__ import annotations
+
+import logging
+import queue
+import threading
+import time
+from pathlib import Path
+
+from services.recorder.options import RecorderOptions
+from services.recorder.routing import Entry, Incoming, route
+from shared.recording.foxglove import FoxgloveChannels, description_message
+from shared.recording.metadata import ARMPLAN_METADATA
+from shared.recording.rotation import RotatingWriter
+from shared.recording.writer import MessageWriter
+
+log = logging.getLogger("armplan.recorder")
+#: Longest wait for the writer thread to write the queue out when stopping [s].
+STOP_TIMEOUT = 30.0
+
+
+class RecordingSink:
+    """Writes received samples to a (rotating) live MCAP recording.
+
+    Args:
+        options: What to record and how.
+        namespace: The bus namespace (topics are looked up relative to it).
+
+    Attributes:
+        received: Samples queued so far.
+        written: Samples written so far (derived messages not counted).
+        failed: Samples that could not be written (logged).
+    """
+
+    def __init__(self, options: RecorderOptions, namespace: str) -> None:
+        self.options = options
+        self.namespace = namespace
+        self.received = 0
+        self.written = 0
+        self.failed = 0
+        self._queue: queue.SimpleQueue[Incoming | None] = queue.SimpleQueue()
+        self._files = RotatingWriter(
+            options.output, options.rotation, self._on_open, options.flush_every
+        )
+        self._foxglove = (
+            FoxgloveChannels(options.planned_prefix, options.executed_prefix)
+            if options.foxglove
+            else None
+        )
+        self._thread = threading.Thread(
+            target=self._run, name="recorder-writer", daemon=True
+        )
+
+    @property
+    def paths(self) -> list[Path]:
+        """The files written so far, in order."""
+        return list(self._files.paths)
+
+    def start(self) -> RecordingSink:
+        """Create the first file and start the writer thread.
+
+        Raises:
+            RecordingError: if the file cannot be created.
+        """
+        self._files.open()
+        self._thread.start()
+        return self
+
+    def put(self, sample: Incoming) -> None:
+        """Queue one received sample (never blocks; any thread)."""
+        self.received += 1
+        self._queue.put(sample)
+
+    def stop(self, timeout: float = STOP_TIMEOUT) -> list[Path]:
+        """Write out the queue, close the file with its summary; the files written."""
+        if self._thread.is_alive():
+            self._queue.put(None)
+            self._thread.join(timeout)
+            if self._thread.is_alive():
+                log.error("recorder: writer still busy after %.0f s", timeout)
+        if not self._thread.is_alive():
+            self._files.close()
+        return self.paths
+
+    def _run(self) -> None:
+        """Write samples in arrival order until the stop sentinel.
+
+        Under traffic the live writer flushes on a write once ``flush_every``
+        has passed since its last flush; when no sample comes for half of it,
+        this flushes whatever is buffered.
+        """
+        while True:
+            try:
+                sample = self._queue.get(timeout=self.options.flush_every / 2)
+            except queue.Empty:
+                self._files.flush()
+                continue
+            if sample is None:
+                return
+            self._write(sample)
+
+    def _write(self, sample: Incoming) -> None:
+        try:
+            entry = route(sample, self.namespace)
+            self._files.write(
+                entry.topic,
+                entry.schema_name,
+                entry.schema,
+                entry.data,
+                sample.log_time,
+                sample.publish_time,
+            )
+            self.written += 1
+        except Exception:  # a writer keeps writing: log, count, go on
+            self.failed += 1
+            log.exception("recorder: could not write a sample of %s", sample.key)
+            return
+        self._derive(entry, sample)
+
+    def _derive(self, entry: Entry, sample: Incoming) -> None:
+        if self._foxglove is None or entry.message is None:
+            return
+        try:
+            derived = self._foxglove.derive(entry.message, sample.log_time)
+        except KeyError as missing:
+            log.warning(
+                "recorder: %s lacks joint %s; no Foxglove poses", entry.topic, missing
+            )
+            return
+        for d in derived:
+            self._files.write(
+                d.topic,
+                d.schema_name,
+                d.schema,
+                d.data,
+                d.log_time,
+                sample.publish_time,
+            )
+
+    def _on_open(self, writer: MessageWriter, number: int) -> None:
+        """Start a file: the recorder's metadata, then the robot description."""
+        now = time.time_ns()
+        writer.add_metadata(
+            ARMPLAN_METADATA,
+            {
+                "namespace": self.namespace,
+                "keys": ",".join(self.options.keys),
+                "part": str(number),
+                "started_ns": str(now),
+                "log_time": "zenoh timestamp of the sample, else its receipt time",
+            },
+        )
+        if self._foxglove is not None:
+            d = description_message(now)
+            channel = writer.add_channel(d.topic, d.schema_name, d.schema)
+            writer.write_raw(channel, d.data, d.log_time, d.log_time)
+        writer.flush()

@@ -1,0 +1,110 @@
+"""The arm's link poses, link by link, from the robot file's kinematics.
+
+One transform per joint of the robot description, parent link to child link,
+exactly as a URDF viewer chains them: ``torso -> RShoulder -> RBicep ->
+RElbow -> RForeArm -> r_wrist -> r_gripper`` (right arm; ``L...``/``l_...``
+for the left). Each is the joint's origin followed by its rotation by the
+joint angle, read from pinocchio (``data.liMi``) after forward kinematics of
+the model ``shared.robot`` loads from the URDF, so chaining them gives the
+arm's forward kinematics (``ArmModel.fk``). The gripper's transform is its
+fixed placement on the wrist (the hand's open fraction does not move it).
+"""
+
+from __future__ import annotations
+
+from functools import cache
+from typing import NamedTuple
+
+import numpy as np
+import numpy.typing as npt
+import pinocchio as pin
+
+from shared.robot import ArmModel, Side, load_arm
+
+#: The robot description's root link (NAOqi's FRAME_TORSO).
+ROOT_LINK = "torso"
+
+
+class LinkTransform(NamedTuple):
+    """The pose of one link in its parent link.
+
+    Attributes:
+        parent: Parent link name, e.g. ``"torso"``.
+        child: Child link name, e.g. ``"RShoulder"``.
+        translation: Child origin in the parent frame [m], shape (3,).
+        rotation: Child orientation as a unit quaternion (x, y, z, w), shape (4,).
+    """
+
+    parent: str
+    child: str
+    translation: np.ndarray
+    rotation: np.ndarray
+
+
+class _Chain(NamedTuple):
+    """The link names and frame ids of one arm's chain in its pinocchio model."""
+
+    links: tuple[str, ...]
+    hand_frame: int
+
+
+def _body_of_joint(model: pin.Model, joint: int) -> str:
+    """The link (BODY frame) that joint ``joint`` moves, at the joint's origin."""
+    for frame in model.frames:
+        if (
+            frame.type == pin.FrameType.BODY
+            and frame.parentJoint == joint
+            and frame.placement.isIdentity()
+        ):
+            return str(frame.name)
+    raise LookupError(f"no link at the origin of joint {model.names[joint]}")
+
+
+@cache
+def _chain(side: Side) -> _Chain:
+    arm = load_arm(side)
+    model = arm.model
+    links = tuple(_body_of_joint(model, j) for j in range(model.njoints))
+    gripper = ("r" if side is Side.RIGHT else "l") + "_gripper"
+    return _Chain((*links, gripper), model.getFrameId(gripper))
+
+
+def arm_links(side: Side | str) -> tuple[str, ...]:
+    """The arm's link names, root first, e.g. ``("torso", "RShoulder", ...)``."""
+    return _chain(Side.parse(side)).links
+
+
+def quaternion_from_matrix(rotation: npt.ArrayLike) -> np.ndarray:
+    """Unit quaternion (x, y, z, w) with w >= 0 of a rotation matrix (3, 3)."""
+    q = pin.Quaternion(np.asarray(rotation, dtype=float)).coeffs().copy()
+    return -q if q[3] < 0 else q
+
+
+def link_transforms(arm: ArmModel, q: npt.ArrayLike) -> list[LinkTransform]:
+    """Every link's pose in its parent for joint angles ``q``.
+
+    Args:
+        arm: The arm (its pinocchio data buffer is used; not thread-safe).
+        q: Joint angles [rad], shape (5,), in the paper's order.
+
+    Returns:
+        Six transforms, root first: five joints, then the gripper.
+    """
+    chain = _chain(arm.side)
+    pin.forwardKinematics(arm.model, arm.data, np.asarray(q, dtype=float))
+    out = []
+    for joint in range(1, arm.model.njoints):
+        pose = arm.data.liMi[joint]
+        out.append(_transform(chain.links[joint - 1], chain.links[joint], pose))
+    hand = arm.model.frames[chain.hand_frame].placement
+    out.append(_transform(chain.links[-2], chain.links[-1], hand))
+    return out
+
+
+def _transform(parent: str, child: str, pose: pin.SE3) -> LinkTransform:
+    return LinkTransform(
+        parent,
+        child,
+        np.array(pose.translation, dtype=float),
+        quaternion_from_matrix(pose.rotation),
+    )

@@ -1,0 +1,85 @@
+"""The primitive decision per moment, as a channel Foxglove's Plot panel draws.
+
+One :class:`PrimitiveSample` per path point: the winning primitive's name,
+its number in Table 1's order (``index``, 0..9, a plottable step curve) and
+every candidate's accumulated mutual information g. Foxglove message paths
+cannot name a key with spaces, so ``g`` is keyed by the primitive's name with
+spaces replaced by ``_`` (``"S_R E_P W_P"`` -> ``S_R_E_P_W_P``): plot
+``/decision.index`` and ``/decision.g.S_R_E_P_W_P``.
+"""
+
+from __future__ import annotations
+
+from pydantic import Field
+
+from shared.messages import Decision, Message, Trajectory
+from shared.primitives import PRIMITIVES
+
+_NS_PER_S = 1_000_000_000
+#: Primitive names in Table 1's order; a sample's ``index`` points into it.
+PRIMITIVE_NAMES: tuple[str, ...] = tuple(p.name for p in PRIMITIVES)
+
+
+class PrimitiveSample(Message):
+    """The primitive that drives the arm at one moment.
+
+    Attributes:
+        time: Time of the path point from the path's start [s].
+        primitive: The winner's name, e.g. ``"S_R E_P W_P"``.
+        index: Its position in Table 1's order (0..9); -1 if unknown.
+        g: Accumulated mutual information of each candidate [nat], keyed by
+            the name with ``_`` for spaces (empty when only labels are known).
+    """
+
+    time: float
+    primitive: str
+    index: int = Field(ge=-1)
+    g: dict[str, float] = Field(default_factory=dict)
+
+
+def plot_key(name: str) -> str:
+    """``name`` as a key Foxglove's message paths accept (spaces to ``_``)."""
+    return name.replace(" ", "_")
+
+
+def primitive_index(name: str) -> int:
+    """Position of primitive ``name`` in Table 1's order; -1 if unknown."""
+    return PRIMITIVE_NAMES.index(name) if name in PRIMITIVE_NAMES else -1
+
+
+def decision_samples(
+    decision: Decision, start: int
+) -> list[tuple[int, PrimitiveSample]]:
+    """(log time [ns], sample) per path point of ``decision``.
+
+    Args:
+        decision: The motion decision.
+        start: When its first point applies [ns since the epoch].
+    """
+    t0 = decision.times[0]
+    return [
+        (
+            start + round((t - t0) * _NS_PER_S),
+            PrimitiveSample(
+                time=t,
+                primitive=point.primitive,
+                index=primitive_index(point.primitive),
+                g={plot_key(name): value for name, value in point.g.items()},
+            ),
+        )
+        for t, point in zip(decision.times, decision.points, strict=True)
+    ]
+
+
+def trajectory_samples(
+    trajectory: Trajectory, start: int
+) -> list[tuple[int, PrimitiveSample]]:
+    """(log time [ns], sample) per trajectory sample, from its primitive labels."""
+    t0 = trajectory.times[0]
+    return [
+        (
+            start + round((t - t0) * _NS_PER_S),
+            PrimitiveSample(time=t, primitive=label, index=primitive_index(label)),
+        )
+        for t, label in zip(trajectory.times, trajectory.primitives, strict=True)
+    ]

@@ -1,0 +1,117 @@
+"""What a recording holds, channel by channel: counts, time ranges, validity.
+
+Unlike :func:`~shared.recording.reader.summarize` (one row per topic), a
+channel here is a topic *and* its schema: the recorder may give a topic a
+typed channel and a schemaless ``"json"`` one for payloads that did not parse.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from shared.recording.metadata import read_metadata
+from shared.recording.reader import Recording
+from shared.recording.validation import check_record
+
+
+@dataclass
+class ChannelStats:
+    """One channel of a recording.
+
+    Attributes:
+        topic: Its topic.
+        schema: Its schema name ("" if none).
+        count: Messages read.
+        first: Earliest log time [ns since the epoch].
+        last: Latest log time [ns since the epoch].
+        invalid: Messages that do not match the schema (if checked).
+    """
+
+    topic: str
+    schema: str
+    count: int = 0
+    first: int = 0
+    last: int = 0
+    invalid: int = 0
+
+    @property
+    def duration(self) -> float:
+        """Time from the first to the last message [s]."""
+        return (self.last - self.first) / 1e9
+
+
+@dataclass
+class Inventory:
+    """What a recording holds.
+
+    Attributes:
+        path: The file.
+        channels: Its channels, in order of first appearance.
+        damage: What stopped the reading early (``None``: read whole).
+        metadata: Its metadata records by name.
+        problems: The first few schema problems found (if checked).
+    """
+
+    path: Path
+    channels: list[ChannelStats] = field(default_factory=list)
+    damage: str | None = None
+    metadata: dict[str, dict[str, str]] = field(default_factory=dict)
+    problems: list[str] = field(default_factory=list)
+
+    @property
+    def count(self) -> int:
+        """Messages read."""
+        return sum(c.count for c in self.channels)
+
+    @property
+    def first(self) -> int | None:
+        """Earliest log time [ns], ``None`` if there is no message."""
+        return min((c.first for c in self.channels), default=None)
+
+    @property
+    def last(self) -> int | None:
+        """Latest log time [ns], ``None`` if there is no message."""
+        return max((c.last for c in self.channels), default=None)
+
+
+#: Schema problems kept as examples in an inventory.
+MAX_PROBLEMS = 10
+
+
+def take_inventory(
+    path: str | Path, *, recover: bool = False, validate: bool = False
+) -> Inventory:
+    """Read every message of ``path`` and count it per channel.
+
+    Args:
+        path: An MCAP file.
+        recover: On damage, keep what was read before it instead of raising.
+        validate: Check each message against its channel's schema.
+
+    Raises:
+        RecordingError: if the file is missing, empty, not MCAP, or damaged
+            (without ``recover``); it says how many messages were readable.
+    """
+    recording = Recording(path)
+    inventory = Inventory(Path(path), metadata=read_metadata(path))
+    channels: dict[tuple[str, str], ChannelStats] = {}
+    for record in recording:
+        key = (record.topic, record.schema)
+        stats = channels.get(key)
+        if stats is None:
+            stats = channels[key] = ChannelStats(
+                *key, 0, record.log_time, record.log_time
+            )
+            inventory.channels.append(stats)
+        stats.count += 1
+        stats.first = min(stats.first, record.log_time)
+        stats.last = max(stats.last, record.log_time)
+        problem = check_record(record) if validate else None
+        if problem is not None:
+            stats.invalid += 1
+            if len(inventory.problems) < MAX_PROBLEMS:
+                inventory.problems.append(problem)
+    recording.check(recover)
+    inventory.damage = recording.damage
+    return inventory

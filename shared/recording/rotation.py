@@ -1,0 +1,177 @@
+"""A live MCAP recording split into numbered files by size or by duration.
+
+Without a limit the recording is one file, exactly the path given. With a
+size or duration limit it is ``<stem>-0001.mcap``, ``<stem>-0002.mcap``, ...
+beside that path: when the current file has reached ``max_bytes`` or has been
+open for ``max_seconds``, it is closed properly (its summary written) and
+the next message starts the next file. Every file is complete on its own:
+the ``on_open`` hook writes what each file needs first (metadata, the robot
+description), and channels and schemas are registered again in each file.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from shared.errors import InvalidInputError
+from shared.recording.writer import MessageWriter
+
+#: Default longest time between flushes of a live file [s].
+FLUSH_EVERY = 0.2
+
+
+@dataclass(frozen=True)
+class RotationPolicy:
+    """When to start a new file.
+
+    Attributes:
+        max_bytes: Start a new file once the current one holds this much
+            [bytes]; ``None`` for no size limit.
+        max_seconds: Start a new file once the current one has been open this
+            long [s]; ``None`` for no time limit.
+    """
+
+    max_bytes: int | None = None
+    max_seconds: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.max_bytes is not None and self.max_bytes <= 0:
+            raise InvalidInputError(
+                f"rotation size must be positive, got {self.max_bytes} bytes",
+                field="max_bytes",
+            )
+        if self.max_seconds is not None and not self.max_seconds > 0:
+            raise InvalidInputError(
+                f"rotation duration must be positive, got {self.max_seconds} s",
+                field="max_seconds",
+            )
+
+    @property
+    def rotates(self) -> bool:
+        """Whether the recording may span several files."""
+        return self.max_bytes is not None or self.max_seconds is not None
+
+
+def part_path(path: Path, number: int) -> Path:
+    """The path of file ``number`` (1, 2, ...) of a rotating recording at ``path``.
+
+    Example: ``session.mcap``, 3 -> ``session-0003.mcap``.
+    """
+    return path.with_name(f"{path.stem}-{number:04d}{path.suffix or '.mcap'}")
+
+
+class RotatingWriter:
+    """Live-layout MCAP files, numbered, each closed with its summary.
+
+    Not thread-safe: one thread writes (the recorder's writer thread).
+
+    Args:
+        path: The recording's path (the file itself when nothing rotates).
+        policy: When to start a new file.
+        on_open: Called with each new file's writer and its number before
+            anything else is written to it.
+        flush_every: Longest time between flushes to the OS [s].
+
+    Attributes:
+        paths: Every file started so far, in order.
+    """
+
+    def __init__(
+        self,
+        path: str | Path,
+        policy: RotationPolicy | None = None,
+        on_open: Callable[[MessageWriter, int], None] | None = None,
+        flush_every: float = FLUSH_EVERY,
+    ) -> None:
+        self.path = Path(path)
+        self.policy = policy or RotationPolicy()
+        self.paths: list[Path] = []
+        self._on_open = on_open
+        self._flush_every = flush_every
+        self._writer: MessageWriter | None = None
+        self._opened = 0.0
+        self.closed = False
+
+    @property
+    def writer(self) -> MessageWriter:
+        """The current file's writer, opening the first (or next) file if needed."""
+        if self._writer is None or self._due():
+            self._next()
+        assert self._writer is not None
+        return self._writer
+
+    def open(self) -> RotatingWriter:
+        """Start the first file now (else the first message starts it)."""
+        if self._writer is None:
+            self._next()
+        return self
+
+    def _due(self) -> bool:
+        """Whether the current file has reached a limit."""
+        assert self._writer is not None
+        limit_bytes, limit_s = self.policy.max_bytes, self.policy.max_seconds
+        full = limit_bytes is not None and self._writer.size >= limit_bytes
+        old = limit_s is not None and time.monotonic() - self._opened >= limit_s
+        return full or old
+
+    def _next(self) -> None:
+        """Close the current file (if any) and open the next one."""
+        if self._writer is not None:
+            self._writer.close()
+        number = len(self.paths) + 1
+        path = part_path(self.path, number) if self.policy.rotates else self.path
+        self._writer = MessageWriter(path, chunked=False, flush_every=self._flush_every)
+        self._opened = time.monotonic()
+        self.paths.append(path)
+        if self._on_open is not None:
+            self._on_open(self._writer, number)
+
+    def write(
+        self,
+        topic: str,
+        schema_name: str,
+        schema: dict[str, Any],
+        data: bytes,
+        log_time: int,
+        publish_time: int,
+    ) -> None:
+        """Append one JSON message (rotating first if a limit was reached).
+
+        Args:
+            topic: Channel topic.
+            schema_name: Name of the channel's schema, e.g. ``"Trajectory"``.
+            schema: The JSON schema.
+            data: The message's JSON [UTF-8 bytes].
+            log_time: When the message was made [ns since the epoch].
+            publish_time: When it was received [ns since the epoch].
+        """
+        writer = self.writer
+        channel = writer.add_channel(topic, schema_name, schema)
+        writer.write_raw(channel, data, log_time, publish_time)
+
+    def flush(self) -> None:
+        """Push everything written so far to the OS."""
+        if self._writer is not None:
+            self._writer.flush()
+
+    def close(self) -> None:
+        """Close the current file with its summary. Safe to call twice."""
+        if self._writer is not None:
+            self._writer.close()
+        self.closed = True
+
+    def __enter__(self) -> RotatingWriter:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.close()

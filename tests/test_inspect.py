@@ -1,0 +1,137 @@
+"""``armplan inspect``: the summary of a recording, and clear errors on damage."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from armplan.cli.main import main
+from services.recorder.options import RecorderOptions
+from services.recorder.routing import Incoming
+from services.recorder.sink import RecordingSink
+from shared.messages import JointState
+from shared.recording.rotation import RotatingWriter
+from shared.robot import Side
+
+NS = "armplan"
+T0 = time.time_ns() + 10**9  # after the sink's start (its robot description)
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A recording: 30 joint states at 100 Hz and 3 unknown messages."""
+    out = tmp_path_factory.mktemp("inspect") / "session.mcap"
+    sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+    names = list(Side.RIGHT.joint_names)
+    for i in range(30):
+        state = JointState(time=i / 100, joint_names=names, positions=[0.1] * 5)
+        t = T0 + i * 10_000_000
+        sink.put(Incoming(f"{NS}/bridge/state", state.to_json().encode(), "", t, t))
+    for i in range(3):
+        t = T0 + i * 100_000_000
+        sink.put(Incoming(f"{NS}/misc/note", b'{"n": %d}' % i, "", t, t))
+    sink.stop()
+    return out
+
+
+def armplan(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+
+
+def test_the_table_lists_channels_counts_and_times(
+    session: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Every channel with its schema, count, start, duration and rate."""
+    assert main(["inspect", str(session), "--validate"]) == 0
+    out = capsys.readouterr().out
+    assert f"{session}: 64 messages on 4 channels, namespace armplan" in out
+    lines = {line.split()[0]: line for line in out.splitlines() if "│" in line}
+    state = lines["armplan/bridge/state"].split()[2::2]
+    assert state[0] == "JointState"
+    assert state[1:2] + state[3:] == ["30", "0.290", "100.0", "0"]
+    assert "foxglove.FrameTransforms" in lines["/tf/executed"]
+    assert "json" in lines["armplan/misc/note"]
+
+
+def test_json_output(session: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--json: the same facts, times in ns and s."""
+    assert main(["inspect", str(session), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["messages"] == 64
+    assert data["damage"] is None
+    assert data["metadata"]["armplan"]["namespace"] == NS
+    by_topic = {c["topic"]: c for c in data["channels"]}
+    assert by_topic["armplan/bridge/state"]["messages"] == 30
+    assert by_topic["armplan/bridge/state"]["start_ns"] == T0
+    assert by_topic["armplan/bridge/state"]["duration"] == pytest.approx(0.29)
+    assert by_topic["/robot_description"]["schema"] == "RobotDescription"
+
+
+def test_a_truncated_file_is_an_error_or_with_recover_its_prefix(
+    session: Path, tmp_path: Path
+) -> None:
+    """Exit 1 with 'armplan: error:' and no traceback; --recover shows the prefix."""
+    cut = tmp_path / "cut.mcap"
+    data = session.read_bytes()
+    cut.write_bytes(data[: data.index(b'{"n": 1}') + 4])
+    out = armplan("inspect", str(cut))
+    assert out.returncode == 1
+    assert out.stderr.startswith(f"armplan: error: {cut} is damaged after ")
+    assert "armplan inspect --recover" in out.stderr
+    assert "Traceback" not in out.stderr
+    out = armplan("inspect", str(cut), "--recover", "--json")
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert data["damage"] is not None
+    counts = {c["topic"]: c["messages"] for c in data["channels"]}
+    assert counts["armplan/bridge/state"] == 30
+    assert counts["armplan/misc/note"] == 1
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda p: None, "no such file"),
+        (lambda p: p.write_bytes(b""), "is empty, not an MCAP file"),
+        (lambda p: p.write_text("not a recording\n" * 10), "is not an MCAP file"),
+        (lambda p: p.mkdir(), "is a folder, not an MCAP file"),
+    ],
+)
+def test_files_that_are_not_recordings(
+    tmp_path: Path, make: object, message: str
+) -> None:
+    """Exit 1, 'armplan: error:' naming the file, even with --recover."""
+    path = tmp_path / "x.mcap"
+    make(path)  # type: ignore[operator]
+    for extra in ([], ["--recover"]):
+        out = armplan("inspect", str(path), *extra)
+        assert out.returncode == 1
+        assert out.stderr.startswith("armplan: error:")
+        assert message in out.stderr
+        assert "Traceback" not in out.stderr
+
+
+def test_validate_reports_a_message_that_does_not_match_its_schema(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A typed channel holding a non-matching message: exit 1 naming it."""
+    path = tmp_path / "bad.mcap"
+    with RotatingWriter(path) as writer:
+        schema = JointState.json_schema()
+        writer.write("armplan/bridge/state", "JointState", schema, b'{"time": 0}', 1, 1)
+    assert main(["inspect", str(path)]) == 0  # without --validate: just counted
+    assert main(["inspect", str(path), "--validate"]) == 1
+    err = capsys.readouterr().err
+    assert "1 messages do not match their channel's schema" in err
+    assert "armplan/bridge/state (JointState): joint_names: Field required" in err

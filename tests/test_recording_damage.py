@@ -1,0 +1,142 @@
+"""Damaged MCAP files: a clear RecordingError or the readable prefix, nothing else.
+
+Every truncation length of a small live file and of a chunked one, and
+seeded random corruption, is read back: without ``recover`` the reader
+returns every message or raises ``RecordingError``; with ``recover`` it
+returns a prefix of the messages written. Any other exception fails.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from shared.errors import RecordingError
+from shared.messages import PlanRequest, ReachTarget
+from shared.recording import MessageWriter, read_records
+from shared.recording.inventory import take_inventory
+from shared.recording.metadata import read_metadata
+from shared.recording.reader import Recording
+
+N = 12
+
+
+def write(path: Path, chunked: bool) -> list[bytes]:
+    """N PlanRequests on one topic; returns their JSON bytes."""
+    messages = [
+        PlanRequest(targets=[ReachTarget(position=(0.1, -0.1, 0.01 * i))])
+        for i in range(N)
+    ]
+    with MessageWriter(path, chunked=chunked) as writer:
+        writer.add_metadata("armplan", {"namespace": "armplan"})
+        for i, m in enumerate(messages):
+            writer.write("armplan/plan/request", m, log_time=i, publish_time=i)
+    return [m.to_json().encode() for m in messages]
+
+
+def read(path: Path, recover: bool) -> list[bytes] | RecordingError:
+    try:
+        return [r.raw for r in read_records(path, recover=recover)]
+    except RecordingError as error:
+        return error
+
+
+@pytest.fixture(params=[False, True], ids=["live", "chunked"])
+def original(
+    request: pytest.FixtureRequest, tmp_path: Path
+) -> tuple[bytes, list[bytes]]:
+    path = tmp_path / "whole.mcap"
+    messages = write(path, chunked=request.param)
+    return path.read_bytes(), messages
+
+
+@pytest.mark.timeout(120)
+def test_every_truncation_reads_a_prefix_or_fails_clearly(
+    original: tuple[bytes, list[bytes]], tmp_path: Path
+) -> None:
+    """Cut at every byte: a prefix with recover, else all of it or RecordingError."""
+    data, messages = original
+    path = tmp_path / "cut.mcap"
+    for length in range(1, len(data)):
+        path.write_bytes(data[:length])
+        if length % 7 == 0:  # the public functions, on a sample of the lengths
+            recovered = read(path, recover=True)
+            strict = read(path, recover=False)
+            assert isinstance(strict, RecordingError) or strict == messages
+            read_metadata(path)  # never raises on damage
+        recording = Recording(path)
+        got = [r.raw for r in recording]
+        assert got == messages[: len(got)], length
+        if recording.damage is None:
+            assert got == messages, length
+        else:
+            error = recording.error()
+            assert error.readable == len(got), length
+            assert str(path) in error.message
+        if length % 7 == 0 and not isinstance(recovered, RecordingError):
+            assert recovered == got
+
+
+@pytest.mark.timeout(120)
+def test_random_corruption_never_escapes_as_another_exception(
+    original: tuple[bytes, list[bytes]], tmp_path: Path
+) -> None:
+    """Flipped bytes: messages or RecordingError, never a traceback."""
+    data, messages = original
+    rng = np.random.default_rng(7)
+    path = tmp_path / "bad.mcap"
+    for _ in range(300):
+        damaged = bytearray(data)
+        for at in rng.integers(0, len(data), size=rng.integers(1, 4)):
+            damaged[at] = int(rng.integers(0, 256))
+        path.write_bytes(bytes(damaged))
+        for recover in (True, False):
+            result = read(path, recover)
+            assert isinstance(result, (list, RecordingError))
+            if isinstance(result, list):
+                assert len(result) <= len(messages)
+        with contextlib.suppress(RecordingError):
+            take_inventory(path, recover=True, validate=True)
+
+
+def test_a_killed_writer_leaves_a_readable_prefix(tmp_path: Path) -> None:
+    """A live file never closed (no summary) is damaged after all its messages."""
+    path = tmp_path / "killed.mcap"
+    writer = MessageWriter(path, chunked=False)
+    for i in range(5):
+        writer.write("t", ReachTarget(position=(0.0, 0.0, i)), log_time=i)
+    writer.flush()
+    with pytest.raises(RecordingError, match="damaged after 5 readable messages"):
+        list(read_records(path))
+    assert len(list(read_records(path, recover=True))) == 5
+    writer.close()
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (None, "no such file"),
+        (b"", "is empty, not an MCAP file"),
+        (b"hello, this is text\n" * 20, "is not an MCAP file"),
+    ],
+)
+def test_files_that_are_not_recordings(
+    tmp_path: Path, content: bytes | None, message: str
+) -> None:
+    """Missing, empty and non-MCAP files name the file and the problem."""
+    path = tmp_path / "x.mcap"
+    if content is not None:
+        path.write_bytes(content)
+    with pytest.raises(RecordingError, match=message):
+        list(read_records(path))
+    with pytest.raises(RecordingError, match=message):
+        take_inventory(path, recover=True)
+
+
+def test_a_folder_is_not_a_recording(tmp_path: Path) -> None:
+    """A directory path is refused with a clear message."""
+    with pytest.raises(RecordingError, match="is a folder, not an MCAP file"):
+        list(read_records(tmp_path))

@@ -1,0 +1,93 @@
+"""Rotating live recordings: numbered files, each complete, nothing lost."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+from mcap.reader import make_reader
+
+from shared.errors import InvalidInputError
+from shared.recording import read_records
+from shared.recording.rotation import RotatingWriter, RotationPolicy, part_path
+from shared.recording.writer import MessageWriter
+
+SCHEMA = {"type": "object"}
+
+
+def payload(i: int) -> bytes:
+    return b'{"i":%d,"pad":"%s"}' % (i, b"x" * 100)
+
+
+def read_all(paths: list[Path]) -> list[int]:
+    return [r.data["i"] for p in paths for r in read_records(p) if r.topic == "t"]
+
+
+def has_summary(path: Path) -> bool:
+    with path.open("rb") as stream:
+        return make_reader(stream).get_summary() is not None
+
+
+def test_no_limit_writes_exactly_the_path(tmp_path: Path) -> None:
+    """Without a limit, one file at the path given."""
+    path = tmp_path / "s.mcap"
+    with RotatingWriter(path) as writer:
+        for i in range(10):
+            writer.write("t", "json", SCHEMA, payload(i), i, i)
+    assert writer.paths == [path]
+    assert read_all([path]) == list(range(10))
+
+
+def test_size_rotation_numbers_files_and_keeps_every_message(tmp_path: Path) -> None:
+    """Files hold about max_bytes each; together every message, in order."""
+    opened: list[int] = []
+
+    def on_open(writer: MessageWriter, number: int) -> None:
+        opened.append(number)
+        writer.add_metadata("armplan", {"part": str(number)})
+
+    path = tmp_path / "s.mcap"
+    with RotatingWriter(path, RotationPolicy(max_bytes=2000), on_open) as writer:
+        for i in range(60):
+            writer.write("t", "json", SCHEMA, payload(i), i, i)
+    assert len(writer.paths) > 2
+    assert writer.paths == [part_path(path, n) for n in range(1, len(opened) + 1)]
+    assert writer.paths[0].name == "s-0001.mcap"
+    assert opened == list(range(1, len(writer.paths) + 1))
+    assert read_all(writer.paths) == list(range(60))
+    for p in writer.paths:
+        assert has_summary(p), p
+        assert p.stat().st_size < 2000 + 2000  # the limit plus one message and summary
+
+
+def test_duration_rotation(tmp_path: Path) -> None:
+    """A file open for max_seconds is closed before the next message."""
+    path = tmp_path / "s.mcap"
+    with RotatingWriter(path, RotationPolicy(max_seconds=0.05)) as writer:
+        for i in range(6):
+            writer.write("t", "json", SCHEMA, payload(i), i, i)
+            time.sleep(0.03)
+    assert 2 <= len(writer.paths) <= 6
+    assert read_all(writer.paths) == list(range(6))
+
+
+def test_open_creates_the_first_file_before_any_message(tmp_path: Path) -> None:
+    """An idle recording still leaves a valid (empty) file."""
+    path = tmp_path / "s.mcap"
+    with RotatingWriter(path).open():
+        assert path.exists()
+    assert list(read_records(path)) == []
+
+
+@pytest.mark.parametrize(
+    ("policy", "message"),
+    [
+        ({"max_bytes": 0}, "rotation size must be positive, got 0 bytes"),
+        ({"max_seconds": -1.0}, "rotation duration must be positive, got -1.0 s"),
+    ],
+)
+def test_a_bad_limit_is_refused(policy: dict[str, float], message: str) -> None:
+    """Non-positive limits raise InvalidInputError naming the value."""
+    with pytest.raises(InvalidInputError, match=message):
+        RotationPolicy(**policy)  # type: ignore[arg-type]
