@@ -57,6 +57,7 @@ class MessageWriter:
         self._writer.start(profile=PROFILE, library="armplan")
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
+        self._typed: dict[tuple[str, type[Message]], int] = {}
         self._typed_channels: dict[tuple[str, str], int] = {}
         self._chunked = chunked
         self._flush_every = flush_every
@@ -117,9 +118,15 @@ class MessageWriter:
             log_time: When the message was made [ns since the epoch].
             publish_time: When it was received [ns]; defaults to ``log_time``.
         """
-        cls = type(message)
-        channel = self.channel_id(topic, cls.__name__, cls.json_schema())
+        channel = self._channel_for(topic, type(message))
         self.write_raw(channel, message.to_json().encode(), log_time, publish_time)
+
+    def _channel_for(self, topic: str, cls: type[Message]) -> int:
+        """The channel of ``topic`` for messages of ``cls`` (schema built once)."""
+        key = (topic, cls)
+        if key not in self._typed:
+            self._typed[key] = self.channel_id(topic, cls.__name__, cls.json_schema())
+        return self._typed[key]
 
     def write_raw(
         self, channel: int, data: bytes, log_time: int, publish_time: int | None = None
