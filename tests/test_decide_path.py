@@ -5,8 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from services.decide.decider import CANDIDATES
-from services.decide.path import decide_path, decide_wrist_path
+from services.decide.decider import CANDIDATES, Choice
+from services.decide.path import (
+    HOLD,
+    SETTLE,
+    TAIL,
+    Settling,
+    decide_path,
+    decide_wrist_path,
+)
 from services.fit import MotionModel, default_model
 from services.ik.track import track_path
 from services.planner.wrist_path import reach_path
@@ -35,10 +42,15 @@ def test_decision_names_matrix_and_every_g(arm: ArmModel, model: MotionModel) ->
     decision, tracked = decide_path(model, arm, positions, rest(arm.side), times=times)
     assert len(decision.points) == len(positions) == len(tracked.q)
     assert parse(Decision, decision.to_json()) == decision
-    for point in decision.points:
+    held = 0
+    for before, point in zip([None, *decision.points], decision.points, strict=False):
         assert point.matrix == BY_NAME[point.primitive].matrix
         assert list(point.g) == list(CANDIDATES)
-        assert point.g[point.primitive] == max(point.g.values())
+        leader = max(point.g, key=lambda name: point.g[name])
+        if point.g[point.primitive] < point.g[leader]:  # settling: the one in use holds
+            assert before is not None and before.primitive == point.primitive
+            held += 1
+    assert held < len(decision.points) // 2
     assert decision.primitives[0] == "S_R E_P W_P"
     assert np.linalg.norm(tracked.wrist[-1] - positions[-1]) < 1e-5
 
@@ -99,3 +111,44 @@ def test_slower_sampling_still_decides_every_point(model: MotionModel) -> None:
     decision, _ = decide_path(model, arm, path.positions, start, times=path.times)
     assert len(decision.points) == len(path.times)
     assert set(decision.primitives) <= set(model.primitives)
+
+
+def _settled(indices: list[int], left: float = 1.0) -> list[int]:
+    """The primitives Settling keeps for raw winners 10 ms apart on a line."""
+    times = np.arange(len(indices)) * 0.01
+    positions = np.zeros((len(indices), 3))
+    positions[:, 0] = np.linspace(left, 0.0, len(indices))
+    settle = Settling(times, positions)
+    kept: list[Choice] = []
+    for k, index in enumerate(indices):
+        raw = Choice(index, index, (0.0,) * len(CANDIDATES))
+        kept.append(settle(k, raw, kept[-1] if kept else None))
+    return [c.index for c in kept]
+
+
+def test_settling_ignores_flips_shorter_than_settle() -> None:
+    """A challenger winning less than SETTLE in a row never takes over."""
+    steps = round(SETTLE / 0.01)
+    flicker = [0] * 20 + ([1] * (steps - 1) + [0]) * 3 + [0] * 10
+    assert _settled(flicker) == [0] * len(flicker)
+    lasting = [0] * 20 + [1] * 30
+    kept = _settled(lasting)
+    assert kept[:20] == [0] * 20 and kept[-1] == 1
+    assert kept.index(1) == 20 + steps - 1  # takes over on its SETTLE-th win
+
+
+def test_settling_holds_each_primitive_and_never_returns() -> None:
+    """A new primitive drives HOLD at least; a finished one does not come back."""
+    raw = [0] * 20 + [1] * 30 + [0] * 30 + [2] * 30
+    kept = _settled(raw)
+    first_1, first_2 = kept.index(1), kept.index(2)
+    assert 0 not in kept[first_1:]  # 0 handed over: it is not taken back
+    assert (first_2 - first_1) * 0.01 >= HOLD - 1e-9
+    assert _settled([0] * 20 + [1] * 2 + [2] * 30)[-1] == 2
+
+
+def test_settling_keeps_the_primitive_near_the_goal() -> None:
+    """Within TAIL of the goal no new primitive starts."""
+    n = 50
+    left = TAIL * 0.9  # the whole path is shorter than TAIL
+    assert _settled([0] * 10 + [1] * (n - 10), left) == [0] * n

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from services.ik.kernel import ChainState
-from services.ik.track import PROMOTE_AFTER, track_path
+from services.ik.track import track_path
 from services.planner.wrist_path import reach_path
 from shared.geometry import palm_normal
 from shared.messages import Method
@@ -68,15 +68,24 @@ def test_full_arm_primitive_follows_the_path_closely(arm: ArmModel) -> None:
     assert np.linalg.norm(tracked.wrist - path, axis=1).max() < 1e-4
 
 
-def test_straying_primitives_are_promoted_and_labelled(arm: ArmModel) -> None:
-    """A one-joint primitive that leaves the path by more than 5 mm hands the point
-    to the full-arm primitive, and the label says so."""
+def test_locked_joints_help_only_where_the_primitive_cannot(arm: ArmModel) -> None:
+    """A one-joint primitive (E_R W_P) keeps the wrist on any path: the locked
+    joints do what ElbowRoll cannot. On a path ElbowRoll alone makes, they
+    stay nearly still (with every joint free they would take ~18 %)."""
+    primitive = BY_NAME["E_R W_P"]
     path = _path(arm, GOALS[arm.side.value])
-    tracked = track_path(arm, path, rest(arm.side), lambda k, st: BY_NAME["E_R W_P"])
-    deviation = np.linalg.norm(tracked.wrist - path, axis=1)
-    assert "S_R E_PR W_P" in tracked.labels
-    assert deviation.max() < PROMOTE_AFTER + 0.01
-    assert deviation[-1] < 1e-6
+    tracked = track_path(arm, path, rest(arm.side), lambda k, st: primitive)
+    assert np.linalg.norm(tracked.wrist - path, axis=1).max() < 1e-4
+    assert set(tracked.labels) == {"E_R W_P"}
+    bend = arm.side.sign  # ElbowRoll bends the elbow this way
+    start = rest(arm.side).copy()
+    start[3] = (arm.limits.lower if bend > 0 else arm.limits.upper)[3] + bend * 0.3
+    postures = [start + np.eye(5)[3] * bend * 0.8 * s for s in np.linspace(0, 1, 101)]
+    own = np.array([arm.fk(q).wrist for q in postures])
+    alone = track_path(arm, own, start, lambda k, st: primitive)
+    travel = np.abs(np.diff(alone.q, axis=0)).sum(axis=0)
+    assert np.linalg.norm(alone.wrist - own, axis=1).max() < 1e-4
+    assert travel[[0, 1, 2, 4]].sum() < 0.03 * travel[3]
 
 
 def test_grasp_primitive_turns_the_palm(arm: ArmModel) -> None:

@@ -99,10 +99,14 @@ class Decider:
         self.elbow = _log(tables.elbow)
         self.wrist = _log(tables.wrist)
         self.wrist_any = _log(tables.wrist.sum(axis=3))
+        self._steps: dict[float, Decider] = {}
 
     def with_step(self, step: float) -> Decider:
-        """The same model for decisions ``step`` seconds apart [s]."""
-        return Decider(self.model, step)
+        """The same model for decisions ``step`` seconds apart [s] (compiled once)."""
+        key = round(float(step), 12)
+        if key not in self._steps:
+            self._steps[key] = Decider(self.model, step)
+        return self._steps[key]
 
     def states(self, values: tuple[float, ...]) -> tuple[int, int, int, int, int]:
         """The states of the five variables' values."""

@@ -29,6 +29,12 @@ from shared.robot.postures import rest
 
 #: Sample interval of a path given without times [s].
 DEFAULT_STEP = 0.01
+#: How long a new winner must win before it takes over [s] (see Settling).
+SETTLE = 0.05
+#: Shortest time a primitive drives the arm before another takes over [s].
+HOLD = 0.1
+#: Rest of the path within which no new primitive starts [m] (see Settling).
+TAIL = 0.005
 
 
 def decide_path(
@@ -66,18 +72,82 @@ def decide_path(
     size = DecidingArm.of(arm)
     wanted = None if palm is None else tuple(float(v) for v in palm)
     made: list[Choice] = []
+    settle = Settling(times, positions)
 
     def choose(k: int, kin: Kinematics) -> Primitive:
         previous = made[-1] if made else None
-        made.append(decide_point(decider, kin, target, size, wanted, previous))
+        raw = decide_point(decider, kin, target, size, wanted, previous)
+        made.append(settle(k, raw, previous))
         return BY_NAME[made[-1].name]
 
     tracked = track_path(arm, positions, start_q, choose, palm=palm)
-    for q in tracked.q[len(made) :]:  # a joint-space detour: no chooser calls
-        made.append(
-            decide_point(decider, arm.kinematics(q), target, size, wanted, made[-1])
-        )
+    for k in range(len(made), len(tracked.q)):  # a joint-space detour
+        kin = arm.kinematics(tracked.q[k])
+        raw = decide_point(decider, kin, target, size, wanted, made[-1])
+        made.append(settle(k, raw, made[-1]))
     return decision_message(arm, times, made), tracked
+
+
+class Settling:
+    """Along a path, when one primitive hands over to the next.
+
+    The motion variables are discretised (``services.fit.discretize``); where
+    one sits on a state's edge the winner of eq. 10 can flip back and forth
+    between neighbouring points, and each flip would start a sub-movement of
+    the arm lasting a few milliseconds, which no person makes. So, as in the
+    paper's Table 4 where each primitive of a reach occurs once, in order:
+
+        - a challenger takes over only after winning ``SETTLE`` [s] in a row,
+          and once the primitive in use has moved the arm ``HOLD`` [s] (a
+          person's sub-movements last at least about that long);
+        - a primitive that has handed over does not come back;
+        - within ``TAIL`` [m] of the goal (along the rest of the path) the
+          primitive in use finishes the movement.
+
+    The decision recorded at a point is the primitive in use there, with
+    every g as computed at that point, so a reader still sees who led.
+    """
+
+    def __init__(self, times: np.ndarray, positions: np.ndarray) -> None:
+        self.times = times
+        self.left = _length_left(positions)
+        self.challenger: int | None = None
+        self.since = 0.0
+        self.done: set[int] = set()
+        self.began = float(times[0])
+
+    def __call__(self, k: int, raw: Choice, previous: Choice | None) -> Choice:
+        if previous is None or raw.index == previous.index:
+            self.challenger = None
+            return raw
+        if raw.index in self.done or self.left[min(k, len(self.left) - 1)] < TAIL:
+            self.challenger = None
+            return _keep(previous, raw)
+        if raw.index != self.challenger:
+            self.challenger, self.since = raw.index, self.times[k]
+        now = self.times[k] + _step(self.times, k)
+        if now - self.since < SETTLE - 1e-9 or now - self.began < HOLD - 1e-9:
+            return _keep(previous, raw)
+        self.done.add(previous.index)
+        self.began = float(self.times[k])
+        self.challenger = None
+        return raw
+
+
+def _keep(previous: Choice, raw: Choice) -> Choice:
+    """The primitive in use, with this point's g."""
+    return Choice(previous.index, previous.state, raw.g)
+
+
+def _step(times: np.ndarray, k: int) -> float:
+    """Interval the decision at point k covers [s]."""
+    return float(times[k] - times[k - 1]) if 0 < k < len(times) else 0.0
+
+
+def _length_left(positions: np.ndarray) -> np.ndarray:
+    """Path length from each point to the end [m], shape (n,)."""
+    pieces = np.linalg.norm(np.diff(positions, axis=0), axis=1)
+    return np.concatenate([np.cumsum(pieces[::-1])[::-1], [0.0]])
 
 
 def decide_wrist_path(

@@ -8,7 +8,9 @@ shoulder) and a straight line between two points of it often cuts through
 the unreachable inside. It then iterates at the target until the task error
 and the projected gradient vanish, with a Barzilai-Borwein null-space gain.
 If the start's basin cannot reach the target (joint limits), it restarts from
-fixed, seeded postures and keeps the reaching solution of lowest H.
+fixed, seeded postures and keeps the reaching solution of lowest H. If H's
+pull keeps every start off the target, the task alone is solved (H = 0):
+a posture on the target is worth more than a lower H beside it.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import numpy as np
 
 from services.ik.gpm import gpm_step
 from services.ik.kernel.chain import Chain, ChainState, chain_for
-from services.ik.measures import Measure
+from services.ik.measures import Measure, NoMeasure
 from services.ik.task import WristTask
 from shared.robot.arm_model import ArmModel
 
@@ -74,12 +76,20 @@ def solve_gpm(
     if task_met(task, chain.state(q)):
         return np.array(q), iterations
     best, best_key = q, _score(task, measure, chain.state(q))
-    for seed in _seeds(chain, start, active):
+    seeds = _seeds(chain, start, active)
+    for seed in seeds:
         trial, spent = converge(chain, task, active, measure, seed)
         iterations += spent
         key = _score(task, measure, chain.state(trial))
         if key < best_key:
             best, best_key = trial, key
+    if best_key[0] > 0.0:  # H pulled every start off the target: reach it anyway
+        for seed in [[float(v) for v in start], *seeds]:
+            near = _approach(chain, task, active, NoMeasure(), seed)
+            trial, spent = converge(chain, task, active, NoMeasure(), near)
+            iterations += spent
+            if task_met(task, chain.state(trial)):
+                return np.array(trial), iterations
     return np.array(best), iterations
 
 

@@ -11,28 +11,35 @@ A primitive's measure is built when its phase starts (when the chosen
 primitive changes), from the posture there: H_G remembers where its elbow
 started and how far the wrist was from the goal (eq. 20-21).
 
+Each step is :func:`services.ik.weighted.weighted_step`: the primitive's
+active joints move freely and the others are ``LOCKED`` (weighted, not
+frozen), so the wrist stays on the path even where the primitive's own
+joints cannot follow it all (a shoulder swing cannot change the hand's
+distance from the shoulder); a locked joint then moves only in the part of
+the task the active ones cannot do. Joints near a limit give way smoothly.
+
 Smoothness (the joint path is later timed by Ruckig, and a person's joints
 start and stop with the hand):
     - The null-space gain at each point is proportional to how far the hand
       moves there, so self-motion follows the hand's bell-shaped speed and
       vanishes where the hand is at rest.
-    - Within ``MARGIN`` of a limit a joint's null-space motion slows down
-      smoothly, so it does not stop dead on the limit (see gpm.py). (A
-      limit-avoidance gradient in the null space was tried and made paths
-      rougher: it switches on and off at its band's edges.)
+    - A new primitive takes over across ``BLEND`` points (150 ms at 100 Hz):
+      each step there is the old phase's and the new one's, weighted by a
+      smoothstep, as a person's sub-movements overlap (Flash and Henis
+      1991). Over fewer points the joints' change of velocity at a switch
+      set the pace of the whole reach (measured on the 16 grid reaches:
+      5 points, 1.5 times the human duration; 15 points, 1.0 times).
     - Exactly one step per point: the small residual of each step is removed
       by the next one, a smooth recurrence. (Iterating only where the
       residual crossed a threshold made a sawtooth that was invisible in
       position but multiplied the jerk tenfold.)
     - At the goal only the wrist task is converged (no null-space jump).
 
-Where a primitive's joints cannot follow the path (a one-joint primitive off
-its circle, the shoulder swing off its sphere) the wrist leaves the path; if
-it strays more than ``PROMOTE_AFTER`` the point is moved by the full-arm
-primitive of the same task instead, and the label says so. If even the full
-arm cannot follow within its limits (more than ``DETOUR_AFTER`` off), the
-whole movement goes in joint space from the start to the goal posture solved
-by :func:`services.ik.solve`, and ``detour_from`` is 0.
+If the arm cannot follow the path within its limits (more than
+``DETOUR_AFTER`` off and still drifting away), or ends it more than
+``MISSED`` from the goal, the whole movement goes in joint space from the
+start to the goal posture solved by :func:`services.ik.solve`, and
+``detour_from`` is 0.
 """
 
 from __future__ import annotations
@@ -44,13 +51,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from services.ik.gpm import gpm_step
 from services.ik.iterate import converge
 from services.ik.kernel.chain import Chain, ChainState, chain_for
 from services.ik.measures import Measure, MeasureParams, NoMeasure
 from services.ik.measures import factory as measure_factory
 from services.ik.solver import solve
-from services.ik.task import WristTask, controls_radius
+from services.ik.task import WristTask
+from services.ik.weighted import LOCKED, weighted_step
 from shared.messages.method import Method
 from shared.primitives import FULL_GRASP, FULL_REACH, Primitive
 from shared.robot.arm_model import ArmModel
@@ -66,17 +73,18 @@ ALPHA = 1.0
 #: Largest joint change per path point by the task part [rad], and by the
 #: null-space part at a point where the hand moves its mean step [rad].
 MAX_STEP, MAX_NULL_STEP = 0.1, 0.01
-#: Joints moving towards a limit closer than this slow their null-space
-#: motion down smoothly [rad].
+#: Joints closer than this to a limit they move towards give way [rad].
 MARGIN = 0.2
-#: Distance from the path beyond which a point is moved by the full-arm primitive [m].
-PROMOTE_AFTER = 0.005
 #: Distance from the path beyond which the full arm gives up the path [m].
-DETOUR_AFTER = 0.01
+DETOUR_AFTER = 0.02
+#: Points over which a new phase takes over from the old one.
+BLEND = 15
 #: Largest wrist error at the goal before the full arm takes over there [m].
 ARRIVED = 1e-6
+#: Wrist error at the goal, after the full arm tried, beyond which the
+#: movement goes in joint space instead (a joint limit in the way) [m].
+MISSED = 1e-5
 ALL_JOINTS = (0, 1, 2, 3, 4)
-POSITION_JOINTS = {0, 1, 2, 3}
 
 
 class TrackedPath(NamedTuple):
@@ -106,13 +114,14 @@ class _Phase(NamedTuple):
 
 
 class _Follow(NamedTuple):
-    """Where the path-following loop stands."""
+    """What a path-following run works with."""
 
     chain: Chain
     method: Method
     goal: list[float]
     palm: np.ndarray | None
     params: MeasureParams
+    mean_step: float  # mean distance between path points [m]
 
 
 def track_path(
@@ -146,35 +155,88 @@ def track_path(
             within the limits reaches its end.
     """
     points = np.asarray(positions, dtype=float).tolist()
-    run = _Follow(chain_for(arm), method, points[-1], palm, params or MeasureParams())
-    gains = _gains(points)
-    q = [float(v) for v in start]
+    gains, mean_step = _gains(points)
+    run = _Follow(
+        chain_for(arm), method, points[-1], palm, params or MeasureParams(), mean_step
+    )
+    begin = q = [float(v) for v in start]
     out_q: list[list[float]] = []
+    out_wrist: list[list[float]] = []
     labels: list[str] = []
-    phase: _Phase | None = None
+    phases = _Phases(run)
     st = run.chain.state(q)
     for k, point in enumerate(points):
         wanted = _wanted(method, choose, k, st)
-        if phase is None or phase.label != _label(method, wanted):
-            phase = _start_phase(run, wanted, st)
-        q, st = _follow(run.chain, phase, point, q, st, gains[k])
-        if wanted is not None and _strays(st, point, wanted, PROMOTE_AFTER):
-            phase = _start_phase(run, _full(wanted), st)
-            q, st = _follow(run.chain, phase, point, q, st, gains[k])
-        if math.dist(st.p_wrist, point) > DETOUR_AFTER:
-            return _detour(arm, run, points, [float(v) for v in start], phase)
+        phases.update(wanted, st)
+        q, st = _follow(run.chain, phases, point, q, st, gains[k])
+        if phases.lost(st, point):
+            return _detour(arm, run, points, begin, phases.phase)
         if k == len(points) - 1:
-            q, st, phase = _arrive(run, phase, point, q, wanted)
+            q, st = _arrive(run, phases, point, q, wanted)
+            if phases.phase.task.at(point).position_error(st) > MISSED:
+                return _detour(arm, run, points, begin, phases.phase)
         out_q.append(q)
-        labels.append(phase.label)
-    return TrackedPath(np.array(out_q), _wrists(run.chain, out_q), labels)
+        out_wrist.append(st.p_wrist)
+        labels.append(phases.phase.label)
+    return TrackedPath(np.array(out_q), np.array(out_wrist), labels)
 
 
-def _gains(points: list[list[float]]) -> list[float]:
-    """Null-space gain factor per point: its hand step over the mean step."""
+class _Phases:
+    """The phase in use and the one it is taking over from.
+
+    A new phase takes over over ``BLEND`` points: each point's step is the
+    old phase's and the new one's, weighted by a smoothstep from 0 to 1, so
+    the joints change velocity smoothly at a change of primitive.
+    """
+
+    def __init__(self, run: _Follow) -> None:
+        self.run = run
+        self.phase: _Phase
+        self.started = False
+        self.old: _Phase | None = None
+        self.left = 0
+        self.last_miss = 0.0
+
+    def update(self, wanted: Primitive | None, st: ChainState) -> None:
+        """Start the phase of ``wanted`` if it is not the one in use."""
+        label = _label(self.run.method, wanted)
+        if not self.started:
+            self.phase, self.started = _start_phase(self.run, wanted, st), True
+        elif label != self.phase.label:
+            self._switch(_start_phase(self.run, wanted, st))
+
+    def promote(self, wanted: Primitive, st: ChainState) -> None:
+        """Hand the rest to the full-arm primitive of ``wanted``'s task."""
+        self._switch(_start_phase(self.run, _full(wanted), st))
+
+    def lost(self, st: ChainState, point: list[float]) -> bool:
+        """True if the wrist misses ``point`` by over ``DETOUR_AFTER``, growing.
+
+        A shrinking miss is a catch-up under way; during a change of phase the
+        blend may let it grow for a few points, which does not count.
+        """
+        miss = self.phase.task.at(point).position_error(st)
+        growing = miss > self.last_miss
+        self.last_miss = miss
+        return miss > DETOUR_AFTER and growing and not self.left
+
+    def blend(self) -> tuple[_Phase | None, float]:
+        """(the phase being taken over from, the new phase's weight) at this point."""
+        if not self.left:
+            return None, 1.0
+        t = (BLEND - self.left + 1) / (BLEND + 1)
+        self.left -= 1
+        return self.old, t * t * (3.0 - 2.0 * t)
+
+    def _switch(self, new: _Phase) -> None:
+        self.old, self.left, self.phase = self.phase, BLEND, new
+
+
+def _gains(points: list[list[float]]) -> tuple[list[float], float]:
+    """Gain factor per point (its hand step over the mean step), and the mean [m]."""
     steps = [0.0] + [math.dist(a, b) for a, b in pairwise(points)]
     mean = sum(steps) / max(len(steps) - 1, 1)
-    return [s / mean if mean > 0.0 else 0.0 for s in steps]
+    return [s / mean if mean > 0.0 else 0.0 for s in steps], mean
 
 
 def _wanted(
@@ -201,14 +263,14 @@ def _start_phase(run: _Follow, primitive: Primitive | None, st: ChainState) -> _
     else:
         factory = measure_factory.for_primitive(primitive, run.goal, run.params)
         turn = run.palm if primitive.orients_wrist else None
-        task = WristTask.make(run.goal, turn, sign, controls_radius(primitive.active))
+        task = WristTask.make(run.goal, turn, sign)
         label, active = primitive.name, primitive.active
     return _Phase(label, active, factory(st), task)
 
 
 def _follow(
     chain: Chain,
-    phase: _Phase,
+    phases: _Phases,
     point: list[float],
     q: list[float],
     st: ChainState,
@@ -216,45 +278,56 @@ def _follow(
 ) -> tuple[list[float], ChainState]:
     """One step of eq. 14 towards ``point``, null-space gain scaled by ``gain``.
 
-    The state after the step is the next point's state.
+    During a change of phase the step blends the old phase's and the new
+    one's. The state after the step is the next point's state.
     """
-    err, cols = phase.task.at(point).residual(st)
-    step = gpm_step(
-        q, err, cols, phase.measure.gradient(st), phase.active, chain.lower,
-        chain.upper, ALPHA * gain, MAX_STEP, MAX_NULL_STEP * gain, MARGIN,
-    )  # fmt: skip
-    q = [a + b for a, b in zip(q, step.dq, strict=True)]
+    old, weight = phases.blend()
+    dq = _step(chain, phases.phase, point, q, st, gain)
+    if old is not None:
+        before = _step(chain, old, point, q, st, gain)
+        dq = [weight * a + (1.0 - weight) * b for a, b in zip(dq, before, strict=True)]
+    q = [a + b for a, b in zip(q, dq, strict=True)]
     return q, chain.state(q)
+
+
+def _step(
+    chain: Chain,
+    phase: _Phase,
+    point: list[float],
+    q: list[float],
+    st: ChainState,
+    gain: float,
+) -> list[float]:
+    """The weighted step of ``phase`` towards ``point`` [rad], 5 floats."""
+    err, cols = phase.task.at(point).residual(st)
+    base = [1.0 if k in phase.active else LOCKED for k in range(5)]
+    return weighted_step(
+        q, err, cols, phase.measure.gradient(st), base, chain.lower, chain.upper,
+        ALPHA * gain, MAX_STEP, MAX_NULL_STEP * gain, MARGIN,
+    )  # fmt: skip
 
 
 def _arrive(
     run: _Follow,
-    phase: _Phase,
+    phases: _Phases,
     goal: list[float],
     q: list[float],
     wanted: Primitive | None,
-) -> tuple[list[float], ChainState, _Phase]:
+) -> tuple[list[float], ChainState]:
     """Converge the wrist task onto the goal, without null-space motion.
 
     If the phase's joints cannot bring the wrist within ``ARRIVED`` of the
     goal, the full-arm primitive of the same task does.
     """
+    phase = phases.phase
     q, _ = converge(run.chain, phase.task.at(goal), phase.active, NoMeasure(), q)
     st = run.chain.state(q)
     if wanted is None or phase.task.at(goal).position_error(st) <= ARRIVED:
-        return q, st, phase
-    phase = _start_phase(run, _full(wanted), st)
+        return q, st
+    phases.promote(wanted, st)
+    phase = phases.phase
     q, _ = converge(run.chain, phase.task.at(goal), phase.active, NoMeasure(), q)
-    return q, run.chain.state(q), phase
-
-
-def _strays(
-    st: ChainState, point: list[float], wanted: Primitive, limit: float
-) -> bool:
-    """True if a primitive that cannot reach every point left the path too far."""
-    if set(wanted.active) >= POSITION_JOINTS:
-        return False
-    return math.dist(st.p_wrist, point) > limit
+    return q, run.chain.state(q)
 
 
 def _full(primitive: Primitive) -> Primitive:

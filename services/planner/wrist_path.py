@@ -1,13 +1,21 @@
-"""Human-like wrist paths on NAO: a minimum-jerk time law on an arc about the shoulder.
+"""Human-like wrist paths on NAO: the hand swings about the shoulder.
 
-People move the hand along nearly straight paths with a bell-shaped speed
-profile, well described by minimum jerk (Flash and Hogan, 1985). NAO's wrist,
-though, lives in a thin shell 0.114-0.162 m from the shoulder, and a straight
-segment between two points of it often passes through the unreachable inside.
-The path here keeps the human time law and follows the shoulder-centred arc
-between start and goal (direction turning steadily, distance changing
-linearly): the shape a straight human reach takes once retargeted to NAO's
-short upper arm and forearm.
+People move the hand with a bell-shaped speed profile, well described by
+minimum jerk (Flash and Hogan, 1985). NAO's wrist, moreover, lives in a thin
+shell 0.114-0.162 m from the shoulder, where a straight segment between two
+points often passes through the unreachable inside.
+
+The path here therefore moves the wrist about the shoulder: its direction
+from the shoulder turns along a great circle and its distance from the
+shoulder changes, both with the same minimum-jerk progress. The hand's
+speed is then a bell, and every point lies in the shell when both ends do.
+
+(A variant in which the distance changed only after the first third of the
+movement, the shoulder leading and the elbow joining later, was tried. On
+NAO, whose ShoulderRoll turns the arm only 18 degrees inwards, a straight
+arm cannot point at targets in front of the body, so the joints had to
+catch up abruptly and the timing slowed the reaches to twice the human
+duration.)
 """
 
 from __future__ import annotations
@@ -16,8 +24,6 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-
-from services.ik.iterate import shoulder_arc
 
 
 class TimedPath(NamedTuple):
@@ -54,16 +60,28 @@ def reach_path(
         rate: Samples per second [Hz].
 
     Returns:
-        The path, from ``start`` (t = 0) to ``goal`` (t = duration), with
-        ``ceil(duration * rate) + 1`` samples.
+        The path, from ``start`` (t = 0) to ``goal``, sampled exactly every
+        ``1 / rate`` s: ``ceil(duration * rate) + 1`` samples, the last at
+        ``duration`` rounded up to a whole period.
     """
-    n = max(2, math.ceil(duration * rate) + 1)
-    times = np.linspace(0.0, duration, n)
-    dense = np.vstack([start, shoulder_arc(shoulder, start, goal, 1000)])
-    progress = minimum_jerk(times / duration)
-    index = progress * (len(dense) - 1)
-    low = np.floor(index).astype(int).clip(0, len(dense) - 2)
-    frac = (index - low)[:, None]
-    positions = dense[low] * (1 - frac) + dense[low + 1] * frac
-    positions[-1] = goal
+    n = max(2, math.ceil(duration * rate - 1e-9) + 1)
+    times = np.arange(n) / rate
+    tau = times / times[-1]
+    progress = minimum_jerk(tau)
+    a, b = start - shoulder, goal - shoulder
+    ra, rb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    radius = ra + progress * (rb - ra)
+    positions = shoulder + _slerp(a / ra, b / rb, progress) * radius[:, None]
+    positions[0], positions[-1] = start, goal
     return TimedPath(times, positions)
+
+
+def _slerp(ua: np.ndarray, ub: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Unit vectors from ``ua`` to ``ub`` on the great circle at fractions ``s``."""
+    angle = math.acos(min(max(float(ua @ ub), -1.0), 1.0))
+    s = s[:, None]
+    if angle < 1e-6:
+        out = ua + s * (ub - ua)
+    else:
+        out = (np.sin((1 - s) * angle) * ua + np.sin(s * angle) * ub) / math.sin(angle)
+    return out / np.linalg.norm(out, axis=1, keepdims=True)

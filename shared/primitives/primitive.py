@@ -56,6 +56,7 @@ class Primitive:
         task: What its IK controls at the wrist.
         ik: How its IK is solved.
         name: a e j, computed from ``matrix`` (e.g. ``"S_R E_P W_P"``).
+        terms: (node, attribute) pairs of a e j, e.g. (("S", "R"), ("E", "P")).
     """
 
     matrix: PrimitiveMatrix
@@ -64,14 +65,11 @@ class Primitive:
     task: Task
     ik: IKMethod
     name: str = field(init=False)
+    terms: tuple[tuple[str, str], ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", mp_form(self.matrix))
-
-    @property
-    def terms(self) -> tuple[tuple[str, str], ...]:
-        """(node, attribute) pairs of a e j, e.g. (("S", "R"), ("E", "P"))."""
-        return mp_form_terms(self.matrix)
+        object.__setattr__(self, "terms", mp_form_terms(self.matrix))
 
     @property
     def active_joints(self) -> tuple[str, ...]:

@@ -127,7 +127,7 @@ class ArmModel:
         )
         for array in self.limits[1:]:
             array.setflags(write=False)
-        self.reach = self._distance_span()
+        self.reach = _reach_of(side, self)
 
     def copy(self) -> ArmModel:
         """An independent instance (own data buffer) of the same arm."""
@@ -284,6 +284,16 @@ def _build(side: Side) -> pin.Model:
     if tuple(order) != side.joint_names:
         raise RuntimeError(f"unexpected joint order in the robot description: {order}")
     return model
+
+
+_REACH: dict[Side, tuple[float, float]] = {}
+
+
+def _reach_of(side: Side, arm: ArmModel) -> tuple[float, float]:
+    """The arm's distance span, computed once per side."""
+    if side not in _REACH:
+        _REACH[side] = arm._distance_span()
+    return _REACH[side]
 
 
 @cache

@@ -1,0 +1,168 @@
+"""A path-tracking step of eq. 14 in a joint metric: smooth at limits and switches.
+
+    dq = W^1/2 Jw+ dx - alpha W^1/2 (I - Jw+ Jw) W^1/2 grad H,   Jw = J W^1/2
+
+W = diag(w) weighs how freely each joint moves: the step is the one of least
+sum(dq_k^2 / w_k) that does the task (weighted least norm, Whitney 1969;
+Chan and Dubey 1995 for limits). Two things set w:
+
+    - The primitive: its active joints have w = 1, the others ``LOCKED``
+      (0.1: moving one of them costs ten times as much).
+      A locked joint thus moves only in the part of the task the active
+      joints cannot do at all (a shoulder swing cannot change the hand's
+      distance from the shoulder), and then as little as it can: the wrist
+      stays on the path instead of falling behind it and jumping back.
+    - The limits: a joint moving towards a limit closer than ``margin``
+      has its w lowered smoothly, down to ``FLOOR`` (:func:`limit_weight`,
+      from the direction and size of the step it would take without this),
+      so the other joints take over its share gradually. With plain joint
+      clamping (:mod:`services.ik.gpm`) the joint stops dead on the limit
+      and the others jump to make up for it: a kink the timing must slow
+      the whole movement down for.
+
+Every w is a smooth function of the posture, so the joint path is smooth
+where the wrist path is. The null-space part descends H with the active
+joints only, in the same metric. The result is clipped to the joint range
+as a last guard (the weights keep steps off the limits, so this rarely acts).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from services.ik.gpm import SINGULAR_DAMPING, Columns
+from services.ik.kernel.small import normal_solver
+
+#: Weight of a joint the primitive does not move.
+LOCKED = 0.1
+#: Damping of the weighted solve [m^2]: a joint that barely moves the
+#: wrist (ElbowYaw of a straight arm) must not take huge steps for it.
+DAMPING = 1e-6
+#: Share of the largest joint step above which a joint counts as fully moving.
+MOVING = 0.1
+#: Every joint's index.
+_ALL = (0, 1, 2, 3, 4)
+#: Smallest weight a joint on its limit keeps.
+FLOOR = 1e-4
+
+
+def limit_weight(
+    q: float, share: float, low: float, high: float, margin: float
+) -> float:
+    """Weight in [FLOOR, 1] of a joint at ``q`` [rad] about to move.
+
+    ``share`` is its step over the largest joint step (signed, in [-1, 1]).
+    The weight is 1 - (1 - smoothstep(distance / margin)) *
+    smoothstep(|share| / MOVING), with the distance to the limit the joint
+    moves towards: 1 for a joint that barely takes part in the step or is
+    farther than ``margin`` from that limit, lower the closer it is. Both
+    factors are smooth, so the weight changes smoothly even where the joint
+    turns round; the share does not depend on the step's size, so the
+    weights hold as the hand slows down to the goal.
+    """
+    if share == 0.0 or margin <= 0.0:
+        return 1.0
+    distance = (high - q) if share > 0.0 else (q - low)
+    near = 1.0 - _smoothstep(distance / margin)
+    moving = _smoothstep(abs(share) / MOVING)
+    return max(1.0 - near * moving, FLOOR)
+
+
+def _smoothstep(x: float) -> float:
+    t = min(max(x, 0.0), 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def weighted_step(
+    q: Sequence[float],
+    error: Sequence[float],
+    cols: Columns,
+    gradient: Sequence[float],
+    base: Sequence[float],
+    lower: Sequence[float],
+    upper: Sequence[float],
+    alpha: float,
+    max_step: float,
+    max_null_step: float,
+    margin: float,
+) -> list[float]:
+    """One step towards the task, 5 floats [rad].
+
+    Args:
+        q: Joint angles [rad], 5 values.
+        error: Task error to remove (dx), m values.
+        cols: Task Jacobian by columns, 5 sequences of m values.
+        gradient: dH/dq, 5 values.
+        base: The primitive's weight per joint (1 active, ``LOCKED`` not).
+        lower: Lower joint limits [rad], 5 values.
+        upper: Upper joint limits [rad], 5 values.
+        alpha: Null-space gain [rad^2 per unit of H].
+        max_step: Largest change of a joint by the task part [rad].
+        max_null_step: Largest change of a joint by the null-space part [rad].
+        margin: Distance to a limit where a joint starts to give way [rad].
+
+    Returns:
+        dq, with q + dq within the limits.
+    """
+    task, null = _parts(error, cols, gradient, base, base, alpha)
+    if any(
+        q[k] - lower[k] < margin or upper[k] - q[k] < margin for k in range(5)
+    ):  # a joint near a limit: the weights depend on where the step goes
+        free = [t + n for t, n in zip(task, null, strict=True)]
+        size = max(map(abs, free)) or 1.0
+        weights = [
+            b * limit_weight(q[k], free[k] / size, lower[k], upper[k], margin)
+            for k, b in enumerate(base)
+        ]
+        if weights != list(base):
+            task, null = _parts(error, cols, gradient, weights, base, alpha)
+    task, null = _capped(task, max_step), _capped(null, max_null_step)
+    return [
+        min(max(q[k] + t + n, lower[k]), upper[k]) - q[k]
+        for k, (t, n) in enumerate(zip(task, null, strict=True))
+    ]
+
+
+def _parts(
+    error: Sequence[float],
+    cols: Columns,
+    gradient: Sequence[float],
+    weights: Sequence[float],
+    base: Sequence[float],
+    alpha: float,
+) -> tuple[list[float], list[float]]:
+    """The task part W^1/2 Jw+ dx and the null-space part, 5 floats each.
+
+    The null-space part is -alpha W^1/2 (I - Jw+ Jw) W^1/2 grad H over the
+    active joints (``base`` 1). When every joint is active it reuses the
+    task's factorisation: its damping (``DAMPING``) leaks a negligible
+    DAMPING / sigma^2 of the gradient into the task, which the next step
+    removes anyway.
+    """
+    roots = [math.sqrt(w) for w in weights]
+    scaled = [(c[0] * r, c[1] * r, c[2] * r) if len(c) == 3 else [v * r for v in c]
+              for c, r in zip(cols, roots, strict=True)]  # fmt: skip
+    inverse = normal_solver(scaled, _ALL, DAMPING, SINGULAR_DAMPING)
+    task = [r * v for r, v in zip(roots, inverse.apply(error), strict=True)]
+    if alpha == 0.0:
+        return task, [0.0] * 5
+    active = [k for k in _ALL if base[k] == 1.0]
+    if len(active) < 5:
+        inverse = normal_solver(scaled, active, 0.0, SINGULAR_DAMPING)
+    g = [0.0] * 5
+    for k in active:
+        g[k] = roots[k] * gradient[k]
+    back = inverse.apply(inverse.times(g))
+    null = [0.0] * 5
+    for k, b in zip(active, back, strict=True):
+        null[k] = -alpha * roots[k] * (g[k] - b)
+    return task, null
+
+
+def _capped(step: list[float], largest: float) -> list[float]:
+    biggest = max(map(abs, step))
+    return step if biggest <= largest else [v * largest / biggest for v in step]
+
+
+__all__ = ["FLOOR", "LOCKED", "limit_weight", "weighted_step"]
