@@ -88,6 +88,7 @@ class UnreachableTargetError(ArmplanError):
         target: Target wrist position in the torso frame [m], shape (3,).
         distance: Distance from the shoulder to the target [m].
         reach: Interval of shoulder-to-wrist distances the arm can make [m].
+        at: Where the target came from, e.g. "wrist-path sample 37 (t = ...)".
     """
 
     kind = "unreachable_target"
@@ -100,9 +101,12 @@ class UnreachableTargetError(ArmplanError):
         distance: float,
         reach: tuple[float, float],
         residual: float | None = None,
+        at: str = "",
     ) -> None:
+        prefix = f"{at}: " if at else ""
         where = (
-            f"target {_fmt_vec(target)} m is {distance:.4f} m from the {arm} shoulder"
+            f"{prefix}target {_fmt_vec(target)} m is {distance:.4f} m "
+            f"from the {arm} shoulder"
         )
         span = f"the wrist reaches {reach[0]:.4f}..{reach[1]:.4f} m from it"
         if residual is None:
@@ -119,6 +123,7 @@ class UnreachableTargetError(ArmplanError):
             distance=float(distance),
             reach=[float(reach[0]), float(reach[1])],
             residual=None if residual is None else float(residual),
+            at=at,
         )
         self.target = tuple(float(v) for v in target)
         self.distance = float(distance)

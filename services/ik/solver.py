@@ -136,7 +136,7 @@ def solve(
     arm.limits.check(start, where="in the start posture")
     target = np.asarray(target, dtype=float)
     plan = _plan(arm, method, primitive, palm, swivel, target, params)
-    _check_shell(arm, target)
+    check_reachable(arm, target)
     if plan.primitive is not None and plan.primitive.ik.geometric:
         return _closed_form(arm, plan.primitive, start, target, palm)
     radial = controls_radius(plan.active)
@@ -148,8 +148,8 @@ def solve(
     return _accept(arm, plan, task, q, method, iterations)
 
 
-def _check_shell(arm: ArmModel, target: np.ndarray) -> None:
-    """Raise if the target is nearer or farther than the wrist can ever be."""
+def check_reachable(arm: ArmModel, target: np.ndarray) -> None:
+    """Raise UnreachableTargetError if the wrist never gets this near or far."""
     shoulder = arm.fk(rest(arm.side)).shoulder
     distance = float(np.linalg.norm(target - shoulder))
     low, high = arm.reach

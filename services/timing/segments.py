@@ -40,11 +40,14 @@ class Segment(NamedTuple):
         path: Joint path [rad], shape (n, joints), n >= 2.
         duration: Wanted duration [s] (human bell), or None for the fastest.
         dwell: Rest at the segment's end before the next one [s], >= 0.
+        parameter: The path parameter at each point (e.g. the hand's arc
+            length), or None; see :func:`~services.timing.time_path.time_path`.
     """
 
     path: npt.ArrayLike
     duration: float | None = None
     dwell: float = 0.0
+    parameter: npt.ArrayLike | None = None
 
 
 def time_segments(
@@ -65,7 +68,13 @@ def time_segments(
     for k, segment in enumerate(segments):
         path = np.asarray(segment.path, dtype=float)
         _check_join(k, previous, path)
-        part = time_path(path, limits, duration=segment.duration, rate=rate)
+        part = time_path(
+            path,
+            limits,
+            duration=segment.duration,
+            rate=rate,
+            parameter=segment.parameter,
+        )
         parts.append(part.shifted(start_time, offset))
         start_time += part.duration
         offset += len(path) - 1

@@ -55,3 +55,13 @@ __all__ += [
 from shared.messages.demo import DemoSample, DemoSubject  # noqa: E402
 
 __all__ += ["DemoSample", "DemoSubject"]
+
+# The planner's stage requests (decide, ik path, timing services).
+from shared.messages.stages import (  # noqa: E402
+    DecideRequest,
+    PathIKRequest,
+    TimingRequest,
+    TimingSegment,
+)
+
+__all__ += ["DecideRequest", "PathIKRequest", "TimingRequest", "TimingSegment"]

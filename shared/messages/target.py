@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from shared.messages.base import Direction, JointVector, Message, Vec3
 from shared.messages.method import Method
+from shared.messages.wrist_path import WristPath
 from shared.robot.side import Side
 
 #: Most targets one task may hold.
@@ -28,20 +29,34 @@ class ReachTarget(Message):
 
 
 class PlanRequest(Message):
-    """A task for the planner: reach one or more targets with one arm.
+    """A task for the planner: reach targets, or follow a timed wrist path.
 
     Attributes:
         arm: Which arm moves.
-        targets: Wrist targets, reached in order.
+        targets: Wrist targets, reached in order (or empty with ``wrist_path``).
+        wrist_path: A timed wrist path to follow instead: joint angles at
+            exactly its times, no retiming (its ``arm`` must match).
         start: Start posture [rad]; ``None`` means the arm hanging at rest.
         method: Planning method.
         fastest: Go as fast as the limits allow instead of at human pace.
-        rate: Sample rate of the returned trajectory [Hz].
+        rate: Sample rate of the returned trajectory [Hz] (targets only).
     """
 
     arm: Side = Side.RIGHT
-    targets: list[ReachTarget] = Field(min_length=1, max_length=MAX_TARGETS)
+    targets: list[ReachTarget] = Field(default_factory=list, max_length=MAX_TARGETS)
+    wrist_path: WristPath | None = None
     start: JointVector | None = None
     method: Method = Method.MP
     fastest: bool = False
     rate: float = Field(default=100.0, gt=0.0, le=1000.0)
+
+    @model_validator(mode="after")
+    def _one_kind(self) -> PlanRequest:
+        if (self.wrist_path is None) == (not self.targets):
+            raise ValueError("give either targets or a wrist_path, not both or neither")
+        if self.wrist_path is not None and self.wrist_path.arm != self.arm:
+            raise ValueError(
+                f"wrist_path is for the {self.wrist_path.arm.value} arm, "
+                f"the request for the {self.arm.value}"
+            )
+        return self

@@ -1,0 +1,144 @@
+"""Task in, trajectory out: wrist path, motion decision, IK, timing.
+
+For each target of a task the planner draws a human-like wrist path from
+where the arm is (:mod:`services.planner.reach_path`), asks the decide stage
+for the primitive of every point (method ``mp``), the ik stage for the joint
+path, and then the timing stage for one trajectory through all movements,
+each at human pace (Table 4's law, scaled to NAO) or as fast as the limits
+allow, resting ``dwell`` seconds at each target. The stages are injected
+(:class:`~services.planner.stages.Stages`): here, or the services over Zenoh.
+
+With a timed wrist path instead of targets, the joint angles come at exactly
+its times: no retiming, but every limit checked.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from services.ik import check_reachable
+from services.planner.build import trajectory_message
+from services.planner.reach_path import reach_wrist_path
+from services.planner.stages import LocalStages, Stages
+from services.timing import reach_duration, time_given
+from shared.errors import UnreachableTargetError
+from shared.messages import (
+    DecideRequest,
+    Decision,
+    JointPath,
+    Method,
+    PathIKRequest,
+    PlanRequest,
+    TimingRequest,
+    TimingSegment,
+    Trajectory,
+    WristPath,
+)
+from shared.robot import load_arm
+from shared.robot.arm_model import ArmModel
+from shared.robot.motion_limits import motion_limits
+from shared.robot.postures import rest
+
+
+class PlanResult(NamedTuple):
+    """A plan and what it was made of.
+
+    Attributes:
+        trajectory: The timed trajectory (the SPEC's trajectory JSON).
+        wrist_paths: Each movement's planned wrist path.
+        decisions: Each movement's decision (method ``mp``; else empty).
+        joint_paths: Each movement's joint path, before timing.
+    """
+
+    trajectory: Trajectory
+    wrist_paths: list[WristPath]
+    decisions: list[Decision]
+    joint_paths: list[JointPath]
+
+
+def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
+    """The trajectory for a task (targets, or a timed wrist path).
+
+    Raises:
+        UnreachableTargetError: a target (or a wrist-path sample) beyond reach.
+        JointLimitError: a start posture outside the joint ranges.
+        LimitViolationError: a wrist path timed faster than the limits allow.
+        PrimitiveCannotReachError, InvalidInputError: from the stages.
+    """
+    stages = stages or LocalStages()
+    arm = load_arm(request.arm)
+    start = rest(arm.side) if request.start is None else np.array(request.start)
+    arm.limits.check(start, where="in the start posture")
+    if request.wrist_path is not None:
+        return _follow_given(arm, request, request.wrist_path, start, stages)
+    for target in request.targets:
+        check_reachable(arm, np.array(target.position))
+    paths, decisions, joints, segments = [], [], [], []
+    q = start
+    for target in request.targets:
+        path = reach_wrist_path(arm, q, target)
+        joint_path = _movement(stages, request.method, path, q, decisions)
+        paths.append(path)
+        joints.append(joint_path)
+        end = np.array(joint_path.positions[-1])
+        pace = None if request.fastest else reach_duration(arm, q, end)
+        segments.append(
+            TimingSegment(joint_path=joint_path, duration=pace, dwell=target.dwell)
+        )
+        q = end
+    trajectory = stages.timing(
+        TimingRequest(segments=segments, rate=request.rate, method=request.method)
+    )
+    return PlanResult(trajectory, paths, decisions, joints)
+
+
+def _movement(
+    stages: Stages,
+    method: Method,
+    path: WristPath,
+    start: np.ndarray,
+    decisions: list[Decision],
+) -> JointPath:
+    """Decide (method mp) and track one movement's wrist path."""
+    begin = tuple(float(v) for v in start)
+    decision = None
+    if method is Method.MP:
+        decision = stages.decide(DecideRequest(path=path, start=begin))
+        decisions.append(decision)
+    return stages.ik(
+        PathIKRequest(path=path, start=begin, method=method, decision=decision)
+    )
+
+
+def _follow_given(
+    arm: ArmModel,
+    request: PlanRequest,
+    path: WristPath,
+    start: np.ndarray,
+    stages: Stages,
+) -> PlanResult:
+    """Joint angles at the wrist path's own times (no retiming), limits checked."""
+    _check_within_reach(arm, path)
+    decisions: list[Decision] = []
+    joint_path = _movement(stages, request.method, path, start, decisions)
+    limits = motion_limits(arm.limits)
+    timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
+    trajectory = trajectory_message([joint_path], timed, request.method)
+    return PlanResult(trajectory, [path], decisions, [joint_path])
+
+
+def _check_within_reach(arm: ArmModel, path: WristPath) -> None:
+    """Raise, naming the sample, if a wrist-path sample is out of the arm's reach."""
+    for k, position in enumerate(path.positions):
+        try:
+            check_reachable(arm, np.array(position))
+        except UnreachableTargetError as error:
+            raise UnreachableTargetError(
+                position,
+                arm=arm.side.value,
+                distance=error.distance,
+                reach=error.reach,
+                at=f"wrist-path sample {k} (t = {path.times[k]:.3f} s)",
+            ) from None

@@ -1,0 +1,156 @@
+"""The planner's three stages as functions of messages, run in this process.
+
+The same functions serve as the decide, ik and timing services (their thin
+Zenoh wrappers call them), so a plan made here and one made through the
+services run the same code on the same inputs and agree exactly. Here the
+IK stage reuses the joint path the decision already tracked instead of
+tracking it again (the services recompute it: same inputs, same result).
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+
+from services.decide import Decider, decide_path
+from services.fit.default import default_model
+from services.fit.model import MotionModel
+from services.ik.track import TrackedPath, track_path
+from services.planner.build import arc_length, joint_path_message, trajectory_message
+from services.timing import Segment, time_segments
+from shared.errors import InvalidInputError
+from shared.messages import (
+    DecideRequest,
+    Decision,
+    JointPath,
+    Method,
+    PathIKRequest,
+    TimingRequest,
+    Trajectory,
+)
+from shared.primitives import get_primitive
+from shared.robot import load_arm
+from shared.robot.motion_limits import MotionLimits, motion_limits
+from shared.robot.postures import rest
+
+
+class Stages(Protocol):
+    """Where the planner's stages run: here, or as services over Zenoh."""
+
+    def decide(self, request: DecideRequest) -> Decision:
+        """The primitive of every point of a reach's wrist path."""
+
+    def ik(self, request: PathIKRequest) -> JointPath:
+        """The joint angles along a reach's wrist path."""
+
+    def timing(self, request: TimingRequest) -> Trajectory:
+        """The task's joint paths as one timed trajectory."""
+
+
+def decide(
+    model: MotionModel | Decider, request: DecideRequest
+) -> tuple[Decision, TrackedPath]:
+    """The decide stage: the decision, and the joint path it tracked."""
+    arm = load_arm(request.path.arm)
+    start = rest(arm.side) if request.start is None else np.array(request.start)
+    palm = None if request.path.palm is None else np.array(request.path.palm)
+    return decide_path(
+        model,
+        arm,
+        np.array(request.path.positions),
+        start,
+        palm=palm,
+        times=np.array(request.path.times),
+    )
+
+
+def path_ik(request: PathIKRequest) -> JointPath:
+    """The ik stage: track the wrist path with the decided primitives (or a baseline).
+
+    Raises:
+        InvalidInputError: method ``mp`` without a decision, a decision of
+            another length than the path, or a decision naming an unknown
+            primitive.
+    """
+    arm = load_arm(request.path.arm)
+    path = request.path
+    start = rest(arm.side) if request.start is None else np.array(request.start)
+    palm = None if path.palm is None else np.array(path.palm)
+    choose = None
+    if request.method is Method.MP:
+        names = _decided(request)
+        primitives = [get_primitive(name) for name in names]
+        choose = lambda k, st: primitives[k]  # noqa: E731
+    tracked = track_path(
+        arm, np.array(path.positions), start, choose, method=request.method, palm=palm
+    )
+    return joint_path_message(arm, path.times, tracked)
+
+
+def _decided(request: PathIKRequest) -> list[str]:
+    if request.decision is None:
+        raise InvalidInputError(
+            "method mp needs the decision of every point", field="decision"
+        )
+    names = request.decision.primitives
+    if len(names) != len(request.path.times):
+        raise InvalidInputError(
+            f"the decision has {len(names)} points, "
+            f"the wrist path {len(request.path.times)}",
+            field="decision",
+        )
+    return names
+
+
+def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajectory:
+    """The timing stage: the task's joint paths as one trajectory (Ruckig).
+
+    Each movement is timed by the hand's arc length along its IK path, so its
+    human bell is the hand's speed profile.
+    """
+    first = request.segments[0].joint_path
+    limits = limits or motion_limits(load_arm(first.arm).limits)
+    segments = [
+        Segment(
+            np.array(s.joint_path.positions),
+            s.duration,
+            s.dwell,
+            arc_length(s.joint_path.wrist),
+        )
+        for s in request.segments
+    ]
+    timed = time_segments(segments, limits, rate=request.rate)
+    return trajectory_message(
+        [s.joint_path for s in request.segments], timed, request.method
+    )
+
+
+class LocalStages:
+    """The stages in this process, with the decision's joint path reused.
+
+    Args:
+        model: The motion model; default: the shipped one.
+    """
+
+    def __init__(self, model: MotionModel | None = None) -> None:
+        self.decider = Decider(model or default_model())
+        self._tracked: dict[int, TrackedPath] = {}
+
+    def decide(self, request: DecideRequest) -> Decision:
+        decision, tracked = decide(self.decider, request)
+        self._tracked = {id(decision): tracked}
+        return decision
+
+    def ik(self, request: PathIKRequest) -> JointPath:
+        tracked = (
+            self._tracked.pop(id(request.decision), None) if request.decision else None
+        )
+        if tracked is None:
+            return path_ik(request)
+        return joint_path_message(
+            load_arm(request.path.arm), request.path.times, tracked
+        )
+
+    def timing(self, request: TimingRequest) -> Trajectory:
+        return timing(request)

@@ -1,0 +1,68 @@
+"""Requests between the planner and its stage services (decide, ik, timing)."""
+
+from __future__ import annotations
+
+from pydantic import Field
+
+from shared.messages.base import JointVector, Message
+from shared.messages.decision import Decision
+from shared.messages.joint_path import JointPath
+from shared.messages.method import Method
+from shared.messages.wrist_path import WristPath
+
+
+class DecideRequest(Message):
+    """Decide the primitive of every point of one reach's wrist path.
+
+    Attributes:
+        path: The wrist path; its last point is the goal, its ``palm`` the
+            wanted palm direction there.
+        start: Posture at the first point [rad]; None: the arm at rest.
+    """
+
+    path: WristPath
+    start: JointVector | None = None
+
+
+class PathIKRequest(Message):
+    """Joint angles along one reach's wrist path.
+
+    Attributes:
+        path: The wrist path (goal: its last point; ``palm`` at the goal).
+        start: Posture at the first point [rad]; None: the arm at rest.
+        method: ``mp`` (needs ``decision``), ``least-norm`` or ``single``.
+        decision: The primitive of each point (method ``mp``).
+    """
+
+    path: WristPath
+    start: JointVector | None = None
+    method: Method = Method.MP
+    decision: Decision | None = None
+
+
+class TimingSegment(Message):
+    """One movement of a task and the rest after it.
+
+    Attributes:
+        joint_path: The movement's joint path (from the IK stage).
+        duration: Wanted duration [s] (human pace), or None: the fastest.
+        dwell: Rest at the movement's end [s].
+    """
+
+    joint_path: JointPath
+    duration: float | None = Field(default=None, gt=0.0)
+    dwell: float = Field(default=0.0, ge=0.0, le=60.0)
+
+
+class TimingRequest(Message):
+    """Time a task's movements as one trajectory.
+
+    Attributes:
+        segments: The movements, in order; each starts where the last ended.
+        rate: Sample rate of the trajectory [Hz].
+        method: The method that made the joint paths (carried to the result).
+    """
+
+    segments: list[TimingSegment] = Field(min_length=1, max_length=64)
+    rate: float = Field(default=100.0, gt=0.0, le=1000.0)
+    method: Method = Method.MP

@@ -1,0 +1,152 @@
+"""The in-process pipeline: task in, safe human-paced trajectory out."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from test_timing_paths import distance_to_polyline
+
+from services.planner.pipeline import plan
+from services.planner.wrist_path import reach_path
+from services.timing import check_limits, reach_duration
+from shared.demos.nao_grid import nao_grid
+from shared.errors import UnreachableTargetError
+from shared.messages import Method, PlanRequest, WristPath
+from shared.robot import ArmModel, load_arm, motion_limits
+from shared.robot.postures import rest
+
+GOALS = {"right": (0.12, -0.10, 0.05), "left": (0.12, 0.10, 0.05)}
+
+
+def _request(arm: ArmModel, *targets: dict, **options: object) -> PlanRequest:  # type: ignore[type-arg]
+    return PlanRequest.model_validate(
+        {"arm": arm.side.value, "targets": list(targets), **options}
+    )
+
+
+@pytest.mark.parametrize("method", list(Method))
+def test_a_reach_ends_on_its_target_within_every_limit(
+    arm: ArmModel, method: Method
+) -> None:
+    """Final wrist error < 1 mm; the samples keep every range and limit
+    (finite differences); rest at both ends; one label per sample."""
+    goal = GOALS[arm.side.value]
+    result = plan(_request(arm, {"position": goal}, method=method.value))
+    trajectory = result.trajectory
+    q = np.array(trajectory.positions)
+    times = np.array(trajectory.times)
+    check_limits(times, q, motion_limits(arm.limits))
+    assert np.linalg.norm(arm.fk(q[-1]).wrist - goal) < 1e-3
+    np.testing.assert_allclose(np.diff(times), 0.01, atol=1e-12)
+    assert np.allclose(trajectory.velocities[0], 0.0)
+    assert np.allclose(trajectory.velocities[-1], 0.0, atol=1e-9)
+    assert len(trajectory.primitives) == len(times) == len(trajectory.wrist_path)
+    assert trajectory.method is method
+    assert len(result.decisions) == (1 if method is Method.MP else 0)
+
+
+def test_grid_durations_are_human() -> None:
+    """Default (mp, human pace) durations of the 16 grid reaches, beside
+    Table 4's: within the human 0.55-1.01 s range scaled to NAO, and within
+    10 % of the duration the human law asks for."""
+    arm = load_arm("right")
+    print("\npoint  Table 4 [s]  asked [s]  armplan [s]")
+    for target in nao_grid(arm.side):
+        result = plan(_request(arm, {"position": tuple(target.wrist)}))
+        got = result.trajectory.times[-1]
+        end = np.array(result.trajectory.positions[-1])
+        asked = reach_duration(arm, rest(arm.side), end)
+        print(f"P{target.point:<5} {target.duration:11.2f} {asked:10.2f} {got:12.2f}")
+        assert 0.5 <= got <= 1.1
+        assert got == pytest.approx(asked, rel=0.1)
+
+
+def test_fastest_is_faster_and_still_within_the_limits(arm: ArmModel) -> None:
+    """--fastest goes quicker than human pace, and no limit breaks."""
+    goal = {"position": GOALS[arm.side.value]}
+    human = plan(_request(arm, goal)).trajectory
+    fastest = plan(_request(arm, goal, fastest=True)).trajectory
+    assert fastest.times[-1] < human.times[-1]
+    check_limits(fastest.times, fastest.positions, motion_limits(arm.limits))
+
+
+def test_targets_with_dwell_make_one_trajectory() -> None:
+    """Reach, hold 0.5 s, retreat: one trajectory through both targets, at
+    rest on the first for the dwell."""
+    arm = load_arm("right")
+    first, second = (0.12, -0.10, 0.05), (0.10, -0.14, 0.0)
+    request = _request(arm, {"position": first, "dwell": 0.5}, {"position": second})
+    result = plan(request)
+    q = np.array(result.trajectory.positions)
+    wrists = np.array([arm.fk(p).wrist for p in q])
+    at_first = np.linalg.norm(wrists - first, axis=1) < 1e-3
+    assert at_first.sum() * 0.01 >= 0.5  # held there for the dwell
+    assert np.linalg.norm(wrists[-1] - second) < 1e-3
+    assert len(result.wrist_paths) == len(result.joint_paths) == 2
+    check_limits(result.trajectory.times, q, motion_limits(arm.limits))
+
+
+def _wrist_path(arm: ArmModel, goal: tuple[float, ...], duration: float) -> WristPath:
+    points = arm.fk(rest(arm.side))
+    path = reach_path(points.shoulder, points.wrist, np.array(goal), duration)
+    return WristPath(
+        arm=arm.side,
+        times=path.times.tolist(),
+        positions=[tuple(p) for p in path.positions.tolist()],
+    )
+
+
+def test_a_timed_wrist_path_keeps_its_times() -> None:
+    """Joint angles at exactly the given times: no retiming; the hand is
+    where the path says (within 1 mm) at every sample."""
+    arm = load_arm("right")
+    path = _wrist_path(arm, GOALS["right"], 1.5)
+    result = plan(PlanRequest(arm=arm.side, wrist_path=path, method=Method.SINGLE))
+    assert result.trajectory.times == path.times
+    q = np.array(result.trajectory.positions)
+    wrists = np.array([arm.fk(p).wrist for p in q])
+    assert np.linalg.norm(wrists - np.array(path.positions), axis=1).max() < 1e-3
+
+
+def test_a_wrist_path_leaving_the_workspace_names_the_sample() -> None:
+    """A sample out of reach half-way: a typed error naming the sample."""
+    arm = load_arm("right")
+    path = _wrist_path(arm, GOALS["right"], 1.0)
+    positions = list(path.positions)
+    positions[40] = (0.3, -0.1, 0.1)
+    bad = path.model_copy(update={"positions": positions})
+    with pytest.raises(UnreachableTargetError, match="sample 40"):
+        plan(PlanRequest(arm=arm.side, wrist_path=bad))
+
+
+def test_an_unreachable_target_is_refused_before_planning() -> None:
+    """A target beyond the arm's reach: the error names it and the reach."""
+    arm = load_arm("left")
+    with pytest.raises(UnreachableTargetError, match=r"left shoulder.*0\.11"):
+        plan(_request(arm, {"position": (0.3, 0.3, 0.3)}))
+
+
+def test_a_start_outside_the_joint_ranges_is_refused() -> None:
+    """The start posture is checked before anything is planned."""
+    arm = load_arm("right")
+    start = [0.0, 0.0, 0.0, 3.0, 0.0]  # ElbowRoll far beyond its range
+    with pytest.raises(Exception, match="ElbowRoll"):
+        plan(_request(arm, {"position": GOALS["right"]}, start=start))
+
+
+def test_three_hundred_random_reachable_targets(arm: ArmModel) -> None:
+    """300 random reachable targets per arm (from random postures, seeded),
+    default method and pace: final wrist error below 1 mm, every sample within
+    every limit by finite differences, and the timed hand within 1 mm of the
+    IK's wrist path (the timing does not bend the path)."""
+    rng = np.random.default_rng(300 + (arm.side.value == "left"))
+    limits = motion_limits(arm.limits)
+    for _ in range(300):
+        goal = arm.fk(rng.uniform(arm.limits.lower, arm.limits.upper)).wrist
+        result = plan(_request(arm, {"position": tuple(goal)}))
+        q = np.array(result.trajectory.positions)
+        check_limits(result.trajectory.times, q, limits)
+        hand = np.array([arm.fk(p).wrist for p in q])
+        assert np.linalg.norm(hand[-1] - goal) < 1e-3
+        ik_path = np.array(result.joint_paths[0].wrist)
+        assert distance_to_polyline(hand, ik_path).max() < 1e-3
