@@ -16,42 +16,24 @@ demonstrations keeps a small probability instead of zero):
 the order of ``shared.primitives.MOTION_PRIMITIVES``. A sample whose W_R is
 not observed (state -1: the recording has no wrist orientation) counts
 1/bins in each W_R cell of its row. The model file stores the counts
-(``count_tables``); ``conditionals`` turns them into probabilities.
+(``count_tables``); ``conditionals`` turns them into probabilities (it and
+the ``Conditionals`` tuple live beside the model message, in
+``shared.messages.model_tables``).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 
 from services.fit.variables import E_P, E_R, S_R, W_P, W_R
+from shared.messages.model_tables import (
+    CONDITIONED,
+    Conditionals,
+    conditionals,
+    normalised,
+)
 
-#: How many of each table's leading axes are conditions (the rest sum to 1).
-CONDITIONED = {
-    "prior": 0,
-    "start": 0,
-    "transition": 1,
-    "shoulder": 1,
-    "elbow": 2,
-    "wrist": 2,
-}
-
-
-class Conditionals(NamedTuple):
-    """The network's tables (see the module docstring for each shape).
-
-    As returned by ``count_tables`` they hold counts; ``conditionals``
-    normalises them into probabilities.
-    """
-
-    primitives: tuple[str, ...]
-    prior: np.ndarray
-    start: np.ndarray
-    transition: np.ndarray
-    shoulder: np.ndarray
-    elbow: np.ndarray
-    wrist: np.ndarray
+__all__ = ["CONDITIONED", "Conditionals", "conditionals", "count_tables", "normalised"]
 
 
 def count_tables(
@@ -94,18 +76,3 @@ def count_tables(
     np.add.at(blind, (labels[~seen], states[~seen, E_R], states[~seen, W_P]), 1.0)
     wrist += blind[..., None] / bins
     return Conditionals(primitives, prior, start, transition, shoulder, elbow, wrist)
-
-
-def conditionals(counts: Conditionals) -> Conditionals:
-    """The probability tables of ``counts`` (each normalised over its last axes)."""
-    tables = {
-        name: normalised(np.asarray(getattr(counts, name), dtype=float), conditioned)
-        for name, conditioned in CONDITIONED.items()
-    }
-    return Conditionals(counts.primitives, **tables)
-
-
-def normalised(counts: np.ndarray, conditioned: int) -> np.ndarray:
-    """``counts`` over their sums on every axis after the first ``conditioned``."""
-    axes = tuple(range(conditioned, counts.ndim))
-    return counts / counts.sum(axis=axes, keepdims=True)

@@ -36,8 +36,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-#: The variables in the network's order (the arm's serial chain).
-VARIABLES: tuple[str, ...] = ("S_R", "E_P", "E_R", "W_P", "W_R")
+# The variables in the network's order (the arm's serial chain), defined with
+# the model message.
+from shared.messages.motion_model import VARIABLES as VARIABLES
+
 S_R, E_P, E_R, W_P, W_R = range(5)
 
 _EPS = 1e-12

@@ -23,6 +23,7 @@ from shared.messages import (
     Decision,
     JointPath,
     Message,
+    MotionModel,
     PlanRequest,
     Trajectory,
 )
@@ -74,10 +75,7 @@ TOPICS: tuple[Topic, ...] = (
     Topic(BRIDGE_FRAMES_TOPIC, CommandFrames, "bridge"),
     Topic(BRIDGE_STATE_TOPIC, JointState, "bridge"),
     Topic(BRIDGE_REPORT_TOPIC, TrackingReport, "bridge"),
-    # TODO(lead): the motion model's class is services.fit.model.MotionModel,
-    # outside shared/ (a shared module may not import a service); once it moves
-    # to shared/messages, name it here so the channel gets its schema.
-    Topic(MODEL_TOPIC, None, "fit"),
+    Topic(MODEL_TOPIC, MotionModel, "fit"),
 )
 
 _BY_PATH = {topic.path: topic for topic in TOPICS}

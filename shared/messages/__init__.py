@@ -65,3 +65,17 @@ from shared.messages.stages import (  # noqa: E402
 )
 
 __all__ += ["DecideRequest", "PathIKRequest", "TimingRequest", "TimingSegment"]
+
+# The motion model (fit service: served, published, read by decide).
+from shared.messages.motion_model import (  # noqa: E402
+    ArmLengths,
+    MotionModel,
+    VariableFit,
+)
+
+__all__ += ["ArmLengths", "MotionModel", "VariableFit"]
+
+# A request to fit a new motion model (fit service).
+from shared.messages.fit_request import FitRequest  # noqa: E402
+
+__all__ += ["FitRequest"]

@@ -1,0 +1,176 @@
+"""The motion model as a message: what fitting writes and the decision reads.
+
+The fitted densities, states and network tables (``services.fit`` fits
+them, ``services.decide`` decides with them). It is a message in ``shared/``
+because it crosses processes: the fit service serves it (``<ns>/fit/model``)
+and publishes each new one (``<ns>/fit/model/update``), which the decide
+service swaps in, and the recorder gives that topic the model's schema.
+``MODEL_VERSION`` changes whenever the meaning of a field changes; a model
+of another version is refused.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from shared.messages.base import Message
+from shared.messages.model_tables import CONDITIONED, Conditionals, conditionals
+from shared.primitives import MOTION_PRIMITIVES
+
+#: Version of the model format.
+MODEL_VERSION = 1
+#: The motion variables in the network's order (the arm's serial chain).
+VARIABLES: tuple[str, ...] = ("S_R", "E_P", "E_R", "W_P", "W_R")
+_MOTION_NAMES = [p.name for p in MOTION_PRIMITIVES]
+
+Table = list[float]
+
+
+class VariableFit(Message):
+    """One motion variable's exponential density and its states.
+
+    Attributes:
+        name: The variable, e.g. ``"S_R"``.
+        unit: ``"rad"`` or ``"arm lengths"`` (distances over L_u + L_f).
+        rate: Rate gamma of the density, by maximum likelihood [1/unit].
+        samples: Samples it was fitted on; 0 if never observed (W_R without
+            wrist orientations), when ``rate`` is a fixed default
+            (``services.fit.model.UNOBSERVED_RATE``).
+        log_likelihood: Mean log-density of those samples (``None`` if 0).
+        loo_log_likelihood: Mean leave-one-out (cross-validated) log-density.
+        edges: Inner edges of the variable's states (equal-probability
+            quantiles of the density) [unit], increasing.
+    """
+
+    name: str
+    unit: str
+    rate: float = Field(gt=0.0)
+    samples: int = Field(ge=0)
+    log_likelihood: float | None
+    loo_log_likelihood: float | None
+    edges: list[float] = Field(min_length=1)
+
+
+class ArmLengths(Message):
+    """The arm the variables were normalised for (NAO's, after retargeting).
+
+    Attributes:
+        upper_arm: Shoulder-to-elbow length L_u [m].
+        forearm: Elbow-to-wrist length L_f [m].
+    """
+
+    upper_arm: float = Field(gt=0.0)
+    forearm: float = Field(gt=0.0)
+
+
+class MotionModel(Message):
+    """The fitted motion model (densities, states and the network's tables).
+
+    Attributes:
+        version: File format version (``MODEL_VERSION``).
+        arm: Arm lengths of the demonstrations after retargeting [m].
+        sample_rate: Sample rate of the demonstrations [Hz]; the transition
+            table is per sample at this rate.
+        bins: States per variable.
+        smoothing: Pseudo-count added to every table cell.
+        variables: The five variables' densities, in ``VARIABLES`` order.
+        primitives: The primitives the demonstrations show (the network's M
+            states), in ``MOTION_PRIMITIVES`` order.
+        prior, start, transition, shoulder, elbow, wrist: The network's
+            tables as counts (demonstration samples plus ``smoothing`` per
+            cell, ``services.fit.conditionals``), nested lists; the
+            probabilities are their normalised rows (``conditionals()``).
+        subjects: Subjects fitted on.
+        sources: Demonstration files fitted on.
+        samples: Samples fitted on.
+    """
+
+    version: int
+    arm: ArmLengths
+    sample_rate: float = Field(gt=0.0)
+    bins: int = Field(ge=2, le=64)
+    smoothing: float = Field(gt=0.0)
+    variables: list[VariableFit] = Field(min_length=5, max_length=5)
+    primitives: list[str] = Field(min_length=1, max_length=8)
+    prior: Table
+    start: Table
+    transition: list[Table]
+    shoulder: list[Table]
+    elbow: list[list[list[Table]]]
+    wrist: list[list[list[Table]]]
+    subjects: list[str] = Field(default_factory=list)
+    sources: list[str] = Field(default_factory=list)
+    samples: int = Field(ge=1)
+
+    @model_validator(mode="after")
+    def _consistent(self) -> MotionModel:
+        if self.version != MODEL_VERSION:
+            raise ValueError(
+                f"version {self.version}; this armplan reads version {MODEL_VERSION}"
+            )
+        names = [v.name for v in self.variables]
+        if names != list(VARIABLES):
+            raise ValueError(f"variables must be {list(VARIABLES)}, got {names}")
+        for v in self.variables:
+            if len(v.edges) != self.bins - 1 or np.any(np.diff(v.edges) <= 0):
+                raise ValueError(
+                    f"{v.name}: needs {self.bins - 1} increasing edges, "
+                    f"got {len(v.edges)}"
+                )
+        unknown = [p for p in self.primitives if p not in _MOTION_NAMES]
+        if unknown or len(set(self.primitives)) != len(self.primitives):
+            raise ValueError(
+                f"primitives must be distinct motion primitives, got {self.primitives}"
+            )
+        m, k = len(self.primitives), self.bins
+        shapes = {
+            "prior": (m,),
+            "start": (m,),
+            "transition": (m, m),
+            "shoulder": (m, k),
+            "elbow": (m, k, k, k),
+            "wrist": (m, k, k, k),
+        }
+        for name, shape in shapes.items():
+            _check_counts(name, getattr(self, name), shape, CONDITIONED[name])
+        return self
+
+    def counts(self) -> Conditionals:
+        """The tables' counts as numpy arrays."""
+        return Conditionals(
+            tuple(self.primitives),
+            np.array(self.prior),
+            np.array(self.start),
+            np.array(self.transition),
+            np.array(self.shoulder),
+            np.array(self.elbow),
+            np.array(self.wrist),
+        )
+
+    def conditionals(self) -> Conditionals:
+        """The network's probability tables as numpy arrays."""
+        return conditionals(self.counts())
+
+    def edges(self) -> list[list[float]]:
+        """Each variable's state edges, in ``VARIABLES`` order."""
+        return [list(v.edges) for v in self.variables]
+
+
+def _check_counts(
+    name: str, value: Any, shape: tuple[int, ...], conditioned: int
+) -> None:
+    """Raise ValueError unless ``value`` is a table of counts of ``shape``."""
+    try:
+        table = np.array(value, dtype=float)
+    except ValueError:
+        raise ValueError(f"{name}: ragged table, expected shape {shape}") from None
+    if table.shape != shape:
+        raise ValueError(f"{name}: shape {table.shape}, expected {shape}")
+    if np.any(table < 0):
+        raise ValueError(f"{name}: counts must be >= 0")
+    sums = table.sum(axis=tuple(range(conditioned, table.ndim)))
+    if np.any(sums <= 0):
+        raise ValueError(f"{name}: every row needs a positive count")
