@@ -1,40 +1,38 @@
-"""The decide service: the motion decision on Zenoh (skeleton).
+"""The decide service: the motion decision on Zenoh.
 
 Keys (namespace ``armplan`` by default):
-    ``armplan/decide``  WristPath -> Decision (``shared.bus.routes.DECIDE``)
+    ``armplan/decide``  DecideRequest -> Decision (``shared.bus.routes.DECIDE``)
 
-Run it with ``python -m services.decide`` (``armplan up`` does). Until the
-algorithm is wired, every request gets a typed ``endpoint_not_wired`` error.
-
-TODO(lead):
-- replace ``not_wired(...)`` below by the in-process decision function of
-  ``services.decide`` (request message in, ``Decision`` out), and confirm the
-  route's message types in ``shared/bus/routes.py``;
-- pick up new models without a restart: in ``endpoints``, subscribe to
-  ``bus.key(MODEL_TOPIC)`` with ``bus.session.declare_subscriber(key,
-  callback)`` and swap the model the decision function reads; fetch the
-  current one at start with ``bus.call(FIT_MODEL, NoArguments())``.
+The handler is the planner's decide stage (``services.planner.stages.decide``)
+with the model the fit service serves, followed live (``live_model.py``): a
+model published on ``armplan/fit/model/update`` is used from the next
+request on, without a restart. Run it with ``python -m services.decide``
+(``armplan up`` does).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
+from services.decide.live_model import LiveModel
+from services.planner.stages import decide
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import DECIDE
-from shared.bus.skeleton import not_wired
+from shared.messages import DecideRequest, Decision
 
 NAME = "decide"
 
 
+def deciding(model: LiveModel) -> Callable[[DecideRequest], Decision]:
+    """The decide stage with ``model``'s current model."""
+
+    def decide_request(request: DecideRequest) -> Decision:
+        return decide(model.decider, request)[0]
+
+    return decide_request
+
+
 def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
-    """The decide service's endpoints."""
-    return [
-        Endpoint(
-            DECIDE,
-            not_wired(
-                DECIDE, bus.config.namespace, "the motion decision (services.decide)"
-            ),
-        )
-    ]
+    """The decide service's endpoints; it follows the fit service's model."""
+    return [Endpoint(DECIDE, deciding(LiveModel(bus)))]

@@ -1,19 +1,15 @@
-"""The fit service: serves and publishes the motion model on Zenoh (skeleton).
+"""The fit service: serves, fits and publishes the motion model on Zenoh.
 
 Keys (namespace ``armplan`` by default):
-    ``armplan/fit/model``         query: NoArguments -> the current model
-    ``armplan/fit/model/update``  publication: each newly fitted model
+    ``armplan/fit/model``         query: NoArguments -> the current MotionModel
+    ``armplan/fit``               query: FitRequest -> the newly fitted model
+    ``armplan/fit/model/update``  publication: the model at start, then each
+                                  newly fitted one (the decide service
+                                  swaps it in)
 
-Run it with ``python -m services.fit`` (``armplan up`` does). Until the
-algorithm is wired, every request gets a typed ``endpoint_not_wired`` error.
-
-TODO(lead):
-- a model message in ``shared/messages`` replaces ``OpaqueMessage`` in
-  ``shared.bus.routes.FIT_MODEL``;
-- replace ``not_wired(...)`` below by a function returning the current model
-  of ``services.fit``;
-- when a new model is fitted, ``bus.publish(MODEL_TOPIC, model)`` so that the
-  decide service swaps it in without a restart.
+Run it with ``python -m services.fit`` (``armplan up`` does). It reads
+demonstration files only inside ``$ARMPLAN_DEMOS_DIR`` (default: its
+working directory); see ``current_model.py`` and ``demo_dir.py``.
 """
 
 from __future__ import annotations
@@ -21,20 +17,15 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from services.fit.current_model import CurrentModel
 from shared.bus import Bus, Endpoint
-from shared.bus.routes import FIT_MODEL
-from shared.bus.skeleton import not_wired
+from shared.bus.routes import FIT, FIT_MODEL
 
 NAME = "fit"
 
 
 def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
-    """The fit service's endpoints."""
-    return [
-        Endpoint(
-            FIT_MODEL,
-            not_wired(
-                FIT_MODEL, bus.config.namespace, "the motion model (services.fit)"
-            ),
-        )
-    ]
+    """The fit service's endpoints; publishes the model it starts with."""
+    current = CurrentModel(bus)
+    current.publish()
+    return [Endpoint(FIT_MODEL, current.get), Endpoint(FIT, current.fit)]

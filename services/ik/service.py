@@ -1,12 +1,12 @@
-"""The IK service: ``services.ik.solve_request`` on Zenoh, and nothing more.
+"""The IK service: one posture, or a reach's joint path, on Zenoh.
 
 Keys (namespace ``armplan`` by default):
-    ``armplan/ik/solve``  IKRequest -> IKResult (or an ErrorReply)
+    ``armplan/ik/solve``  IKRequest -> IKResult (``services.ik.solve_request``)
+    ``armplan/ik/path``   PathIKRequest -> JointPath (the planner's ik stage,
+                          ``services.planner.stages.path_ik``)
 
-Run it with ``python -m services.ik`` (``armplan up`` does). TODO(lead): the
-SPEC's "joint path for a decided wrist path" route (``ik/path``, calling
-``services.ik.track.track_path`` with the decisions) needs a request message
-in ``shared/messages`` (wrist path + decisions + start posture + method).
+Run it with ``python -m services.ik`` (``armplan up`` does). It calls no
+other service; errors go back as typed ``reply_err`` (``shared.bus``).
 """
 
 from __future__ import annotations
@@ -15,8 +15,9 @@ from collections.abc import Sequence
 from typing import Any
 
 from services.ik.solver import solve_request
+from services.planner.stages import path_ik
 from shared.bus import Bus, Endpoint
-from shared.bus.routes import IK_SOLVE
+from shared.bus.routes import IK_PATH, IK_SOLVE
 from shared.messages import IKRequest, IKResult
 from shared.robot import load_arm
 
@@ -30,4 +31,4 @@ def solve(request: IKRequest) -> IKResult:
 
 def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
     """The IK service's endpoints (it calls no other service)."""
-    return [Endpoint(IK_SOLVE, solve)]
+    return [Endpoint(IK_SOLVE, solve), Endpoint(IK_PATH, path_ik)]

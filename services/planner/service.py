@@ -1,22 +1,20 @@
-"""The planner service: the public entry point ``armplan/plan`` (skeleton).
+"""The planner service: the public entry point ``armplan/plan``.
 
 Keys (namespace ``armplan`` by default):
     ``armplan/plan``             PlanRequest -> Trajectory (``routes.PLAN``)
+    ``armplan/plan/request``     publication: each request it accepted
+    ``armplan/plan/decision``    publication: each reach's Decision (method mp)
+    ``armplan/plan/joint_path``  publication: each reach's JointPath
     ``armplan/plan/trajectory``  publication: each finished Trajectory
 
-The planner calls decide, ik and timing over Zenoh: ``bus.remote(route)`` is
-each of them as a plain function, so the in-process planner algorithm can take
-them as arguments and run the same code in-process and as a service. A
-missing service gives a ``service_unavailable`` error naming it, within 2 s.
-
-Run it with ``python -m services.planner`` (``armplan up`` does). Until the
-algorithm is wired, every request gets a typed ``endpoint_not_wired`` error.
-
-TODO(lead): replace ``not_wired(...)`` below by
-``publishing(bus, partial(plan, decide=bus.remote(DECIDE),
-ik=bus.remote(IK_PATH), timing=bus.remote(TIMING)))`` with the planner
-function of ``services.planner`` (and the IK path route, see
-``services/ik/service.py``).
+It runs the in-process planner (``services.planner.pipeline.plan``) with
+its stages as the decide, ik and timing services (``remote.RemoteStages``),
+so a plan made here equals one made in-process. A service it needs that is
+not running gives a ``service_unavailable`` error naming it at once (its
+liveliness token is checked before any work); once it is back, the next
+plan works. The parts are published so that a recorder subscribed to the
+topics (``shared.bus.topics``) keeps the whole session. Run it with
+``python -m services.planner`` (``armplan up`` does).
 """
 
 from __future__ import annotations
@@ -24,31 +22,40 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from services.planner.pipeline import PlanResult, plan
+from services.planner.remote import RemoteStages
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import PLAN, TRAJECTORY_TOPIC
-from shared.bus.skeleton import not_wired
+from shared.bus.topics import DECISION_TOPIC, JOINT_PATH_TOPIC, PLAN_REQUEST_TOPIC
 from shared.messages import PlanRequest, Trajectory
 
 NAME = "planner"
 Planner = Callable[[PlanRequest], Trajectory]
 
 
-def publishing(bus: Bus, plan: Planner) -> Planner:
-    """``plan``, publishing each trajectory it returns on ``plan/trajectory``."""
+def remote_planner(bus: Bus) -> Planner:
+    """Plan through the stage services, publishing the request and every part."""
+    stages = RemoteStages(bus)
 
-    def plan_and_publish(request: PlanRequest) -> Trajectory:
-        trajectory = plan(request)
-        bus.publish(TRAJECTORY_TOPIC, trajectory)
-        return trajectory
+    def plan_remotely(request: PlanRequest) -> Trajectory:
+        bus.publish(PLAN_REQUEST_TOPIC, request)
+        stages.require(request)
+        result = plan(request, stages)
+        publish_parts(bus, result)
+        return result.trajectory
 
-    return plan_and_publish
+    return plan_remotely
+
+
+def publish_parts(bus: Bus, result: PlanResult) -> None:
+    """Publish a plan's decisions, joint paths and trajectory, in that order."""
+    for decision in result.decisions:
+        bus.publish(DECISION_TOPIC, decision)
+    for joint_path in result.joint_paths:
+        bus.publish(JOINT_PATH_TOPIC, joint_path)
+    bus.publish(TRAJECTORY_TOPIC, result.trajectory)
 
 
 def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
-    """The planner's endpoints."""
-    return [
-        Endpoint(
-            PLAN,
-            not_wired(PLAN, bus.config.namespace, "the planner (services.planner)"),
-        )
-    ]
+    """The planner's endpoint; it calls decide, ik and timing."""
+    return [Endpoint(PLAN, remote_planner(bus))]

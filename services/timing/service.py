@@ -1,14 +1,12 @@
-"""The timing service: Ruckig time-parameterisation on Zenoh (skeleton).
+"""The timing service: Ruckig time-parameterisation on Zenoh.
 
 Keys (namespace ``armplan`` by default):
-    ``armplan/timing``  JointPath -> Trajectory (``shared.bus.routes.TIMING``)
+    ``armplan/timing``  TimingRequest -> Trajectory (``shared.bus.routes.TIMING``)
 
-Run it with ``python -m services.timing`` (``armplan up`` does). Until the
-algorithm is wired, every request gets a typed ``endpoint_not_wired`` error.
-
-TODO(lead): replace ``not_wired(...)`` below by the in-process timing function
-of ``services.timing`` (``JointPath`` in, ``Trajectory`` out, or the request
-message it needs for limits), and confirm the route in ``shared/bus/routes.py``.
+The handler is the planner's timing stage (``services.planner.stages.timing``):
+a task's joint paths, each at its wanted duration, as one jerk-limited
+trajectory within the arm's limits. Run it with ``python -m services.timing``
+(``armplan up`` does).
 """
 
 from __future__ import annotations
@@ -16,18 +14,19 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from services.planner.stages import timing
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import TIMING
-from shared.bus.skeleton import not_wired
+from shared.messages import TimingRequest, Trajectory
 
 NAME = "timing"
 
 
+def time_task(request: TimingRequest) -> Trajectory:
+    """The trajectory of the request's joint paths, with the arm's own limits."""
+    return timing(request)
+
+
 def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
-    """The timing service's endpoints."""
-    return [
-        Endpoint(
-            TIMING,
-            not_wired(TIMING, bus.config.namespace, "Ruckig timing (services.timing)"),
-        )
-    ]
+    """The timing service's endpoints (it calls no other service)."""
+    return [Endpoint(TIMING, time_task)]

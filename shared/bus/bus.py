@@ -96,6 +96,10 @@ class Bus:
             self.key(path), message.to_json(), encoding=zenoh.Encoding.APPLICATION_JSON
         )
 
+    def is_alive(self, service: str) -> bool:
+        """Whether ``service`` holds its liveliness token (cached; fast)."""
+        return self._alive.is_alive(service)
+
     def alive(self) -> list[str]:
         """Names of the services running now, sorted."""
         return list_alive(self.session, self.config.namespace)

@@ -1,41 +1,59 @@
 """Every key armplan's services answer or publish, relative to the namespace.
 
 With the default namespace ``armplan`` the planner answers ``armplan/plan``
-(the SPEC's outside contract) and IK answers ``armplan/ik/solve``. Routes
-marked TODO have message types chosen before their algorithms existed; the
-lead confirms them when wiring the services.
+(the SPEC's outside contract) and IK answers ``armplan/ik/solve``. The
+planner's stages answer the request messages of ``shared.messages.stages``
+with the results of the in-process stage functions
+(``services.planner.stages``), so a plan made through the services equals
+one made in-process.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from shared.bus.route import NoArguments, OpaqueMessage, Route
+from shared.bus.route import NoArguments, Route
 from shared.messages import (
+    DecideRequest,
     Decision,
+    FitRequest,
     IKRequest,
     IKResult,
     JointPath,
+    MotionModel,
+    PathIKRequest,
     PlanRequest,
+    TimingRequest,
     Trajectory,
-    WristPath,
 )
 
 #: One posture: target in, joint angles out (``services.ik.solve_request``).
 IK_SOLVE = Route("ik", "ik/solve", IKRequest, IKResult)
+#: A reach's joint path along its wrist path (``services.planner.stages.path_ik``).
+IK_PATH = Route("ik", "ik/path", PathIKRequest, JointPath)
 #: The public entry point: a task in, one trajectory out.
 PLAN = Route("planner", "plan", PlanRequest, Trajectory)
-#: Motion decision along a wrist path. TODO(lead): confirm the messages.
-DECIDE = Route("decide", "decide", WristPath, Decision)
-#: Ruckig time-parameterisation. TODO(lead): confirm the messages.
-TIMING = Route("timing", "timing", JointPath, Trajectory)
-#: The current motion model. TODO(lead): a model message in shared/messages.
-FIT_MODEL = Route("fit", "fit/model", NoArguments, OpaqueMessage)
+#: Motion decision along a wrist path (``services.planner.stages.decide``).
+DECIDE = Route("decide", "decide", DecideRequest, Decision)
+#: Ruckig time-parameterisation of a task's joint paths (``stages.timing``).
+TIMING = Route("timing", "timing", TimingRequest, Trajectory)
+#: The motion model the fit service serves now.
+FIT_MODEL = Route("fit", "fit/model", NoArguments, MotionModel)
+#: Fit a new model to demonstration files; it is served and published.
+FIT = Route("fit", "fit", FitRequest, MotionModel)
 
 #: Every route, in the order ``armplan up`` starts their services.
-ROUTES: tuple[Route[Any, Any], ...] = (FIT_MODEL, DECIDE, IK_SOLVE, TIMING, PLAN)
+ROUTES: tuple[Route[Any, Any], ...] = (
+    FIT_MODEL,
+    FIT,
+    DECIDE,
+    IK_SOLVE,
+    IK_PATH,
+    TIMING,
+    PLAN,
+)
 
 #: Where the planner publishes each finished trajectory (``Trajectory``).
 TRAJECTORY_TOPIC = "plan/trajectory"
-#: Where the fit service publishes each newly fitted model.
+#: Where the fit service publishes each new model (``MotionModel``).
 MODEL_TOPIC = "fit/model/update"
