@@ -8,6 +8,7 @@ wrist position in NAO's torso frame [m].
 from __future__ import annotations
 
 import csv
+import math
 from pathlib import Path
 
 from shared.errors import InvalidInputError
@@ -22,8 +23,8 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
 
     Raises:
         InvalidInputError: naming the file, and the line or field that is
-            wrong (missing file, wrong header, a cell that is not a number,
-            times that do not increase, too many points).
+            wrong (missing file, wrong header, a cell that is not a number or
+            not finite, no samples, times that do not increase, too many points).
     """
     path = Path(path)
     try:
@@ -41,11 +42,23 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
         raise InvalidInputError(
             f"{path}: the first row must be the header t,x,y,z", field="wrist_path"
         )
-    times, positions = [], []
+    times: list[float] = []
+    positions = []
     for line, row in enumerate(rows[1:], start=2):
         values = _numbers(row, path, line)
+        if times and not values[0] > times[-1]:
+            raise InvalidInputError(
+                f"{path}: line {line}: times must increase: t = {values[0]:g} s "
+                f"is not after t = {times[-1]:g} s on the line before",
+                field="wrist_path",
+            )
         times.append(values[0])
         positions.append(values[1:])
+    if not times:
+        raise InvalidInputError(
+            f"{path}: the wrist path is empty: no samples after the header",
+            field="wrist_path",
+        )
     try:
         return parse(
             WristPath, {"arm": Side.parse(arm), "times": times, "positions": positions}
@@ -61,9 +74,16 @@ def _numbers(row: list[str], path: Path, line: int) -> list[float]:
             field="wrist_path",
         )
     try:
-        return [float(cell) for cell in row]
+        values = [float(cell) for cell in row]
     except ValueError:
         raise InvalidInputError(
             f"{path}: line {line} holds a cell that is not a number: {row}",
             field="wrist_path",
         ) from None
+    for name, value in zip(HEADER, values, strict=True):
+        if not math.isfinite(value):
+            raise InvalidInputError(
+                f"{path}: line {line}: {name} = {value} is not a finite number",
+                field="wrist_path",
+            )
+    return values
