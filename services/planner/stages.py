@@ -9,6 +9,7 @@ tracking it again (the services recompute it: same inputs, same result).
 
 from __future__ import annotations
 
+from functools import cache
 from typing import Protocol
 
 import numpy as np
@@ -126,15 +127,26 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     )
 
 
+@cache
+def default_decider() -> Decider:
+    """The shipped motion model, compiled once per process.
+
+    Compiling the model's tables (``Decider``) costs a large share of
+    planning one reach; a ``Decider`` is read-only once built (it only
+    caches its variants for other step lengths), so every plan shares it.
+    """
+    return Decider(default_model())
+
+
 class LocalStages:
     """The stages in this process, with the decision's joint path reused.
 
     Args:
-        model: The motion model; default: the shipped one.
+        model: The motion model; default: the shipped one (compiled once).
     """
 
     def __init__(self, model: MotionModel | None = None) -> None:
-        self.decider = Decider(model or default_model())
+        self.decider = default_decider() if model is None else Decider(model)
         self._tracked: dict[int, TrackedPath] = {}
 
     def decide(self, request: DecideRequest) -> Decision:
