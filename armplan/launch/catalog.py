@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import Any, NamedTuple
 
 from shared.bus import Route
+from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import ROUTES
 from shared.errors import InvalidInputError
 
@@ -58,5 +59,12 @@ def service_spec(name: str) -> ServiceSpec:
 #: ``services.recorder.RecorderProcess`` and docker-compose runs it with a
 #: volume for the recordings. It answers no route.
 RECORDER = ServiceSpec("recorder", "services.recorder", ())
+#: The robot bridge (``python -m bridge.serve``, token ``bridge``). Not in
+#: ``SERVICES``: it needs a robot; ``armplan up --with-bridge/--with-sim`` and
+#: ``armplan demo`` start it (``armplan.launch.robot.RobotStack``).
+BRIDGE = ServiceSpec("bridge", "bridge.serve", (EXECUTE,))
+#: The simulated NAO (``python -m bridge.sim``): it speaks libqi, not Zenoh, so
+#: it has no token and no route; ready once it prints its address.
+SIM = ServiceSpec("sim", "bridge.sim", ())
 #: Every process the catalogue knows besides the router.
-PROCESSES: tuple[ServiceSpec, ...] = (*SERVICES, RECORDER)
+PROCESSES: tuple[ServiceSpec, ...] = (*SERVICES, RECORDER, BRIDGE, SIM)

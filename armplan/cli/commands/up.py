@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import signal
 import sys
 import threading
 
 from armplan.launch import SERVICES, Launcher
+from armplan.launch.robot import SIM_LISTEN, RobotStack
 from shared.bus import Bus, BusConfig, load_config
+from shared.bus.robot_routes import EXECUTE
 
 ORDER = 80
 HELP = "start the Zenoh router and every service; Ctrl-C or SIGTERM stops them all"
@@ -35,7 +38,32 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         choices=[s.name for s in SERVICES],
         help="start only these services (default: all)",
     )
+    _add_robot_arguments(parser)
     parser.set_defaults(run=run)
+
+
+def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--with-sim``, ``--with-bridge``, ``--robot`` and ``--follow``."""
+    parser.add_argument(
+        "--with-sim",
+        action="store_true",
+        help=f"also start the simulated NAO on {SIM_LISTEN} and the bridge to it",
+    )
+    parser.add_argument(
+        "--with-bridge",
+        action="store_true",
+        help="also start the bridge (robot: --robot, $ARMPLAN_ROBOT or the sim's)",
+    )
+    parser.add_argument(
+        "--robot",
+        metavar="URL",
+        help="a real NAO's address, e.g. tcp://IP:9559 (implies --with-bridge)",
+    )
+    parser.add_argument(
+        "--follow",
+        action="store_true",
+        help="the bridge also plays every trajectory the planner publishes",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -43,9 +71,10 @@ def run(args: argparse.Namespace) -> int:
     config = load_config(args.config, tuple(args.listen or ()))
     stop = _stop_on_signals()
     launcher = Launcher(config, args.only, stop=stop)
-    with launcher:  # starts; stops everything on the way out
-        _print_started(launcher, config)
-        _watch(launcher, stop)
+    # starts; stops everything on the way out (the robot side first)
+    with launcher, _robot_stack(args, config, stop) as robot:
+        _print_started(launcher, config, robot)
+        _watch(launcher, robot, stop)
     _say("armplan up: stopped every process")
     return 0
 
@@ -61,7 +90,20 @@ def _stop_on_signals() -> threading.Event:
     return stop
 
 
-def _print_started(launcher: Launcher, config: BusConfig) -> None:
+def _robot_stack(
+    args: argparse.Namespace, config: BusConfig, stop: threading.Event
+) -> RobotStack | contextlib.nullcontext[None]:
+    """The sim and the bridge if asked for (not started yet), else nothing."""
+    if not (args.with_sim or args.with_bridge or args.robot or args.follow):
+        return contextlib.nullcontext()
+    return RobotStack(
+        config, robot=args.robot, sim=args.with_sim, follow=args.follow, stop=stop
+    )
+
+
+def _print_started(
+    launcher: Launcher, config: BusConfig, robot: RobotStack | None
+) -> None:
     assert launcher.router is not None
     _say(
         f"router   pid {launcher.router.pid:<7d} listening on "
@@ -72,22 +114,35 @@ def _print_started(launcher: Launcher, config: BusConfig) -> None:
         keys = ", ".join(r.key(config.namespace) for r in spec.routes)
         pid = launcher.services[spec.name].pid
         _say(f"{spec.name:<8} pid {pid:<7d} {keys}")
+    if robot is not None:
+        _print_robot(robot, config)
     with Bus.connect(config) as bus:
         alive = ", ".join(bus.alive())
     _say(f"armplan up: ready, alive: {alive}; Ctrl-C or SIGTERM stops them all")
 
 
-def _watch(launcher: Launcher, stop: threading.Event) -> None:
+def _print_robot(robot: RobotStack, config: BusConfig) -> None:
+    pids = robot.processes()
+    if "sim" in pids:
+        _say(f"{'sim':<8} pid {pids['sim']:<7d} ALMotion over NAOqi at {robot.url}")
+    key = EXECUTE.key(config.namespace)
+    _say(f"{'bridge':<8} pid {pids['bridge']:<7d} {key} -> robot {robot.url}")
+
+
+def _watch(launcher: Launcher, robot: RobotStack | None, stop: threading.Event) -> None:
     """Wait for a stop request; report children that exit meanwhile."""
     reported: set[int] = set()
     while not stop.wait(POLL):
-        for child in launcher.exited():
-            if child.pid not in reported:
-                reported.add(child.pid)
-                sys.stderr.write(
-                    f"armplan up: {child.name} (pid {child.pid}) exited with code "
-                    f"{child.exit_code()}\n"
-                )
+        for name, pid, how in _exited(launcher, robot):
+            if pid not in reported:
+                reported.add(pid)
+                sys.stderr.write(f"armplan up: {name} (pid {pid}) exited{how}\n")
+
+
+def _exited(launcher: Launcher, robot: RobotStack | None) -> list[tuple[str, int, str]]:
+    """``(name, pid, " with code N")`` of each child that has exited."""
+    gone = [(c.name, c.pid, f" with code {c.exit_code()}") for c in launcher.exited()]
+    return gone + [(name, pid, "") for name, pid in robot.exited()] if robot else gone
 
 
 def _say(line: str) -> None:

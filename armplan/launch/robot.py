@@ -1,0 +1,201 @@
+"""The robot side of a running armplan: the simulated NAO (optional) and the bridge.
+
+``armplan up --with-sim`` and ``armplan demo`` start, after the router and
+the services (:class:`~armplan.launch.launcher.Launcher`):
+
+1. the simulated NAO (``python -m bridge.sim``, :class:`bridge.sim.SimProcess`),
+   ready once it prints its NAOqi address; it stops by itself when this
+   process ends (its stdin closes);
+2. the bridge (``python -m bridge.serve --robot URL``) as a launcher child,
+   ready once its liveliness token ``<ns>/alive/bridge`` is seen.
+
+Without the sim the bridge connects to the robot the user named (``--robot
+tcp://IP:9559`` or ``$ARMPLAN_ROBOT``). Stop order: the bridge, then the sim.
+Example::
+
+    with Launcher(config) as stack, RobotStack(config, sim=True) as robot:
+        bus.call(EXECUTE, ExecuteRequest(trajectory=trajectory))
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+from types import TracebackType
+from typing import IO, TYPE_CHECKING
+
+from armplan.launch.catalog import BRIDGE
+from armplan.launch.child import Child, stop_all
+from shared.bus import Bus, BusConfig
+from shared.errors import (
+    InvalidInputError,
+    RobotUnavailableError,
+    ServiceUnavailableError,
+)
+
+if TYPE_CHECKING:
+    from bridge.sim import SimProcess
+
+#: Longest wait for the sim, then for the bridge's token [s].
+START_TIMEOUT = 60.0
+#: Time the bridge gets to exit after SIGTERM before SIGKILL [s].
+GRACE = 5.0
+#: Pause between liveliness checks while starting [s].
+POLL = 0.1
+#: The sim's address for ``armplan up --with-sim``: a NAO's own port.
+SIM_LISTEN = "tcp://127.0.0.1:9559"
+
+
+class RobotStack:
+    """The bridge, and the simulated NAO it drives (if asked for).
+
+    Attributes:
+        config: The bus settings the bridge gets.
+        url: The robot's NAOqi address, known once started.
+        sim: The simulated NAO, if started.
+        bridge: The bridge process, once started.
+    """
+
+    def __init__(
+        self,
+        config: BusConfig,
+        *,
+        robot: str | None = None,
+        sim: bool = False,
+        sim_listen: str = SIM_LISTEN,
+        sim_log: str | Path | None = None,
+        follow: bool = False,
+        log: IO[str] | int | None = None,
+        stop: threading.Event | None = None,
+    ) -> None:
+        """Prepare (start nothing yet).
+
+        Args:
+            config: The bus settings (router endpoints, namespace, file).
+            robot: A robot's NAOqi address (``tcp://IP:9559``); with ``sim``
+                it must be ``None``.
+            sim: Start the simulated NAO and point the bridge at it.
+            sim_listen: Where the sim serves (port 0: any free port).
+            sim_log: The sim's JSON-lines log file, or ``None``.
+            follow: The bridge also plays every published trajectory.
+            log: Where the bridge's output goes (as for ``Launcher``).
+            stop: Set by a signal handler to abort a start in progress.
+
+        Raises:
+            InvalidInputError: ``robot`` and ``sim`` both given.
+        """
+        if sim and robot is not None:
+            raise InvalidInputError(
+                f"a robot address ({robot}) and the simulated NAO were both "
+                "asked for: choose one",
+                field="robot",
+            )
+        self.config = config
+        self.url = robot or ""
+        self.sim: SimProcess | None = None
+        self.bridge: Child | None = None
+        self._sim_wanted = sim
+        self._sim_listen = sim_listen
+        self._sim_log = sim_log
+        self._follow = follow
+        self._log = log
+        self._stop = stop or threading.Event()
+
+    def start(self, timeout: float = START_TIMEOUT) -> RobotStack:
+        """Start the sim (if asked for) and the bridge; return once both serve.
+
+        Raises:
+            RobotUnavailableError: the sim did not start.
+            ServiceUnavailableError: the bridge exited or did not come alive.
+            InvalidInputError: a malformed robot address.
+        """
+        try:
+            self.url = self._start_sim(timeout) if self._sim_wanted else self._named()
+            self.bridge = Child.start(
+                BRIDGE.name, BRIDGE.module, self._bridge_args(), self._log
+            )
+            self._wait_bridge(timeout)
+        except BaseException:
+            self.stop()
+            raise
+        return self
+
+    def _named(self) -> str:
+        from bridge.address import robot_url  # bridge loads libqi: only when used
+
+        return robot_url(self.url or None)
+
+    def _start_sim(self, timeout: float) -> str:
+        from bridge.sim import SimProcess
+
+        self.sim = SimProcess(
+            listen=self._sim_listen, log_path=self._sim_log, startup_timeout=timeout
+        )
+        try:
+            return self.sim.start()
+        except RuntimeError as error:
+            raise RobotUnavailableError(self._sim_listen, str(error)) from None
+
+    def _bridge_args(self) -> list[str]:
+        args = [] if self.config.file is None else ["--config", self.config.file]
+        for endpoint in self.config.endpoints:
+            args += ["--connect", endpoint]
+        args += ["--robot", self.url]
+        return [*args, "--follow"] if self._follow else args
+
+    def _wait_bridge(self, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        with Bus.connect(self.config) as bus:
+            while bus.wait_alive([BRIDGE.name], POLL):
+                self._check_running()
+                if time.monotonic() > deadline:
+                    raise ServiceUnavailableError(
+                        BRIDGE.name, reason=f"not alive after {timeout:.0f} s"
+                    )
+
+    def _check_running(self) -> None:
+        if self._stop.is_set():
+            raise ServiceUnavailableError(
+                BRIDGE.name, reason="stopped by a signal while starting"
+            )
+        for name, pid in self.exited():
+            raise ServiceUnavailableError(
+                name, reason=f"its process {pid} exited while starting (see its log)"
+            )
+
+    def processes(self) -> dict[str, int]:
+        """The PID of each process started, by name (``sim``, ``bridge``)."""
+        found = {}
+        if self.sim is not None and self.sim.pid:
+            found["sim"] = self.sim.pid
+        if self.bridge is not None:
+            found[BRIDGE.name] = self.bridge.pid
+        return found
+
+    def exited(self) -> list[tuple[str, int]]:
+        """``(name, pid)`` of each started process that is no longer running."""
+        gone = []
+        if self.sim is not None and self.sim.pid and not self.sim.running():
+            gone.append(("sim", self.sim.pid))
+        if self.bridge is not None and self.bridge.exit_code() is not None:
+            gone.append((BRIDGE.name, self.bridge.pid))
+        return gone
+
+    def stop(self, grace: float = GRACE) -> None:
+        """Stop the bridge, then the sim (SIGTERM, SIGKILL after ``grace`` [s])."""
+        if self.bridge is not None:
+            stop_all([self.bridge], grace)
+        if self.sim is not None:
+            self.sim.stop(grace)
+
+    def __enter__(self) -> RobotStack:
+        return self.start()
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.stop()

@@ -1,0 +1,37 @@
+"""Where the robot is: the NAOqi address the bridge connects to.
+
+The address is the ``--robot`` option, else the environment variable
+``ARMPLAN_ROBOT``, else the simulated NAO on 127.0.0.1 (``armplan sim``): a
+real NAO is used only when the user names it (``tcp://IP:9559``).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Mapping
+
+from shared.errors import InvalidInputError
+
+#: Environment variable naming the robot's NAOqi address.
+ROBOT_ENV = "ARMPLAN_ROBOT"
+#: The simulated NAO's default address (``armplan sim``).
+DEFAULT_ROBOT = "tcp://127.0.0.1:9559"
+_URL = re.compile(r"^tcps?://[A-Za-z0-9_.\-]+:(\d{1,5})$")
+
+
+def check_robot_url(url: str) -> str:
+    """``url`` if it is a NAOqi address ``tcp://HOST:PORT``; else InvalidInputError."""
+    match = _URL.match(url)
+    if match is None or not 0 < int(match.group(1)) < 65536:
+        raise InvalidInputError(
+            f"robot address {url!r} must look like tcp://HOST:PORT "
+            "(a real NAO: tcp://IP:9559)",
+            field="robot",
+        )
+    return url
+
+
+def robot_url(given: str | None, environ: Mapping[str, str] = os.environ) -> str:
+    """The robot's address: ``given``, else ``$ARMPLAN_ROBOT``, else the sim's."""
+    return check_robot_url(given or environ.get(ROBOT_ENV) or DEFAULT_ROBOT)

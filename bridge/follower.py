@@ -1,0 +1,94 @@
+"""Play every trajectory the planner publishes (``bridge --follow``).
+
+The planner puts each finished trajectory on ``<ns>/plan/trajectory``; a
+follower subscribed there hands each one to the bridge, in arrival order, on
+its own thread (Zenoh's threads only queue). So a recording replayed with
+``armplan replay --keys plan/trajectory`` drives the robot. A payload that is
+not a trajectory, a refused trajectory or a lost robot is logged, and the
+follower goes on with the next one.
+"""
+
+from __future__ import annotations
+
+import logging
+import queue
+import threading
+
+import zenoh
+
+from bridge.service import BridgeService
+from shared.bus.routes import TRAJECTORY_TOPIC
+from shared.errors import ArmplanError
+from shared.messages import ExecuteRequest, Trajectory, parse
+
+log = logging.getLogger("armplan.bridge")
+#: Trajectories waiting to be played; more are dropped, with a warning.
+QUEUE_LIMIT = 16
+#: Longest wait for the trajectory being played when stopping [s].
+STOP_GRACE = 2.0
+
+
+class TrajectoryFollower:
+    """Plays the trajectories published on ``plan/trajectory`` through a bridge.
+
+    Attributes:
+        bridge: The bridge service that plays them.
+        rate: Frame rate of the command frames [Hz].
+        played: Number of trajectories played to the end.
+    """
+
+    def __init__(self, bridge: BridgeService, rate: float = 25.0) -> None:
+        self.bridge = bridge
+        self.rate = rate
+        self.played = 0
+        self._queue: queue.Queue[bytes | None] = queue.Queue(QUEUE_LIMIT)
+        self._thread = threading.Thread(
+            target=self._work, name="bridge-follower", daemon=True
+        )
+        self._subscriber: zenoh.Subscriber[None] | None = None
+
+    def start(self) -> TrajectoryFollower:
+        """Start playing, then subscribe."""
+        self._thread.start()
+        bus = self.bridge.bus
+        key = bus.key(TRAJECTORY_TOPIC)
+        self._subscriber = bus.session.declare_subscriber(key, self._on_sample)
+        log.info("following trajectories on %s", key)
+        return self
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread
+        try:
+            self._queue.put_nowait(sample.payload.to_bytes())
+        except queue.Full:
+            log.warning("follow: %d trajectories waiting, one dropped", QUEUE_LIMIT)
+
+    def _work(self) -> None:
+        while (payload := self._queue.get()) is not None:
+            try:
+                self._play(payload)
+            except ArmplanError:  # the bridge has logged it
+                pass
+            except Exception:  # the follower never dies
+                log.exception("follow: failed to play a trajectory")
+
+    def _play(self, payload: bytes) -> None:
+        try:
+            trajectory = parse(Trajectory, payload)
+        except ArmplanError as error:
+            log.warning("follow: not a trajectory: %s", error.message)
+            return
+        self.bridge.execute(ExecuteRequest(trajectory=trajectory, rate=self.rate))
+        self.played += 1
+
+    def stop(self) -> None:
+        """Unsubscribe; finish (at most ``STOP_GRACE`` s of) the current one."""
+        if self._subscriber is not None:
+            self._subscriber.undeclare()  # type: ignore[no-untyped-call]
+            self._subscriber = None
+        while True:  # drop what waits, then wake the worker
+            try:
+                self._queue.get_nowait()
+            except queue.Empty:
+                break
+        self._queue.put(None)
+        self._thread.join(STOP_GRACE)

@@ -1,0 +1,109 @@
+"""``python -m bridge.serve``: the robot bridge as a Zenoh service process.
+
+Usage: ``python -m bridge.serve [--robot tcp://IP:9559] [--follow]
+[--config FILE] [--connect tcp/HOST:PORT] [--rate HZ]``.
+
+It connects to the router (waiting up to ``--wait`` seconds), answers
+``<ns>/bridge/execute`` (:mod:`bridge.service`), with ``--follow`` also plays
+every trajectory published on ``<ns>/plan/trajectory``
+(:mod:`bridge.follower`), and runs until SIGTERM or SIGINT (or its launcher
+dies). The robot is reached on demand: the bridge starts without it, and a
+robot that went away is connected again at the next request. The robot's
+address: ``--robot``, else ``$ARMPLAN_ROBOT``, else the simulated NAO at
+``tcp://127.0.0.1:9559`` (:mod:`bridge.route`). Importing ``bridge`` first
+loads libqi before pinocchio (see shared/libqi.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+from collections.abc import Sequence
+
+from bridge.address import ROBOT_ENV, robot_url
+from bridge.follower import TrajectoryFollower
+from bridge.frames import DEFAULT_RATE
+from bridge.naoqi_client import NaoqiClient
+from bridge.robot_bridge import RobotBridge
+from bridge.service import BridgeService
+from shared.bus import Bus, ServiceHost, load_config
+from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.robot_routes import BRIDGE
+from shared.errors import ArmplanError
+
+log = logging.getLogger("armplan.bridge")
+
+
+def parser() -> argparse.ArgumentParser:
+    """The bridge process's command line."""
+    p = argparse.ArgumentParser(
+        prog="python -m bridge.serve",
+        description="The armplan robot bridge on Zenoh.",
+    )
+    add_common_arguments(p)
+    p.add_argument(
+        "--connect",
+        action="append",
+        metavar="ENDPOINT",
+        help="router endpoint, e.g. tcp/127.0.0.1:7447 (default: the config's)",
+    )
+    p.add_argument(
+        "--wait",
+        type=float,
+        default=10.0,
+        metavar="S",
+        help="how long to wait for the router at start [s] (default 10)",
+    )
+    p.add_argument(
+        "--robot",
+        metavar="URL",
+        help=f"the robot's NAOqi address, e.g. tcp://IP:9559 for a real NAO "
+        f"(default: ${ROBOT_ENV}, else the simulated NAO on tcp://127.0.0.1:9559)",
+    )
+    p.add_argument(
+        "--follow",
+        action="store_true",
+        help="also play every trajectory published on <ns>/plan/trajectory",
+    )
+    p.add_argument(
+        "--rate", type=float, default=DEFAULT_RATE, help="frame rate [Hz] (25)"
+    )
+    return p
+
+
+def run(args: argparse.Namespace) -> None:
+    """Serve until asked to stop (``start_process`` installed the handlers)."""
+    stop = start_process(args.log_level)
+    url = robot_url(args.robot)
+    config = load_config(args.config, tuple(args.connect or ()))
+    client = NaoqiClient(url)
+    try:
+        with Bus.connect(config, wait=args.wait) as bus:
+            service = BridgeService(bus, RobotBridge(client, rate=args.rate))
+            follower = TrajectoryFollower(service, args.rate) if args.follow else None
+            with ServiceHost(bus, BRIDGE, service.endpoints()):
+                log.info("bridge: robot at %s", url)
+                if follower is not None:
+                    follower.start()
+                try:
+                    wait_for(stop)
+                finally:
+                    if follower is not None:
+                        follower.stop()
+    finally:
+        client.close()
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point; 0 after a stop request, 1 on a configuration error."""
+    args = parser().parse_args(argv)
+    try:
+        run(args)
+    except ArmplanError as error:
+        log.error("bridge: %s", error.message)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

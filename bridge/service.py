@@ -1,0 +1,89 @@
+"""The bridge as a Zenoh service: execute requests in, the robot moves, reports out.
+
+:class:`BridgeService` is the thin wrapper around
+:class:`~bridge.robot_bridge.RobotBridge`: it answers ``<ns>/bridge/execute``
+(an :class:`~shared.messages.ExecuteRequest` in, the
+:class:`~shared.messages.ExecuteReply` with the tracking report out) and
+publishes what crosses the robot's boundary: the checked command frames
+(``bridge/frames``), each measured joint state while the arm moves
+(``bridge/state``) and the tracking report (``bridge/report``). A trajectory
+with one frame over a limit is refused with the bridge's typed error before
+anything is published or sent. One robot plays one trajectory at a time:
+requests wait for the one that is playing.
+
+Run it with ``python -m bridge.serve --robot URL`` (``armplan up
+--with-sim`` and ``armplan demo`` do); see :mod:`bridge.serve`.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Sequence
+from typing import Any
+
+from bridge.robot_bridge import RobotBridge
+from shared.bus import Bus, Endpoint
+from shared.bus.robot_routes import EXECUTE
+from shared.bus.topics import (
+    BRIDGE_FRAMES_TOPIC,
+    BRIDGE_REPORT_TOPIC,
+    BRIDGE_STATE_TOPIC,
+)
+from shared.errors import ArmplanError
+from shared.messages import ExecuteReply, ExecuteRequest, JointState
+
+log = logging.getLogger("armplan.bridge")
+
+
+class BridgeService:
+    """The robot bridge on a bus.
+
+    Attributes:
+        bus: Where it publishes.
+        robot: The robot-facing bridge (checks, sends, reads back).
+    """
+
+    def __init__(self, bus: Bus, robot: RobotBridge) -> None:
+        self.bus = bus
+        self.robot = robot
+        self._lock = threading.Lock()
+
+    def execute(self, request: ExecuteRequest) -> ExecuteReply:
+        """Check, play and report one trajectory (see ``RobotBridge.execute``).
+
+        Raises:
+            TrajectoryRefusedError: a frame breaks a limit (nothing sent,
+                nothing published).
+            RobotUnavailableError, RobotCommandError: from the robot.
+        """
+        with self._lock:
+            try:
+                return self._play(request)
+            except ArmplanError as error:
+                log.warning("execute: %s", error.message)
+                raise
+
+    def _play(self, request: ExecuteRequest) -> ExecuteReply:
+        trajectory = request.trajectory
+        frames = self.robot.frames(trajectory, request.rate)
+        self.bus.publish(BRIDGE_FRAMES_TOPIC, frames)
+        log.info(
+            "playing %d frames (%.2f s, %s arm) on %s",
+            len(frames.times),
+            frames.duration,
+            trajectory.arm.value,
+            self.robot.client.url,
+        )
+        reply = self.robot.handle(request, on_state=self._publish_state)
+        self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
+        worst = max(reply.report.tracking_rms_deg.values(), default=0.0)
+        log.info("played; worst joint RMS %.3f deg", worst)
+        return reply
+
+    def _publish_state(self, state: JointState) -> None:
+        self.bus.publish(BRIDGE_STATE_TOPIC, state)
+
+    def endpoints(self) -> Sequence[Endpoint[Any, Any]]:
+        """The bridge's endpoints: ``bridge/execute``."""
+        return [Endpoint(EXECUTE, self.execute)]

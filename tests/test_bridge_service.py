@@ -1,0 +1,269 @@
+"""The bridge as a Zenoh service (``python -m bridge.serve``) driving the sim.
+
+Real parts only: a Zenoh router and the bridge as processes
+(``armplan.launch``), the simulated NAO as its own process reached through a
+real libqi session on 127.0.0.1, and a Zenoh client session in the test. The
+bridge is pointed at a fixed loopback address; each test starts its own sim
+there, so the bridge also has to connect again to every new one.
+"""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import zenoh
+
+from armplan.launch import Launcher, free_endpoint
+from armplan.launch.robot import RobotStack
+from bridge.address import check_robot_url, robot_url
+from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.sim import SimProcess
+from bridge.sim.log import read_log
+from shared.bus import Bus, BusConfig, load_config
+from shared.bus.robot_routes import EXECUTE
+from shared.bus.routes import TRAJECTORY_TOPIC
+from shared.errors import (
+    InvalidInputError,
+    RobotUnavailableError,
+    TrajectoryRefusedError,
+)
+from shared.messages import (
+    CommandFrames,
+    ExecuteReply,
+    ExecuteRequest,
+    JointState,
+    TrackingReport,
+    Trajectory,
+)
+from shared.robot.postures import forward, rest
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+def reach(seconds: float = 1.0) -> Trajectory:
+    """Rest -> arm stretched forward -> rest, minimum jerk, ``seconds`` each."""
+    postures = [rest("right"), forward("right"), rest("right")]
+    return minimum_jerk_trajectory("right", postures, [seconds, seconds])
+
+
+def over_speed(trajectory: Trajectory) -> Trajectory:
+    """``trajectory`` with sample 48 of RElbowYaw bumped by 0.4 rad: frame 12
+    (t = 0.48 s) then needs about 10 rad/s, over the 8.27 rad/s limit."""
+    positions = np.asarray(trajectory.positions)
+    positions[48, 2] += 0.4
+    return trajectory.model_copy(update={"positions": positions.tolist()})
+
+
+class Stack:
+    """A router, a bridge aimed at ``url``, and a client bus."""
+
+    def __init__(self, config: BusConfig, url: str, bus: Bus) -> None:
+        self.config = config
+        self.url = url
+        self.bus = bus
+
+    def execute(self, trajectory: Trajectory, timeout: float = 30.0) -> ExecuteReply:
+        return self.bus.call(
+            EXECUTE, ExecuteRequest(trajectory=trajectory), timeout=timeout
+        )
+
+
+@pytest.fixture(scope="module")
+def stack(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Stack]:
+    config = load_config(endpoints=(free_endpoint(),))
+    url = f"tcp://127.0.0.1:{free_port()}"
+    logs = tmp_path_factory.mktemp("logs")
+    with (
+        (logs / "router.log").open("w") as router_log,
+        (logs / "bridge.log").open("w") as bridge_log,
+        Launcher(config, [], log=router_log),
+        RobotStack(config, robot=url, follow=True, log=bridge_log),
+        Bus.connect(config) as bus,
+    ):
+        yield Stack(config, url, bus)
+
+
+@pytest.fixture
+def sim(stack: Stack, tmp_path: Path) -> Iterator[SimProcess]:
+    process = SimProcess(listen=stack.url, log_path=tmp_path / "sim.jsonl")
+    process.start()
+    try:
+        yield process
+    finally:
+        process.stop()
+
+
+class Published:
+    """Every message put on ``<ns>/bridge/**`` while it is open, by key."""
+
+    def __init__(self, bus: Bus) -> None:
+        self.keys: list[str] = []
+        self.payloads: list[bytes] = []
+        self._lock = threading.Lock()
+        self._subscriber = bus.session.declare_subscriber(
+            bus.key("bridge/**"), self._on
+        )
+
+    def _on(self, sample: zenoh.Sample) -> None:
+        with self._lock:
+            self.keys.append(str(sample.key_expr))
+            self.payloads.append(sample.payload.to_bytes())
+
+    def on(self, key: str) -> list[bytes]:
+        with self._lock:
+            return [
+                p for k, p in zip(self.keys, self.payloads, strict=True) if k == key
+            ]
+
+    def close(self) -> None:
+        self._subscriber.undeclare()
+
+
+@pytest.fixture
+def published(stack: Stack) -> Iterator[Published]:
+    listener = Published(stack.bus)
+    try:
+        yield listener
+    finally:
+        listener.close()
+
+
+def commands_received(sim: SimProcess) -> list[dict[str, Any]]:
+    """The sim's log entries for commands it got (calls and motions)."""
+    assert sim.log_path is not None
+    return [e for e in read_log(sim.log_path) if e["event"] in ("call", "motion")]
+
+
+def test_robot_addresses_are_checked() -> None:
+    """--robot, then $ARMPLAN_ROBOT, then the sim's address; a malformed one is
+    refused with a message that shows the expected form."""
+    assert robot_url(None, {}) == "tcp://127.0.0.1:9559"
+    assert robot_url(None, {"ARMPLAN_ROBOT": "tcp://10.0.0.7:9559"}) == (
+        "tcp://10.0.0.7:9559"
+    )
+    assert robot_url("tcp://nao.local:9559", {"ARMPLAN_ROBOT": "x"}) == (
+        "tcp://nao.local:9559"
+    )
+    for bad in ("10.0.0.7:9559", "tcp://10.0.0.7", "tcp://h:70000", "udp://h:1"):
+        with pytest.raises(InvalidInputError) as caught:
+            check_robot_url(bad)
+        assert caught.value.message == (
+            f"robot address {bad!r} must look like tcp://HOST:PORT "
+            "(a real NAO: tcp://IP:9559)"
+        )
+
+
+def test_an_over_speed_trajectory_is_refused_and_the_sim_receives_nothing(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """One frame over RElbowYaw's speed limit: the caller gets the typed
+    refusal naming joint, frame and limit; the sim's log shows no command and
+    the bridge publishes no frames."""
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        stack.execute(over_speed(reach()))
+    error = caught.value
+    print("\n" + error.message)
+    assert error.message.startswith("trajectory refused, nothing was sent: RElbowYaw")
+    assert error.evidence["joint"] == "RElbowYaw"
+    assert error.evidence["frame"] == 12
+    assert error.evidence["time"] == pytest.approx(0.48)
+    assert error.evidence["value"] > error.evidence["limit"]
+    time.sleep(0.3)  # anything sent would have been logged by now
+    assert commands_received(sim) == []
+    assert published.on(stack.bus.key("bridge/frames")) == []
+
+
+def test_a_trajectory_is_played_reported_and_published(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """A reach through Zenoh: tracking under 1 degree RMS per joint; the frames,
+    every measured state and the report are published as typed messages."""
+    trajectory = reach()
+    reply = stack.execute(trajectory)
+    report = reply.report
+    print(
+        "\ntracking RMS [deg]:",
+        {k: round(v, 3) for k, v in report.tracking_rms_deg.items()},
+    )
+    assert set(report.tracking_rms_deg) == set(trajectory.joint_names)
+    assert max(report.tracking_rms_deg.values()) < 1.0
+    assert report.duration == pytest.approx(trajectory.duration, abs=0.1)
+    time.sleep(0.3)  # let the last publications arrive
+    frames = published.on(stack.bus.key("bridge/frames"))
+    states = published.on(stack.bus.key("bridge/state"))
+    reports = published.on(stack.bus.key("bridge/report"))
+    assert len(frames) == 1 and len(reports) == 1
+    assert len(CommandFrames.model_validate_json(frames[0]).times) == reply.frames
+    assert TrackingReport.model_validate_json(reports[0]) == report
+    assert len(states) >= report.samples
+    last = JointState.model_validate_json(states[-1])
+    assert last.joint_names == trajectory.joint_names
+    assert not [e for e in read_log(sim.log_path or "") if e["event"] == "refused"]
+
+
+def test_a_published_trajectory_is_followed(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """With --follow, a trajectory put on plan/trajectory is played: the sim
+    moves and a tracking report is published."""
+    stack.bus.publish(TRAJECTORY_TOPIC, reach(0.6))
+    deadline = time.monotonic() + 20.0
+    while not published.on(stack.bus.key("bridge/report")):
+        assert time.monotonic() < deadline, "no report within 20 s"
+        time.sleep(0.1)
+    report = TrackingReport.model_validate_json(
+        published.on(stack.bus.key("bridge/report"))[0]
+    )
+    assert max(report.tracking_rms_deg.values()) < 1.0
+    assert [e for e in commands_received(sim) if e["event"] == "motion"]
+
+
+def test_a_sim_killed_mid_trajectory_errs_within_2_s_and_is_used_again(
+    stack: Stack, tmp_path: Path
+) -> None:
+    """SIGKILL the sim 0.5 s into a 2 s trajectory: the Zenoh caller gets
+    robot_unavailable within 2 s; a sim restarted at the same address is used
+    by the same bridge process for the next request."""
+    first = SimProcess(listen=stack.url, log_path=tmp_path / "first.jsonl")
+    second = SimProcess(listen=stack.url, log_path=tmp_path / "second.jsonl")
+    outcome: dict[str, Any] = {}
+
+    def call() -> None:
+        try:
+            stack.execute(reach())
+        except RobotUnavailableError as error:
+            outcome["error"], outcome["at"] = error, time.monotonic()
+
+    first.start()
+    try:
+        caller = threading.Thread(target=call)
+        caller.start()
+        time.sleep(0.5)
+        killed_at = time.monotonic()
+        first.kill()
+        caller.join(10.0)
+        error = outcome["error"]
+        delay = outcome["at"] - killed_at
+        print(f"\nerror {delay * 1000:.0f} ms after the kill: {error.message}")
+        assert error.evidence["url"] == stack.url
+        assert error.message.startswith(f"the robot at {stack.url} is unavailable")
+        assert 0.0 < delay < 2.0
+        with pytest.raises(RobotUnavailableError):  # nobody there now
+            stack.execute(reach())
+        second.start()
+        again = stack.execute(reach())
+        assert max(again.report.tracking_rms_deg.values()) < 1.0
+    finally:
+        first.stop()
+        second.stop()
