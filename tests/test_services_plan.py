@@ -1,0 +1,261 @@
+"""The planner and its stage services as real processes behind a real router."""
+
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
+from typing import IO, Any
+
+import numpy as np
+import pytest
+import zenoh
+
+from armplan.launch import Launcher, free_endpoint
+from services.planner.pipeline import plan
+from services.planner.wrist_path import reach_path
+from shared.bus import Bus, Route, load_config
+from shared.bus.routes import DECIDE, IK_PATH, PLAN, TIMING
+from shared.bus.topics import find_topic
+from shared.demos.nao_grid import nao_grid
+from shared.errors import (
+    InvalidInputError,
+    PayloadTooLargeError,
+    ServiceUnavailableError,
+    UnreachableTargetError,
+)
+from shared.messages import Method, PlanRequest, WristPath, parse
+from shared.robot import load_arm
+from shared.robot.postures import rest
+
+#: The payload limit these tests configure [bytes].
+LIMIT = 262144
+NAMESPACE = "test-plan"
+CONFIG = """{{
+  mode: "router",
+  listen: {{ endpoints: ["{endpoint}"] }},
+  scouting: {{ multicast: {{ enabled: false }} }},
+  metadata: {{ armplan: {{ namespace: "{namespace}", max_payload: {limit},
+                          timeout: 60.0 }} }},
+}}"""
+REACH = PlanRequest.model_validate({"targets": [{"position": (0.12, -0.10, 0.05)}]})
+
+
+def timed_path() -> WristPath:
+    """A 1.2 s timed wrist path from rest towards a target (right arm)."""
+    arm = load_arm("right")
+    points = arm.fk(rest(arm.side))
+    goal = np.array((0.12, -0.10, 0.05))
+    path = reach_path(points.shoulder, points.wrist, goal, 1.2)
+    return WristPath(
+        arm=arm.side,
+        times=path.times.tolist(),
+        positions=[tuple(p) for p in path.positions.tolist()],
+    )
+
+
+CASES = {
+    "reach": REACH,
+    "left-palm": PlanRequest.model_validate(
+        {
+            "arm": "left",
+            "targets": [{"position": (0.12, 0.10, 0.05), "palm": (0, 0, -1)}],
+        }
+    ),
+    "least-norm": REACH.model_copy(update={"method": Method.LEAST_NORM}),
+    "single": REACH.model_copy(update={"method": Method.SINGLE}),
+    "fastest": REACH.model_copy(update={"fastest": True}),
+    "two-targets-dwell": PlanRequest.model_validate(
+        {
+            "targets": [
+                {"position": (0.12, -0.10, 0.05), "dwell": 0.5},
+                {"position": (0.10, -0.14, 0.0)},
+            ],
+            "rate": 50.0,
+        }
+    ),
+    "wrist-path": PlanRequest(wrist_path=timed_path()),
+}
+
+
+@pytest.fixture(scope="module")
+def log(tmp_path_factory: pytest.TempPathFactory) -> Iterator[IO[str]]:
+    with (tmp_path_factory.mktemp("logs") / "children.log").open("w") as file:
+        yield file
+
+
+@pytest.fixture(scope="module")
+def stack(tmp_path_factory: pytest.TempPathFactory, log: IO[str]) -> Iterator[Launcher]:
+    """The router and every service, from a config file with a small limit."""
+    path = tmp_path_factory.mktemp("plan") / "zenoh.json5"
+    path.write_text(
+        CONFIG.format(endpoint=free_endpoint(), namespace=NAMESPACE, limit=LIMIT)
+    )
+    with Launcher(load_config(path), log=log) as launcher:
+        yield launcher
+
+
+@pytest.fixture(scope="module")
+def bus(stack: Launcher) -> Iterator[Bus]:
+    with Bus.connect(stack.config) as bus:
+        yield bus
+
+
+def in_process(request: PlanRequest) -> str:
+    return plan(request).trajectory.to_json()
+
+
+@pytest.mark.parametrize("request_", CASES.values(), ids=CASES.keys())
+def test_remote_and_in_process_plans_agree_byte_for_byte(
+    bus: Bus, request_: PlanRequest
+) -> None:
+    """The planner's trajectory JSON is the in-process one, byte for byte."""
+    assert bus.call(PLAN, request_).to_json() == in_process(request_)
+
+
+def test_a_plan_publishes_request_decision_joint_path_and_trajectory(
+    bus: Bus,
+) -> None:
+    """Each part goes out on its registered topic (so the recorder keeps it
+    on a typed channel), in order, the trajectory equal to the reply."""
+    got: list[tuple[str, bytes]] = []
+    lock = threading.Lock()
+
+    def keep(sample: zenoh.Sample) -> None:
+        with lock:
+            got.append((str(sample.key_expr), sample.payload.to_bytes()))
+
+    subscriber = bus.session.declare_subscriber(f"{NAMESPACE}/plan/**", keep)
+    try:
+        time.sleep(0.5)  # let the router learn of the subscriber
+        reply = bus.call(PLAN, REACH)
+        deadline = time.monotonic() + 10.0
+        while len(got) < 4 and time.monotonic() < deadline:
+            time.sleep(0.05)
+    finally:
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    paths = [key.removeprefix(f"{NAMESPACE}/") for key, _ in got]
+    assert paths == [
+        "plan/request",
+        "plan/decision",
+        "plan/joint_path",
+        "plan/trajectory",
+    ]
+    for path, (_, payload) in zip(paths, got, strict=True):
+        topic = find_topic(path)
+        assert topic is not None and topic.message is not None
+        parse(topic.message, payload)
+    assert got[0][1] == REACH.to_json().encode()
+    assert got[-1][1] == reply.to_json().encode()
+
+
+def test_an_unreachable_target_comes_back_typed(bus: Bus) -> None:
+    """The planner's own typed error, with its evidence, through the service."""
+    far = PlanRequest.model_validate({"targets": [{"position": (0.5, -0.12, 0.05)}]})
+    with pytest.raises(UnreachableTargetError) as caught:
+        bus.call(PLAN, far)
+    assert caught.value.evidence["arm"] == "right"
+
+
+@pytest.mark.parametrize(
+    "payload,error,words",
+    [
+        (b'{"targets": [{"position": [0.12, -0.1', InvalidInputError, "not valid JSON"),
+        (b'{"target": [0.12, -0.10, 0.05]}', InvalidInputError, "target"),
+        (b'{"targets": [{"position": "near"}]}', InvalidInputError, "position"),
+        (
+            b'{"targets": [{"position": [NaN, -0.10, 0.05]}]}',
+            InvalidInputError,
+            "finite number",
+        ),
+        (b'{"targets": [], "rate": 1e999}', InvalidInputError, "finite number"),
+        (b" " * (LIMIT + 1), PayloadTooLargeError, f"limit of {LIMIT} bytes"),
+    ],
+    ids=["malformed", "wrong-schema", "wrong-type", "nan", "inf", "too-large"],
+)
+def test_bad_plan_requests_get_typed_errors_and_the_planner_answers_on(
+    stack: Launcher, bus: Bus, payload: bytes, error: type[Exception], words: str
+) -> None:
+    """A typed error naming the problem; the same process plans the next one."""
+    pid = stack.services["planner"].pid
+    with pytest.raises(error, match=words):
+        bus.call(PLAN, payload)
+    assert bus.call(PLAN, REACH).to_json() == in_process(REACH)
+    assert stack.services["planner"].pid == pid
+    assert stack.services["planner"].exit_code() is None
+
+
+@pytest.mark.parametrize("route", [DECIDE, IK_PATH, TIMING], ids=lambda r: r.path)
+@pytest.mark.parametrize(
+    "payload,words",
+    [
+        (b"{not json", "not valid JSON"),
+        (b'{"targets": []}', r"invalid \w+Request: "),
+        (b" " * (LIMIT + 1), f"limit of {LIMIT} bytes"),
+    ],
+    ids=["malformed", "wrong-schema", "too-large"],
+)
+def test_bad_stage_requests_get_typed_errors(
+    bus: Bus, route: Route[Any, Any], payload: bytes, words: str
+) -> None:
+    """Each stage service refuses bad bytes with a typed error and plans go on."""
+    with pytest.raises(InvalidInputError, match=words):
+        bus.call(route, payload)
+    assert bus.call(PLAN, REACH).to_json() == in_process(REACH)
+
+
+def test_a_nan_in_a_stage_request_is_named(bus: Bus) -> None:
+    """A NaN inside a wrist path sent to decide: invalid_input naming the field."""
+    body = b'{"path": {"arm": "right", "times": [0, 0.01], '
+    body += b'"positions": [[0.1, -0.1, 0.0], [NaN, -0.1, 0.0]]}}'
+    with pytest.raises(InvalidInputError, match=r"path\.positions\.1\.0"):
+        bus.call(DECIDE, body)
+
+
+def test_fifty_concurrent_plans_all_succeed(bus: Bus) -> None:
+    """50 threads of one client plan 50 grid reaches; every reply is the
+    in-process trajectory of its own request."""
+    targets = [tuple(t.wrist) for t in nao_grid(load_arm("right").side)]
+    requests = [
+        PlanRequest.model_validate({"targets": [{"position": targets[k % 16]}]})
+        for k in range(50)
+    ]
+    with ThreadPoolExecutor(50) as pool:
+        replies = list(pool.map(lambda r: bus.call(PLAN, r, timeout=300.0), requests))
+    expected = {k: in_process(requests[k]) for k in range(16)}
+    for k, reply in enumerate(replies):
+        assert reply.to_json() == expected[k % 16]
+
+
+def test_a_stopped_fit_service_does_not_stop_planning(
+    stack: Launcher, bus: Bus
+) -> None:
+    """Without fit, decide keeps the model it has and plans still work."""
+    stack.services["fit"].signal(signal.SIGTERM)
+    stack.services["fit"].process.wait(30.0)
+    assert bus.call(PLAN, REACH).to_json() == in_process(REACH)
+    stack.start_service("fit")
+    assert bus.wait_alive(["fit"], 60.0) == []
+
+
+@pytest.mark.parametrize("service", ["decide", "ik", "timing", "planner"])
+def test_a_stopped_service_is_named_within_2_s_and_a_restart_heals(
+    stack: Launcher, bus: Bus, service: str
+) -> None:
+    """One service killed: the remote plan fails within 2 s naming it; once it
+    is restarted (nothing else is), planning works again."""
+    others = {n: c.pid for n, c in stack.services.items() if n != service}
+    stack.services[service].signal(signal.SIGKILL)
+    stack.services[service].process.wait(30.0)
+    start = time.monotonic()
+    with pytest.raises(ServiceUnavailableError) as caught:
+        bus.call(PLAN, REACH, timeout=30.0)
+    assert time.monotonic() - start < 2.0
+    assert caught.value.service == service
+    assert f"service {service!r} is unavailable" in caught.value.message
+    stack.start_service(service)
+    assert bus.wait_alive([service], 60.0) == []
+    assert bus.call(PLAN, REACH, timeout=60.0).to_json() == in_process(REACH)
+    assert {n: c.pid for n, c in stack.services.items() if n != service} == others
