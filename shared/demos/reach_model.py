@@ -187,23 +187,25 @@ def plan_reach(
     style: Style,
     target: FloatArray,
     rng: np.random.Generator | None = None,
+    start: ArmPose | None = None,
 ) -> ReachPlan:
     """Plan one trial's reach to ``target`` (shoulder frame [m], shape (3,)).
 
     With ``rng`` the trial varies (start posture, end point, timing); without,
-    it is the model's noise-free reach.
+    it is the model's noise-free reach. ``start`` replaces the hanging arm as
+    the start posture (for a reach that follows another one).
     """
     length = subject.arm_length
-    start = rest_pose(rng)
+    start = rest_pose(rng) if start is None else start
     end = target if rng is None else target + rng.normal(0.0, ENDPOINT_SCATTER, 3)
     height = float(end[2]) / length
     out = SWIVEL_OUT + SWIVEL_PER_HEIGHT * height + style.swivel
-    turn = -(ROLL_PER_HEIGHT * max(height - ROLL_FROM, 0.0) + style.roll)
-    if abs(turn) < ROLL_MIN:
-        turn = 0.0
-    goal = pose_for_target(
-        end, subject.upper_arm, subject.forearm, math.pi - out, start.roll + turn
-    )
+    # The final roll is the hanging arm's (0) plus the pronation for the
+    # target; a start with another roll (a reach after a reach) turns to it.
+    roll = -(ROLL_PER_HEIGHT * max(height - ROLL_FROM, 0.0) + style.roll)
+    if abs(roll - start.roll) < ROLL_MIN:
+        roll = start.roll
+    goal = pose_for_target(end, subject.upper_arm, subject.forearm, math.pi - out, roll)
     hand = chain_points(
         start.frame[None],
         np.array([start.flexion]),
