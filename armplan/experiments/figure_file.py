@@ -1,0 +1,36 @@
+"""Figures drawn off-screen (matplotlib's Agg canvas) and saved as PNG."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from shared.errors import InvalidInputError
+
+#: Colours of the methods, the same in every figure.
+COLOURS = {"mp": "tab:red", "least-norm": "tab:blue", "single": "tab:green"}
+
+
+def new_figure(width: float, height: float) -> Figure:
+    """A figure of ``width`` x ``height`` [inch] on an Agg canvas."""
+    figure = Figure(figsize=(width, height), layout="constrained")
+    FigureCanvasAgg(figure)
+    return figure
+
+
+def save_png(figure: Figure, path: str | Path) -> Path:
+    """Write ``figure`` to ``path`` as PNG; returns the path.
+
+    Raises:
+        InvalidInputError: if the file cannot be written (naming it).
+    """
+    path = Path(path)
+    try:
+        figure.savefig(path, dpi=100, format="png")
+    except (OSError, ValueError) as exc:
+        raise InvalidInputError(
+            f"cannot write the plot {path}: {exc}", field="out"
+        ) from None
+    return path

@@ -1,0 +1,130 @@
+"""NAO's reach for a subject's: same start posture, same goal, a method's IK.
+
+NAO starts in the subject's retargeted start posture (the paper: "when the
+sizes of the subjects are different, the initial positions of NAO are also
+different"), turned into joint angles by ``posture_from_points``. Then the
+wrist either
+
+- ``human`` path: follows the subject's mean retargeted wrist path (the
+  "converted path trajectories" of Section V.A), sampled at 100 Hz over the
+  subject's mean duration; the three methods then differ only in how they
+  place the elbow; or
+- ``planned`` path: follows the planner's own human-like wrist path from the
+  start to the subject's mean end point (``services.planner.reach_path``),
+  as ``armplan plan`` would.
+
+Either way the planner's stages decide (method ``mp``) and track the path
+(:class:`services.planner.stages.LocalStages`); the joint path is read at
+normalised time (its points are evenly spaced in the reach's time). It is
+not retimed: timing does not change the path the arm takes.
+"""
+
+from __future__ import annotations
+
+import math
+from enum import StrEnum
+from typing import NamedTuple
+
+import numpy as np
+
+from armplan.experiments.normalised_time import at_tau_even
+from armplan.experiments.posture_from_points import joints_from_points
+from armplan.experiments.subject_reach import SubjectReach
+from services.planner.reach_path import reach_wrist_path
+from services.planner.stages import Stages
+from shared.messages import (
+    DecideRequest,
+    JointPath,
+    Method,
+    PathIKRequest,
+    ReachTarget,
+    WristPath,
+)
+from shared.robot.arm_model import ArmModel
+
+#: Path points per second of the human path [Hz] (the paper's 100 Hz).
+RATE = 100.0
+
+
+class PathSource(StrEnum):
+    """Where NAO's wrist path comes from."""
+
+    HUMAN = "human"
+    PLANNED = "planned"
+
+
+class NaoReach(NamedTuple):
+    """NAO's reach, read at the tau grid.
+
+    Attributes:
+        elbow: Elbow positions [m], shape (m, 3).
+        wrist: Wrist positions [m], shape (m, 3).
+        primitives: What moved the arm at each path point, shape (n,).
+    """
+
+    elbow: np.ndarray
+    wrist: np.ndarray
+    primitives: list[str]
+
+
+def start_posture(arm: ArmModel, reach: SubjectReach) -> np.ndarray:
+    """The subject's start posture on NAO [rad], shape (5,)."""
+    return joints_from_points(arm, reach.elbow[0], reach.wrist[0])
+
+
+def nao_reach(
+    arm: ArmModel,
+    stages: Stages,
+    reach: SubjectReach,
+    method: Method,
+    source: PathSource,
+    tau: np.ndarray,
+) -> NaoReach:
+    """NAO's reach for ``reach`` with ``method`` (see the module docstring)."""
+    q0 = start_posture(arm, reach)
+    path = wrist_path(arm, reach, q0, source, tau)
+    joint_path = track(stages, path, q0, method)
+    q = np.array(joint_path.positions)
+    elbow = np.array([arm.fk(posture).elbow for posture in q])
+    return NaoReach(
+        at_tau_even(elbow, tau),
+        at_tau_even(np.array(joint_path.wrist), tau),
+        list(joint_path.primitives),
+    )
+
+
+def wrist_path(
+    arm: ArmModel,
+    reach: SubjectReach,
+    q0: np.ndarray,
+    source: PathSource,
+    tau: np.ndarray,
+) -> WristPath:
+    """NAO's wrist path from the posture ``q0`` [rad] (see the module docstring)."""
+    start = arm.fk(q0).wrist
+    if source is PathSource.PLANNED:
+        goal = ReachTarget(position=tuple(float(v) for v in reach.wrist[-1]))
+        return reach_wrist_path(arm, q0, goal)
+    n = max(2, math.ceil(reach.duration * RATE) + 1)
+    times = np.linspace(0.0, reach.duration, n)
+    positions = np.stack(
+        [np.interp(times / reach.duration, tau, reach.wrist[:, i]) for i in range(3)],
+        axis=1,
+    )
+    positions[0] = start  # q0 may sit a hair off the human start (joint limits)
+    return WristPath(
+        arm=arm.side,
+        times=times.tolist(),
+        positions=[tuple(p) for p in positions.tolist()],
+    )
+
+
+def track(stages: Stages, path: WristPath, q0: np.ndarray, method: Method) -> JointPath:
+    """Decide (method ``mp``) and track ``path`` from ``q0``, as the planner does."""
+    begin = tuple(float(v) for v in q0)
+    decision = None
+    if method is Method.MP:
+        decision = stages.decide(DecideRequest(path=path, start=begin))
+    return stages.ik(
+        PathIKRequest(path=path, start=begin, method=method, decision=decision)
+    )

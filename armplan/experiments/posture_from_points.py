@@ -1,0 +1,136 @@
+"""NAO joint angles from retargeted arm points: the human posture on NAO.
+
+A retargeted human posture is given as points (elbow, wrist, in NAO's torso
+frame, at NAO's segment lengths) and, where the data have it, the wrist
+frame. It becomes NAO joint angles in two steps, because WristYaw moves
+neither the elbow nor the wrist (the wrist is its origin):
+
+1. the four arm joints put NAO's elbow and wrist on the points, by bounded
+   least squares on (elbow error [m], wrist error [m]) (scipy's
+   trust-region reflective solver), so they stay within the robot file's
+   ranges;
+2. WristYaw turns the palm normal nearest the human one, in closed form,
+   if a frame is given (else it keeps its warm start).
+
+Where a human posture lies outside NAO's ranges the nearest one within them
+is returned. A sequence is solved sample by sample, each warm-started from
+the one before, so the angles are continuous.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from shared.errors import InvalidInputError
+from shared.robot.arm_model import ArmModel
+from shared.robot.postures import rest
+
+#: The arm joints that place elbow and wrist, and the wrist's own joint.
+ARM, WRIST_YAW = slice(0, 4), 4
+#: How much nearer the far limit of WristYaw must be to the best yaw [rad].
+SWITCH = 0.5
+
+
+def joints_from_points(
+    arm: ArmModel,
+    elbow: np.ndarray,
+    wrist: np.ndarray,
+    palm: np.ndarray | None = None,
+    guess: np.ndarray | None = None,
+) -> np.ndarray:
+    """Joint angles [rad], shape (5,), putting NAO's arm on the points.
+
+    Args:
+        arm: The NAO arm.
+        elbow: Elbow position in the torso frame [m], shape (3,).
+        wrist: Wrist position in the torso frame [m], shape (3,).
+        palm: Palm normal (wrist frame's y axis), shape (3,), or ``None``.
+        guess: Warm start [rad], shape (5,); default the arm at rest.
+
+    Raises:
+        InvalidInputError: if a point is not finite.
+    """
+    for name, value in (("elbow", elbow), ("wrist", wrist)):
+        if not np.all(np.isfinite(value)):
+            raise InvalidInputError(
+                f"{name} position {value} is not finite", field=name
+            )
+    lower, upper = arm.limits.lower, arm.limits.upper
+    q = rest(arm.side) if guess is None else np.asarray(guess, dtype=float)
+    q = np.clip(q, lower + 1e-9, upper - 1e-9)
+
+    def point_error(joints: np.ndarray) -> np.ndarray:
+        points = arm.fk(np.concatenate((joints, q[WRIST_YAW:])))
+        return np.concatenate((points.elbow - elbow, points.wrist - wrist))
+
+    fit = least_squares(
+        point_error, q[ARM], bounds=(lower[ARM], upper[ARM]), xtol=1e-12
+    )
+    q = np.concatenate((fit.x, q[WRIST_YAW:]))
+    if palm is None:
+        return q
+    q[WRIST_YAW] = wrist_yaw_for_palm(arm, q, palm)
+    return q
+
+
+def wrist_yaw_for_palm(arm: ArmModel, q: np.ndarray, palm: np.ndarray) -> float:
+    """The WristYaw [rad] within its range that turns the palm nearest ``palm``.
+
+    WristYaw turns the wrist frame about its x axis, so with y0, z0 the
+    frame's axes at yaw 0 the palm normal is cos(t) y0 + sin(t) z0, closest
+    to ``palm`` at t* = atan2(palm . z0, palm . y0). Outside the range,
+    the limit nearer the present yaw, unless the other is nearer t* (around
+    the circle) by more than ``SWITCH``: a palm turned half a turn from the
+    range's middle does not make the wrist swing between its limits.
+
+    Args:
+        arm: The NAO arm.
+        q: Posture [rad], shape (5,); its WristYaw is the present yaw.
+        palm: Wanted palm normal, shape (3,).
+    """
+    zero = np.concatenate((q[ARM], [0.0]))
+    frame = arm.rotation(zero, "wrist")
+    best = math.atan2(float(palm @ frame[:, 2]), float(palm @ frame[:, 1]))
+    low, high = float(arm.limits.lower[WRIST_YAW]), float(arm.limits.upper[WRIST_YAW])
+    if low <= best <= high:
+        return best
+    present = float(q[WRIST_YAW])
+    near, far = (
+        (low, high) if abs(present - low) <= abs(present - high) else (high, low)
+    )
+    if _around(best, far) < _around(best, near) - SWITCH:
+        return far
+    return near
+
+
+def _around(a: float, b: float) -> float:
+    """Angle between ``a`` and ``b`` around the circle [rad], in [0, pi]."""
+    return abs((a - b + math.pi) % (2.0 * math.pi) - math.pi)
+
+
+def joint_path_from_points(
+    arm: ArmModel,
+    elbow: np.ndarray,
+    wrist: np.ndarray,
+    frames: np.ndarray | None = None,
+    guess: np.ndarray | None = None,
+) -> np.ndarray:
+    """Joint angles [rad], shape (n, 5), for n retargeted postures.
+
+    Args:
+        arm: The NAO arm.
+        elbow: Elbow positions [m], shape (n, 3).
+        wrist: Wrist positions [m], shape (n, 3).
+        frames: Wrist frames, shape (n, 3, 3), or ``None``.
+        guess: Warm start of the first sample [rad], shape (5,).
+    """
+    q = rest(arm.side) if guess is None else np.asarray(guess, dtype=float)
+    out = []
+    for k in range(len(elbow)):
+        palm = None if frames is None else frames[k][:, 1]
+        q = joints_from_points(arm, elbow[k], wrist[k], palm, q)
+        out.append(q)
+    return np.array(out)
