@@ -1,0 +1,126 @@
+"""``armplan plan``: a human-like arm trajectory for a task.
+
+    armplan plan --target X Y Z [--dwell S] [--palm X Y Z] [--target ...]
+                 [--arm right|left] [--method mp|least-norm|single]
+                 [--fastest] [--rate HZ] [--start Q1..Q5] [--json]
+    armplan plan --wrist-path FILE.csv [--arm ...] [--method ...]
+                 [--start ...] [--palm X Y Z] [--json]
+    armplan plan --task FILE.json [--method ...] [--fastest] [--rate HZ] [--json]
+
+Targets are reached in order, one trajectory through all of them; ``--dwell``
+and ``--palm`` belong to the ``--target`` they follow
+(:mod:`armplan.cli.plan_request`). With ``--wrist-path`` the joint angles come
+at exactly the CSV's times, no retiming. ``--json`` prints the SPEC's
+trajectory JSON; otherwise a table of every tenth sample and a summary
+(:mod:`armplan.cli.plan_output`).
+
+The command is three steps kept apart, so that the planner service can stand
+in for the second: ``request_from_args`` (options to a ``PlanRequest``),
+``plan_trajectory`` (the planning, here in-process) and ``show`` (output from
+the request and the ``Trajectory`` message alone).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from armplan.cli.parsing import add_arm, add_json
+from armplan.cli.plan_output import show
+from armplan.cli.plan_request import StepAction, request_from_args
+from shared.messages import Method, PlanRequest, Trajectory
+
+ORDER = 27
+HELP = "plan a human-like arm trajectory: targets, a timed wrist path, or a task"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``plan``."""
+    parser = commands.add_parser("plan", help=HELP, description=HELP)
+    add_arm(parser)
+    parser.set_defaults(arm=None)  # None: right, or the task file's arm
+    _add_task(parser)
+    _add_per_target(parser)
+    _add_how(parser)
+    add_json(parser)
+    parser.set_defaults(run=run, steps=None)
+
+
+def _add_task(parser: argparse.ArgumentParser) -> None:
+    """What to do: targets, a wrist path or a task file (exactly one)."""
+    what = parser.add_mutually_exclusive_group(required=True)
+    what.add_argument(
+        "--target",
+        dest="steps",
+        action=StepAction,
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="wrist target in the torso frame [m]; repeat for more targets",
+    )
+    what.add_argument(
+        "--wrist-path",
+        metavar="FILE.csv",
+        help="timed wrist path to follow at its own times (header t,x,y,z; s, m)",
+    )
+    what.add_argument("--task", metavar="FILE.json", help="a whole PlanRequest as JSON")
+
+
+def _add_per_target(parser: argparse.ArgumentParser) -> None:
+    """Options that belong to the ``--target`` before them."""
+    parser.add_argument(
+        "--dwell",
+        dest="steps",
+        action=StepAction,
+        type=float,
+        metavar="S",
+        help="hold still this long at the target before it [s]",
+    )
+    parser.add_argument(
+        "--palm",
+        dest="steps",
+        action=StepAction,
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="direction the palm faces at the target before it (or along "
+        "--wrist-path), torso frame",
+    )
+
+
+def _add_how(parser: argparse.ArgumentParser) -> None:
+    """How to plan: method, pace, sample rate, start posture."""
+    parser.add_argument(
+        "--method",
+        choices=[m.value for m in Method],
+        help="mp (the paper's method, default), least-norm or single (baselines)",
+    )
+    parser.add_argument(
+        "--fastest",
+        action="store_true",
+        help="as fast as the limits allow instead of at human pace",
+    )
+    parser.add_argument(
+        "--rate", type=float, metavar="HZ", help="trajectory samples per second [Hz]"
+    )
+    parser.add_argument(
+        "--start",
+        type=float,
+        nargs=5,
+        metavar="Q",
+        help="start posture [rad] (default: arm hanging at rest)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Build the request, plan it, print the trajectory."""
+    request = request_from_args(args)
+    trajectory = plan_trajectory(request)
+    show(request, trajectory, args.json)
+    return 0
+
+
+def plan_trajectory(request: PlanRequest) -> Trajectory:
+    """Plan ``request`` in this process (``services.planner.pipeline.plan``)."""
+    from services.planner.pipeline import plan
+
+    return plan(request).trajectory

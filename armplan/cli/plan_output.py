@@ -1,0 +1,106 @@
+"""Printing a planned trajectory: the SPEC's JSON, or a table and a summary.
+
+The output depends only on the request and the ``Trajectory`` message, so a
+trajectory planned here and one answered by the planner service print alike.
+"""
+
+from __future__ import annotations
+
+import itertools
+import sys
+from typing import NamedTuple
+
+import numpy as np
+
+from armplan.cli.output import print_json, print_table
+from shared.messages import PlanRequest, Trajectory
+from shared.robot import load_arm
+
+#: The table shows every ``EVERY``-th sample, and the last.
+EVERY = 10
+
+
+class Summary(NamedTuple):
+    """What a trajectory did.
+
+    Attributes:
+        duration: From the first to the last sample [s].
+        primitives: The primitives that moved the arm, in order, each once
+            per run of consecutive samples.
+        final_error: Distance of the final wrist (forward kinematics of the
+            last posture) from the goal: the last target, or the wrist path's
+            last sample [m].
+        largest_error: With a wrist path, the largest distance of the wrist
+            from the path over all samples [m]; else ``None``.
+    """
+
+    duration: float
+    primitives: list[str]
+    final_error: float
+    largest_error: float | None
+
+
+def summarize(request: PlanRequest, trajectory: Trajectory) -> Summary:
+    """The summary of ``trajectory``, planned for ``request``."""
+    arm = load_arm(trajectory.arm)
+    wrists = np.array([arm.fk(np.array(q)).wrist for q in trajectory.positions])
+    runs = [name for name, _ in itertools.groupby(trajectory.primitives)]
+    if request.wrist_path is None:
+        goal = np.array(request.targets[-1].position)
+        error = float(np.linalg.norm(wrists[-1] - goal))
+        return Summary(trajectory.duration, runs, error, None)
+    errors = np.linalg.norm(wrists - np.array(request.wrist_path.positions), axis=1)
+    return Summary(trajectory.duration, runs, float(errors[-1]), float(errors.max()))
+
+
+def show(request: PlanRequest, trajectory: Trajectory, as_json: bool) -> None:
+    """Print the trajectory as JSON, or as a sampled table and a summary."""
+    if as_json:
+        print_json(trajectory.model_dump(mode="json"))
+        return
+    print_samples(trajectory)
+    print_summary(request, trajectory, summarize(request, trajectory))
+
+
+def print_samples(trajectory: Trajectory, every: int = EVERY) -> None:
+    """Every ``every``-th sample and the last: time [s], joints [deg], primitive."""
+    n = len(trajectory.times)
+    rows = [
+        (
+            f"{trajectory.times[i]:.3f}",
+            *(f"{np.degrees(q):.2f}" for q in trajectory.positions[i]),
+            trajectory.primitives[i],
+        )
+        for i in sorted({*range(0, n, every), n - 1})
+    ]
+    headers = ("t [s]", *(f"{name} [deg]" for name in trajectory.joint_names))
+    print_table((*headers, "primitive"), rows)
+
+
+def print_summary(
+    request: PlanRequest, trajectory: Trajectory, summary: Summary
+) -> None:
+    """Duration, samples, method and pace, primitives in order, wrist errors."""
+    n = len(trajectory.times)
+    if request.wrist_path is not None:
+        pace = "at the wrist path's own times"
+    else:
+        speed = "as fast as the limits allow" if request.fastest else "human pace"
+        pace = f"{request.rate:g} Hz, {speed}"
+    lines = [
+        f"duration {summary.duration:.3f} s, {n} samples ({pace}); "
+        f"method {trajectory.method.value}",
+        "primitives in order: " + " -> ".join(summary.primitives),
+    ]
+    if summary.largest_error is None:
+        goal = ", ".join(f"{v:.4f}" for v in request.targets[-1].position)
+        lines.append(
+            f"final wrist error {summary.final_error * 1e3:.3f} mm "
+            f"(last target ({goal}) m)"
+        )
+    else:
+        lines.append(
+            f"final wrist error {summary.final_error * 1e3:.3f} mm from the path's "
+            f"last sample; largest along the path {summary.largest_error * 1e3:.3f} mm"
+        )
+    sys.stdout.write("\n" + "\n".join(lines) + "\n")

@@ -1,0 +1,209 @@
+"""The ``PlanRequest`` an ``armplan plan`` command line asks for.
+
+Three ways to say what to do, one per command line:
+
+- ``--target X Y Z``, once per target, reached in order. ``--dwell S`` and
+  ``--palm X Y Z`` belong to the ``--target`` they follow: hold S seconds
+  there [s], face the palm that way there (torso frame). So "reach, hold
+  half a second, retreat" is
+  ``--target 0.12 -0.10 0.05 --dwell 0.5 --target 0.10 -0.14 0.0``.
+- ``--wrist-path FILE.csv``: a timed wrist path (header ``t,x,y,z``, s and
+  m); ``--palm`` (once) is the palm direction held along it. Its times are
+  kept, so ``--fastest``, ``--rate`` and ``--dwell`` do not apply.
+- ``--task FILE.json``: a whole ``PlanRequest`` as JSON, the message the
+  planner service takes. ``--method``, ``--fastest``, ``--rate`` and
+  ``--start`` given beside it override the file's; ``--arm`` must agree with
+  it; ``--dwell`` and ``--palm`` belong in the file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from shared.errors import InvalidInputError
+from shared.messages import PlanRequest, WristPath, parse
+from shared.robot.side import Side
+
+#: Largest task file read [bytes] (the services' default payload limit).
+MAX_TASK_BYTES = 16 * 1024 * 1024
+#: Options that belong to the ``--target`` before them.
+PER_TARGET = ("--dwell", "--palm")
+
+Step = tuple[str, Any]
+
+
+class StepAction(argparse.Action):
+    """Records ``--target``, ``--dwell`` and ``--palm`` in command-line order.
+
+    Each occurrence appends ``(option, values)`` to ``namespace.<dest>``, so
+    the request builder can tell which target a ``--dwell`` follows.
+    """
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        steps = list(getattr(namespace, self.dest) or [])
+        steps.append((self.option_strings[0], values))
+        setattr(namespace, self.dest, steps)
+
+
+def request_from_args(args: argparse.Namespace) -> PlanRequest:
+    """The validated request the options describe.
+
+    Raises:
+        InvalidInputError: naming the option, target, file, line or field
+            that is wrong.
+    """
+    if args.task:
+        return _from_task(args)
+    if args.wrist_path:
+        return _from_wrist_path(args)
+    targets = targets_from_steps(args.steps)
+    fields = _how(args) | {"arm": _side(args), "targets": targets}
+    try:
+        return parse(PlanRequest, fields)
+    except InvalidInputError as exc:
+        raise _per_target(exc) from None
+
+
+def targets_from_steps(steps: Sequence[Step] | None) -> list[dict[str, Any]]:
+    """``ReachTarget`` fields per ``--target``, with the options that follow it.
+
+    Raises:
+        InvalidInputError: a ``--dwell``/``--palm`` before any target, given
+            twice for one target, or a value that is not a finite number.
+    """
+    targets: list[dict[str, Any]] = []
+    for option, values in steps or []:
+        if option == "--target":
+            name = f"--target number {len(targets) + 1}"
+            targets.append({"position": _finite(values, name)})
+            continue
+        if not targets:
+            raise InvalidInputError(
+                f"{option} comes before any --target: write it after the "
+                "target it belongs to",
+                field=option[2:],
+            )
+        key, number = option[2:], len(targets)
+        if key in targets[-1]:
+            raise InvalidInputError(
+                f"--target number {number} has {option} twice", field=key
+            )
+        targets[-1][key] = _finite(values, f"{option} of --target number {number}")
+    return targets
+
+
+def _per_target(error: InvalidInputError) -> InvalidInputError:
+    """``error`` on a target's field, told in command-line terms."""
+    match = re.fullmatch(r"targets\.(\d+)\.(\w+)(\..*)?", error.field)
+    if match is None:
+        return error
+    key = match[2]
+    option = "--target" if key == "position" else f"--{key} of --target"
+    return InvalidInputError(
+        f"{option} number {int(match[1]) + 1}: {error.message}", field=error.field
+    )
+
+
+def _side(args: argparse.Namespace) -> Side:
+    """The arm asked for (default: right)."""
+    return Side.parse(args.arm or Side.RIGHT)
+
+
+def _how(args: argparse.Namespace) -> dict[str, Any]:
+    """The options given that say how to plan: method, pace, rate, start."""
+    fields: dict[str, Any] = {}
+    if args.method is not None:
+        fields["method"] = args.method
+    if args.fastest:
+        fields["fastest"] = True
+    if args.rate is not None:
+        fields["rate"] = _finite(args.rate, "--rate")
+    if args.start is not None:
+        fields["start"] = _finite(args.start, "--start")
+    return fields
+
+
+def _from_wrist_path(args: argparse.Namespace) -> PlanRequest:
+    """Follow the CSV's wrist path at its own times."""
+    from services.decide.wrist_csv import read_wrist_csv
+
+    for given, option in ((args.fastest, "--fastest"), (args.rate, "--rate")):
+        if given:
+            raise _kept_times(option)
+    palms = [values for option, values in args.steps or [] if option == "--palm"]
+    if len(palms) < len(args.steps or []):
+        raise InvalidInputError(
+            "--dwell belongs to a --target and --wrist-path has none: hold still "
+            "in the path itself (the same position at later times)",
+            field="dwell",
+        )
+    if len(palms) > 1:
+        raise InvalidInputError("--palm given twice for one wrist path", field="palm")
+    path = read_wrist_csv(args.wrist_path, _side(args))
+    if palms:
+        fields = path.model_dump() | {"palm": _finite(palms[0], "--palm")}
+        path = parse(WristPath, fields)
+    return parse(PlanRequest, _how(args) | {"arm": path.arm, "wrist_path": path})
+
+
+def _kept_times(option: str) -> InvalidInputError:
+    return InvalidInputError(
+        f"{option} does not apply to --wrist-path: the path's own times are kept "
+        "(no retiming)",
+        field=option[2:],
+    )
+
+
+def _from_task(args: argparse.Namespace) -> PlanRequest:
+    """The request in the task file, with the options given beside it."""
+    path = Path(args.task)
+    if args.steps:
+        raise InvalidInputError(
+            f"{args.steps[0][0]} does not combine with --task: the task file "
+            "holds its targets, dwells and palm directions",
+            field=args.steps[0][0][2:],
+        )
+    try:
+        if path.stat().st_size > MAX_TASK_BYTES:
+            raise InvalidInputError(
+                f"{path}: the task file is larger than {MAX_TASK_BYTES} bytes",
+                field="task",
+            )
+        text = path.read_bytes()
+    except OSError as exc:
+        raise InvalidInputError(
+            f"{path}: cannot read the task ({exc.strerror})", field="task"
+        ) from None
+    try:
+        request = parse(PlanRequest, text)
+    except InvalidInputError as exc:
+        raise InvalidInputError(f"{path}: {exc.message}", field=exc.field) from None
+    if args.arm is not None and Side.parse(args.arm) is not request.arm:
+        raise InvalidInputError(
+            f"--arm {args.arm} but the task {path} is for the {request.arm.value} arm",
+            field="arm",
+        )
+    return parse(PlanRequest, request.model_dump() | _how(args))
+
+
+def _finite(values: Any, name: str) -> Any:
+    """``values`` (a number or a list) if every number is finite."""
+    numbers = values if isinstance(values, list) else [values]
+    if all(math.isfinite(v) for v in numbers):
+        return values
+    shown = " ".join(f"{v:g}" for v in numbers)
+    raise InvalidInputError(
+        f"{name} ({shown}) holds a value that is not a finite number",
+        field=name.split()[0].removeprefix("--"),
+    )

@@ -1,0 +1,271 @@
+"""armplan plan: the trajectory JSON contract, wrist paths, tasks, clear errors."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from armplan.cli.main import main
+from services.planner.wrist_path import reach_path
+from services.timing import check_limits
+from shared.messages import Trajectory, parse
+from shared.robot import load_arm, motion_limits
+from shared.robot.postures import rest
+
+GOAL = (0.12, -0.10, 0.05)
+OTHER = (0.10, -0.14, 0.0)
+#: GOAL and OTHER as command-line words.
+AT_GOAL, AT_OTHER = [str(v) for v in GOAL], [str(v) for v in OTHER]
+FIELDS = ["arm", "joint_names", "times", "positions", "velocities"]
+FIELDS += ["accelerations", "primitives", "wrist_path", "method"]
+
+
+def armplan(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+
+
+def plan_json(capsys: pytest.CaptureFixture[str], *args: str) -> Trajectory:
+    assert main(["plan", *args, "--json"]) == 0
+    return parse(Trajectory, capsys.readouterr().out)
+
+
+def wrists(trajectory: Trajectory) -> np.ndarray:
+    arm = load_arm(trajectory.arm)
+    return np.array([arm.fk(np.array(q)).wrist for q in trajectory.positions])
+
+
+def write_path(
+    folder: pathlib.Path, duration: float = 1.0
+) -> tuple[pathlib.Path, list[str]]:
+    """A minimum-jerk reach to GOAL from the hanging right arm, as CSV; and
+    its lines."""
+    points = load_arm("right").fk(rest("right"))
+    path = reach_path(points.shoulder, points.wrist, np.array(GOAL), duration)
+    lines = ["t,x,y,z"] + [
+        f"{t:.6f},{x:.6f},{y:.6f},{z:.6f}"
+        for t, (x, y, z) in zip(path.times, path.positions, strict=True)
+    ]
+    file = folder / "path.csv"
+    file.write_text("\n".join(lines) + "\n")
+    return file, lines
+
+
+def test_json_contract_in_a_real_process() -> None:
+    """plan --target --json prints the SPEC's trajectory: one row per time,
+    NAO joint names, 100 Hz, at rest at both ends, ending on the target."""
+    out = armplan("plan", "--target", *AT_GOAL, "--json")
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert list(data) == FIELDS
+    n = len(data["times"])
+    assert data["arm"] == "right" and data["method"] == "mp"
+    assert data["joint_names"] == list(load_arm("right").joint_names)
+    for name in ("positions", "velocities", "accelerations"):
+        assert np.array(data[name]).shape == (n, 5)
+    assert len(data["primitives"]) == n and np.array(data["wrist_path"]).shape == (n, 3)
+    np.testing.assert_allclose(np.diff(data["times"]), 0.01, atol=1e-12)
+    assert np.allclose(data["velocities"][0], 0) and np.allclose(
+        data["velocities"][-1], 0
+    )
+    trajectory = parse(Trajectory, data)
+    assert np.linalg.norm(wrists(trajectory)[-1] - GOAL) < 1e-3
+
+
+def test_dwell_belongs_to_the_target_before_it(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Reach, hold 0.5 s, retreat: one trajectory at rest on the first target
+    for the dwell; the same dwell after the second target holds there instead."""
+    held = plan_json(
+        capsys, "--target", *AT_GOAL, "--dwell", "0.5", "--target", *AT_OTHER
+    )
+    at_first = np.linalg.norm(wrists(held) - GOAL, axis=1) < 1e-3
+    assert at_first.sum() * 0.01 >= 0.5
+    assert np.linalg.norm(wrists(held)[-1] - OTHER) < 1e-3
+    check_limits(held.times, held.positions, motion_limits(load_arm("right").limits))
+    later = plan_json(
+        capsys, "--target", *AT_GOAL, "--target", *AT_OTHER, "--dwell", "0.5"
+    )
+    at_first = np.linalg.norm(wrists(later) - GOAL, axis=1) < 1e-3
+    at_second = np.linalg.norm(wrists(later) - OTHER, axis=1) < 1e-3
+    assert at_first.sum() * 0.01 < 0.2 and at_second.sum() * 0.01 >= 0.5
+
+
+def test_a_task_file_plans_what_the_options_plan(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--task FILE.json (a PlanRequest) gives the same trajectory as the same
+    task on the command line; --method beside it overrides the file's."""
+    task = {
+        "arm": "right",
+        "targets": [{"position": GOAL, "dwell": 0.3}, {"position": OTHER}],
+    }
+    file = tmp_path / "task.json"
+    file.write_text(json.dumps(task))
+    from_file = plan_json(capsys, "--task", str(file))
+    options = ("--target", *AT_GOAL, "--dwell", "0.3", "--target")
+    from_options = plan_json(capsys, *options, *AT_OTHER)
+    assert from_file == from_options
+    baseline = plan_json(capsys, "--task", str(file), "--method", "least-norm")
+    assert baseline.method == "least-norm" and set(baseline.primitives) == {
+        "least-norm"
+    }
+
+
+def test_fastest_rate_and_left_arm(capsys: pytest.CaptureFixture[str]) -> None:
+    """--fastest is quicker than human pace; --rate sets the sample interval;
+    --arm left plans the left arm with its joint names."""
+    goal = ("0.12", "0.10", "0.05")
+    human = plan_json(capsys, "--arm", "left", "--target", *goal)
+    fastest = plan_json(capsys, "--arm", "left", "--target", *goal, "--fastest")
+    assert fastest.duration < human.duration
+    assert human.joint_names[0] == "LShoulderPitch"
+    slow = plan_json(capsys, "--arm", "left", "--target", *goal, "--rate", "50")
+    np.testing.assert_allclose(np.diff(slow.times), 0.02, atol=1e-12)
+
+
+@pytest.mark.parametrize("method", ["mp", "least-norm"])
+def test_a_wrist_path_keeps_its_times(
+    method: str, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--wrist-path: the output times are the CSV's, exactly; the hand is on
+    the path (within 1 mm) at every sample."""
+    file, lines = write_path(tmp_path)
+    trajectory = plan_json(capsys, "--wrist-path", str(file), "--method", method)
+    rows = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+    assert trajectory.times == rows[:, 0].tolist()
+    assert np.linalg.norm(wrists(trajectory) - rows[:, 1:], axis=1).max() < 1e-3
+    assert trajectory.method == method
+
+
+def test_the_table_and_summary(capsys: pytest.CaptureFixture[str]) -> None:
+    """Without --json: every tenth sample in degrees with its primitive, then
+    duration, primitives in order, final wrist error [mm] and method."""
+    trajectory = plan_json(capsys, "--target", *AT_GOAL)
+    assert main(["plan", "--target", *AT_GOAL]) == 0
+    text = capsys.readouterr().out
+    table, summary = text.split("\n\n")
+    rows = table.splitlines()[1:]
+    n = len(trajectory.times)
+    assert len(rows) == len({*range(0, n, 10), n - 1})
+    last = rows[-1].split()
+    assert float(last[0]) == pytest.approx(trajectory.times[-1])
+    np.testing.assert_allclose(
+        [float(v) for v in last[1:6]],
+        np.degrees(trajectory.positions[-1]),
+        atol=0.006,
+    )
+    assert f"duration {trajectory.duration:.3f} s" in summary
+    assert "method mp" in summary and "human pace" in summary
+    order = summary.split("primitives in order: ")[1].splitlines()[0].split(" -> ")
+    assert (
+        order[0] == trajectory.primitives[0] and order[-1] == trajectory.primitives[-1]
+    )
+    error = re.search(r"final wrist error ([\d.]+) mm", summary)
+    assert error is not None and float(error[1]) < 1.0
+
+
+def _bad_paths(folder: pathlib.Path) -> dict[str, tuple[pathlib.Path, str]]:
+    """Each bad wrist-path file and what its error must say."""
+    _, lines = write_path(folder)
+    header = "t,x,y,z\n"
+    texts = {
+        "header": ("time,x,y,z\n0,0.1,-0.1,0\n", "header t,x,y,z"),
+        "word": (header + "0,0.1,-0.1,0\n0.1,0.1,abc,0\n", "line 3"),
+        "nan": (header + "0,0.1,-0.1,0\n0.1,nan,-0.1,0\n", "line 3: x = nan"),
+        "inf": (header + "0,0.1,-0.1,0\ninf,0.1,-0.1,0\n", "line 3: t = inf"),
+        "empty": (header, "the wrist path is empty"),
+        "order": (header + "0,0.1,-0.1,0\n0.2,0.1,-0.1,0\n0.2,0.1,-0.1,0\n", "line 4"),
+    }
+    out = {"missing": (folder / "missing.csv", "missing.csv: cannot read")}
+    for name, (text, message) in texts.items():
+        (folder / f"{name}.csv").write_text(text)
+        out[name] = (folder / f"{name}.csv", message)
+    lines[41] = "0.400000,0.3,-0.1,0.1"  # sample 40 far out of reach
+    (folder / "reach.csv").write_text("\n".join(lines) + "\n")
+    out["reach"] = (folder / "reach.csv", "wrist-path sample 40 (t = 0.400 s)")
+    return out
+
+
+@pytest.mark.parametrize(
+    "case", ["missing", "header", "word", "nan", "inf", "empty", "order", "reach"]
+)
+def test_a_bad_wrist_path_is_a_clear_error(
+    case: str, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Missing file, wrong header, a non-number, NaN, inf, no samples, times
+    not increasing, a sample out of reach: exit 1 and an error naming the
+    line or sample (and the JSON error with --json)."""
+    file, message = _bad_paths(tmp_path)[case]
+    assert main(["plan", "--wrist-path", str(file), "--json"]) == 1
+    captured = capsys.readouterr()
+    assert message in captured.err and "Traceback" not in captured.err
+    assert message in json.loads(captured.out)["error"]["message"]
+
+
+def test_too_fast_names_the_joint_and_sample(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A reach squeezed into 80 ms breaks a speed limit: the joint, the
+    sample and its time are named."""
+    file, _ = write_path(tmp_path, 0.08)
+    assert main(["plan", "--wrist-path", str(file)]) == 1
+    err = capsys.readouterr().err
+    assert re.search(r"R\w+ velocity .* at sample \d+ \(t = 0\.\d+ s\) exceeds", err)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--dwell", "0.5", "--target", *GOAL], "--dwell comes before any --target"),
+        (
+            ["--target", *GOAL, "--dwell", "1", "--dwell", "2"],
+            "--target number 1 has --dwell twice",
+        ),
+        (["--target", "0.12", "nan", "0.05"], "--target number 1 (0.12 nan 0.05)"),
+        (
+            ["--target", *GOAL, "--target", *OTHER, "--dwell", "61"],
+            "--dwell of --target number 2",
+        ),
+        (["--target", *GOAL, "--palm", "0", "0", "0"], "zero vector"),
+        (["--target", "0.5", "-0.1", "0.05"], "m from the right shoulder"),
+        (["--target", *GOAL, "--rate", "0"], "rate"),
+        (["--target", *GOAL, "--arm", "middle"], "unknown arm 'middle'"),
+        (["--target", *GOAL, "--start", "9", "0", "0", "0", "0"], "RShoulderPitch"),
+        (["--task", "no-such-task.json"], "no-such-task.json: cannot read the task"),
+    ],
+)
+def test_bad_options_are_clear_errors(
+    args: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Misplaced or repeated per-target options, non-finite or out-of-range
+    values, unreachable targets, bad starts: exit 1 and the problem named."""
+    assert main(["plan", *map(str, args)]) == 1
+    assert message in capsys.readouterr().err
+
+
+def test_options_that_do_not_apply_to_a_wrist_path(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--fastest, --rate and --dwell with --wrist-path are refused by name
+    (its own times are kept); a bad task file names its field."""
+    file, _ = write_path(tmp_path)
+    for extra in (["--fastest"], ["--rate", "50"], ["--dwell", "1"]):
+        assert main(["plan", "--wrist-path", str(file), *extra]) == 1
+        assert f"{extra[0]} " in capsys.readouterr().err
+    task = tmp_path / "task.json"
+    task.write_text(json.dumps({"targets": [{"position": GOAL, "dwell": -1}]}))
+    assert main(["plan", "--task", str(task)]) == 1
+    assert "targets.0.dwell" in capsys.readouterr().err
