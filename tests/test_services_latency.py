@@ -3,20 +3,29 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from armplan.bench import service_latency
 
 
 def test_the_benchmark_reports_every_load_beside_in_process() -> None:
-    """One row in-process, one per concurrency level, each with p50, p99 and rate."""
-    result = service_latency.run(n=4, clients=(1, 2))
-    assert len(result.in_process.samples) == 4
+    """One row in-process, one per concurrency level, each with p50, p99, rate
+    and ratio; the work is a one-second reach of about 100 path points."""
+    result = service_latency.run(n=3, clients=(1, 2))
+    assert len(result.in_process.samples) == 3
     assert [load.clients for load in result.loads] == [1, 2]
-    assert all(len(load.latency.samples) == 4 for load in result.loads)
+    assert all(len(load.latency.samples) == 3 for load in result.loads)
+    assert result.duration == pytest.approx(1.0, abs=0.1)
+    assert 90 <= result.path_points <= 110
     rows = result.table()
     assert [row[0] for row in rows] == [
         "in-process",
-        "remote, 1 clients",
-        "remote, 2 clients",
+        "services, 1 clients",
+        "services, 2 clients",
     ]
     assert np.all(np.isfinite(np.array([row[1:] for row in rows])))
+    figures = result.figures()
+    assert {"in_process_p50_ms", "services_1_p99_ms", "services_2_ratio"} <= set(
+        figures
+    )
+    assert figures["services_2_per_s"] == rows[2][3]

@@ -1,12 +1,16 @@
-"""Round trips to the IK service over Zenoh, beside the in-process IK, same run.
+"""Plans through every Zenoh service, beside the in-process plan, in the same run.
 
-The same IK requests are solved in-process (``solve_request``) and through a
-real router and IK service process on a free loopback port, by 1, 8 and 50
-concurrent clients: threads of this process sharing one Zenoh session, each
-sending its share of the requests one after another. Per request the latency
-is the wall time from send to typed reply [s]; throughput is requests over
-the wall time of the whole load [1/s]. The difference between the remote and
-the in-process p50 is what the services cost.
+The work: a one-second reach, the paper's grid point 13 on NAO from the arm
+at rest (method mp, human pace: a 1.0 s trajectory from a wrist path of
+about 100 points). It is planned in-process (``services.planner.pipeline``)
+and through a real router and the fit, decide, ik, timing and planner
+processes on a free loopback port (client -> planner -> decide, ik, timing),
+by 1, 8 and 50 concurrent clients: threads of this process sharing one Zenoh
+session, each sending its share of the requests one after another. Per plan
+the latency is the wall time from send to typed reply [s]; throughput is
+plans over the wall time of the whole load [1/s]; the ratio is the remote
+p50 over the in-process p50. :func:`run` measures; :meth:`ServiceLatency.figures`
+gives JSON-ready numbers and :meth:`ServiceLatency.table` printable rows.
 """
 
 from __future__ import annotations
@@ -22,14 +26,21 @@ import numpy as np
 
 from armplan.bench.timer import Timing, time_calls
 from armplan.launch import Launcher, free_endpoint
-from services.ik import solve_request
+from services.planner.pipeline import plan
 from shared.bus import Bus, BusConfig, load_config
-from shared.bus.routes import IK_SOLVE
-from shared.messages import IKRequest
-from shared.robot import load_arm
+from shared.bus.routes import PLAN
+from shared.demos.nao_grid import nao_grid
+from shared.messages import PlanRequest
+from shared.robot import Side
 
 #: Concurrent clients measured by default.
 CLIENTS = (1, 8, 50)
+#: The grid point whose reach from rest takes one second at human pace.
+GRID_POINT = 13
+#: Plans sent before measuring.
+WARM_UP = 3
+#: The services a plan goes through.
+SERVICES = ("fit", "decide", "ik", "timing", "planner")
 
 
 class Load(NamedTuple):
@@ -37,7 +48,7 @@ class Load(NamedTuple):
 
     Attributes:
         clients: Concurrent clients (threads).
-        latency: Time per request, send to reply [s], shape (requests,).
+        latency: Time per plan, send to reply [s], shape (plans,).
         wall: Wall time of the whole load [s].
     """
 
@@ -47,7 +58,7 @@ class Load(NamedTuple):
 
     @property
     def per_second(self) -> float:
-        """Requests answered per second [1/s]."""
+        """Plans answered per second [1/s]."""
         return len(self.latency.samples) / self.wall
 
 
@@ -55,78 +66,111 @@ class ServiceLatency(NamedTuple):
     """The benchmark's figures.
 
     Attributes:
-        in_process: Time per request solved in-process [s].
+        in_process: Time per plan made in-process [s].
         loads: One entry per concurrency level.
+        duration: Duration of the planned trajectory [s].
+        path_points: Points of its wrist path.
     """
 
     in_process: Timing
     loads: list[Load]
+    duration: float
+    path_points: int
 
-    def table(self) -> list[tuple[str, float, float, float]]:
-        """Rows (what, p50 [ms], p99 [ms], requests per second)."""
+    def ratio(self, load: Load) -> float:
+        """``load``'s p50 over the in-process p50."""
+        return load.latency.percentile(50) / self.in_process.percentile(50)
+
+    def table(self) -> list[tuple[str, float, float, float, float]]:
+        """Rows (what, p50 [ms], p99 [ms], plans per second, p50 / in-process)."""
         ours = self.in_process
-        rows = [("in-process", *_ms(ours), 1.0 / ours.mean)]
+        rows = [("in-process", *_ms(ours), 1.0 / ours.mean, 1.0)]
         rows += [
-            (f"remote, {x.clients} clients", *_ms(x.latency), x.per_second)
+            (
+                f"services, {x.clients} clients",
+                *_ms(x.latency),
+                x.per_second,
+                self.ratio(x),
+            )
             for x in self.loads
         ]
         return rows
+
+    def figures(self) -> dict[str, float]:
+        """JSON-ready figures, e.g. ``services_8_p50_ms`` [ms], ``_per_s`` [1/s].
+
+        Per row: ``<what>_p50_ms``, ``<what>_p99_ms``, ``<what>_per_s`` and,
+        through the services, ``<what>_ratio`` (p50 over in-process p50);
+        ``<what>`` is ``in_process`` or ``services_<clients>``.
+        """
+        out: dict[str, float] = {
+            "reach_duration_s": self.duration,
+            "path_points": self.path_points,
+        }
+        for what, p50, p99, rate, ratio in self.table():
+            name = what.replace("services, ", "services_").replace(" clients", "")
+            name = name.replace("-", "_")
+            out |= {
+                f"{name}_p50_ms": p50,
+                f"{name}_p99_ms": p99,
+                f"{name}_per_s": rate,
+            }
+            if name != "in_process":
+                out[f"{name}_ratio"] = ratio
+        return out
 
 
 def _ms(timing: Timing) -> tuple[float, float]:
     return timing.percentile(50) * 1e3, timing.percentile(99) * 1e3
 
 
-def requests_for(n: int, seed: int) -> list[IKRequest]:
-    """``n`` reachable right-arm targets (wrists of random postures)."""
-    arm = load_arm("right")
-    rng = np.random.default_rng(seed)
-    wrists = [
-        arm.fk(rng.uniform(arm.limits.lower, arm.limits.upper)).wrist for _ in range(n)
-    ]
-    return [IKRequest(target=(float(x), float(y), float(z))) for x, y, z in wrists]
+def one_second_reach() -> PlanRequest:
+    """The benchmark's request: grid point 13 from rest, right arm, method mp."""
+    point = next(p for p in nao_grid(Side.RIGHT) if p.point == GRID_POINT)
+    position = tuple(float(v) for v in point.wrist)
+    return PlanRequest.model_validate({"targets": [{"position": position}]})
 
 
 def run(
     n: int = 100,
-    seed: int = 7,
     clients: Sequence[int] = CLIENTS,
     config: BusConfig | None = None,
 ) -> ServiceLatency:
-    """Measure in-process, then remote at each concurrency level.
+    """Measure in-process, then through the services at each concurrency level.
 
     Args:
-        n: Requests per measurement.
-        seed: Random seed of the targets.
+        n: Plans per measurement.
         clients: Concurrency levels.
         config: Bus settings of running services to measure; ``None`` starts
-            a router and an IK service on a free loopback port for the run.
+            a router and the services on a free loopback port for the run.
     """
-    requests = requests_for(n, seed)
-    arm = load_arm("right")
-    in_process = time_calls([partial(solve_request, arm, r) for r in requests])
+    request = one_second_reach()
+    result = plan(request)
+    in_process = time_calls([partial(plan, request) for _ in range(n)])
+    shape = (result.trajectory.duration, len(result.wrist_paths[0].times))
     if config is not None:
-        return ServiceLatency(in_process, _remote(config, requests, clients))
+        return ServiceLatency(in_process, _remote(config, request, n, clients), *shape)
     own = load_config(endpoints=(free_endpoint(),))
-    with Launcher(own, ["ik"], log=subprocess.DEVNULL):
-        return ServiceLatency(in_process, _remote(own, requests, clients))
+    with Launcher(own, SERVICES, log=subprocess.DEVNULL):
+        return ServiceLatency(in_process, _remote(own, request, n, clients), *shape)
 
 
 def _remote(
-    config: BusConfig, requests: list[IKRequest], clients: Sequence[int]
+    config: BusConfig, request: PlanRequest, n: int, clients: Sequence[int]
 ) -> list[Load]:
     with Bus.connect(config) as bus:
-        bus.call(IK_SOLVE, requests[0])  # warm up: liveliness known, route set
-        return [_load(bus, requests, k) for k in clients]
+        for _ in range(WARM_UP):  # liveliness known, routes set, code loaded
+            bus.call(PLAN, request, timeout=60.0)
+        return [_load(bus, request, n, k) for k in clients]
 
 
-def _load(bus: Bus, requests: list[IKRequest], clients: int) -> Load:
-    def timed(request: IKRequest) -> float:
+def _load(bus: Bus, request: PlanRequest, n: int, clients: int) -> Load:
+    def timed(_: int) -> float:
         start = time.perf_counter()
-        bus.call(IK_SOLVE, request)
+        bus.call(PLAN, request, timeout=60.0)
         return time.perf_counter() - start
 
     start = time.perf_counter()
     with ThreadPoolExecutor(clients) as pool:
-        latency = list(pool.map(timed, requests))
+        latency = list(pool.map(timed, range(n)))
     return Load(clients, Timing(np.array(latency)), time.perf_counter() - start)
