@@ -16,7 +16,8 @@ trajectory JSON; otherwise a table of every tenth sample and a summary
 
 The command is three steps kept apart, so that the planner service can stand
 in for the second: ``request_from_args`` (options to a ``PlanRequest``),
-``plan_trajectory`` (the planning, here in-process) and ``show`` (output from
+``plan_trajectory`` (the planning, here in-process; with ``--remote`` or
+``--connect`` the planner service at ``<ns>/plan``) and ``show`` (output from
 the request and the ``Trajectory`` message alone).
 """
 
@@ -27,6 +28,7 @@ import argparse
 from armplan.cli.parsing import add_arm, add_json
 from armplan.cli.plan_output import show
 from armplan.cli.plan_request import StepAction, request_from_args
+from armplan.cli.remote import add_remote, is_remote
 from shared.messages import Method, PlanRequest, Trajectory
 
 ORDER = 27
@@ -42,6 +44,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     _add_per_target(parser)
     _add_how(parser)
     add_json(parser)
+    add_remote(parser)
     parser.set_defaults(run=run, steps=None)
 
 
@@ -112,9 +115,10 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Build the request, plan it, print the trajectory."""
+    """Build the request, plan it (here, or by the planner with --remote), print."""
     request = request_from_args(args)
-    trajectory = plan_trajectory(request)
+    remote = is_remote(args)
+    trajectory = _plan_remote(args, request) if remote else plan_trajectory(request)
     show(request, trajectory, args.json)
     return 0
 
@@ -124,3 +128,12 @@ def plan_trajectory(request: PlanRequest) -> Trajectory:
     from services.planner.pipeline import plan
 
     return plan(request).trajectory
+
+
+def _plan_remote(args: argparse.Namespace, request: PlanRequest) -> Trajectory:
+    """Plan ``request`` with the planner service (``armplan/plan``)."""
+    from armplan.cli.remote import connect
+    from shared.bus.routes import PLAN
+
+    with connect(args) as bus:
+        return bus.call(PLAN, request)

@@ -1,0 +1,78 @@
+"""``armplan plan --remote/--connect`` against the real services: same output."""
+
+from __future__ import annotations
+
+import pathlib
+import subprocess
+from collections.abc import Iterator
+
+import pytest
+from test_cli_plan import AT_GOAL, AT_OTHER, write_path
+
+from armplan.cli.main import main
+from armplan.launch import Launcher, free_endpoint
+from shared.bus import load_config
+
+CASES = {
+    "target": ["--target", *AT_GOAL],
+    "left-least-norm": [
+        *["--arm", "left", "--target", "0.12", "0.10", "0.05"],
+        *["--method", "least-norm"],
+    ],
+    "dwell-palm-two": [
+        *["--target", *AT_GOAL, "--dwell", "0.3", "--palm", "0", "0", "-1"],
+        *["--target", *AT_OTHER, "--rate", "50"],
+    ],
+    "fastest-single": ["--target", *AT_GOAL, "--fastest", "--method", "single"],
+    "unreachable": ["--target", "0.5", "-0.12", "0.05"],  # the same error
+}
+
+
+@pytest.fixture(scope="module")
+def endpoint() -> Iterator[str]:
+    """A router and the planner's services on a free port."""
+    config = load_config(endpoints=(free_endpoint(),))
+    names = ["decide", "ik", "timing", "planner"]
+    with Launcher(config, names, log=subprocess.DEVNULL):
+        yield config.endpoint
+
+
+def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
+    code = main(["plan", *args])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.mark.parametrize("case", CASES.values(), ids=CASES.keys())
+@pytest.mark.parametrize("json_flag", [["--json"], []], ids=["json", "table"])
+def test_remote_output_is_the_in_process_output(
+    capsys: pytest.CaptureFixture[str],
+    endpoint: str,
+    case: list[str],
+    json_flag: list[str],
+) -> None:
+    """Same stdout, stderr and exit code, byte for byte, with and without --remote."""
+    local = run(capsys, *case, *json_flag)
+    remote = run(capsys, *case, *json_flag, "--remote", "--connect", endpoint)
+    assert remote == local
+
+
+def test_a_wrist_path_file_plans_the_same_remotely(
+    capsys: pytest.CaptureFixture[str], endpoint: str, tmp_path: pathlib.Path
+) -> None:
+    """--wrist-path: the planner keeps the CSV's times, as in-process."""
+    file, _ = write_path(tmp_path)
+    local = run(capsys, "--wrist-path", str(file), "--json")
+    assert local[0] == 0
+    assert run(capsys, "--wrist-path", str(file), "--json", "--connect", endpoint) == (
+        local
+    )
+
+
+def test_no_planner_names_it(capsys: pytest.CaptureFixture[str]) -> None:
+    """A router without the services: exit 1 naming 'planner' and its key."""
+    config = load_config(endpoints=(free_endpoint(),))
+    with Launcher(config, [], log=subprocess.DEVNULL):
+        code, _, err = run(capsys, "--target", *AT_GOAL, "--connect", config.endpoint)
+    assert code == 1
+    assert "service 'planner' is unavailable for armplan/plan" in err
