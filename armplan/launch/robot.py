@@ -19,6 +19,7 @@ Example::
 
 from __future__ import annotations
 
+import signal
 import threading
 import time
 from pathlib import Path
@@ -183,11 +184,18 @@ class RobotStack:
         return gone
 
     def stop(self, grace: float = GRACE) -> None:
-        """Stop the bridge, then the sim (SIGTERM, SIGKILL after ``grace`` [s])."""
+        """Stop the bridge and the sim (SIGTERM, SIGKILL after ``grace`` [s]).
+
+        Both get SIGTERM at once: a bridge that is playing a trajectory on the
+        sim then sees the robot go and ends its request at once, instead of
+        playing on while the stop waits for it.
+        """
         if self.bridge is not None:
-            stop_all([self.bridge], grace)
+            self.bridge.signal(signal.SIGTERM)
         if self.sim is not None:
             self.sim.stop(grace)
+        if self.bridge is not None:
+            stop_all([self.bridge], grace)
 
     def __enter__(self) -> RobotStack:
         return self.start()

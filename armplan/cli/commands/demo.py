@@ -1,0 +1,100 @@
+"""``armplan demo [--out DIR]``: the paper's handover task on the simulated NAO.
+
+Starts the Zenoh router, every service, the simulated NAO, the bridge and the
+recorder; plans the human-robot collaboration task through the planner
+service; plays it through the bridge; writes ``trajectory.json``,
+``behavior.xar`` (Choregraphe), ``play.py`` (Python export), ``report.json``
+(tracking error per joint) and ``session.mcap`` into DIR; prints a summary
+and stops every process, also on Ctrl-C or SIGTERM. See ``armplan.demo``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import time
+from pathlib import Path
+
+ORDER = 5
+HELP = "run the paper's handover task on the simulated NAO and write the results"
+#: Where the demo writes by default (relative to the current folder).
+DEFAULT_OUT = "armplan-demo"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``demo``."""
+    parser = commands.add_parser("demo", help=HELP, description=__doc__)
+    parser.add_argument(
+        "--out",
+        metavar="DIR",
+        default=DEFAULT_OUT,
+        help=f"folder for the results (default ./{DEFAULT_OUT}/)",
+    )
+    parser.add_argument(
+        "--task", metavar="FILE", help="task file (default: the paper's handover)"
+    )
+    parser.add_argument(
+        "--robot",
+        metavar="URL",
+        help="play on a real NAO at tcp://IP:9559 instead of the simulated one",
+    )
+    parser.add_argument(
+        "--listen",
+        metavar="ENDPOINT",
+        help="the router's endpoint (default: a free port on 127.0.0.1)",
+    )
+    parser.add_argument(
+        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
+    )
+    parser.add_argument(
+        "--no-record", action="store_true", help="do not record session.mcap"
+    )
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the demo; print progress, then the summary."""
+    from armplan.demo import DEFAULT_TASK, DemoOptions, run_demo, summary_lines
+    from armplan.launch import free_endpoint
+    from shared.bus import load_config
+
+    _interrupt_on_sigterm()
+    started = time.monotonic()
+    endpoint = args.listen or free_endpoint()
+    options = DemoOptions(
+        config=load_config(args.config, (endpoint,)),
+        out=Path(args.out),
+        robot=_robot(args.robot),
+        record=not args.no_record,
+        task=Path(args.task) if args.task else DEFAULT_TASK,
+    )
+    result = run_demo(options, _say)
+    for line in summary_lines(result):
+        _say(line)
+    took = time.monotonic() - started
+    _say(f"armplan demo: done in {took:.1f} s; every process stopped")
+    return 0
+
+
+def _robot(url: str | None) -> str | None:
+    """The checked robot address, or ``None`` for the simulated NAO."""
+    if url is None:
+        return None
+    from bridge.address import check_robot_url
+
+    return check_robot_url(url)
+
+
+def _interrupt_on_sigterm() -> None:
+    """SIGTERM stops the demo as Ctrl-C does (everything is shut down)."""
+
+    def interrupt(signum: int, frame: object) -> None:
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, interrupt)
+
+
+def _say(line: str) -> None:
+    sys.stdout.write(line + "\n")
+    sys.stdout.flush()

@@ -1,0 +1,168 @@
+"""One run of the demo: start everything, plan, execute, write, stop.
+
+:func:`run_demo` is ``armplan demo`` without its command line:
+
+1. the task file is read (a bad one fails before anything starts);
+2. every process starts (:class:`~armplan.demo.stack.DemoStack`);
+3. the task is planned by the planner service (``<ns>/plan``), which calls
+   decide, ik and timing and publishes each part;
+4. the trajectory is played through the bridge (``<ns>/bridge/execute``) on
+   the simulated NAO (or the NAO named), which answers with the tracking
+   report;
+5. the files are written (:mod:`armplan.demo.outputs`) and every process is
+   stopped, the recorder first, also when a step fails or on Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from armplan.demo.outputs import (
+    BEHAVIOR_FILE,
+    PYTHON_FILE,
+    REPORT_FILE,
+    TRAJECTORY_FILE,
+    Execution,
+    write_outputs,
+)
+from armplan.demo.stack import LOGS_DIR, RECORDING_FILE, SIM_LOG_FILE, DemoStack
+from armplan.demo.task import DEFAULT_TASK, Task, load_task
+from bridge.frames import DEFAULT_RATE
+from shared.bus import Bus, BusConfig
+from shared.bus.robot_routes import EXECUTE
+from shared.bus.routes import PLAN
+from shared.messages import ExecuteReply, ExecuteRequest, Trajectory
+
+#: Longest wait for the planner's answer [s].
+PLAN_TIMEOUT = 60.0
+#: Time allowed beyond the trajectory's duration for the approach move and
+#: the reply [s]; a robot lost on the way is reported within 2 s anyway.
+EXECUTE_MARGIN = 30.0
+#: The files a run writes (or whose processes write them), removed first so
+#: that a failed run never leaves an earlier run's results behind.
+OUTPUTS = (
+    TRAJECTORY_FILE,
+    BEHAVIOR_FILE,
+    PYTHON_FILE,
+    REPORT_FILE,
+    RECORDING_FILE,
+    SIM_LOG_FILE,
+)
+
+Say = Callable[[str], None]
+
+
+@dataclass(frozen=True)
+class DemoOptions:
+    """How to run the demo.
+
+    Attributes:
+        config: The bus (router endpoint, namespace).
+        out: The folder to write into.
+        task: The task file.
+        robot: A real NAO's address; ``None``: the simulated NAO.
+        record: Record the session to MCAP.
+        rate: Frame rate of the command frames [Hz].
+    """
+
+    config: BusConfig
+    out: Path = Path("armplan-demo")
+    task: Path = DEFAULT_TASK
+    robot: str | None = None
+    record: bool = True
+    rate: float = DEFAULT_RATE
+
+
+@dataclass
+class DemoResult:
+    """What a run produced.
+
+    Attributes:
+        execution: The task, trajectory and the bridge's reply.
+        files: The written files by name (``trajectory``, ``choregraphe``,
+            ``python``, ``report``, ``recording``, ``sim_log``).
+        processes: The PID of every process the run started, by name.
+    """
+
+    execution: Execution
+    files: dict[str, Path] = field(default_factory=dict)
+    processes: dict[str, int] = field(default_factory=dict)
+
+
+def plan_task(bus: Bus, task: Task) -> Trajectory:
+    """The task's trajectory from the planner service (``<ns>/plan``)."""
+    return bus.call(PLAN, task.plan_request(), timeout=PLAN_TIMEOUT)
+
+
+def execute(bus: Bus, trajectory: Trajectory, rate: float) -> ExecuteReply:
+    """Play ``trajectory`` through the bridge (``<ns>/bridge/execute``)."""
+    request = ExecuteRequest(trajectory=trajectory, rate=rate)
+    timeout = trajectory.duration + EXECUTE_MARGIN
+    return bus.call(EXECUTE, request, timeout=timeout)
+
+
+def run_demo(
+    options: DemoOptions, say: Say, stop: threading.Event | None = None
+) -> DemoResult:
+    """Run the whole demo; ``say`` gets each progress line.
+
+    Raises:
+        ArmplanError: a step failed (everything started is stopped first).
+    """
+    task = load_task(options.task)
+    _clear(options.out)
+    stack = DemoStack(
+        options.config,
+        options.out,
+        robot=options.robot,
+        record=options.record,
+        stop=stop,
+    )
+    say(f"starting the router, the services, the bridge and the {_robot(options)}")
+    with stack:
+        processes = stack.processes()
+        say("running: " + ", ".join(f"{n} (pid {p})" for n, p in processes.items()))
+        run = _play(stack, task, options, say)
+        files = write_outputs(options.out, run)
+    return DemoResult(run, {**files, **_process_files(options)}, processes)
+
+
+def _play(stack: DemoStack, task: Task, options: DemoOptions, say: Say) -> Execution:
+    """Plan through the planner service, then play through the bridge."""
+    assert stack.robot is not None
+    with Bus.connect(options.config) as bus:
+        trajectory = plan_task(bus, task)
+        say(
+            f"planned through {PLAN.key(options.config.namespace)}: "
+            f"{trajectory.duration:.2f} s, {len(trajectory.times)} samples; "
+            f"playing it through {EXECUTE.key(options.config.namespace)}"
+        )
+        reply = execute(bus, trajectory, options.rate)
+    robot = stack.robot.url
+    return Execution(task, trajectory, reply, robot, stack.simulated, options.rate)
+
+
+def _process_files(options: DemoOptions) -> dict[str, Path]:
+    """The files the processes wrote: recording, the sim's log, the logs."""
+    files = {}
+    if options.record:
+        files["recording"] = options.out / RECORDING_FILE
+    if options.robot is None:
+        files["sim_log"] = options.out / SIM_LOG_FILE
+    return {**files, "logs": options.out / LOGS_DIR}
+
+
+def _clear(out: Path) -> None:
+    """Make ``out`` and remove an earlier run's files from it."""
+    out.mkdir(parents=True, exist_ok=True)
+    for name in OUTPUTS:
+        (out / name).unlink(missing_ok=True)
+    for log in (out / LOGS_DIR).glob("*.log"):
+        log.unlink()
+
+
+def _robot(options: DemoOptions) -> str:
+    return "simulated NAO" if options.robot is None else f"NAO at {options.robot}"

@@ -1,0 +1,166 @@
+"""Every process of the demo, started in order and stopped for sure.
+
+Start order: the Zenoh router and every service (``Launcher``), the
+simulated NAO and the bridge (``RobotStack``), then the recorder
+(``RecorderProcess``), so that the recording holds the whole session from
+the first plan on. Stop order is the reverse: the recorder closes its file
+first, then the bridge and the sim, then the services and the router. Each
+process also ends itself if the demo dies (``ARMPLAN_PARENT_PID``, the sim's
+closed stdin), so not even a killed demo leaves one behind.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from signal import SIGINT, SIGTERM
+from types import TracebackType
+from typing import IO
+
+from armplan.launch import Launcher
+from armplan.launch.robot import RobotStack
+from services.recorder import RecorderProcess
+from shared.bus import BusConfig
+
+#: The recording, in the demo's folder.
+RECORDING_FILE = "session.mcap"
+#: The simulated NAO's log (JSON lines), in the demo's folder.
+SIM_LOG_FILE = "sim.jsonl"
+#: The processes' own logs, in the demo's folder.
+LOGS_DIR = "logs"
+#: Wait for the last publications to reach the recorder before stopping it [s].
+SETTLE = 0.5
+
+
+class DemoStack:
+    """Router, services, robot side and recorder for one demo run.
+
+    Attributes:
+        config: The bus every process uses.
+        out: The demo's folder.
+        launcher: The router and the services, once started.
+        robot: The sim (if simulated) and the bridge, once started.
+        recorder: The recorder, once started (``None`` when not recording).
+    """
+
+    def __init__(
+        self,
+        config: BusConfig,
+        out: Path,
+        *,
+        robot: str | None = None,
+        record: bool = True,
+        stop: threading.Event | None = None,
+    ) -> None:
+        """Prepare (start nothing yet).
+
+        Args:
+            config: The bus settings (a free loopback endpoint by default).
+            out: The folder for the recording and the logs.
+            robot: A real NAO's address; ``None`` starts the simulated NAO.
+            record: Record the session to ``out/session.mcap``.
+            stop: Set by a signal handler to abort a start in progress.
+        """
+        self.config = config
+        self.out = out
+        self.launcher: Launcher | None = None
+        self.robot: RobotStack | None = None
+        self.recorder: RecorderProcess | None = None
+        self._robot_url = robot
+        self._record = record
+        self._stop = stop
+        self._exits = contextlib.ExitStack()
+
+    @property
+    def simulated(self) -> bool:
+        """True if the robot is the simulated NAO."""
+        return self._robot_url is None
+
+    def start(self) -> DemoStack:
+        """Start every process; return once each one serves (or raise, stopped)."""
+        logs = self.out / LOGS_DIR
+        logs.mkdir(parents=True, exist_ok=True)
+        with self._exits as exits:
+            self.launcher = exits.enter_context(
+                Launcher(self.config, log=self._log("services"), stop=self._stop)
+            )
+            self.robot = exits.enter_context(self._robot_stack())
+            if self._record:
+                self.recorder = exits.enter_context(self._recorder())
+            self._exits = exits.pop_all()  # started: keep them running
+        return self
+
+    def _robot_stack(self) -> RobotStack:
+        return RobotStack(
+            self.config,
+            robot=self._robot_url,
+            sim=self.simulated,
+            sim_listen="tcp://127.0.0.1:0",
+            sim_log=self.out / SIM_LOG_FILE if self.simulated else None,
+            log=self._log("bridge"),
+            stop=self._stop,
+        )
+
+    def _recorder(self) -> RecorderProcess:
+        log = self._log("recorder")
+        return RecorderProcess.start(self.config, self.out / RECORDING_FILE, log=log)
+
+    def _log(self, name: str) -> IO[str]:
+        """The log file ``out/logs/<name>.log``, closed when the stack stops."""
+        path = self.out / LOGS_DIR / f"{name}.log"
+        return self._exits.enter_context(path.open("a", encoding="utf-8"))
+
+    def processes(self) -> dict[str, int]:
+        """The PID of every process started, by name, in start order."""
+        found: dict[str, int] = {}
+        if self.launcher is not None:
+            found.update({c.name: c.pid for c in self.launcher.children()})
+        if self.robot is not None:
+            found.update(self.robot.processes())
+        if self.recorder is not None:
+            found["recorder"] = self.recorder.pid
+        return found
+
+    def stop(self, settle: bool = True) -> None:
+        """Stop everything: recorder, bridge and sim, services and router.
+
+        Args:
+            settle: Give the last publications :data:`SETTLE` seconds to
+                reach the recorder first (not after a failure or Ctrl-C).
+
+        A second Ctrl-C meanwhile is ignored, so the stop is never cut short
+        (each process gets a bounded grace, then SIGKILL).
+        """
+        with _signals_held():
+            if settle and self.recorder is not None:
+                time.sleep(SETTLE)
+            self._exits.close()
+
+    def __enter__(self) -> DemoStack:
+        return self.start()
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.stop(settle=kind is None)
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Ignore SIGINT and SIGTERM inside (main thread only; restored after)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held = {s: signal.signal(s, signal.SIG_IGN) for s in (SIGINT, SIGTERM)}
+    try:
+        yield
+    finally:
+        for signum, handler in held.items():
+            signal.signal(signum, handler)

@@ -1,0 +1,87 @@
+"""The summary ``armplan demo`` prints: the task, the plan, the tracking error."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from armplan.demo.outputs import Execution
+from armplan.demo.session import DemoResult
+from armplan.demo.task import Phase
+from shared.recording.reader import summarize
+
+
+def summary_lines(result: DemoResult) -> list[str]:
+    """Every line of the summary, in order."""
+    run = result.execution
+    return [
+        *task_lines(run),
+        *execution_lines(run),
+        *tracking_lines(run),
+        *file_lines(result.files),
+    ]
+
+
+def task_lines(run: Execution) -> list[str]:
+    """The task's phases with their wrist targets."""
+    task = run.task
+    lines = [
+        f"task {task.name!r}: {task.arm.value} arm, {len(task.phases)} phases, "
+        f"{len(task.targets())} wrist targets (torso frame)"
+    ]
+    for number, phase in enumerate(task.phases, 1):
+        lines.append(f"  {number}. {phase.name:<26} {_targets(phase)}")
+    return lines
+
+
+def _targets(phase: Phase) -> str:
+    if len(phase.targets) > 2:
+        return f"{len(phase.targets)} targets, from {_xyz(phase.targets[0].position)}"
+    shown = [f"{_xyz(t.position)} hold {t.dwell:.1f} s" for t in phase.targets]
+    return ", ".join(shown)
+
+
+def _xyz(position: tuple[float, float, float]) -> str:
+    return "(" + ", ".join(f"{v:+.3f}" for v in position) + ") m"
+
+
+def execution_lines(run: Execution) -> list[str]:
+    """How long the trajectory is, and where and how it was played."""
+    trajectory, reply = run.trajectory, run.reply
+    primitives = ", ".join(dict.fromkeys(trajectory.primitives))
+    where = "the simulated NAO" if run.simulated else "the NAO"
+    return [
+        f"trajectory: {trajectory.duration:.2f} s, {len(trajectory.times)} samples; "
+        f"primitives {primitives}",
+        f"played on {where} at {run.robot}: {reply.frames} frames at "
+        f"{run.rate:g} fps after a {reply.approach_duration:.2f} s approach "
+        "to the start posture",
+    ]
+
+
+def tracking_lines(run: Execution) -> list[str]:
+    """The tracking error per joint [deg]."""
+    report = run.reply.report
+    lines = [
+        f"tracking error, measured (getAngles) against commanded, {report.samples} "
+        f"samples, latency {report.latency * 1000:.0f} ms taken out:",
+        f"  {'joint':<16}{'RMS [deg]':>10}{'max [deg]':>11}",
+    ]
+    for joint in report.joint_names:
+        rms, peak = report.tracking_rms_deg[joint], report.tracking_max_deg[joint]
+        lines.append(f"  {joint:<16}{rms:>10.3f}{peak:>11.3f}")
+    return lines
+
+
+def file_lines(files: dict[str, Path]) -> list[str]:
+    """The files written, with the recording's message count."""
+    lines = ["wrote:"]
+    for name, path in files.items():
+        note = _recording_note(path) if name == "recording" else ""
+        lines.append(f"  {name:<12} {path}{note}")
+    return lines
+
+
+def _recording_note(path: Path) -> str:
+    channels = summarize(path).channels
+    count = sum(n for _, n, _, _ in channels.values())
+    return f" ({count} messages on {len(channels)} channels)"

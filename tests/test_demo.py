@@ -1,0 +1,316 @@
+"""``armplan demo`` end to end, as a user runs it, and its task file.
+
+The demo runs as its own process (``python -m armplan demo --out TMP``) and
+starts real processes: a Zenoh router, every service, the simulated NAO
+(reached through libqi on 127.0.0.1), the bridge and the recorder. While it
+runs, the test keeps a list of every process descended from it; afterwards
+none of them may be left. One run is stopped with SIGINT (Ctrl-C) while the
+arm moves.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import os
+import queue
+import signal
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import pytest
+
+from armplan.demo import DEFAULT_TASK, load_task
+from bridge import FrameLimits, check_frames, frames_from_trajectory, read_behavior
+from bridge.sim.log import read_log
+from services.ik import check_reachable
+from shared.errors import InvalidInputError
+from shared.messages import Trajectory, parse
+from shared.recording.reader import summarize
+from shared.robot import load_arm
+from shared.robot.postures import forward
+
+#: Longest a demo run may take on a loaded machine [s].
+RUN_TIMEOUT = 240.0
+#: Longest a demo may take to stop everything after Ctrl-C [s].
+STOP_TIMEOUT = 40.0
+
+
+def _stat(pid: int) -> tuple[int, str, str] | None:
+    """(parent pid, state, start time) of a process, or None if it is gone."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    fields = text[text.rindex(")") + 2 :].split()
+    return int(fields[1]), fields[0], fields[19]
+
+
+def descendants(root: int) -> set[tuple[int, str]]:
+    """(pid, start time) of every living process below ``root``."""
+    parents: dict[int, list[int]] = {}
+    starts: dict[int, str] = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit() and (info := _stat(int(entry.name))) is not None:
+            parents.setdefault(info[0], []).append(int(entry.name))
+            starts[int(entry.name)] = info[2]
+    found, todo = set(), [root]
+    while todo:
+        for child in parents.get(todo.pop(), []):
+            found.add((child, starts[child]))
+            todo.append(child)
+    return found
+
+
+def alive(process: tuple[int, str]) -> bool:
+    """True if that very process (same pid and start time) still runs."""
+    info = _stat(process[0])
+    return info is not None and info[2] == process[1] and info[1] != "Z"
+
+
+class Demo:
+    """A running ``armplan demo`` and every process seen below it."""
+
+    def __init__(self, *args: str) -> None:
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "armplan", "demo", *args],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        self.lines: queue.Queue[str] = queue.Queue()
+        self.seen: set[tuple[int, str]] = set()
+        self._done = threading.Event()
+        threading.Thread(target=self._read, daemon=True).start()
+        threading.Thread(target=self._watch, daemon=True).start()
+
+    def _read(self) -> None:
+        assert self.process.stdout is not None
+        for line in self.process.stdout:
+            self.lines.put(line.rstrip("\n"))
+
+    def _watch(self) -> None:
+        while not self._done.is_set() and self.process.poll() is None:
+            self.seen |= descendants(self.process.pid)
+            time.sleep(0.25)
+
+    def wait_for_line(self, start: str, timeout: float) -> list[str]:
+        """Lines read until one starting with ``start`` (included)."""
+        read: list[str] = []
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            try:
+                read.append(self.lines.get(timeout=0.2))
+            except queue.Empty:
+                assert self.process.poll() is None, f"demo exited: {read}"
+                continue
+            if read[-1].startswith(start):
+                return read
+        raise AssertionError(f"no line {start!r} in {timeout} s: {read}")
+
+    def finish(self, timeout: float) -> tuple[int, list[str], str]:
+        """Exit code, remaining stdout lines and stderr once it has exited."""
+        try:
+            _, stderr = self.process.communicate(timeout=timeout)
+        finally:
+            self._done.set()
+            if self.process.poll() is None:
+                self.process.kill()
+                self.process.wait(10)
+        time.sleep(0.3)  # the reader thread takes the last lines
+        lines = []
+        while not self.lines.empty():
+            lines.append(self.lines.get())
+        return self.process.returncode, lines, stderr
+
+    def leftovers(self) -> list[tuple[int, str]]:
+        return sorted(p for p in self.seen if alive(p))
+
+    def kill_leftovers(self) -> None:
+        for pid, _ in self.leftovers():
+            os.kill(pid, signal.SIGKILL)
+
+
+class Finished(NamedTuple):
+    out: Path
+    code: int
+    stdout: list[str]
+    stderr: str
+    leftovers: list[tuple[int, str]]
+    seen: int
+
+
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Finished]:
+    out = tmp_path_factory.mktemp("demo") / "results"
+    demo = Demo("--out", str(out))
+    try:
+        code, lines, stderr = demo.finish(RUN_TIMEOUT)
+        leftovers = demo.leftovers()
+        print("\n" + "\n".join(lines))
+        yield Finished(out, code, lines, stderr, leftovers, len(demo.seen))
+    finally:
+        demo.kill_leftovers()
+
+
+def test_the_demo_runs_and_leaves_no_process(finished: Finished) -> None:
+    """Exit code 0, a summary with the tracking table, at least the nine
+    processes (router, five services, sim, bridge, recorder) seen running,
+    none of them left afterwards."""
+    assert finished.code == 0, finished.stderr[-3000:]
+    text = "\n".join(finished.stdout)
+    assert "planned through armplan/plan" in text
+    assert "RShoulderPitch" in text and "RMS [deg]" in text
+    assert finished.stdout[-1].startswith("armplan demo: done in")
+    assert finished.seen >= 9
+    assert finished.leftovers == []
+
+
+def test_the_trajectory_file_is_the_task_within_the_limits(finished: Finished) -> None:
+    """trajectory.json is the SPEC's trajectory form; it starts with the arm
+    stretched forward, passes every wrist target of the task within 2 mm, and
+    its frames pass the bridge's limit checks."""
+    data = json.loads((finished.out / "trajectory.json").read_text())
+    for key in ("arm", "joint_names", "times", "positions", "velocities"):
+        assert key in data
+    assert "accelerations" in data and "primitives" in data
+    trajectory = parse(Trajectory, data)
+    assert trajectory.joint_names[0] == "RShoulderPitch"
+    np.testing.assert_allclose(trajectory.positions[0], forward("right"), atol=1e-6)
+    arm = load_arm("right")
+    wrists = np.array([arm.fk(np.array(q)).wrist for q in trajectory.positions])
+    for target in load_task().targets():
+        miss = np.linalg.norm(wrists - np.array(target.position), axis=1).min()
+        assert miss < 0.002, f"target {target.position} missed by {miss * 1000:.1f} mm"
+    check_frames(frames_from_trajectory(trajectory), FrameLimits.for_arm(arm.side))
+
+
+def test_the_exports_hold_the_trajectory(finished: Finished) -> None:
+    """behavior.xar's keys are the trajectory's frames (within 0.05 deg);
+    play.py is Python with Choregraphe's names/times/keys lists."""
+    trajectory = parse(Trajectory, (finished.out / "trajectory.json").read_text())
+    frames = frames_from_trajectory(trajectory)
+    keys = read_behavior(finished.out / "behavior.xar")
+    for j, name in enumerate(trajectory.joint_names):
+        np.testing.assert_allclose(keys.times(name), frames.times, atol=1e-9)
+        error = np.degrees(np.abs(keys.angles(name) - np.array(frames.positions)[:, j]))
+        assert error.max() < 0.05
+    script = (finished.out / "play.py").read_text()
+    ast.parse(script)
+    assert "names = list()" in script and "keys.append(" in script
+
+
+def test_the_report_tracks_within_one_degree(finished: Finished) -> None:
+    """report.json: RMS and max error keyed by joint name, RMS < 1 degree per
+    joint; the sim's log shows the motion and no refusal."""
+    report = json.loads((finished.out / "report.json").read_text())
+    joints = load_arm("right").joint_names
+    assert set(report["tracking_rms_deg"]) == set(joints)
+    assert set(report["tracking_max_deg"]) == set(joints)
+    for joint in joints:
+        assert 0.0 <= report["tracking_rms_deg"][joint] < 1.0
+        assert report["tracking_max_deg"][joint] >= report["tracking_rms_deg"][joint]
+    assert report["simulated"] is True and report["robot"].startswith(
+        "tcp://127.0.0.1:"
+    )
+    events = [e["event"] for e in read_log(finished.out / "sim.jsonl")]
+    assert "motion" in events and "refused" not in events
+
+
+def test_the_session_is_recorded(finished: Finished) -> None:
+    """session.mcap holds the request, the trajectory, the frames, one report
+    and the executed states (as many as the report's samples)."""
+    channels = summarize(finished.out / "session.mcap").channels
+    report = json.loads((finished.out / "report.json").read_text())
+    count = {topic: n for topic, (_, n, _, _) in channels.items()}
+    assert count["armplan/plan/request"] == 1
+    assert count["armplan/plan/trajectory"] == 1
+    assert count["armplan/bridge/frames"] == 1
+    assert count["armplan/bridge/report"] == 1
+    assert count["armplan/bridge/state"] >= report["samples"]
+    assert count["/tf/executed"] == count["armplan/bridge/state"]
+
+
+def test_ctrl_c_stops_everything(tmp_path: Path) -> None:
+    """SIGINT while the arm moves: the demo exits (code 130) within 40 s, no
+    process it started is left, no report is written, and the recording is
+    closed whole with the states measured until then."""
+    out = tmp_path / "results"
+    demo = Demo("--out", str(out))
+    try:
+        demo.wait_for_line("planned through", RUN_TIMEOUT)
+        time.sleep(3.0)  # the approach (1.2 s), then into the movement
+        demo.seen |= descendants(demo.process.pid)
+        demo.process.send_signal(signal.SIGINT)
+        stopped_at = time.monotonic()
+        code, _, stderr = demo.finish(STOP_TIMEOUT)
+        print(f"\nstopped in {time.monotonic() - stopped_at:.1f} s")
+        assert code == 130, stderr[-2000:]
+        assert "interrupted" in stderr
+        assert len(demo.seen) >= 9
+        assert demo.leftovers() == []
+        assert not (out / "report.json").exists()
+        channels = summarize(out / "session.mcap").channels  # whole: no recover
+        assert channels["armplan/plan/trajectory"][1] == 1
+        assert channels["armplan/bridge/state"][1] > 0
+    finally:
+        demo.kill_leftovers()
+
+
+def test_a_bad_task_file_is_refused_before_anything_starts(tmp_path: Path) -> None:
+    """A task whose target is out of reach: exit 1 with the file and the
+    reach named, and no process started."""
+    task = json.loads(DEFAULT_TASK.read_text())
+    task["phases"][0]["targets"][0]["position"] = [0.5, -0.1, 0.06]
+    bad = tmp_path / "task.json"
+    bad.write_text(json.dumps(task))
+    demo = Demo("--out", str(tmp_path / "results"), "--task", str(bad))
+    code, _, stderr = demo.finish(60.0)
+    assert code == 1
+    assert f"armplan: error: {bad}:" in stderr
+    assert "the wrist reaches" in stderr
+    assert demo.seen == set()
+
+
+def test_the_shipped_task_is_the_papers_and_within_reach() -> None:
+    """Seven phases in the paper's order, every target reachable by NAO's
+    right arm, the wave a few side-to-side swings."""
+    task = load_task()
+    names = [phase.name for phase in task.phases]
+    assert names == [
+        "take the red block",
+        "set the red block down",
+        "pick up the green block",
+        "give the green block",
+        "take the blue block",
+        "set the blue block down",
+        "wave goodbye",
+    ]
+    arm = load_arm(task.arm)
+    for target in task.targets():
+        check_reachable(arm, np.array(target.position))
+    wave = np.array([t.position for t in task.phases[-1].targets])
+    swings = np.sign(np.diff(wave[:, 1]))
+    assert len(wave) >= 5 and np.all(swings[1:] == -swings[:-1])
+
+
+def test_a_malformed_task_file_names_the_problem(tmp_path: Path) -> None:
+    """Not JSON, no phases, a start of four angles: typed errors naming them."""
+    path = tmp_path / "task.json"
+    path.write_text("{")
+    with pytest.raises(InvalidInputError, match=f"{path} is not JSON"):
+        load_task(path)
+    path.write_text('{"phases": []}')
+    with pytest.raises(InvalidInputError, match="a task needs a list of phases"):
+        load_task(path)
+    task = json.loads(DEFAULT_TASK.read_text())
+    task["start"] = [0.0, 0.0, 0.0, 0.1]
+    path.write_text(json.dumps(task))
+    with pytest.raises(InvalidInputError, match="start"):
+        load_task(path)
