@@ -30,8 +30,6 @@ from shared.robot.postures import rest
 
 #: The arm joints that place elbow and wrist, and the wrist's own joint.
 ARM, WRIST_YAW = slice(0, 4), 4
-#: How much nearer the far limit of WristYaw must be to the best yaw [rad].
-SWITCH = 0.5
 
 
 def joints_from_points(
@@ -81,10 +79,11 @@ def wrist_yaw_for_palm(arm: ArmModel, q: np.ndarray, palm: np.ndarray) -> float:
 
     WristYaw turns the wrist frame about its x axis, so with y0, z0 the
     frame's axes at yaw 0 the palm normal is cos(t) y0 + sin(t) z0, closest
-    to ``palm`` at t* = atan2(palm . z0, palm . y0). Outside the range,
-    the limit nearer the present yaw, unless the other is nearer t* (around
-    the circle) by more than ``SWITCH``: a palm turned half a turn from the
-    range's middle does not make the wrist swing between its limits.
+    to ``palm`` at t* = atan2(palm . z0, palm . y0). With t* outside the
+    range, the limit nearer the present yaw: the wrist waits at the limit it
+    reached until the palm comes back into range, rather than swinging over
+    its whole range to the other limit (a palm half a turn from the range's
+    middle is about as near to either).
 
     Args:
         arm: The NAO arm.
@@ -98,17 +97,7 @@ def wrist_yaw_for_palm(arm: ArmModel, q: np.ndarray, palm: np.ndarray) -> float:
     if low <= best <= high:
         return best
     present = float(q[WRIST_YAW])
-    near, far = (
-        (low, high) if abs(present - low) <= abs(present - high) else (high, low)
-    )
-    if _around(best, far) < _around(best, near) - SWITCH:
-        return far
-    return near
-
-
-def _around(a: float, b: float) -> float:
-    """Angle between ``a`` and ``b`` around the circle [rad], in [0, pi]."""
-    return abs((a - b + math.pi) % (2.0 * math.pi) - math.pi)
+    return low if abs(present - low) <= abs(present - high) else high
 
 
 def joint_path_from_points(

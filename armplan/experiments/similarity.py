@@ -14,6 +14,7 @@ Fig. 15 its mean per point; here for ``mp`` and both baselines.
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -60,6 +61,7 @@ def run_similarity(
     samples: int = SAMPLES,
     stages: Stages | None = None,
     methods: tuple[Method, ...] = METHODS,
+    progress: Callable[[int, int], None] | None = None,
 ) -> list[ReachError]:
     """The experiment on ``demos`` (right-arm reaches on the grid).
 
@@ -69,11 +71,13 @@ def run_similarity(
         samples: Samples of normalised time compared per reach.
         stages: The planner's stages (default: in this process, shipped model).
         methods: The methods to run.
+        progress: Called with (reaches done, reaches in all) after each.
     """
     tau = tau_grid(samples)
     stages = stages or LocalStages()
     out = []
-    for reach in subject_reaches(demos, tau):
+    reaches = subject_reaches(demos, tau)
+    for done, reach in enumerate(reaches, start=1):
         arm = load_arm(_arm_of(demos, reach))
         for method in methods:
             nao = nao_reach(arm, stages, reach, method, source, tau)
@@ -82,12 +86,14 @@ def run_similarity(
                     reach.subject,
                     reach.point,
                     method,
-                    _mean_distance(nao.elbow, reach.elbow),
-                    _mean_distance(nao.wrist, reach.wrist),
+                    mean_distance(nao.elbow, reach.elbow),
+                    mean_distance(nao.wrist, reach.wrist),
                     sequence(nao.primitives, MIN_POINTS)[0],
                     _human_sequence(reach),
                 )
             )
+        if progress is not None:
+            progress(done, len(reaches))
     return out
 
 
@@ -99,7 +105,7 @@ def _arm_of(demos: DemoSet, reach: SubjectReach) -> str:
     return "right"
 
 
-def _mean_distance(a: np.ndarray, b: np.ndarray) -> float:
+def mean_distance(a: np.ndarray, b: np.ndarray) -> float:
     """Mean distance between two point paths [m], each shape (m, 3)."""
     return float(np.mean(np.linalg.norm(a - b, axis=1)))
 

@@ -1,0 +1,211 @@
+"""``armplan experiment``: the paper's experiments (Section V) on NAO.
+
+    armplan experiment similarity [--out DIR] [--json] [--demos FILE.mcap ...]
+        [--subjects N] [--trials N] [--points P ...] [--seed S]
+        [--path human|planned] [--samples N] [--model FILE]
+    armplan experiment handover [--out DIR] [--json] [--task FILE.json]
+        [--movements N] [--model FILE]
+
+``similarity``: per subject and grid point, NAO's elbow (mp, least-norm,
+single) against the subject's retargeted elbow over normalised time
+(Fig. 14-15). Without ``--demos`` the demonstrations are the synthetic set
+drawn with ``--seed`` (default 1: the shipped motion model was fitted on
+seed 0, so these subjects are new to it). ``handover``: the collaboration
+task, posture similarity S (eq. 22-23) to the human reference over time
+(Fig. 18). Both write tables, JSON and PNG plots into ``--out`` and print
+the tables (``--json``: the JSON). docs/results.md explains the protocols.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
+
+from armplan.cli.output import print_json, print_table
+from armplan.cli.parsing import add_json
+from shared.errors import InvalidInputError
+
+ORDER = 70
+HELP = "the paper's experiments: similarity (Fig. 14-15), handover (Fig. 18)"
+#: Where the results go by default.
+OUT = "experiment-results"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``experiment similarity`` and ``experiment handover``."""
+    parser = commands.add_parser("experiment", help=HELP, description=HELP)
+    which = parser.add_subparsers(dest="experiment", metavar="EXPERIMENT")
+    which.required = True
+    _similarity_parser(which)
+    _handover_parser(which)
+
+
+def _common(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--out", default=OUT, metavar="DIR", help=f"default {OUT}")
+    parser.add_argument(
+        "--model", metavar="FILE", help="motion model (default: shipped)"
+    )
+    add_json(parser)
+
+
+def _similarity_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    help_ = "elbow error against the subjects' retargeted elbows (Fig. 14-15)"
+    parser = which.add_parser("similarity", help=help_, description=help_)
+    _common(parser)
+    parser.add_argument(
+        "--demos", nargs="+", metavar="FILE.mcap", help="demonstrations"
+    )
+    parser.add_argument("--subjects", type=int, default=16, help="synthetic subjects")
+    parser.add_argument(
+        "--trials", type=int, default=5, help="synthetic trials per point"
+    )
+    parser.add_argument(
+        "--points", type=int, nargs="+", metavar="P", help="grid points"
+    )
+    parser.add_argument("--seed", type=int, default=1, help="synthetic set's seed (1)")
+    parser.add_argument(
+        "--path",
+        choices=("human", "planned"),
+        default="human",
+        help="NAO's wrist path: the subject's, or the planner's own (default human)",
+    )
+    parser.add_argument("--samples", type=int, default=101, help="tau samples (101)")
+    parser.set_defaults(run=run_similarity)
+
+
+def _handover_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    help_ = "posture similarity over the collaboration task (Fig. 18)"
+    parser = which.add_parser("handover", help=help_, description=help_)
+    _common(parser)
+    parser.add_argument("--task", metavar="FILE.json", help="task (default: shipped)")
+    parser.add_argument("--movements", type=int, help="only the first N movements")
+    parser.set_defaults(run=run_handover)
+
+
+def run_similarity(args: argparse.Namespace) -> int:
+    """Run the similarity experiment, write and print its results."""
+    from armplan.experiments.nao_reach import PathSource
+    from armplan.experiments.similarity import run_similarity as run
+    from armplan.experiments.similarity_report import tables, write_report
+    from armplan.experiments.similarity_summary import summary
+
+    demos, source = _demos(args)
+    with _progress(args.json) as progress:
+        task = progress.add_task("planning the reaches", total=None)
+        rows = run(
+            demos,
+            PathSource(args.path),
+            args.samples,
+            _stages(args.model),
+            progress=lambda done, total: progress.update(
+                task, completed=done, total=total
+            ),
+        )
+    protocol = {"path": args.path, "demos": source, "samples": args.samples}
+    numbers = summary(rows, protocol)
+    written = write_report(rows, numbers, args.out, f"similarity-{args.path}")
+    _print(numbers, tables(numbers), written, args.json)
+    return 0
+
+
+def run_handover(args: argparse.Namespace) -> int:
+    """Run the handover experiment, write and print its results."""
+    from armplan.experiments.handover import run_handover as run
+    from armplan.experiments.handover_report import tables, write_report
+    from armplan.experiments.handover_summary import summary
+    from armplan.experiments.handover_task import default_task_path, load_task
+
+    task = load_task(args.task)
+    if args.movements is not None:
+        _at_least(args.movements, 1, "movements")
+        task = task._replace(movements=task.movements[: args.movements])
+    with _progress(args.json) as progress:
+        progress.add_task("planning the task", total=None)
+        reference, series = run(task, _stages(args.model))
+    protocol = {
+        "task": str(args.task or default_task_path().name),
+        "movements": len(task.movements),
+        "reference": "shared.demos.reach_model, average person, retargeted to NAO",
+    }
+    numbers = summary(reference, series, protocol)
+    written = write_report(reference, series, numbers, args.out)
+    _print(numbers, tables(reference, series, numbers), written, args.json)
+    return 0
+
+
+def _demos(args: argparse.Namespace) -> tuple[Any, str]:
+    """The demonstrations and where they came from."""
+    from shared.demos import read_demos, synthesize
+
+    if args.demos:
+        return read_demos(args.demos), ", ".join(args.demos)
+    _at_least(args.subjects, 1, "subjects")
+    _at_least(args.trials, 1, "trials")
+    for point in args.points or ():
+        if not 1 <= point <= 16:
+            raise InvalidInputError(
+                f"grid point {point} does not exist: points are 1..16", field="points"
+            )
+    points = tuple(sorted(set(args.points))) if args.points else None
+    demos = synthesize(
+        args.seed, subjects=args.subjects, trials=args.trials, points=points
+    )
+    return (
+        demos,
+        f"synthetic, seed {args.seed}, {args.subjects} subjects, {args.trials} trials",
+    )
+
+
+def _at_least(value: int, low: int, name: str) -> None:
+    if value < low:
+        raise InvalidInputError(
+            f"--{name} must be at least {low}, got {value}", field=name
+        )
+
+
+def _stages(model: str | None) -> Any:
+    """The planner's stages in this process, with ``model`` if given."""
+    from services.fit import load_model
+    from services.planner.stages import LocalStages
+
+    return LocalStages(load_model(model) if model else None)
+
+
+def _print(
+    numbers: dict[str, Any], tables: dict[str, Any], written: list[Any], as_json: bool
+) -> None:
+    if as_json:
+        print_json({**numbers, "files": [str(p) for p in written]})
+        return
+    for title, (headers, rows) in tables.items():
+        sys.stdout.write(f"\n{title}\n")
+        print_table(headers, rows)
+    sys.stdout.write("\nbars: " + _bars(numbers["bars"]) + "\n")
+    sys.stdout.write("wrote " + ", ".join(str(p) for p in written) + "\n")
+
+
+def _bars(bars: dict[str, Any]) -> str:
+    return "; ".join(
+        f"{name} {'met' if bar['met'] else 'NOT met'}" for name, bar in bars.items()
+    )
+
+
+@contextmanager
+def _progress(quiet: bool) -> Iterator[Any]:
+    """A rich progress display on stderr (off with --json)."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
+
+    progress = Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        console=Console(file=sys.stderr),
+        disable=quiet,
+        transient=True,
+    )
+    with progress:
+        yield progress

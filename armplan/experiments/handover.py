@@ -1,0 +1,95 @@
+"""The human-robot collaboration experiment (paper Section V.B, Fig. 18) on NAO.
+
+NAO does the task of ``handover_task`` from the person's start posture,
+movement after movement to the targets of the human reference
+(``human_reference``), once with each method. Each movement is planned as
+the planner plans a reach (``services.planner.reach_path`` for the wrist
+path, the decide and ik stages for the joint path), from where the one
+before ended; the planner's one-request form (``plan`` with all targets)
+is not used because it refuses a task whose grasps make the IK's first
+step jump (see docs/results.md). Each movement's
+joint path is read at the normalised times of the reference's samples of
+the same movement (``normalised_time``), and at every sample the posture
+similarity S (eq. 22-23, ``posture_similarity``) of NAO's posture to the
+reference's is taken. The series run on the person's clock: movement after
+movement, without the pauses between them.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from armplan.experiments.handover_task import Task
+from armplan.experiments.human_reference import ReferenceMovement, human_reference
+from armplan.experiments.nao_reach import track
+from armplan.experiments.normalised_time import at_tau_even
+from armplan.experiments.posture_similarity import posture_similarity
+from armplan.experiments.similarity import METHODS
+from services.planner.reach_path import reach_wrist_path
+from services.planner.stages import LocalStages, Stages
+from shared.messages import Method
+from shared.robot.arm_model import ArmModel, load_arm
+
+
+class SimilaritySeries(NamedTuple):
+    """S over the task for one method.
+
+    Attributes:
+        method: The planning method.
+        times: The person's time through the task [s], shape (n,).
+        similarity: S at each time [-], shape (n,).
+        movement: Index of the movement each sample belongs to, shape (n,).
+        primitives: What moved NAO's arm, per movement, in order of use.
+    """
+
+    method: Method
+    times: np.ndarray
+    similarity: np.ndarray
+    movement: np.ndarray
+    primitives: list[list[str]]
+
+
+def run_handover(
+    task: Task,
+    stages: Stages | None = None,
+    methods: tuple[Method, ...] = METHODS,
+) -> tuple[list[ReferenceMovement], list[SimilaritySeries]]:
+    """The reference and each method's S over the task (right arm)."""
+    arm = load_arm("right")
+    reference = human_reference(arm, task)
+    stages = stages or LocalStages()
+    return reference, [_series(arm, stages, reference, m) for m in methods]
+
+
+def _series(
+    arm: ArmModel,
+    stages: Stages,
+    reference: list[ReferenceMovement],
+    method: Method,
+) -> SimilaritySeries:
+    """Plan the task with ``method`` and compare it with ``reference``."""
+    times, values, index, used = [], [], [], []
+    q, clock = reference[0].q[0], 0.0
+    for k, move in enumerate(reference):
+        path = track(stages, reach_wrist_path(arm, q, move.target), q, method)
+        tau = move.times / move.times[-1]
+        nao = at_tau_even(np.array(path.positions), tau)
+        values.append(posture_similarity(nao, move.q, arm.limits))
+        times.append(clock + move.times)
+        index.append(np.full(len(tau), k))
+        used.append(_in_order(path.primitives))
+        q, clock = np.array(path.positions[-1]), clock + float(move.times[-1])
+    return SimilaritySeries(
+        method,
+        np.concatenate(times),
+        np.concatenate(values),
+        np.concatenate(index),
+        used,
+    )
+
+
+def _in_order(labels: list[str]) -> list[str]:
+    """Distinct labels in order of first use."""
+    return list(dict.fromkeys(labels))

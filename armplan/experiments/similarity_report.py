@@ -1,0 +1,104 @@
+"""What ``armplan experiment similarity`` writes: tables, JSON, two PNGs.
+
+Into the output directory, for path source ``human`` (or ``planned``):
+``similarity-human.json`` (``similarity_summary.summary``),
+``similarity-human.md`` (the tables below, in centimetres),
+``similarity-human-distribution.png`` (Fig. 14) and
+``similarity-human-point-means.png`` (Fig. 15).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from armplan.experiments.markdown_table import markdown_table
+from armplan.experiments.similarity import ReachError
+from armplan.experiments.similarity_plots import plot_distribution, plot_point_means
+from shared.errors import InvalidInputError
+
+CM = 100.0
+Table = tuple[list[str], list[list[Any]]]
+
+
+def tables(summary: dict[str, Any]) -> dict[str, Table]:
+    """The tables of a summary: overall, per point, by primitive count [cm]."""
+    methods = [m for m in ("mp", "least-norm", "single") if m in summary]
+    overall = [
+        [m, *(CM * summary[m][k] for k in _OVERALL_KEYS), summary[m]["reaches"]]
+        for m in methods
+    ]
+    points = list(summary[methods[0]]["per_point_mean_elbow_error_m"])
+    per_point = [
+        [p, *(CM * summary[m]["per_point_mean_elbow_error_m"][p] for m in methods)]
+        for p in points
+    ]
+    return {
+        "overall": (
+            ["method", "mean [cm]", "sd [cm]", "max [cm]", "wrist [cm]", "reaches"],
+            overall,
+        ),
+        "per point": (["point", *(f"{m} [cm]" for m in methods)], per_point),
+        "by mp primitives": _by_count(summary, "by_mp_primitive_count", methods),
+        "by human primitives": _by_count(summary, "by_human_primitive_count", methods),
+    }
+
+
+_OVERALL_KEYS = (
+    "mean_elbow_error_m",
+    "sd_elbow_error_m",
+    "max_elbow_error_m",
+    "mean_wrist_error_m",
+)
+
+
+def _by_count(summary: dict[str, Any], key: str, methods: list[str]) -> Table:
+    rows = [
+        [count, group["reaches"], *(CM * group[m] for m in methods)]
+        for count, group in summary[key].items()
+    ]
+    return (["primitives", "reaches", *(f"{m} [cm]" for m in methods)], rows)
+
+
+def write_report(
+    rows: Sequence[ReachError], summary: dict[str, Any], out: str | Path, name: str
+) -> list[Path]:
+    """Write the JSON, the tables and the two figures; returns the paths.
+
+    Raises:
+        InvalidInputError: if the directory cannot be made or written.
+    """
+    out = make_dir(out)
+    written = [write_text(out / f"{name}.json", json.dumps(summary, indent=2) + "\n")]
+    text = "".join(
+        f"**{title}**\n\n" + markdown_table(*table) + "\n"
+        for title, table in tables(summary).items()
+    )
+    written.append(write_text(out / f"{name}.md", text))
+    title = f"elbow error on NAO, {summary['protocol']['path']} wrist path"
+    written.append(plot_distribution(rows, out / f"{name}-distribution.png", title))
+    written.append(plot_point_means(rows, out / f"{name}-point-means.png", title))
+    return written
+
+
+def make_dir(path: str | Path) -> Path:
+    """``path`` as a directory, made if missing; a typed error if impossible."""
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot make the output directory {path}: {exc}", field="out"
+        ) from None
+    return path
+
+
+def write_text(path: Path, text: str) -> Path:
+    """Write ``text`` to ``path``; a typed error naming the file if impossible."""
+    try:
+        path.write_text(text)
+    except OSError as exc:
+        raise InvalidInputError(f"cannot write {path}: {exc}", field="out") from None
+    return path

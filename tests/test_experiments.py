@@ -1,0 +1,240 @@
+"""armplan experiment similarity / handover: JSON contract, plots, the mathematics."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armplan.cli.main import main
+from armplan.experiments.handover_task import load_task
+from armplan.experiments.normalised_time import at_tau
+from armplan.experiments.posture_from_points import (
+    joints_from_points,
+    wrist_yaw_for_palm,
+)
+from armplan.experiments.posture_similarity import (
+    least_similarity,
+    posture_distance,
+    posture_similarity,
+)
+from armplan.experiments.similarity import METHODS, mean_distance
+from armplan.experiments.subject_reach import subject_reaches
+from shared.demos import synthesize
+from shared.errors import InvalidInputError
+from shared.robot import load_arm
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+SMALL = ["--subjects", "2", "--trials", "1", "--points", "1", "16", "--samples", "21"]
+
+
+def run_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> dict:
+    code = main(args)
+    out = capsys.readouterr().out
+    assert code == 0, out
+    return json.loads(out)
+
+
+def assert_png(path: Path) -> None:
+    """A PNG file: its magic bytes, and matplotlib reads it back as an image."""
+    from matplotlib.image import imread
+
+    assert path.read_bytes()[:8] == PNG_MAGIC
+    image = imread(path)
+    assert image.ndim == 3 and image.shape[0] > 100 and image.shape[1] > 100
+
+
+@pytest.mark.parametrize("path", ["human", "planned"])
+def test_similarity_command_json_tables_and_plots(
+    path: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A small similarity run: every method's errors, a table and two valid PNGs."""
+    data = run_json(
+        ["experiment", "similarity", *SMALL, "--path", path,
+         "--out", str(tmp_path), "--json"],
+        capsys,
+    )  # fmt: skip
+    for method in ("mp", "least-norm", "single"):
+        numbers = data[method]
+        assert numbers["reaches"] == 4
+        assert set(numbers["per_point_mean_elbow_error_m"]) == {"P1", "P16"}
+        assert 0.0 < numbers["mean_elbow_error_m"] < 0.05
+        per_point = list(numbers["per_point_mean_elbow_error_m"].values())
+        assert numbers["mean_elbow_error_m"] == pytest.approx(np.mean(per_point))
+    assert data["protocol"]["path"] == path
+    assert set(data["bars"]) == {"below_1cm", "below_least-norm", "below_single"}
+    assert_png(tmp_path / f"similarity-{path}-distribution.png")
+    assert_png(tmp_path / f"similarity-{path}-point-means.png")
+    table = (tmp_path / f"similarity-{path}.md").read_text()
+    assert "| P16 |" in table
+    assert json.loads((tmp_path / f"similarity-{path}.json").read_text())["mp"]
+
+
+def test_similarity_with_a_demo_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--demos reads an MCAP file: its one subject and point are the experiment."""
+    from shared.demos import write_demos
+
+    demos = synthesize(3, subjects=1, trials=2, points=(6,))
+    write_demos(tmp_path / "demos.mcap", demos)
+    data = run_json(
+        ["experiment", "similarity", "--demos", str(tmp_path / "demos.mcap"),
+         "--samples", "11", "--out", str(tmp_path), "--json"],
+        capsys,
+    )  # fmt: skip
+    assert list(data["mp"]["per_point_mean_elbow_error_m"]) == ["P6"]
+    assert data["mp"]["reaches"] == 1
+
+
+def test_handover_command_json_and_plot(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A small handover run: every method's mean S in (0, 1], a valid Fig. 18 PNG."""
+    data = run_json(
+        [
+            "experiment",
+            "handover",
+            "--movements",
+            "2",
+            "--out",
+            str(tmp_path),
+            "--json",
+        ],
+        capsys,
+    )
+    floor = least_similarity(5)
+    for method in ("mp", "least-norm", "single"):
+        numbers = data[method]
+        assert floor <= numbers["min_similarity"] <= numbers["mean_similarity"] <= 1.0
+        assert len(numbers["per_movement_mean_similarity"]) == 2
+    assert data["mp"]["primitives"][0]  # the method names what moved the arm
+    assert set(data["bars"]) == {"above_least-norm", "above_single"}
+    assert_png(tmp_path / "handover-similarity.png")
+    assert "take red block" in (tmp_path / "handover.md").read_text()
+
+
+def test_similarity_of_identical_postures_is_one(rng: np.random.Generator) -> None:
+    """S(q, q) = 1 (dist 0) for any posture within the ranges."""
+    limits = load_arm("right").limits
+    q = rng.uniform(limits.lower, limits.upper, size=(20, 5))
+    assert np.allclose(posture_similarity(q, q, limits), 1.0)
+
+
+def test_similarity_of_opposite_extremes_is_the_minimum(
+    rng: np.random.Generator,
+) -> None:
+    """Every joint at opposite ends: dist = sqrt(5), S = 1/(1+sqrt(5)), the least."""
+    limits = load_arm("right").limits
+    s = posture_similarity(limits.lower, limits.upper, limits)
+    assert s == pytest.approx(1.0 / (1.0 + math.sqrt(5.0)))
+    assert s == pytest.approx(least_similarity(5))
+    a = rng.uniform(limits.lower, limits.upper, size=(500, 5))
+    b = rng.uniform(limits.lower, limits.upper, size=(500, 5))
+    assert np.all(posture_similarity(a, b, limits) > s)
+
+
+def test_distance_is_normalised_by_each_joints_range() -> None:
+    """One joint moved by its whole range: dist 1, whatever the joint."""
+    limits = load_arm("left").limits
+    for joint in range(5):
+        a, b = limits.lower.copy(), limits.lower.copy()
+        b[joint] = limits.upper[joint]
+        assert posture_distance(a, b, limits) == pytest.approx(1.0)
+
+
+def test_similarity_rejects_mismatched_postures() -> None:
+    """Postures of the wrong shape are a typed error naming the shapes."""
+    limits = load_arm("right").limits
+    with pytest.raises(InvalidInputError, match=r"\(4,\) and \(4,\) do not match 5"):
+        posture_similarity(np.zeros(4), np.zeros(4), limits)
+
+
+def test_elbow_error_of_the_human_against_itself_is_zero() -> None:
+    """A subject's single trial, read at its own tau, is its reach: error 0."""
+    demos = synthesize(5, subjects=1, trials=1, points=(3,))
+    trial = demos.trials[0]
+    own = (trial.times - trial.times[0]) / (trial.times[-1] - trial.times[0])
+    reach = subject_reaches(demos, own)[0]
+    assert mean_distance(reach.elbow, trial.elbow) < 1e-12
+    assert mean_distance(reach.wrist, trial.wrist) < 1e-12
+    assert mean_distance(reach.elbow + np.array([0.0, 0.0, 0.01]), trial.elbow) == (
+        pytest.approx(0.01)
+    )
+
+
+def test_normalised_time_aligns_start_and_end() -> None:
+    """Two movements of different durations meet at tau = 0 and tau = 1."""
+    slow = at_tau(
+        np.linspace(0, 2.0, 9), np.linspace(0, 1, 9)[:, None], np.array([0, 0.5, 1])
+    )
+    fast = at_tau(
+        np.linspace(3, 3.5, 5), np.linspace(0, 1, 5)[:, None], np.array([0, 0.5, 1])
+    )
+    assert np.allclose(slow, fast) and np.allclose(slow[:, 0], [0, 0.5, 1])
+
+
+def test_human_points_become_the_nao_posture_that_made_them(
+    rng: np.random.Generator,
+) -> None:
+    """Points made by FK of a posture give back that posture's elbow and wrist."""
+    arm = load_arm("right")
+    for _ in range(10):
+        q = rng.uniform(arm.limits.lower + 0.2, arm.limits.upper - 0.2)
+        points = arm.fk(q)
+        palm = arm.rotation(q, "wrist")[:, 1]
+        found = joints_from_points(arm, points.elbow, points.wrist, palm, q + 0.05)
+        again = arm.fk(found)
+        assert np.linalg.norm(again.elbow - points.elbow) < 1e-6
+        assert np.linalg.norm(again.wrist - points.wrist) < 1e-6
+        assert found[4] == pytest.approx(q[4], abs=1e-6)  # the palm fixes WristYaw
+
+
+def test_wrist_yaw_out_of_range_waits_at_the_nearer_limit() -> None:
+    """A palm half a turn from yaw 0 keeps the wrist at the limit it is at."""
+    arm = load_arm("right")
+    q = np.array([0.3, -0.4, 1.0, 0.8, 1.7])
+    frame = arm.rotation(np.array([0.3, -0.4, 1.0, 0.8, 0.0]), "wrist")
+    behind = -frame[:, 1]  # yaw pi, outside [-1.824, 1.824]
+    assert wrist_yaw_for_palm(arm, q, behind) == pytest.approx(arm.limits.upper[4])
+    q[4] = -1.7
+    assert wrist_yaw_for_palm(arm, q, behind) == pytest.approx(arm.limits.lower[4])
+
+
+def test_bad_grid_point_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
+    """--points 17: exit code 1 and a message naming the point."""
+    code = main(["experiment", "similarity", "--points", "17", "--json"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert "grid point 17 does not exist" in captured.err
+    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+
+
+def test_bad_task_file_is_a_clear_error(tmp_path: Path) -> None:
+    """A task whose target is out of a person's reach names the movement."""
+    task = {"start": "forward", "movements": [
+        {"name": "too far", "target": [1.5, 0.0, 0.0], "palm": False}]}  # fmt: skip
+    path = tmp_path / "task.json"
+    path.write_text(json.dumps(task))
+    with pytest.raises(InvalidInputError, match=r"'too far' is 1\.500 arm lengths"):
+        load_task(path)
+    path.write_text("{not json")
+    with pytest.raises(InvalidInputError, match=r"task file .*JSONDecodeError"):
+        load_task(path)
+
+
+def test_the_shipped_task_is_valid() -> None:
+    """The shipped task starts forward and names the paper's steps."""
+    task = load_task()
+    names = [m.name for m in task.movements]
+    assert task.start == "forward"
+    assert names[0] == "take red block" and "give green block" in names
+    assert names[-1].startswith("wave")
+
+
+def test_methods_are_the_method_and_both_baselines() -> None:
+    """The experiments compare mp with least-norm and single, mp first."""
+    assert [m.value for m in METHODS] == ["mp", "least-norm", "single"]
