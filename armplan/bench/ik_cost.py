@@ -8,6 +8,7 @@ might write it. Both run on the same targets in the same process.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -83,8 +84,13 @@ def slsqp_ik(
     return posture(result.x)
 
 
-def run(n: int = 100, seed: int = 7) -> IKCost:
-    """Time both IKs on ``n`` reachable targets of the right arm."""
+def run(
+    n: int = 100, seed: int = 7, after: Callable[[], object] | None = None
+) -> IKCost:
+    """Time both IKs on ``n`` reachable targets of the right arm.
+
+    ``after`` runs after each of the ``3 n`` timed calls, untimed (progress).
+    """
     arm = load_arm("right")
     tpe = TotalPotentialEnergy(MeasureParams().mu)
     targets = _targets(arm, n, seed)
@@ -94,12 +100,13 @@ def run(n: int = 100, seed: int = 7) -> IKCost:
         [
             lambda t=t: ours_q.append(solve(arm, t, primitive="S_R E_PR W_P").q)
             for t in targets
-        ]
+        ],
+        after,
     )
     peer = time_calls(
-        [lambda t=t: peer_q.append(slsqp_ik(arm, t, tpe)) for t in targets]
+        [lambda t=t: peer_q.append(slsqp_ik(arm, t, tpe)) for t in targets], after
     )
-    step = time_calls([lambda t=t: _one_step(arm, tpe, t) for t in targets])
+    step = time_calls([lambda t=t: _one_step(arm, tpe, t) for t in targets], after)
     ours_ok = _reached(arm, ours_q, targets)
     peer_ok = _reached(arm, peer_q, targets)
     both = ours_ok & peer_ok

@@ -28,11 +28,18 @@ class Timing(NamedTuple):
         return float(np.percentile(self.samples, p))
 
 
-def time_calls(calls: list[Callable[[], object]]) -> Timing:
-    """Run each call once and time it with ``perf_counter`` [s]."""
+def time_calls(
+    calls: list[Callable[[], object]], after: Callable[[], object] | None = None
+) -> Timing:
+    """Run each call once and time it with ``perf_counter`` [s].
+
+    ``after`` (e.g. a progress bar's advance) runs after each call, untimed.
+    """
     samples = np.empty(len(calls))
     for i, call in enumerate(calls):
         start = time.perf_counter()
         call()
         samples[i] = time.perf_counter() - start
+        if after is not None:
+            after()
     return Timing(samples)
