@@ -29,3 +29,4 @@ def test_the_benchmark_reports_every_load_beside_in_process() -> None:
         figures
     )
     assert figures["services_2_per_s"] == rows[2][3]
+    assert figures["cpus"] >= 1 and len(result.load_average) == 2

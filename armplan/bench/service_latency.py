@@ -15,6 +15,7 @@ gives JSON-ready numbers and :meth:`ServiceLatency.table` printable rows.
 
 from __future__ import annotations
 
+import os
 import subprocess
 import time
 from collections.abc import Sequence
@@ -70,12 +71,16 @@ class ServiceLatency(NamedTuple):
         loads: One entry per concurrency level.
         duration: Duration of the planned trajectory [s].
         path_points: Points of its wrist path.
+        load_average: The machine's 1-minute load average at the start and
+            the end of the run (runnable processes; compare with its CPUs:
+            a busy machine delays every hop between processes).
     """
 
     in_process: Timing
     loads: list[Load]
     duration: float
     path_points: int
+    load_average: tuple[float, float] = (0.0, 0.0)
 
     def ratio(self, load: Load) -> float:
         """``load``'s p50 over the in-process p50."""
@@ -106,6 +111,9 @@ class ServiceLatency(NamedTuple):
         out: dict[str, float] = {
             "reach_duration_s": self.duration,
             "path_points": self.path_points,
+            "load_average_start": self.load_average[0],
+            "load_average_end": self.load_average[1],
+            "cpus": float(os.cpu_count() or 0),
         }
         for what, p50, p99, rate, ratio in self.table():
             name = what.replace("services, ", "services_").replace(" clients", "")
@@ -144,15 +152,23 @@ def run(
         config: Bus settings of running services to measure; ``None`` starts
             a router and the services on a free loopback port for the run.
     """
+    before = os.getloadavg()[0]
     request = one_second_reach()
     result = plan(request)
     in_process = time_calls([partial(plan, request) for _ in range(n)])
-    shape = (result.trajectory.duration, len(result.wrist_paths[0].times))
     if config is not None:
-        return ServiceLatency(in_process, _remote(config, request, n, clients), *shape)
-    own = load_config(endpoints=(free_endpoint(),))
-    with Launcher(own, SERVICES, log=subprocess.DEVNULL):
-        return ServiceLatency(in_process, _remote(own, request, n, clients), *shape)
+        loads = _remote(config, request, n, clients)
+    else:
+        own = load_config(endpoints=(free_endpoint(),))
+        with Launcher(own, SERVICES, log=subprocess.DEVNULL):
+            loads = _remote(own, request, n, clients)
+    return ServiceLatency(
+        in_process,
+        loads,
+        result.trajectory.duration,
+        len(result.wrist_paths[0].times),
+        (before, os.getloadavg()[0]),
+    )
 
 
 def _remote(
