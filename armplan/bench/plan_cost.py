@@ -20,6 +20,7 @@ timing, ikpy beside our IK tracking. Figures are medians over the repeats.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -48,6 +49,8 @@ class PlanCost(NamedTuple):
         ikpy: Time per ikpy pass over the path's points [s].
         ikpy_reached: Fraction of points ikpy reached within 0.1 mm.
         parts: Our plan's parts, each timed on its own.
+        load_average: The machine's 1-minute load average at the start and
+            the end of the run (runnable processes; compare with its CPUs).
     """
 
     points: int
@@ -57,6 +60,7 @@ class PlanCost(NamedTuple):
     ikpy: Timing
     ikpy_reached: float
     parts: PlanParts
+    load_average: tuple[float, float] = (0.0, 0.0)
 
     def plan_time(self, method: Method = Method.MP) -> float:
         """Median time to plan the reach with ``method`` [s]."""
@@ -68,6 +72,8 @@ class PlanCost(NamedTuple):
         figures = {
             "plan_points": float(self.points),
             "plan_duration_s": self.duration,
+            "plan_load_average_start": self.load_average[0],
+            "plan_load_average_end": self.load_average[1],
         }
         for method in Method:
             key = method.value.replace("-", "_")
@@ -114,6 +120,7 @@ def run(
         reach: Another reach to time instead (one target, from rest).
     """
     require("toppra", "ikpy")
+    load_start = os.getloadavg()[0]
     reach = reach or one_second_reach()
     arm = load_arm(reach.arm)
     requests = {
@@ -137,6 +144,7 @@ def run(
         * ikpy_passes,
         after,
     )
+    parts = time_parts(arm, reach.targets[0], repeats, after)
     return PlanCost(
         points=len(points),
         duration=first.trajectory.duration,
@@ -144,7 +152,8 @@ def run(
         toppra=toppra,
         ikpy=ikpy,
         ikpy_reached=ikpy_peer.reached_fraction(chain, solved[-1], points),
-        parts=time_parts(arm, reach.targets[0], repeats, after),
+        parts=parts,
+        load_average=(load_start, os.getloadavg()[0]),
     )
 
 

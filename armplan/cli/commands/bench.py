@@ -10,6 +10,7 @@ stderr while they do; ``--json`` prints every figure on stdout.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from typing import TYPE_CHECKING
 
@@ -126,7 +127,8 @@ def _print_planning(cost: PlanCost) -> None:
     tracking = f["part_tracking_ms"]
     sys.stdout.write(
         f"\none-second reach ({cost.points} path points, a {cost.duration:.2f} s "
-        "trajectory), medians [ms]:\n"
+        f"trajectory), medians [ms]; load average {cost.load_average[0]:.1f} -> "
+        f"{cost.load_average[1]:.1f} on {os.cpu_count()} CPUs:\n"
     )
     print_table(
         ("measure", "armplan", "peer", "peer / armplan"),
