@@ -1,19 +1,27 @@
-"""Per-target and per-point cost of the IK, beside scipy's SLSQP on the same work.
+"""Per-target and per-point cost of the IK, beside two peers on the same targets.
 
-The peer minimises the same measure (TPE) over the same active joints subject
-to the same wrist target, from the same start posture: a plain
-``scipy.optimize.minimize(method="SLSQP")`` IK, as a user without armplan
-might write it. Both run on the same targets in the same process.
+- scipy's SLSQP: minimises the same measure (TPE) over the same active joints
+  subject to the same wrist target, from the same start posture: a plain
+  ``scipy.optimize.minimize(method="SLSQP")`` IK, as a user without armplan
+  might write it.
+- ikpy: ``Chain.inverse_kinematics`` on the project's URDF from the same
+  start posture (:mod:`armplan.bench.ikpy_peer`). It only puts the wrist on
+  target and minimises no measure: less work than ours.
+
+All three run on the same targets in the same process.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import minimize
+from scipy.optimize import minimize  # type: ignore[import-untyped]
 
+from armplan.bench import ikpy_peer
+from armplan.bench.extras import require
 from armplan.bench.timer import Timing, time_calls
 from services.ik import solve
 from services.ik.gpm import gpm_step
@@ -37,6 +45,8 @@ class IKCost(NamedTuple):
         ours_reached: Fraction of targets our IK reached within 0.1 mm.
         peer_reached: Fraction of targets the peer reached within 0.1 mm.
         tpe_gap: Mean TPE of ours minus the peer's, on targets both reached [J].
+        ikpy: Time per target of ikpy's IK [s].
+        ikpy_reached: Fraction of targets ikpy reached within 0.1 mm.
     """
 
     ours: Timing
@@ -45,6 +55,26 @@ class IKCost(NamedTuple):
     ours_reached: float
     peer_reached: float
     tpe_gap: float
+    ikpy: Timing
+    ikpy_reached: float
+
+    def figures(self) -> dict[str, float]:
+        """The JSON figures of ``armplan bench`` [ms, us, J]; ratios peer / ours."""
+        ours = self.ours.mean
+        return {
+            "targets": float(len(self.ours.samples)),
+            "ik_per_target_ms": ours * 1e3,
+            "ik_per_target_p99_ms": self.ours.percentile(99) * 1e3,
+            "slsqp_per_target_ms": self.peer.mean * 1e3,
+            "speedup_vs_slsqp": self.peer.mean / ours,
+            "ikpy_per_target_ms": self.ikpy.mean * 1e3,
+            "speedup_vs_ikpy": self.ikpy.mean / ours,
+            "gpm_step_per_point_us": self.step.mean * 1e6,
+            "ik_reached_fraction": self.ours_reached,
+            "slsqp_reached_fraction": self.peer_reached,
+            "ikpy_ik_reached_fraction": self.ikpy_reached,
+            "tpe_gap_on_common_targets_j": self.tpe_gap,
+        }
 
 
 def _targets(arm: ArmModel, n: int, seed: int) -> list[np.ndarray]:
@@ -87,26 +117,24 @@ def slsqp_ik(
 def run(
     n: int = 100, seed: int = 7, after: Callable[[], object] | None = None
 ) -> IKCost:
-    """Time both IKs on ``n`` reachable targets of the right arm.
+    """Time ours and both peers on ``n`` reachable targets of the right arm.
 
-    ``after`` runs after each of the ``3 n`` timed calls, untimed (progress).
+    ``after`` runs after each of the ``steps(n)`` timed calls, untimed (progress).
     """
+    require("ikpy")
     arm = load_arm("right")
     tpe = TotalPotentialEnergy(MeasureParams().mu)
     targets = _targets(arm, n, seed)
-    ours_q: list[np.ndarray] = []
-    peer_q: list[np.ndarray] = []
-    ours = time_calls(
-        [
-            lambda t=t: ours_q.append(solve(arm, t, primitive="S_R E_PR W_P").q)
-            for t in targets
-        ],
-        after,
+    start = rest(arm.side)
+    chain = ikpy_peer.wrist_chain(arm)
+    ours, ours_q = _time_solver(
+        lambda t: solve(arm, t, primitive="S_R E_PR W_P").q, targets, after
     )
-    peer = time_calls(
-        [lambda t=t: peer_q.append(slsqp_ik(arm, t, tpe)) for t in targets], after
+    peer, peer_q = _time_solver(lambda t: slsqp_ik(arm, t, tpe), targets, after)
+    step = time_calls([partial(_one_step, arm, tpe, t) for t in targets], after)
+    ikpy, ikpy_q = _time_solver(
+        lambda t: ikpy_peer.ikpy_track(chain, t[None], start)[0], targets, after
     )
-    step = time_calls([lambda t=t: _one_step(arm, tpe, t) for t in targets], after)
     ours_ok = _reached(arm, ours_q, targets)
     peer_ok = _reached(arm, peer_q, targets)
     both = ours_ok & peer_ok
@@ -116,7 +144,36 @@ def run(
         if ok
     ]
     gap = float(np.mean(gaps)) if gaps else float("nan")
-    return IKCost(ours, peer, step, float(ours_ok.mean()), float(peer_ok.mean()), gap)
+    ikpy_ok = _reached(arm, ikpy_q, targets)
+    return IKCost(
+        ours,
+        peer,
+        step,
+        float(ours_ok.mean()),
+        float(peer_ok.mean()),
+        gap,
+        ikpy,
+        float(ikpy_ok.mean()),
+    )
+
+
+def _time_solver(
+    solver: Callable[[np.ndarray], np.ndarray],
+    targets: list[np.ndarray],
+    after: Callable[[], object] | None,
+) -> tuple[Timing, list[np.ndarray]]:
+    """Time ``solver`` on each target; also return its postures [rad], (5,) each."""
+    solved: list[np.ndarray] = []
+
+    def call(target: np.ndarray) -> None:
+        solved.append(solver(target))
+
+    return time_calls([partial(call, t) for t in targets], after), solved
+
+
+def steps(n: int) -> int:
+    """How many timed calls ``run(n)`` makes (for a progress bar)."""
+    return 4 * n
 
 
 def _one_step(arm: ArmModel, tpe: TotalPotentialEnergy, target: np.ndarray) -> None:
@@ -124,7 +181,7 @@ def _one_step(arm: ArmModel, tpe: TotalPotentialEnergy, target: np.ndarray) -> N
     chain = chain_for(arm)
     q = list(rest(arm.side))
     st = chain.state(q)
-    err, cols = WristTask.make(target, None, arm.side.sign).residual(st)
+    err, cols = WristTask.make(target.tolist(), None, arm.side.sign).residual(st)
     gpm_step(
         q,
         err,
