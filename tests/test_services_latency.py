@@ -10,8 +10,11 @@ from armplan.bench import service_latency
 
 def test_the_benchmark_reports_every_load_beside_in_process() -> None:
     """One row in-process, one per concurrency level, each with p50, p99, rate
-    and ratio; the work is a one-second reach of about 100 path points."""
-    result = service_latency.run(n=3, clients=(1, 2))
+    and ratio; the work is a one-second reach of about 100 path points; the
+    progress callback runs once per timed plan."""
+    calls: list[None] = []
+    result = service_latency.run(n=3, clients=(1, 2), after=lambda: calls.append(None))
+    assert len(calls) == service_latency.steps(3, (1, 2)) == 9
     assert len(result.in_process.samples) == 3
     assert [load.clients for load in result.loads] == [1, 2]
     assert all(len(load.latency.samples) == 3 for load in result.loads)
@@ -29,4 +32,8 @@ def test_the_benchmark_reports_every_load_beside_in_process() -> None:
         figures
     )
     assert figures["services_2_per_s"] == rows[2][3]
+    assert figures["services_2_ratio"] == pytest.approx(
+        figures["services_2_p50_ms"] / figures["in_process_p50_ms"]
+    )
+    assert figures["services_plans"] == 3.0
     assert figures["cpus"] >= 1 and len(result.load_average) == 2

@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 import subprocess
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from functools import partial
 from typing import NamedTuple
@@ -109,10 +109,11 @@ class ServiceLatency(NamedTuple):
         ``<what>`` is ``in_process`` or ``services_<clients>``.
         """
         out: dict[str, float] = {
-            "reach_duration_s": self.duration,
-            "path_points": self.path_points,
-            "load_average_start": self.load_average[0],
-            "load_average_end": self.load_average[1],
+            "services_reach_duration_s": self.duration,
+            "services_path_points": float(self.path_points),
+            "services_plans": float(len(self.in_process.samples)),
+            "services_load_average_start": self.load_average[0],
+            "services_load_average_end": self.load_average[1],
             "cpus": float(os.cpu_count() or 0),
         }
         for what, p50, p99, rate, ratio in self.table():
@@ -139,10 +140,16 @@ def one_second_reach() -> PlanRequest:
     return PlanRequest.model_validate({"targets": [{"position": position}]})
 
 
+def steps(n: int, clients: Sequence[int]) -> int:
+    """How many timed plans ``run(n, clients)`` makes (for a progress bar)."""
+    return n * (1 + len(clients))
+
+
 def run(
     n: int = 100,
     clients: Sequence[int] = CLIENTS,
     config: BusConfig | None = None,
+    after: Callable[[], object] | None = None,
 ) -> ServiceLatency:
     """Measure in-process, then through the services at each concurrency level.
 
@@ -150,18 +157,21 @@ def run(
         n: Plans per measurement.
         clients: Concurrency levels.
         config: Bus settings of running services to measure; ``None`` starts
-            a router and the services on a free loopback port for the run.
+            a router and the services on a free loopback port for the run,
+            and stops them all before returning (or raising).
+        after: Called after each timed plan, untimed (progress); through the
+            services, from the clients' threads.
     """
     before = os.getloadavg()[0]
     request = one_second_reach()
     result = plan(request)
-    in_process = time_calls([partial(plan, request) for _ in range(n)])
+    in_process = time_calls([partial(plan, request) for _ in range(n)], after)
     if config is not None:
-        loads = _remote(config, request, n, clients)
+        loads = _remote(config, request, n, clients, after)
     else:
         own = load_config(endpoints=(free_endpoint(),))
         with Launcher(own, SERVICES, log=subprocess.DEVNULL):
-            loads = _remote(own, request, n, clients)
+            loads = _remote(own, request, n, clients, after)
     return ServiceLatency(
         in_process,
         loads,
@@ -172,19 +182,32 @@ def run(
 
 
 def _remote(
-    config: BusConfig, request: PlanRequest, n: int, clients: Sequence[int]
+    config: BusConfig,
+    request: PlanRequest,
+    n: int,
+    clients: Sequence[int],
+    after: Callable[[], object] | None,
 ) -> list[Load]:
     with Bus.connect(config) as bus:
         for _ in range(WARM_UP):  # liveliness known, routes set, code loaded
             bus.call(PLAN, request, timeout=60.0)
-        return [_load(bus, request, n, k) for k in clients]
+        return [_load(bus, request, n, k, after) for k in clients]
 
 
-def _load(bus: Bus, request: PlanRequest, n: int, clients: int) -> Load:
+def _load(
+    bus: Bus,
+    request: PlanRequest,
+    n: int,
+    clients: int,
+    after: Callable[[], object] | None,
+) -> Load:
     def timed(_: int) -> float:
         start = time.perf_counter()
         bus.call(PLAN, request, timeout=60.0)
-        return time.perf_counter() - start
+        took = time.perf_counter() - start
+        if after is not None:
+            after()
+        return took
 
     start = time.perf_counter()
     with ThreadPoolExecutor(clients) as pool:
