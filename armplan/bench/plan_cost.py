@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -133,8 +134,7 @@ def run(
     chain = ikpy_peer.wrist_chain(arm)
     solved: list[np.ndarray] = []
     plans = {
-        m: time_calls([lambda r=r: plan(r)] * repeats, after)
-        for m, r in requests.items()
+        m: time_calls([partial(plan, r)] * repeats, after) for m, r in requests.items()
     }
     toppra = time_calls(
         [lambda: toppra_trajectory(joint_path, limits)] * repeats, after
@@ -156,6 +156,3 @@ def run(
         load_average=(load_start, os.getloadavg()[0]),
     )
 
-
-def _with_method(request: PlanRequest, method: Method) -> PlanRequest:
-    return parse(PlanRequest, request.model_dump() | {"method": method})
