@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from armplan.bench import ikpy_peer, plan_cost
+from armplan.bench import ikpy_peer, plan_cost, plan_parts
 from armplan.cli.main import main
 from shared.messages import PlanRequest, ReachTarget
 from shared.robot import load_arm
@@ -19,7 +19,7 @@ RATIOS = ["toppra_over_plan", "ikpy_over_plan"]
 RATIOS += ["toppra_over_timing", "ikpy_over_tracking"]
 TIMES = ["plan_mp_ms", "plan_least_norm_ms", "plan_single_ms", "toppra_ms"]
 TIMES += ["ikpy_ms", "ik_tracking_per_point_us", "decision_per_point_us"]
-TIMES += [f"part_{name}_ms" for name in plan_cost.PARTS]
+TIMES += [f"part_{name}_ms" for name in plan_parts.PARTS]
 
 
 def test_the_ikpy_chain_is_the_arm_of_the_urdf() -> None:
@@ -52,9 +52,10 @@ def test_figures_of_a_short_reach() -> None:
 
 
 def test_bench_json_holds_both_benchmarks(capsys: pytest.CaptureFixture[str]) -> None:
-    """armplan bench --json on a tiny configuration: the IK figures and the
-    planning figures, ratios positive."""
-    assert main(["bench", "--targets", "1", "--repeats", "1", "--json"]) == 0
+    """armplan bench --no-services --json on a tiny configuration: the IK
+    figures and the planning figures, ratios positive."""
+    tiny = ["--targets", "1", "--repeats", "1", "--no-services", "--json"]
+    assert main(["bench", *tiny]) == 0
     figures = json.loads(capsys.readouterr().out)
     assert figures["speedup_vs_slsqp"] > 0.0
     for key in RATIOS:

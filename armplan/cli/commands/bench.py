@@ -1,26 +1,27 @@
 """``armplan bench``: speed beside peers measured in the same run.
 
-Two benchmarks, each timed beside peers doing the same work in this process:
-the IK per target beside scipy's SLSQP (:mod:`armplan.bench.ik_cost`), and
-planning a one-second reach end to end beside toppra's timing and ikpy's IK
-of the same path (:mod:`armplan.bench.plan_cost`). A progress bar runs on
-stderr while they do; ``--json`` prints every figure on stdout.
+Three benchmarks, each timed beside peers doing the same work in this run:
+
+- the IK per target beside scipy's SLSQP (same measure) and ikpy, on the
+  same targets (:mod:`armplan.bench.ik_cost`);
+- planning a one-second reach in-process beside toppra's timing and ikpy's
+  IK of the same path (:mod:`armplan.bench.plan_cost`);
+- the same reach through a real router and every service on a free loopback
+  port, by 1, 8 and 50 concurrent clients, beside in-process plans
+  (:mod:`armplan.bench.service_latency`); ``--no-services`` skips it.
+
+A progress bar runs on stderr while they do; ``--json`` prints every figure
+on stdout, flat, with the machine's CPUs and load average over the run.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-import sys
-from typing import TYPE_CHECKING
 
-from armplan.cli.output import print_json, print_table
+from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import InvalidInputError
-
-if TYPE_CHECKING:
-    from armplan.bench.ik_cost import IKCost
-    from armplan.bench.plan_cost import PlanCost
 
 ORDER = 90
 HELP = "measure speed beside peers run in the same process (no timed tests)"
@@ -46,119 +47,89 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         default=1,
         help="timed ikpy passes over the reach's path (default 1; each takes seconds)",
     )
+    parser.add_argument(
+        "--plans",
+        type=int,
+        default=100,
+        help="plans in-process and per client count through the services (default 100)",
+    )
+    parser.add_argument(
+        "--clients",
+        type=_client_counts,
+        default=[1, 8, 50],
+        help="concurrent clients through the services, comma-separated "
+        "(default 1,8,50)",
+    )
+    parser.add_argument(
+        "--no-services",
+        dest="services",
+        action="store_false",
+        help="skip the benchmark through the services (starts no processes)",
+    )
     add_json(parser)
     parser.set_defaults(run=run)
 
 
+def _client_counts(text: str) -> list[int]:
+    """``"1,8,50"`` -> ``[1, 8, 50]``; each at least 1."""
+    try:
+        counts = [int(part) for part in text.split(",")]
+    except ValueError:
+        counts = []
+    if not counts or min(counts) < 1:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a comma-separated list of positive client counts"
+        )
+    return counts
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the benchmarks and print their figures and ratios."""
-    from armplan.bench import ik_cost, plan_cost
-    from armplan.bench.progress import progress_bar
+    from armplan.bench import report
 
-    for name in ("targets", "repeats", "ikpy_passes"):
+    for name in ("targets", "repeats", "ikpy_passes", "plans"):
         if getattr(args, name) < 1:
             option = "--" + name.replace("_", "-")
             raise InvalidInputError(f"{option} must be at least 1", field=name)
-    with progress_bar() as bar:
-        ik_task = bar.add_task("IK beside scipy SLSQP", total=3 * args.targets)
-        cost = ik_cost.run(args.targets, args.seed, lambda: bar.advance(ik_task))
-        plan_task = bar.add_task(
-            "one-second reach beside toppra and ikpy",
-            total=plan_cost.steps(args.repeats, args.ikpy_passes),
-        )
-        planning = plan_cost.run(
-            args.repeats, args.ikpy_passes, lambda: bar.advance(plan_task)
-        )
-    figures = _ik_figures(args.targets, cost) | planning.figures()
+    figures = measure(args)
     if args.json:
         print_json(figures)
         return 0
-    _print_ik(cost, figures)
-    _print_planning(planning)
+    report.print_machine(figures)
+    report.print_ik(figures)
+    report.print_planning(figures)
+    if args.services:
+        report.print_services(figures, args.clients)
+    report.print_bars(figures, args.clients if args.services else [])
     return 0
 
 
-def _ik_figures(targets: int, cost: IKCost) -> dict[str, float]:
-    """The IK benchmark's JSON figures [ms, us, J], ratio peer / armplan."""
-    return {
-        "targets": targets,
-        "ik_per_target_ms": cost.ours.mean * 1e3,
-        "ik_per_target_p99_ms": cost.ours.percentile(99) * 1e3,
-        "slsqp_per_target_ms": cost.peer.mean * 1e3,
-        "speedup_vs_slsqp": cost.peer.mean / cost.ours.mean,
-        "gpm_step_per_point_us": cost.step.mean * 1e6,
-        "ik_reached_fraction": cost.ours_reached,
-        "slsqp_reached_fraction": cost.peer_reached,
-        "tpe_gap_on_common_targets_j": cost.tpe_gap,
+def measure(args: argparse.Namespace) -> dict[str, float]:
+    """Every benchmark's figures, flat, under one progress bar."""
+    from armplan.bench import ik_cost, plan_cost, service_latency
+    from armplan.bench.progress import progress_bar
+
+    load_start = os.getloadavg()[0]
+    with progress_bar() as bar:
+        task = bar.add_task(
+            "IK beside SLSQP and ikpy", total=ik_cost.steps(args.targets)
+        )
+        figures = ik_cost.run(
+            args.targets, args.seed, lambda: bar.advance(task)
+        ).figures()
+        total = plan_cost.steps(args.repeats, args.ikpy_passes)
+        task = bar.add_task("one-second reach beside toppra and ikpy", total=total)
+        figures |= plan_cost.run(
+            args.repeats, args.ikpy_passes, lambda: bar.advance(task)
+        ).figures()
+        if args.services:
+            total = service_latency.steps(args.plans, args.clients)
+            task = bar.add_task("the reach through the services", total=total)
+            figures |= service_latency.run(
+                args.plans, args.clients, after=lambda: bar.advance(task)
+            ).figures()
+    return figures | {
+        "cpus": float(os.cpu_count() or 0),
+        "load_average_start": load_start,
+        "load_average_end": os.getloadavg()[0],
     }
-
-
-def _print_ik(cost: IKCost, figures: dict[str, float]) -> None:
-    print_table(
-        ("measure", "armplan", "scipy SLSQP (peer)", "peer / armplan"),
-        [
-            (
-                "IK per target [ms]",
-                figures["ik_per_target_ms"],
-                figures["slsqp_per_target_ms"],
-                figures["speedup_vs_slsqp"],
-            ),
-            (
-                "targets reached within 0.1 mm",
-                cost.ours_reached,
-                cost.peer_reached,
-                "-",
-            ),
-            ("TPE ours - peer, both reached [J]", cost.tpe_gap, "-", "-"),
-            (
-                "one eq. 14 step, per path point [us]",
-                figures["gpm_step_per_point_us"],
-                "-",
-                "-",
-            ),
-        ],
-    )
-
-
-def _print_planning(cost: PlanCost) -> None:
-    """The one-second reach: whole plans beside the peers, then the parts."""
-    f = cost.figures()
-    plan, timing = f["plan_mp_ms"], f["part_timing_ms"]
-    tracking = f["part_tracking_ms"]
-    sys.stdout.write(
-        f"\none-second reach ({cost.points} path points, a {cost.duration:.2f} s "
-        f"trajectory), medians [ms]; load average {cost.load_average[0]:.1f} -> "
-        f"{cost.load_average[1]:.1f} on {os.cpu_count()} CPUs:\n"
-    )
-    print_table(
-        ("measure", "armplan", "peer", "peer / armplan"),
-        [
-            ("plan, method mp", plan, "-", "-"),
-            ("plan, least-norm baseline", f["plan_least_norm_ms"], "-", "-"),
-            ("plan, single baseline", f["plan_single_ms"], "-", "-"),
-            _versus("whole plan vs toppra timing", plan, f, "toppra", "plan"),
-            _versus("whole plan vs ikpy IK", plan, f, "ikpy", "plan"),
-            _versus("Ruckig timing vs toppra", timing, f, "toppra", "timing"),
-            _versus("IK tracking vs ikpy", tracking, f, "ikpy", "tracking"),
-            ("ikpy: points within 0.1 mm", "-", f["ikpy_reached_fraction"], "-"),
-        ],
-    )
-    sys.stdout.write("\nparts of the mp plan, each timed alone:\n")
-    print_table(
-        ("part", "median [ms]", "per path point [us]"),
-        [
-            ("wrist path", f["part_wrist_path_ms"], "-"),
-            ("decision + IK tracking", f["part_decide_and_track_ms"], "-"),
-            ("  IK tracking alone", tracking, f["ik_tracking_per_point_us"]),
-            ("  decision (the difference)", "-", f["decision_per_point_us"]),
-            ("timing (Ruckig)", timing, "-"),
-            ("JointPath + Trajectory messages", f["part_messages_ms"], "-"),
-        ],
-    )
-
-
-def _versus(
-    label: str, ours: float, figures: dict[str, float], peer: str, part: str
-) -> tuple[str, float, float, float]:
-    """A row: ours [ms], the peer's [ms], and peer / ours."""
-    return (label, ours, figures[f"{peer}_ms"], figures[f"{peer}_over_{part}"])

@@ -1,0 +1,135 @@
+"""The tables ``armplan bench`` prints: each figure beside its peer's, as a ratio.
+
+Every function takes the flat figures of ``--json`` (times [ms, us], rates
+[1/s], ratios) so the table and the JSON can never disagree.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from armplan.cli.output import print_table
+
+#: The bars the issues set [ms]: a one-second reach planned in-process, and
+#: through the services on loopback (p50).
+IN_PROCESS_BAR_MS = 10.0
+SERVICES_BAR_MS = 20.0
+
+Figures = dict[str, float]
+
+
+def print_machine(f: Figures) -> None:
+    """The machine: CPUs and the 1-minute load average over the run."""
+    sys.stdout.write(
+        f"machine: {f['cpus']:.0f} CPUs, 1-minute load average "
+        f"{f['load_average_start']:.2f} -> {f['load_average_end']:.2f} "
+        "over the run\n\n"
+    )
+
+
+def print_ik(f: Figures) -> None:
+    """The IK per target beside scipy SLSQP (same measure) and ikpy (position)."""
+    sys.stdout.write(f"IK of {f['targets']:.0f} random reachable targets, means:\n")
+    ours = f["ik_per_target_ms"]
+    print_table(
+        ("measure", "armplan", "peer", "peer / armplan"),
+        [
+            ("IK per target vs scipy SLSQP [ms]", ours, f["slsqp_per_target_ms"],
+             f["speedup_vs_slsqp"]),
+            ("IK per target vs ikpy [ms]", ours, f["ikpy_per_target_ms"],
+             f["speedup_vs_ikpy"]),
+            ("reached within 0.1 mm, SLSQP", f["ik_reached_fraction"],
+             f["slsqp_reached_fraction"], "-"),
+            ("reached within 0.1 mm, ikpy", f["ik_reached_fraction"],
+             f["ikpy_ik_reached_fraction"], "-"),
+            ("TPE ours - SLSQP, both reached [J]",
+             f["tpe_gap_on_common_targets_j"], "-", "-"),
+            ("one eq. 14 step, per path point [us]", f["gpm_step_per_point_us"],
+             "-", "-"),
+        ],
+    )  # fmt: skip
+
+
+def print_planning(f: Figures) -> None:
+    """The one-second reach: whole plans beside the peers, then the parts."""
+    plan, timing = f["plan_mp_ms"], f["part_timing_ms"]
+    tracking = f["part_tracking_ms"]
+    sys.stdout.write(
+        f"\none-second reach in-process ({f['plan_points']:.0f} path points, a "
+        f"{f['plan_duration_s']:.2f} s trajectory), medians [ms]:\n"
+    )
+    print_table(
+        ("measure", "armplan", "peer", "peer / armplan"),
+        [
+            ("plan, method mp", plan, "-", "-"),
+            ("plan, least-norm baseline", f["plan_least_norm_ms"], "-", "-"),
+            ("plan, single baseline", f["plan_single_ms"], "-", "-"),
+            _versus("whole plan vs toppra timing", plan, f, "toppra", "plan"),
+            _versus("whole plan vs ikpy IK", plan, f, "ikpy", "plan"),
+            _versus("Ruckig timing vs toppra", timing, f, "toppra", "timing"),
+            _versus("IK tracking vs ikpy", tracking, f, "ikpy", "tracking"),
+            ("ikpy: points within 0.1 mm", "-", f["ikpy_reached_fraction"], "-"),
+        ],
+    )
+    sys.stdout.write("\nparts of the mp plan, each timed alone:\n")
+    print_table(
+        ("part", "median [ms]", "per path point [us]"),
+        [
+            ("wrist path", f["part_wrist_path_ms"], "-"),
+            ("decision + IK tracking", f["part_decide_and_track_ms"], "-"),
+            ("  IK tracking alone", tracking, f["ik_tracking_per_point_us"]),
+            ("  decision (the difference)", "-", f["decision_per_point_us"]),
+            ("timing (Ruckig)", timing, "-"),
+            ("JointPath + Trajectory messages", f["part_messages_ms"], "-"),
+        ],
+    )
+
+
+def print_services(f: Figures, clients: list[int]) -> None:
+    """Plans through every service beside in-process plans of the same run."""
+    sys.stdout.write(
+        "\nthe one-second reach through router + fit, decide, ik, timing and "
+        f"planner on loopback ({f['services_plans']:.0f} plans per row):\n"
+    )
+    rows: list[tuple[str, float, float, float, object]] = [
+        _service_row("in-process", "in_process", f)
+    ]
+    rows += [
+        _service_row(f"services, {k} clients", f"services_{k}", f) for k in clients
+    ]
+    print_table(
+        ("plans", "p50 [ms]", "p99 [ms]", "plans/s", "p50 / in-process p50"),
+        rows,
+    )
+
+
+def _service_row(
+    label: str, key: str, f: Figures
+) -> tuple[str, float, float, float, object]:
+    ratio = f.get(f"{key}_ratio", "-")
+    return (label, f[f"{key}_p50_ms"], f[f"{key}_p99_ms"], f[f"{key}_per_s"], ratio)
+
+
+def print_bars(f: Figures, clients: list[int]) -> None:
+    """Whether this run met the issues' bars (on this machine, at this load)."""
+    sys.stdout.write("\nbars:\n")
+    rows = [_bar("one-second reach in-process, median", f["plan_mp_ms"],
+                 IN_PROCESS_BAR_MS)]  # fmt: skip
+    rows += [
+        _bar(f"through the services, {k} clients, p50", f[f"services_{k}_p50_ms"],
+             SERVICES_BAR_MS)
+        for k in clients
+        if f"services_{k}_p50_ms" in f
+    ]  # fmt: skip
+    print_table(("bar", "measured [ms]", "bar [ms]", "met"), rows)
+
+
+def _bar(label: str, measured: float, bar: float) -> tuple[str, float, float, str]:
+    return (label, measured, bar, "yes" if measured < bar else "no")
+
+
+def _versus(
+    label: str, ours: float, figures: Figures, peer: str, part: str
+) -> tuple[str, float, float, float]:
+    """A row: ours [ms], the peer's [ms], and peer / ours."""
+    return (label, ours, figures[f"{peer}_ms"], figures[f"{peer}_over_{part}"])

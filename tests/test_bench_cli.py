@@ -1,0 +1,135 @@
+"""``armplan bench --json`` on a tiny configuration: every part, every ratio, no
+process left behind (figures are not timed against anything)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import os
+from pathlib import Path
+
+import pytest
+
+from armplan.cli.main import main
+from shared.bus.lifeline import PARENT_ENV
+
+TINY = ["bench", "--targets", "1", "--repeats", "1", "--plans", "2"]
+CLIENTS = (1, 3)
+#: Each ratio of the JSON, as (ratio, numerator, denominator).
+QUOTIENTS = [
+    ("speedup_vs_slsqp", "slsqp_per_target_ms", "ik_per_target_ms"),
+    ("speedup_vs_ikpy", "ikpy_per_target_ms", "ik_per_target_ms"),
+    ("toppra_over_plan", "toppra_ms", "plan_mp_ms"),
+    ("ikpy_over_plan", "ikpy_ms", "plan_mp_ms"),
+    ("toppra_over_timing", "toppra_ms", "part_timing_ms"),
+    ("ikpy_over_tracking", "ikpy_ms", "part_tracking_ms"),
+] + [
+    (f"services_{k}_ratio", f"services_{k}_p50_ms", "in_process_p50_ms")
+    for k in CLIENTS
+]
+#: Figures that are times [ms, us] or rates [1/s]: positive.
+POSITIVE = (
+    {name for triple in QUOTIENTS for name in triple}
+    | {
+        "gpm_step_per_point_us",
+        "ik_per_target_p99_ms",
+        "plan_least_norm_ms",
+        "plan_single_ms",
+        "in_process_p99_ms",
+        "in_process_per_s",
+        "ik_tracking_per_point_us",
+    }
+    | {f"services_{k}_{what}" for k in CLIENTS for what in ("p99_ms", "per_s")}
+)
+
+
+def _orphans(parent: int) -> list[int]:
+    """Live processes started with ``ARMPLAN_PARENT_PID=parent`` (the launcher's)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            environ = (entry / "environ").read_bytes().split(b"\0")
+            state = (entry / "stat").read_text().rsplit(")", 1)[1].split()[0]
+        except OSError:  # gone meanwhile, or not ours
+            continue
+        if f"{PARENT_ENV}={parent}".encode() in environ and state != "Z":
+            found.append(int(entry.name))
+    return found
+
+
+@pytest.fixture(scope="module")
+def figures() -> dict[str, float]:
+    """The JSON of one tiny run, through the services with 1 and 3 clients."""
+    out = io.StringIO()  # module scope: capsys is per test
+    with contextlib.redirect_stdout(out):
+        code = main([*TINY, "--clients", ",".join(map(str, CLIENTS)), "--json"])
+    assert code == 0
+    parsed: dict[str, float] = json.loads(out.getvalue())
+    return parsed
+
+
+def test_every_ratio_is_the_quotient_of_the_figures_it_compares(
+    figures: dict[str, float],
+) -> None:
+    """Ratio = peer (or services) over ours (or in-process), from the same JSON."""
+    for ratio, top, bottom in QUOTIENTS:
+        assert figures[ratio] == pytest.approx(figures[top] / figures[bottom]), ratio
+
+
+def test_times_and_rates_are_positive_and_finite(figures: dict[str, float]) -> None:
+    """Every time and rate is a positive finite number; fractions lie in [0, 1]."""
+    for name in POSITIVE:
+        assert math.isfinite(figures[name]) and figures[name] > 0.0, name
+    assert figures["decision_per_point_us"] >= 0.0
+    for name in [k for k in figures if k.endswith("reached_fraction")]:
+        assert 0.0 <= figures[name] <= 1.0, name
+
+
+def test_the_work_and_the_machine_are_recorded(figures: dict[str, float]) -> None:
+    """The one-second reach of about 100 points in both planning parts; the
+    plans counted; CPUs and the load average over the run."""
+    assert figures["targets"] == 1.0 and figures["services_plans"] == 2.0
+    assert figures["plan_points"] == figures["services_path_points"]
+    assert 90 <= figures["plan_points"] <= 110
+    assert figures["plan_duration_s"] == pytest.approx(1.0, abs=0.1)
+    assert figures["cpus"] == os.cpu_count()
+    for name in ("load_average_start", "load_average_end"):
+        assert figures[name] >= 0.0
+    assert not [k for k in figures if k.startswith("services_8")]  # only 1 and 3
+
+
+def test_no_service_process_outlives_the_benchmark(figures: dict[str, float]) -> None:
+    """The router and the services the benchmark started have all exited."""
+    assert figures["services_1_per_s"] > 0.0  # they did run
+    assert _orphans(os.getpid()) == []
+
+
+def test_no_services_skips_them(capsys: pytest.CaptureFixture[str]) -> None:
+    """--no-services: no figure through the services, the others still there."""
+    assert main([*TINY, "--no-services", "--json"]) == 0
+    figures = json.loads(capsys.readouterr().out)
+    assert not [k for k in figures if k.startswith(("services_", "in_process"))]
+    assert figures["speedup_vs_ikpy"] > 0.0 and figures["toppra_over_plan"] > 0.0
+
+
+@pytest.mark.parametrize("clients", ["0", "1,x", ""])
+def test_bad_client_counts_are_refused(
+    clients: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--clients must be positive integers, comma-separated: usage error."""
+    with pytest.raises(SystemExit) as exit_:
+        main(["bench", "--clients", clients])
+    assert exit_.value.code == 2
+    assert "not a comma-separated list of positive client counts" in (
+        capsys.readouterr().err
+    )
+
+
+def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
+    """--plans 0: exit 1, the option named."""
+    assert main(["bench", "--plans", "0"]) == 1
+    assert "--plans must be at least 1" in capsys.readouterr().err
