@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 from armplan.cli.main import main
-from armplan.experiments.handover_task import load_task
+from armplan.demo.task import DEFAULT_TASK, load_task
+from armplan.experiments.handover import Starts, run_handover
+from armplan.experiments.human_reference import human_reference
 from armplan.experiments.normalised_time import at_tau
 from armplan.experiments.posture_from_points import (
     joints_from_points,
@@ -25,13 +29,13 @@ from armplan.experiments.similarity import METHODS, mean_distance
 from armplan.experiments.subject_reach import subject_reaches
 from shared.demos import synthesize
 from shared.errors import InvalidInputError
-from shared.robot import load_arm
+from shared.robot import Side, load_arm
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 SMALL = ["--subjects", "2", "--trials", "1", "--points", "1", "16", "--samples", "21"]
 
 
-def run_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> dict:
+def run_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> dict[str, Any]:
     code = main(args)
     out = capsys.readouterr().out
     assert code == 0, out
@@ -90,31 +94,68 @@ def test_similarity_with_a_demo_file(
     assert data["mp"]["reaches"] == 1
 
 
+@pytest.mark.parametrize("starts", ["chained", "reference"])
 def test_handover_command_json_and_plot(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    starts: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """A small handover run: every method's mean S in (0, 1], a valid Fig. 18 PNG."""
     data = run_json(
-        [
-            "experiment",
-            "handover",
-            "--movements",
-            "2",
-            "--out",
-            str(tmp_path),
-            "--json",
-        ],
+        ["experiment", "handover", "--starts", starts, "--movements", "2",
+         "--out", str(tmp_path), "--json"],
         capsys,
-    )
+    )  # fmt: skip
     floor = least_similarity(5)
     for method in ("mp", "least-norm", "single"):
         numbers = data[method]
         assert floor <= numbers["min_similarity"] <= numbers["mean_similarity"] <= 1.0
         assert len(numbers["per_movement_mean_similarity"]) == 2
     assert data["mp"]["primitives"][0]  # the method names what moved the arm
+    assert data["protocol"]["starts"] == starts
     assert set(data["bars"]) == {"above_least-norm", "above_single"}
-    assert_png(tmp_path / "handover-similarity.png")
-    assert "take red block" in (tmp_path / "handover.md").read_text()
+    assert_png(tmp_path / f"handover-{starts}-similarity.png")
+    assert "take the red block" in (tmp_path / f"handover-{starts}.md").read_text()
+    assert json.loads((tmp_path / f"handover-{starts}.json").read_text())["mp"]
+
+
+@pytest.mark.parametrize(
+    ("count", "message"),
+    [("0", "--movements must be at least 1, got 0"),
+     ("13", "--movements 13: the task has 12 movements")],
+)  # fmt: skip
+def test_movements_out_of_the_task_is_a_clear_error(
+    count: str, message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--movements outside 1..(the task's movements): exit 1, the bound named."""
+    code = main(["experiment", "handover", "--movements", count, "--json"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert message in captured.err
+    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+
+
+def test_movements_takes_the_first_movements_of_the_task() -> None:
+    """The first N movements of the task, in order, every target of a phase one."""
+    arm = load_arm("right")
+    task = load_task(DEFAULT_TASK)
+    names = [m.name for m in human_reference(arm, task)]
+    assert len(names) == len(task.targets()) == 12
+    assert names[5:8] == ["set the blue block down", "wave goodbye 1", "wave goodbye 2"]
+    assert [m.name for m in human_reference(arm, task, 7)] == names[:7]
+
+
+def test_from_the_persons_posture_mp_starts_every_movement_at_s_one() -> None:
+    """starts=reference: NAO starts each movement in the person's posture (S = 1).
+
+    The baselines' first path point already turns the palm (one IK step of
+    at most 0.1 rad), so theirs starts just below 1.
+    """
+    task = load_task(DEFAULT_TASK)
+    _, series = run_handover(task, movements=3, starts=Starts.REFERENCE)
+    for one in series:
+        first = [one.similarity[one.movement == k][0] for k in range(3)]
+        if one.method.value == "mp":
+            assert np.allclose(first, 1.0)
+        assert np.all(np.array(first) > 0.95)
 
 
 def test_similarity_of_identical_postures_is_one(rng: np.random.Generator) -> None:
@@ -213,26 +254,29 @@ def test_bad_grid_point_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> 
     assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
 
 
-def test_bad_task_file_is_a_clear_error(tmp_path: Path) -> None:
-    """A task whose target is out of a person's reach names the movement."""
-    task = {"start": "forward", "movements": [
-        {"name": "too far", "target": [1.5, 0.0, 0.0], "palm": False}]}  # fmt: skip
-    path = tmp_path / "task.json"
-    path.write_text(json.dumps(task))
-    with pytest.raises(InvalidInputError, match=r"'too far' is 1\.500 arm lengths"):
-        load_task(path)
-    path.write_text("{not json")
-    with pytest.raises(InvalidInputError, match=r"task file .*JSONDecodeError"):
-        load_task(path)
+def test_a_left_arm_task_is_a_clear_error() -> None:
+    """The human reach model moves a right arm: a left-arm task says so."""
+    task = dataclasses.replace(load_task(DEFAULT_TASK), arm=Side.LEFT)
+    with pytest.raises(InvalidInputError, match=r"moves a right arm; .* left arm"):
+        human_reference(load_arm("left"), task)
 
 
-def test_the_shipped_task_is_valid() -> None:
-    """The shipped task starts forward and names the paper's steps."""
-    task = load_task()
-    names = [m.name for m in task.movements]
-    assert task.start == "forward"
-    assert names[0] == "take red block" and "give green block" in names
-    assert names[-1].startswith("wave")
+def test_reference_starts_in_the_tasks_start_and_ends_on_its_targets() -> None:
+    """The person starts in NAO's start posture; NAO's targets are the person's.
+
+    Where the person's posture lies outside NAO's ranges (ElbowYaw at its
+    limit when the red block is set down) the reference's wrist misses the
+    target by under a millimetre.
+    """
+    arm = load_arm("right")
+    task = load_task(DEFAULT_TASK)
+    reference = human_reference(arm, task, movements=3)
+    assert [m.name for m in reference] == [p.name for p in task.phases[:3]]
+    assert np.allclose(reference[0].q[0], task.start, atol=1e-6)
+    for move in reference:
+        end = arm.fk(move.q[-1]).wrist
+        assert np.linalg.norm(end - np.array(move.target.position)) < 1e-3
+        assert move.target.palm is not None
 
 
 def test_methods_are_the_method_and_both_baselines() -> None:

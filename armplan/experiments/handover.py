@@ -1,27 +1,31 @@
 """The human-robot collaboration experiment (paper Section V.B, Fig. 18) on NAO.
 
-NAO does the task of ``handover_task`` from the person's start posture,
-movement after movement to the targets of the human reference
+NAO does the demo's handover task (``armplan.demo.task``) from its start
+posture, movement after movement to the targets of the human reference
 (``human_reference``), once with each method. Each movement is planned as
 the planner plans a reach (``services.planner.reach_path`` for the wrist
-path, the decide and ik stages for the joint path), from where the one
-before ended; the planner's one-request form (``plan`` with all targets)
-is not used because it refuses a task whose grasps make the IK's first
-step jump (see docs/results.md). Each movement's
-joint path is read at the normalised times of the reference's samples of
-the same movement (``normalised_time``), and at every sample the posture
-similarity S (eq. 22-23, ``posture_similarity``) of NAO's posture to the
-reference's is taken. The series run on the person's clock: movement after
-movement, without the pauses between them.
+path, the decide and ik stages for the joint path); the planner's
+one-request form (``plan`` with all targets) is not used because it refuses
+a task whose palm targets make the IK's first step jump (see
+docs/results.md). A movement starts (``Starts``) either where the method's
+previous one ended (``chained``, the paper's protocol), or in the person's
+posture at that movement's start (``reference``: every reach judged alone,
+as in the similarity experiment). Each movement's joint path is read at the
+normalised times of the reference's samples of the same movement
+(``normalised_time``), and at every sample the posture similarity S (eq.
+22-23, ``posture_similarity``) of NAO's posture to the reference's is
+taken. The series run on the person's clock: movement after movement,
+without the pauses between them.
 """
 
 from __future__ import annotations
 
+from enum import StrEnum
 from typing import NamedTuple
 
 import numpy as np
 
-from armplan.experiments.handover_task import Task
+from armplan.demo.task import Task
 from armplan.experiments.human_reference import ReferenceMovement, human_reference
 from armplan.experiments.nao_reach import track
 from armplan.experiments.normalised_time import at_tau_even
@@ -31,6 +35,13 @@ from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from shared.messages import Method
 from shared.robot.arm_model import ArmModel, load_arm
+
+
+class Starts(StrEnum):
+    """Where each movement of the task starts (see the module docstring)."""
+
+    CHAINED = "chained"
+    REFERENCE = "reference"
 
 
 class SimilaritySeries(NamedTuple):
@@ -55,12 +66,22 @@ def run_handover(
     task: Task,
     stages: Stages | None = None,
     methods: tuple[Method, ...] = METHODS,
+    movements: int | None = None,
+    starts: Starts = Starts.CHAINED,
 ) -> tuple[list[ReferenceMovement], list[SimilaritySeries]]:
-    """The reference and each method's S over the task (right arm)."""
-    arm = load_arm("right")
-    reference = human_reference(arm, task)
+    """The reference and each method's S over the task (or its first movements).
+
+    Args:
+        task: The task.
+        stages: The planner's stages (default: in this process, shipped model).
+        methods: The methods to run.
+        movements: Only the first this many movements (all if ``None``).
+        starts: Where each movement starts.
+    """
+    arm = load_arm(task.arm)
+    reference = human_reference(arm, task, movements)
     stages = stages or LocalStages()
-    return reference, [_series(arm, stages, reference, m) for m in methods]
+    return reference, [_series(arm, stages, reference, m, starts) for m in methods]
 
 
 def _series(
@@ -68,11 +89,14 @@ def _series(
     stages: Stages,
     reference: list[ReferenceMovement],
     method: Method,
+    starts: Starts,
 ) -> SimilaritySeries:
     """Plan the task with ``method`` and compare it with ``reference``."""
     times, values, index, used = [], [], [], []
     q, clock = reference[0].q[0], 0.0
     for k, move in enumerate(reference):
+        if starts is Starts.REFERENCE:
+            q = move.q[0]
         path = track(stages, reach_wrist_path(arm, q, move.target), q, method)
         tau = move.times / move.times[-1]
         nao = at_tau_even(np.array(path.positions), tau)

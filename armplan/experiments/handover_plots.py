@@ -44,6 +44,6 @@ def plot_similarity(
     ax.set_xlabel("the person's time through the task [s]")
     ax.set_ylabel("posture similarity S [-]")
     ax.set_title(title, pad=70)
-    ax.legend(loc="lower left", fontsize=8)
+    ax.legend(loc="best", fontsize=8)
     ax.grid(alpha=0.3)
     return save_png(figure, path)

@@ -1,8 +1,8 @@
 """What ``armplan experiment handover`` writes: table, JSON, one PNG.
 
-Into the output directory: ``handover.json`` (``handover_summary.summary``),
-``handover.md`` (mean S per method, and per movement) and
-``handover-similarity.png`` (Fig. 18).
+Into the output directory, ``name`` being e.g. ``handover-chained``:
+``<name>.json`` (``handover_summary.summary``), ``<name>.md`` (mean S per
+method, and per movement) and ``<name>-similarity.png`` (Fig. 18).
 """
 
 from __future__ import annotations
@@ -51,17 +51,22 @@ def write_report(
     series: Sequence[SimilaritySeries],
     summary: dict[str, Any],
     out: str | Path,
+    name: str,
 ) -> list[Path]:
-    """Write the JSON, the tables and the figure; returns the paths."""
+    """Write the JSON, the tables and the figure; returns the paths.
+
+    Raises:
+        InvalidInputError: if the directory cannot be made or written.
+    """
     out = make_dir(out)
-    written = [write_text(out / "handover.json", json.dumps(summary, indent=2) + "\n")]
+    written = [write_text(out / f"{name}.json", json.dumps(summary, indent=2) + "\n")]
     text = "".join(
         f"**{title}**\n\n" + markdown_table(*table) + "\n"
         for title, table in tables(reference, series, summary).items()
     )
-    written.append(write_text(out / "handover.md", text))
-    title = "posture similarity to the human reference, handover task"
-    written.append(
-        plot_similarity(reference, series, out / "handover-similarity.png", title)
-    )
+    written.append(write_text(out / f"{name}.md", text))
+    starts = summary["protocol"]["starts"]
+    title = f"posture similarity to the human reference, handover task ({starts})"
+    figure = out / f"{name}-similarity.png"
+    written.append(plot_similarity(reference, series, figure, title))
     return written

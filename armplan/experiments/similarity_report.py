@@ -54,7 +54,7 @@ _OVERALL_KEYS = (
 )
 
 
-def _by_count(summary: dict[str, Any], key: str, methods: list[str]) -> Table:
+def _by_count(summary: dict[str, Any], key: str, methods: Sequence[str]) -> Table:
     rows = [
         [count, group["reaches"], *(CM * group[m] for m in methods)]
         for count, group in summary[key].items()

@@ -4,7 +4,7 @@
         [--subjects N] [--trials N] [--points P ...] [--seed S]
         [--path human|planned] [--samples N] [--model FILE]
     armplan experiment handover [--out DIR] [--json] [--task FILE.json]
-        [--movements N] [--model FILE]
+        [--movements N] [--starts chained|reference] [--model FILE]
 
 ``similarity``: per subject and grid point, NAO's elbow (mp, least-norm,
 single) against the subject's retargeted elbow over normalised time
@@ -12,8 +12,10 @@ single) against the subject's retargeted elbow over normalised time
 drawn with ``--seed`` (default 1: the shipped motion model was fitted on
 seed 0, so these subjects are new to it). ``handover``: the collaboration
 task, posture similarity S (eq. 22-23) to the human reference over time
-(Fig. 18). Both write tables, JSON and PNG plots into ``--out`` and print
-the tables (``--json``: the JSON). docs/results.md explains the protocols.
+(Fig. 18); each movement from where the previous one ended (``chained``,
+the paper's protocol) or from the person's posture (``reference``). Both
+write tables, JSON and PNG plots into ``--out`` and print the tables
+(``--json``: the JSON). docs/results.md explains the protocols.
 """
 
 from __future__ import annotations
@@ -80,8 +82,17 @@ def _handover_parser(which: argparse._SubParsersAction) -> None:  # type: ignore
     help_ = "posture similarity over the collaboration task (Fig. 18)"
     parser = which.add_parser("handover", help=help_, description=help_)
     _common(parser)
-    parser.add_argument("--task", metavar="FILE.json", help="task (default: shipped)")
+    parser.add_argument(
+        "--task", metavar="FILE.json", help="task (default: the demo's)"
+    )
     parser.add_argument("--movements", type=int, help="only the first N movements")
+    parser.add_argument(
+        "--starts",
+        choices=("chained", "reference"),
+        default="chained",
+        help="each movement from where the previous ended (default), or from "
+        "the person's posture",
+    )
     parser.set_defaults(run=run_handover)
 
 
@@ -113,25 +124,30 @@ def run_similarity(args: argparse.Namespace) -> int:
 
 def run_handover(args: argparse.Namespace) -> int:
     """Run the handover experiment, write and print its results."""
+    from armplan.demo.task import DEFAULT_TASK, load_task
+    from armplan.experiments.handover import Starts
     from armplan.experiments.handover import run_handover as run
     from armplan.experiments.handover_report import tables, write_report
     from armplan.experiments.handover_summary import summary
-    from armplan.experiments.handover_task import default_task_path, load_task
 
-    task = load_task(args.task)
+    task = load_task(args.task or DEFAULT_TASK)
     if args.movements is not None:
-        _at_least(args.movements, 1, "movements")
-        task = task._replace(movements=task.movements[: args.movements])
+        _movements_within(args.movements, len(task.targets()))
+    starts = Starts(args.starts)
     with _progress(args.json) as progress:
         progress.add_task("planning the task", total=None)
-        reference, series = run(task, _stages(args.model))
+        reference, series = run(
+            task, _stages(args.model), movements=args.movements, starts=starts
+        )
     protocol = {
-        "task": str(args.task or default_task_path().name),
-        "movements": len(task.movements),
+        "task": str(args.task or DEFAULT_TASK.name),
+        "movements": len(reference),
+        "starts": starts.value,
         "reference": "shared.demos.reach_model, average person, retargeted to NAO",
     }
     numbers = summary(reference, series, protocol)
-    written = write_report(reference, series, numbers, args.out)
+    name = f"handover-{starts.value}"
+    written = write_report(reference, series, numbers, args.out, name)
     _print(numbers, tables(reference, series, numbers), written, args.json)
     return 0
 
@@ -157,6 +173,14 @@ def _demos(args: argparse.Namespace) -> tuple[Any, str]:
         demos,
         f"synthetic, seed {args.seed}, {args.subjects} subjects, {args.trials} trials",
     )
+
+
+def _movements_within(value: int, count: int) -> None:
+    _at_least(value, 1, "movements")
+    if value > count:
+        raise InvalidInputError(
+            f"--movements {value}: the task has {count} movements", field="movements"
+        )
 
 
 def _at_least(value: int, low: int, name: str) -> None:
