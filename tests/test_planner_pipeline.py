@@ -108,6 +108,29 @@ def test_a_timed_wrist_path_keeps_its_times() -> None:
     assert np.linalg.norm(wrists - np.array(path.positions), axis=1).max() < 1e-3
 
 
+@pytest.mark.parametrize("method", [Method.LEAST_NORM, Method.SINGLE])
+def test_a_wrist_path_away_from_the_arm_starts_on_it(method: Method) -> None:
+    """A path whose first sample is far from the hanging arm's wrist: the
+    trajectory starts at the IK posture there, the hand on the path (within
+    1 mm) at every sample, times kept, every limit held."""
+    arm = load_arm("right")
+    start = np.array([0.12, -0.13, 0.05])
+    times = np.arange(51) * 0.01
+    positions = start + np.outer(times, [0.0, 0.04, 0.04])
+    assert np.linalg.norm(arm.fk(rest(arm.side)).wrist - start) > 0.1
+    path = WristPath(
+        arm=arm.side,
+        times=times.tolist(),
+        positions=[tuple(p) for p in positions.tolist()],
+    )
+    result = plan(PlanRequest(arm=arm.side, wrist_path=path, method=method))
+    assert result.trajectory.times == path.times
+    q = np.array(result.trajectory.positions)
+    wrists = np.array([arm.fk(p).wrist for p in q])
+    assert np.linalg.norm(wrists - positions, axis=1).max() < 1e-3
+    check_limits(result.trajectory.times, q, motion_limits(arm.limits))
+
+
 def test_a_wrist_path_leaving_the_workspace_names_the_sample() -> None:
     """A sample out of reach half-way: a typed error naming the sample."""
     arm = load_arm("right")

@@ -9,7 +9,13 @@ allow, resting ``dwell`` seconds at each target. The stages are injected
 (:class:`~services.planner.stages.Stages`): here, or the services over Zenoh.
 
 With a timed wrist path instead of targets, the joint angles come at exactly
-its times: no retiming, but every limit checked.
+its times: no retiming, but every limit checked. The trajectory starts on
+the path: if the start posture's wrist is more than ``ON_PATH`` from the
+path's first sample, the first posture is the IK solution there (the
+request's method, seeded with the start posture), so a path need not begin
+exactly where the arm hangs (a retargeted demonstration starts 1-3 cm from
+NAO's rest wrist). The robot bridge moves the arm slowly to that posture
+before it plays the trajectory.
 """
 
 from __future__ import annotations
@@ -18,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from services.ik import check_reachable
+from services.ik import check_reachable, solve
 from services.planner.build import trajectory_message
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
@@ -40,6 +46,10 @@ from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
 from shared.robot.motion_limits import motion_limits
 from shared.robot.postures import rest
+
+#: A start posture whose wrist is this close to a wrist path's first sample is
+#: on the path [m]; farther, the trajectory starts at the IK solution there.
+ON_PATH = 1e-3
 
 
 class PlanResult(NamedTuple):
@@ -121,12 +131,29 @@ def _follow_given(
 ) -> PlanResult:
     """Joint angles at the wrist path's own times (no retiming), limits checked."""
     _check_within_reach(arm, path)
+    start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
     joint_path = _movement(stages, request.method, path, start, decisions)
     limits = motion_limits(arm.limits)
     timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
     trajectory = trajectory_message([joint_path], timed, request.method)
     return PlanResult(trajectory, [path], decisions, [joint_path])
+
+
+def start_on_path(
+    arm: ArmModel, path: WristPath, start: np.ndarray, method: Method
+) -> np.ndarray:
+    """The posture [rad], (5,), whose wrist is on the path's first sample.
+
+    ``start`` itself when its wrist is within ``ON_PATH`` of it; else the IK
+    solution for that sample with ``method`` (primitive chosen by the
+    method), seeded with ``start``, with the path's palm direction if any.
+    """
+    first = np.array(path.positions[0])
+    if np.linalg.norm(arm.fk(start).wrist - first) <= ON_PATH:
+        return start
+    palm = None if path.palm is None else np.array(path.palm)
+    return solve(arm, first, method=method, palm=palm, start=start).q
 
 
 def _check_within_reach(arm: ArmModel, path: WristPath) -> None:

@@ -63,7 +63,8 @@ def _add_task(parser: argparse.ArgumentParser) -> None:
     what.add_argument(
         "--wrist-path",
         metavar="FILE.csv",
-        help="timed wrist path to follow at its own times (header t,x,y,z; s, m)",
+        help="timed wrist path to follow at its own times (header t,x,y,z; s, m); "
+        "the arm starts on its first sample (IK there from --start)",
     )
     what.add_argument("--task", metavar="FILE.json", help="a whole PlanRequest as JSON")
 
