@@ -16,9 +16,20 @@ import time
 from typing import Any
 
 import pytest
+from compose_native import (
+    SIM_HOST,
+    SIM_PORT,
+    Localized,
+    healthy,
+    image_config,
+    start_container,
+    start_router,
+)
 from native_processes import ROOT, Native, compose, compose_config, module_of, stop_all
 
-from armplan.launch import catalog, free_endpoint
+from armplan.launch import catalog
+from armplan.secure import Bundle, write_bundle
+from armplan.secure.bundle import TEMPLATE_ENDPOINT, TEMPLATE_PATHS
 from shared.bus import Bus, load_config
 from shared.bus.routes import PLAN
 from shared.bus.topics import BRIDGE_REPORT_TOPIC
@@ -26,10 +37,10 @@ from shared.messages import PlanRequest
 
 #: Longest wait for every natively run container to be healthy [s].
 HEALTHY_TIMEOUT = 150.0
-#: The image's working directory for the sources (Dockerfile ``WORKDIR``).
-IMAGE_SOURCES = "/opt/armplan"
-#: The NAOqi address of the sim inside the compose network.
-SIM_ADDRESS = ("sim", 9559)
+PLAIN = ("docker-compose.yml",)
+SECURED = ("docker-compose.yml", "docker-compose.secure.yml")
+#: The secured client that stands for a user of the deployment.
+CLIENT_USER = "client"
 
 
 @pytest.fixture(scope="module")
@@ -111,7 +122,7 @@ def test_the_router_port_is_published_on_loopback_unless_told(
 def test_the_robot_address_comes_from_the_environment() -> None:
     """ARMPLAN_ROBOT names the NAO the bridge drives; the sim by default."""
     default = compose_config()["services"]["bridge"]["environment"]
-    assert default["ARMPLAN_ROBOT"] == "tcp://{}:{}".format(*SIM_ADDRESS)
+    assert default["ARMPLAN_ROBOT"] == f"tcp://{SIM_HOST}:{SIM_PORT}"
     real = compose_config(profiles=(), env={"ARMPLAN_ROBOT": "tcp://192.0.2.9:9559"})
     assert real["services"]["bridge"]["environment"]["ARMPLAN_ROBOT"] == (
         "tcp://192.0.2.9:9559"
@@ -148,14 +159,6 @@ def image_workdir() -> str:
     return [line.split()[1] for line in lines if line.startswith("WORKDIR")][-1]
 
 
-def image_config() -> pathlib.Path:
-    """The repository file the image's ARMPLAN_ZENOH_CONFIG names."""
-    text = (ROOT / "Dockerfile").read_text()
-    match = re.search(r"^ENV ARMPLAN_ZENOH_CONFIG=(\S+)$", text, re.M)
-    assert match is not None and match.group(1).startswith(IMAGE_SOURCES + "/")
-    return ROOT / match.group(1).removeprefix(IMAGE_SOURCES + "/")
-
-
 def test_the_image_is_python_311_slim_and_not_root() -> None:
     """The Dockerfile's base, its pinned install and its user."""
     text = (ROOT / "Dockerfile").read_text()
@@ -165,89 +168,66 @@ def test_the_image_is_python_311_slim_and_not_root() -> None:
     assert image_config() == ROOT / "config" / "compose.json5"
 
 
-class Localized:
-    """Compose names mapped to loopback: the router's and the sim's addresses."""
-
-    def __init__(self, tmp: pathlib.Path) -> None:
-        self.endpoint = free_endpoint()
-        self.sim_port = int(free_endpoint().rsplit(":", 1)[1])
-        self.config = tmp / "compose-local.json5"
-        text = image_config().read_text()
-        assert "tcp/router:7447" in text
-        self.config.write_text(text.replace("tcp/router:7447", self.endpoint))
-
-    def text(self, value: str) -> str:
-        host, port = SIM_ADDRESS
-        value = value.replace(f"{host}:{port}", f"127.0.0.1:{self.sim_port}")
-        return value.replace(f"('{host}', {port})", f"('127.0.0.1', {self.sim_port})")
-
-    def argv(self, command: list[str]) -> list[str]:
-        """A container command (or healthcheck) as a native one."""
-        if command[:1] == ["CMD"]:
-            command = command[1:]
-        if command[0] == "armplan":  # the console script of the installed project
-            command = ["python", "-m", "armplan", *command[1:]]
-        return [self.text(part) for part in command]
-
-    def env(self, service: dict[str, Any]) -> dict[str, str]:
-        env = {k: self.text(v) for k, v in (service.get("environment") or {}).items()}
-        return {**env, "ARMPLAN_ZENOH_CONFIG": str(self.config)}
-
-
-def healthy(
-    name: str, service: dict[str, Any], local: Localized, tmp: pathlib.Path
-) -> bool:
-    check = Native(
-        f"{name}-health",
-        local.argv(service["healthcheck"]["test"]),
-        tmp / f"{name}-health.log",
-        env=local.env(service),
+@pytest.fixture(scope="module")
+def compose_bundle(tmp_path_factory: pytest.TempPathFactory) -> Bundle:
+    """What `armplan certs --out secure --compose` writes."""
+    return write_bundle(
+        tmp_path_factory.mktemp("secure"),
+        endpoint=TEMPLATE_ENDPOINT,
+        hosts=["router"],
+        paths=TEMPLATE_PATHS,
     )
-    try:
-        return check.process.wait(30) == 0
-    finally:
-        check.stop()
 
 
+def test_the_secured_compose_file_validates(compose_bundle: Bundle) -> None:
+    """The overlay gives every armplan container its own user's file, read-only."""
+    model = compose_config(
+        SECURED, env={"ARMPLAN_SECURE": str(compose_bundle.directory)}
+    )
+    for name, service in armplan_services(model["services"]).items():
+        if name == "sim":
+            assert "ARMPLAN_ZENOH_CONFIG" not in (service.get("environment") or {})
+            continue
+        inside = service["environment"]["ARMPLAN_ZENOH_CONFIG"]
+        mounts = {v["target"]: v for v in service["volumes"]}
+        assert mounts[inside]["source"] == str(compose_bundle.clients[name])
+        secrets = [v for t, v in mounts.items() if t.startswith(TEMPLATE_PATHS)]
+        assert len(secrets) == 2 and all(v.get("read_only") for v in secrets)
+    router = model["services"]["router"]
+    assert router["command"] == ["-c", f"{TEMPLATE_PATHS}/router.json5"]
+
+
+@pytest.mark.parametrize("variant", ["plain", "secured"])
 def test_the_containers_run_natively(
-    services: dict[str, Any], tmp_path: pathlib.Path
+    variant: str, compose_bundle: Bundle, tmp_path: pathlib.Path
 ) -> None:
     """Every container's command and healthcheck, run here: healthy, plans, stops."""
-    local = Localized(tmp_path)
+    secured = variant == "secured"
+    env = {"ARMPLAN_SECURE": str(compose_bundle.directory)} if secured else {}
+    model = compose_config(SECURED if secured else PLAIN, env=env)["services"]
+    local = Localized(tmp_path, compose_bundle.directory if secured else None)
     started: list[Native] = []
     try:
-        started.append(
-            Native(
-                "router",
-                ["python", "-m", catalog.ROUTER_MODULE, "--config", str(local.config)],
-                tmp_path / "router.log",
-            )
-        )
-        for name, service in armplan_services(services).items():
-            folder = tmp_path / name
-            folder.mkdir()
-            started.append(
-                Native(
-                    name,
-                    local.argv(service["command"]),
-                    tmp_path / f"{name}.log",
-                    env=local.env(service),
-                    cwd=folder,
-                )
-            )
-        waiting = set(armplan_services(services))
+        started.append(start_router(model["router"], local, tmp_path))
+        containers = armplan_services(model)
+        for name, service in containers.items():
+            started.append(start_container(name, service, local, tmp_path))
+        waiting = set(containers)
         deadline = time.monotonic() + HEALTHY_TIMEOUT
         while waiting and time.monotonic() < deadline:
             for process in started:
                 assert process.running(), process.output()
-            waiting -= {
-                name
-                for name in sorted(waiting)
-                if healthy(name, services[name], local, tmp_path)
-            }
-            time.sleep(1.0)
+            waiting -= healthy(
+                {name: containers[name] for name in sorted(waiting)}, local, tmp_path
+            )
+            time.sleep(0.5)
         assert not waiting, f"not healthy after {HEALTHY_TIMEOUT} s: {waiting}"
-        plan_and_see_the_robot_move(local)
+        client = (
+            local.copy(compose_bundle.clients[CLIENT_USER])
+            if secured
+            else local.zenoh_config(containers["planner"])
+        )
+        plan_and_see_the_robot_move(client, local)
         codes = {p.name: p.stop() for p in reversed(started)}
         assert codes == dict.fromkeys(codes, 0), codes
         assert list((tmp_path / "recorder").glob("armplan-*.mcap"))
@@ -255,10 +235,10 @@ def test_the_containers_run_natively(
         stop_all(started)
 
 
-def plan_and_see_the_robot_move(local: Localized) -> None:
+def plan_and_see_the_robot_move(config: pathlib.Path, local: Localized) -> None:
     """A plan through the natively run stack; the bridge follows it on the sim."""
     reports: list[bytes] = []
-    with Bus.connect(load_config(local.config)) as bus:
+    with Bus.connect(load_config(config)) as bus:
         subscriber = bus.session.declare_subscriber(
             bus.key(BRIDGE_REPORT_TOPIC), lambda s: reports.append(s.payload.to_bytes())
         )
@@ -270,7 +250,7 @@ def plan_and_see_the_robot_move(local: Localized) -> None:
         deadline = time.monotonic() + trajectory.times[-1] + 30.0
         while not reports and time.monotonic() < deadline:
             time.sleep(0.1)
-        subscriber.undeclare()
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
     assert reports, "the bridge did not play the planned trajectory on the sim"
     with socket.create_connection(("127.0.0.1", local.sim_port), 2):
         pass

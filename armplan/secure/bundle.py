@@ -1,0 +1,171 @@
+"""``armplan certs --out DIR``: a folder with everything a secured armplan needs.
+
+What it writes (``DIR`` is where the files are made; the configurations name
+them where the processes find them, ``paths``, by default ``DIR`` itself,
+``/run/armplan/secure`` in docker-compose.secure.yml):
+
+======================  ==================================================
+``ca.pem``, ``ca.key``  the certificate authority (kept if present)
+``router.pem``/``.key`` the router's certificate for ``hosts``, and its key
+``passwords.txt``       one ``user:password`` line per user (users kept)
+``router.json5``        ``config/secure/router.json5`` with the paths, the
+                        endpoint and the routers to connect to set
+``<user>.json5``        one client file per user of the access rules: the
+                        router's endpoint, the CA, the user and its password
+======================  ==================================================
+
+Keys, passwords and client files are readable by their owner only.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from armplan.secure.acl import AccessControl
+from armplan.secure.certificates import DAYS, ensure_authority, issue_router_certificate
+from armplan.secure.errors import SecureSetupError
+from armplan.secure.passwords import ensure_passwords, write_private
+from shared.bus.config import check_endpoint
+from shared.bus.config_file import REPO_CONFIG, load_config
+
+#: The secured router's configuration in the repository.
+TEMPLATE = REPO_CONFIG.parent / "secure" / "router.json5"
+#: Where the template's files live (the containers' folder).
+TEMPLATE_PATHS = "/run/armplan/secure"
+#: The template's endpoint (the compose router's).
+TEMPLATE_ENDPOINT = "tls/router:7447"
+#: The secured router's endpoint unless told (``armplan certs`` without --compose).
+DEFAULT_ENDPOINT = "tls/127.0.0.1:7447"
+#: The user other machines' routers log in with; it gets no client file.
+ROUTER_USER = "router"
+
+
+@dataclass(frozen=True)
+class Bundle:
+    """What :func:`write_bundle` wrote.
+
+    Attributes:
+        directory: The folder.
+        router_config: The router's configuration file.
+        clients: Each user's client configuration file.
+        authority_created: Whether a new certificate authority was made.
+    """
+
+    directory: Path
+    router_config: Path
+    clients: dict[str, Path]
+    authority_created: bool
+
+
+def write_bundle(
+    directory: Path,
+    *,
+    endpoint: str = DEFAULT_ENDPOINT,
+    hosts: Sequence[str] = (),
+    paths: str | None = None,
+    connect: Sequence[str] = (),
+    days: int = DAYS,
+) -> Bundle:
+    """Write certificates, passwords and configurations into ``directory``.
+
+    Args:
+        directory: The folder (created if missing).
+        endpoint: The router's TLS endpoint, e.g. ``tls/192.0.2.10:7447``.
+        hosts: Names and addresses of the router's machine for its
+            certificate (the endpoint's host and the loopback names are added).
+        paths: Where the processes will find the files; default ``directory``.
+        connect: Other machines' routers this router connects to.
+        days: Validity of new certificates [days].
+    """
+    for given in (endpoint, *connect):
+        if not check_endpoint(given, "armplan certs").startswith("tls/"):
+            raise SecureSetupError(
+                f"endpoint {given!r} must use tls/, e.g. {DEFAULT_ENDPOINT}"
+            )
+    directory.mkdir(parents=True, exist_ok=True)
+    where = paths or str(directory.resolve())
+    authority = ensure_authority(directory, days)
+    names = [*hosts, endpoint_host(endpoint), "localhost", "127.0.0.1"]
+    issue_router_certificate(directory, authority, list(dict.fromkeys(names)), days)
+    access = AccessControl.from_file(TEMPLATE)
+    passwords = ensure_passwords(directory / "passwords.txt", access.usernames())
+    router_config = directory / "router.json5"
+    write_private(  # with --connect it holds the router's own password
+        router_config, router_text(where, endpoint, connect, passwords[ROUTER_USER])
+    )
+    clients = {
+        user: write_client(directory, where, endpoint, user, password)
+        for user, password in passwords.items()
+        if user != ROUTER_USER and user in access.usernames()
+    }
+    return Bundle(directory, router_config, clients, authority.created)
+
+
+def endpoint_host(endpoint: str) -> str:
+    """The host of ``tls/HOST:PORT`` (brackets of an IPv6 address removed)."""
+    host = endpoint.split("/", 1)[1].rsplit(":", 1)[0]
+    return host.strip("[]")
+
+
+def router_text(
+    paths: str, endpoint: str, connect: Sequence[str], router_password: str
+) -> str:
+    """The template with its paths, endpoint and peer routers set."""
+    text = TEMPLATE.read_text()
+    text = _replace_once(text, f'["{TEMPLATE_ENDPOINT}"]', json.dumps([endpoint]))
+    if connect:
+        peers = f"endpoints: {json.dumps(list(connect))},"
+        text = _replace_once(text, "endpoints: [],", peers)
+        login = f'user: "{ROUTER_USER}", password: {json.dumps(router_password)},'
+        text = _replace_once(text, "usrpwd: {", "usrpwd: {\n        " + login)
+    return text.replace(TEMPLATE_PATHS, paths.rstrip("/"))
+
+
+def _replace_once(text: str, old: str, new: str) -> str:
+    if text.count(old) != 1:
+        raise SecureSetupError(
+            f"{TEMPLATE} must hold {old!r} exactly once", path=str(TEMPLATE)
+        )
+    return text.replace(old, new)
+
+
+def client_text(paths: str, endpoint: str, user: str, password: str) -> str:
+    """One process's configuration: where the router is, the CA, its login."""
+    client = {
+        "transport/link/tls/root_ca_certificate": f"{paths.rstrip('/')}/ca.pem",
+        "transport/auth/usrpwd/user": user,
+        "transport/auth/usrpwd/password": password,
+    }
+    template = load_config(TEMPLATE)
+    settings = {
+        "namespace": template.namespace,
+        "max_payload": template.max_payload,
+        "timeout": template.timeout,
+        "workers": template.workers,
+        "queue_limit": template.queue_limit,
+        "client": client,
+    }
+    body = {
+        "mode": "client",
+        "listen": {"endpoints": [endpoint]},
+        "scouting": {"multicast": {"enabled": False}, "gossip": {"enabled": False}},
+        "metadata": {"name": f"armplan-{user}", "armplan": settings},
+    }
+    header = (
+        f"// armplan's Zenoh settings for user `{user}`, written by armplan certs.\n"
+        "// `listen` is the router's endpoint: where this process connects.\n"
+        "// It holds a password: keep it readable by its owner only.\n"
+    )
+    return header + json.dumps(body, indent=2) + "\n"
+
+
+def write_client(
+    directory: Path, paths: str, endpoint: str, user: str, password: str
+) -> Path:
+    """Write ``directory/<user>.json5`` (owner-only); returns its path."""
+    path = directory / f"{user}.json5"
+    write_private(path, client_text(paths, endpoint, user, password))
+    return path

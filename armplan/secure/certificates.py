@@ -1,0 +1,139 @@
+"""A certificate authority and the router's TLS certificate, made with ``openssl``.
+
+Every armplan process trusts the authority (``ca.pem``) and checks that the
+router's certificate (``router.pem``) names the host it connects to: the
+certificate lists every name and address of the router's machine given with
+``--host`` (``subjectAltName``). Keys are EC P-256, readable by their owner
+only. An existing authority is kept, so a second machine's router gets a
+certificate from the same authority. ``openssl`` is used rather than a Python
+package because the project's pinned dependencies hold none for X.509.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import os
+import re
+import shutil
+import subprocess
+from collections.abc import Sequence
+from pathlib import Path
+from typing import NamedTuple
+
+from armplan.secure.errors import SecureSetupError
+
+#: Validity of the certificates [days].
+DAYS = 825
+#: Every router certificate's common name: the access rules know a router a
+#: router connects to by it (the names it is reached by are its alt names).
+ROUTER_COMMON_NAME = "armplan router"
+_HOSTNAME = re.compile(
+    r"^(?=.{1,253}$)[A-Za-z0-9]([A-Za-z0-9-]{0,61}[A-Za-z0-9])?"
+    r"(\.[A-Za-z0-9]([A-Za-z0-9-]{0,61}[A-Za-z0-9])?)*$"
+)
+_KEY = ["-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:P-256", "-nodes"]
+
+
+class Authority(NamedTuple):
+    """The certificate authority's files and whether this run created them."""
+
+    certificate: Path
+    key: Path
+    created: bool
+
+
+def check_host(host: str) -> str:
+    """``host`` if it is a DNS name or an IP address; else SecureSetupError."""
+    try:
+        ipaddress.ip_address(host)
+    except ValueError:
+        if not _HOSTNAME.match(host):
+            raise SecureSetupError(
+                f"host {host!r} is neither a DNS name nor an IP address"
+            ) from None
+    return host
+
+
+def subject_alt_names(hosts: Sequence[str]) -> str:
+    """The ``subjectAltName`` value, e.g. ``DNS:router,IP:127.0.0.1``."""
+    names = []
+    for host in dict.fromkeys(map(check_host, hosts)):
+        try:
+            ipaddress.ip_address(host)
+            names.append(f"IP:{host}")
+        except ValueError:
+            names.append(f"DNS:{host}")
+    return ",".join(names)
+
+
+def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
+    """``ca.pem`` and ``ca.key`` in ``directory``: kept if both exist, else made."""
+    certificate, key = directory / "ca.pem", directory / "ca.key"
+    if certificate.is_file() and key.is_file():
+        return Authority(certificate, key, created=False)
+    openssl(
+        [
+            *("req", "-x509", *_KEY, "-keyout", str(key), "-out", str(certificate)),
+            *("-days", str(days), "-subj", "/CN=armplan certificate authority"),
+            *("-addext", "basicConstraints=critical,CA:TRUE"),
+            *("-addext", "keyUsage=critical,keyCertSign,cRLSign"),
+        ]
+    )
+    os.chmod(key, 0o600)
+    return Authority(certificate, key, created=True)
+
+
+def issue_router_certificate(
+    directory: Path, authority: Authority, hosts: Sequence[str], days: int = DAYS
+) -> tuple[Path, Path]:
+    """``router.pem`` and ``router.key``, signed by ``authority``, naming ``hosts``.
+
+    Raises:
+        SecureSetupError: if a host is malformed or ``openssl`` fails.
+    """
+    if not hosts:
+        raise SecureSetupError("the router's certificate needs at least one host")
+    certificate, key = directory / "router.pem", directory / "router.key"
+    request, extensions = directory / "router.csr", directory / "router.ext"
+    extensions.write_text(
+        f"subjectAltName={subject_alt_names(hosts)}\n"
+        "basicConstraints=critical,CA:FALSE\n"
+        "keyUsage=critical,digitalSignature,keyEncipherment\n"
+        "extendedKeyUsage=serverAuth,clientAuth\n"
+    )
+    try:
+        openssl(
+            [
+                *("req", *_KEY, "-keyout", str(key), "-out", str(request)),
+                *("-subj", f"/CN={ROUTER_COMMON_NAME}"),
+            ]
+        )
+        os.chmod(key, 0o600)
+        openssl(
+            [
+                *("x509", "-req", "-in", str(request)),
+                *("-CA", str(authority.certificate), "-CAkey", str(authority.key)),
+                *("-CAcreateserial", "-out", str(certificate), "-days", str(days)),
+                *("-extfile", str(extensions)),
+            ]
+        )
+    finally:
+        for scratch in (request, extensions, directory / "ca.srl"):
+            scratch.unlink(missing_ok=True)
+    return certificate, key
+
+
+def openssl(args: Sequence[str]) -> None:
+    """Run ``openssl ARGS``; SecureSetupError with its message if it fails."""
+    binary = shutil.which("openssl")
+    if binary is None:
+        raise SecureSetupError(
+            "the openssl command is needed to make certificates and was not found "
+            "(install it, e.g. the distribution's openssl package)"
+        )
+    done = subprocess.run(
+        [binary, *args], capture_output=True, text=True, timeout=60, check=False
+    )
+    if done.returncode != 0:
+        problem = " ".join(done.stderr.split())[-400:]
+        raise SecureSetupError(f"openssl {args[0]} failed: {problem}")
