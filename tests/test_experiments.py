@@ -5,6 +5,8 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
+import shlex
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +35,29 @@ from shared.robot import Side, load_arm
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 SMALL = ["--subjects", "2", "--trials", "1", "--points", "1", "16", "--samples", "21"]
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "results.md"
+#: The commands docs/results.md shows, exactly; the tests run each of them on
+#: a small configuration (size options and --json added, --out redirected).
+SIMILARITY_COMMANDS = [
+    "armplan experiment similarity --out docs/results",
+    "armplan experiment similarity --path planned --out docs/results",
+]
+HANDOVER_COMMANDS = [
+    "armplan experiment handover --out docs/results",
+    "armplan experiment handover --starts reference --out docs/results",
+]
+
+
+def documented(command: str, out: Path, *small: str) -> list[str]:
+    """A documented command's arguments, writing to ``out``, with ``small`` added."""
+    args = shlex.split(command)[1:]
+    args[args.index("--out") + 1] = str(out)
+    return [*args, *small, "--json"]
+
+
+def option(args: list[str], name: str, default: str) -> str:
+    """The value of ``name`` in ``args``, or ``default``."""
+    return args[args.index(name) + 1] if name in args else default
 
 
 def run_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> dict[str, Any]:
@@ -51,16 +76,50 @@ def assert_png(path: Path) -> None:
     assert image.ndim == 3 and image.shape[0] > 100 and image.shape[1] > 100
 
 
-@pytest.mark.parametrize("path", ["human", "planned"])
+def test_the_docs_show_exactly_the_tested_commands() -> None:
+    """Every ``armplan experiment`` command in docs/results.md is one tested here."""
+    lines = [line.strip() for line in DOCS.read_text().splitlines()]
+    shown = [line for line in lines if line.startswith("armplan experiment")]
+    assert shown == SIMILARITY_COMMANDS + HANDOVER_COMMANDS
+
+
+def test_every_figure_in_the_docs_is_written_by_a_documented_command() -> None:
+    """Each PNG docs/results.md embeds is a file name one of its commands writes."""
+    text = DOCS.read_text()
+    embedded = set(re.findall(r"\(results/([\w-]+\.png)\)", text))
+    written = set()
+    for command in SIMILARITY_COMMANDS:
+        path = option(shlex.split(command), "--path", "human")
+        written |= {
+            f"similarity-{path}-{k}.png" for k in ("distribution", "point-means")
+        }
+    for command in HANDOVER_COMMANDS:
+        starts = option(shlex.split(command), "--starts", "chained")
+        written.add(f"handover-{starts}-similarity.png")
+    assert embedded == written
+    assert all((DOCS.parent / "results" / name).is_file() for name in embedded)
+
+
+def test_the_docs_show_the_tables_the_commands_wrote() -> None:
+    """Each table file in docs/results/ appears in docs/results.md, verbatim."""
+    text = DOCS.read_text()
+    tables = sorted((DOCS.parent / "results").glob("*.md"))
+    assert [t.stem for t in tables] == [
+        "handover-chained", "handover-reference",
+        "similarity-human", "similarity-planned",
+    ]  # fmt: skip
+    for table in tables:
+        assert table.read_text() in text, table.name
+
+
+@pytest.mark.parametrize("command", SIMILARITY_COMMANDS)
 def test_similarity_command_json_tables_and_plots(
-    path: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """A small similarity run: every method's errors, a table and two valid PNGs."""
-    data = run_json(
-        ["experiment", "similarity", *SMALL, "--path", path,
-         "--out", str(tmp_path), "--json"],
-        capsys,
-    )  # fmt: skip
+    """A documented similarity run, small: each method's errors, a table, two PNGs."""
+    args = documented(command, tmp_path, *SMALL)
+    path = option(args, "--path", "human")
+    data = run_json(args, capsys)
     for method in ("mp", "least-norm", "single"):
         numbers = data[method]
         assert numbers["reaches"] == 4
@@ -94,16 +153,14 @@ def test_similarity_with_a_demo_file(
     assert data["mp"]["reaches"] == 1
 
 
-@pytest.mark.parametrize("starts", ["chained", "reference"])
+@pytest.mark.parametrize("command", HANDOVER_COMMANDS)
 def test_handover_command_json_and_plot(
-    starts: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """A small handover run: every method's mean S in (0, 1], a valid Fig. 18 PNG."""
-    data = run_json(
-        ["experiment", "handover", "--starts", starts, "--movements", "2",
-         "--out", str(tmp_path), "--json"],
-        capsys,
-    )  # fmt: skip
+    """A documented handover run, 2 movements: mean S in (0, 1], a Fig. 18 PNG."""
+    args = documented(command, tmp_path, "--movements", "2")
+    starts = option(args, "--starts", "chained")
+    data = run_json(args, capsys)
     floor = least_similarity(5)
     for method in ("mp", "least-norm", "single"):
         numbers = data[method]
