@@ -79,9 +79,7 @@ class Launcher:
                 come alive in time (everything started is stopped again).
         """
         try:
-            self.router = Child.start(
-                "router", ROUTER_MODULE, self._args("--listen"), self._log
-            )
+            self.start_router()
             with self._connect(timeout) as bus:
                 for spec in self.specs:
                     self.start_service(spec.name)
@@ -90,6 +88,13 @@ class Launcher:
             self.stop()
             raise
         return self
+
+    def start_router(self) -> Child:
+        """Start (or restart) the router on the configured endpoints; does not wait."""
+        self.router = Child.start(
+            "router", ROUTER_MODULE, self._args("--listen"), self._log
+        )
+        return self.router
 
     def start_service(self, name: str) -> Child:
         """Start (or restart) service ``name``; does not wait for it."""

@@ -113,14 +113,19 @@ class RobotStack:
         """
         try:
             self.url = self._start_sim(timeout) if self._sim_wanted else self._named()
-            self.bridge = Child.start(
-                BRIDGE.name, BRIDGE.module, self._bridge_args(), self._log
-            )
+            self.start_bridge()
             self._wait_bridge(timeout)
         except BaseException:
             self.stop()
             raise
         return self
+
+    def start_bridge(self) -> Child:
+        """Start (or restart) the bridge to the robot at ``url``; does not wait."""
+        self.bridge = Child.start(
+            BRIDGE.name, BRIDGE.module, self._bridge_args(), self._log
+        )
+        return self.bridge
 
     def _named(self) -> str:
         from bridge.address import robot_url  # bridge loads libqi: only when used
