@@ -1,0 +1,125 @@
+"""``armplan faults``: the fault and load suite on the real processes.
+
+Starts every process on a free 127.0.0.1 port (router, fit, decide, ik,
+timing, planner, the simulated NAO, the bridge, the recorder); kills and
+restarts each service, the bridge, the router and the recorder while clients
+plan; sends a burst of concurrent plans; sends hypothesis-made bad inputs to
+every queryable. Prints one row per scenario: faults injected, requests
+sent, succeeded, failed with a clear error, unclear errors, lost, crashes.
+Exits 1 if any request was lost, answered with an unclear error, or any
+process crashed. See docs/faults.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from armplan.cli.output import print_json
+from armplan.cli.parsing import add_json
+from shared.errors import InvalidInputError
+
+ORDER = 85
+HELP = "kill, restart and feed bad inputs to every process; print what was lost"
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``faults``."""
+    parser = commands.add_parser("faults", help=HELP, description=__doc__)
+    parser.add_argument(
+        "--requests",
+        type=int,
+        default=60,
+        metavar="N",
+        help="requests per kill scenario: a third before, while down, after (60)",
+    )
+    parser.add_argument(
+        "--concurrency",
+        type=int,
+        default=8,
+        metavar="N",
+        help="client threads sending them (8)",
+    )
+    parser.add_argument(
+        "--burst",
+        type=int,
+        default=200,
+        metavar="N",
+        help="plan requests sent at once (200)",
+    )
+    parser.add_argument(
+        "--examples",
+        type=int,
+        default=4,
+        metavar="N",
+        help="bad inputs of each of the 6 kinds per queryable (4)",
+    )
+    parser.add_argument(
+        "--seed", type=int, default=0, metavar="N", help="seed of the bad inputs (0)"
+    )
+    parser.add_argument(
+        "--out",
+        metavar="DIR",
+        help="keep the logs and recordings here (default: a temporary folder)",
+    )
+    add_json(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the suite, print the table; 1 if anything was lost or crashed."""
+    from armplan.faults import SuiteOptions
+
+    for name in ("requests", "concurrency", "examples"):
+        if getattr(args, name) < 1:
+            raise InvalidInputError(f"--{name} must be at least 1", field=name)
+    if args.requests < 3:
+        raise InvalidInputError("--requests must be at least 3", field="requests")
+    if args.burst < 0:
+        raise InvalidInputError("--burst must not be negative", field="burst")
+    options = SuiteOptions(
+        requests=args.requests,
+        concurrency=args.concurrency,
+        burst=args.burst,
+        examples=args.examples,
+        seed=args.seed,
+    )
+    if args.out:
+        return _run(Path(args.out), options, args.json)
+    with tempfile.TemporaryDirectory(prefix="armplan-faults-") as out:
+        return _run(Path(out), options, args.json)
+
+
+def _run(out: Path, options: object, as_json: bool) -> int:
+    from rich.console import Console
+
+    from armplan.faults import SuiteOptions, json_report, passed, rich_table, run_suite
+    from armplan.faults.tally import Tally
+
+    assert isinstance(options, SuiteOptions)
+    err = Console(stderr=True)
+
+    def report(tally: Tally) -> None:
+        row = tally.row()
+        err.print(
+            f"[dim]{row['scenario']}: sent {row['sent']}, lost {row['lost']}, "
+            f"crashes {row['crashes']}[/]"
+        )
+
+    load_start = os.getloadavg()
+    tallies = run_suite(out, options, report)
+    load = (*load_start, *os.getloadavg())
+    if as_json:
+        print_json(json_report(tallies, load))
+    else:
+        title = (
+            f"armplan faults ({os.cpu_count()} CPUs, load average "
+            f"{load_start[0]:.1f} at the start, {load[3]:.1f} at the end)"
+        )
+        Console(width=200).print(rich_table(tallies, title))
+        verdict = "passed" if passed(tallies) else "FAILED"
+        sys.stdout.write(f"armplan faults: {verdict}\n")
+    return 0 if passed(tallies) else 1

@@ -1,0 +1,75 @@
+"""The suite's table: one row per scenario, and whether the suite passed."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from rich.table import Table
+
+from armplan.faults.tally import Tally
+
+#: The table's columns: (heading, key of ``Tally.row()``).
+COLUMNS = (
+    ("scenario", "scenario"),
+    ("faults injected", "faults"),
+    ("requests sent", "sent"),
+    ("succeeded", "succeeded"),
+    ("failed with a clear error", "typed"),
+    ("unclear error", "unclear"),
+    ("lost", "lost"),
+    ("crashes", "crashes"),
+)
+
+
+def passed(tallies: Sequence[Tally]) -> bool:
+    """No request lost, no unclear error, no crash, in any scenario."""
+    return all(t.healthy for t in tallies)
+
+
+def totals(tallies: Sequence[Tally]) -> dict[str, Any]:
+    """The sum of every numeric column."""
+    rows = [t.row() for t in tallies]
+    summed: dict[str, Any] = {"scenario": "total"}
+    for _, key in COLUMNS[1:]:
+        summed[key] = sum(row[key] for row in rows)
+    return summed
+
+
+def rich_table(tallies: Sequence[Tally], title: str = "") -> Table:
+    """The table for a terminal: the counts, then what showed each fault."""
+    table = Table(title=title or None)
+    for heading, key in COLUMNS:
+        table.add_column(heading, justify="left" if key == "scenario" else "right")
+    table.add_column("what showed it")
+    for tally in tallies:
+        row = tally.row()
+        cells = [_cell(key, row[key]) for _, key in COLUMNS]
+        table.add_row(*cells, _evidence(row))
+    table.add_section()
+    summed = totals(tallies)
+    table.add_row(*(_cell(key, summed[key]) for _, key in COLUMNS), "")
+    return table
+
+
+def _cell(key: str, value: Any) -> str:
+    if key in ("lost", "crashes", "unclear") and value:
+        return f"[bold red]{value}[/]"
+    return str(value)
+
+
+def _evidence(row: dict[str, Any]) -> str:
+    note = str(row["facts"].get("note", ""))
+    kinds = ", ".join(f"{k} {n}" for k, n in sorted(row["kinds"].items()))
+    crashed = "; crashed: " + ", ".join(row["crashed"]) if row["crashed"] else ""
+    return note + (f" [dim]({kinds})[/]" if kinds else "") + crashed
+
+
+def json_report(tallies: Sequence[Tally], load: Sequence[float]) -> dict[str, Any]:
+    """The table as JSON: rows, totals, the load average, and the verdict."""
+    return {
+        "scenarios": [t.row() for t in tallies],
+        "total": totals(tallies),
+        "load_average": [round(x, 2) for x in load],
+        "passed": passed(tallies),
+    }
