@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any
 
@@ -65,11 +66,17 @@ def _evidence(row: dict[str, Any]) -> str:
     return note + (f" [dim]({kinds})[/]" if kinds else "") + crashed
 
 
-def json_report(tallies: Sequence[Tally], load: Sequence[float]) -> dict[str, Any]:
-    """The table as JSON: rows, totals, the load average, and the verdict."""
+def json_report(tallies: Sequence[Tally], load: tuple[float, float]) -> dict[str, Any]:
+    """The table as JSON: rows, totals, the verdict, and the machine's load.
+
+    Args:
+        tallies: Every scenario's tally.
+        load: The 1-minute load average at the start and at the end.
+    """
     return {
         "scenarios": [t.row() for t in tallies],
         "total": totals(tallies),
-        "load_average": [round(x, 2) for x in load],
         "passed": passed(tallies),
+        "cpus": os.cpu_count(),
+        "load_average": {"start": round(load[0], 2), "end": round(load[1], 2)},
     }

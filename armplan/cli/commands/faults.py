@@ -13,14 +13,19 @@ process crashed. See docs/faults.md.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import os
 import sys
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import InvalidInputError
+
+if TYPE_CHECKING:
+    from armplan.faults import SuiteOptions
 
 ORDER = 85
 HELP = "kill, restart and feed bad inputs to every process; print what was lost"
@@ -71,6 +76,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Run the suite, print the table; 1 if anything was lost or crashed."""
+    if importlib.util.find_spec("hypothesis") is None:
+        sys.stderr.write(
+            "armplan faults: the bad inputs are made with hypothesis, one of the "
+            "development tools: pip install -e '.[dev]'\n"
+        )
+        return 1
     from armplan.faults import SuiteOptions
 
     for name in ("requests", "concurrency", "examples"):
@@ -93,13 +104,12 @@ def run(args: argparse.Namespace) -> int:
         return _run(Path(out), options, args.json)
 
 
-def _run(out: Path, options: object, as_json: bool) -> int:
+def _run(out: Path, options: SuiteOptions, as_json: bool) -> int:
     from rich.console import Console
 
-    from armplan.faults import SuiteOptions, json_report, passed, rich_table, run_suite
+    from armplan.faults import json_report, passed, rich_table, run_suite
     from armplan.faults.tally import Tally
 
-    assert isinstance(options, SuiteOptions)
     err = Console(stderr=True)
 
     def report(tally: Tally) -> None:
@@ -109,15 +119,15 @@ def _run(out: Path, options: object, as_json: bool) -> int:
             f"crashes {row['crashes']}[/]"
         )
 
-    load_start = os.getloadavg()
+    load_start = os.getloadavg()[0]
     tallies = run_suite(out, options, report)
-    load = (*load_start, *os.getloadavg())
+    load = (load_start, os.getloadavg()[0])
     if as_json:
         print_json(json_report(tallies, load))
     else:
         title = (
             f"armplan faults ({os.cpu_count()} CPUs, load average "
-            f"{load_start[0]:.1f} at the start, {load[3]:.1f} at the end)"
+            f"{load[0]:.1f} at the start, {load[1]:.1f} at the end)"
         )
         Console(width=200).print(rich_table(tallies, title))
         verdict = "passed" if passed(tallies) else "FAILED"

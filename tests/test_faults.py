@@ -1,0 +1,202 @@
+"""The fault and load suite on the real processes, small and bounded.
+
+One system (router, services, simulated NAO, bridge, recorder) is started
+for the module on a free 127.0.0.1 port; each scenario of ``armplan
+faults`` runs on it at a small size. Every scenario must lose no request
+and crash no process, and must show that its fault really happened: the
+killed process was named by the calls that needed it, then served again.
+The 200 concurrent plans run at full size. The classification of answers
+is checked first against an in-process service that answers each way.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+from armplan.faults import Call, Outcome, Tally, passed, send
+from armplan.faults.bad_input import bad_input_scenario, spoiled
+from armplan.faults.burst import burst_scenario
+from armplan.faults.kill_restart import restart_scenario
+from armplan.faults.outcome import Result
+from armplan.faults.recorder_kill import recorder_scenario
+from armplan.faults.requests import GoodRequests, good_requests
+from armplan.faults.strategies import SPOILERS
+from armplan.faults.suite import KILLED, QUERYABLES
+from armplan.faults.system import FaultSystem
+from armplan.faults.table import json_report
+from armplan.faults.traffic import Traffic
+from armplan.launch import free_endpoint
+from shared.bus import Bus, BusConfig, Endpoint, Route, ServiceHost, open_router
+from shared.bus.routes import PLAN
+from shared.errors import InvalidInputError, RequestTimeoutError
+from shared.messages import Message, parse
+
+#: Requests per kill scenario in these tests (a third before, down, after).
+REQUESTS = 9
+#: Bad inputs of each kind per queryable in these tests.
+EXAMPLES = 2
+SEED = 20260
+
+
+class Word(Message):
+    word: str
+
+
+def answer_as_told(request: Word) -> Word:
+    """Answer each way a service can: a reply, typed, relayed timeout, bug, hang."""
+    if request.word == "slow":
+        time.sleep(1.5)
+    if request.word == "relayed":
+        raise RequestTimeoutError("stage", key="test/stage", timeout=0.1)
+    if request.word == "bug":
+        raise KeyError("boom")
+    return Word(word=request.word)
+
+
+ECHO = Route("echo", "test/echo", Word, Word)
+
+
+@pytest.fixture(scope="module")
+def echo_bus() -> Iterator[Bus]:
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="test")
+    with (
+        open_router(config),
+        Bus.connect(config) as service_bus,
+        ServiceHost(service_bus, "echo", [Endpoint(ECHO, answer_as_told)]),
+        Bus.connect(config) as bus,
+    ):
+        assert bus.wait_alive(["echo"], 10.0) == []
+        yield bus
+
+
+@pytest.mark.parametrize(
+    "payload,outcome,kind",
+    [
+        (Word(word="fine"), Outcome.SUCCEEDED, ""),
+        (b'{"word": NaN}', Outcome.TYPED, "invalid_input"),
+        (Word(word="relayed"), Outcome.TYPED, "request_timeout"),
+        (Word(word="bug"), Outcome.UNCLEAR, "internal_error"),
+        (Word(word="slow"), Outcome.LOST, "request_timeout"),
+    ],
+    ids=["reply", "typed", "relayed-timeout", "internal-error", "no-answer"],
+)
+def test_send_sorts_each_answer(
+    echo_bus: Bus, payload: Message | bytes, outcome: Outcome, kind: str
+) -> None:
+    """Only this client's own wait running out is lost; a bug is unclear."""
+    result = send(echo_bus, Call(ECHO, payload), timeout=0.5)
+    assert (result.outcome, result.kind) == (outcome, kind)
+
+
+def test_a_dead_service_is_typed_not_lost() -> None:
+    """No service holds the token: service_unavailable at once, a clear error."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="test")
+    with open_router(config), Bus.connect(config) as bus:
+        result = send(bus, Call(ECHO, Word(word="x")), timeout=5.0)
+    assert (result.outcome, result.kind) == (Outcome.TYPED, "service_unavailable")
+    assert result.seconds < 2.0
+
+
+def test_the_suite_fails_on_a_lost_request_or_a_crash() -> None:
+    """The verdict: one lost request or one crash fails the whole table."""
+    fine = Tally("a", results=[Result("plan", Outcome.SUCCEEDED)])
+    lost = Tally("b", results=[Result("plan", Outcome.LOST, "request_timeout")])
+    crashed = Tally("c", crashes=["ik (123)"])
+    assert passed([fine])
+    assert not passed([fine, lost]) and not passed([fine, crashed])
+    report = json_report([fine, lost, crashed], (1.0, 2.0))
+    assert report["total"]["lost"] == 1 and report["total"]["crashes"] == 1
+    assert report["passed"] is False
+    assert report["load_average"] == {"start": 1.0, "end": 2.0}
+
+
+@pytest.fixture(scope="module")
+def good() -> GoodRequests:
+    return good_requests()
+
+
+def test_bad_inputs_come_in_every_kind_the_same_each_run(good: GoodRequests) -> None:
+    """A fixed seed gives the same spoiled requests; every kind is there, and
+    none is a valid plan request."""
+    first = spoiled(good, PLAN, EXAMPLES, SEED)
+    assert first == spoiled(good, PLAN, EXAMPLES, SEED)
+    assert {b.kind for b in first} == set(SPOILERS)
+    for bad in first:
+        with pytest.raises(InvalidInputError, match="PlanRequest"):
+            parse(PLAN.request, bad.payload)
+
+
+@pytest.fixture(scope="module")
+def system(tmp_path_factory: pytest.TempPathFactory) -> Iterator[FaultSystem]:
+    with FaultSystem(tmp_path_factory.mktemp("faults")) as system:
+        yield system
+
+
+@pytest.fixture(scope="module")
+def bus(system: FaultSystem) -> Iterator[Bus]:
+    with Bus.connect(system.config) as bus:
+        yield bus
+
+
+@pytest.fixture(scope="module")
+def traffic(bus: Bus) -> Iterator[Traffic]:
+    with Traffic(bus, 3, 30.0) as traffic:
+        yield traffic
+
+
+def healthy(tally: Tally) -> None:
+    """Nothing lost, nothing unclear, nothing crashed (with the evidence)."""
+    row = tally.row()
+    assert (row["lost"], row["unclear"], row["crashes"]) == (0, 0, 0), row
+
+
+@pytest.mark.parametrize("name", [*KILLED, "router"])
+def test_a_killed_process_is_named_while_down_and_serves_after_a_restart(
+    system: FaultSystem, traffic: Traffic, good: GoodRequests, name: str
+) -> None:
+    """Killed in traffic: calls that need it fail naming it, none is lost;
+    restarted, every process is alive and every later call succeeds."""
+    tally = restart_scenario(system, traffic, good, name, REQUESTS)
+    healthy(tally)
+    assert tally.sent == REQUESTS
+    assert tally.facts["down_needing"] >= 1
+    assert tally.facts["named"] == tally.facts["down_needing"], tally.kinds()
+    assert tally.facts["recovered"], tally.row()
+
+
+def test_a_recorder_killed_mid_session_loses_no_plan(
+    system: FaultSystem, traffic: Traffic, good: GoodRequests
+) -> None:
+    """Plans go on; the killed file is readable; the new recorder records."""
+    tally = recorder_scenario(system, traffic, good, REQUESTS)
+    healthy(tally)
+    assert tally.facts["all_planned"]
+    assert tally.facts["killed_file"] >= 1 and tally.facts["new_file"] >= 1
+
+
+def test_200_concurrent_plans_are_all_answered(bus: Bus, good: GoodRequests) -> None:
+    """The full burst of the command: 200 plans at once, each one answered."""
+    tally = burst_scenario(bus, good, 200, timeout=120.0)
+    healthy(tally)
+    assert tally.sent == 200
+    assert tally.count(Outcome.SUCCEEDED) + tally.count(Outcome.TYPED) == 200
+
+
+@pytest.mark.parametrize("route", QUERYABLES, ids=lambda r: r.path)
+def test_bad_inputs_get_typed_errors_and_the_service_answers_next(
+    system: FaultSystem, bus: Bus, good: GoodRequests, route: Route[Any, Any]
+) -> None:
+    """Every spoiled request: a typed error (or, valid by chance, a result);
+    the good request after each one is answered by the same process."""
+    tally = bad_input_scenario(
+        system, bus, good, route, examples=EXAMPLES, seed=SEED, timeout=30.0
+    )
+    healthy(tally)
+    facts = tally.facts
+    assert facts["typed"] + facts["accepted"] == facts["bad"] == 6 * EXAMPLES
+    assert facts["typed"] >= 1
+    assert facts["good_next"] == facts["bad"] and facts["same_process"]
