@@ -6,12 +6,15 @@ import numpy as np
 import pytest
 from test_timing_paths import distance_to_polyline
 
+from services.ik.kernel import chain_for
 from services.planner.pipeline import plan
 from services.planner.wrist_path import reach_path
 from services.timing import check_limits, reach_duration
 from shared.demos.nao_grid import nao_grid
 from shared.errors import UnreachableTargetError
+from shared.geometry.palm import roll_error
 from shared.messages import Method, PlanRequest, WristPath
+from shared.primitives import get_primitive
 from shared.robot import ArmModel, load_arm, motion_limits
 from shared.robot.postures import rest
 
@@ -83,6 +86,32 @@ def test_targets_with_dwell_make_one_trajectory() -> None:
     assert at_first.sum() * 0.01 >= 0.5  # held there for the dwell
     assert np.linalg.norm(wrists[-1] - second) < 1e-3
     assert len(result.wrist_paths) == len(result.joint_paths) == 2
+    check_limits(result.trajectory.times, q, motion_limits(arm.limits))
+
+
+@pytest.mark.parametrize("method", list(Method))
+def test_every_palm_of_a_task_is_met(method: Method) -> None:
+    """Five reaches, each with a palm direction: every movement ends with the
+    wrist on its target and the palm turned as asked, one trajectory within
+    the limits; with mp the primitives at the ends turn the wrist (W_R)."""
+    arm = load_arm("right")
+    task = [
+        ((0.14, -0.10, 0.06), (0.0, 1.0, 0.0)),
+        ((0.10, -0.17, 0.02), (0.0, 0.0, -1.0)),
+        ((0.11, -0.07, 0.01), (0.0, 1.0, 0.0)),
+        ((0.14, -0.10, 0.06), (0.0, 1.0, 0.0)),
+        ((0.13, -0.07, 0.09), (0.0, 1.0, 0.0)),
+    ]
+    targets = [{"position": p, "palm": n, "dwell": 0.2} for p, n in task]
+    result = plan(_request(arm, *targets, method=method.value))
+    for (position, palm), joint_path in zip(task, result.joint_paths, strict=True):
+        end = np.array(joint_path.positions[-1])
+        state = chain_for(arm).state(end.tolist())
+        assert np.linalg.norm(arm.fk(end).wrist - position) < 1e-3
+        assert abs(roll_error(state.wrist_rotation, arm.side.sign, palm)) < 1e-3
+        if method is Method.MP:
+            assert get_primitive(joint_path.primitives[-1]).orients_wrist
+    q = np.array(result.trajectory.positions)
     check_limits(result.trajectory.times, q, motion_limits(arm.limits))
 
 

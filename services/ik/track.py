@@ -59,7 +59,7 @@ from services.ik.solver import solve
 from services.ik.task import WristTask
 from services.ik.weighted import LOCKED, weighted_step
 from shared.messages.method import Method
-from shared.primitives import FULL_GRASP, FULL_REACH, Primitive
+from shared.primitives import FULL_GRASP, FULL_REACH, Primitive, turning_the_wrist
 from shared.robot.arm_model import ArmModel
 
 #: Chooses the primitive for path point k from the arm's state there. The
@@ -168,7 +168,10 @@ def track_path(
     for k, point in enumerate(points):
         wanted = _wanted(method, choose, k, st)
         phases.update(wanted, st)
-        q, st = _follow(run.chain, phases, point, q, st, gains[k])
+        if k > 0 or len(points) == 1:
+            # The path starts where the arm is: its first posture is the
+            # start, also when the palm is still to turn (the next steps do).
+            q, st = _follow(run.chain, phases, point, q, st, gains[k])
         if phases.lost(st, point):
             return _detour(arm, run, points, begin, phases.phase)
         if k == len(points) - 1:
@@ -198,7 +201,14 @@ class _Phases:
         self.last_miss = 0.0
 
     def update(self, wanted: Primitive | None, st: ChainState) -> None:
-        """Start the phase of ``wanted`` if it is not the one in use."""
+        """Start the phase of ``wanted`` if it is not the one in use.
+
+        With a wanted palm direction every primitive turns the wrist too
+        (``turning_the_wrist``): NAO meets the palm only with WristYaw, and a
+        model fitted on reaches without a wanted palm never picks W_R.
+        """
+        if wanted is not None and self.run.palm is not None:
+            wanted = turning_the_wrist(wanted)
         label = _label(self.run.method, wanted)
         if not self.started:
             self.phase, self.started = _start_phase(self.run, wanted, st), True

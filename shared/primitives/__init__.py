@@ -7,6 +7,7 @@ from shared.primitives.catalog import (
     MOTION_PRIMITIVES,
     PRIMITIVES,
     get_primitive,
+    turning_the_wrist,
 )
 from shared.primitives.matrix import ATTRIBUTES, NODES, matrix_from_mp_form, mp_form
 from shared.primitives.primitive import IKMethod, Primitive, PrimitiveType, Task
@@ -26,4 +27,5 @@ __all__ = [
     "get_primitive",
     "matrix_from_mp_form",
     "mp_form",
+    "turning_the_wrist",
 ]

@@ -113,6 +113,19 @@ FULL_REACH = BY_NAME["S_R E_PR W_P"]
 FULL_GRASP = BY_NAME["S_R E_PR W_PR"]
 
 
+def turning_the_wrist(primitive: Primitive) -> Primitive:
+    """The primitive that moves as ``primitive`` does and also turns the wrist.
+
+    Each position-only motion primitive (``... W_P``) has a counterpart with
+    WristYaw active (``... W_PR``); a primitive that turns the wrist already
+    is its own. Used where a palm direction is wanted: NAO meets it only with
+    WristYaw.
+    """
+    if primitive.orients_wrist:
+        return primitive
+    return BY_NAME[primitive.name.replace("W_P", "W_PR")]
+
+
 def get_primitive(name: str) -> Primitive:
     """The primitive called ``name`` (e.g. ``"S_R E_PR W_P"``; spacing is free).
 
