@@ -1,7 +1,7 @@
 # One image for every armplan process: the services (fit, decide, ik, timing,
 # planner), the bridge, the recorder and the simulated NAO. docker-compose.yml
 # picks the process with `command:`; the Zenoh router is the eclipse/zenoh
-# image. Build: docker build -t armplan .   Details: docs/deploy.md.
+# image. Build: docker build -t armplan .   Details: docs/services.md.
 FROM python:3.11-slim
 
 # The user the processes run as; match it to the owner of bind-mounted files

@@ -67,7 +67,10 @@ def call(
     if time.monotonic() - start >= 0.9 * timeout:
         raise RequestTimeoutError(route.service, key=key, timeout=timeout)
     alive.forget(route.service)
-    reason = "no queryable answered (it just stopped?)"
+    reason = (
+        "no queryable answered (it just stopped, or a secured router's access "
+        "control refused this user the query)"
+    )
     raise ServiceUnavailableError(
         route.service, key=key, reason=_router_lost(session) or reason
     )
