@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from functools import partial
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from scipy.optimize import minimize  # type: ignore[import-untyped]
@@ -127,14 +127,14 @@ def run(
     targets = _targets(arm, n, seed)
     start = rest(arm.side)
     chain = ikpy_peer.wrist_chain(arm)
-    ours, ours_q = _time_solver(
-        lambda t: solve(arm, t, primitive="S_R E_PR W_P").q, targets, after
-    )
-    peer, peer_q = _time_solver(lambda t: slsqp_ik(arm, t, tpe), targets, after)
-    step = time_calls([partial(_one_step, arm, tpe, t) for t in targets], after)
-    ikpy, ikpy_q = _time_solver(
-        lambda t: ikpy_peer.ikpy_track(chain, t[None], start)[0], targets, after
-    )
+    solvers: list[Callable[[np.ndarray], object]] = [
+        lambda t: solve(arm, t, primitive="S_R E_PR W_P").q,
+        lambda t: slsqp_ik(arm, t, tpe),
+        lambda t: _one_step(arm, tpe, t),
+        lambda t: ikpy_peer.ikpy_track(chain, t[None], start)[0],
+    ]
+    timings, (ours_q, peer_q, _, ikpy_q) = _time_interleaved(solvers, targets, after)
+    ours, peer, step, ikpy = timings
     ours_ok = _reached(arm, ours_q, targets)
     peer_ok = _reached(arm, peer_q, targets)
     both = ours_ok & peer_ok
@@ -157,18 +157,30 @@ def run(
     )
 
 
-def _time_solver(
-    solver: Callable[[np.ndarray], np.ndarray],
+def _time_interleaved(
+    solvers: list[Callable[[np.ndarray], object]],
     targets: list[np.ndarray],
     after: Callable[[], object] | None,
-) -> tuple[Timing, list[np.ndarray]]:
-    """Time ``solver`` on each target; also return its postures [rad], (5,) each."""
-    solved: list[np.ndarray] = []
+) -> tuple[list[Timing], list[list[Any]]]:
+    """Time every solver on each target in turn, target by target.
 
-    def call(target: np.ndarray) -> None:
-        solved.append(solver(target))
+    Interleaved, a change of the machine's load during the run slows ours
+    and the peers alike, so their ratios hold.
 
-    return time_calls([partial(call, t) for t in targets], after), solved
+    Returns:
+        Per solver, its times [s] and its results (postures [rad], (5,) each).
+    """
+    solved: list[list[Any]] = [[] for _ in solvers]
+
+    def call(k: int, target: np.ndarray) -> None:
+        solved[k].append(solvers[k](target))
+
+    calls: list[Callable[[], object]] = [
+        partial(call, k, t) for t in targets for k in range(len(solvers))
+    ]
+    samples = time_calls(calls, after).samples
+    stride = len(solvers)
+    return [Timing(samples[k::stride]) for k in range(stride)], solved
 
 
 def steps(n: int) -> int:
