@@ -15,7 +15,9 @@ same reach in the same run:
 
 A peer does less than a whole plan, so it is also set beside the part of
 ours doing its work (:mod:`armplan.bench.plan_parts`): toppra beside our
-timing, ikpy beside our IK tracking. Figures are medians over the repeats.
+timing, ikpy beside our IK tracking. Figures are medians over the repeats,
+timed in rounds (every plan, toppra and every part once per round) so a
+change of the machine's load slows them alike; ikpy's passes come after.
 """
 
 from __future__ import annotations
@@ -29,9 +31,9 @@ import numpy as np
 
 from armplan.bench import ikpy_peer
 from armplan.bench.extras import require
-from armplan.bench.plan_parts import PARTS, PlanParts, time_parts
+from armplan.bench.plan_parts import PARTS, PlanParts, part_calls
 from armplan.bench.service_latency import one_second_reach
-from armplan.bench.timer import Timing, time_calls
+from armplan.bench.timer import Timing, time_calls, time_rounds
 from armplan.bench.timing_cost import toppra_trajectory
 from services.planner.pipeline import plan
 from shared.messages import Method, PlanRequest, parse
@@ -133,26 +135,25 @@ def run(
     limits = motion_limits(arm.limits)
     chain = ikpy_peer.wrist_chain(arm)
     solved: list[np.ndarray] = []
-    plans = {
-        m: time_calls([partial(plan, r)] * repeats, after) for m, r in requests.items()
+    calls: dict[str, Callable[[], object]] = {
+        m.value: partial(plan, r) for m, r in requests.items()
     }
-    toppra = time_calls(
-        [lambda: toppra_trajectory(joint_path, limits)] * repeats, after
-    )
+    calls["toppra"] = partial(toppra_trajectory, joint_path, limits)
+    count, parts = part_calls(arm, reach.targets[0])
+    calls |= {f"part_{name}": call for name, call in parts.items()}
+    timings = time_rounds(calls, repeats, after)  # interleaved: load hits all alike
     ikpy = time_calls(
         [lambda: solved.append(ikpy_peer.ikpy_track(chain, points, rest(arm.side)))]
         * ikpy_passes,
         after,
     )
-    parts = time_parts(arm, reach.targets[0], repeats, after)
     return PlanCost(
         points=len(points),
         duration=first.trajectory.duration,
-        plans=plans,
-        toppra=toppra,
+        plans={m: timings[m.value] for m in Method},
+        toppra=timings["toppra"],
         ikpy=ikpy,
         ikpy_reached=ikpy_peer.reached_fraction(chain, solved[-1], points),
-        parts=parts,
+        parts=PlanParts(count, {name: timings[f"part_{name}"] for name in PARTS}),
         load_average=(load_start, os.getloadavg()[0]),
     )
-

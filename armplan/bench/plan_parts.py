@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from armplan.bench.timer import Timing, time_calls
+from armplan.bench.timer import Timing, time_rounds
 from services.ik.track import track_path
 from services.planner.build import arc_length, joint_path_message, trajectory_message
 from services.planner.reach_path import reach_wrist_path
@@ -77,12 +77,11 @@ def time_parts(
         repeats: Calls timed per part.
         after: Called after each timed call, untimed (progress).
     """
-    points, calls = _calls(arm, target)
-    timings = {name: time_calls([calls[name]] * repeats, after) for name in PARTS}
-    return PlanParts(points, timings)
+    points, calls = part_calls(arm, target)
+    return PlanParts(points, time_rounds(calls, repeats, after))
 
 
-def _calls(
+def part_calls(
     arm: ArmModel, target: ReachTarget
 ) -> tuple[int, dict[str, Callable[[], object]]]:
     """The number of path points, and one call per part (on prepared data)."""

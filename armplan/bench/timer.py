@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import NamedTuple
 
 import numpy as np
@@ -43,3 +43,19 @@ def time_calls(
         if after is not None:
             after()
     return Timing(samples)
+
+
+def time_rounds(
+    calls: Mapping[str, Callable[[], object]],
+    rounds: int,
+    after: Callable[[], object] | None = None,
+) -> dict[str, Timing]:
+    """Run every call once per round, in turn, and time each [s].
+
+    Interleaved, a change of the machine's load during the run slows every
+    call alike, so ratios between them hold. ``after`` runs after each call,
+    untimed.
+    """
+    names = list(calls)
+    samples = time_calls([calls[name] for name in names] * rounds, after).samples
+    return {name: Timing(samples[k :: len(names)]) for k, name in enumerate(names)}
