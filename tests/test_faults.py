@@ -178,9 +178,11 @@ def test_a_recorder_killed_mid_session_loses_no_plan(
     assert tally.facts["killed_file"] >= 1 and tally.facts["new_file"] >= 1
 
 
-def test_200_concurrent_plans_are_all_answered(bus: Bus, good: GoodRequests) -> None:
+def test_200_concurrent_plans_are_all_answered(
+    system: FaultSystem, bus: Bus, good: GoodRequests
+) -> None:
     """The full burst of the command: 200 plans at once, each one answered."""
-    tally = burst_scenario(bus, good, 200, timeout=120.0)
+    tally = burst_scenario(system, bus, good, 200, timeout=120.0)
     healthy(tally)
     assert tally.sent == 200
     assert tally.count(Outcome.SUCCEEDED) + tally.count(Outcome.TYPED) == 200

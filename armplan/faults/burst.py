@@ -12,12 +12,15 @@ import time
 
 from armplan.faults.outcome import Outcome
 from armplan.faults.requests import GoodRequests
+from armplan.faults.system import FaultSystem
 from armplan.faults.tally import Tally
 from armplan.faults.traffic import Traffic, cycle
 from shared.bus import Bus
 
 
-def burst_scenario(bus: Bus, good: GoodRequests, count: int, timeout: float) -> Tally:
+def burst_scenario(
+    system: FaultSystem, bus: Bus, good: GoodRequests, count: int, timeout: float
+) -> Tally:
     """Send ``count`` plan requests at once, each with ``timeout`` [s].
 
     Facts: ``wall_s`` (until the last answer) and ``slowest_s``.
@@ -35,4 +38,5 @@ def burst_scenario(bus: Bus, good: GoodRequests, count: int, timeout: float) -> 
         "note": f"{done}/{count} planned in {wall:.1f} s; "
         f"slowest answer {slowest:.1f} s (timeout {timeout:.0f} s)",
     }
+    tally.crashes = system.crashes()
     return tally

@@ -112,11 +112,12 @@ def _numbers(template: Json) -> list[Where]:
 def wrong_type(template: Json) -> st.SearchStrategy[BadInput]:
     """Any value (the whole request too) replaced by one of another type."""
     where = st.sampled_from(_inside_first(locations(template)))
+    valid = dump(template)
     return st.builds(
         lambda w, v: BadInput("wrong type", dump(replaced(template, w, v))),
         where,
         WRONG,
-    )
+    ).filter(lambda bad: bad.payload != valid)  # not a null put over a null
 
 
 def not_finite(template: Json) -> st.SearchStrategy[BadInput]:

@@ -97,7 +97,9 @@ def run_suite(
         if options.recorder:
             keep(recorder_scenario(system, traffic, good, options.requests))
         if options.burst:
-            keep(burst_scenario(bus, good, options.burst, options.burst_timeout))
+            keep(
+                burst_scenario(system, bus, good, options.burst, options.burst_timeout)
+            )
         for route in options.queryables:
             keep(
                 bad_input_scenario(
