@@ -200,19 +200,17 @@ def test_movements_takes_the_first_movements_of_the_task() -> None:
     assert [m.name for m in human_reference(arm, task, 7)] == names[:7]
 
 
-def test_from_the_persons_posture_mp_starts_every_movement_at_s_one() -> None:
+def test_from_the_persons_posture_every_method_starts_at_s_one() -> None:
     """starts=reference: NAO starts each movement in the person's posture (S = 1).
 
-    The baselines' first path point already turns the palm (one IK step of
-    at most 0.1 rad), so theirs starts just below 1.
+    A tracked path's first posture is its start posture, with every method,
+    also when the palm is still to turn.
     """
     task = load_task(DEFAULT_TASK)
     _, series = run_handover(task, movements=3, starts=Starts.REFERENCE)
     for one in series:
         first = [one.similarity[one.movement == k][0] for k in range(3)]
-        if one.method.value == "mp":
-            assert np.allclose(first, 1.0)
-        assert np.all(np.array(first) > 0.95)
+        assert np.allclose(first, 1.0), one.method.value
 
 
 def test_similarity_of_identical_postures_is_one(rng: np.random.Generator) -> None:

@@ -4,10 +4,11 @@ NAO does the demo's handover task (``armplan.demo.task``) from its start
 posture, movement after movement to the targets of the human reference
 (``human_reference``), once with each method. Each movement is planned as
 the planner plans a reach (``services.planner.reach_path`` for the wrist
-path, the decide and ik stages for the joint path); the planner's
-one-request form (``plan`` with all targets) is not used because it refuses
-a task whose palm targets make the IK's first step jump (see
-docs/results.md). A movement starts (``Starts``) either where the method's
+path, the decide and ik stages for the joint path), movement by movement:
+the planner's own loop without its timing stage (timing does not change the
+path), which lets ``reference`` start each movement in the person's posture;
+``chained`` gives the joint paths of the one-request form (``plan`` with all
+targets). A movement starts (``Starts``) either where the method's
 previous one ended (``chained``, the paper's protocol), or in the person's
 posture at that movement's start (``reference``: every reach judged alone,
 as in the similarity experiment). Each movement's joint path is read at the
