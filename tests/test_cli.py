@@ -136,3 +136,15 @@ def test_readable_output_without_json() -> None:
     out = armplan("ik", "--target", "0.12", "-0.13", "0.05")
     assert out.returncode == 0
     assert "RShoulderPitch" in out.stdout and "mm from the target" in out.stdout
+
+
+def test_json_output_is_strict(capsys: pytest.CaptureFixture[str]) -> None:
+    """NaN and infinities, which strict JSON readers refuse, print as null."""
+    from armplan.cli.output import print_json
+
+    print_json({"gap": float("nan"), "rows": [1.5, float("inf")], "pair": (2, None)})
+    assert json.loads(capsys.readouterr().out) == {
+        "gap": None,
+        "rows": [1.5, None],
+        "pair": [2, None],
+    }

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 from collections.abc import Sequence
 from typing import Any
@@ -11,8 +12,19 @@ from shared.errors import ArmplanError
 
 
 def print_json(data: Any) -> None:
-    """Print ``data`` as JSON on stdout."""
-    sys.stdout.write(json.dumps(data, indent=2) + "\n")
+    """Print ``data`` as strict JSON on stdout (NaN and infinities as null)."""
+    sys.stdout.write(json.dumps(_finite(data), indent=2, allow_nan=False) + "\n")
+
+
+def _finite(data: Any) -> Any:
+    """``data`` with every non-finite float replaced by ``None``."""
+    if isinstance(data, float):
+        return data if math.isfinite(data) else None
+    if isinstance(data, dict):
+        return {key: _finite(value) for key, value in data.items()}
+    if isinstance(data, list | tuple):
+        return [_finite(value) for value in data]
+    return data
 
 
 def print_table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
