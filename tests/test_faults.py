@@ -24,7 +24,7 @@ from armplan.faults.kill_restart import restart_scenario
 from armplan.faults.outcome import Result
 from armplan.faults.recorder_kill import recorder_scenario
 from armplan.faults.requests import GoodRequests, good_requests
-from armplan.faults.strategies import SPOILERS
+from armplan.faults.strategies import SPOILERS, locations, nested, replaced
 from armplan.faults.suite import KILLED, QUERYABLES
 from armplan.faults.system import FaultSystem
 from armplan.faults.table import json_report
@@ -130,6 +130,16 @@ def test_bad_inputs_come_in_every_kind_the_same_each_run(good: GoodRequests) -> 
             parse(PLAN.request, bad.payload)
 
 
+def test_spoiling_copies_the_request_and_nests_as_deep_as_asked() -> None:
+    """A spoiled copy changes one location and leaves the template alone."""
+    template = {"a": [1, {"b": 2.0}]}
+    assert locations(template) == [(), ("a",), ("a", 0), ("a", 1), ("a", 1, "b")]
+    assert replaced(template, ("a", 1, "b"), None) == {"a": [1, {"b": None}]}
+    assert replaced(template, ("c",), 3) == {"a": [1, {"b": 2.0}], "c": 3}
+    assert template == {"a": [1, {"b": 2.0}]}
+    assert nested(3, "[") == "[[[]]]" and nested(2, '{"a":') == '{"a":{"a":0}}'
+
+
 @pytest.fixture(scope="module")
 def system(tmp_path_factory: pytest.TempPathFactory) -> Iterator[FaultSystem]:
     with FaultSystem(tmp_path_factory.mktemp("faults")) as system:
@@ -161,11 +171,12 @@ def test_a_killed_process_is_named_while_down_and_serves_after_a_restart(
     """Killed in traffic: calls that need it fail naming it, none is lost;
     restarted, every process is alive and every later call succeeds."""
     tally = restart_scenario(system, traffic, good, name, REQUESTS)
+    errors = [(r.route, r.message) for r in tally.results if r.kind]
     healthy(tally)
     assert tally.sent == REQUESTS
     assert tally.facts["down_needing"] >= 1
-    assert tally.facts["named"] == tally.facts["down_needing"], tally.kinds()
-    assert tally.facts["recovered"], tally.row()
+    assert tally.facts["named"] == tally.facts["down_needing"], errors
+    assert tally.facts["recovered"], (tally.facts, errors)
 
 
 def test_a_recorder_killed_mid_session_loses_no_plan(

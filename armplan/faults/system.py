@@ -115,15 +115,16 @@ class FaultSystem:
             InvalidInputError: no process of that name (the sim is not one:
                 it is not on Zenoh).
         """
-        pid = self.pid(name) if name in self.stack.processes() else 0
-        self._killed.add(pid)
-        if name == RECORDER and self.stack.recorder is not None:
-            self.stack.recorder.kill()
-        else:
-            child = self._child(name)
-            child.signal(signal.SIGKILL)
-            child.process.wait(REAP_TIMEOUT)
-        return pid
+        recorder = self.stack.recorder
+        if name == RECORDER and recorder is not None:
+            self._killed.add(recorder.pid)
+            recorder.kill()
+            return recorder.pid
+        child = self._child(name)
+        self._killed.add(child.pid)
+        child.signal(signal.SIGKILL)
+        child.process.wait(REAP_TIMEOUT)
+        return child.pid
 
     def _child(self, name: str) -> Child:
         if name == "router" and self.launcher.router is not None:
