@@ -85,15 +85,27 @@ class Demo:
             text=True,
         )
         self.lines: queue.Queue[str] = queue.Queue()
+        self.errors: list[str] = []
         self.seen: set[tuple[int, str]] = set()
         self._done = threading.Event()
-        threading.Thread(target=self._read, daemon=True).start()
+        # One reader per pipe, and nothing else reads them (communicate()
+        # would take lines from under the reader).
+        self._readers = [
+            threading.Thread(target=self._read, daemon=True),
+            threading.Thread(target=self._read_errors, daemon=True),
+        ]
+        for reader in self._readers:
+            reader.start()
         threading.Thread(target=self._watch, daemon=True).start()
 
     def _read(self) -> None:
         assert self.process.stdout is not None
         for line in self.process.stdout:
             self.lines.put(line.rstrip("\n"))
+
+    def _read_errors(self) -> None:
+        assert self.process.stderr is not None
+        self.errors.extend(self.process.stderr)
 
     def _watch(self) -> None:
         while not self._done.is_set() and self.process.poll() is None:
@@ -117,17 +129,18 @@ class Demo:
     def finish(self, timeout: float) -> tuple[int, list[str], str]:
         """Exit code, remaining stdout lines and stderr once it has exited."""
         try:
-            _, stderr = self.process.communicate(timeout=timeout)
+            self.process.wait(timeout=timeout)
         finally:
             self._done.set()
             if self.process.poll() is None:
                 self.process.kill()
                 self.process.wait(10)
-        time.sleep(0.3)  # the reader thread takes the last lines
+        for reader in self._readers:  # both pipes read to their end
+            reader.join(10)
         lines = []
         while not self.lines.empty():
             lines.append(self.lines.get())
-        return self.process.returncode, lines, stderr
+        return self.process.returncode, lines, "".join(self.errors)
 
     def leftovers(self) -> list[tuple[int, str]]:
         return sorted(p for p in self.seen if alive(p))
