@@ -3,7 +3,8 @@
 The call runs asynchronously; while it runs, ``getAngles(names, True)`` is
 read every ``period`` seconds. A sample's time is the middle of its request
 and its answer, counted from the moment the call left (after libqi converted
-its arguments), the time base of the call's keys. If the robot drops the
+its arguments), the time base of the call's keys; it is uncertain by half
+the round trip, which is kept with the sample. If the robot drops the
 connection, stops answering for ``LOST_AFTER`` seconds, or overruns the
 call's duration, the robot is declared lost with a
 :class:`~shared.errors.RobotUnavailableError`.
@@ -35,10 +36,13 @@ class Samples(NamedTuple):
     Attributes:
         times: Sample times from the call's start [s], shape (k,).
         positions: Measured angles [rad], shape (k, n).
+        round_trips: Time from each request to its answer [s], shape (k,);
+            a sample's time is uncertain by half of it. ``None``: exact times.
     """
 
     times: np.ndarray
     positions: np.ndarray
+    round_trips: np.ndarray | None = None
 
 
 class _Reader:
@@ -47,18 +51,18 @@ class _Reader:
     def __init__(self, motion: Any, names: list[str], timeout: float) -> None:
         self.motion, self.names, self.timeout = motion, names, timeout
 
-    def read(self) -> tuple[float, list[float] | None, str]:
-        """(time of the reading [s, monotonic], angles or None, error text)."""
+    def read(self) -> tuple[float, float, list[float] | None, str]:
+        """(time [s, monotonic], round trip [s], angles or None, error text)."""
         sent = time.monotonic()
         future = self.motion.getAngles(self.names, True, _async=True)
         finished = wait_future(future, self.timeout)
         answered = time.monotonic()
         if not finished:
             future.cancel()
-            return answered, None, "no answer to getAngles"
+            return answered, answered - sent, None, "no answer to getAngles"
         if future.hasError():
-            return answered, None, future.error()
-        return 0.5 * (sent + answered), list(future.value()), ""
+            return answered, answered - sent, None, future.error()
+        return 0.5 * (sent + answered), answered - sent, list(future.value()), ""
 
 
 def play_and_sample(
@@ -89,14 +93,16 @@ def play_and_sample(
     start = time.monotonic()
     times: list[float] = []
     rows: list[list[float]] = []
+    round_trips: list[float] = []
     last_answer = start
     while not future.isFinished():
-        stamp, angles, problem = reader.read()
+        stamp, round_trip, angles, problem = reader.read()
         elapsed = stamp - start
         if angles is not None:
             last_answer = stamp
             times.append(elapsed)
             rows.append(angles)
+            round_trips.append(round_trip)
             if on_sample is not None:
                 on_sample(
                     JointState(time=elapsed, joint_names=call.names, positions=angles)
@@ -115,4 +121,8 @@ def play_and_sample(
             "angleInterpolation", future.error(), time.monotonic() - start
         )
     width = len(call.names)
-    return Samples(np.array(times), np.array(rows, dtype=float).reshape(-1, width))
+    return Samples(
+        np.array(times),
+        np.array(rows, dtype=float).reshape(-1, width),
+        np.array(round_trips),
+    )

@@ -10,6 +10,14 @@ that minimises the squared error over the whole movement, found on a 1 ms
 grid. It reports that delay and the error before and after the shift, so a
 follower that lags (an error that grows with speed and does not vanish under
 any single shift) still shows up.
+
+A sample's time is the middle of its reading's request and answer, so it is
+uncertain by half the round trip. On a busy machine a reading can take a
+hundred milliseconds, and its angle, compared with the command at the wrong
+time, would show an error the robot never made. Only samples whose round
+trip is at most ``TRUSTED_ROUND_TRIP`` are compared (if fewer than half are,
+the half with the shortest round trips); the report counts those left out
+and says how uncertain the compared times are.
 """
 
 from __future__ import annotations
@@ -26,16 +34,41 @@ from shared.messages import ExecutedJointStates, TrackingReport, Trajectory
 MAX_LATENCY = 0.25
 #: Step of the delay search [s].
 LATENCY_STEP = 0.001
+#: Longest round trip of a reading whose sample is compared [s]: its time is
+#: then known within 10 ms, half a control cycle.
+TRUSTED_ROUND_TRIP = 0.02
+
+
+def trusted(round_trips: np.ndarray | list[float] | None, count: int) -> np.ndarray:
+    """Which of ``count`` samples have a time good enough to compare, shape (count,).
+
+    Those whose round trip [s] is at most :data:`TRUSTED_ROUND_TRIP`; if fewer
+    than half are, the half with the shortest round trips. ``None`` or empty:
+    exact times, all are compared.
+    """
+    if round_trips is None or len(round_trips) == 0:
+        return np.ones(count, dtype=bool)
+    trips = np.asarray(round_trips, dtype=float)
+    keep = trips <= TRUSTED_ROUND_TRIP
+    if 2 * int(keep.sum()) < count:
+        keep = np.zeros(count, dtype=bool)
+        keep[np.argsort(trips, kind="stable")[: (count + 1) // 2]] = True
+    return keep
 
 
 def best_latency(trajectory: Trajectory, samples: Samples) -> float:
-    """The delay [s] in [0, MAX_LATENCY] that best aligns measured with commanded."""
-    if len(samples.times) < 2:
+    """The delay [s] in [0, MAX_LATENCY] that best aligns measured with commanded.
+
+    Only the samples whose time is :func:`trusted` count.
+    """
+    keep = trusted(samples.round_trips, len(samples.times))
+    times = samples.times[keep]
+    if len(times) < 2:
         return 0.0
-    measured = samples.positions.reshape(len(samples.times), -1)
+    measured = samples.positions.reshape(len(samples.times), -1)[keep]
     shifts = np.arange(0.0, MAX_LATENCY + LATENCY_STEP / 2, LATENCY_STEP)
     costs = [
-        float(np.sum((measured - positions_at(trajectory, samples.times - s)) ** 2))
+        float(np.sum((measured - positions_at(trajectory, times - s)) ** 2))
         for s in shifts
     ]
     return float(shifts[int(np.argmin(costs))])
@@ -45,6 +78,7 @@ def executed_states(trajectory: Trajectory, samples: Samples) -> ExecutedJointSt
     """The measured samples beside the trajectory's angles, latency taken out."""
     latency = best_latency(trajectory, samples)
     commanded = positions_at(trajectory, samples.times - latency)
+    trips = [] if samples.round_trips is None else samples.round_trips.tolist()
     return ExecutedJointStates(
         arm=trajectory.arm,
         joint_names=list(trajectory.joint_names),
@@ -52,6 +86,7 @@ def executed_states(trajectory: Trajectory, samples: Samples) -> ExecutedJointSt
         measured=samples.positions.tolist(),
         commanded=commanded.reshape(samples.positions.shape).tolist(),
         latency=latency,
+        round_trips=trips,
     )
 
 
@@ -60,22 +95,30 @@ def tracking_report(
 ) -> TrackingReport:
     """RMS and largest error per joint [deg] of measured minus commanded.
 
+    Only the samples whose time is :func:`trusted` are compared.
+
     Args:
         states: Measured and (latency-aligned) commanded angles.
         trajectory: The commanded trajectory; if given, the report also holds
             the RMS error without the latency alignment.
     """
     names = list(states.joint_names)
-    measured = np.asarray(states.measured).reshape(-1, len(names))
-    error = np.degrees(measured - np.asarray(states.commanded).reshape(-1, len(names)))
-    count = len(states.times)
+    keep = trusted(states.round_trips, len(states.times))
+    times = np.asarray(states.times, dtype=float)[keep]
+    measured = np.asarray(states.measured).reshape(-1, len(names))[keep]
+    commanded = np.asarray(states.commanded).reshape(-1, len(names))[keep]
+    error = np.degrees(measured - commanded)
+    count = len(times)
     unaligned: dict[str, float] = {}
     if trajectory is not None and count:
-        raw = np.degrees(measured - positions_at(trajectory, states.times))
+        raw = np.degrees(measured - positions_at(trajectory, times))
         unaligned = dict(zip(names, _rms(raw).tolist(), strict=True))
     rms = _rms(error) if count else np.zeros(len(names))
     worst = np.max(np.abs(error), axis=0) if count else np.zeros(len(names))
-    period = float(np.mean(np.diff(states.times))) if count > 1 else 0.0
+    period = float(np.mean(np.diff(times))) if count > 1 else 0.0
+    trips = (
+        np.asarray(states.round_trips, dtype=float)[keep] if states.round_trips else []
+    )
     return TrackingReport(
         joint_names=names,
         tracking_rms_deg=dict(zip(names, rms.tolist(), strict=True)),
@@ -83,8 +126,10 @@ def tracking_report(
         latency=states.latency,
         unaligned_rms_deg=unaligned,
         samples=count,
+        discarded=len(states.times) - count,
+        time_uncertainty=float(np.max(trips)) / 2 if len(trips) else 0.0,
         sample_period=period,
-        duration=float(states.times[-1]) if count else 0.0,
+        duration=float(states.times[-1]) if states.times else 0.0,
     )
 
 

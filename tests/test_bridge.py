@@ -152,8 +152,11 @@ def test_the_simulated_nao_tracks_within_one_degree_rms(
         "tracking max [deg]:",
         {k: round(v, 3) for k, v in report.tracking_max_deg.items()},
     )
+    print(f"compared {report.samples}, left out {report.discarded} slow readings")
     assert reply.approach_duration == 0.0 and reply.frames == 70
-    assert report.samples >= 100 and report.samples == len(reply.states.times)
+    assert report.samples + report.discarded == len(reply.states.times)
+    assert report.samples >= 50 and report.time_uncertainty <= 0.05
+    assert len(reply.states.round_trips) == len(reply.states.times)
     assert report.duration == pytest.approx(trajectory.duration, abs=0.1)
     for joint in trajectory.joint_names:
         assert report.tracking_rms_deg[joint] < 1.0

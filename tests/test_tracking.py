@@ -4,11 +4,19 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from pydantic import ValidationError
 
 from bridge.interpolation import positions_at
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.playback import Samples
-from bridge.tracking import MAX_LATENCY, best_latency, executed_states, tracking_report
+from bridge.tracking import (
+    MAX_LATENCY,
+    best_latency,
+    executed_states,
+    tracking_report,
+    trusted,
+)
+from shared.messages import ExecutedJointStates
 from shared.robot.postures import forward, rest
 
 
@@ -65,3 +73,66 @@ def test_the_search_stays_within_its_bound(trajectory) -> None:  # type: ignore[
     assert best_latency(trajectory, samples) <= MAX_LATENCY + 1e-12
     report = tracking_report(executed_states(trajectory, samples), trajectory)
     assert max(report.tracking_rms_deg.values()) > 1.0
+
+
+def _late_readings(trajectory, rng: np.random.Generator, slow: float):  # type: ignore[no-untyped-def]
+    """A reader asking every 10 ms (or as soon as the last answer came) a robot
+    15 ms late; a share ``slow`` of the answers take 60-200 ms to come back
+    although the robot read its angle at once (a busy reader), and each
+    sample is stamped in the middle of its round trip."""
+    times, seen, trips = [], [], []
+    sent = 0.0
+    while sent < 1.0:
+        fast = rng.uniform() >= slow
+        trip = rng.uniform(0.001, 0.004) if fast else rng.uniform(0.06, 0.2)
+        times.append(sent + trip / 2)
+        seen.append(sent - 0.015)
+        trips.append(trip)
+        sent = max(sent + 0.01, sent + trip)
+    positions = positions_at(trajectory, np.array(seen))
+    return Samples(np.array(times), positions, np.array(trips))
+
+
+def test_readings_with_a_long_round_trip_are_left_out(trajectory) -> None:  # type: ignore[no-untyped-def]
+    """Slow readings carry wrong times: compared, they would show errors of
+    degrees; left out, the report sees the perfect follower it is given and
+    counts them."""
+    rng = np.random.default_rng(7)
+    samples = _late_readings(trajectory, rng, slow=0.2)
+    late = samples.round_trips > 0.05
+    assert late.sum() >= 5
+    states = executed_states(trajectory, samples)
+    report = tracking_report(states, trajectory)
+    assert report.discarded == late.sum()
+    assert report.samples == len(samples.times) - late.sum()
+    assert report.time_uncertainty <= 0.002 + 1e-12
+    assert max(report.tracking_rms_deg.values()) < 0.1
+    assert report.latency == pytest.approx(0.015, abs=0.0025)
+    everything = tracking_report(states.model_copy(update={"round_trips": []}))
+    assert everything.discarded == 0
+    assert max(everything.tracking_rms_deg.values()) > 5 * max(
+        report.tracking_rms_deg.values()
+    )
+    assert states.round_trips == samples.round_trips.tolist()
+
+
+def test_when_most_readings_are_slow_the_faster_half_is_compared(trajectory) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(8)
+    samples = _late_readings(trajectory, rng, slow=0.8)
+    count = len(samples.times)
+    assert (samples.round_trips <= 0.02).sum() < count / 2
+    keep = trusted(samples.round_trips, count)
+    assert keep.sum() == (count + 1) // 2
+    assert np.max(samples.round_trips[keep]) <= np.min(samples.round_trips[~keep])
+    report = tracking_report(executed_states(trajectory, samples), trajectory)
+    assert report.samples == (count + 1) // 2
+    assert report.discarded == count - report.samples
+    assert report.time_uncertainty >= 0.03
+
+
+def test_round_trips_must_match_the_samples(trajectory) -> None:  # type: ignore[no-untyped-def]
+    states = executed_states(trajectory, _delayed(trajectory, 0.0))
+    with pytest.raises(ValidationError, match="round_trips has 3 values"):
+        ExecutedJointStates.model_validate(
+            states.model_dump() | {"round_trips": [0.01, 0.01, 0.01]}
+        )

@@ -61,9 +61,11 @@ def execution_lines(run: Execution) -> list[str]:
 def tracking_lines(run: Execution) -> list[str]:
     """The tracking error per joint [deg]."""
     report = run.reply.report
+    left_out = f" ({report.discarded} with slow readings left out)"
     lines = [
         f"tracking error, measured (getAngles) against commanded, {report.samples} "
-        f"samples, latency {report.latency * 1000:.0f} ms taken out:",
+        f"samples{left_out if report.discarded else ''}, latency "
+        f"{report.latency * 1000:.0f} ms taken out:",
         f"  {'joint':<16}{'RMS [deg]':>10}{'max [deg]':>11}",
     ]
     for joint in report.joint_names:

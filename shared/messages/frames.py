@@ -10,7 +10,7 @@ states and a tracking report.
 
 from __future__ import annotations
 
-from pydantic import Field, model_validator
+from pydantic import Field, NonNegativeFloat, model_validator
 
 from shared.messages.base import Message
 from shared.messages.joint_path import Row, Trajectory
@@ -109,6 +109,9 @@ class ExecutedJointStates(Message):
         latency: Delay between a command and the robot reporting it [s]: the
             shift that best aligns measured with commanded (see
             ``bridge.tracking``).
+        round_trips: Time from each reading's request to its answer [s],
+            shape (k,), or empty if the times are exact; a sample's time is
+            uncertain by half its round trip.
     """
 
     arm: Side
@@ -117,6 +120,7 @@ class ExecutedJointStates(Message):
     measured: list[Row]
     commanded: list[Row]
     latency: float = Field(default=0.0, ge=0.0)
+    round_trips: list[NonNegativeFloat] = Field(default_factory=list)
 
     @model_validator(mode="after")
     def _shapes(self) -> ExecutedJointStates:
@@ -124,6 +128,11 @@ class ExecutedJointStates(Message):
         _check_table("measured", self.measured, len(self.times), width)
         _check_table("commanded", self.commanded, len(self.times), width)
         _check_increasing(self.times, first_above=None)
+        if self.round_trips and len(self.round_trips) != len(self.times):
+            raise ValueError(
+                f"round_trips has {len(self.round_trips)} values for "
+                f"{len(self.times)} times"
+            )
         return self
 
 
@@ -139,7 +148,11 @@ class TrackingReport(Message):
             transport, the same for every joint.
         unaligned_rms_deg: The RMS error without taking the latency out [deg].
         samples: Number of measured samples compared.
-        sample_period: Mean time between samples [s].
+        discarded: Samples left out because their time was uncertain (their
+            reading's round trip was long, see ``bridge.tracking``).
+        time_uncertainty: Largest uncertainty of a compared sample's time [s]
+            (half its round trip).
+        sample_period: Mean time between compared samples [s].
         duration: Time of the last sample from the start [s].
     """
 
@@ -149,6 +162,8 @@ class TrackingReport(Message):
     latency: float = Field(default=0.0, ge=0.0)
     unaligned_rms_deg: dict[str, float] = Field(default_factory=dict)
     samples: int = Field(ge=0)
+    discarded: int = Field(default=0, ge=0)
+    time_uncertainty: float = Field(default=0.0, ge=0.0)
     sample_period: float = Field(ge=0.0)
     duration: float = Field(ge=0.0)
 
