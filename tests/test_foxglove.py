@@ -16,6 +16,7 @@ import pytest
 
 from services.ik.kernel.chain import chain_for
 from shared.messages import Decision, JointState, PointDecision, Trajectory
+from shared.primitives import BY_NAME
 from shared.recording.foxglove import (
     DECISION_TOPIC,
     EXECUTED_TF_TOPIC,
@@ -283,7 +284,7 @@ def test_a_decision_gives_a_plottable_sample_per_point() -> None:
     name = PRIMITIVE_NAMES[3]
     point = PointDecision(
         primitive=name,
-        matrix=((1, 0, 1), (1, 0, 0), (0, 0, 0)),
+        matrix=BY_NAME[name].matrix,
         g={name: 0.25, "W_R": 0.125},
     )
     decision = Decision(arm=Side.RIGHT, times=[0.0, 0.02], points=[point, point])

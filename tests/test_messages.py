@@ -121,3 +121,59 @@ def test_every_message_has_a_json_schema() -> None:
         assert schema["type"] == "object"
         assert set(schema["properties"]) == set(cls.model_fields)
         json.dumps(schema)
+
+
+@pytest.mark.parametrize(
+    ("change", "field", "problem"),
+    [
+        (
+            {"targets": [{"position": [True, -0.13, 0.05]}]},
+            r"targets\.0\.position\.0",
+            "valid number",
+        ),
+        ({"rate": False}, "rate", "valid number"),
+        ({"rate": "100"}, "rate", "valid number"),
+        ({"fastest": 1}, "fastest", "valid boolean"),
+        ({"fastest": "yes"}, "fastest", "valid boolean"),
+    ],
+)
+def test_json_is_read_strictly(
+    change: dict[str, object], field: str, problem: str
+) -> None:
+    """A boolean is not a number, nor a number or string a boolean, whether the
+    message comes as JSON text or as plain JSON data; integers are numbers."""
+    data = {"targets": [{"position": [0.12, -0.13, 0.05]}]} | change
+    for given in (json.dumps(data), json.dumps(data).encode(), data):
+        with pytest.raises(
+            InvalidInputError, match=f"{field}: Input should be a {problem}"
+        ):
+            parse(PlanRequest, given)
+    whole = parse(PlanRequest, '{"targets": [{"position": [0, -1, 0]}], "rate": 50}')
+    assert whole.targets[0].position == (0.0, -1.0, 0.0) and whole.rate == 50.0
+    assert whole.method.value == "mp" and whole.arm.value == "right"
+
+
+def _decision(**point: object) -> dict[str, object]:
+    good = {
+        "primitive": "S_R E_P W_P",
+        "matrix": [[0, 1, 1], [1, 0, 0], [0, 0, 0]],
+        "g": {"S_R E_P W_P": 0.4, "S_R E_PR W_P": 0.1},
+    }
+    return {"arm": "right", "times": [0.0], "points": [good | point]}
+
+
+@pytest.mark.parametrize(
+    ("point", "problem"),
+    [
+        ({"primitive": "S_X"}, "points: point 0: unknown movement primitive 'S_X'"),
+        ({"matrix": [[1, 1, 1], [0, 0, 0], [0, 0, 0]]}, "is not that of 'S_R E_P W_P'"),
+        ({"g": {"S_R E_P W_P": 0.4, "extra": 1.0}}, "g of unknown primitive 'extra'"),
+    ],
+)
+def test_a_decision_must_agree_with_the_primitives(
+    point: dict[str, object], problem: str
+) -> None:
+    """A decision names known primitives with their own matrices."""
+    assert parse(Decision, _decision()).primitives == ["S_R E_P W_P"]
+    with pytest.raises(InvalidInputError, match=problem):
+        parse(Decision, json.dumps(_decision(**point)))

@@ -41,6 +41,7 @@ from shared.messages import (
     TrackingReport,
     Trajectory,
 )
+from shared.primitives import BY_NAME
 from shared.recording import read_records
 from shared.recording.foxglove import (
     DECISION_TOPIC,
@@ -87,7 +88,7 @@ def session_messages() -> list[tuple[str, Message]]:
     traj = trajectory()
     point = PointDecision(
         primitive="S_R E_P W_P",
-        matrix=((1, 1, 1), (0, 0, 0), (0, 0, 0)),
+        matrix=BY_NAME["S_R E_P W_P"].matrix,
         g={"S_R E_P W_P": 0.5, "E_R W_P": 0.25},
     )
     states = [

@@ -68,6 +68,12 @@ def describe_validation_error(error: ValidationError) -> tuple[str, str]:
 def parse(cls: type[M], data: str | bytes | dict[str, Any] | M) -> M:
     """Validate ``data`` (JSON text or a dict) as a ``cls`` message.
 
+    JSON is validated strictly: a number must be a JSON number and a flag a
+    JSON boolean (``true`` is not 1.0, ``"0.1"`` is not 0.1); integers are
+    accepted where a number is expected. A dict of plain JSON data is held
+    to the same rules; a dict that holds messages or other objects (built in
+    code, not read) is validated as pydantic does by default.
+
     Raises:
         InvalidInputError: naming the first field that is wrong, if the data
             is not valid JSON or does not match the message.
@@ -76,15 +82,17 @@ def parse(cls: type[M], data: str | bytes | dict[str, Any] | M) -> M:
         return data
     try:
         if isinstance(data, (str, bytes, bytearray)):
-            try:
-                obj = json.loads(data)
-            except (ValueError, UnicodeDecodeError) as exc:
-                raise InvalidInputError(
-                    f"{cls.__name__}: not valid JSON ({exc})", field="message"
-                ) from None
-            return cls.model_validate(obj)
+            return cls.model_validate_json(data, strict=True)
+        text = _plain_json(data)
+        if text is not None:
+            return cls.model_validate_json(text, strict=True)
         return cls.model_validate(data)
     except ValidationError as exc:
+        first = exc.errors()[0]
+        if first["type"] == "json_invalid":
+            raise InvalidInputError(
+                f"{cls.__name__}: not valid JSON ({first['msg']})", field="message"
+            ) from None
         field, message = describe_validation_error(exc)
         raise InvalidInputError(
             f"invalid {cls.__name__}: {message}", field=field
@@ -93,3 +101,11 @@ def parse(cls: type[M], data: str | bytes | dict[str, Any] | M) -> M:
         raise InvalidInputError(
             f"invalid {cls.__name__}: nested too deeply", field="message"
         ) from None
+
+
+def _plain_json(data: object) -> str | None:
+    """``data`` as JSON text if it is plain JSON data, else None."""
+    try:
+        return json.dumps(data, allow_nan=True)
+    except (TypeError, ValueError):
+        return None
