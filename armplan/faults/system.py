@@ -15,7 +15,6 @@ import contextlib
 import json
 import signal
 from pathlib import Path
-from types import TracebackType
 
 from armplan.demo.stack import LOGS_DIR, RECORDING_FILE, DemoStack
 from armplan.launch import Launcher, free_endpoint
@@ -24,6 +23,7 @@ from armplan.launch.robot import RobotStack
 from services.recorder import RecorderProcess
 from shared.bus import Bus, BusConfig, load_config
 from shared.errors import InvalidInputError, RecordingError
+from shared.lifecycle import StartStop
 
 #: The namespace of the suite's keys (``faults/plan``).
 NAMESPACE = "faults"
@@ -59,7 +59,7 @@ def write_config(path: Path) -> BusConfig:
     return load_config(path)
 
 
-class FaultSystem:
+class FaultSystem(StartStop):
     """The whole system, started from a folder, with its processes by name.
 
     Attributes:
@@ -206,14 +206,3 @@ class FaultSystem:
         with contextlib.suppress(RecordingError):  # a recorder that had to be killed
             self._exits.close()
         self.stack.stop(settle=False)
-
-    def __enter__(self) -> FaultSystem:
-        return self.start()
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.stop()

@@ -18,13 +18,13 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Sequence
-from types import TracebackType
 from typing import IO
 
 from armplan.launch.catalog import ROUTER_MODULE, SERVICES, service_spec
 from armplan.launch.child import Child, stop_all
 from shared.bus import Bus, BusConfig
 from shared.errors import ServiceUnavailableError
+from shared.lifecycle import StartStop
 
 #: Longest wait for the router, then for all services to be alive [s].
 START_TIMEOUT = 60.0
@@ -34,7 +34,7 @@ GRACE = 5.0
 POLL = 0.1
 
 
-class Launcher:
+class Launcher(StartStop):
     """The router and a set of services as child processes.
 
     Attributes:
@@ -158,14 +158,3 @@ class Launcher:
         stop_all(list(self.services.values()), grace)
         if self.router is not None:
             stop_all([self.router], grace)
-
-    def __enter__(self) -> Launcher:
-        return self.start()
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.stop()

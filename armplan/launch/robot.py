@@ -23,7 +23,6 @@ import signal
 import threading
 import time
 from pathlib import Path
-from types import TracebackType
 from typing import IO, TYPE_CHECKING
 
 from armplan.launch.catalog import BRIDGE
@@ -34,6 +33,7 @@ from shared.errors import (
     RobotUnavailableError,
     ServiceUnavailableError,
 )
+from shared.lifecycle import StartStop
 
 if TYPE_CHECKING:
     from bridge.sim import SimProcess
@@ -48,7 +48,7 @@ POLL = 0.1
 SIM_LISTEN = "tcp://127.0.0.1:9559"
 
 
-class RobotStack:
+class RobotStack(StartStop):
     """The bridge, and the simulated NAO it drives (if asked for).
 
     Attributes:
@@ -201,14 +201,3 @@ class RobotStack:
             self.sim.stop(grace)
         if self.bridge is not None:
             stop_all([self.bridge], grace)
-
-    def __enter__(self) -> RobotStack:
-        return self.start()
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.stop()

@@ -28,7 +28,6 @@ from __future__ import annotations
 import logging
 import time
 from pathlib import Path
-from types import TracebackType
 
 import zenoh
 
@@ -37,6 +36,7 @@ from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
 from shared.bus import Bus
 from shared.bus.keys import alive_key
+from shared.lifecycle import StartStop
 
 NAME = "recorder"
 log = logging.getLogger("armplan.recorder")
@@ -50,7 +50,7 @@ def log_time_of(sample: zenoh.Sample, received: int) -> int:
     return int(stamp.get_time_as_ntp64().as_nanos())
 
 
-class Recorder:
+class Recorder(StartStop):
     """Records key expressions of one bus into MCAP files.
 
     Args:
@@ -127,14 +127,3 @@ class Recorder:
             ", ".join(map(str, paths)),
         )
         return paths
-
-    def __enter__(self) -> Recorder:
-        return self.start()
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.stop()

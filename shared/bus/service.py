@@ -15,7 +15,6 @@ import logging
 import queue
 import threading
 from collections.abc import Sequence
-from types import TracebackType
 from typing import Any
 
 import zenoh
@@ -25,6 +24,7 @@ from shared.bus.codec import answer, reply_error
 from shared.bus.keys import alive_key, check_name
 from shared.bus.route import Endpoint
 from shared.errors import ServiceBusyError
+from shared.lifecycle import StartStop
 
 log = logging.getLogger("armplan.bus")
 #: Longest wait for a worker to finish its request when stopping [s].
@@ -33,7 +33,7 @@ STOP_GRACE = 2.0
 _Job = tuple[Endpoint[Any, Any], str, zenoh.Query]
 
 
-class ServiceHost:
+class ServiceHost(StartStop):
     """One service on the bus: its endpoints, workers and liveliness token.
 
     Attributes:
@@ -123,14 +123,3 @@ class ServiceHost:
             worker.join(STOP_GRACE)
         self._workers.clear()
         log.info("service %s stopped", self.name)
-
-    def __enter__(self) -> ServiceHost:
-        return self.start()
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.stop()
