@@ -1,8 +1,10 @@
-"""Things that start and stop, and serve as context managers.
+"""Things that start and stop, or close, and serve as context managers.
 
 ``with Launcher(...) as launcher:`` starts on entry and stops on exit,
-whatever the exit: a subclass writes ``start`` (returning itself, ready)
-and ``stop`` (callable with no arguments), and inherits the ``with``.
+whatever the exit: a subclass of :class:`StartStop` writes ``start``
+(returning once ready) and ``stop`` (callable with no arguments), and
+inherits the ``with``. A subclass of :class:`Closes` is ready once built and
+writes ``close``.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ class StartStop:
     """Base of a process, stack or service that starts and stops."""
 
     def start(self) -> Any:
-        """Start; return ``self`` once ready."""
+        """Start; return once ready."""
         raise NotImplementedError
 
     def stop(self) -> Any:
@@ -33,3 +35,22 @@ class StartStop:
         trace: TracebackType | None,
     ) -> None:
         self.stop()
+
+
+class Closes:
+    """Base of a session, writer or pool that is ready once built and closes."""
+
+    def close(self) -> Any:
+        """Release everything held."""
+        raise NotImplementedError
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.close()

@@ -13,10 +13,10 @@ import itertools
 import time
 from collections.abc import Sequence
 from concurrent.futures import Future, ThreadPoolExecutor, wait
-from types import TracebackType
 
 from armplan.faults.outcome import SLACK, Call, Outcome, Result, send
 from shared.bus import Bus
+from shared.lifecycle import Closes
 
 #: Pause between checks while waiting for calls to finish [s].
 POLL = 0.02
@@ -27,7 +27,7 @@ def cycle(calls: Sequence[Call], count: int) -> list[Call]:
     return list(itertools.islice(itertools.cycle(calls), count))
 
 
-class Traffic:
+class Traffic(Closes):
     """Client threads sending calls and classifying how each ended.
 
     Attributes:
@@ -69,14 +69,3 @@ class Traffic:
     def close(self) -> None:
         """Stop the threads (calls already sent end by their own timeout)."""
         self._pool.shutdown(wait=False, cancel_futures=True)
-
-    def __enter__(self) -> Traffic:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.close()

@@ -17,13 +17,14 @@ import sys
 import threading
 from collections import deque
 from pathlib import Path
-from types import TracebackType
+
+from shared.lifecycle import StartStop
 
 #: The line the simulated NAO prints when it serves ALMotion.
 READY = "armplan-sim ready"
 
 
-class SimProcess:
+class SimProcess(StartStop):
     """A simulated NAO process.
 
     Use as a context manager, or call :meth:`start` and then :meth:`stop`
@@ -132,15 +133,3 @@ class SimProcess:
         if self._process.poll() is None:
             self._process.kill()
         return self._process.wait(timeout)
-
-    def __enter__(self) -> SimProcess:
-        self.start()
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.stop()

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable
-from types import TracebackType
 from typing import Any
 
 import zenoh
@@ -22,13 +21,14 @@ from shared.bus.keys import service_key
 from shared.bus.liveness import AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
+from shared.lifecycle import Closes
 from shared.messages import Message
 
 #: Pause between liveliness checks while waiting for services [s].
 WAIT_POLL = 0.05
 
 
-class Bus:
+class Bus(Closes):
     """An open client session with the project's settings.
 
     Attributes:
@@ -125,14 +125,3 @@ class Bus:
         """Close the session (after undeclaring what this bus declared)."""
         self._alive.close()
         self.session.close()  # type: ignore[no-untyped-call]
-
-    def __enter__(self) -> Bus:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.close()

@@ -15,10 +15,10 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from types import TracebackType
 from typing import Any
 
 from shared.errors import InvalidInputError
+from shared.lifecycle import Closes
 from shared.recording.writer import MessageWriter
 
 #: Default longest time between flushes of a live file [s].
@@ -65,7 +65,7 @@ def part_path(path: Path, number: int) -> Path:
     return path.with_name(f"{path.stem}-{number:04d}{path.suffix or '.mcap'}")
 
 
-class RotatingWriter:
+class RotatingWriter(Closes):
     """Live-layout MCAP files, numbered, each closed with its summary.
 
     Not thread-safe: one thread writes (the recorder's writer thread).
@@ -164,14 +164,3 @@ class RotatingWriter:
         if self._writer is not None:
             self._writer.close()
         self.closed = True
-
-    def __enter__(self) -> RotatingWriter:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.close()

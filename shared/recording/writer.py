@@ -18,18 +18,18 @@ from __future__ import annotations
 import json
 import time
 from pathlib import Path
-from types import TracebackType
 from typing import IO, Any
 
 from mcap.writer import CompressionType, Writer
 
 from shared.errors import RecordingError
+from shared.lifecycle import Closes
 from shared.messages.base import Message
 
 PROFILE = "armplan"
 
 
-class MessageWriter:
+class MessageWriter(Closes):
     """An MCAP writer for pydantic messages.
 
     Args:
@@ -160,14 +160,3 @@ class MessageWriter:
             self._writer.finish()  # type: ignore[no-untyped-call]
         finally:
             self._file.close()
-
-    def __enter__(self) -> MessageWriter:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()
