@@ -6,6 +6,7 @@ Importing ``bridge`` first loads libqi before pinocchio (see shared/libqi.py).
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 import threading
@@ -72,5 +73,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     return run(args.listen, args.log, args.period, args.stop_on_stdin_eof)
 
 
+def exit_now(code: int) -> None:
+    """End the process with ``code``, skipping the interpreter's teardown.
+
+    Everything is closed by then; libqi's threads can abort (SIGABRT) while
+    Python finalises, which turned a clean stop into exit code -6 (seen once
+    in CI).
+    """
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
+
+
 if __name__ == "__main__":
-    raise SystemExit(main())
+    exit_now(main())
