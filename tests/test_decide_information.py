@@ -97,7 +97,7 @@ def test_the_largest_g_wins_and_unknown_primitives_stay_out(
     for _ in range(50):
         values = tuple(float(rng.exponential(1.0 / v.rate)) for v in model.variables)
         choice = decider.decide(values, bool(rng.integers(2)), None)
-        assert choice.g[choice.index] == max(choice.g)
+        assert choice.g[choice.candidate] == max(choice.g)
         assert all(choice.g[i] == 0.0 for i in unknown)
-        assert CANDIDATES[choice.index] in model.primitives
+        assert CANDIDATES[choice.candidate] in model.primitives
         assert not any(math.isnan(v) for v in choice.g)

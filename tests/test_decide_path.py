@@ -123,7 +123,7 @@ def _settled(indices: list[int], left: float = 1.0) -> list[int]:
     for k, index in enumerate(indices):
         raw = Choice(index, index, (0.0,) * len(CANDIDATES))
         kept.append(settle(k, raw, kept[-1] if kept else None))
-    return [c.index for c in kept]
+    return [c.candidate for c in kept]
 
 
 def test_settling_ignores_flips_shorter_than_settle() -> None:

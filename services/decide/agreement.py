@@ -76,6 +76,6 @@ def decide_trial(decider: Decider, trial: Trial) -> list[int]:
     out, previous = [], None
     for row in values:
         choice = decider.decide(tuple(row), oriented, previous)
-        out.append(choice.index)
+        out.append(choice.candidate)
         previous = choice.state
     return out

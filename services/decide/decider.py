@@ -42,19 +42,19 @@ class Choice(NamedTuple):
     """The decision at one moment.
 
     Attributes:
-        index: The winner, index into ``CANDIDATES``.
+        candidate: The winner, index into ``CANDIDATES``.
         state: The winner, index into the model's primitives (the M node).
         g: g of every candidate, in ``CANDIDATES`` order [nat].
     """
 
-    index: int
+    candidate: int
     state: int
     g: tuple[float, ...]
 
     @property
     def name(self) -> str:
         """The winner's name, e.g. ``"S_R E_P W_P"``."""
-        return CANDIDATES[self.index]
+        return CANDIDATES[self.candidate]
 
 
 def _log(values: np.ndarray) -> list[Any]:

@@ -21,10 +21,11 @@ import numpy as np
 from services.decide.decider import CANDIDATES, Choice, Decider
 from services.decide.point import DecidingArm, decide_point
 from services.fit.model import MotionModel
+from services.ik.kernel.chain import ChainState
 from services.ik.track import TrackedPath, track_path
 from shared.messages import Decision, PointDecision, WristPath
 from shared.primitives import BY_NAME, Primitive
-from shared.robot.arm_model import ArmModel, Kinematics
+from shared.robot.arm_model import ArmModel
 from shared.robot.postures import rest
 
 #: Sample interval of a path given without times [s].
@@ -74,7 +75,7 @@ def decide_path(
     made: list[Choice] = []
     settle = Settling(times, positions)
 
-    def choose(k: int, kin: Kinematics) -> Primitive:
+    def choose(k: int, kin: ChainState) -> Primitive:
         previous = made[-1] if made else None
         raw = decide_point(decider, kin, target, size, wanted, previous)
         made.append(settle(k, raw, previous))
@@ -117,18 +118,18 @@ class Settling:
         self.began = float(times[0])
 
     def __call__(self, k: int, raw: Choice, previous: Choice | None) -> Choice:
-        if previous is None or raw.index == previous.index:
+        if previous is None or raw.candidate == previous.candidate:
             self.challenger = None
             return raw
-        if raw.index in self.done or self.left[min(k, len(self.left) - 1)] < TAIL:
+        if raw.candidate in self.done or self.left[min(k, len(self.left) - 1)] < TAIL:
             self.challenger = None
             return _keep(previous, raw)
-        if raw.index != self.challenger:
-            self.challenger, self.since = raw.index, self.times[k]
+        if raw.candidate != self.challenger:
+            self.challenger, self.since = raw.candidate, self.times[k]
         now = self.times[k] + _step(self.times, k)
         if now - self.since < SETTLE - 1e-9 or now - self.began < HOLD - 1e-9:
             return _keep(previous, raw)
-        self.done.add(previous.index)
+        self.done.add(previous.candidate)
         self.began = float(self.times[k])
         self.challenger = None
         return raw
@@ -136,7 +137,7 @@ class Settling:
 
 def _keep(previous: Choice, raw: Choice) -> Choice:
     """The primitive in use, with this point's g."""
-    return Choice(previous.index, previous.state, raw.g)
+    return Choice(previous.candidate, previous.state, raw.g)
 
 
 def _step(times: np.ndarray, k: int) -> float:

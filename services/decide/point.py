@@ -15,6 +15,7 @@ from typing import NamedTuple
 from services.decide.decider import Choice, Decider
 from services.fit.roll import roll_to_go_at
 from services.fit.variables import variables_at
+from services.ik.kernel.chain import ChainState
 from shared.robot.arm_model import ArmModel, Kinematics
 
 
@@ -39,7 +40,7 @@ class DecidingArm(NamedTuple):
 
 def decide_point(
     decider: Decider,
-    kin: Kinematics,
+    kin: Kinematics | ChainState,
     goal: tuple[float, float, float],
     size: DecidingArm,
     palm: Sequence[float] | None = None,
@@ -75,17 +76,16 @@ def decide_point(
     return decider.decide(values, palm is not None, state)
 
 
-def _points(kin: Kinematics) -> tuple[Sequence[float], ...]:
+def _points(kin: Kinematics | ChainState) -> tuple[Sequence[float], ...]:
     """Shoulder, elbow and wrist as floats; the tracker's state has them so."""
-    fast = getattr(kin, "p_wrist", None)
-    if fast is not None:
-        return kin.p_shoulder, kin.p_elbow, fast  # type: ignore[attr-defined]
+    if isinstance(kin, ChainState):
+        return kin.p_shoulder, kin.p_elbow, kin.p_wrist
     return kin.shoulder.tolist(), kin.elbow.tolist(), kin.wrist.tolist()
 
 
-def _palm_axis(kin: Kinematics) -> Sequence[float]:
+def _palm_axis(kin: Kinematics | ChainState) -> Sequence[float]:
     """The wrist frame's y axis (its rotation's second column) as floats."""
-    rows = getattr(kin, "rot", None)
-    if rows is not None:
+    if isinstance(kin, ChainState):
+        rows = kin.rot
         return (rows[0][1], rows[1][1], rows[2][1])
     return kin.wrist_rotation[:, 1].tolist()  # type: ignore[no-any-return]

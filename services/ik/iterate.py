@@ -94,7 +94,7 @@ def solve_gpm(
 
 
 def shoulder_arc(
-    shoulder: np.ndarray, start: np.ndarray, end: np.ndarray, n: int
+    shoulder: Sequence[float], start: Sequence[float], end: Sequence[float], n: int
 ) -> np.ndarray:
     """``n`` points from ``start`` (excluded) to ``end`` on an arc about the shoulder.
 
@@ -110,8 +110,8 @@ def shoulder_arc(
     Returns:
         Positions [m], shape (n, 3); the last one is ``end``.
     """
-    shoulder, start, end = (np.asarray(v, dtype=float) for v in (shoulder, start, end))
-    a, b = start - shoulder, end - shoulder
+    centre, first, last = (np.asarray(v, dtype=float) for v in (shoulder, start, end))
+    a, b = first - centre, last - centre
     ra, rb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
     ua, ub = a / ra, b / rb
     angle = math.acos(min(max(float(ua @ ub), -1.0), 1.0))
@@ -123,8 +123,8 @@ def shoulder_arc(
             angle
         )
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    points = shoulder + directions * (ra + s * (rb - ra))
-    points[-1] = end
+    points = centre + directions * (ra + s * (rb - ra))
+    points[-1] = last
     return points
 
 

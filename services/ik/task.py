@@ -5,12 +5,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import NamedTuple
 
+import numpy as np
+
 from services.ik.kernel.chain import ChainState
 from services.ik.kernel.small import Vec, cross, dot, norm, sub
 from shared.geometry.palm import roll_error
 
 
-def _vec(v: Sequence[float]) -> Vec:
+def _vec(v: Sequence[float] | np.ndarray) -> Vec:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
@@ -40,8 +42,8 @@ class WristTask(NamedTuple):
     @classmethod
     def make(
         cls,
-        position: Sequence[float],
-        palm: Sequence[float] | None,
+        position: Sequence[float] | np.ndarray,
+        palm: Sequence[float] | np.ndarray | None,
         sign: float,
         radial: bool = True,
     ) -> WristTask:
@@ -50,7 +52,7 @@ class WristTask(NamedTuple):
 
     def at(self, position: Sequence[float]) -> WristTask:
         """The same task with another wrist position."""
-        return self._replace(position=_vec(position))
+        return WristTask(_vec(position), self.palm, self.sign, self.radial)
 
     def residual(self, st: ChainState) -> tuple[list[float], list[tuple[float, ...]]]:
         """(error, Jacobian columns) of the task at ``st``.

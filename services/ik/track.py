@@ -84,7 +84,7 @@ ARRIVED = 1e-6
 #: Wrist error at the goal, after the full arm tried, beyond which the
 #: movement goes in joint space instead (a joint limit in the way) [m].
 MISSED = 1e-5
-ALL_JOINTS = (0, 1, 2, 3, 4)
+ALL_JOINTS: tuple[int, ...] = (0, 1, 2, 3, 4)
 
 
 class TrackedPath(NamedTuple):
@@ -161,7 +161,7 @@ def track_path(
     )
     begin = q = [float(v) for v in start]
     out_q: list[list[float]] = []
-    out_wrist: list[list[float]] = []
+    out_wrist: list[tuple[float, float, float]] = []
     labels: list[str] = []
     phases = _Phases(run)
     st = run.chain.state(q)

@@ -78,7 +78,7 @@ class ChainState:
     ) -> None:
         self.qf, self.origins, self.axes, self.rot = qf, origins, axes, rot
         self.jw, self.je, self.energy, self.grav = jw, je, energy, grav
-        self._cache: dict[str, Any] = {}
+        self._cache: dict[str, np.ndarray] = {}
 
     @property
     def p_shoulder(self) -> Vec:
@@ -95,22 +95,57 @@ class ChainState:
         """Wrist position [m]."""
         return self.origins[4]
 
-    def _array(self, name: str, make: Any) -> np.ndarray:
-        if name not in self._cache:
-            self._cache[name] = np.array(make())
-        return self._cache[name]  # type: ignore[no-any-return]
+    def _array(self, name: str, value: object) -> np.ndarray:
+        """``value`` as a numpy array, made once per name."""
+        made: np.ndarray | None = self._cache.get(name)
+        if made is None:
+            made = self._cache[name] = np.array(value)
+        return made
 
-    q = property(lambda self: self._array("q", lambda: self.qf))
-    shoulder = property(lambda self: self._array("shoulder", lambda: self.origins[0]))
-    elbow = property(lambda self: self._array("elbow", lambda: self.origins[2]))
-    wrist = property(lambda self: self._array("wrist", lambda: self.origins[4]))
-    wrist_rotation = property(lambda self: self._array("rot", lambda: self.rot))
-    wrist_jacobian = property(lambda self: self._array("jw", lambda: self.jw).T)
-    elbow_jacobian = property(lambda self: self._array("je", lambda: self.je).T)
-    wrist_angular_jacobian = property(
-        lambda self: self._array("ax", lambda: self.axes).T
-    )
-    gravity_gradient = property(lambda self: self._array("grav", lambda: self.grav))
+    @property
+    def q(self) -> np.ndarray:
+        """Joint angles [rad], shape (5,)."""
+        return self._array("q", self.qf)
+
+    @property
+    def shoulder(self) -> np.ndarray:
+        """Shoulder position [m], shape (3,)."""
+        return self._array("shoulder", self.origins[0])
+
+    @property
+    def elbow(self) -> np.ndarray:
+        """Elbow position [m], shape (3,)."""
+        return self._array("elbow", self.origins[2])
+
+    @property
+    def wrist(self) -> np.ndarray:
+        """Wrist position [m], shape (3,)."""
+        return self._array("wrist", self.origins[4])
+
+    @property
+    def wrist_rotation(self) -> np.ndarray:
+        """Orientation of the wrist frame, shape (3, 3)."""
+        return self._array("rot", self.rot)
+
+    @property
+    def wrist_jacobian(self) -> np.ndarray:
+        """d(wrist)/dq [m/rad], shape (3, 5)."""
+        return self._array("jw", self.jw).T
+
+    @property
+    def elbow_jacobian(self) -> np.ndarray:
+        """d(elbow)/dq [m/rad], shape (3, 5)."""
+        return self._array("je", self.je).T
+
+    @property
+    def wrist_angular_jacobian(self) -> np.ndarray:
+        """Joint axes in the torso frame, shape (3, 5)."""
+        return self._array("ax", self.axes).T
+
+    @property
+    def gravity_gradient(self) -> np.ndarray:
+        """d(energy)/dq [J/rad], shape (5,)."""
+        return self._array("grav", self.grav)
 
     @property
     def gravity_energy(self) -> float:
@@ -143,12 +178,12 @@ class Chain:
             shortname = model.joints[jid].shortname()
             if shortname not in _AXES or not np.allclose(placement.rotation, np.eye(3)):
                 raise ValueError(f"{model.names[jid]} is not a principal-axis joint")
-            self.offsets.append(tuple(float(v) for v in placement.translation))  # type: ignore[arg-type]
+            tx, ty, tz = (float(v) for v in placement.translation)
+            self.offsets.append((tx, ty, tz))
             self.axis_index.append(_AXES[shortname])
             inertia = model.inertias[jid]
-            self.links.append(
-                (float(inertia.mass), tuple(float(v) for v in inertia.lever))
-            )  # type: ignore[arg-type]
+            lx, ly, lz = (float(v) for v in inertia.lever)
+            self.links.append((float(inertia.mass), (lx, ly, lz)))
         self.gravity = -float(model.gravity.linear[2])
 
     def state(self, q: Any) -> ChainState:
