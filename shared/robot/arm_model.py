@@ -109,7 +109,7 @@ class ArmModel:
     def __init__(self, side: Side, model: pin.Model) -> None:
         self.side = side
         self.model = model
-        self.data = model.createData()
+        self._data: pin.Data | None = None
         names = side.joint_names
         self._frames = {
             "shoulder": model.getFrameId(names[0]),
@@ -128,6 +128,13 @@ class ArmModel:
         for array in self.limits[1:]:
             array.setflags(write=False)
         self.reach = _reach_of(side, self)
+
+    @property
+    def data(self) -> pin.Data:
+        """This instance's pinocchio data buffer, made on first use."""
+        if self._data is None:
+            self._data = self.model.createData()
+        return self._data
 
     def copy(self) -> ArmModel:
         """An independent instance (own data buffer) of the same arm."""
