@@ -8,18 +8,22 @@ sources and Python loads them instead. Without a compiler the install goes
 on and the same code runs as Python, slower (``armplan bench`` says which).
 
 An editable install keeps the compiled modules of the day it ran: edit one
-of these files and the extension would still run the old code. The guard
-compares times once, at the first import of ``shared``: if any source is
-newer than its extension, every module of the list is loaded from its
-source (mixing would let compiled callers reach old compiled callees) and a
-warning says to reinstall.
+of these files and the extension would still run the old code. So the build
+writes the SHA-256 of each compiled source to ``shared/compiled_sources.json``
+and the guard checks them once, at the first import of ``shared``: if any
+extension's source differs from what was compiled (or was not recorded),
+every module of the list is loaded from its source (mixing would let
+compiled callers reach old compiled callees) and a warning says to
+reinstall.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib.abc
 import importlib.machinery
 import importlib.util
+import json
 import sys
 import warnings
 from collections.abc import Sequence
@@ -48,6 +52,9 @@ MODULES: tuple[str, ...] = (
     "services.fit.variables",
 )
 
+#: The record of compiled sources, beside this file: module name -> SHA-256.
+STAMP = "compiled_sources.json"
+
 _ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -66,15 +73,21 @@ def extension(name: str, root: Path = _ROOT) -> Path | None:
     return None
 
 
+def digest(path: Path) -> str:
+    """SHA-256 of a file's bytes, hex."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
 def stale(modules: Sequence[str] = MODULES, root: Path = _ROOT) -> list[str]:
-    """Modules whose source changed after their extension was built."""
-    out = []
-    for name in modules:
-        built = extension(name, root)
-        code = source(name, root)
-        if built is not None and code.stat().st_mtime > built.stat().st_mtime:
-            out.append(name)
-    return out
+    """Modules with an extension whose source is not the one compiled."""
+    stamp = root / "shared" / STAMP
+    built: dict[str, str] = json.loads(stamp.read_text()) if stamp.exists() else {}
+    return [
+        name
+        for name in modules
+        if extension(name, root) is not None
+        and built.get(name) != digest(source(name, root))
+    ]
 
 
 def running_compiled() -> bool:

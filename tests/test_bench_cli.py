@@ -14,6 +14,7 @@ import pytest
 
 from armplan.cli.main import main
 from shared.bus.lifeline import PARENT_ENV
+from shared.compiled import running_compiled
 
 TINY = ["bench", "--targets", "1", "--repeats", "1", "--plans", "2"]
 CLIENTS = (1, 3)
@@ -99,6 +100,7 @@ def test_the_work_and_the_machine_are_recorded(figures: dict[str, float]) -> Non
     assert figures["cpus"] == os.cpu_count()
     for name in ("load_average_start", "load_average_end"):
         assert figures[name] >= 0.0
+    assert figures["compiled"] == float(running_compiled())
     assert not [k for k in figures if k.startswith("services_8")]  # only 1 and 3
 
 

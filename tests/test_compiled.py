@@ -1,7 +1,7 @@
 """The compiled IK modules: built by the install, and never stale."""
 
 import importlib.machinery
-import os
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -9,19 +9,17 @@ from pathlib import Path
 import pytest
 
 import shared.compiled as compiled
-from shared.compiled import MODULES, extension, source, stale
+from shared.compiled import MODULES, STAMP, digest, extension, source, stale
 
 SUFFIX = importlib.machinery.EXTENSION_SUFFIXES[0]
 
 
-def _tree(tmp_path: Path, name: str, source_time: float, built_time: float) -> None:
+def _tree(tmp_path: Path, name: str, text: str, built: bool = True) -> None:
     code = source(name, tmp_path)
     code.parent.mkdir(parents=True, exist_ok=True)
-    code.write_text("x = 1\n")
-    built = code.with_suffix(SUFFIX)
-    built.write_bytes(b"")
-    os.utime(code, (source_time, source_time))
-    os.utime(built, (built_time, built_time))
+    code.write_text(text)
+    if built:
+        code.with_suffix(SUFFIX).write_bytes(b"")
 
 
 def test_every_listed_module_has_its_source() -> None:
@@ -30,12 +28,19 @@ def test_every_listed_module_has_its_source() -> None:
         assert source(name).is_file(), name
 
 
-def test_a_source_newer_than_its_extension_is_stale(tmp_path: Path) -> None:
-    _tree(tmp_path, "pkg.fresh", source_time=1000.0, built_time=2000.0)
-    _tree(tmp_path, "pkg.edited", source_time=3000.0, built_time=2000.0)
-    (tmp_path / "pkg" / "plain.py").write_text("x = 1\n")
-    names = ["pkg.fresh", "pkg.edited", "pkg.plain"]
-    assert stale(names, tmp_path) == ["pkg.edited"]
+def test_an_extension_of_another_source_is_stale(tmp_path: Path) -> None:
+    """Stale: a source edited since, or one the build did not record."""
+    _tree(tmp_path, "pkg.fresh", "x = 1\n")
+    _tree(tmp_path, "pkg.edited", "x = 1\n")
+    _tree(tmp_path, "pkg.unrecorded", "x = 1\n")
+    _tree(tmp_path, "pkg.plain", "x = 1\n", built=False)
+    stamp = tmp_path / "shared" / STAMP
+    stamp.parent.mkdir()
+    recorded = {n: digest(source(n, tmp_path)) for n in ("pkg.fresh", "pkg.edited")}
+    stamp.write_text(json.dumps(recorded))
+    source("pkg.edited", tmp_path).write_text("x = 2\n")
+    names = ["pkg.fresh", "pkg.edited", "pkg.unrecorded", "pkg.plain"]
+    assert stale(names, tmp_path) == ["pkg.edited", "pkg.unrecorded"]
     assert extension("pkg.plain", tmp_path) is None
 
 

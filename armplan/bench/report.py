@@ -23,7 +23,9 @@ def print_machine(f: Figures) -> None:
     sys.stdout.write(
         f"machine: {f['cpus']:.0f} CPUs, 1-minute load average "
         f"{f['load_average_start']:.2f} -> {f['load_average_end']:.2f} "
-        "over the run\n\n"
+        "over the run; the IK's hot loop "
+        + ("compiled (mypyc)" if f.get("compiled") else "ran as Python (not compiled)")
+        + "\n\n"
     )
 
 

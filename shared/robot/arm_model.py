@@ -131,7 +131,7 @@ class ArmModel:
 
     @property
     def data(self) -> pin.Data:
-        """This instance's pinocchio data buffer, made on first use."""
+        """The pinocchio data buffer of this instance, made on first use."""
         if self._data is None:
             self._data = self.model.createData()
         return self._data

@@ -21,6 +21,7 @@ import os
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
+from shared.compiled import running_compiled
 from shared.errors import InvalidInputError
 
 ORDER = 90
@@ -132,4 +133,5 @@ def measure(args: argparse.Namespace) -> dict[str, float]:
         "cpus": float(os.cpu_count() or 0),
         "load_average_start": load_start,
         "load_average_end": os.getloadavg()[0],
+        "compiled": float(running_compiled()),
     }
