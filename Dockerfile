@@ -18,7 +18,7 @@ WORKDIR /opt/armplan
 # Dependencies first, pinned by constraints.txt, so that a change to the code
 # does not reinstall them: install the project's metadata with an empty
 # package tree, then the code itself without dependencies.
-COPY pyproject.toml constraints.txt README.md ./
+COPY pyproject.toml setup.py constraints.txt README.md ./
 COPY armplan/__init__.py armplan/__init__.py
 RUN pip install -c constraints.txt . && pip uninstall --yes armplan
 
@@ -27,7 +27,13 @@ COPY shared shared
 COPY services services
 COPY bridge bridge
 COPY config config
-RUN pip install --no-deps -c constraints.txt . \
+# The IK's hot loop is compiled with mypyc (setup.py, shared/compiled.py): a C
+# compiler is there for the build only and removed in the same layer.
+RUN apt-get update \
+    && apt-get install --yes --no-install-recommends gcc libc6-dev \
+    && pip install --no-deps -c constraints.txt . \
+    && apt-get purge --yes --auto-remove gcc libc6-dev \
+    && rm -rf /var/lib/apt/lists/* \
     && useradd --uid "${ARMPLAN_UID}" --create-home --shell /usr/sbin/nologin armplan \
     && mkdir /recordings \
     && chown armplan /recordings

@@ -164,6 +164,7 @@ def test_the_image_is_python_311_slim_and_not_root() -> None:
     text = (ROOT / "Dockerfile").read_text()
     assert re.search(r"^FROM python:3\.11-slim$", text, re.M)
     assert "pip install -c constraints.txt" in text
+    assert re.search(r"^COPY pyproject\.toml setup\.py ", text, re.M)  # the build
     assert re.search(r"^USER armplan$", text, re.M)
     assert image_config() == ROOT / "config" / "compose.json5"
 
