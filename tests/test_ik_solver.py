@@ -100,7 +100,7 @@ def test_gpm_solution_is_a_constrained_optimum_of_tpe(rng: np.random.Generator) 
         if near_limit.min() < 1e-3:
             continue  # optimum on a limit: checked by the GPM tests
         kin = chain_for(arm).state(sol.q)
-        solver = NormalSolver(kin.jw, list(free), 0.0, 1e-8)
+        solver = NormalSolver(kin.jw, [int(k) for k in free], 0.0, 1e-8)
         grad = tpe.gradient(kin)
         projected = np.array(grad[:4]) - solver.apply(solver.times(grad))
         assert np.abs(projected).max() < 1e-5

@@ -161,7 +161,15 @@ def _step(
         alpha, MAX_STEP, MAX_NULL_STEP,
     )  # fmt: skip
     new = [a + b for a, b in zip(q, step.dq, strict=True)]
-    return new, step.projected_gradient, step.null_joints, max(abs(e) for e in err)
+    return new, step.projected_gradient, step.null_joints, _largest(err)
+
+
+def _largest(values: Sequence[float]) -> float:
+    """Largest magnitude of ``values``, 0 if there are none."""
+    out = 0.0
+    for v in values:
+        out = max(out, abs(v))
+    return out
 
 
 def converge(
@@ -188,7 +196,7 @@ def converge(
             best, best_at = size, iteration
         elif size > TOLERANCE and iteration - best_at > STALL:
             return q, iteration
-        null_move = alpha * max((abs(p) for p in projected), default=0.0)
+        null_move = alpha * _largest(projected)
         if size < TASK_DONE and null_move < NULL_DONE:
             return q, iteration
         if previous is not None and used == joints:
@@ -201,8 +209,11 @@ def converge(
 
 def _barzilai_borwein(alpha: float, before: list[float], after: list[float]) -> float:
     """Next null-space gain from two successive projected gradients."""
-    pp = sum(b * b for b in before)
-    curvature = pp - sum(b * a for b, a in zip(before, after, strict=True))
+    pp = cross = 0.0
+    for k, b in enumerate(before):
+        pp += b * b
+        cross += b * after[k]
+    curvature = pp - cross
     if pp <= 0.0 or curvature <= 0.0:
         return min(alpha * 2.0, ALPHA_MAX)
     return min(max(alpha * pp / curvature, ALPHA_MIN), ALPHA_MAX)

@@ -245,7 +245,7 @@ class _Phases:
 def _gains(points: list[list[float]]) -> tuple[list[float], float]:
     """Gain factor per point (its hand step over the mean step), and the mean [m]."""
     steps = [0.0] + [math.dist(a, b) for a, b in pairwise(points)]
-    mean = sum(steps) / max(len(steps) - 1, 1)
+    mean = math.fsum(steps) / max(len(steps) - 1, 1)
     return [s / mean if mean > 0.0 else 0.0 for s in steps], mean
 
 

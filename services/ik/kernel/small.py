@@ -166,7 +166,13 @@ class NormalSolver:
             return [0.0] * len(self.free)
         y = _solve(self.low, v)
         cols = self.cols
-        return [sum(cols[k][i] * y[i] for i in range(self.m)) for k in self.free]
+        out = []
+        for k in self.free:
+            c, total = cols[k], 0.0
+            for i in range(self.m):
+                total += c[i] * y[i]
+            out.append(total)
+        return out
 
     def times(self, x: Sequence[float]) -> list[float]:
         """J x for x given over all joints (uses the free columns), m values."""
