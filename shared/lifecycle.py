@@ -13,30 +13,6 @@ from types import TracebackType
 from typing import Any, Self
 
 
-class StartStop:
-    """Base of a process, stack or service that starts and stops."""
-
-    def start(self) -> Any:
-        """Start; return once ready."""
-        raise NotImplementedError
-
-    def stop(self) -> Any:
-        """Stop and release everything ``start`` took."""
-        raise NotImplementedError
-
-    def __enter__(self) -> Self:
-        self.start()
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
-        self.stop()
-
-
 class Closes:
     """Base of a session, writer or pool that is ready once built and closes."""
 
@@ -54,3 +30,26 @@ class Closes:
         trace: TracebackType | None,
     ) -> None:
         self.close()
+
+
+class StartStop(Closes):
+    """Base of a process, stack or service that starts and stops.
+
+    Entering starts it; closing (as on leaving the ``with``) stops it.
+    """
+
+    def start(self) -> Any:
+        """Start; return once ready."""
+        raise NotImplementedError
+
+    def stop(self) -> Any:
+        """Stop and release everything ``start`` took."""
+        raise NotImplementedError
+
+    def close(self) -> None:
+        """Stop (what leaving the ``with`` does)."""
+        self.stop()
+
+    def __enter__(self) -> Self:
+        self.start()
+        return self

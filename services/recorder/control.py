@@ -30,7 +30,6 @@ import sys
 import threading
 from collections.abc import Sequence
 from pathlib import Path
-from types import TracebackType
 from typing import IO
 
 from services.recorder.main import READY_PREFIX
@@ -38,6 +37,7 @@ from services.recorder.options import RecorderOptions
 from shared.bus import BusConfig
 from shared.bus.lifeline import PARENT_ENV
 from shared.errors import RecordingError
+from shared.lifecycle import Closes
 from shared.recording.rotation import part_path
 
 #: Longest wait for the recorder to be ready, and to exit after SIGTERM [s].
@@ -63,7 +63,7 @@ def recorder_command(config: BusConfig, options: RecorderOptions) -> list[str]:
     return command
 
 
-class RecorderProcess:
+class RecorderProcess(Closes):
     """A recorder running as its own process.
 
     Attributes:
@@ -192,15 +192,8 @@ class RecorderProcess:
             with contextlib.suppress(ProcessLookupError):
                 os.killpg(self.process.pid, signum)
 
-    def __enter__(self) -> RecorderProcess:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
+    def close(self) -> None:
+        """Stop the recorder (what leaving the ``with`` does)."""
         self.stop()
 
 
