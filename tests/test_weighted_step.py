@@ -5,7 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from services.ik.weighted import DAMPING, FLOOR, LOCKED, limit_weight, weighted_step
+from services.ik.weighted import (
+    DAMPING,
+    FLOOR,
+    LOCKED,
+    _parts3,
+    _parts_general,
+    limit_weight,
+    weighted_step,
+)
 
 LOW, HIGH = [-3.0] * 5, [3.0] * 5  # far-away limits: the weights stay the base
 
@@ -111,3 +119,23 @@ def test_a_joint_near_its_limit_hands_its_share_over() -> None:
     assert abs(near[k]) < 0.5 * abs(dq[k])
     np.testing.assert_allclose(jac @ near, dx, atol=0.05 * np.linalg.norm(dx))
     assert np.all(q + near <= np.array(high)) and np.all(q + near >= np.array(low))
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.7])
+def test_the_unrolled_three_row_step_is_the_general_one_bit_for_bit(
+    alpha: float,
+) -> None:
+    """The wrist-position fast path (``_parts3``) and the general solver path
+    give identical floats, with locked, limit-weighted and zero columns."""
+    rng = np.random.default_rng(11)
+    for i in range(400):
+        cols = [tuple(float(v) for v in c) for c in rng.normal(0.0, 0.1, (5, 3))]
+        if i % 7 == 0:
+            cols[2] = (0.0, 0.0, 0.0)  # a joint that does not move the wrist
+        error = [float(v) for v in rng.normal(0.0, 0.01, 3)]
+        gradient = [float(v) for v in rng.normal(0.0, 1.0, 5)]
+        base = [1.0 if rng.random() < 0.6 else LOCKED for _ in range(5)]
+        base[int(rng.integers(5))] = 1.0  # a primitive moves at least one joint
+        weights = [b * float(rng.uniform(FLOOR, 1.0)) for b in base]
+        args = (error, cols, gradient, weights, base, alpha)
+        assert _parts3(*args) == _parts_general(*args)

@@ -32,7 +32,7 @@ import math
 from collections.abc import Sequence
 
 from services.ik.gpm import SINGULAR_DAMPING, Columns
-from services.ik.kernel.small import normal_solver
+from services.ik.kernel.small import Factor3, factor3, normal_solver
 
 #: Weight of a joint the primitive does not move.
 LOCKED = 0.1
@@ -140,6 +140,20 @@ def _parts(
     DAMPING / sigma^2 of the gradient into the task, which the next step
     removes anyway.
     """
+    if len(cols[0]) == 3:
+        return _parts3(error, cols, gradient, weights, base, alpha)
+    return _parts_general(error, cols, gradient, weights, base, alpha)
+
+
+def _parts_general(
+    error: Sequence[float],
+    cols: Columns,
+    gradient: Sequence[float],
+    weights: Sequence[float],
+    base: Sequence[float],
+    alpha: float,
+) -> tuple[list[float], list[float]]:
+    """:func:`_parts` for any number of task rows, through ``normal_solver``."""
     roots = [math.sqrt(w) for w in weights]
     scaled = [(c[0] * r, c[1] * r, c[2] * r) if len(c) == 3 else [v * r for v in c]
               for c, r in zip(cols, roots, strict=True)]  # fmt: skip
@@ -158,6 +172,64 @@ def _parts(
     for k, b in zip(active, back, strict=True):
         null[k] = -alpha * roots[k] * (g[k] - b)
     return task, null
+
+
+def _parts3(
+    error: Sequence[float],
+    cols: Columns,
+    gradient: Sequence[float],
+    weights: Sequence[float],
+    base: Sequence[float],
+    alpha: float,
+) -> tuple[list[float], list[float]]:
+    """:func:`_parts` for a three-row task (the wrist position), unrolled.
+
+    The same arithmetic in the same order as the general path through
+    ``normal_solver`` (so the same bits), without its intermediate objects:
+    this runs once or twice per path point.
+    """
+    roots = [math.sqrt(w) for w in weights]
+    sx, sy, sz = [0.0] * 5, [0.0] * 5, [0.0] * 5
+    for k in range(5):
+        c, r = cols[k], roots[k]
+        sx[k], sy[k], sz[k] = c[0] * r, c[1] * r, c[2] * r
+    low = factor3(sx, sy, sz, _ALL, DAMPING, SINGULAR_DAMPING)
+    x0, x1, x2 = _solve3(low, error[0], error[1], error[2])
+    task = [roots[k] * (sx[k] * x0 + sy[k] * x1 + sz[k] * x2) for k in range(5)]
+    null = [0.0] * 5
+    active = [k for k in _ALL if base[k] == 1.0]
+    if alpha == 0.0 or not active:
+        return task, null
+    if len(active) < 5:
+        low = factor3(sx, sy, sz, active, 0.0, SINGULAR_DAMPING)
+    g = [0.0] * 5
+    o0 = o1 = o2 = 0.0
+    for k in active:
+        gk = g[k] = roots[k] * gradient[k]
+        o0 += sx[k] * gk
+        o1 += sy[k] * gk
+        o2 += sz[k] * gk
+    x0, x1, x2 = _solve3(low, o0, o1, o2)
+    for k in active:
+        back = sx[k] * x0 + sy[k] * x1 + sz[k] * x2
+        null[k] = -alpha * roots[k] * (g[k] - back)
+    return task, null
+
+
+def _solve3(
+    low: Factor3 | None, v0: float, v1: float, v2: float
+) -> tuple[float, float, float]:
+    """x with L L^T x = v (zeros without a factor)."""
+    if low is None:
+        return 0.0, 0.0, 0.0
+    l00, l10, l11, l20, l21, l22 = low
+    y0 = v0 / l00
+    y1 = (v1 - l10 * y0) / l11
+    y2 = (v2 - l20 * y0 - l21 * y1) / l22
+    x2 = y2 / l22
+    x1 = (y1 - l21 * x2) / l11
+    x0 = (y0 - l10 * x1 - l20 * x2) / l00
+    return x0, x1, x2
 
 
 def _capped(step: list[float], largest: float) -> list[float]:

@@ -6,6 +6,8 @@ import math
 from collections.abc import Sequence
 
 Vec = tuple[float, float, float]
+#: Lower Cholesky factor of a symmetric 3x3: (l00, l10, l11, l20, l21, l22).
+Factor3 = tuple[float, float, float, float, float, float]
 
 
 def sub(a: Sequence[float], b: Sequence[float]) -> Vec:
@@ -99,9 +101,39 @@ class NormalSolver3:
         return [o0, o1, o2]
 
 
+def factor3(
+    xs: Sequence[float],
+    ys: Sequence[float],
+    zs: Sequence[float],
+    free: Sequence[int],
+    damping: float,
+    floor: float,
+) -> Factor3 | None:
+    """The factor :class:`NormalSolver3` makes, of columns given by coordinates.
+
+    Column k is (xs[k], ys[k], zs[k]); ``free``, ``damping`` and ``floor`` as
+    for :class:`NormalSolver`. ``None`` if even ``floor`` does not make the
+    normal matrix positive definite.
+    """
+    a00 = a10 = a11 = a20 = a21 = a22 = 0.0
+    for k in free:
+        x, y, z = xs[k], ys[k], zs[k]
+        a00 += x * x
+        a10 += y * x
+        a11 += y * y
+        a20 += z * x
+        a21 += z * y
+        a22 += z * z
+    gram = (a00, a10, a11, a20, a21, a22)
+    low = _cholesky3(gram, damping)
+    if low is None or min(low[0], low[2], low[5]) ** 2 < floor:
+        low = _cholesky3(gram, floor)
+    return low
+
+
 def _cholesky3(
     a: tuple[float, float, float, float, float, float], damping: float
-) -> tuple[float, float, float, float, float, float] | None:
+) -> Factor3 | None:
     """Lower factor of a symmetric 3x3 (a00, a10, a11, a20, a21, a22) + damping I."""
     d0 = a[0] + damping
     if d0 <= 0.0:
