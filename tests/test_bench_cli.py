@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from armplan.bench.report import print_bars
 from armplan.cli.main import main
 from shared.bus.lifeline import PARENT_ENV
 from shared.compiled import running_compiled
@@ -135,3 +136,21 @@ def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
     """--plans 0: exit 1, the option named."""
     assert main(["bench", "--plans", "0"]) == 1
     assert "--plans must be at least 1" in capsys.readouterr().err
+
+
+def test_the_bars_show_the_in_process_plan_both_ways(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """In rounds with the peers and back to back, each against the 10 ms bar;
+    without the services' run there is no back-to-back figure to show."""
+    figures = {"plan_mp_ms": 12.0, "in_process_p50_ms": 9.0, "services_1_p50_ms": 30.0}
+    print_bars(figures, [1])
+    rows = [r.split() for r in capsys.readouterr().out.splitlines()]
+    met = {" ".join(r[:-3]): r[-1] for r in rows if r and r[-1] in ("yes", "no")}
+    assert met == {
+        "one-second reach in-process, in rounds with peers, median": "no",
+        "one-second reach in-process, back to back, median": "yes",
+        "through the services, 1 client, p50": "no",
+    }
+    print_bars({"plan_mp_ms": 12.0}, [])
+    assert "back to back" not in capsys.readouterr().out

@@ -115,12 +115,21 @@ def _service_row(
 def print_bars(f: Figures, clients: list[int]) -> None:
     """Whether this run met the issues' bars (on this machine, at this load).
 
-    The services' bar is for one client at a time: with more, each plan also
-    waits for the others' (their p50 is shown above).
+    The in-process bar is shown as measured twice: in rounds with the peers
+    and the plan's parts (each plan runs after other code, with cold caches),
+    and back to back beside the services (one plan after another, as a
+    planning server runs them). The services' bar is for one client at a
+    time: with more, each plan also waits for the others' (their p50 is shown
+    above).
     """
     sys.stdout.write("\nbars:\n")
-    rows = [_bar("one-second reach in-process, median", f["plan_mp_ms"],
-                 IN_PROCESS_BAR_MS)]  # fmt: skip
+    rows = [_bar("one-second reach in-process, in rounds with peers, median",
+                 f["plan_mp_ms"], IN_PROCESS_BAR_MS)]  # fmt: skip
+    if "in_process_p50_ms" in f:
+        rows.append(
+            _bar("one-second reach in-process, back to back, median",
+                 f["in_process_p50_ms"], IN_PROCESS_BAR_MS)
+        )  # fmt: skip
     if 1 in clients:
         rows.append(
             _bar("through the services, 1 client, p50", f["services_1_p50_ms"],
