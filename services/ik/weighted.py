@@ -105,7 +105,8 @@ def weighted_step(
     Returns:
         dq, with q + dq within the limits.
     """
-    task, null = _parts(error, cols, gradient, base, base, alpha)
+    parts = _parts3 if len(cols[0]) == 3 else _parts_general
+    task, null = parts(error, cols, gradient, base, base, alpha)
     if any(
         q[k] - lower[k] < margin or upper[k] - q[k] < margin for k in range(5)
     ):  # a joint near a limit: the weights depend on where the step goes
@@ -116,7 +117,7 @@ def weighted_step(
             for k, b in enumerate(base)
         ]
         if weights != list(base):
-            task, null = _parts(error, cols, gradient, weights, base, alpha)
+            task, null = parts(error, cols, gradient, weights, base, alpha)
     task, null = _capped(task, max_step), _capped(null, max_null_step)
     return [
         min(max(q[k] + t + n, lower[k]), upper[k]) - q[k]
@@ -124,7 +125,7 @@ def weighted_step(
     ]
 
 
-def _parts(
+def _parts_general(
     error: Sequence[float],
     cols: Columns,
     gradient: Sequence[float],
@@ -138,22 +139,8 @@ def _parts(
     active joints (``base`` 1). When every joint is active it reuses the
     task's factorisation: its damping (``DAMPING``) leaks a negligible
     DAMPING / sigma^2 of the gradient into the task, which the next step
-    removes anyway.
+    removes anyway. Any number of task rows, through ``normal_solver``.
     """
-    if len(cols[0]) == 3:
-        return _parts3(error, cols, gradient, weights, base, alpha)
-    return _parts_general(error, cols, gradient, weights, base, alpha)
-
-
-def _parts_general(
-    error: Sequence[float],
-    cols: Columns,
-    gradient: Sequence[float],
-    weights: Sequence[float],
-    base: Sequence[float],
-    alpha: float,
-) -> tuple[list[float], list[float]]:
-    """:func:`_parts` for any number of task rows, through ``normal_solver``."""
     roots = [math.sqrt(w) for w in weights]
     scaled = [(c[0] * r, c[1] * r, c[2] * r) if len(c) == 3 else [v * r for v in c]
               for c, r in zip(cols, roots, strict=True)]  # fmt: skip
@@ -182,7 +169,7 @@ def _parts3(
     base: Sequence[float],
     alpha: float,
 ) -> tuple[list[float], list[float]]:
-    """:func:`_parts` for a three-row task (the wrist position), unrolled.
+    """:func:`_parts_general` for a three-row task (the wrist position), unrolled.
 
     The same arithmetic in the same order as the general path through
     ``normal_solver`` (so the same bits), without its intermediate objects:

@@ -60,20 +60,8 @@ class NormalSolver3:
         floor: float,
     ) -> None:
         self.cols, self.free = cols, free
-        a00 = a10 = a11 = a20 = a21 = a22 = 0.0
-        for k in free:
-            x, y, z = cols[k]
-            a00 += x * x
-            a10 += y * x
-            a11 += y * y
-            a20 += z * x
-            a21 += z * y
-            a22 += z * z
-        gram = (a00, a10, a11, a20, a21, a22)
-        low = _cholesky3(gram, damping)
-        if low is None or min(low[0], low[2], low[5]) ** 2 < floor:
-            low = _cholesky3(gram, floor)
-        self.low = low
+        xs, ys, zs = ([c[i] for c in cols] for i in range(3))
+        self.low = factor3(xs, ys, zs, free, damping, floor)
 
     def apply(self, v: Sequence[float]) -> list[float]:
         """J+ v, one value per free joint."""
