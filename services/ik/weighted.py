@@ -32,7 +32,7 @@ import math
 from collections.abc import Sequence
 
 from services.ik.gpm import SINGULAR_DAMPING, Columns
-from services.ik.kernel.small import Factor3, factor3, normal_solver
+from services.ik.kernel.small import factor3, normal_solver, solve3
 
 #: Weight of a joint the primitive does not move.
 LOCKED = 0.1
@@ -181,7 +181,7 @@ def _parts3(
         c, r = cols[k], roots[k]
         sx[k], sy[k], sz[k] = c[0] * r, c[1] * r, c[2] * r
     low = factor3(sx, sy, sz, _ALL, DAMPING, SINGULAR_DAMPING)
-    x0, x1, x2 = _solve3(low, error[0], error[1], error[2])
+    x0, x1, x2 = solve3(low, error[0], error[1], error[2])
     task = [roots[k] * (sx[k] * x0 + sy[k] * x1 + sz[k] * x2) for k in range(5)]
     null = [0.0] * 5
     active = [k for k in _ALL if base[k] == 1.0]
@@ -196,27 +196,11 @@ def _parts3(
         o0 += sx[k] * gk
         o1 += sy[k] * gk
         o2 += sz[k] * gk
-    x0, x1, x2 = _solve3(low, o0, o1, o2)
+    x0, x1, x2 = solve3(low, o0, o1, o2)
     for k in active:
         back = sx[k] * x0 + sy[k] * x1 + sz[k] * x2
         null[k] = -alpha * roots[k] * (g[k] - back)
     return task, null
-
-
-def _solve3(
-    low: Factor3 | None, v0: float, v1: float, v2: float
-) -> tuple[float, float, float]:
-    """x with L L^T x = v (zeros without a factor)."""
-    if low is None:
-        return 0.0, 0.0, 0.0
-    l00, l10, l11, l20, l21, l22 = low
-    y0 = v0 / l00
-    y1 = (v1 - l10 * y0) / l11
-    y2 = (v2 - l20 * y0 - l21 * y1) / l22
-    x2 = y2 / l22
-    x1 = (y1 - l21 * x2) / l11
-    x0 = (y0 - l10 * x1 - l20 * x2) / l00
-    return x0, x1, x2
 
 
 def _capped(step: list[float], largest: float) -> list[float]:

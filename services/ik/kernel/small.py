@@ -60,20 +60,16 @@ class NormalSolver3:
         floor: float,
     ) -> None:
         self.cols, self.free = cols, free
-        xs, ys, zs = ([c[i] for c in cols] for i in range(3))
+        xs = [c[0] for c in cols]
+        ys = [c[1] for c in cols]
+        zs = [c[2] for c in cols]
         self.low = factor3(xs, ys, zs, free, damping, floor)
 
     def apply(self, v: Sequence[float]) -> list[float]:
         """J+ v, one value per free joint."""
         if self.low is None:
             return [0.0] * len(self.free)
-        l00, l10, l11, l20, l21, l22 = self.low
-        y0 = v[0] / l00
-        y1 = (v[1] - l10 * y0) / l11
-        y2 = (v[2] - l20 * y0 - l21 * y1) / l22
-        x2 = y2 / l22
-        x1 = (y1 - l21 * x2) / l11
-        x0 = (y0 - l10 * x1 - l20 * x2) / l00
+        x0, x1, x2 = solve3(self.low, v[0], v[1], v[2])
         cols = self.cols
         return [cols[k][0] * x0 + cols[k][1] * x1 + cols[k][2] * x2 for k in self.free]
 
@@ -117,6 +113,22 @@ def factor3(
     if low is None or min(low[0], low[2], low[5]) ** 2 < floor:
         low = _cholesky3(gram, floor)
     return low
+
+
+def solve3(
+    low: Factor3 | None, v0: float, v1: float, v2: float
+) -> tuple[float, float, float]:
+    """x with L L^T x = v for the factor L of :func:`factor3` (zeros without one)."""
+    if low is None:
+        return 0.0, 0.0, 0.0
+    l00, l10, l11, l20, l21, l22 = low
+    y0 = v0 / l00
+    y1 = (v1 - l10 * y0) / l11
+    y2 = (v2 - l20 * y0 - l21 * y1) / l22
+    x2 = y2 / l22
+    x1 = (y1 - l21 * x2) / l11
+    x0 = (y0 - l10 * x1 - l20 * x2) / l00
+    return x0, x1, x2
 
 
 def _cholesky3(
