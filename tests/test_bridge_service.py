@@ -198,7 +198,10 @@ def test_a_trajectory_is_played_reported_and_published(
     )
     assert set(report.tracking_rms_deg) == set(trajectory.joint_names)
     assert max(report.tracking_rms_deg.values()) < 1.0
-    assert report.duration == pytest.approx(trajectory.duration, abs=0.1)
+    # The whole trajectory was sampled; how long after its end the last
+    # reading came depends on the host's load (CI compiles beside it).
+    assert report.duration >= trajectory.duration - 2.0 * report.sample_period
+    assert report.duration <= trajectory.duration + 0.5
     time.sleep(0.3)  # let the last publications arrive
     frames = published.on(stack.bus.key("bridge/frames"))
     states = published.on(stack.bus.key("bridge/state"))
