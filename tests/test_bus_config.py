@@ -44,7 +44,7 @@ def test_settings_come_from_metadata_armplan(tmp_path: pathlib.Path) -> None:
     """namespace, limits and client settings are read from metadata.armplan."""
     settings = (
         '{namespace: "robots/nao1", max_payload: 1024, timeout: 2, workers: 2, '
-        'queue_limit: 3, client: {"transport/link/tx/lease": 5000}}'
+        'queue_limit: 3, resend_after: 0.25, client: {"transport/link/tx/lease": 5000}}'
     )
     config = load_config(write(tmp_path, settings))
     assert (config.namespace, config.max_payload, config.timeout) == (
@@ -52,7 +52,7 @@ def test_settings_come_from_metadata_armplan(tmp_path: pathlib.Path) -> None:
         1024,
         2,
     )
-    assert (config.workers, config.queue_limit) == (2, 3)
+    assert (config.workers, config.queue_limit, config.resend_after) == (2, 3, 0.25)
     assert config.client_settings == (("transport/link/tx/lease", "5000"),)
     assert json.loads(client_config(config).get_json("transport/link/tx/lease")) == 5000
 
@@ -104,6 +104,7 @@ def test_client_settings_cannot_turn_multicast_on(tmp_path: pathlib.Path) -> Non
         ('{colour: "red"}', "metadata/armplan/colour"),
         ('{max_payload: "big"}', "metadata/armplan/max_payload"),
         ("{workers: 0}", "metadata/armplan/workers"),
+        ("{resend_after: -1}", "metadata/armplan/resend_after"),
         ('{namespace: "armplan/*"}', "namespace"),
     ],
 )

@@ -13,6 +13,7 @@ from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
 import pytest
+import zenoh
 
 from armplan.launch import free_endpoint
 from shared.bus import Bus, BusConfig, Endpoint, Route, ServiceHost, open_router
@@ -177,3 +178,88 @@ def test_a_router_restart_heals_without_restarting_the_others() -> None:
         with open_router(config):
             assert client.wait_alive(["echo"], 30.0) == []
             assert client.call(ECHO, Text(text="back")).text == "BACK"
+
+
+class Swallower:
+    """A raw queryable that never answers its first ``lose`` queries (held open).
+
+    That is what a query lost on its way looks like to the caller: no reply
+    and no end until the timeout. The queries after those are answered.
+    """
+
+    def __init__(self, bus: Bus, route: Route[Text, Text], lose: int) -> None:
+        self.lose, self.count = lose, 0
+        self.held: list[zenoh.Query] = []
+        self._bus, self._route = bus, route
+
+    def __enter__(self) -> Swallower:
+        key = self._route.key(self._bus.config.namespace)
+        self._queryable = self._bus.session.declare_queryable(key, self._on_query)
+        self._token = self._bus.session.liveliness().declare_token(
+            f"{self._bus.config.namespace}/alive/{self._route.service}"
+        )
+        return self
+
+    def _on_query(self, query: zenoh.Query) -> None:
+        self.count += 1
+        if self.count <= self.lose:
+            self.held.append(query)
+            return
+        with query:
+            query.reply(query.key_expr, Text(text="answered").to_json())
+
+    def __exit__(self, *exc: object) -> None:
+        self._token.undeclare()  # type: ignore[no-untyped-call]
+        self._queryable.undeclare()  # type: ignore[no-untyped-call]
+        self.held.clear()
+
+
+LOSSY = Route("lossy", "test/lossy", Text, Text, repeatable=True)
+LOSSY_ONCE_ONLY = Route("lossy", "test/lossy", Text, Text)
+
+
+@pytest.fixture()
+def quick_resend(config: BusConfig) -> Iterator[tuple[Bus, Bus]]:
+    """A service-side bus and a client that asks again after 0.2 s."""
+    resending = dataclasses.replace(config, resend_after=0.2)
+    with Bus.connect(config) as service_bus, Bus.connect(resending) as client:
+        yield service_bus, client
+
+
+def test_a_lost_query_of_a_repeatable_route_is_asked_again(
+    quick_resend: tuple[Bus, Bus],
+) -> None:
+    """First query swallowed: the second one's answer comes, long before the timeout."""
+    service_bus, client = quick_resend
+    with Swallower(service_bus, LOSSY, lose=1) as lossy:
+        assert client.wait_alive(["lossy"], 5.0) == []
+        start = time.monotonic()
+        assert client.call(LOSSY, Text(text="x"), timeout=4.0).text == "answered"
+        assert time.monotonic() - start < 2.0
+        assert lossy.count == 2
+
+
+def test_a_prompt_answer_is_asked_for_once(quick_resend: tuple[Bus, Bus]) -> None:
+    """Nothing lost: one query per call, never a duplicate computation."""
+    service_bus, client = quick_resend
+    with Swallower(service_bus, LOSSY, lose=0) as lossy:
+        assert client.wait_alive(["lossy"], 5.0) == []
+        for _ in range(3):
+            assert client.call(LOSSY, Text(text="x")).text == "answered"
+        time.sleep(0.4)  # past resend_after: no late second query either
+        assert lossy.count == 3
+
+
+def test_other_routes_and_twice_lost_queries_time_out(
+    quick_resend: tuple[Bus, Bus],
+) -> None:
+    """A route that is not repeatable is asked once; a repeatable one at most twice."""
+    service_bus, client = quick_resend
+    with Swallower(service_bus, LOSSY_ONCE_ONLY, lose=5) as lossy:
+        assert client.wait_alive(["lossy"], 5.0) == []
+        with pytest.raises(RequestTimeoutError, match="'lossy'"):
+            client.call(LOSSY_ONCE_ONLY, Text(text="x"), timeout=1.0)
+        assert lossy.count == 1
+        with pytest.raises(RequestTimeoutError, match="'lossy'"):
+            client.call(LOSSY, Text(text="x"), timeout=1.0)
+        assert lossy.count == 3

@@ -79,7 +79,13 @@ class Bus(Closes):
         """
         wait = self.config.timeout if timeout is None else timeout
         return call(
-            self.session, self._alive, self.config.namespace, route, request, wait
+            self.session,
+            self._alive,
+            self.config.namespace,
+            route,
+            request,
+            wait,
+            self.config.resend_after,
         )
 
     def remote(self, route: Route[Req, Rep]) -> Callable[[Req], Rep]:

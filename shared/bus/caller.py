@@ -2,10 +2,20 @@
 
 The caller never hangs: it checks the service's liveliness token first (so a
 stopped service is reported at once), and every ``get`` carries a timeout.
+
+A repeatable route (``Route.repeatable``: the answer depends on the request
+alone) is asked once more if no answer has come after ``resend_after``
+seconds, and the first answer to either query wins. On loopback with
+eclipse-zenoh 1.10.2 a query now and then never reaches its queryable (the
+service logs no such request, and the caller would wait its whole timeout);
+we saw it between once in a few hundred and once in twenty thousand
+queries. The second query covers that, and costs a duplicate computation
+only where a service really is that slow.
 """
 
 from __future__ import annotations
 
+import queue
 import time
 from typing import Any
 
@@ -33,6 +43,7 @@ def call(
     route: Route[Any, Rep],
     request: Message | str | bytes,
     timeout: float,
+    resend_after: float | None = None,
 ) -> Rep:
     """Send ``request`` to ``route`` and return its reply.
 
@@ -43,6 +54,8 @@ def call(
         route: The route asked.
         request: The request message, or raw JSON (sent as is).
         timeout: Longest wait for the reply [s].
+        resend_after: For a repeatable route, ask again once if no answer
+            has come after this long [s]; ``None``: ask once.
 
     Raises:
         ServiceUnavailableError: if the route's service is not running.
@@ -55,14 +68,9 @@ def call(
         raise ServiceUnavailableError(
             route.service, key=key, reason=_why_absent(session, namespace, route)
         )
-    left = max(timeout - (time.monotonic() - start), 1e-3)
-    replies = session.get(
-        key,
-        payload=encode(request),
-        encoding=zenoh.Encoding.APPLICATION_JSON,
-        timeout=left,
-    )
-    for reply in replies:
+    resend = resend_after if route.repeatable else None
+    reply = _ask(session, key, encode(request), start + timeout, resend)
+    if reply is not None:
         return read_reply(route, reply, key, timeout)
     if time.monotonic() - start >= 0.9 * timeout:
         raise RequestTimeoutError(route.service, key=key, timeout=timeout)
@@ -74,6 +82,59 @@ def call(
     raise ServiceUnavailableError(
         route.service, key=key, reason=_router_lost(session) or reason
     )
+
+
+def _ask(
+    session: zenoh.Session,
+    key: str,
+    body: bytes,
+    deadline: float,
+    resend_after: float | None,
+) -> zenoh.Reply | None:
+    """The first answer to ``body`` at ``key`` before ``deadline`` (monotonic [s]).
+
+    Asks again once after ``resend_after`` [s] without an answer (``None``:
+    never). Returns ``None`` if every query ended without a reply; Zenoh's
+    own timeout reply is returned only if no query got anything else.
+    """
+    inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
+
+    def send() -> None:
+        session.get(
+            key,
+            zenoh.handlers.Callback(inbox.put, lambda: inbox.put(None)),
+            payload=body,
+            encoding=zenoh.Encoding.APPLICATION_JSON,
+            timeout=max(deadline - time.monotonic(), 1e-3),
+        )
+
+    send()
+    open_queries, timed_out = 1, None
+    resend_at = None if resend_after is None else time.monotonic() + resend_after
+    while open_queries:
+        wait_until = deadline + 1.0 if resend_at is None else resend_at
+        try:
+            item = inbox.get(timeout=max(wait_until - time.monotonic(), 0.0))
+        except queue.Empty:
+            if resend_at is None:  # Zenoh never closed its query: give up
+                break
+            resend_at = None
+            if time.monotonic() < deadline:
+                send()
+                open_queries += 1
+            continue
+        if item is None:
+            open_queries -= 1
+        elif _is_timeout(item):
+            timed_out = item
+        else:
+            return item
+    return timed_out
+
+
+def _is_timeout(reply: zenoh.Reply) -> bool:
+    """Whether ``reply`` is Zenoh's own error reply for a query that timed out."""
+    return reply.err is not None and reply.err.payload.to_bytes() == ZENOH_TIMEOUT
 
 
 def _why_absent(session: zenoh.Session, namespace: str, route: Route[Any, Any]) -> str:

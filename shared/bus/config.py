@@ -24,6 +24,8 @@ DEFAULT_NAMESPACE = "armplan"
 DEFAULT_MAX_PAYLOAD = 16 * 1024 * 1024
 #: How long a client waits for a reply [s].
 DEFAULT_TIMEOUT = 5.0
+#: How long a caller waits for a repeatable route's answer before asking again [s].
+DEFAULT_RESEND_AFTER = 1.0
 #: Threads per service answering queries.
 DEFAULT_WORKERS = 4
 #: Requests a service lets wait before it answers ``service_busy``.
@@ -60,6 +62,8 @@ class BusConfig:
         namespace: Prefix of every key, e.g. ``"armplan"`` (``armplan/plan``).
         max_payload: Largest request payload a service accepts [bytes].
         timeout: How long a client waits for a reply by default [s].
+        resend_after: How long a caller waits for the answer of a repeatable
+            route before it asks once more [s] (``Route.repeatable``).
         workers: Threads per service answering queries.
         queue_limit: Requests waiting per service before ``service_busy``.
         client_settings: Zenoh settings for client sessions as (path, JSON
@@ -73,6 +77,7 @@ class BusConfig:
     namespace: str = DEFAULT_NAMESPACE
     max_payload: int = DEFAULT_MAX_PAYLOAD
     timeout: float = DEFAULT_TIMEOUT
+    resend_after: float = DEFAULT_RESEND_AFTER
     workers: int = DEFAULT_WORKERS
     queue_limit: int = DEFAULT_QUEUE_LIMIT
     client_settings: tuple[tuple[str, str], ...] = ()
@@ -94,6 +99,7 @@ class BusConfig:
             ) from None
         self._check_positive("max_payload", self.max_payload)
         self._check_positive("timeout", self.timeout)
+        self._check_positive("resend_after", self.resend_after)
         self._check_positive("workers", self.workers)
         self._check_positive("queue_limit", self.queue_limit)
 

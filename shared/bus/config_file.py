@@ -26,6 +26,7 @@ _SETTINGS: dict[str, type | tuple[type, ...]] = {
     "namespace": str,
     "max_payload": int,
     "timeout": (int, float),
+    "resend_after": (int, float),
     "workers": int,
     "queue_limit": int,
     "client": dict,

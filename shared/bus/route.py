@@ -39,12 +39,16 @@ class Route(Generic[Req, Rep]):
         path: The key under the namespace, e.g. ``"ik/solve"``.
         request: The request message type.
         reply: The reply message type.
+        repeatable: The answer depends on the request alone and answering
+            changes nothing (no publication, no new state): a caller may ask
+            twice and take the first answer (see ``caller.call``).
     """
 
     service: str
     path: str
     request: type[Req]
     reply: type[Rep]
+    repeatable: bool = False
 
     def __post_init__(self) -> None:
         check_name(self.service)
