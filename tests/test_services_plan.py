@@ -17,7 +17,7 @@ from armplan.launch import Launcher, free_endpoint
 from services.planner.pipeline import plan
 from services.planner.wrist_path import reach_path
 from shared.bus import Bus, Route, load_config
-from shared.bus.routes import DECIDE, IK_PATH, PLAN, TIMING
+from shared.bus.routes import DECIDE, IK_PATH, PLAN, TIMING, TRAJECTORY_TOPIC
 from shared.bus.topics import find_topic
 from shared.demos.nao_grid import nao_grid
 from shared.errors import (
@@ -27,6 +27,7 @@ from shared.errors import (
     UnreachableTargetError,
 )
 from shared.messages import Method, PlanRequest, WristPath, parse
+from shared.messages.request_id import with_request_id
 from shared.robot import load_arm
 from shared.robot.postures import rest
 
@@ -149,6 +150,31 @@ def test_a_plan_publishes_request_decision_joint_path_and_trajectory(
         parse(topic.message, payload)
     assert got[0][1] == REACH.to_json().encode()
     assert got[-1][1] == reply.to_json().encode()
+
+
+def test_a_repeated_request_id_is_planned_and_published_once(bus: Bus) -> None:
+    """Asked twice with one id: one trajectory published, the same answer twice;
+    the id reused for another task is refused, naming the field."""
+    trajectories: list[bytes] = []
+
+    def keep(sample: zenoh.Sample) -> None:
+        trajectories.append(sample.payload.to_bytes())
+
+    request = with_request_id(REACH)
+    assert request.request_id and with_request_id(request) is request
+    subscriber = bus.session.declare_subscriber(f"{NAMESPACE}/{TRAJECTORY_TOPIC}", keep)
+    try:
+        time.sleep(0.5)  # let the router learn of the subscriber
+        first = bus.call(PLAN, request, repeat=True)
+        again = bus.call(PLAN, request, repeat=True)
+        time.sleep(0.5)  # a second publication would have come by now
+    finally:
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    assert again == first
+    assert trajectories == [first.to_json().encode()]
+    other = CASES["fastest"].model_copy(update={"request_id": request.request_id})
+    with pytest.raises(InvalidInputError, match="request_id"):
+        bus.call(PLAN, other)
 
 
 def test_an_unreachable_target_comes_back_typed(bus: Bus) -> None:

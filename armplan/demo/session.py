@@ -35,6 +35,7 @@ from shared.bus import Bus, BusConfig
 from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import PLAN
 from shared.messages import ExecuteReply, ExecuteRequest, Trajectory
+from shared.messages.request_id import with_request_id
 
 #: Longest wait for the planner's answer [s].
 PLAN_TIMEOUT = 60.0
@@ -94,7 +95,8 @@ class DemoResult:
 
 def plan_task(bus: Bus, task: Task) -> Trajectory:
     """The task's trajectory from the planner service (``<ns>/plan``)."""
-    return bus.call(PLAN, task.plan_request(), timeout=PLAN_TIMEOUT)
+    request = with_request_id(task.plan_request())
+    return bus.call(PLAN, request, timeout=PLAN_TIMEOUT, repeat=True)
 
 
 def execute(bus: Bus, trajectory: Trajectory, rate: float) -> ExecuteReply:

@@ -9,7 +9,9 @@ Keys (namespace ``armplan`` by default):
 
 It runs the in-process planner (``services.planner.pipeline.plan``) with
 its stages as the decide, ik and timing services (``remote.RemoteStages``),
-so a plan made here equals one made in-process. A service it needs that is
+so a plan made here equals one made in-process. A request repeating a
+recent ``request_id`` gets the first one's answer, planned and published
+once (``answer_once.AnswerOnce``). A service it needs that is
 not running gives a ``service_unavailable`` error naming it at once (its
 liveliness token is checked before any work); once it is back, the next
 plan works. The parts are published so that a recorder subscribed to the
@@ -22,6 +24,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from services.planner.answer_once import AnswerOnce
 from services.planner.pipeline import PlanResult, plan
 from services.planner.remote import RemoteStages
 from shared.bus import Bus, Endpoint
@@ -36,13 +39,19 @@ Planner = Callable[[PlanRequest], Trajectory]
 def remote_planner(bus: Bus) -> Planner:
     """Plan through the stage services, publishing the request and every part."""
     stages = RemoteStages(bus)
+    once: AnswerOnce[PlanRequest, Trajectory] = AnswerOnce()
 
-    def plan_remotely(request: PlanRequest) -> Trajectory:
+    def plan_and_publish(request: PlanRequest) -> Trajectory:
         bus.publish(PLAN_REQUEST_TOPIC, request)
         stages.require(request)
         result = plan(request, stages)
         publish_parts(bus, result)
         return result.trajectory
+
+    def plan_remotely(request: PlanRequest) -> Trajectory:
+        return once.answer(
+            request.request_id, request, lambda: plan_and_publish(request)
+        )
 
     return plan_remotely
 

@@ -64,6 +64,7 @@ class Bus(Closes):
         request: Message | str | bytes,
         *,
         timeout: float | None = None,
+        repeat: bool | None = None,
     ) -> Rep:
         """Ask ``route``'s service; its typed reply, or its typed error raised.
 
@@ -71,6 +72,9 @@ class Bus(Closes):
             route: The route, e.g. ``IK_SOLVE``.
             request: The request message (or raw JSON, sent as is).
             timeout: Longest wait [s]; default ``config.timeout``.
+            repeat: Ask once more after ``config.resend_after`` without an
+                answer; default ``route.repeatable``. Pass ``True`` only if
+                asking twice is harmless (e.g. a plan with a ``request_id``).
 
         Raises:
             ServiceUnavailableError: if the service is not running.
@@ -86,6 +90,7 @@ class Bus(Closes):
             request,
             wait,
             self.config.resend_after,
+            route.repeatable if repeat is None else repeat,
         )
 
     def remote(self, route: Route[Req, Rep]) -> Callable[[Req], Rep]:

@@ -44,6 +44,7 @@ def call(
     request: Message | str | bytes,
     timeout: float,
     resend_after: float | None = None,
+    repeat: bool | None = None,
 ) -> Rep:
     """Send ``request`` to ``route`` and return its reply.
 
@@ -54,8 +55,9 @@ def call(
         route: The route asked.
         request: The request message, or raw JSON (sent as is).
         timeout: Longest wait for the reply [s].
-        resend_after: For a repeatable route, ask again once if no answer
-            has come after this long [s]; ``None``: ask once.
+        resend_after: Ask again once if no answer has come after this long
+            [s] (if ``repeat``); ``None``: ask once.
+        repeat: Whether asking twice is harmless; default ``route.repeatable``.
 
     Raises:
         ServiceUnavailableError: if the route's service is not running.
@@ -68,7 +70,8 @@ def call(
         raise ServiceUnavailableError(
             route.service, key=key, reason=_why_absent(session, namespace, route)
         )
-    resend = resend_after if route.repeatable else None
+    repeatable = route.repeatable if repeat is None else repeat
+    resend = resend_after if repeatable else None
     reply = _ask(session, key, encode(request), start + timeout, resend)
     if reply is not None:
         return read_reply(route, reply, key, timeout)

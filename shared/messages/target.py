@@ -40,6 +40,11 @@ class PlanRequest(Message):
         method: Planning method.
         fastest: Go as fast as the limits allow instead of at human pace.
         rate: Sample rate of the returned trajectory [Hz] (targets only).
+        request_id: The caller's name for this request (1-64 letters, digits,
+            ``_ . -``), or ``None``. The planner answers a request that
+            repeats an id it saw recently with the first one's answer,
+            planned and published once, so a caller may ask again when an
+            answer is late (``Bus.call(..., repeat=True)``).
     """
 
     arm: Side = Side.RIGHT
@@ -49,6 +54,7 @@ class PlanRequest(Message):
     method: Method = Method.MP
     fastest: bool = False
     rate: float = Field(default=100.0, gt=0.0, le=1000.0)
+    request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
 
     @model_validator(mode="after")
     def _one_kind(self) -> PlanRequest:

@@ -135,6 +135,7 @@ def _plan_remote(args: argparse.Namespace, request: PlanRequest) -> Trajectory:
     """Plan ``request`` with the planner service (``armplan/plan``)."""
     from armplan.cli.remote import connect
     from shared.bus.routes import PLAN
+    from shared.messages.request_id import with_request_id
 
     with connect(args) as bus:
-        return bus.call(PLAN, request)
+        return bus.call(PLAN, with_request_id(request), repeat=True)

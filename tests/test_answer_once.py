@@ -1,0 +1,82 @@
+"""AnswerOnce: a request repeated by id is worked on once, its answer shared."""
+
+from __future__ import annotations
+
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+import pytest
+
+from services.planner.answer_once import AnswerOnce
+from shared.errors import InvalidInputError
+
+
+class Work:
+    """Counts its runs; each run may wait for a gate and may fail."""
+
+    def __init__(self, gate: threading.Event | None = None, fail: bool = False):
+        self.runs, self.gate, self.fail = 0, gate, fail
+
+    def __call__(self) -> list[int]:
+        self.runs += 1
+        if self.gate is not None:
+            assert self.gate.wait(5.0)
+        if self.fail:
+            raise RuntimeError("no plan")
+        return [self.runs]
+
+
+def test_a_repeat_during_the_work_waits_for_the_same_answer() -> None:
+    once: AnswerOnce[str, list[int]] = AnswerOnce()
+    gate = threading.Event()
+    work = Work(gate)
+    with ThreadPoolExecutor(4) as pool:
+        answers = [pool.submit(once.answer, "id-1", "reach", work) for _ in range(4)]
+        gate.set()
+        results = [a.result(5.0) for a in answers]
+    assert work.runs == 1
+    assert all(r is results[0] for r in results)  # the very same object
+
+
+def test_a_later_repeat_gets_the_kept_answer_and_none_means_no_id() -> None:
+    once: AnswerOnce[str, list[int]] = AnswerOnce()
+    work = Work()
+    first = once.answer("id-1", "reach", work)
+    assert once.answer("id-1", "reach", work) is first and work.runs == 1
+    once.answer(None, "reach", work)
+    once.answer(None, "reach", work)
+    assert work.runs == 3
+
+
+def test_an_id_reused_for_another_request_is_refused() -> None:
+    once: AnswerOnce[str, list[int]] = AnswerOnce()
+    once.answer("id-1", "reach", Work())
+    with pytest.raises(InvalidInputError, match="'id-1' was used for another"):
+        once.answer("id-1", "wave", Work())
+
+
+def test_a_failure_reaches_the_waiters_and_is_then_forgotten() -> None:
+    once: AnswerOnce[str, list[int]] = AnswerOnce()
+    gate = threading.Event()
+    failing = Work(gate, fail=True)
+    with ThreadPoolExecutor(2) as pool:
+        first = pool.submit(once.answer, "id-1", "reach", failing)
+        while failing.runs == 0:  # the first one is at work
+            threading.Event().wait(0.01)
+        repeat = pool.submit(once.answer, "id-1", "reach", failing)
+        gate.set()
+        for attempt in (first, repeat):
+            with pytest.raises(RuntimeError, match="no plan"):
+                attempt.result(5.0)
+    assert failing.runs == 1
+    assert once.answer("id-1", "reach", Work()) == [1]  # asked again: worked on
+
+
+def test_only_the_last_answers_are_kept() -> None:
+    once: AnswerOnce[str, list[int]] = AnswerOnce(keep=2)
+    work = Work()
+    for key in ("a", "b", "c"):
+        once.answer(key, key, work)
+    once.answer("c", "c", work)
+    once.answer("a", "a", work)  # forgotten: worked on again
+    assert work.runs == 4
