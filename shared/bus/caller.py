@@ -16,6 +16,7 @@ only where a service really is that slow.
 from __future__ import annotations
 
 import queue
+import threading
 import time
 from typing import Any
 
@@ -103,13 +104,13 @@ def _ask(
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
 
     def send() -> None:
-        session.get(
+        replies = session.get(
             key,
-            zenoh.handlers.Callback(inbox.put, lambda: inbox.put(None)),
             payload=body,
             encoding=zenoh.Encoding.APPLICATION_JSON,
             timeout=max(deadline - time.monotonic(), 1e-3),
         )
+        threading.Thread(target=_forward, args=(replies, inbox), daemon=True).start()
 
     send()
     open_queries, timed_out = 1, None
@@ -133,6 +134,20 @@ def _ask(
         else:
             return item
     return timed_out
+
+
+def _forward(
+    replies: zenoh.Handler[zenoh.Reply], inbox: queue.SimpleQueue[zenoh.Reply | None]
+) -> None:
+    """Put a query's replies into ``inbox``, then ``None`` when the query ends.
+
+    Read from Zenoh's channel in order: a callback's end-of-query call can
+    overtake its last reply (both run on different threads), which made a
+    reply look missing.
+    """
+    for reply in replies:
+        inbox.put(reply)
+    inbox.put(None)
 
 
 def _is_timeout(reply: zenoh.Reply) -> bool:
