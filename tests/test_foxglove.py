@@ -287,7 +287,7 @@ def test_a_decision_gives_a_plottable_sample_per_point() -> None:
         matrix=BY_NAME[name].matrix,
         g={name: 0.25, "W_R": 0.125},
     )
-    decision = Decision(arm=Side.RIGHT, times=[0.0, 0.02], points=[point, point])
+    decision = Decision.of_points(Side.RIGHT, [0.0, 0.02], [point, point])
     derived = FoxgloveChannels().derive(decision, T0)
     assert [d.topic for d in derived] == [DECISION_TOPIC] * 2
     assert derived[1].log_time == T0 + 20_000_000

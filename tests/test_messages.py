@@ -20,6 +20,7 @@ from shared.messages import (
     WristPath,
     parse,
 )
+from shared.primitives import BY_NAME
 
 
 def test_round_trip_through_json() -> None:
@@ -112,7 +113,6 @@ def test_every_message_has_a_json_schema() -> None:
         PlanRequest,
         WristPath,
         Decision,
-        PointDecision,
         JointPath,
         Trajectory,
         ErrorReply,
@@ -153,27 +153,60 @@ def test_json_is_read_strictly(
     assert whole.method.value == "mp" and whole.arm.value == "right"
 
 
-def _decision(**point: object) -> dict[str, object]:
+def _decision(**change: object) -> dict[str, object]:
     good = {
-        "primitive": "S_R E_P W_P",
-        "matrix": [[0, 1, 1], [1, 0, 0], [0, 0, 0]],
-        "g": {"S_R E_P W_P": 0.4, "S_R E_PR W_P": 0.1},
+        "arm": "right",
+        "times": [0.0, 0.01],
+        "primitives": ["S_R E_P W_P", "S_R E_PR W_P"],
+        "candidates": ["S_R E_P W_P", "S_R E_PR W_P"],
+        "g": [[0.4, 0.1], [0.3, 0.5]],
+        "matrices": {
+            "S_R E_P W_P": [[0, 1, 1], [1, 0, 0], [0, 0, 0]],
+            "S_R E_PR W_P": BY_NAME["S_R E_PR W_P"].matrix,
+        },
     }
-    return {"arm": "right", "times": [0.0], "points": [good | point]}
+    return good | change
 
 
 @pytest.mark.parametrize(
-    ("point", "problem"),
+    ("change", "problem"),
     [
-        ({"primitive": "S_X"}, "points: point 0: unknown movement primitive 'S_X'"),
-        ({"matrix": [[1, 1, 1], [0, 0, 0], [0, 0, 0]]}, "is not that of 'S_R E_P W_P'"),
-        ({"g": {"S_R E_P W_P": 0.4, "extra": 1.0}}, "g of unknown primitive 'extra'"),
+        ({"primitives": ["S_R E_P W_P", "S_X"]}, "primitives.1.: unknown .* 'S_X'"),
+        ({"primitives": ["S_R E_P W_P"]}, "2 times but 1 primitives and 2 rows of g"),
+        ({"g": [[0.4, 0.1]]}, "2 times but 2 primitives and 1 rows of g"),
+        ({"g": [[0.4, 0.1], [0.3]]}, "g\\[1\\] has 1 values, expected 2"),
+        ({"g": [[0.4, 0.1], [0.3, float("nan")]]}, "finite number"),
+        ({"candidates": ["S_R E_P W_P", "extra"]}, "candidates.1.: unknown .* 'extra'"),
+        ({"candidates": ["W_R", "W_R"]}, "a primitive is named twice"),
+        ({"matrices": {"S_R E_P W_P": BY_NAME["S_R E_P W_P"].matrix}}, "no matrix for"),
+        (
+            {"matrices": {"S_R E_P W_P": [[1, 1, 1], [0, 0, 0], [0, 0, 0]],
+                          "S_R E_PR W_P": BY_NAME["S_R E_PR W_P"].matrix}},
+            "is not the matrix of 'S_R E_P W_P'",
+        ),
     ],
-)
+)  # fmt: skip
 def test_a_decision_must_agree_with_the_primitives(
-    point: dict[str, object], problem: str
+    change: dict[str, object], problem: str
 ) -> None:
-    """A decision names known primitives with their own matrices."""
-    assert parse(Decision, _decision()).primitives == ["S_R E_P W_P"]
+    """A decision names known primitives with their own matrices, and has one
+    winner and one row of g (one value per candidate) per time."""
+    good = parse(Decision, json.dumps(_decision()))
+    assert good.primitives == ["S_R E_P W_P", "S_R E_PR W_P"]
+    assert good.points[1].g == {"S_R E_P W_P": 0.3, "S_R E_PR W_P": 0.5}
+    assert good.points[1].matrix == BY_NAME["S_R E_PR W_P"].matrix
     with pytest.raises(InvalidInputError, match=problem):
-        parse(Decision, json.dumps(_decision(**point)))
+        parse(Decision, _decision(**change))
+
+
+def test_a_decision_of_points_reads_back_point_by_point() -> None:
+    """Decision.of_points and Decision.points are inverse: the same records."""
+    points = [
+        PointDecision(name, BY_NAME[name].matrix, {"W_R": 0.1 * k, "S_R W_P": 1.0 + k})
+        for k, name in enumerate(["S_R E_P W_P", "S_R W_P", "S_R W_P"])
+    ]
+    decision = Decision.of_points("left", [0.0, 0.5, 1.0], points)
+    assert decision.points == points
+    assert decision.candidates == ["W_R", "S_R W_P"]
+    assert set(decision.matrices) == {"S_R E_P W_P", "S_R W_P"}
+    assert parse(Decision, decision.to_json()) == decision

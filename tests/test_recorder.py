@@ -99,7 +99,7 @@ def session_messages() -> list[tuple[str, Message]]:
         ("plan/request", PlanRequest(targets=[ReachTarget(position=(0.15, -0.1, 0))])),
         (
             "plan/decision",
-            Decision(arm=Side.RIGHT, times=[0.0, 0.1], points=[point] * 2),
+            Decision.of_points(Side.RIGHT, [0.0, 0.1], [point] * 2),
         ),
         (
             "plan/joint_path",

@@ -5,7 +5,7 @@ kinematics there; the chooser here decides it (``decide_point``) from that
 state, the goal and the decision before, and records it. The result: the
 ``Decision`` message (per point the primitive, its matrix and every g) and
 the tracked joint path. The IK service later recomputes the same joint path
-with ``choose=lambda k, kin: BY_NAME[decision.points[k].primitive]``: the
+with ``choose=lambda k, kin: BY_NAME[decision.primitives[k]]``: the
 chooser returns exactly the recorded primitive, so the two agree bit for bit.
 
 Where the tracker gives the path up for a joint-space detour to the goal
@@ -59,7 +59,7 @@ def decide_path(
         times: Times of the points [s], shape (n,); default 0.01 s apart.
 
     Returns:
-        The decision (one ``PointDecision`` per point) and the joint path.
+        The decision (the winner and every g at each point) and the joint path.
     """
     positions = np.asarray(positions, dtype=float)
     times = (
@@ -175,22 +175,17 @@ def decide_wrist_path(
 
 
 def decision_message(arm: ArmModel, times: np.ndarray, made: list[Choice]) -> Decision:
-    """The ``Decision`` message of recorded choices.
-
-    Validated once as plain data (pydantic's core walks the points), which
-    costs a fifth less than building each ``PointDecision`` on its own.
-    """
-    points = [
-        {
-            "primitive": choice.name,
-            "matrix": BY_NAME[choice.name].matrix,
-            "g": dict(zip(CANDIDATES, choice.g, strict=True)),
-        }
-        for choice in made
-    ]
-    times_s = np.asarray(times, dtype=float).tolist()
+    """The ``Decision`` message of recorded choices (columns: one entry per point)."""
+    names = [choice.name for choice in made]
     return Decision.model_validate(
-        {"arm": arm.side, "times": times_s, "points": points}
+        {
+            "arm": arm.side,
+            "times": np.asarray(times, dtype=float).tolist(),
+            "primitives": names,
+            "candidates": list(CANDIDATES),
+            "g": [list(choice.g) for choice in made],
+            "matrices": {name: BY_NAME[name].matrix for name in set(names)},
+        }
     )
 
 

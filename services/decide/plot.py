@@ -21,7 +21,6 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from services.decide.decider import CANDIDATES
 from services.decide.grid_table import runs
 from shared.errors import InvalidInputError
 from shared.messages import Decision
@@ -69,7 +68,9 @@ def _matrix(ax: Axes, name: str) -> None:
 
 def _entries(ax: Axes, decision: Decision, times: np.ndarray) -> None:
     """Each entry of the winning primitive matrix over time."""
-    cells = np.array([np.array(p.matrix).ravel() for p in decision.points]).T
+    cells = np.array(
+        [np.ravel(decision.matrices[name]) for name in decision.primitives]
+    ).T
     ax.imshow(
         cells,
         aspect="auto",
@@ -93,10 +94,10 @@ def _entries(ax: Axes, decision: Decision, times: np.ndarray) -> None:
 
 def _curves(ax: Axes, decision: Decision, times: np.ndarray) -> None:
     """Every candidate's g over time, scaled per point by the largest |g|."""
-    g = np.array([[p.g[name] for name in CANDIDATES] for p in decision.points])
+    g = np.array(decision.g)
     scale = np.max(np.abs(g), axis=1, keepdims=True)
     scale[scale == 0] = 1.0
-    for index, name in enumerate(CANDIDATES):
+    for index, name in enumerate(decision.candidates):
         ax.plot(times, g[:, index] / scale[:, 0], label=name)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("g / max |g|")

@@ -4,7 +4,7 @@
 point: the five motion variables from the arm's kinematics and the goal
 (``services.fit.variables.variables_at``), then the compiled model
 (``Decider``). No pydantic and no numpy on the way unless a palm direction
-is wanted; the message (``PointDecision``) is built later, only if asked.
+is wanted; the message (``Decision``) is built later, only if asked.
 """
 
 from __future__ import annotations

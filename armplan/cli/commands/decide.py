@@ -161,7 +161,7 @@ def _print_runs(decision: Any, tracked: Any, positions: np.ndarray) -> None:
     print_table(("primitive", "from [s]", "to [s]", "points"), rows)
     error = float(np.linalg.norm(tracked.wrist[-1] - positions[-1]))
     sys.stdout.write(
-        f"{len(decision.points)} points; wrist {error * 1000:.3f} mm from the goal "
+        f"{len(decision.times)} points; wrist {error * 1000:.3f} mm from the goal "
         "at the end\n"
     )
 

@@ -57,17 +57,20 @@ def decision_samples(
         start: When its first point applies [ns since the epoch].
     """
     t0 = decision.times[0]
+    keys = [plot_key(name) for name in decision.candidates]
     return [
         (
             start + round((t - t0) * _NS_PER_S),
             PrimitiveSample(
                 time=t,
-                primitive=point.primitive,
-                index=primitive_index(point.primitive),
-                g={plot_key(name): value for name, value in point.g.items()},
+                primitive=name,
+                index=primitive_index(name),
+                g=dict(zip(keys, row, strict=True)),
             ),
         )
-        for t, point in zip(decision.times, decision.points, strict=True)
+        for t, name, row in zip(
+            decision.times, decision.primitives, decision.g, strict=True
+        )
     ]
 
 
