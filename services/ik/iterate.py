@@ -160,7 +160,8 @@ def _step(
         q, err, cols, measure.gradient(st), active, chain.lower, chain.upper,
         alpha, MAX_STEP, MAX_NULL_STEP,
     )  # fmt: skip
-    new = [a + b for a, b in zip(q, step.dq, strict=True)]
+    dq = step.dq
+    new = [q[k] + dq[k] for k in range(len(q))]
     return new, step.projected_gradient, step.null_joints, _largest(err)
 
 

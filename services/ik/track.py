@@ -295,8 +295,8 @@ def _follow(
     dq = _step(chain, phases.phase, point, q, st, gain)
     if old is not None:
         before = _step(chain, old, point, q, st, gain)
-        dq = [weight * a + (1.0 - weight) * b for a, b in zip(dq, before, strict=True)]
-    q = [a + b for a, b in zip(q, dq, strict=True)]
+        dq = [weight * dq[k] + (1.0 - weight) * before[k] for k in range(len(dq))]
+    q = [q[k] + dq[k] for k in range(len(q))]
     return q, chain.state(q)
 
 

@@ -105,24 +105,46 @@ def weighted_step(
     Returns:
         dq, with q + dq within the limits.
     """
-    parts = _parts3 if len(cols[0]) == 3 else _parts_general
-    task, null = parts(error, cols, gradient, base, base, alpha)
-    if any(
-        q[k] - lower[k] < margin or upper[k] - q[k] < margin for k in range(5)
-    ):  # a joint near a limit: the weights depend on where the step goes
-        free = [t + n for t, n in zip(task, null, strict=True)]
-        size = max(map(abs, free)) or 1.0
+    three = len(cols[0]) == 3
+    task, null = _parts(three, error, cols, gradient, base, base, alpha)
+    if _near_a_limit(q, lower, upper, margin):
+        # the weights depend on where the step goes
+        free = [task[k] + null[k] for k in _ALL]
+        size = _largest(free) or 1.0
         weights = [
             b * limit_weight(q[k], free[k] / size, lower[k], upper[k], margin)
             for k, b in enumerate(base)
         ]
         if weights != list(base):
-            task, null = parts(error, cols, gradient, weights, base, alpha)
+            task, null = _parts(three, error, cols, gradient, weights, base, alpha)
     task, null = _capped(task, max_step), _capped(null, max_null_step)
-    return [
-        min(max(q[k] + t + n, lower[k]), upper[k]) - q[k]
-        for k, (t, n) in enumerate(zip(task, null, strict=True))
-    ]
+    return [min(max(q[k] + task[k] + null[k], lower[k]), upper[k]) - q[k] for k in _ALL]
+
+
+def _near_a_limit(
+    q: Sequence[float], lower: Sequence[float], upper: Sequence[float], margin: float
+) -> bool:
+    """True if a joint is closer than ``margin`` to one of its limits."""
+    # A loop, not any(generator): compiled (mypyc) it runs without objects.
+    for k in _ALL:  # noqa: SIM110
+        if q[k] - lower[k] < margin or upper[k] - q[k] < margin:
+            return True
+    return False
+
+
+def _parts(
+    three: bool,
+    error: Sequence[float],
+    cols: Columns,
+    gradient: Sequence[float],
+    weights: Sequence[float],
+    base: Sequence[float],
+    alpha: float,
+) -> tuple[list[float], list[float]]:
+    """The task and null-space parts: :func:`_parts3` for a three-row task."""
+    if three:
+        return _parts3(error, cols, gradient, weights, base, alpha)
+    return _parts_general(error, cols, gradient, weights, base, alpha)
 
 
 def _parts_general(
@@ -204,8 +226,16 @@ def _parts3(
 
 
 def _capped(step: list[float], largest: float) -> list[float]:
-    biggest = max(map(abs, step))
+    biggest = _largest(step)
     return step if biggest <= largest else [v * largest / biggest for v in step]
+
+
+def _largest(values: list[float]) -> float:
+    """max |v| over ``values``."""
+    top = 0.0
+    for v in values:
+        top = max(top, abs(v))
+    return top
 
 
 __all__ = ["FLOOR", "LOCKED", "limit_weight", "weighted_step"]

@@ -105,15 +105,13 @@ def swivel_and_gradient(
     dw0 = a * (-ey / nw - y * wx / ww) - b * (-(wz * ex) / ww + k * wx)
     dw1 = a * (ex / nw - y * wy / ww) - b * (-(wz * ey) / ww + k * wy)
     dw2 = a * (-y * wz / ww) - b * (-(ew + wz * ez) / ww + k * wz)
-    grad = [
-        de0 * ce[0]
-        + de1 * ce[1]
-        + de2 * ce[2]
-        + dw0 * cw[0]
-        + dw1 * cw[1]
-        + dw2 * cw[2]
-        for ce, cw in zip(elbow_columns, wrist_columns, strict=True)
-    ]
+    grad = [0.0] * n
+    for j in range(n):
+        ce, cw = elbow_columns[j], wrist_columns[j]
+        grad[j] = (
+            de0 * ce[0] + de1 * ce[1] + de2 * ce[2]
+            + dw0 * cw[0] + dw1 * cw[1] + dw2 * cw[2]
+        )  # fmt: skip
     return phi, grad
 
 
@@ -149,15 +147,12 @@ def elbow_offset_and_gradient(
     r2 = max(ex * ex + ey * ey + ez * ez - ew * ew / ww, 0.0)
     a, b = 2.0 * ew / ww, 2.0 * ew * ew / (ww * ww)
     # d(r^2) = 2 e.de - a (w.de + e.dw) + b w.dw
-    ge = (2.0 * ex - a * wx, 2.0 * ey - a * wy, 2.0 * ez - a * wz)
-    gw = (b * wx - a * ex, b * wy - a * ey, b * wz - a * ez)
-    grad = [
-        ge[0] * ce[0]
-        + ge[1] * ce[1]
-        + ge[2] * ce[2]
-        + gw[0] * cw[0]
-        + gw[1] * cw[1]
-        + gw[2] * cw[2]
-        for ce, cw in zip(elbow_columns, wrist_columns, strict=True)
-    ]
+    g0, g1, g2 = 2.0 * ex - a * wx, 2.0 * ey - a * wy, 2.0 * ez - a * wz
+    h0, h1, h2 = b * wx - a * ex, b * wy - a * ey, b * wz - a * ez
+    grad = [0.0] * len(wrist_columns)
+    for k in range(len(grad)):
+        ce, cw = elbow_columns[k], wrist_columns[k]
+        grad[k] = (
+            g0 * ce[0] + g1 * ce[1] + g2 * ce[2] + h0 * cw[0] + h1 * cw[1] + h2 * cw[2]
+        )
     return r2, grad

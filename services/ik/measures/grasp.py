@@ -61,4 +61,4 @@ class GraspBlend(Measure):
         b = self.blend(st)
         a, c = self.k1 * (1.0 - b), self.k2 * b
         travel, ntpe = self.travel.gradient(st), self.ntpe.gradient(st)
-        return [a * t + c * n for t, n in zip(travel, ntpe, strict=True)]
+        return [a * travel[k] + c * ntpe[k] for k in range(len(travel))]

@@ -56,9 +56,8 @@ class TotalPotentialEnergy(Measure):
         k = self.mu / _upper_arm_squared(st)
         # d/dq [k r2 bend^2 / 2] = k (bend^2 / 2) dr2 - k r2 bend dphi
         a, b = 0.5 * k * bend * bend, k * r2 * bend
-        return [
-            g + a * dr - b * dp for g, dr, dp in zip(st.grav, dr2, dphi, strict=True)
-        ]
+        grav = st.grav
+        return [grav[k] + a * dr2[k] - b * dphi[k] for k in range(len(grav))]
 
 
 def _upper_arm_squared(st: ChainState) -> float:
