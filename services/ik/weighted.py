@@ -29,11 +29,13 @@ as a last guard (the weights keep steps off the limits, so this rarely acts).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
-from services.ik.gpm import SINGULAR_DAMPING, Columns
+from services.ik.gpm import SINGULAR_DAMPING
 from services.ik.kernel.small import factor3, normal_solver, solve3
 
+#: Task Jacobian by columns, one tuple of m values per joint (concrete types:
+#: compiled, a list and a tuple index faster than any Sequence).
+Cols = list[tuple[float, ...]]
 #: Weight of a joint the primitive does not move.
 LOCKED = 0.1
 #: Damping of the weighted solve [m^2]: a joint that barely moves the
@@ -75,13 +77,13 @@ def _smoothstep(x: float) -> float:
 
 
 def weighted_step(
-    q: Sequence[float],
-    error: Sequence[float],
-    cols: Columns,
-    gradient: Sequence[float],
-    base: Sequence[float],
-    lower: Sequence[float],
-    upper: Sequence[float],
+    q: list[float],
+    error: list[float],
+    cols: Cols,
+    gradient: list[float],
+    base: list[float],
+    lower: list[float],
+    upper: list[float],
     alpha: float,
     max_step: float,
     max_null_step: float,
@@ -122,7 +124,7 @@ def weighted_step(
 
 
 def _near_a_limit(
-    q: Sequence[float], lower: Sequence[float], upper: Sequence[float], margin: float
+    q: list[float], lower: list[float], upper: list[float], margin: float
 ) -> bool:
     """True if a joint is closer than ``margin`` to one of its limits."""
     # A loop, not any(generator): compiled (mypyc) it runs without objects.
@@ -134,11 +136,11 @@ def _near_a_limit(
 
 def _parts(
     three: bool,
-    error: Sequence[float],
-    cols: Columns,
-    gradient: Sequence[float],
-    weights: Sequence[float],
-    base: Sequence[float],
+    error: list[float],
+    cols: Cols,
+    gradient: list[float],
+    weights: list[float],
+    base: list[float],
     alpha: float,
 ) -> tuple[list[float], list[float]]:
     """The task and null-space parts: :func:`_parts3` for a three-row task."""
@@ -148,11 +150,11 @@ def _parts(
 
 
 def _parts_general(
-    error: Sequence[float],
-    cols: Columns,
-    gradient: Sequence[float],
-    weights: Sequence[float],
-    base: Sequence[float],
+    error: list[float],
+    cols: Cols,
+    gradient: list[float],
+    weights: list[float],
+    base: list[float],
     alpha: float,
 ) -> tuple[list[float], list[float]]:
     """The task part W^1/2 Jw+ dx and the null-space part, 5 floats each.
@@ -184,11 +186,11 @@ def _parts_general(
 
 
 def _parts3(
-    error: Sequence[float],
-    cols: Columns,
-    gradient: Sequence[float],
-    weights: Sequence[float],
-    base: Sequence[float],
+    error: list[float],
+    cols: Cols,
+    gradient: list[float],
+    weights: list[float],
+    base: list[float],
     alpha: float,
 ) -> tuple[list[float], list[float]]:
     """:func:`_parts_general` for a three-row task (the wrist position), unrolled.

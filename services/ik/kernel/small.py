@@ -86,9 +86,9 @@ class NormalSolver3:
 
 
 def factor3(
-    xs: Sequence[float],
-    ys: Sequence[float],
-    zs: Sequence[float],
+    xs: list[float],
+    ys: list[float],
+    zs: list[float],
     free: Sequence[int],
     damping: float,
     floor: float,
