@@ -80,3 +80,29 @@ def test_only_the_last_answers_are_kept() -> None:
     once.answer("c", "c", work)
     once.answer("a", "a", work)  # forgotten: worked on again
     assert work.runs == 4
+
+
+def test_an_id_is_forgotten_after_the_hold_time() -> None:
+    """Kept for ``hold`` seconds from its first arrival, then worked on anew."""
+    now = [100.0]
+    once: AnswerOnce[str, list[int]] = AnswerOnce(hold=60.0, clock=lambda: now[0])
+    work = Work()
+    first = once.answer("id-1", "reach", work)
+    now[0] = 159.9
+    assert once.answer("id-1", "reach", work) is first and len(once) == 1
+    now[0] = 160.1
+    assert len(once) == 0
+    assert once.answer("id-1", "reach", work) == [2] and work.runs == 2
+
+
+def test_requests_are_told_apart_by_their_fingerprint() -> None:
+    """Only a digest is kept: equal fingerprints are repeats, others refused."""
+    once: AnswerOnce[dict[str, float], list[int]] = AnswerOnce(
+        fingerprint=lambda r: f"{r['x']!r}"
+    )
+    work = Work()
+    first = once.answer("id-1", {"x": 0.1}, work)
+    assert once.answer("id-1", {"x": 0.1}, work) is first
+    with pytest.raises(InvalidInputError, match="used for another request"):
+        once.answer("id-1", {"x": 0.1 + 1e-15}, work)
+    assert work.runs == 1

@@ -6,36 +6,69 @@ request with an id; a repeat arriving while it runs waits for its answer, and
 one arriving later gets the kept answer, so a plan is computed and published
 once however often it is asked for. A failed attempt is forgotten once its
 waiters have its error, so asking again then retries.
+
+What is kept per id: a SHA-256 digest of the request (to tell a repeat from
+an id reused for another request), and the answer. An id is forgotten
+``HOLD`` seconds after it first came (a caller repeats within its own
+timeout, seconds), and at most ``KEEP`` ids are kept, so the memory held is
+bounded by the answers of the last minute, at most ``KEEP`` of them.
 """
 
 from __future__ import annotations
 
+import hashlib
 import threading
+import time
 from collections import OrderedDict
 from collections.abc import Callable
 from concurrent.futures import Future
-from typing import Generic, TypeVar
+from typing import Generic, NamedTuple, TypeVar
 
 from shared.errors import InvalidInputError
 
 Req = TypeVar("Req")
 Rep = TypeVar("Rep")
 
-#: Answers kept for repeats that arrive after the first one was answered.
+#: Most ids kept for repeats that arrive after the first one was answered.
 KEEP = 256
+#: Time after which an id is forgotten [s].
+HOLD = 60.0
+
+
+class _Seen(NamedTuple, Generic[Rep]):
+    digest: bytes  # SHA-256 of the request's fingerprint
+    since: float  # when the id first came [s], monotonic clock
+    future: Future[Rep]
 
 
 class AnswerOnce(Generic[Req, Rep]):
-    """The answers of the last ``keep`` requests, by request id.
+    """The answers to the ids of the last ``hold`` seconds (``keep`` at most).
 
     Args:
-        keep: How many answered ids to remember.
+        fingerprint: The request as text or bytes that differ whenever two
+            requests do (the planner: the request's JSON); ``repr`` by default.
+        keep: How many ids to remember at most.
+        hold: How long an id is remembered [s].
+        clock: The time [s] (monotonic); for tests.
     """
 
-    def __init__(self, keep: int = KEEP) -> None:
-        self._keep = keep
+    def __init__(
+        self,
+        fingerprint: Callable[[Req], str | bytes] = repr,
+        keep: int = KEEP,
+        hold: float = HOLD,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self._fingerprint = fingerprint
+        self._keep, self._hold, self._clock = keep, hold, clock
         self._lock = threading.Lock()
-        self._seen: OrderedDict[str, tuple[Req, Future[Rep]]] = OrderedDict()
+        self._seen: OrderedDict[str, _Seen[Rep]] = OrderedDict()
+
+    def __len__(self) -> int:
+        """How many ids are remembered now."""
+        with self._lock:
+            self._forget(self._clock())
+            return len(self._seen)
 
     def answer(self, key: str | None, request: Req, work: Callable[[], Rep]) -> Rep:
         """``work()``'s answer, run once per ``key`` (every time if ``key`` is None).
@@ -46,15 +79,17 @@ class AnswerOnce(Generic[Req, Rep]):
         """
         if key is None:
             return work()
+        digest = _digest(self._fingerprint(request))
         with self._lock:
+            now = self._clock()
+            self._forget(now)
             seen = self._seen.get(key)
             if seen is None:
                 future: Future[Rep] = Future()
-                self._seen[key] = (request, future)
-                while len(self._seen) > self._keep:
-                    self._seen.popitem(last=False)
+                self._seen[key] = _Seen(digest, now, future)
+                self._forget(now)
         if seen is not None:
-            return self._repeat(key, request, *seen)
+            return _repeat(key, digest, seen)
         try:
             result = work()
         except BaseException as error:
@@ -65,11 +100,24 @@ class AnswerOnce(Generic[Req, Rep]):
         future.set_result(result)
         return result
 
-    @staticmethod
-    def _repeat(key: str, request: Req, first: Req, future: Future[Rep]) -> Rep:
-        if request != first:
-            raise InvalidInputError(
-                f"request_id {key!r} was used for another request",
-                field="request_id",
-            )
-        return future.result()
+    def _forget(self, now: float) -> None:
+        """Drop the oldest ids beyond ``keep`` and those older than ``hold``."""
+        while self._seen:
+            oldest = next(iter(self._seen.values()))
+            if len(self._seen) <= self._keep and now - oldest.since <= self._hold:
+                return
+            self._seen.popitem(last=False)
+
+
+def _digest(fingerprint: str | bytes) -> bytes:
+    data = fingerprint.encode() if isinstance(fingerprint, str) else fingerprint
+    return hashlib.sha256(data).digest()
+
+
+def _repeat(key: str, digest: bytes, seen: _Seen[Rep]) -> Rep:
+    if digest != seen.digest:
+        raise InvalidInputError(
+            f"request_id {key!r} was used for another request",
+            field="request_id",
+        )
+    return seen.future.result()

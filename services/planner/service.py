@@ -39,7 +39,7 @@ Planner = Callable[[PlanRequest], Trajectory]
 def remote_planner(bus: Bus) -> Planner:
     """Plan through the stage services, publishing the request and every part."""
     stages = RemoteStages(bus)
-    once: AnswerOnce[PlanRequest, Trajectory] = AnswerOnce()
+    once: AnswerOnce[PlanRequest, Trajectory] = AnswerOnce(PlanRequest.to_json)
 
     def plan_and_publish(request: PlanRequest) -> Trajectory:
         bus.publish(PLAN_REQUEST_TOPIC, request)
