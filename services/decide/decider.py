@@ -88,17 +88,23 @@ class Decider:
     def __init__(self, model: MotionModel, step: float | None = None) -> None:
         self.model = model
         self.primitives = tuple(model.primitives)
-        self.candidate = [CANDIDATES.index(name) for name in self.primitives]
+        self.candidate: list[int] = [CANDIDATES.index(n) for n in self.primitives]
         tables = model.conditionals()
-        self.edges = model.edges()
+        self.edges: list[list[float]] = model.edges()
         self.step = 1.0 / model.sample_rate if step is None else float(step)
         moved = transition_for(tables.transition, self.step * model.sample_rate)
-        self.log_start = np.log(tables.start).tolist()
-        self.log_next = np.log(moved).tolist()
-        self.shoulder = _log(tables.shoulder)
-        self.elbow = _log(tables.elbow)
-        self.wrist = _log(tables.wrist)
-        self.wrist_any = _log(tables.wrist.sum(axis=3))
+        # Typed nested lists (the primitive axis last): compiled, their
+        # entries are read and added as machine floats, not Python objects.
+        self.log_start: list[float] = np.log(tables.start).tolist()
+        self.log_next: list[list[float]] = np.log(moved).tolist()
+        self.shoulder: list[list[float]] = _log(tables.shoulder)  # [s_r]
+        self.elbow: list[list[list[list[float]]]] = _log(
+            tables.elbow
+        )  # [s_r][e_p][e_r]
+        self.wrist: list[list[list[list[float]]]] = _log(
+            tables.wrist
+        )  # [e_r][w_p][w_r]
+        self.wrist_any: list[list[list[float]]] = _log(tables.wrist.sum(axis=3))
         self._steps: dict[float, Decider] = {}
 
     def with_step(self, step: float) -> Decider:
