@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
 
 import numpy as np
 
@@ -16,7 +15,7 @@ def _vec(v: Sequence[float] | np.ndarray) -> Vec:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
-class WristTask(NamedTuple):
+class WristTask:
     """Put the wrist on ``position`` and, optionally, turn the palm to ``palm``.
 
     With ``radial`` False the task controls only the wrist's direction from
@@ -25,7 +24,9 @@ class WristTask(NamedTuple):
     primitives in which the shoulder swings an arm of fixed shape (S_R E_P
     W_P, S_R E_P W_PR): ElbowRoll is passive, so the distance is too.
 
-    Build it with :meth:`make`, which accepts numpy arrays or sequences.
+    Build it with :meth:`make`, which accepts numpy arrays or sequences. A
+    plain class, not a NamedTuple: compiled, it is built and read as a
+    native object (the tracker makes one or two per path point).
 
     Attributes:
         position: Wanted wrist position in the torso frame [m].
@@ -34,10 +35,10 @@ class WristTask(NamedTuple):
         radial: Whether the distance from the shoulder is controlled.
     """
 
-    position: Vec
-    palm: Vec | None
-    sign: float
-    radial: bool = True
+    def __init__(
+        self, position: Vec, palm: Vec | None, sign: float, radial: bool = True
+    ) -> None:
+        self.position, self.palm, self.sign, self.radial = position, palm, sign, radial
 
     @classmethod
     def make(

@@ -106,22 +106,42 @@ class TrackedPath(NamedTuple):
     detour_from: int | None = None
 
 
-class _Phase(NamedTuple):
-    label: str
-    active: tuple[int, ...]
-    measure: Measure
-    task: WristTask
+class _Phase:
+    """A primitive's phase: its label, active joints, measure and wrist task.
+
+    A plain class, not a NamedTuple: compiled, its fields are read directly
+    (the tracker reads them several times per path point).
+    """
+
+    def __init__(
+        self, label: str, active: tuple[int, ...], measure: Measure, task: WristTask
+    ) -> None:
+        self.label, self.active, self.measure, self.task = label, active, measure, task
 
 
-class _Follow(NamedTuple):
-    """What a path-following run works with."""
+class _Follow:
+    """What a path-following run works with.
 
-    chain: Chain
-    method: Method
-    goal: list[float]
-    palm: np.ndarray | None
-    params: MeasureParams
-    mean_step: float  # mean distance between path points [m]
+    Attributes:
+        chain: The arm's float kinematics.
+        method: ``mp`` or a baseline.
+        goal: The path's last point [m], 3 floats.
+        palm: Palm direction to reach (unit, (3,)), or None.
+        params: Measure coefficients.
+        mean_step: Mean distance between path points [m].
+    """
+
+    def __init__(
+        self,
+        chain: Chain,
+        method: Method,
+        goal: list[float],
+        palm: np.ndarray | None,
+        params: MeasureParams,
+        mean_step: float,
+    ) -> None:
+        self.chain, self.method, self.goal, self.palm = chain, method, goal, palm
+        self.params, self.mean_step = params, mean_step
 
 
 def track_path(
@@ -154,7 +174,7 @@ def track_path(
         UnreachableTargetError: if the path cannot be followed and no posture
             within the limits reaches its end.
     """
-    points = np.asarray(positions, dtype=float).tolist()
+    points: list[list[float]] = np.asarray(positions, dtype=float).tolist()
     gains, mean_step = _gains(points)
     run = _Follow(
         chain_for(arm), method, points[-1], palm, params or MeasureParams(), mean_step
