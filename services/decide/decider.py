@@ -93,17 +93,14 @@ class Decider:
         self.edges: list[list[float]] = model.edges()
         self.step = 1.0 / model.sample_rate if step is None else float(step)
         moved = transition_for(tables.transition, self.step * model.sample_rate)
-        # Typed nested lists (the primitive axis last): compiled, their
+        # Typed nested lists, indexed [state]...[primitive] (shoulder [s_r],
+        # elbow [s_r][e_p][e_r], wrist [e_r][w_p][w_r]): compiled, their
         # entries are read and added as machine floats, not Python objects.
         self.log_start: list[float] = np.log(tables.start).tolist()
         self.log_next: list[list[float]] = np.log(moved).tolist()
-        self.shoulder: list[list[float]] = _log(tables.shoulder)  # [s_r]
-        self.elbow: list[list[list[list[float]]]] = _log(
-            tables.elbow
-        )  # [s_r][e_p][e_r]
-        self.wrist: list[list[list[list[float]]]] = _log(
-            tables.wrist
-        )  # [e_r][w_p][w_r]
+        self.shoulder: list[list[float]] = _log(tables.shoulder)
+        self.elbow: list[list[list[list[float]]]] = _log(tables.elbow)
+        self.wrist: list[list[list[list[float]]]] = _log(tables.wrist)
         self.wrist_any: list[list[list[float]]] = _log(tables.wrist.sum(axis=3))
         self._steps: dict[float, Decider] = {}
 

@@ -117,7 +117,7 @@ def weighted_step(
             b * limit_weight(q[k], free[k] / size, lower[k], upper[k], margin)
             for k, b in enumerate(base)
         ]
-        if weights != list(base):
+        if weights != base:
             task, null = _parts(three, error, cols, gradient, weights, base, alpha)
     task, null = _capped(task, max_step), _capped(null, max_null_step)
     return [min(max(q[k] + task[k] + null[k], lower[k]), upper[k]) - q[k] for k in _ALL]
