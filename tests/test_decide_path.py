@@ -42,6 +42,9 @@ def test_decision_names_matrix_and_every_g(arm: ArmModel, model: MotionModel) ->
     decision, tracked = decide_path(model, arm, positions, rest(arm.side), times=times)
     assert len(decision.points) == len(positions) == len(tracked.q)
     assert parse(Decision, decision.to_json()) == decision
+    # The matrices in the order the primitives first drive the arm, so the
+    # JSON is the same bytes in every process (no set order).
+    assert list(decision.matrices) == list(dict.fromkeys(decision.primitives))
     held = 0
     for before, point in zip([None, *decision.points], decision.points, strict=False):
         assert point.matrix == BY_NAME[point.primitive].matrix

@@ -184,7 +184,7 @@ def decision_message(arm: ArmModel, times: np.ndarray, made: list[Choice]) -> De
             "primitives": names,
             "candidates": list(CANDIDATES),
             "g": [list(choice.g) for choice in made],
-            "matrices": {name: BY_NAME[name].matrix for name in set(names)},
+            "matrices": {name: BY_NAME[name].matrix for name in dict.fromkeys(names)},
         }
     )
 
