@@ -184,11 +184,15 @@ class Swallower:
     """A raw queryable that never answers its first ``lose`` queries (held open).
 
     That is what a query lost on its way looks like to the caller: no reply
-    and no end until the timeout. The queries after those are answered.
+    and no end until the timeout. With ``end``, those queries are ended at
+    once without a reply instead, as Zenoh ends a query it found no route
+    for. The queries after those are answered.
     """
 
-    def __init__(self, bus: Bus, route: Route[Text, Text], lose: int) -> None:
-        self.lose, self.count = lose, 0
+    def __init__(
+        self, bus: Bus, route: Route[Text, Text], lose: int, end: bool = False
+    ) -> None:
+        self.lose, self.count, self.end = lose, 0, end
         self.held: list[zenoh.Query] = []
         self._bus, self._route = bus, route
 
@@ -202,6 +206,9 @@ class Swallower:
 
     def _on_query(self, query: zenoh.Query) -> None:
         self.count += 1
+        if self.count <= self.lose and self.end:
+            query.drop()
+            return
         if self.count <= self.lose:
             self.held.append(query)
             return
@@ -263,3 +270,25 @@ def test_other_routes_and_twice_lost_queries_time_out(
         with pytest.raises(RequestTimeoutError, match="'lossy'"):
             client.call(LOSSY, Text(text="x"), timeout=1.0)
         assert lossy.count == 3
+
+
+def test_a_query_ended_without_reply_is_asked_again_only_if_repeatable(
+    quick_resend: tuple[Bus, Bus],
+) -> None:
+    """An empty end (no route yet): a repeatable call asks again at once and
+    gets the answer; any other call says the service is unavailable, asked once."""
+    service_bus, client = quick_resend
+    with Swallower(service_bus, LOSSY, lose=1, end=True) as lossy:
+        assert client.wait_alive(["lossy"], 5.0) == []
+        assert client.call(LOSSY, Text(text="x"), timeout=4.0).text == "answered"
+        assert lossy.count == 2
+    with Swallower(service_bus, LOSSY_ONCE_ONLY, lose=1, end=True) as lossy:
+        assert client.wait_alive(["lossy"], 5.0) == []
+        with pytest.raises(ServiceUnavailableError, match="no queryable answered"):
+            client.call(LOSSY_ONCE_ONLY, Text(text="x"), timeout=4.0)
+        assert lossy.count == 1
+    with Swallower(service_bus, LOSSY, lose=2, end=True) as lossy:
+        assert client.wait_alive(["lossy"], 5.0) == []
+        with pytest.raises(ServiceUnavailableError, match="no queryable answered"):
+            client.call(LOSSY, Text(text="x"), timeout=4.0)
+        assert lossy.count == 2
