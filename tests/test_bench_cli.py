@@ -105,6 +105,19 @@ def test_the_work_and_the_machine_are_recorded(figures: dict[str, float]) -> Non
     assert not [k for k in figures if k.startswith("services_8")]  # only 1 and 3
 
 
+def test_each_stage_is_timed_here_and_through_its_service(
+    figures: dict[str, float],
+) -> None:
+    """decide, ik and timing: both times positive, the difference their gap."""
+    for stage in ("decide", "ik", "timing"):
+        here, there = (
+            figures[f"stage_{stage}_here_ms"],
+            figures[f"stage_{stage}_service_ms"],
+        )
+        assert here > 0.0 and there > 0.0, stage
+        assert figures[f"stage_{stage}_overhead_ms"] == pytest.approx(there - here)
+
+
 def test_no_service_process_outlives_the_benchmark(figures: dict[str, float]) -> None:
     """The router and the services the benchmark started have all exited."""
     assert figures["services_1_per_s"] > 0.0  # they did run
@@ -115,7 +128,9 @@ def test_no_services_skips_them(capsys: pytest.CaptureFixture[str]) -> None:
     """--no-services: no figure through the services, the others still there."""
     assert main([*TINY, "--no-services", "--json"]) == 0
     figures = json.loads(capsys.readouterr().out)
-    assert not [k for k in figures if k.startswith(("services_", "in_process"))]
+    assert not [
+        k for k in figures if k.startswith(("services_", "in_process", "stage_"))
+    ]
     assert figures["speedup_vs_ikpy"] > 0.0 and figures["toppra_over_plan"] > 0.0
 
 

@@ -103,6 +103,36 @@ def print_services(f: Figures, clients: list[int]) -> None:
         ("plans", "p50 [ms]", "p99 [ms]", "plans/s", "p50 / in-process p50"),
         rows,
     )
+    print_stage_hops(f)
+
+
+def print_stage_hops(f: Figures) -> None:
+    """Each stage's request here and through its service (medians [ms])."""
+    stages = [k[len("stage_") : -len("_here_ms")] for k in f if k.endswith("_here_ms")]
+    if not stages:
+        return
+    sys.stdout.write(
+        "\neach stage's request of that reach, in this process and through its "
+        "service (medians):\n"
+    )
+    rows: list[tuple[str, float, float, float]] = [
+        (
+            name,
+            f[f"stage_{name}_here_ms"],
+            f[f"stage_{name}_service_ms"],
+            f[f"stage_{name}_overhead_ms"],
+        )
+        for name in stages
+    ]
+    print_table(("stage", "here [ms]", "service [ms]", "difference [ms]"), rows)
+    if "services_1_p50_ms" in f:
+        through = sum(f[f"stage_{name}_service_ms"] for name in stages)
+        sys.stdout.write(
+            f"the stages through their services add up to {through:.1f} ms of the "
+            f"{f['services_1_p50_ms']:.1f} ms of a plan through the services "
+            "(1 client, p50); the rest is the planner's own work and the "
+            "client's hop\n"
+        )
 
 
 def _service_row(

@@ -9,8 +9,11 @@ by 1, 8 and 50 concurrent clients: threads of this process sharing one Zenoh
 session, each sending its share of the requests one after another. Per plan
 the latency is the wall time from send to typed reply [s]; throughput is
 plans over the wall time of the whole load [1/s]; the ratio is the remote
-p50 over the in-process p50. :func:`run` measures; :meth:`ServiceLatency.figures`
-gives JSON-ready numbers and :meth:`ServiceLatency.table` printable rows.
+p50 over the in-process p50. With the services up, each stage's request is
+also timed on its own, here and through its service (``stage_hops``), to show
+where the time through the services goes. :func:`run` measures;
+:meth:`ServiceLatency.figures` gives JSON-ready numbers and
+:meth:`ServiceLatency.table` printable rows.
 """
 
 from __future__ import annotations
@@ -25,6 +28,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from armplan.bench import stage_hops
+from armplan.bench.stage_hops import StageHop
 from armplan.bench.timer import Timing, time_calls
 from armplan.launch import Launcher, free_endpoint
 from services.planner.pipeline import plan
@@ -74,13 +79,16 @@ class ServiceLatency(NamedTuple):
         load_average: The machine's 1-minute load average at the start and
             the end of the run (runnable processes; compare with its CPUs:
             a busy machine delays every hop between processes).
+        hops: Per stage (``stage_hops.STAGES``), its request timed here and
+            through its service.
     """
 
     in_process: Timing
     loads: list[Load]
     duration: float
     path_points: int
-    load_average: tuple[float, float] = (0.0, 0.0)
+    load_average: tuple[float, float]
+    hops: dict[str, StageHop]
 
     def ratio(self, load: Load) -> float:
         """``load``'s p50 over the in-process p50."""
@@ -126,6 +134,15 @@ class ServiceLatency(NamedTuple):
             }
             if name != "in_process":
                 out[f"{name}_ratio"] = ratio
+        return out | self._hop_figures()
+
+    def _hop_figures(self) -> dict[str, float]:
+        """``stage_<name>_here_ms``, ``_service_ms``, ``_overhead_ms`` [ms], medians."""
+        out: dict[str, float] = {}
+        for name, hop in self.hops.items():
+            out[f"stage_{name}_here_ms"] = hop.here.percentile(50) * 1e3
+            out[f"stage_{name}_service_ms"] = hop.service.percentile(50) * 1e3
+            out[f"stage_{name}_overhead_ms"] = hop.overhead * 1e3
         return out
 
 
@@ -141,8 +158,8 @@ def one_second_reach() -> PlanRequest:
 
 
 def steps(n: int, clients: Sequence[int]) -> int:
-    """How many timed plans ``run(n, clients)`` makes (for a progress bar)."""
-    return n * (1 + len(clients))
+    """How many timed calls ``run(n, clients)`` makes (for a progress bar)."""
+    return n * (1 + len(clients)) + stage_hops.steps(n)
 
 
 def run(
@@ -167,17 +184,18 @@ def run(
     result = plan(request)
     in_process = time_calls([partial(plan, request) for _ in range(n)], after)
     if config is not None:
-        loads = _remote(config, request, n, clients, after)
+        loads, hops = _remote(config, request, n, clients, after)
     else:
         own = load_config(endpoints=(free_endpoint(),))
         with Launcher(own, SERVICES, log=subprocess.DEVNULL):
-            loads = _remote(own, request, n, clients, after)
+            loads, hops = _remote(own, request, n, clients, after)
     return ServiceLatency(
         in_process,
         loads,
         result.trajectory.duration,
         len(result.wrist_paths[0].times),
         (before, os.getloadavg()[0]),
+        hops,
     )
 
 
@@ -187,11 +205,12 @@ def _remote(
     n: int,
     clients: Sequence[int],
     after: Callable[[], object] | None,
-) -> list[Load]:
+) -> tuple[list[Load], dict[str, StageHop]]:
     with Bus.connect(config) as bus:
         for _ in range(WARM_UP):  # liveliness known, routes set, code loaded
             bus.call(PLAN, request, timeout=60.0)
-        return [_load(bus, request, n, k, after) for k in clients]
+        loads = [_load(bus, request, n, k, after) for k in clients]
+        return loads, stage_hops.time_hops(bus, request, n, after)
 
 
 def _load(
