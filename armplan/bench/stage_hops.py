@@ -29,23 +29,20 @@ from functools import partial
 from typing import Any, NamedTuple
 
 from armplan.bench.timer import Timing, time_rounds
+from armplan.faults.requests import KeepingStages
 from services.planner import stages
 from services.planner.pipeline import plan
 from shared.bus import Bus, Route
 from shared.bus.routes import DECIDE, IK_PATH, TIMING
-from shared.messages import (
-    DecideRequest,
-    Decision,
-    JointPath,
-    Message,
-    PathIKRequest,
-    PlanRequest,
-    TimingRequest,
-    Trajectory,
-)
+from shared.messages import Message, PlanRequest
 
 #: The stages, in the planner's order.
 STAGES = ("decide", "ik", "timing")
+_ROUTES: dict[str, Route[Any, Any]] = {
+    "decide": DECIDE,
+    "ik": IK_PATH,
+    "timing": TIMING,
+}
 
 
 class StageHop(NamedTuple):
@@ -65,26 +62,6 @@ class StageHop(NamedTuple):
         return self.service.percentile(50) - self.here.percentile(50)
 
 
-class _Recorder(stages.LocalStages):
-    """The in-process stages, keeping the last request of each."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.requests: dict[str, Message] = {}
-
-    def decide(self, request: DecideRequest) -> Decision:
-        self.requests["decide"] = request
-        return super().decide(request)
-
-    def ik(self, request: PathIKRequest) -> JointPath:
-        self.requests["ik"] = request
-        return super().ik(request)
-
-    def timing(self, request: TimingRequest) -> Trajectory:
-        self.requests["timing"] = request
-        return super().timing(request)
-
-
 def stage_requests(request: PlanRequest) -> dict[str, Message]:
     """The decide, ik and timing requests the planner sends for ``request``.
 
@@ -92,12 +69,12 @@ def stage_requests(request: PlanRequest) -> dict[str, Message]:
         ValueError: if ``request`` does not go through all three stages
             (a timed wrist path, or a baseline method).
     """
-    recorder = _Recorder()
-    plan(request, recorder)
-    missing = [name for name in STAGES if name not in recorder.requests]
+    keeping = KeepingStages()
+    plan(request, keeping)
+    missing = [name for name in STAGES if _ROUTES[name].path not in keeping.asked]
     if missing:
         raise ValueError(f"the plan does not call the stage(s) {missing}")
-    return recorder.requests
+    return {name: keeping.asked[_ROUTES[name].path] for name in STAGES}
 
 
 def _here(name: str, request: Any) -> Callable[[], object]:
@@ -107,13 +84,6 @@ def _here(name: str, request: Any) -> Callable[[], object]:
     if name == "ik":
         return partial(stages.path_ik, request)
     return partial(stages.timing, request)
-
-
-_ROUTES: dict[str, Route[Any, Any]] = {
-    "decide": DECIDE,
-    "ik": IK_PATH,
-    "timing": TIMING,
-}
 
 
 def steps(rounds: int) -> int:
