@@ -128,10 +128,11 @@ def print_stage_hops(f: Figures) -> None:
     if "services_1_p50_ms" in f:
         through = sum(f[f"stage_{name}_service_ms"] for name in stages)
         sys.stdout.write(
-            f"the stages through their services add up to {through:.1f} ms of the "
-            f"{f['services_1_p50_ms']:.1f} ms of a plan through the services "
-            "(1 client, p50); the rest is the planner's own work and the "
-            "client's hop\n"
+            f"the three stages through their services add up to {through:.1f} ms; "
+            f"a whole plan through the services took {f['services_1_p50_ms']:.1f} "
+            "ms (1 client, p50), the planner's own work and the client's hop "
+            "included (timed one after the other: the machine's speed may have "
+            "changed in between)\n"
         )
 
 
