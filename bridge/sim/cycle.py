@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 
@@ -14,8 +15,9 @@ PERIOD = 0.02
 class ControlCycle:
     """Calls ``robot.step()`` every ``period`` seconds on its own thread.
 
-    The schedule is absolute (cycle k at start + k * period); a cycle that
-    comes late is run at once and the schedule skips the missed ones.
+    The schedule is absolute (cycle k at start + k * period). A cycle that
+    comes late runs once, late, and the next one waits for the next slot of
+    the schedule: the missed slots are skipped, not run back to back.
     """
 
     def __init__(self, robot: SimRobot, period: float = PERIOD) -> None:
@@ -37,9 +39,11 @@ class ControlCycle:
         next_time = time.monotonic()
         while not self._stop.is_set():
             self._robot.step()
-            next_time += self.period
-            delay = next_time - time.monotonic()
-            if delay < 0.0:
-                next_time = time.monotonic()
-                delay = 0.0
-            self._stop.wait(delay)
+            next_time = next_slot(next_time, self.period, time.monotonic())
+            self._stop.wait(max(0.0, next_time - time.monotonic()))
+
+
+def next_slot(last: float, period: float, now: float) -> float:
+    """The first slot ``last + k * period`` (k >= 1) after ``now`` [s]."""
+    slot = last + (max(0, math.floor((now - last) / period)) + 1) * period
+    return slot + period if slot <= now else slot  # the division's rounding

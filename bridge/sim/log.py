@@ -6,14 +6,18 @@ monotonic clock) and ``event``:
 - ``start``: ``url``, ``period`` [s], ``joints`` (name -> [lower, upper,
   velocity]), ``origin`` (the monotonic clock at ``t = 0`` [s], to line the
   log up with other processes on the same machine).
-- ``call``: a command received: ``method`` and its arguments (``names``,
+- ``call``: a command received (``t``: when it was received, the time its
+  key times count from): ``method`` and its arguments (``names``,
   ``angles``/``stiffness``, ``times``, ...). Reads (``getAngles``,
   ``getStiffnesses``, ...) are not logged.
 - ``refused``: ``method`` and ``reason``; nothing of the command executed.
 - ``motion``: an accepted command: ``method``, ``joints``, ``duration`` [s].
-- ``done`` / ``interrupted``: ``method``, ``joints`` (and ``reason``).
+- ``done`` / ``interrupted``: ``method``, ``joints`` (and ``reason``); a
+  ``done``'s ``t`` is the cycle that found the command finished.
 - ``state``: each control cycle while a command runs: ``cycle`` and
-  ``positions`` (joint -> measured angle [rad]) of the moving joints.
+  ``positions`` (joint -> measured angle [rad]) of the moving joints; its
+  ``t`` is the time the cycle committed those positions, so a line written
+  late still gives the motor's true speed.
 - ``stop``: the sim is shutting down.
 """
 
@@ -48,9 +52,16 @@ class SimLog:
         """Monotonic time ``t`` as seconds since the log started [s]."""
         return t - self._origin
 
-    def write(self, event: str, **fields: Any) -> None:
-        """Append one entry ``{"t", "event", **fields}``."""
-        entry = {"t": round(self.since_start(time.monotonic()), 6), "event": event}
+    def write(self, event: str, at: float | None = None, **fields: Any) -> None:
+        """Append one entry ``{"t", "event", **fields}``.
+
+        Args:
+            event: The entry's kind.
+            at: The monotonic time the entry describes [s] (default: now).
+            fields: The entry's other fields.
+        """
+        stamp = time.monotonic() if at is None else at
+        entry = {"t": round(self.since_start(stamp), 6), "event": event}
         entry.update(fields)
         line = json.dumps(entry)
         with self._lock:

@@ -83,6 +83,7 @@ class SimulatedMotion:
         t = self._robot.now()
         self._log.write(
             "call",
+            at=t,
             method="angleInterpolation",
             names=names,
             angles=angleLists,
@@ -109,6 +110,7 @@ class SimulatedMotion:
         t = self._robot.now()
         self._log.write(
             "call",
+            at=t,
             method="angleInterpolationWithSpeed",
             names=names,
             angles=targetAngles,
@@ -131,6 +133,7 @@ class SimulatedMotion:
         t = self._robot.now()
         self._log.write(
             "call",
+            at=t,
             method="setAngles",
             names=names,
             angles=angles,
@@ -153,6 +156,7 @@ class SimulatedMotion:
         t = self._robot.now()
         self._log.write(
             "call",
+            at=t,
             method="stiffnessInterpolation",
             names=names,
             stiffness=stiffnessLists,
@@ -171,7 +175,7 @@ class SimulatedMotion:
         """Set stiffnesses (0..1) within one control cycle."""
         t = self._robot.now()
         self._log.write(
-            "call", method="setStiffnesses", names=names, stiffness=stiffnesses
+            "call", at=t, method="setStiffnesses", names=names, stiffness=stiffnesses
         )
         _accept(
             self._log,

@@ -122,8 +122,8 @@ class SimRobot:
 
     def stop_all(self, reason: str) -> None:
         """Hold every joint where it is and interrupt every running command."""
-        t = self.now()
         with self._lock:
+            t = self.now()
             for joint in self.joints.values():
                 joint.commit(t)
                 joint.command(None)
@@ -133,20 +133,23 @@ class SimRobot:
 
     def step(self) -> None:
         """One control cycle: advance every joint, end finished commands, log."""
-        t = self.now()
         with self._lock:
+            t = self.now()  # under the lock: no command commits a later time first
             self.cycles += 1
             moving = [j for j in self.joints.values() if j.moving]
             for joint in self.joints.values():
                 joint.commit(t)
+            positions = {j.spec.name: round(j.position, 6) for j in moving}
             finished = [task for task in self._tasks if t >= task.end_time]
             self._tasks = [task for task in self._tasks if t < task.end_time]
-        if moving:
-            positions = {j.spec.name: round(j.position, 6) for j in moving}
-            self._log.write("state", cycle=self.cycles, positions=positions)
+        if positions:
+            # Stamped with the time the positions were committed at, not the
+            # time the line is written: a cycle preempted between the two
+            # would otherwise log a speed the motor never had.
+            self._log.write("state", at=t, cycle=self.cycles, positions=positions)
         for task in finished:
             task.finish()
-            self._log.write("done", method=task.method, joints=task.joints)
+            self._log.write("done", at=t, method=task.method, joints=task.joints)
 
     def _prepare(self, commands: list[KeyCommand], t: float) -> dict[str, float]:
         """Commit the commanded joints to ``t``; their setpoints there [rad]."""

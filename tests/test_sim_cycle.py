@@ -1,0 +1,44 @@
+"""The simulated NAO's control cycle: its schedule and the times its log gives."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bridge.sim.cycle import next_slot
+from bridge.sim.joints import joint_specs
+from bridge.sim.log import SimLog
+from bridge.sim.robot import SimRobot
+
+
+@pytest.mark.parametrize("late", [0.0, 0.003, 0.0199, 0.02, 0.031, 0.095])
+def test_next_slot_is_the_first_slot_of_the_schedule_after_now(late: float) -> None:
+    last, period = 10.0, 0.02
+    now = last + late
+    slot = next_slot(last, period, now)
+    k = (slot - last) / period
+    assert k == pytest.approx(round(k)) and round(k) >= 1  # on the schedule
+    assert now < slot <= now + period + 1e-12  # the first one after now
+
+
+def test_state_lines_carry_the_time_the_positions_were_committed() -> None:
+    """The cycle's clock, not the moment the line is written, stamps a state:
+    with a clock that jumps (a late cycle), the logged speed stays the motor's."""
+    log = SimLog()
+    now = [log.origin + 1.0]
+    robot = SimRobot(log, {"RShoulderPitch": 1.0}, clock=lambda: now[0])
+    robot.stiffen("setStiffnesses", now[0], "RShoulderPitch", [1.0], [0.001])
+    now[0] += 0.01
+    robot.move("angleInterpolation", now[0], "RShoulderPitch", [0.0], [0.5])
+    steps = [0.02, 0.02, 0.039, 0.0013, 0.02, 0.02]  # a late cycle, then a quick one
+    for dt in steps:
+        now[0] += dt
+        robot.step()
+    states = [e for e in log.entries() if e["event"] == "state"]
+    stamps = np.array([e["t"] for e in states])
+    angles = np.array([e["positions"]["RShoulderPitch"] for e in states])
+    assert stamps == pytest.approx(1.01 + np.cumsum(steps))
+    speed = np.abs(np.diff(angles)) / np.diff(stamps)
+    limit = joint_specs()["RShoulderPitch"].velocity
+    assert speed.max() <= limit * 1.001
+    assert angles[-1] < 1.0  # it moved
