@@ -153,14 +153,25 @@ def session_payloads() -> list[tuple[str, bytes]]:
 
 
 def publish_all(config: BusConfig, payloads: list[tuple[str, bytes]]) -> None:
+    """Put ``payloads`` from a new session once it knows the recorder's
+    subscriber (a put before the router's declarations reach a new session
+    goes nowhere: once 0 of 20 messages were recorded)."""
     with Bus.connect(config) as bus:
-        for path, payload in payloads:
-            bus.session.put(
-                bus.key(path),
-                payload,
-                congestion_control=zenoh.CongestionControl.BLOCK,
+        publishers = {
+            path: bus.session.declare_publisher(
+                bus.key(path), congestion_control=zenoh.CongestionControl.BLOCK
             )
+            for path, _ in payloads
+        }
+        deadline = time.monotonic() + 5.0
+        while not any(p.matching_status.matching for p in publishers.values()):
+            assert time.monotonic() < deadline, "no subscriber for any key"
+            time.sleep(0.01)
+        for path, payload in payloads:
+            publishers[path].put(payload)
         time.sleep(SETTLE)
+        for publisher in publishers.values():
+            publisher.undeclare()
 
 
 def recorded(path: Path) -> list[tuple[str, bytes]]:
