@@ -108,7 +108,8 @@ def test_the_work_and_the_machine_are_recorded(figures: dict[str, float]) -> Non
 def test_each_stage_is_timed_here_and_through_its_service(
     figures: dict[str, float],
 ) -> None:
-    """decide, ik and timing: both times positive, the difference their gap."""
+    """decide, ik and timing: both times positive, the difference their gap;
+    the service's own account of its work fits inside its time through it."""
     for stage in ("decide", "ik", "timing"):
         here, there = (
             figures[f"stage_{stage}_here_ms"],
@@ -116,6 +117,12 @@ def test_each_stage_is_timed_here_and_through_its_service(
         )
         assert here > 0.0 and there > 0.0, stage
         assert figures[f"stage_{stage}_overhead_ms"] == pytest.approx(there - here)
+        handle, inside = (
+            figures[f"stage_{stage}_handle_ms"],
+            figures[f"stage_{stage}_inside_ms"],
+        )
+        assert 0.0 < handle < inside < there, stage
+        assert figures[f"stage_{stage}_trips_ms"] == pytest.approx(there - inside)
 
 
 def test_no_service_process_outlives_the_benchmark(figures: dict[str, float]) -> None:

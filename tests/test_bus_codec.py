@@ -38,10 +38,13 @@ def error_of(body: bytes) -> ArmplanError:
 
 
 def test_a_valid_request_gets_the_reply_json() -> None:
-    """The reply is the handler's message as JSON."""
+    """The reply is the handler's message as JSON, with the time each part took."""
     result = answer(Endpoint(ECHO, echo), b'{"position": [1, 2, 3]}', KEY, 1000)
     assert result.ok
     assert json.loads(result.body) == {"position": [1.0, 2.0, 3.0]}
+    timing = result.timing
+    assert timing is not None and min(timing.parse, timing.handle) > 0.0
+    assert timing.total == timing.parse + timing.handle + timing.reply_json
 
 
 @pytest.mark.parametrize(
@@ -58,7 +61,7 @@ def test_bad_requests_get_invalid_input(payload: bytes, field: str, words: str) 
     """Malformed JSON, the wrong schema and NaN: invalid_input naming the field."""
     result = answer(Endpoint(ECHO, echo), payload, KEY, 1000)
     error = error_of(result.body)
-    assert not result.ok and error.kind == "invalid_input"
+    assert not result.ok and error.kind == "invalid_input" and result.timing is None
     assert error.evidence["field"] == field and words in error.message
 
 

@@ -292,3 +292,33 @@ def test_a_query_ended_without_reply_is_asked_again_only_if_repeatable(
         with pytest.raises(ServiceUnavailableError, match="no queryable answered"):
             client.call(LOSSY, Text(text="x"), timeout=4.0)
         assert lossy.count == 2
+
+
+NAP = Route("napper", "test/nap", Text, Text)
+
+
+def test_a_reply_says_where_its_time_went_in_the_service(
+    config: BusConfig, quick_resend: tuple[Bus, Bus]
+) -> None:
+    """An armplan service's reply carries its ServiceTiming: the handler's
+    50 ms nap inside ``handle``, all of it inside the caller's wait; a raw
+    queryable's reply (not armplan's) carries none; errors stay typed."""
+
+    def nap(request: Text) -> Text:
+        time.sleep(0.05)
+        return echo(request)
+
+    service_bus, client = quick_resend
+    with ServiceHost(service_bus, "napper", [Endpoint(NAP, nap)]):
+        assert client.wait_alive(["napper"], 5.0) == []
+        start = time.monotonic()
+        reply, timing = client.call_timed(NAP, Text(text="hi"))
+        waited = time.monotonic() - start
+        assert reply == Text(text="HI") and timing is not None
+        assert 0.05 <= timing.handle < timing.total < waited
+        assert timing.parse > 0.0 and timing.reply_json > 0.0
+        with pytest.raises(UnknownArmError):
+            client.call_timed(NAP, Text(text="arm"))
+    with Swallower(service_bus, LOSSY, lose=0):
+        assert client.wait_alive(["lossy"], 5.0) == []
+        assert client.call_timed(LOSSY, Text(text="x")) == (Text(text="answered"), None)

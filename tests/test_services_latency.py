@@ -19,6 +19,9 @@ def test_the_benchmark_reports_every_load_beside_in_process() -> None:
     assert list(result.hops) == ["decide", "ik", "timing"]
     for hop in result.hops.values():
         assert len(hop.here.samples) == len(hop.service.samples) == 3
+        assert len(hop.handle.samples) == len(hop.inside.samples) == 3  # no warm-up
+        assert np.all(hop.handle.samples < hop.inside.samples)
+        assert np.all(hop.inside.samples < hop.service.samples)  # per call
     assert len(result.in_process.samples) == 3
     assert [load.clients for load in result.loads] == [1, 2]
     assert all(len(load.latency.samples) == 3 for load in result.loads)

@@ -115,16 +115,25 @@ def print_stage_hops(f: Figures) -> None:
         "\neach stage's request of that reach, in this process and through its "
         "service (medians):\n"
     )
-    rows: list[tuple[str, float, float, float]] = [
+    fields = ("here", "service", "overhead", "handle", "inside", "trips")
+    rows = [(name, *(f[f"stage_{name}_{k}_ms"] for k in fields)) for name in stages]
+    print_table(
         (
-            name,
-            f[f"stage_{name}_here_ms"],
-            f[f"stage_{name}_service_ms"],
-            f[f"stage_{name}_overhead_ms"],
-        )
-        for name in stages
-    ]
-    print_table(("stage", "here [ms]", "service [ms]", "difference [ms]"), rows)
+            "stage",
+            "here [ms]",
+            "service [ms]",
+            "difference [ms]",
+            "its work there [ms]",
+            "+ its JSON [ms]",
+            "trips [ms]",
+        ),
+        rows,
+    )
+    sys.stdout.write(
+        "(its work there, + its JSON: as the service timed them; trips: service "
+        "minus that, i.e. Zenoh there and back through the router, and this "
+        "side's JSON)\n"
+    )
     if "services_1_p50_ms" in f:
         through = sum(f[f"stage_{name}_service_ms"] for name in stages)
         sys.stdout.write(

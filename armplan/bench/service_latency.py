@@ -137,12 +137,19 @@ class ServiceLatency(NamedTuple):
         return out | self._hop_figures()
 
     def _hop_figures(self) -> dict[str, float]:
-        """``stage_<name>_here_ms``, ``_service_ms``, ``_overhead_ms`` [ms], medians."""
+        """Per stage, medians [ms]: ``stage_<name>_<what>_ms``.
+
+        ``what``: ``here``, ``service``, ``overhead``, ``handle``, ``inside``,
+        ``trips`` (see ``stage_hops.StageHop``).
+        """
         out: dict[str, float] = {}
         for name, hop in self.hops.items():
             out[f"stage_{name}_here_ms"] = hop.here.percentile(50) * 1e3
             out[f"stage_{name}_service_ms"] = hop.service.percentile(50) * 1e3
             out[f"stage_{name}_overhead_ms"] = hop.overhead * 1e3
+            out[f"stage_{name}_handle_ms"] = hop.handle.percentile(50) * 1e3
+            out[f"stage_{name}_inside_ms"] = hop.inside.percentile(50) * 1e3
+            out[f"stage_{name}_trips_ms"] = hop.trips * 1e3
         return out
 
 

@@ -15,7 +15,11 @@ CPU's caches). Per stage:
 - ``service``: the same request through the router to the service and back
   [s]: the stage's work in the service's process, plus the request's and the
   reply's JSON on both sides and the trips through the router;
-- ``overhead``: service minus here, at the median [s].
+- ``overhead``: service minus here, at the median [s];
+- ``handle`` and ``inside``: what the service says it spent (its replies'
+  ``ServiceTiming``): the stage function alone, and with reading the request
+  and writing the reply; ``service`` minus ``inside`` is the trips through
+  Zenoh and the router and this side's JSON [s].
 
 The sum of the three ``service`` medians beside a whole plan through the
 services (``service_latency``) shows what the planner itself and the
@@ -28,13 +32,16 @@ from collections.abc import Callable
 from functools import partial
 from typing import Any, NamedTuple
 
+import numpy as np
+
 from armplan.bench.timer import Timing, time_rounds
 from armplan.faults.requests import KeepingStages
 from services.planner import stages
 from services.planner.pipeline import plan
 from shared.bus import Bus, Route
 from shared.bus.routes import DECIDE, IK_PATH, TIMING
-from shared.messages import Message, PlanRequest
+from shared.errors import RemoteError
+from shared.messages import Message, PlanRequest, ServiceTiming
 
 #: The stages, in the planner's order.
 STAGES = ("decide", "ik", "timing")
@@ -51,15 +58,29 @@ class StageHop(NamedTuple):
     Attributes:
         here: The stage function in this process, per call [s].
         service: The same request through its service, per call [s].
+        handle: The stage function in the service's process, as the service
+            timed it, per call [s].
+        inside: ``handle`` plus the service's reading of the request and
+            writing of the reply, per call [s].
     """
 
     here: Timing
     service: Timing
+    handle: Timing
+    inside: Timing
 
     @property
     def overhead(self) -> float:
         """Median through the service minus median here [s]."""
         return self.service.percentile(50) - self.here.percentile(50)
+
+    @property
+    def trips(self) -> float:
+        """Median through the service minus median inside it [s].
+
+        Zenoh's trips there and back, the router, and this side's JSON.
+        """
+        return self.service.percentile(50) - self.inside.percentile(50)
 
 
 def stage_requests(request: PlanRequest) -> dict[str, Message]:
@@ -109,12 +130,42 @@ def time_hops(
     """
     requests = stage_requests(request)
     here = {name: _here(name, requests[name]) for name in STAGES}
-    there: dict[str, Callable[[], object]] = {
-        name: partial(bus.call, _ROUTES[name], requests[name], timeout=60.0)
-        for name in STAGES
-    }
+    told: dict[str, list[ServiceTiming]] = {name: [] for name in STAGES}
+    there = {name: _there(bus, name, requests[name], told[name]) for name in STAGES}
     for call in [*here.values(), *there.values()]:  # code loaded, routes known
         call()
+    for kept in told.values():
+        kept.clear()
     timed_there = time_rounds(there, rounds, after)
     timed_here = time_rounds(here, rounds, after)
-    return {name: StageHop(timed_here[name], timed_there[name]) for name in STAGES}
+    return {
+        name: StageHop(
+            timed_here[name],
+            timed_there[name],
+            Timing(np.array([t.handle for t in told[name]])),
+            Timing(np.array([t.total for t in told[name]])),
+        )
+        for name in STAGES
+    }
+
+
+def _there(
+    bus: Bus, name: str, request: Message, told: list[ServiceTiming]
+) -> Callable[[], object]:
+    """The stage through its service; keeps what the service says it spent.
+
+    Raises:
+        RemoteError: if the service's reply does not say (not armplan's).
+    """
+
+    def ask() -> object:
+        reply, timing = bus.call_timed(_ROUTES[name], request, timeout=60.0)
+        if timing is None:
+            raise RemoteError(
+                f"the {name} service's reply carries no ServiceTiming",
+                service=name,
+            )
+        told.append(timing)
+        return reply
+
+    return ask

@@ -15,14 +15,14 @@ from typing import Any
 
 import zenoh
 
-from shared.bus.caller import call
+from shared.bus.caller import answered, call, read_reply, service_timing
 from shared.bus.config import BusConfig
 from shared.bus.keys import service_key
 from shared.bus.liveness import AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
 from shared.lifecycle import Closes
-from shared.messages import Message
+from shared.messages import Message, ServiceTiming
 
 #: Pause between liveliness checks while waiting for services [s].
 WAIT_POLL = 0.05
@@ -92,6 +92,30 @@ class Bus(Closes):
             self.config.resend_after,
             route.repeatable if repeat is None else repeat,
         )
+
+    def call_timed(
+        self,
+        route: Route[Any, Rep],
+        request: Message | str | bytes,
+        *,
+        timeout: float | None = None,
+    ) -> tuple[Rep, ServiceTiming | None]:
+        """:meth:`call`, and where the request's time went in the service.
+
+        The second item is ``None`` if the service did not say.
+        """
+        wait = self.config.timeout if timeout is None else timeout
+        key = route.key(self.config.namespace)
+        reply = answered(
+            self.session,
+            self._alive,
+            self.config.namespace,
+            route,
+            request,
+            wait,
+            self.config.resend_after,
+        )
+        return read_reply(route, reply, key, wait), service_timing(reply)
 
     def remote(self, route: Route[Req, Rep]) -> Callable[[Req], Rep]:
         """``route`` as a plain function, to hand to an algorithm that calls it."""

@@ -40,7 +40,7 @@ from shared.errors import (
     RequestTimeoutError,
     ServiceUnavailableError,
 )
-from shared.messages import ErrorReply, Message, parse
+from shared.messages import ErrorReply, Message, ServiceTiming, parse
 
 #: Payload of Zenoh's own error reply when a query times out.
 ZENOH_TIMEOUT = b"Timeout"
@@ -76,6 +76,27 @@ def call(
         RequestTimeoutError: if it does not answer within ``timeout``.
         ArmplanError: the service's own typed error, rebuilt.
     """
+    reply = answered(
+        session, alive, namespace, route, request, timeout, resend_after, repeat
+    )
+    return read_reply(route, reply, route.key(namespace), timeout)
+
+
+def answered(
+    session: zenoh.Session,
+    alive: AliveServices,
+    namespace: str,
+    route: Route[Any, Any],
+    request: Message | str | bytes,
+    timeout: float,
+    resend_after: float | None = None,
+    repeat: bool | None = None,
+) -> zenoh.Reply:
+    """Zenoh's reply to ``request`` at ``route`` (an ``ok`` or an ``err``).
+
+    Arguments and errors as :func:`call`, except the service's own error,
+    which is returned in the reply, not raised.
+    """
     key = route.key(namespace)
     start = time.monotonic()
     if not alive.is_alive(route.service, min(QUERY_TIMEOUT, timeout)):
@@ -86,7 +107,7 @@ def call(
     resend = resend_after if repeatable else None
     reply = _ask(session, key, encode(request), start + timeout, resend)
     if reply is not None:
-        return read_reply(route, reply, key, timeout)
+        return reply
     if time.monotonic() - start >= 0.9 * timeout:
         raise RequestTimeoutError(route.service, key=key, timeout=timeout)
     alive.forget(route.service)
@@ -226,6 +247,20 @@ def read_reply(
             key=key,
         ) from None
     raise error.to_error()
+
+
+def service_timing(reply: zenoh.Reply) -> ServiceTiming | None:
+    """The service's account of its time (its reply's attachment), if any.
+
+    ``None`` for an error reply, or a reply without a readable one (a
+    service that is not armplan's).
+    """
+    if reply.ok is None or reply.ok.attachment is None:
+        return None
+    try:
+        return parse(ServiceTiming, reply.ok.attachment.to_bytes())
+    except InvalidInputError:
+        return None
 
 
 def _parse_reply(route: Route[Any, Rep], body: bytes, key: str) -> Rep:

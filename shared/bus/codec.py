@@ -8,11 +8,12 @@ and :func:`reply_error` is how any failure becomes an ``ErrorReply``.
 from __future__ import annotations
 
 import logging
+import time
 from typing import Any, NamedTuple, Protocol
 
 from shared.bus.route import Endpoint
 from shared.errors import ArmplanError, InternalServiceError, PayloadTooLargeError
-from shared.messages import ErrorReply, parse
+from shared.messages import ErrorReply, ServiceTiming, parse
 
 log = logging.getLogger("armplan.bus")
 
@@ -31,10 +32,12 @@ class Answer(NamedTuple):
     Attributes:
         ok: ``True`` for a reply, ``False`` for a ``reply_err``.
         body: The reply's or the ``ErrorReply``'s JSON [UTF-8 bytes].
+        timing: Where the request's time went (a reply only).
     """
 
     ok: bool
     body: bytes
+    timing: ServiceTiming | None = None
 
 
 def answer(
@@ -51,14 +54,23 @@ def answer(
     try:
         if len(payload) > limit:
             raise PayloadTooLargeError(size=len(payload), limit=limit, key=key)
+        start = time.perf_counter()
         request = parse(endpoint.route.request, bytes(payload) or b"{}")
+        parsed = time.perf_counter()
         result = endpoint.handle(request)
+        handled = time.perf_counter()
         if not isinstance(result, endpoint.route.reply):
             raise TypeError(
                 f"handler returned {type(result).__name__}, "
                 f"not {endpoint.route.reply.__name__}"
             )
-        return Answer(True, result.to_json().encode())
+        body = result.to_json().encode()
+        timing = ServiceTiming(
+            parse=parsed - start,
+            handle=handled - parsed,
+            reply_json=time.perf_counter() - handled,
+        )
+        return Answer(True, body, timing)
     except ArmplanError as error:
         log.info("%s: %s", key, error.message)
         return Answer(False, reply_error(error))

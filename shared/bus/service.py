@@ -6,6 +6,8 @@ request never blocks Zenoh's own threads, and a handler may itself call other
 services), and declares the liveliness token ``<ns>/alive/<service>`` once it
 is ready. Every query is answered: a reply, or a ``reply_err`` carrying an
 ``ErrorReply`` (see ``codec.answer``); a full queue answers ``service_busy``.
+A reply's Zenoh attachment is a ``ServiceTiming``: where the request's time
+went inside the service.
 """
 
 from __future__ import annotations
@@ -96,8 +98,12 @@ class ServiceHost(StartStop):
             result = answer(endpoint, payload, key, self._bus.config.max_payload)
             try:
                 if result.ok:
+                    timing = result.timing
                     query.reply(
-                        key, result.body, encoding=zenoh.Encoding.APPLICATION_JSON
+                        key,
+                        result.body,
+                        encoding=zenoh.Encoding.APPLICATION_JSON,
+                        attachment=None if timing is None else timing.to_json(),
                     )
                 else:
                     query.reply_err(

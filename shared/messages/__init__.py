@@ -79,3 +79,8 @@ __all__ += ["ArmLengths", "MotionModel", "VariableFit"]
 from shared.messages.fit_request import FitRequest  # noqa: E402
 
 __all__ += ["FitRequest"]
+
+# What a service spent on a request (the Zenoh attachment of its replies).
+from shared.messages.service_timing import ServiceTiming  # noqa: E402
+
+__all__ += ["ServiceTiming"]
