@@ -15,7 +15,7 @@ from typing import Any
 
 import zenoh
 
-from shared.bus.caller import answered, call, read_reply, service_timing
+from shared.bus.caller import answered, read_reply, service_timing
 from shared.bus.config import BusConfig
 from shared.bus.keys import service_key
 from shared.bus.liveness import AliveServices, list_alive
@@ -81,17 +81,8 @@ class Bus(Closes):
             RequestTimeoutError: if it does not answer in time.
             ArmplanError: the service's own error, rebuilt with its kind.
         """
-        wait = self.config.timeout if timeout is None else timeout
-        return call(
-            self.session,
-            self._alive,
-            self.config.namespace,
-            route,
-            request,
-            wait,
-            self.config.resend_after,
-            route.repeatable if repeat is None else repeat,
-        )
+        reply, wait = self._ask(route, request, timeout, repeat)
+        return read_reply(route, reply, route.key(self.config.namespace), wait)
 
     def call_timed(
         self,
@@ -104,8 +95,19 @@ class Bus(Closes):
 
         The second item is ``None`` if the service did not say.
         """
-        wait = self.config.timeout if timeout is None else timeout
+        reply, wait = self._ask(route, request, timeout, None)
         key = route.key(self.config.namespace)
+        return read_reply(route, reply, key, wait), service_timing(reply)
+
+    def _ask(
+        self,
+        route: Route[Any, Any],
+        request: Message | str | bytes,
+        timeout: float | None,
+        repeat: bool | None,
+    ) -> tuple[zenoh.Reply, float]:
+        """Zenoh's reply to ``request``, and the wait allowed [s]."""
+        wait = self.config.timeout if timeout is None else timeout
         reply = answered(
             self.session,
             self._alive,
@@ -114,8 +116,9 @@ class Bus(Closes):
             request,
             wait,
             self.config.resend_after,
+            route.repeatable if repeat is None else repeat,
         )
-        return read_reply(route, reply, key, wait), service_timing(reply)
+        return reply, wait
 
     def remote(self, route: Route[Req, Rep]) -> Callable[[Req], Rep]:
         """``route`` as a plain function, to hand to an algorithm that calls it."""

@@ -48,17 +48,20 @@ ZENOH_TIMEOUT = b"Timeout"
 EMPTY_PAUSE = 0.05
 
 
-def call(
+def answered(
     session: zenoh.Session,
     alive: AliveServices,
     namespace: str,
-    route: Route[Any, Rep],
+    route: Route[Any, Any],
     request: Message | str | bytes,
     timeout: float,
     resend_after: float | None = None,
     repeat: bool | None = None,
-) -> Rep:
-    """Send ``request`` to ``route`` and return its reply.
+) -> zenoh.Reply:
+    """Send ``request`` to ``route``; Zenoh's reply (an ``ok`` or an ``err``).
+
+    ``read_reply`` turns it into the typed reply, or raises the service's
+    own typed error.
 
     Args:
         session: An open session.
@@ -74,28 +77,6 @@ def call(
     Raises:
         ServiceUnavailableError: if the route's service is not running.
         RequestTimeoutError: if it does not answer within ``timeout``.
-        ArmplanError: the service's own typed error, rebuilt.
-    """
-    reply = answered(
-        session, alive, namespace, route, request, timeout, resend_after, repeat
-    )
-    return read_reply(route, reply, route.key(namespace), timeout)
-
-
-def answered(
-    session: zenoh.Session,
-    alive: AliveServices,
-    namespace: str,
-    route: Route[Any, Any],
-    request: Message | str | bytes,
-    timeout: float,
-    resend_after: float | None = None,
-    repeat: bool | None = None,
-) -> zenoh.Reply:
-    """Zenoh's reply to ``request`` at ``route`` (an ``ok`` or an ``err``).
-
-    Arguments and errors as :func:`call`, except the service's own error,
-    which is returned in the reply, not raised.
     """
     key = route.key(namespace)
     start = time.monotonic()

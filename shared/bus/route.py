@@ -41,7 +41,7 @@ class Route(Generic[Req, Rep]):
         reply: The reply message type.
         repeatable: The answer depends on the request alone and answering
             changes nothing (no publication, no new state): a caller may ask
-            twice and take the first answer (see ``caller.call``).
+            twice and take the first answer (see ``caller.answered``).
     """
 
     service: str
