@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import bisect
 import math
 
 import numpy as np
@@ -101,3 +102,16 @@ def test_the_largest_g_wins_and_unknown_primitives_stay_out(
         assert all(choice.g[i] == 0.0 for i in unknown)
         assert CANDIDATES[choice.candidate] in model.primitives
         assert not any(math.isnan(v) for v in choice.g)
+
+
+def test_states_bisect_like_the_standard_library(
+    model: MotionModel, rng: np.random.Generator
+) -> None:
+    """A variable's state is bisect.bisect_right over its bin edges, edges included."""
+    decider = Decider(model)
+    for k, edges in enumerate(decider.edges):
+        values = [*edges, *rng.uniform(-1.0, 2.0 * max(edges), 200).tolist()]
+        for value in values:
+            probe = [0.0] * 5
+            probe[k] = value
+            assert decider.states(tuple(probe))[k] == bisect.bisect_right(edges, value)

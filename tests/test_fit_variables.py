@@ -42,10 +42,10 @@ def test_numpy_and_plain_float_versions_agree(
     )
     for k in range(40):
         one = variables_at(
-            shoulder[k].tolist(),
-            elbow[k].tolist(),
-            wrist[k].tolist(),
-            goal[k].tolist(),
+            tuple(shoulder[k].tolist()),
+            tuple(elbow[k].tolist()),
+            tuple(wrist[k].tolist()),
+            tuple(goal[k].tolist()),
             arm.upper_arm_length,
             arm.forearm_length,
             float(roll[k]),

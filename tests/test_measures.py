@@ -130,7 +130,7 @@ def test_a_straight_arm_has_no_spring() -> None:
         (0.1, 0.0, -0.05),
         (0.2, 0.0, -0.1),
         [(0.0, 0.0, 1.0)],
-        [(0, 0, 0)],
+        [(0.0, 0.0, 0.0)],
     )
     assert r2 == pytest.approx(0.0, abs=1e-15)
     assert grad[0] == pytest.approx(
@@ -146,7 +146,7 @@ def test_elbow_offset_gradient_matches_finite_differences(
 
     def r2(q: np.ndarray) -> float:
         s = chain.state(q)
-        return elbow_offset_and_gradient(s.p_shoulder, s.p_elbow, s.p_wrist, (), ())[0]
+        return elbow_offset_and_gradient(s.p_shoulder, s.p_elbow, s.p_wrist, [], [])[0]
 
     for _ in range(40):
         q = random_posture(arm, rng)

@@ -26,7 +26,6 @@ per model: a decision costs a few microseconds.
 from __future__ import annotations
 
 import math
-from bisect import bisect_right
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -115,11 +114,11 @@ class Decider:
         """The states of the five variables' values."""
         e = self.edges
         return (
-            bisect_right(e[0], values[0]),
-            bisect_right(e[1], values[1]),
-            bisect_right(e[2], values[2]),
-            bisect_right(e[3], values[3]),
-            bisect_right(e[4], values[4]),
+            _bisect_right(e[0], values[0]),
+            _bisect_right(e[1], values[1]),
+            _bisect_right(e[2], values[2]),
+            _bisect_right(e[3], values[3]),
+            _bisect_right(e[4], values[4]),
         )
 
     def decide(
@@ -144,8 +143,13 @@ class Decider:
         joint = [
             prior[m] + shoulder[m] + elbow[m] + wrist[m] for m in range(len(prior))
         ]
-        top = max(joint)
-        evidence = top + math.log(sum(math.exp(v - top) for v in joint))
+        top = joint[0]
+        for v in joint:
+            top = max(top, v)
+        total = 0.0  # in order, as sum() adds floats
+        for v in joint:
+            total += math.exp(v - top)
+        evidence = top + math.log(total)
         g = [0.0] * len(CANDIDATES)
         best, best_g = 0, -math.inf
         for m, log_p in enumerate(joint):
@@ -154,3 +158,15 @@ class Decider:
             if value > best_g:
                 best, best_g = m, value
         return Choice(self.candidate[best], best, tuple(g))
+
+
+def _bisect_right(edges: list[float], value: float) -> int:
+    """``bisect.bisect_right`` on floats, compiled (no Python objects per call)."""
+    lo, hi = 0, len(edges)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if value < edges[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo

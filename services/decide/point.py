@@ -12,9 +12,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import NamedTuple
 
+import numpy as np
+
 from services.decide.decider import Choice, Decider
 from services.fit.roll import roll_to_go_at
-from services.fit.variables import variables_at
+from services.fit.variables import Vec3, variables_at
 from services.ik.kernel.chain import ChainState
 from shared.robot.arm_model import ArmModel, Kinematics
 
@@ -76,11 +78,15 @@ def decide_point(
     return decider.decide(values, palm is not None, state)
 
 
-def _points(kin: Kinematics | ChainState) -> tuple[Sequence[float], ...]:
-    """Shoulder, elbow and wrist as floats; the tracker's state has them so."""
+def _points(kin: Kinematics | ChainState) -> tuple[Vec3, Vec3, Vec3]:
+    """Shoulder, elbow and wrist as float tuples; the tracker's state has them so."""
     if isinstance(kin, ChainState):
         return kin.p_shoulder, kin.p_elbow, kin.p_wrist
-    return kin.shoulder.tolist(), kin.elbow.tolist(), kin.wrist.tolist()
+    return _vec3(kin.shoulder), _vec3(kin.elbow), _vec3(kin.wrist)
+
+
+def _vec3(v: np.ndarray) -> Vec3:
+    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 def _palm_axis(kin: Kinematics | ChainState) -> Sequence[float]:

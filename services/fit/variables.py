@@ -32,7 +32,7 @@ state, for the per-point decision); the tests check that they agree.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from typing import Final
 
 import numpy as np
 
@@ -42,7 +42,9 @@ from shared.messages.motion_model import VARIABLES as VARIABLES
 
 S_R, E_P, E_R, W_P, W_R = range(5)
 
-_EPS = 1e-12
+_EPS: Final = 1e-12
+#: A point [m] as 3 floats.
+Vec3 = tuple[float, float, float]
 
 
 def flexion_for_distance(
@@ -106,17 +108,17 @@ def motion_variables(
 
 
 def variables_at(
-    shoulder: Sequence[float],
-    elbow: Sequence[float],
-    wrist: Sequence[float],
-    goal: Sequence[float],
+    shoulder: Vec3,
+    elbow: Vec3,
+    wrist: Vec3,
+    goal: Vec3,
     upper: float,
     forearm: float,
     roll: float = 0.0,
 ) -> tuple[float, float, float, float, float]:
     """The five variables of one arm state, with plain floats (fast path).
 
-    Same definitions as :func:`motion_variables`; positions [m] as 3 floats,
+    Same definitions as :func:`motion_variables`; positions [m] as float tuples,
     ``roll`` the remaining wrist roll [rad] (0 without a palm direction).
 
     Returns:

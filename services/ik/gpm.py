@@ -28,14 +28,14 @@ Joint limits are kept by each priority in turn, so no step ever leaves them:
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import Final, NamedTuple
 
 from services.ik.kernel.small import NormalSolver, NormalSolver3, normal_solver
 
 #: Damping near singularities [m^2]: lambda^2 with lambda = 1e-4 m.
-SINGULAR_DAMPING = 1e-8
+SINGULAR_DAMPING: Final = 1e-8
 #: A null-space step shorter than this fraction counts as blocked by a limit.
-BLOCKED = 1e-6
+BLOCKED: Final = 1e-6
 
 Columns = Sequence[Sequence[float]]
 

@@ -47,7 +47,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from itertools import pairwise
-from typing import NamedTuple
+from typing import Final, NamedTuple
 
 import numpy as np
 
@@ -69,22 +69,23 @@ from shared.robot.arm_model import ArmModel
 Chooser = Callable[[int, ChainState], Primitive]
 
 #: Null-space gain at a point where the hand moves its mean step [rad^2/unit of H].
-ALPHA = 1.0
+ALPHA: Final = 1.0
 #: Largest joint change per path point by the task part [rad], and by the
 #: null-space part at a point where the hand moves its mean step [rad].
-MAX_STEP, MAX_NULL_STEP = 0.1, 0.01
+MAX_STEP: Final = 0.1
+MAX_NULL_STEP: Final = 0.01
 #: Joints closer than this to a limit they move towards give way [rad].
-MARGIN = 0.2
+MARGIN: Final = 0.2
 #: Distance from the path beyond which the full arm gives up the path [m].
-DETOUR_AFTER = 0.02
+DETOUR_AFTER: Final = 0.02
 #: Points over which a new phase takes over from the old one.
-BLEND = 15
+BLEND: Final = 15
 #: Largest wrist error at the goal before the full arm takes over there [m].
-ARRIVED = 1e-6
+ARRIVED: Final = 1e-6
 #: Wrist error at the goal, after the full arm tried, beyond which the
 #: movement goes in joint space instead (a joint limit in the way) [m].
-MISSED = 1e-5
-ALL_JOINTS: tuple[int, ...] = (0, 1, 2, 3, 4)
+MISSED: Final = 1e-5
+ALL_JOINTS: Final[tuple[int, ...]] = (0, 1, 2, 3, 4)
 
 
 class TrackedPath(NamedTuple):

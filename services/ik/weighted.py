@@ -29,6 +29,7 @@ as a last guard (the weights keep steps off the limits, so this rarely acts).
 from __future__ import annotations
 
 import math
+from typing import Final
 
 from services.ik.gpm import SINGULAR_DAMPING
 from services.ik.kernel.small import factor3, normal_solver, solve3
@@ -37,16 +38,17 @@ from services.ik.kernel.small import factor3, normal_solver, solve3
 #: compiled, a list and a tuple index faster than any Sequence).
 Cols = list[tuple[float, ...]]
 #: Weight of a joint the primitive does not move.
-LOCKED = 0.1
+LOCKED: Final = 0.1
 #: Damping of the weighted solve [m^2]: a joint that barely moves the
 #: wrist (ElbowYaw of a straight arm) must not take huge steps for it.
-DAMPING = 1e-6
+DAMPING: Final = 1e-6
 #: Share of the largest joint step above which a joint counts as fully moving.
-MOVING = 0.1
+MOVING: Final = 0.1
 #: Every joint's index.
-_ALL = (0, 1, 2, 3, 4)
+_ALL: Final = (0, 1, 2, 3, 4)
+_EVERY: Final[list[int]] = [0, 1, 2, 3, 4]
 #: Smallest weight a joint on its limit keeps.
-FLOOR = 1e-4
+FLOOR: Final = 1e-4
 
 
 def limit_weight(
@@ -111,7 +113,7 @@ def weighted_step(
     task, null = _parts(three, error, cols, gradient, base, base, alpha)
     if _near_a_limit(q, lower, upper, margin):
         # the weights depend on where the step goes
-        free = [task[k] + null[k] for k in _ALL]
+        free = [task[k] + null[k] for k in range(5)]
         size = _largest(free) or 1.0
         weights = [
             b * limit_weight(q[k], free[k] / size, lower[k], upper[k], margin)
@@ -120,7 +122,9 @@ def weighted_step(
         if weights != base:
             task, null = _parts(three, error, cols, gradient, weights, base, alpha)
     task, null = _capped(task, max_step), _capped(null, max_null_step)
-    return [min(max(q[k] + task[k] + null[k], lower[k]), upper[k]) - q[k] for k in _ALL]
+    return [
+        min(max(q[k] + task[k] + null[k], lower[k]), upper[k]) - q[k] for k in range(5)
+    ]
 
 
 def _near_a_limit(
@@ -128,7 +132,7 @@ def _near_a_limit(
 ) -> bool:
     """True if a joint is closer than ``margin`` to one of its limits."""
     # A loop, not any(generator): compiled (mypyc) it runs without objects.
-    for k in _ALL:  # noqa: SIM110
+    for k in range(5):  # noqa: SIM110
         if q[k] - lower[k] < margin or upper[k] - q[k] < margin:
             return True
     return False
@@ -172,7 +176,7 @@ def _parts_general(
     task = [r * v for r, v in zip(roots, inverse.apply(error), strict=True)]
     if alpha == 0.0:
         return task, [0.0] * 5
-    active = [k for k in _ALL if base[k] == 1.0]
+    active = [k for k in range(5) if base[k] == 1.0]
     if len(active) < 5:
         inverse = normal_solver(scaled, active, 0.0, SINGULAR_DAMPING)
     g = [0.0] * 5
@@ -204,11 +208,11 @@ def _parts3(
     for k in range(5):
         c, r = cols[k], roots[k]
         sx[k], sy[k], sz[k] = c[0] * r, c[1] * r, c[2] * r
-    low = factor3(sx, sy, sz, _ALL, DAMPING, SINGULAR_DAMPING)
+    low = factor3(sx, sy, sz, _EVERY, DAMPING, SINGULAR_DAMPING)
     x0, x1, x2 = solve3(low, error[0], error[1], error[2])
     task = [roots[k] * (sx[k] * x0 + sy[k] * x1 + sz[k] * x2) for k in range(5)]
     null = [0.0] * 5
-    active = [k for k in _ALL if base[k] == 1.0]
+    active = [k for k in range(5) if base[k] == 1.0]
     if alpha == 0.0 or not active:
         return task, null
     if len(active) < 5:

@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 
 #: Below this length of the wanted palm direction projected off the forearm
 #: axis, roll cannot change how well the palm faces it (palm along forearm).
-DEGENERATE = math.sin(math.radians(5.0))
+DEGENERATE: Final = math.sin(math.radians(5.0))
 
 
 def palm_normal(wrist_rotation: np.ndarray, sign: float) -> np.ndarray:

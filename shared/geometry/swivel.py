@@ -19,20 +19,28 @@ With e = elbow - shoulder, w = wrist - shoulder and up = z:
     y = (w_y e_x - w_x e_y) / |w|,   x = e_z - w_z (e.w) / |w|^2,
     phi = atan2(y, x).
 
-Written on plain indexing and floats: it accepts tuples or numpy arrays and
-is cheap enough for the IK's inner loop (see ``services.ik.kernel``).
+Written on plain floats, cheap enough for the IK's inner loop (see
+``services.ik.kernel``): ``swivel_angle`` and ``swivel_gradient`` accept any
+3-sequences (numpy arrays too); the ``*_and_gradient`` functions the inner
+loop calls take float tuples and lists of them.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Final
 
 #: Swivel angle of the elbow hanging straight down [rad].
-SWIVEL_DOWN = math.pi
+SWIVEL_DOWN: Final = math.pi
 
-_EPS = 1e-12
+_EPS: Final = 1e-12
+_TWO_PI: Final = 2.0 * math.pi
+#: A point, any 3-sequence (numpy arrays too).
 Point = Sequence[float]
+#: A point as 3 floats: what the IK's inner loop passes (compiled, no indexing
+#: through Python's sequence protocol).
+Vec3 = tuple[float, float, float]
 
 
 def swivel_angle(shoulder: Point, elbow: Point, wrist: Point) -> float:
@@ -51,7 +59,7 @@ def swivel_angle(shoulder: Point, elbow: Point, wrist: Point) -> float:
     x = ez - wz * (ex * wx + ey * wy + ez * wz) / ww
     if x * x + y * y < _EPS**2:
         return SWIVEL_DOWN
-    return math.atan2(y, x) % (2.0 * math.pi)
+    return math.atan2(y, x) % _TWO_PI
 
 
 def swivel_gradient(
@@ -70,15 +78,25 @@ def swivel_gradient(
         elbow_columns: d(elbow)/dq_k [m/rad], one 3-vector per joint.
         wrist_columns: d(wrist)/dq_k [m/rad], one 3-vector per joint.
     """
-    return swivel_and_gradient(shoulder, elbow, wrist, elbow_columns, wrist_columns)[1]
+    return swivel_and_gradient(
+        _vec3(shoulder),
+        _vec3(elbow),
+        _vec3(wrist),
+        [_vec3(c) for c in elbow_columns],
+        [_vec3(c) for c in wrist_columns],
+    )[1]
+
+
+def _vec3(v: Point) -> Vec3:
+    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 def swivel_and_gradient(
-    shoulder: Point,
-    elbow: Point,
-    wrist: Point,
-    elbow_columns: Sequence[Point],
-    wrist_columns: Sequence[Point],
+    shoulder: Vec3,
+    elbow: Vec3,
+    wrist: Vec3,
+    elbow_columns: list[Vec3],
+    wrist_columns: list[Vec3],
 ) -> tuple[float, list[float]]:
     """(phi [rad], d(phi)/dq [rad/rad]) in one pass (they share every term)."""
     sx, sy, sz = shoulder[0], shoulder[1], shoulder[2]
@@ -95,7 +113,7 @@ def swivel_and_gradient(
     r2 = x * x + y * y
     if r2 < _EPS**2:
         return SWIVEL_DOWN, [0.0] * n
-    phi = math.atan2(y, x) % (2.0 * math.pi)
+    phi = math.atan2(y, x) % _TWO_PI
     # d(phi) = (x dy - y dx) / r2, with dy, dx by e and by w
     k = 2.0 * wz * ew / (ww * ww)
     a, b = x / r2, y / r2
@@ -116,11 +134,11 @@ def swivel_and_gradient(
 
 
 def elbow_offset_and_gradient(
-    shoulder: Point,
-    elbow: Point,
-    wrist: Point,
-    elbow_columns: Sequence[Point],
-    wrist_columns: Sequence[Point],
+    shoulder: Vec3,
+    elbow: Vec3,
+    wrist: Vec3,
+    elbow_columns: list[Vec3],
+    wrist_columns: list[Vec3],
 ) -> tuple[float, list[float]]:
     """(r^2 [m^2], d(r^2)/dq [m^2/rad]) of the elbow's offset from the arm's line.
 

@@ -36,6 +36,15 @@ def _turn(r: Matrix, axis: int, c: float, s: float) -> Matrix:
             (h * c + i * s, i * c - h * s, j))  # fmt: skip
 
 
+def _column(r: Matrix, axis: int) -> Vec:
+    """Column ``axis`` of R (constant indices: compiled, no tuple is built)."""
+    if axis == 0:
+        return (r[0][0], r[1][0], r[2][0])
+    if axis == 1:
+        return (r[0][1], r[1][1], r[2][1])
+    return (r[0][2], r[1][2], r[2][2])
+
+
 def _apply(r: Matrix, v: Vec) -> Vec:
     return (
         r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
@@ -67,7 +76,7 @@ class ChainState:
 
     def __init__(
         self,
-        qf: tuple[float, ...],
+        qf: tuple[float, float, float, float, float],
         origins: list[Vec],
         axes: list[Vec],
         rot: Matrix,
@@ -188,7 +197,7 @@ class Chain:
 
     def state(self, q: Any) -> ChainState:
         """Kinematics of posture ``q`` [rad] (5 values)."""
-        qf = tuple(float(v) for v in q)
+        angles = [float(q[0]), float(q[1]), float(q[2]), float(q[3]), float(q[4])]
         r: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
         px = py = pz = 0.0
         origins: list[Vec] = []
@@ -203,9 +212,9 @@ class Chain:
                 pz + g * ox + h * oy + i * oz,
             )
             ax = self.axis_index[k]
-            r = _turn(r, ax, math.cos(qf[k]), math.sin(qf[k]))
+            r = _turn(r, ax, math.cos(angles[k]), math.sin(angles[k]))
             origins.append((px, py, pz))
-            axes.append((r[0][ax], r[1][ax], r[2][ax]))
+            axes.append(_column(r, ax))
             lx, ly, lz = self.links[k][1]
             (a, b, c), (d, e, f), (g, h, i) = r
             coms.append(
@@ -218,6 +227,7 @@ class Chain:
         jw = _columns(axes, origins, origins[4], 5)
         je = _columns(axes, origins, origins[2], 2) + [(0.0, 0.0, 0.0)] * 3
         energy, grav = self._gravity(axes, origins, coms)
+        qf = (angles[0], angles[1], angles[2], angles[3], angles[4])
         return ChainState(qf, origins, axes, r, jw, je, energy, grav)
 
     def _gravity(

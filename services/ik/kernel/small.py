@@ -10,17 +10,17 @@ Vec = tuple[float, float, float]
 Factor3 = tuple[float, float, float, float, float, float]
 
 
-def sub(a: Sequence[float], b: Sequence[float]) -> Vec:
+def sub(a: Vec, b: Vec) -> Vec:
     """a - b."""
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
-def dot(a: Sequence[float], b: Sequence[float]) -> float:
+def dot(a: Vec, b: Vec) -> float:
     """a . b for 3-vectors."""
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-def cross(a: Sequence[float], b: Sequence[float]) -> Vec:
+def cross(a: Vec, b: Vec) -> Vec:
     """a x b."""
     return (
         a[1] * b[2] - a[2] * b[1],
@@ -29,7 +29,7 @@ def cross(a: Sequence[float], b: Sequence[float]) -> Vec:
     )
 
 
-def norm(a: Sequence[float]) -> float:
+def norm(a: Vec) -> float:
     """|a| for a 3-vector."""
     return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
 
@@ -63,7 +63,7 @@ class NormalSolver3:
         xs = [c[0] for c in cols]
         ys = [c[1] for c in cols]
         zs = [c[2] for c in cols]
-        self.low = factor3(xs, ys, zs, free, damping, floor)
+        self.low = factor3(xs, ys, zs, list(free), damping, floor)
 
     def apply(self, v: Sequence[float]) -> list[float]:
         """J+ v, one value per free joint."""
@@ -89,7 +89,7 @@ def factor3(
     xs: list[float],
     ys: list[float],
     zs: list[float],
-    free: Sequence[int],
+    free: list[int],
     damping: float,
     floor: float,
 ) -> Factor3 | None:
@@ -100,7 +100,8 @@ def factor3(
     normal matrix positive definite.
     """
     a00 = a10 = a11 = a20 = a21 = a22 = 0.0
-    for k in free:
+    for i in range(len(free)):
+        k = free[i]
         x, y, z = xs[k], ys[k], zs[k]
         a00 += x * x
         a10 += y * x
@@ -110,7 +111,7 @@ def factor3(
         a22 += z * z
     gram = (a00, a10, a11, a20, a21, a22)
     low = _cholesky3(gram, damping)
-    if low is None or min(low[0], low[2], low[5]) ** 2 < floor:
+    if low is None or math.pow(min(low[0], min(low[2], low[5])), 2.0) < floor:
         low = _cholesky3(gram, floor)
     return low
 

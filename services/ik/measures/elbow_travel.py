@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Final
 
 from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure
 
 #: Smoothing length that keeps s differentiable at zero travel [m].
-SMOOTH = 1e-4
+SMOOTH: Final = 1e-4
 
 
 class ElbowTravel(Measure):

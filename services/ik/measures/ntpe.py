@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from typing import Final
+
 from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure
 from services.ik.measures.tpe import TotalPotentialEnergy
 
-WRIST = 4  # index of WristYaw in the joint vector
+WRIST: Final = 4  # index of WristYaw in the joint vector
 
 
 class WristDiscomfortEnergy(Measure):

@@ -36,8 +36,8 @@ class TotalPotentialEnergy(Measure):
     def _spring(self, st: ChainState) -> tuple[float, float]:
         """(stiffness [J/rad^2], pi - phi [rad]) at ``st``."""
         o = st.origins
-        r2, _ = elbow_offset_and_gradient(o[0], o[2], o[4], (), ())
-        phi = swivel_and_gradient(o[0], o[2], o[4], (), ())[0]
+        r2, _ = elbow_offset_and_gradient(o[0], o[2], o[4], [], [])
+        phi = swivel_and_gradient(o[0], o[2], o[4], [], [])[0]
         return self.mu * r2 / _upper_arm_squared(st), math.pi - phi
 
     def elastic(self, st: ChainState) -> float:
