@@ -95,6 +95,8 @@ class PathSpline:
             slope[flat], curve[flat] = 0.0, 0.0
             self.control = _control_points(points, slope, curve, self.widths)
         self._power = _power_basis(self.control)
+        # h^-d per piece and derivative order d, shape (K - 1, 4): d/du = d/dtau / h
+        self._scale = self.widths[:, None] ** -np.arange(4.0)
         self._bounds: DerivativeBounds | None = None
 
     @property
@@ -147,7 +149,7 @@ class PathSpline:
         powers = tau[:, None] ** np.arange(6)  # (m, 6)
         basis = (powers @ _DERIVATIVE_BASIS).reshape(len(tau), 4, 6)
         values = basis @ self._power[piece]  # (m, 4, n)
-        values *= (self.widths[piece][:, None] ** -np.arange(4.0))[:, :, None]
+        values *= self._scale[piece][:, :, None]
         position, first, second, third = np.moveaxis(values, 1, 0)
         # The curve is inside the ranges (control points); clip float round-off.
         np.clip(position, self.lower, self.upper, out=position)

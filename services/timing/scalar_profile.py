@@ -121,13 +121,16 @@ def _profile(trajectory: Trajectory, length: float) -> ScalarProfile:
             "Ruckig needed a braking pre-trajectory from rest, which cannot happen",
             length=length,
         )
-    phases = np.asarray(profile.t)
+    starts, elapsed = [0.0], 0.0
+    for phase in profile.t[:-1]:  # a running sum, as np.cumsum adds
+        elapsed += phase
+        starts.append(elapsed)
     return ScalarProfile(
-        starts=np.concatenate(([0.0], np.cumsum(phases)[:-1])),
-        jerk=np.asarray(profile.j),
-        acceleration=np.asarray(profile.a)[:-1],
-        velocity=np.asarray(profile.v)[:-1],
-        position=np.asarray(profile.p)[:-1],
+        starts=np.array(starts),
+        jerk=np.array(profile.j),
+        acceleration=np.array(profile.a[:-1]),
+        velocity=np.array(profile.v[:-1]),
+        position=np.array(profile.p[:-1]),
         duration=float(trajectory.duration),
         length=float(length),
     )
