@@ -7,14 +7,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import threading
 from collections.abc import Sequence
-from types import FrameType
 
 from bridge.sim.cycle import PERIOD
 from bridge.sim.server import DEFAULT_LISTEN, serve
+from shared.stop_signals import stop_on_signals
 
 
 def parser() -> argparse.ArgumentParser:
@@ -54,15 +53,9 @@ def _watch_stdin(stop: threading.Event) -> None:
 
 def run(listen: str, log: str | None, period: float, stop_on_eof: bool = False) -> int:
     """Serve until SIGINT or SIGTERM (or stdin's end); returns the exit code."""
-    stop = threading.Event()
+    stop = stop_on_signals()
     if stop_on_eof:
         threading.Thread(target=_watch_stdin, args=(stop,), daemon=True).start()
-
-    def _stop(signum: int, frame: FrameType | None) -> None:
-        stop.set()
-
-    signal.signal(signal.SIGTERM, _stop)
-    signal.signal(signal.SIGINT, _stop)
     serve(listen, log, period, stop)
     return 0
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 import logging
-import signal
 import sys
 import threading
 
 from shared.bus.lifeline import watch_parent
+from shared.stop_signals import stop_on_signals
 
 #: Period at which a waiting process checks for its stop request [s].
 POLL = 0.2
@@ -28,13 +28,7 @@ def start_process(level: str = "INFO") -> threading.Event:
         stream=sys.stderr,
         format="%(asctime)s %(name)s[%(process)d] %(levelname)s %(message)s",
     )
-    stop = threading.Event()
-
-    def request_stop(signum: int, frame: object) -> None:
-        stop.set()
-
-    signal.signal(signal.SIGTERM, request_stop)
-    signal.signal(signal.SIGINT, request_stop)
+    stop = stop_on_signals()
     watch_parent()
     return stop
 

@@ -8,7 +8,6 @@ See ``docs/recording.md`` for the channels and how to open them in Foxglove.
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 import threading
 import time
@@ -22,6 +21,7 @@ from services.recorder.arguments import (
 from services.recorder.service import Recorder
 from shared.bus import Bus
 from shared.errors import InvalidInputError
+from shared.stop_signals import stop_on_signals
 
 ORDER = 90
 HELP = "record Zenoh key expressions to an MCAP file until Ctrl-C"
@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
         )
     config = bus_config(args)
     options = options_from_args(args)
-    stop = _stop_on_signals()
+    stop = stop_on_signals()
     with Bus.connect(config) as bus, Recorder(bus, options) as recorder:
         _say(
             f"armplan record: recording {' '.join(recorder.keys)} to "
@@ -73,17 +73,6 @@ def _wait(stop: threading.Event, duration: float | None) -> None:
     while deadline is None or (left := deadline - time.monotonic()) > 0:
         if stop.wait(POLL if deadline is None else min(POLL, left)):
             return
-
-
-def _stop_on_signals() -> threading.Event:
-    stop = threading.Event()
-
-    def request_stop(signum: int, frame: object) -> None:
-        stop.set()
-
-    signal.signal(signal.SIGTERM, request_stop)
-    signal.signal(signal.SIGINT, request_stop)
-    return stop
 
 
 def _say(line: str) -> None:

@@ -11,9 +11,7 @@ session.mcap --keys plan/trajectory --wait-for bridge``.
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
-import threading
 
 import zenoh
 
@@ -21,6 +19,7 @@ from services.recorder.arguments import add_bus_arguments, bus_config
 from services.recorder.replay import replay, replay_items
 from shared.bus import Bus
 from shared.errors import ServiceUnavailableError
+from shared.stop_signals import stop_on_signals
 
 ORDER = 91
 HELP = "publish a recording's messages again over Zenoh with their timing"
@@ -79,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     """Read the file, then send its messages at their (scaled) times."""
     items = replay_items(args.files, keys=args.keys, recover=args.recover)
     config = bus_config(args)
-    stop = _stop_on_signals()
+    stop = stop_on_signals()
     with Bus.connect(config, wait=args.wait) as bus:
         missing = bus.wait_alive(args.wait_for, args.wait)
         if missing:
@@ -102,14 +101,3 @@ def run(args: argparse.Namespace) -> int:
         f"{stats.late * 1000:.1f} ms late)\n"
     )
     return 0
-
-
-def _stop_on_signals() -> threading.Event:
-    stop = threading.Event()
-
-    def request_stop(signum: int, frame: object) -> None:
-        stop.set()
-
-    signal.signal(signal.SIGTERM, request_stop)
-    signal.signal(signal.SIGINT, request_stop)
-    return stop

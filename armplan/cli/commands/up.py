@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import signal
 import sys
 import threading
 
@@ -12,6 +11,7 @@ from armplan.launch import SERVICES, Launcher
 from armplan.launch.robot import SIM_LISTEN, RobotStack
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.robot_routes import EXECUTE
+from shared.stop_signals import stop_on_signals
 
 ORDER = 80
 HELP = "start the Zenoh router and every service; Ctrl-C or SIGTERM stops them all"
@@ -69,7 +69,7 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Start everything, print where it listens, run until SIGTERM/SIGINT."""
     config = load_config(args.config, tuple(args.listen or ()))
-    stop = _stop_on_signals()
+    stop = stop_on_signals()
     launcher = Launcher(config, args.only, stop=stop)
     # starts; stops everything on the way out (the robot side first)
     with launcher, _robot_stack(args, config, stop) as robot:
@@ -77,17 +77,6 @@ def run(args: argparse.Namespace) -> int:
         _watch(launcher, robot, stop)
     _say("armplan up: stopped every process")
     return 0
-
-
-def _stop_on_signals() -> threading.Event:
-    stop = threading.Event()
-
-    def request_stop(signum: int, frame: object) -> None:
-        stop.set()
-
-    signal.signal(signal.SIGTERM, request_stop)
-    signal.signal(signal.SIGINT, request_stop)
-    return stop
 
 
 def _robot_stack(

@@ -1,0 +1,83 @@
+"""Turn SIGTERM and SIGINT into a stop request, without a lock in the handler.
+
+A Python signal handler runs in the main thread, between two bytecodes of
+whatever that thread was doing. A handler that calls ``threading.Event.set``
+takes the event's internal lock; the main thread takes that same lock for a
+moment on every pass of ``event.wait(timeout)``, the loop every armplan
+process waits in. A signal that lands in that moment makes the handler wait
+for a lock its own thread holds: the process hangs and ignores every later
+Ctrl-C (a fresh-clone CI run saw ``armplan up`` hang so on SIGINT).
+
+So the handler here only writes a byte to a pipe. One relay thread per
+process reads the pipe and sets the events; it takes the lock from another
+thread, which simply waits until the main thread lets go. Example::
+
+    stop = stop_on_signals()
+    while not stop.wait(0.2):
+        ...  # work until SIGTERM or Ctrl-C
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import threading
+from collections.abc import Iterable
+from types import FrameType
+
+#: The signals that ask an armplan process to stop.
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT)
+
+
+class _Relay:
+    """A pipe the handler writes to, and the thread that sets the events."""
+
+    def __init__(self) -> None:
+        self.read_end, self.write_end = os.pipe()
+        os.set_blocking(self.write_end, False)
+        self.events: list[threading.Event] = []
+        threading.Thread(target=self._run, name="armplan-signals", daemon=True).start()
+
+    def _run(self) -> None:
+        while os.read(self.read_end, 64):
+            for event in list(self.events):
+                event.set()
+
+    def handler(self, signum: int, frame: FrameType | None) -> None:
+        """The signal handler: one byte into the pipe (no lock, no wait)."""
+        with contextlib.suppress(BlockingIOError):  # full: a wake-up is pending
+            os.write(self.write_end, b"\0")
+
+
+_relay: _Relay | None = None
+_relay_lock = threading.Lock()
+
+
+def _the_relay() -> _Relay:
+    global _relay
+    with _relay_lock:
+        if _relay is None:
+            _relay = _Relay()
+        return _relay
+
+
+def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> threading.Event:
+    """An event set soon after any of ``signals`` arrives.
+
+    Installs the handler for each signal (call it from the main thread, as
+    :func:`signal.signal` requires). Every event made by this function is
+    set by any of the signals installed, from then on.
+
+    Args:
+        signals: Signal numbers; default SIGTERM and SIGINT.
+
+    Returns:
+        The stop request.
+    """
+    relay = _the_relay()
+    stop = threading.Event()
+    relay.events.append(stop)
+    for signum in signals:
+        signal.signal(signum, relay.handler)
+    return stop

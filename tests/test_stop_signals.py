@@ -1,0 +1,75 @@
+"""Signals to stop requests without a lock in the handler (shared.stop_signals)."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import textwrap
+from collections.abc import Iterator
+
+import pytest
+
+from shared.stop_signals import stop_on_signals
+
+#: A signal no armplan code uses, so the tests can take it over.
+SIGNAL = signal.SIGUSR1
+
+
+@pytest.fixture
+def own_signal() -> Iterator[int]:
+    """SIGUSR1, its previous handler put back afterwards."""
+    previous = signal.getsignal(SIGNAL)
+    yield SIGNAL
+    signal.signal(SIGNAL, previous)
+
+
+def test_a_signal_sets_the_stop_request(own_signal: int) -> None:
+    """The event is not set before the signal and is set soon after it."""
+    stop = stop_on_signals([own_signal])
+    assert not stop.is_set()
+    signal.raise_signal(own_signal)
+    assert stop.wait(5.0)
+
+
+@pytest.mark.timeout(30)
+def test_a_signal_while_the_event_is_held_does_not_hang(own_signal: int) -> None:
+    """The handler runs while this thread holds the event's own lock, as it
+    does for a moment in every pass of event.wait(timeout): it returns, and
+    the event is set once the lock is free (a handler calling Event.set here
+    would wait forever for its own thread)."""
+    stop = stop_on_signals([own_signal])
+    with stop._cond:  # what Event.wait holds around its check
+        signal.raise_signal(own_signal)  # the handler runs now, in this thread
+        assert not stop.is_set()  # set() needs the lock held here
+    assert stop.wait(5.0)
+
+
+def test_every_stop_request_hears_the_signal(own_signal: int) -> None:
+    """Two requests made in one process are both set by one signal."""
+    first, second = stop_on_signals([own_signal]), stop_on_signals([own_signal])
+    signal.raise_signal(own_signal)
+    assert first.wait(5.0) and second.wait(5.0)
+
+
+def test_a_waiting_process_stops_on_sigterm() -> None:
+    """A real process waiting in the bus processes' loop exits on SIGTERM."""
+    script = textwrap.dedent(
+        """
+        import sys
+        from shared.bus.process import wait_for
+        from shared.stop_signals import stop_on_signals
+        stop = stop_on_signals()
+        print("waiting", flush=True)
+        wait_for(stop)
+        print("stopped", flush=True)
+        """
+    )
+    with subprocess.Popen(
+        [sys.executable, "-c", script], stdout=subprocess.PIPE, text=True
+    ) as child:
+        assert child.stdout is not None
+        assert child.stdout.readline().strip() == "waiting"
+        child.send_signal(signal.SIGTERM)
+        assert child.wait(10.0) == 0
+        assert child.stdout.read().strip() == "stopped"
