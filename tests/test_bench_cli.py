@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from armplan.bench.machine import cpu_model
 from armplan.bench.report import print_bars
 from armplan.cli.main import main
 from shared.bus.lifeline import PARENT_ENV
@@ -93,7 +94,8 @@ def test_times_and_rates_are_positive_and_finite(figures: dict[str, float]) -> N
 
 def test_the_work_and_the_machine_are_recorded(figures: dict[str, float]) -> None:
     """The one-second reach of about 100 points in both planning parts; the
-    plans counted; CPUs and the load average over the run."""
+    plans counted; the processor, CPUs and the load average over the run."""
+    assert figures["cpu_model"] == cpu_model()
     assert figures["targets"] == 1.0 and figures["services_plans"] == 2.0
     assert figures["plan_points"] == figures["services_path_points"]
     assert 90 <= figures["plan_points"] <= 110

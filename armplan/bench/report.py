@@ -18,10 +18,10 @@ SERVICES_BAR_MS = 20.0
 Figures = dict[str, float]
 
 
-def print_machine(f: Figures) -> None:
-    """The machine: CPUs and the 1-minute load average over the run."""
+def print_machine(f: Figures, processor: str) -> None:
+    """The machine: processor, CPUs and the 1-minute load average over the run."""
     sys.stdout.write(
-        f"machine: {f['cpus']:.0f} CPUs, 1-minute load average "
+        f"machine: {processor}, {f['cpus']:.0f} CPUs, 1-minute load average "
         f"{f['load_average_start']:.2f} -> {f['load_average_end']:.2f} "
         "over the run; the IK's hot loop "
         + ("compiled (mypyc)" if f.get("compiled") else "ran as Python (not compiled)")

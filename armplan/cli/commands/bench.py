@@ -11,7 +11,8 @@ Three benchmarks, each timed beside peers doing the same work in this run:
   (:mod:`armplan.bench.service_latency`); ``--no-services`` skips it.
 
 A progress bar runs on stderr while they do; ``--json`` prints every figure
-on stdout, flat, with the machine's CPUs and load average over the run.
+on stdout, flat, with the machine's processor model, CPUs and load average
+over the run.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from __future__ import annotations
 import argparse
 import os
 
+from armplan.bench.machine import cpu_model
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.compiled import running_compiled
@@ -93,10 +95,11 @@ def run(args: argparse.Namespace) -> int:
             option = "--" + name.replace("_", "-")
             raise InvalidInputError(f"{option} must be at least 1", field=name)
     figures = measure(args)
+    processor = cpu_model()
     if args.json:
-        print_json(figures)
+        print_json({"cpu_model": processor} | figures)
         return 0
-    report.print_machine(figures)
+    report.print_machine(figures, processor)
     report.print_ik(figures)
     report.print_planning(figures)
     if args.services:
