@@ -35,8 +35,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from armplan.bench.timer import Timing, time_rounds
-from armplan.faults.requests import KeepingStages
 from services.planner import stages
+from services.planner.keeping_stages import KeepingStages
 from services.planner.pipeline import plan
 from shared.bus import Bus, Route
 from shared.bus.routes import DECIDE, IK_PATH, TIMING

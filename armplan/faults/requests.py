@@ -11,23 +11,18 @@ from __future__ import annotations
 from typing import Any, NamedTuple
 
 from armplan.faults.outcome import Call
+from services.planner.keeping_stages import KeepingStages
 from services.planner.pipeline import plan
-from services.planner.stages import LocalStages
 from shared.bus import NoArguments, Route
 from shared.bus.robot_routes import EXECUTE
-from shared.bus.routes import DECIDE, FIT, FIT_MODEL, IK_PATH, IK_SOLVE, PLAN, TIMING
+from shared.bus.routes import DECIDE, FIT, FIT_MODEL, IK_SOLVE, PLAN, TIMING
 from shared.demos.nao_grid import nao_grid
 from shared.messages import (
-    DecideRequest,
-    Decision,
     ExecuteRequest,
     FitRequest,
     IKRequest,
-    JointPath,
     Message,
-    PathIKRequest,
     PlanRequest,
-    TimingRequest,
     Trajectory,
 )
 
@@ -35,26 +30,6 @@ from shared.messages import (
 REACH = (0.12, -0.10, 0.05)
 #: Samples of the still trajectory the bridge plays, 0.1 s apart.
 STILL_SAMPLES = 3
-
-
-class KeepingStages(LocalStages):
-    """The in-process stages, keeping the last request each one got."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.asked: dict[str, Message] = {}
-
-    def decide(self, request: DecideRequest) -> Decision:
-        self.asked[DECIDE.path] = request
-        return super().decide(request)
-
-    def ik(self, request: PathIKRequest) -> JointPath:
-        self.asked[IK_PATH.path] = request
-        return super().ik(request)
-
-    def timing(self, request: TimingRequest) -> Trajectory:
-        self.asked[TIMING.path] = request
-        return super().timing(request)
 
 
 def still(trajectory: Trajectory, samples: int = STILL_SAMPLES) -> Trajectory:

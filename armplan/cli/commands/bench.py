@@ -89,11 +89,13 @@ def _client_counts(text: str) -> list[int]:
 def run(args: argparse.Namespace) -> int:
     """Run the benchmarks and print their figures and ratios."""
     from armplan.bench import report
+    from armplan.bench.extras import require
 
     for name in ("targets", "repeats", "ikpy_passes", "plans"):
         if getattr(args, name) < 1:
             option = "--" + name.replace("_", "-")
             raise InvalidInputError(f"{option} must be at least 1", field=name)
+    require("toppra", "ikpy")  # the peers, before any work
     figures = measure(args)
     processor = cpu_model()
     if args.json:
