@@ -23,6 +23,7 @@ import contextlib
 import os
 import signal
 import threading
+import weakref
 from collections.abc import Iterable
 from types import FrameType
 
@@ -31,12 +32,16 @@ STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT)
 
 
 class _Relay:
-    """A pipe the handler writes to, and the thread that sets the events."""
+    """A pipe the handler writes to, and the thread that sets the events.
+
+    The events are held weakly: a process that asks for stop requests again
+    and again (a command run in-process many times) keeps none it dropped.
+    """
 
     def __init__(self) -> None:
         self.read_end, self.write_end = os.pipe()
         os.set_blocking(self.write_end, False)
-        self.events: list[threading.Event] = []
+        self.events: weakref.WeakSet[threading.Event] = weakref.WeakSet()
         threading.Thread(target=self._run, name="armplan-signals", daemon=True).start()
 
     def _run(self) -> None:
@@ -77,7 +82,7 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> threading.Event:
     """
     relay = _the_relay()
     stop = threading.Event()
-    relay.events.append(stop)
+    relay.events.add(stop)
     for signum in signals:
         signal.signal(signum, relay.handler)
     return stop

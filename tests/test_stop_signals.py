@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import signal
 import subprocess
 import sys
@@ -10,6 +11,7 @@ from collections.abc import Iterator
 
 import pytest
 
+from shared import stop_signals
 from shared.stop_signals import stop_on_signals
 
 #: A signal no armplan code uses, so the tests can take it over.
@@ -52,11 +54,20 @@ def test_every_stop_request_hears_the_signal(own_signal: int) -> None:
     assert first.wait(5.0) and second.wait(5.0)
 
 
+def test_a_dropped_stop_request_is_forgotten(own_signal: int) -> None:
+    """Asking again and again does not pile up events nobody holds."""
+    kept = stop_on_signals([own_signal])
+    for _ in range(100):
+        stop_on_signals([own_signal])
+    gc.collect()
+    relay = stop_signals._the_relay()
+    assert kept in relay.events and len(relay.events) < 10
+
+
 def test_a_waiting_process_stops_on_sigterm() -> None:
     """A real process waiting in the bus processes' loop exits on SIGTERM."""
     script = textwrap.dedent(
         """
-        import sys
         from shared.bus.process import wait_for
         from shared.stop_signals import stop_on_signals
         stop = stop_on_signals()
