@@ -51,8 +51,7 @@ def write_path(
 ) -> tuple[pathlib.Path, list[str]]:
     """A minimum-jerk reach to GOAL from the hanging right arm, as CSV; and
     its lines."""
-    points = load_arm("right").fk(rest("right"))
-    path = reach_path(points.shoulder, points.wrist, np.array(GOAL), duration)
+    path = reach_path(load_arm("right"), rest("right"), np.array(GOAL), duration)
     lines = ["t,x,y,z"] + [
         f"{t:.6f},{x:.6f},{y:.6f},{z:.6f}"
         for t, (x, y, z) in zip(path.times, path.positions, strict=True)

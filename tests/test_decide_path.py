@@ -30,9 +30,8 @@ def model() -> MotionModel:
 
 def _reach(arm: ArmModel, duration: float = 0.8) -> tuple[np.ndarray, np.ndarray]:
     start = rest(arm.side)
-    kin = arm.kinematics(start)
     goal = np.array([0.12, 0.09 * (-arm.side.sign), 0.05])
-    path = reach_path(kin.shoulder, kin.wrist, goal, duration, 100.0)
+    path = reach_path(arm, start, goal, duration, 100.0)
     return path.times, path.positions
 
 
@@ -109,8 +108,7 @@ def test_slower_sampling_still_decides_every_point(model: MotionModel) -> None:
 
     arm = load_arm("right")
     start = rest("right")
-    kin = arm.kinematics(start)
-    path = reach_path(kin.shoulder, kin.wrist, np.array([0.12, -0.1, 0.04]), 0.8, 50.0)
+    path = reach_path(arm, start, np.array([0.12, -0.1, 0.04]), 0.8, 50.0)
     decision, _ = decide_path(model, arm, path.positions, start, times=path.times)
     assert len(decision.points) == len(path.times)
     assert set(decision.primitives) <= set(model.primitives)

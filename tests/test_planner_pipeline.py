@@ -123,8 +123,7 @@ def test_every_palm_of_a_task_is_met(method: Method) -> None:
 
 
 def _wrist_path(arm: ArmModel, goal: tuple[float, ...], duration: float) -> WristPath:
-    points = arm.fk(rest(arm.side))
-    path = reach_path(points.shoulder, points.wrist, np.array(goal), duration)
+    path = reach_path(arm, rest(arm.side), np.array(goal), duration)
     return WristPath(
         arm=arm.side,
         times=path.times.tolist(),

@@ -47,9 +47,8 @@ REACH = PlanRequest.model_validate({"targets": [{"position": (0.12, -0.10, 0.05)
 def timed_path() -> WristPath:
     """A 1.2 s timed wrist path from rest towards a target (right arm)."""
     arm = load_arm("right")
-    points = arm.fk(rest(arm.side))
     goal = np.array((0.12, -0.10, 0.05))
-    path = reach_path(points.shoulder, points.wrist, goal, 1.2)
+    path = reach_path(arm, rest(arm.side), goal, 1.2)
     return WristPath(
         arm=arm.side,
         times=path.times.tolist(),

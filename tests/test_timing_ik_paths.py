@@ -21,8 +21,7 @@ IK_LEFT_THE_PATH = 0.005
 def _ik_path(arm: ArmModel, goal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Joint path and wrist positions of a 1 s reach from rest to ``goal``, 100 Hz."""
     start = rest(arm.side)
-    points = arm.fk(start)
-    path = reach_path(points.shoulder, points.wrist, goal, 1.0)
+    path = reach_path(arm, start, goal, 1.0)
     tracked = track_path(arm, path.positions, start, lambda k, kin: FULL_REACH)
     return tracked.q, tracked.wrist
 

@@ -20,8 +20,7 @@ LIMITS = motion_limits(ARM.limits)
 
 def _reach(goal: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
     """IK joint path of a reach and the hand's arc length along it."""
-    points = ARM.fk(rest("right"))
-    path = reach_path(points.shoulder, points.wrist, np.array(goal), 1.0)
+    path = reach_path(ARM, rest("right"), np.array(goal), 1.0)
     tracked = track_path(ARM, path.positions, rest("right"), lambda k, st: FULL_REACH)
     steps = np.linalg.norm(np.diff(tracked.wrist, axis=0), axis=1)
     return tracked.q, np.concatenate(([0.0], np.cumsum(steps)))

@@ -18,8 +18,7 @@ GOALS = {"right": (0.12, -0.13, 0.05), "left": (0.12, 0.13, 0.05)}
 
 
 def _path(arm: ArmModel, goal: tuple[float, float, float]) -> np.ndarray:
-    points = arm.fk(rest(arm.side))
-    return reach_path(points.shoulder, points.wrist, np.array(goal), 1.0).positions
+    return reach_path(arm, rest(arm.side), np.array(goal), 1.0).positions
 
 
 def _state_dependent(k: int, st: ChainState) -> Primitive:

@@ -62,8 +62,7 @@ def reach_joint_path(target: tuple[float, float, float] = TARGET) -> np.ndarray:
     """The right arm's joint path for a 1 s reach to ``target`` at 100 Hz, (101, 5)."""
     arm = load_arm("right")
     start = rest(arm.side)
-    points = arm.fk(start)
-    wrist = reach_path(points.shoulder, points.wrist, np.asarray(target), 1.0)
+    wrist = reach_path(arm, start, np.asarray(target), 1.0)
     return track_path(arm, wrist.positions, start, lambda k, kin: FULL_REACH).q
 
 

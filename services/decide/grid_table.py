@@ -99,12 +99,9 @@ def grid_rows(model: MotionModel, side: Side | str = Side.RIGHT) -> list[GridRow
     arm = load_arm(side)
     decider = Decider(model, 1.0 / RATE)
     start = rest(arm.side)
-    hand = arm.kinematics(start)
     out = []
     for target in nao_grid(arm.side):
-        path = reach_path(
-            hand.shoulder, hand.wrist, target.wrist, target.duration, RATE
-        )
+        path = reach_path(arm, start, target.wrist, target.duration, RATE)
         decision, tracked = decide_path(
             decider, arm, path.positions, start, times=path.times
         )

@@ -30,11 +30,11 @@ def reach_wrist_path(
         target: The reach's goal (position, optional palm direction).
         rate: Points per second of the nominal duration [Hz].
     """
-    points = arm.fk(start_q)
     goal = np.array(target.position)
     length = arm.upper_arm_length + arm.forearm_length
-    nominal = human_duration(float(np.linalg.norm(goal - points.wrist)) / length)
-    path = reach_path(points.shoulder, points.wrist, goal, nominal, rate)
+    hand = float(np.linalg.norm(goal - arm.fk(start_q).wrist))
+    nominal = human_duration(hand / length)
+    path = reach_path(arm, start_q, goal, nominal, rate)
     return WristPath(
         arm=arm.side,
         times=path.times.tolist(),

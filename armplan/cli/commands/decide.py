@@ -129,8 +129,7 @@ def _path(
         raise InvalidInputError("--duration must be 0.05..60 s", field="duration")
     target = np.array(finite(args.target, "target"))
     _check_reachable(arm, target)
-    kin = arm.kinematics(start)
-    path = reach_path(kin.shoulder, kin.wrist, target, args.duration, RATE)
+    path = reach_path(arm, start, target, args.duration, RATE)
     return path.times, path.positions
 
 
