@@ -9,6 +9,7 @@ from services.ik.kernel import ChainState
 from services.ik.track import track_path
 from services.planner.wrist_path import reach_path
 from shared.geometry import palm_normal
+from shared.geometry.palm import roll_error
 from shared.messages import Method
 from shared.primitives import BY_NAME, MOTION_PRIMITIVES, Primitive
 from shared.robot import ArmModel
@@ -98,6 +99,30 @@ def test_grasp_primitive_turns_the_palm(arm: ArmModel) -> None:
     axis = arm.rotation(tracked.q[-1], "wrist")[:, 0]
     wanted = palm - (palm @ axis) * axis
     assert facing @ wanted / np.linalg.norm(wanted) > np.cos(np.radians(1.0))
+
+
+@pytest.mark.parametrize("method", [Method.MP, Method.LEAST_NORM, Method.SINGLE])
+def test_the_palm_turns_with_the_hand(arm: ArmModel, method: Method) -> None:
+    """Along the path the roll still to make is the start's lack of roll times
+    the part of the path still ahead (within 0.02 rad), and none at the goal:
+    the palm neither turns ahead of the hand nor lags it."""
+    path = _path(arm, GOALS[arm.side.value])
+    palm = np.array([0.0, 0.0, 1.0])  # palm up: about 0.47 rad to turn
+    tracked = track_path(
+        arm,
+        path,
+        rest(arm.side),
+        lambda k, st: BY_NAME["S_R E_PR W_PR"],
+        method=method,
+        palm=palm,
+    )
+    steps = np.r_[0.0, np.linalg.norm(np.diff(path, axis=0), axis=1)]
+    ahead = 1.0 - np.cumsum(steps) / steps.sum()
+    rotations = [arm.rotation(q, "wrist") for q in tracked.q]
+    roll = np.array([roll_error(r, arm.side.sign, palm) for r in rotations])
+    assert abs(roll[0]) > 0.4
+    np.testing.assert_allclose(roll, ahead * roll[0], atol=0.02)
+    assert abs(roll[-1]) < 1e-6
 
 
 def test_mp_without_a_chooser_is_refused(arm: ArmModel) -> None:

@@ -33,12 +33,21 @@ class WristTask:
         palm: Wanted palm direction (unit) or ``None``.
         sign: +1 for the right hand, -1 for the left (palm side).
         radial: Whether the distance from the shoulder is controlled.
+        roll_left: Roll of the palm still to make at this point [rad]: the
+            task asks for the palm turned to ``palm`` but for this much
+            (0 at the goal), so that along a path the palm turns with the hand.
     """
 
     def __init__(
-        self, position: Vec, palm: Vec | None, sign: float, radial: bool = True
+        self,
+        position: Vec,
+        palm: Vec | None,
+        sign: float,
+        radial: bool = True,
+        roll_left: float = 0.0,
     ) -> None:
         self.position, self.palm, self.sign, self.radial = position, palm, sign, radial
+        self.roll_left = roll_left
 
     @classmethod
     def make(
@@ -51,16 +60,17 @@ class WristTask:
         """A task from any 3-sequences (numpy arrays included)."""
         return cls(_vec(position), None if palm is None else _vec(palm), sign, radial)
 
-    def at(self, position: Sequence[float]) -> WristTask:
-        """The same task with another wrist position."""
-        return WristTask(_vec(position), self.palm, self.sign, self.radial)
+    def at(self, position: Sequence[float], roll_left: float = 0.0) -> WristTask:
+        """The same task with another wrist position and roll still left [rad]."""
+        return WristTask(_vec(position), self.palm, self.sign, self.radial, roll_left)
 
     def residual(self, st: ChainState) -> tuple[list[float], list[tuple[float, ...]]]:
         """(error, Jacobian columns) of the task at ``st``.
 
         Returns:
             error: Position error [m] (3 values, or 2 for the direction task),
-                then the roll error [rad] if a palm direction is wanted.
+                then the roll error [rad] if a palm direction is wanted
+                (less ``roll_left``).
             cols: d(task)/dq_k for each joint k (5 tuples of as many values
                 as ``error``); the roll entry is the joint axis along the
                 forearm (the wrist's angular Jacobian projected on it).
@@ -76,7 +86,7 @@ class WristTask:
             cols = [(dot(t1, c), dot(t2, c)) for c in st.jw]
         if self.palm is not None:
             axis = (st.rot[0][0], st.rot[1][0], st.rot[2][0])
-            err.append(roll_error(st.rot, self.sign, self.palm))
+            err.append(roll_error(st.rot, self.sign, self.palm) - self.roll_left)
             cols = [(*c, dot(axis, a)) for c, a in zip(cols, st.axes, strict=True)]
         return err, cols
 

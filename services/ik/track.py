@@ -34,6 +34,13 @@ start and stop with the hand):
       residual crossed a threshold made a sawtooth that was invisible in
       position but multiplied the jerk tenfold.)
     - At the goal only the wrist task is converged (no null-space jump).
+    - A wanted palm turns with the hand: at each point the roll still to
+      make is the roll the start posture lacks times the part of the path
+      still ahead, so the palm arrives with the hand. (Asked for the final
+      palm from the first point on, the arm turned it within the first few
+      points, while the hand had hardly moved and, near a straight elbow,
+      mostly with ElbowYaw: postures further from the demonstrations', and
+      reaches with a palm slowed to several times the human duration.)
 
 If the arm cannot follow the path within its limits (more than
 ``DETOUR_AFTER`` off and still drifting away), or ends it more than
@@ -58,6 +65,7 @@ from services.ik.measures import factory as measure_factory
 from services.ik.solver import solve
 from services.ik.task import WristTask
 from services.ik.weighted import LOCKED, weighted_step
+from shared.geometry.palm import roll_error
 from shared.messages.method import Method
 from shared.primitives import FULL_GRASP, FULL_REACH, Primitive, turning_the_wrist
 from shared.robot.arm_model import ArmModel
@@ -186,13 +194,14 @@ def track_path(
     labels: list[str] = []
     phases = _Phases(run)
     st = run.chain.state(q)
+    roll_left = _roll_left(run, _progress(points), st)
     for k, point in enumerate(points):
         wanted = _wanted(method, choose, k, st)
         phases.update(wanted, st)
         if k > 0 or len(points) == 1:
             # The path starts where the arm is: its first posture is the
             # start, also when the palm is still to turn (the next steps do).
-            q, st = _follow(run.chain, phases, point, q, st, gains[k])
+            q, st = _follow(run.chain, phases, point, roll_left[k], q, st, gains[k])
         if phases.lost(st, point):
             return _detour(arm, run, points, begin, phases.phase)
         if k == len(points) - 1:
@@ -263,6 +272,34 @@ class _Phases:
         self.old, self.left, self.phase = self.phase, BLEND, new
 
 
+def _roll_left(run: _Follow, progress: list[float], st: ChainState) -> list[float]:
+    """The palm's roll still to make at each point [rad]: it turns with the hand.
+
+    The roll the start posture lacks, times the part of the path still ahead
+    (``progress``: 0 at the start, 1 at the goal); all zero without a palm.
+    """
+    if run.palm is None:
+        return [0.0] * len(progress)
+    palm = [float(v) for v in run.palm]
+    total = roll_error(st.rot, run.chain.side.sign, palm)
+    return [(1.0 - s) * total for s in progress]
+
+
+def _progress(points: list[list[float]]) -> list[float]:
+    """Each point's share of the path's length, 0 to 1.
+
+    Where the hand does not move at all, each point's share of the points.
+    """
+    steps = [0.0] + [math.dist(a, b) for a, b in pairwise(points)]
+    length = math.fsum(steps)
+    last = max(len(points) - 1, 1)
+    out, done = [], 0.0
+    for k, step in enumerate(steps):
+        done += step
+        out.append(done / length if length > 1e-12 else k / last)
+    return out
+
+
 def _gains(points: list[list[float]]) -> tuple[list[float], float]:
     """Gain factor per point (its hand step over the mean step), and the mean [m]."""
     steps = [0.0] + [math.dist(a, b) for a, b in pairwise(points)]
@@ -303,19 +340,21 @@ def _follow(
     chain: Chain,
     phases: _Phases,
     point: list[float],
+    roll_left: float,
     q: list[float],
     st: ChainState,
     gain: float,
 ) -> tuple[list[float], ChainState]:
     """One step of eq. 14 towards ``point``, null-space gain scaled by ``gain``.
 
+    ``roll_left`` is the palm's roll still to make there [rad] (``_roll_left``).
     During a change of phase the step blends the old phase's and the new
     one's. The state after the step is the next point's state.
     """
     old, weight = phases.blend()
-    dq = _step(chain, phases.phase, point, q, st, gain)
+    dq = _step(chain, phases.phase, point, roll_left, q, st, gain)
     if old is not None:
-        before = _step(chain, old, point, q, st, gain)
+        before = _step(chain, old, point, roll_left, q, st, gain)
         dq = [weight * dq[k] + (1.0 - weight) * before[k] for k in range(len(dq))]
     q = [q[k] + dq[k] for k in range(len(q))]
     return q, chain.state(q)
@@ -325,12 +364,13 @@ def _step(
     chain: Chain,
     phase: _Phase,
     point: list[float],
+    roll_left: float,
     q: list[float],
     st: ChainState,
     gain: float,
 ) -> list[float]:
     """The weighted step of ``phase`` towards ``point`` [rad], 5 floats."""
-    err, cols = phase.task.at(point).residual(st)
+    err, cols = phase.task.at(point, roll_left).residual(st)
     base = [1.0 if k in phase.active else LOCKED for k in range(5)]
     return weighted_step(
         q, err, cols, phase.measure.gradient(st), base, chain.lower, chain.upper,
@@ -393,8 +433,7 @@ def _detour(
         start=base,
         params=run.params,
     ).q
-    steps = np.concatenate(([0.0], np.linalg.norm(np.diff(points, axis=0), axis=1)))
-    progress = np.cumsum(steps) / max(float(steps.sum()), 1e-12)
+    progress = np.array(_progress(points))
     joints = base + progress[:, None] * (goal - base)
     label = run.method.value if primitive is None else primitive.name
     return TrackedPath(
