@@ -194,7 +194,7 @@ def track_path(
     labels: list[str] = []
     phases = _Phases(run)
     st = run.chain.state(q)
-    roll_left = _roll_left(run, _progress(points), st)
+    roll_left = _roll_left(run, points, st)
     for k, point in enumerate(points):
         wanted = _wanted(method, choose, k, st)
         phases.update(wanted, st)
@@ -272,17 +272,17 @@ class _Phases:
         self.old, self.left, self.phase = self.phase, BLEND, new
 
 
-def _roll_left(run: _Follow, progress: list[float], st: ChainState) -> list[float]:
+def _roll_left(run: _Follow, points: list[list[float]], st: ChainState) -> list[float]:
     """The palm's roll still to make at each point [rad]: it turns with the hand.
 
-    The roll the start posture lacks, times the part of the path still ahead
-    (``progress``: 0 at the start, 1 at the goal); all zero without a palm.
+    The roll the start posture ``st`` lacks, times the part of the path still
+    ahead (``_progress``); all zero without a palm.
     """
     if run.palm is None:
-        return [0.0] * len(progress)
+        return [0.0] * len(points)
     palm = [float(v) for v in run.palm]
     total = roll_error(st.rot, run.chain.side.sign, palm)
-    return [(1.0 - s) * total for s in progress]
+    return [(1.0 - s) * total for s in _progress(points)]
 
 
 def _progress(points: list[list[float]]) -> list[float]:
