@@ -290,7 +290,7 @@ def _progress(points: list[list[float]]) -> list[float]:
 
     Where the hand does not move at all, each point's share of the points.
     """
-    steps = [0.0] + [math.dist(a, b) for a, b in pairwise(points)]
+    steps = _steps(points)
     length = math.fsum(steps)
     last = max(len(points) - 1, 1)
     out, done = [], 0.0
@@ -300,9 +300,14 @@ def _progress(points: list[list[float]]) -> list[float]:
     return out
 
 
+def _steps(points: list[list[float]]) -> list[float]:
+    """The hand's step to each point from the one before [m] (0 for the first)."""
+    return [0.0] + [math.dist(a, b) for a, b in pairwise(points)]
+
+
 def _gains(points: list[list[float]]) -> tuple[list[float], float]:
     """Gain factor per point (its hand step over the mean step), and the mean [m]."""
-    steps = [0.0] + [math.dist(a, b) for a, b in pairwise(points)]
+    steps = _steps(points)
     mean = math.fsum(steps) / max(len(steps) - 1, 1)
     return [s / mean if mean > 0.0 else 0.0 for s in steps], mean
 
