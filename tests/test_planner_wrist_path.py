@@ -9,6 +9,7 @@ import pytest
 
 from armplan.experiments.normalised_time import tau_grid
 from armplan.experiments.subject_reach import subject_reaches
+from services.planner.wrist_path import _slerp as great_circle
 from services.planner.wrist_path import bend_radius, minimum_jerk, reach_path
 from shared.demos import synthesize
 from shared.robot import ArmModel
@@ -111,8 +112,8 @@ def test_the_bend_law_is_nearer_the_demonstrations_than_the_distance_law() -> No
             "bend": bend_radius(ra, rb, progress, upper, fore),
             "distance": ra + progress * (rb - ra),
         }
+        direction = great_circle(a / ra, b / rb, progress)  # the same for both
         for name, radius in laws.items():
-            direction = _slerp(a / ra, b / rb, progress)
             path = shoulder + direction * radius[:, None]
             errors[name].append(
                 float(np.mean(np.linalg.norm(path - reach.wrist, axis=1)))
@@ -123,10 +124,3 @@ def test_the_bend_law_is_nearer_the_demonstrations_than_the_distance_law() -> No
         f"distance law {distance * 100:.3f} cm"
     )
     assert bend < distance
-
-
-def _slerp(ua: np.ndarray, ub: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """Great-circle interpolation of unit vectors (written out for the test)."""
-    angle = math.acos(float(np.clip(ua @ ub, -1.0, 1.0)))
-    s = s[:, None]
-    return (np.sin((1 - s) * angle) * ua + np.sin(s * angle) * ub) / math.sin(angle)
