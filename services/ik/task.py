@@ -8,7 +8,7 @@ import numpy as np
 
 from services.ik.kernel.chain import ChainState
 from services.ik.kernel.small import Vec, cross, dot, norm, sub
-from shared.geometry.palm import roll_error
+from shared.geometry.palm import roll_error, roll_rate
 
 
 def _vec(v: Sequence[float] | np.ndarray) -> Vec:
@@ -72,8 +72,11 @@ class WristTask:
                 then the roll error [rad] if a palm direction is wanted
                 (less ``roll_left``).
             cols: d(task)/dq_k for each joint k (5 tuples of as many values
-                as ``error``); the roll entry is the joint axis along the
-                forearm (the wrist's angular Jacobian projected on it).
+                as ``error``); the roll entry is the roll's exact rate
+                under the joint (``roll_rate``), not only the joint axis's
+                part along the forearm: where a joint also swings the
+                forearm relative to the wanted palm, the projection alone
+                left the roll trailing its target along a path.
         """
         w, p = st.origins[4], self.position
         e = (p[0] - w[0], p[1] - w[1], p[2] - w[2])
@@ -85,9 +88,9 @@ class WristTask:
             err = [dot(t1, e), dot(t2, e)]
             cols = [(dot(t1, c), dot(t2, c)) for c in st.jw]
         if self.palm is not None:
-            axis = (st.rot[0][0], st.rot[1][0], st.rot[2][0])
+            rate = roll_rate(st.rot, self.sign, self.palm)
             err.append(roll_error(st.rot, self.sign, self.palm) - self.roll_left)
-            cols = [(*c, dot(axis, a)) for c, a in zip(cols, st.axes, strict=True)]
+            cols = [(*c, dot(rate, a)) for c, a in zip(cols, st.axes, strict=True)]
         return err, cols
 
     def position_error(self, st: ChainState) -> float:

@@ -57,3 +57,47 @@ def roll_error(wrist_rotation: Any, sign: float, palm: Sequence[float]) -> float
     # axis . (normal x wanted), normal . wanted (the length cancels in atan2)
     cx, cy, cz = ny * wz - nz * wy, nz * wx - nx * wz, nx * wy - ny * wx
     return math.atan2(ax * cx + ay * cy + az * cz, nx * wx + ny * wy + nz * wz)
+
+
+def roll_rate(
+    wrist_rotation: Any, sign: float, palm: Sequence[float]
+) -> tuple[float, float, float]:
+    """How fast the hand gains the roll :func:`roll_error` asks for [rad/rad].
+
+    The exact derivative: turning the wrist frame at angular velocity
+    ``u`` (unit axis, torso frame) changes ``roll_error`` by ``-u . g`` per
+    radian, and this returns ``g``. Along the forearm axis ``u . g`` is 1;
+    about other axes the forearm itself swings relative to ``palm``, which
+    the projection on the forearm axis alone leaves out.
+
+    With ``b = a x n`` (forearm axis ``a``, palm normal ``n``), the roll is
+    ``atan2(p . b, p . n)``, and turning by ``u`` moves ``n`` and ``b`` by
+    ``u x n`` and ``u x b``, so ``g = -((p.n) b - (p.b) n) x p / ((p.n)^2 +
+    (p.b)^2)``. Where ``palm`` lies within 5 degrees of the forearm axis
+    (:data:`DEGENERATE`, the roll error is 0 there) ``g`` is the forearm axis.
+
+    Args:
+        wrist_rotation: Orientation of the wrist frame, 3x3 (rows r[i][j]).
+        sign: +1 for the right hand, -1 for the left.
+        palm: Wanted palm direction, unit, 3 values.
+
+    Returns:
+        g, 3 floats: d(roll made)/dq_k is ``axis_k . g`` for joint axis k.
+    """
+    r = wrist_rotation
+    ax, ay, az = float(r[0][0]), float(r[1][0]), float(r[2][0])
+    nx, ny, nz = sign * float(r[0][1]), sign * float(r[1][1]), sign * float(r[2][1])
+    px, py, pz = float(palm[0]), float(palm[1]), float(palm[2])
+    bx, by, bz = ay * nz - az * ny, az * nx - ax * nz, ax * ny - ay * nx
+    x = px * nx + py * ny + pz * nz
+    y = px * bx + py * by + pz * bz
+    off = x * x + y * y
+    if off < DEGENERATE * DEGENERATE:
+        return ax, ay, az
+    # m = x b - y n; g = -(m x p) / off = (p x m) / off
+    mx, my, mz = x * bx - y * nx, x * by - y * ny, x * bz - y * nz
+    return (
+        (py * mz - pz * my) / off,
+        (pz * mx - px * mz) / off,
+        (px * my - py * mx) / off,
+    )
