@@ -139,3 +139,22 @@ def test_the_unrolled_three_row_step_is_the_general_one_bit_for_bit(
         weights = [b * float(rng.uniform(FLOOR, 1.0)) for b in base]
         args = (error, cols, gradient, weights, base, alpha)
         assert _parts3(*args) == _parts_general(*args)
+
+
+@pytest.mark.parametrize("rows", [3, 4])
+def test_no_self_motion_without_more_active_joints_than_rows(rows: int) -> None:
+    """As many active joints as task rows leave no null space, even where
+    their columns lose rank (a singular posture): the gradient then adds
+    nothing, where a damped inverse would let it leak into the task's weak
+    direction."""
+    rng = np.random.default_rng(21)
+    active = [0, 1, 2, 4][:rows] if rows == 4 else [0, 2, 4]
+    base = [1.0 if k in active else LOCKED for k in range(5)]
+    for singular in (False, True):
+        jac = rng.normal(0.0, 0.1, (rows, 5))
+        if singular:
+            jac[:, active[-1]] = 0.5 * jac[:, active[0]]
+        q, dx = rng.uniform(-0.5, 0.5, 5), rng.normal(0.0, 0.002, rows)
+        gradient = rng.normal(0.0, 1.0, 5)
+        plain = _step(q, jac, dx, base)
+        np.testing.assert_array_equal(_step(q, jac, dx, base, gradient, 0.7), plain)

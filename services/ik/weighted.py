@@ -22,8 +22,15 @@ Chan and Dubey 1995 for limits). Two things set w:
 
 Every w is a smooth function of the posture, so the joint path is smooth
 where the wrist path is. The null-space part descends H with the active
-joints only, in the same metric. The result is clipped to the joint range
-as a last guard (the weights keep steps off the limits, so this rarely acts).
+joints only, in the same metric, and only if they outnumber the task's rows:
+with as many active joints as rows (S_R E_P W_PR turning the palm: four of
+each) there is no null space, except at a posture where the active columns
+lose rank. There the inverse is damped near the singularity, its projector
+is no longer zero and the gradient leaks into the task's weak direction, on
+and off as the damping switches: with ElbowYaw crossing 0 that made a
+sawtooth in ElbowYaw that slowed the whole reach to several times its
+human duration. The result is clipped to the joint range as a last guard
+(the weights keep steps off the limits, so this rarely acts).
 """
 
 from __future__ import annotations
@@ -164,19 +171,20 @@ def _parts_general(
     """The task part W^1/2 Jw+ dx and the null-space part, 5 floats each.
 
     The null-space part is -alpha W^1/2 (I - Jw+ Jw) W^1/2 grad H over the
-    active joints (``base`` 1). When every joint is active it reuses the
-    task's factorisation: its damping (``DAMPING``) leaks a negligible
-    DAMPING / sigma^2 of the gradient into the task, which the next step
-    removes anyway. Any number of task rows, through ``normal_solver``.
+    active joints (``base`` 1), zero unless they outnumber the rows. When
+    every joint is active it reuses the task's factorisation: its damping
+    (``DAMPING``) leaks a negligible DAMPING / sigma^2 of the gradient into
+    the task, which the next step removes anyway. Any number of task rows,
+    through ``normal_solver``.
     """
     roots = [math.sqrt(w) for w in weights]
     scaled = [(c[0] * r, c[1] * r, c[2] * r) if len(c) == 3 else [v * r for v in c]
               for c, r in zip(cols, roots, strict=True)]  # fmt: skip
     inverse = normal_solver(scaled, _ALL, DAMPING, SINGULAR_DAMPING)
     task = [r * v for r, v in zip(roots, inverse.apply(error), strict=True)]
-    if alpha == 0.0:
-        return task, [0.0] * 5
     active = [k for k in range(5) if base[k] == 1.0]
+    if alpha == 0.0 or len(active) <= len(error):
+        return task, [0.0] * 5
     if len(active) < 5:
         inverse = normal_solver(scaled, active, 0.0, SINGULAR_DAMPING)
     g = [0.0] * 5
@@ -213,7 +221,7 @@ def _parts3(
     task = [roots[k] * (sx[k] * x0 + sy[k] * x1 + sz[k] * x2) for k in range(5)]
     null = [0.0] * 5
     active = [k for k in range(5) if base[k] == 1.0]
-    if alpha == 0.0 or not active:
+    if alpha == 0.0 or len(active) <= 3:
         return task, null
     if len(active) < 5:
         low = factor3(sx, sy, sz, active, 0.0, SINGULAR_DAMPING)
