@@ -43,10 +43,13 @@ start and stop with the hand):
       reaches with a palm slowed to several times the human duration.)
 
 If the arm cannot follow the path within its limits (more than
-``DETOUR_AFTER`` off and still drifting away), or ends it more than
-``MISSED`` from the goal, the whole movement goes in joint space from the
-start to the goal posture solved by :func:`services.ik.solve`, and
-``detour_from`` is 0.
+``DETOUR_AFTER`` off and still drifting away), ends it more than ``MISSED``
+from the goal, or could meet the goal only by a jump (a joint moving more
+than ``JUMP`` at the last point, typically a palm that a joint on its limit
+kept from turning, met at the end by swinging another joint by up to a
+radian: no timing can make that smooth), the whole movement goes in joint
+space from the start to the goal posture solved by :func:`services.ik.solve`,
+and ``detour_from`` is 0.
 """
 
 from __future__ import annotations
@@ -93,6 +96,9 @@ ARRIVED: Final = 1e-6
 #: Wrist error at the goal, after the full arm tried, beyond which the
 #: movement goes in joint space instead (a joint limit in the way) [m].
 MISSED: Final = 1e-5
+#: Largest change of a joint at the goal's convergence [rad]: removing the
+#: last step's residual takes far less; more is another posture, a jump.
+JUMP: Final = 0.01
 ALL_JOINTS: Final[tuple[int, ...]] = (0, 1, 2, 3, 4)
 
 
@@ -205,8 +211,12 @@ def track_path(
         if phases.lost(st, point):
             return _detour(arm, run, points, begin, phases.phase)
         if k == len(points) - 1:
+            last = q
             q, st = _arrive(run, phases, point, q, wanted)
-            if phases.phase.task.at(point).position_error(st) > MISSED:
+            if (
+                _jumped(last, q)
+                or phases.phase.task.at(point).position_error(st) > MISSED
+            ):
                 return _detour(arm, run, points, begin, phases.phase)
         out_q.append(q)
         out_wrist.append(st.p_wrist)
@@ -246,7 +256,13 @@ class _Phases:
             self._switch(_start_phase(self.run, wanted, st))
 
     def promote(self, wanted: Primitive, st: ChainState) -> None:
-        """Hand the rest to the full-arm primitive of ``wanted``'s task."""
+        """Hand the rest to the full-arm primitive of ``wanted``'s task.
+
+        With a wanted palm that is the grasping one, whatever ``wanted`` is
+        (as in :meth:`update`): the palm must still be met at the goal.
+        """
+        if self.run.palm is not None:
+            wanted = turning_the_wrist(wanted)
         self._switch(_start_phase(self.run, _full(wanted), st))
 
     def lost(self, st: ChainState, point: list[float]) -> bool:
@@ -404,6 +420,11 @@ def _arrive(
     phase = phases.phase
     q, _ = converge(run.chain, phase.task.at(goal), phase.active, NoMeasure(), q)
     return q, run.chain.state(q)
+
+
+def _jumped(before: list[float], after: list[float]) -> bool:
+    """True if a joint moved by more than ``JUMP`` from ``before`` to ``after``."""
+    return any(abs(a - b) > JUMP for a, b in zip(after, before, strict=True))
 
 
 def _full(primitive: Primitive) -> Primitive:
