@@ -89,6 +89,9 @@ class UnreachableTargetError(ArmplanError):
         distance: Distance from the shoulder to the target [m].
         reach: Interval of shoulder-to-wrist distances the arm can make [m].
         at: Where the target came from, e.g. "wrist-path sample 37 (t = ...)".
+        palm: The wanted palm direction the posture also had to meet, or
+            None: with one, a target within reach may still be missed (no
+            posture within the limits turns the palm that way there).
     """
 
     kind = "unreachable_target"
@@ -102,6 +105,7 @@ class UnreachableTargetError(ArmplanError):
         reach: tuple[float, float],
         residual: float | None = None,
         at: str = "",
+        palm: Sequence[float] | None = None,
     ) -> None:
         prefix = f"{at}: " if at else ""
         where = (
@@ -116,6 +120,8 @@ class UnreachableTargetError(ArmplanError):
                 f"{where} ({span}) but no posture within the joint limits gets "
                 f"closer than {residual * 1000:.1f} mm"
             )
+            if palm is not None:
+                message += f" with the palm facing {_fmt_vec(palm)}"
         super().__init__(
             message,
             target=[float(v) for v in target],
@@ -124,6 +130,7 @@ class UnreachableTargetError(ArmplanError):
             reach=[float(reach[0]), float(reach[1])],
             residual=None if residual is None else float(residual),
             at=at,
+            palm=None if palm is None else [float(v) for v in palm],
         )
         self.target = tuple(float(v) for v in target)
         self.distance = float(distance)

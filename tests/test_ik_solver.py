@@ -165,6 +165,18 @@ def test_target_behind_the_back_is_unreachable() -> None:
         solve(load_arm("right"), np.array([-0.15, -0.098, 0.1]))
 
 
+def test_a_palm_no_posture_can_meet_is_named() -> None:
+    """A target within reach with a palm no posture in range turns that way
+    there (the right palm facing forward, 0.78 rad of roll short at best by
+    sampling): the error names the palm, not only the target."""
+    arm, target = load_arm("right"), np.array([0.12, -0.13, 0.05])
+    assert solve(arm, target).error < 1e-5
+    with pytest.raises(
+        UnreachableTargetError, match=r"mm with the palm facing \(1, 0, 0\)"
+    ):
+        solve(arm, target, palm=np.array([1.0, 0.0, 0.0]))
+
+
 def test_start_outside_the_limits_is_refused() -> None:
     """A start posture out of range raises JointLimitError naming the joint."""
     q = rest("right")

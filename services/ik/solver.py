@@ -267,6 +267,7 @@ def _accept(
             distance=distance,
             reach=arm.reach,
             residual=error,
+            palm=task.palm,
         )
     if task.palm_error(st) > ROLL_TOLERANCE:
         raise PrimitiveCannotReachError(
