@@ -227,9 +227,19 @@ LOSSY_ONCE_ONLY = Route("lossy", "test/lossy", Text, Text)
 
 @pytest.fixture()
 def quick_resend(config: BusConfig) -> Iterator[tuple[Bus, Bus]]:
-    """A service-side bus and a client that asks again after 0.2 s."""
+    """A service-side bus and a client that asks again after 0.2 s.
+
+    The tests before may have left a "lossy" token that the router has not
+    dropped yet (their sessions just closed); it is waited out first, so
+    that ``wait_alive`` sees the test's own token, not a stale one whose
+    removal would then read as the service gone.
+    """
     resending = dataclasses.replace(config, resend_after=0.2)
     with Bus.connect(config) as service_bus, Bus.connect(resending) as client:
+        deadline = time.monotonic() + 5.0
+        while "lossy" in client.alive() and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert "lossy" not in client.alive()
         yield service_bus, client
 
 
