@@ -90,6 +90,16 @@ def test_palm_direction_is_normalised_and_nonzero() -> None:
         parse(ReachTarget, {"position": [0, 0, 0], "palm": [0, 0, 0]})
 
 
+@pytest.mark.parametrize("size", [1e-6, 1.0, 1e300, 1e308])
+def test_a_direction_of_any_finite_size_becomes_unit(size: float) -> None:
+    """Huge parts do not overflow the length to infinity (and the direction to
+    zero); tiny ones below 1e-9 are the zero vector."""
+    palm = parse(ReachTarget, {"position": [0, 0, 0], "palm": [size, size, 0]}).palm
+    assert palm == pytest.approx((math.sqrt(0.5), math.sqrt(0.5), 0.0), rel=1e-15)
+    with pytest.raises(InvalidInputError, match="zero vector"):
+        parse(ReachTarget, {"position": [0, 0, 0], "palm": [1e-300, 0, 0]})
+
+
 def test_trajectory_rows_must_match_times() -> None:
     """A trajectory with a short velocity row names it."""
     row = [0.0] * 5

@@ -10,9 +10,9 @@ typed :class:`~shared.errors.InvalidInputError` naming the field.
 from __future__ import annotations
 
 import json
+import math
 from typing import Annotated, Any, TypeVar
 
-import numpy as np
 from pydantic import AfterValidator, BaseModel, ConfigDict, ValidationError
 
 from shared.errors import InvalidInputError
@@ -34,10 +34,19 @@ class Message(BaseModel):
 
 
 def _nonzero(v: tuple[float, float, float]) -> tuple[float, float, float]:
-    norm = float(np.linalg.norm(v))
-    if norm < 1e-9:
+    """``v`` scaled to unit length.
+
+    Its largest part is divided out first, so that huge finite values (1e308)
+    do not overflow to a zero vector.
+    """
+    scale = max(abs(v[0]), abs(v[1]), abs(v[2]))
+    if scale == 0.0:
         raise ValueError("a direction must not be the zero vector")
-    return (v[0] / norm, v[1] / norm, v[2] / norm)
+    u = (v[0] / scale, v[1] / scale, v[2] / scale)
+    norm = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    if scale * norm < 1e-9:
+        raise ValueError("a direction must not be the zero vector")
+    return (u[0] / norm, u[1] / norm, u[2] / norm)
 
 
 #: A point or vector in the torso frame [m] (or unitless for directions).
