@@ -241,6 +241,7 @@ def test_too_fast_names_the_joint_and_sample(
         (["--target", *GOAL, "--palm", "0", "0", "0"], "zero vector"),
         (["--target", "0.5", "-0.1", "0.05"], "m from the right shoulder"),
         (["--target", *GOAL, "--rate", "0"], "rate"),
+        (["--target", *GOAL, "--rate", "1e-300"], "rate: Input should be greater"),
         (["--target", *GOAL, "--arm", "middle"], "unknown arm 'middle'"),
         (["--target", *GOAL, "--start", "9", "0", "0", "0", "0"], "RShoulderPitch"),
         (["--task", "no-such-task.json"], "no-such-task.json: cannot read the task"),

@@ -145,3 +145,20 @@ def test_cli_refuses_an_unsafe_trajectory(
         )
         == 1
     )
+
+
+@pytest.mark.parametrize("rate", ["0.5", "1e-300", "2000"])
+def test_cli_refuses_a_frame_rate_out_of_range(
+    rate: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Frame rates outside [1, 1000] Hz are refused before anything is written
+    (at 1e-300 fps the timeline would have lasted 1e300 s)."""
+    source = tmp_path / "trajectory.json"
+    source.write_text(trajectory().to_json())
+    out = tmp_path / "b.xar"
+    assert (
+        main(["export", "choregraphe", str(source), "-o", str(out), "--rate", rate])
+        == 1
+    )
+    assert "--rate must be in [1, 1000] Hz" in capsys.readouterr().err
+    assert not out.exists()

@@ -49,6 +49,11 @@ def _nonzero(v: tuple[float, float, float]) -> tuple[float, float, float]:
     return (u[0] / norm, u[1] / norm, u[2] / norm)
 
 
+#: Sample and frame rates [Hz]: at least 1 (a slower timeline cannot show a
+#: reach that lasts about a second, and its period overflows the timing's
+#: arithmetic long before 1e-300 Hz), at most 1000.
+MIN_RATE, MAX_RATE = 1.0, 1000.0
+
 #: A point or vector in the torso frame [m] (or unitless for directions).
 Vec3 = tuple[float, float, float]
 #: A direction in the torso frame, normalised to unit length on input.

@@ -12,12 +12,12 @@ from __future__ import annotations
 
 from pydantic import Field, NonNegativeFloat, model_validator
 
-from shared.messages.base import Message
+from shared.messages.base import MAX_RATE, MIN_RATE, Message
 from shared.messages.joint_path import Row, Trajectory
 from shared.robot.side import Side
 
 #: Highest frame rate a timeline may have [Hz]; ALMotion's cycle is 50 Hz.
-MAX_FRAME_RATE = 1000.0
+MAX_FRAME_RATE = MAX_RATE
 
 
 def _check_table(name: str, rows: list[Row], n: int, width: int) -> None:
@@ -50,7 +50,7 @@ class CommandFrames(Message):
     """
 
     arm: Side
-    rate: float = Field(gt=0.0, le=MAX_FRAME_RATE)
+    rate: float = Field(ge=MIN_RATE, le=MAX_FRAME_RATE)
     joint_names: list[str] = Field(min_length=1)
     start: list[float]
     times: list[float] = Field(min_length=1)
@@ -179,7 +179,7 @@ class ExecuteRequest(Message):
     """
 
     trajectory: Trajectory
-    rate: float = Field(default=25.0, gt=0.0, le=MAX_FRAME_RATE)
+    rate: float = Field(default=25.0, ge=MIN_RATE, le=MAX_FRAME_RATE)
     approach: bool = True
 
 

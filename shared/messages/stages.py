@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from shared.messages.base import JointVector, Message
+from shared.messages.base import MAX_RATE, MIN_RATE, JointVector, Message
 from shared.messages.decision import Decision
 from shared.messages.joint_path import JointPath
 from shared.messages.method import Method
@@ -64,5 +64,5 @@ class TimingRequest(Message):
     """
 
     segments: list[TimingSegment] = Field(min_length=1, max_length=64)
-    rate: float = Field(default=100.0, gt=0.0, le=1000.0)
+    rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
     method: Method = Method.MP

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from shared.messages.base import Direction, JointVector, Message, Vec3
+from shared.messages.base import (
+    MAX_RATE,
+    MIN_RATE,
+    Direction,
+    JointVector,
+    Message,
+    Vec3,
+)
 from shared.messages.method import Method
 from shared.messages.wrist_path import WristPath
 from shared.robot.side import Side
@@ -53,7 +60,7 @@ class PlanRequest(Message):
     start: JointVector | None = None
     method: Method = Method.MP
     fastest: bool = False
-    rate: float = Field(default=100.0, gt=0.0, le=1000.0)
+    rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
 
     @model_validator(mode="after")

@@ -11,6 +11,7 @@ from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import InvalidInputError
 from shared.messages import Trajectory, parse
+from shared.messages.base import MAX_RATE, MIN_RATE
 
 ORDER = 60
 HELP = "write a trajectory as a Choregraphe behavior (.xar) or Python script"
@@ -57,8 +58,11 @@ def run(args: argparse.Namespace) -> int:
         write_python,
     )
 
-    if not 0.0 < args.rate <= 1000.0:
-        raise InvalidInputError("--rate must be in (0, 1000] Hz", field="rate")
+    if not MIN_RATE <= args.rate <= MAX_RATE:
+        raise InvalidInputError(
+            f"--rate must be in [{MIN_RATE:g}, {MAX_RATE:g}] Hz, got {args.rate:g}",
+            field="rate",
+        )
     trajectory = read_trajectory(args.trajectory)
     frames = frames_from_trajectory(trajectory, args.rate)
     check_frames(frames, FrameLimits.for_arm(trajectory.arm))
