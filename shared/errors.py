@@ -17,6 +17,11 @@ def _fmt_vec(values: Sequence[float]) -> str:
     return "(" + ", ".join(f"{float(v):.4g}" for v in values) + ")"
 
 
+def _fmt_fixed(value: float, decimals: int) -> str:
+    """``value`` with ``decimals`` decimals, or in exponent form if huge (1e308)."""
+    return f"{value:.{decimals}f}" if abs(value) < 1e6 else f"{value:.{decimals}g}"
+
+
 class ArmplanError(Exception):
     """Root of every error armplan raises on purpose.
 
@@ -109,7 +114,7 @@ class UnreachableTargetError(ArmplanError):
     ) -> None:
         prefix = f"{at}: " if at else ""
         where = (
-            f"{prefix}target {_fmt_vec(target)} m is {distance:.4f} m "
+            f"{prefix}target {_fmt_vec(target)} m is {_fmt_fixed(distance, 4)} m "
             f"from the {arm} shoulder"
         )
         span = f"the wrist reaches {reach[0]:.4f}..{reach[1]:.4f} m from it"
@@ -191,7 +196,7 @@ class JointLimitError(ArmplanError):
     ) -> None:
         at = f" {where}" if where else ""
         super().__init__(
-            f"{joint} = {value:.5f} rad{at} is outside its range "
+            f"{joint} = {_fmt_fixed(value, 5)} rad{at} is outside its range "
             f"[{lower:.5f}, {upper:.5f}] rad",
             joint=joint,
             value=float(value),

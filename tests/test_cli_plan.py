@@ -242,6 +242,11 @@ def test_too_fast_names_the_joint_and_sample(
         (["--target", "0.5", "-0.1", "0.05"], "m from the right shoulder"),
         (["--target", *GOAL, "--rate", "0"], "rate"),
         (["--target", *GOAL, "--rate", "1e-300"], "rate: Input should be greater"),
+        (["--target", "1e308", "0", "0"], "is 1e+308 m from the right shoulder;"),
+        (
+            ["--target", *GOAL, "--start", "1e308", "0", "0", "0", "0"],
+            "RShoulderPitch = 1e+308 rad in the start posture",
+        ),
         (["--target", *GOAL, "--arm", "middle"], "unknown arm 'middle'"),
         (["--target", *GOAL, "--start", "9", "0", "0", "0", "0"], "RShoulderPitch"),
         (["--task", "no-such-task.json"], "no-such-task.json: cannot read the task"),
