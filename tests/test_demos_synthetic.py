@@ -18,6 +18,7 @@ from shared.demos.grid import SPACING, grid_targets
 from shared.demos.labels import primitive_name
 from shared.demos.reach_model import AVERAGE_STYLE, plan_reach, sample_reach
 from shared.demos.retarget import ArmTrack, retarget
+from shared.errors import InvalidInputError
 from shared.primitives import MOTION_PRIMITIVES
 
 
@@ -147,3 +148,18 @@ def test_label_of_moving_joints() -> None:
     assert primitive_name(False, True, False) == "E_R W_P"
     assert primitive_name(False, True, True) == "E_R W_P"
     assert primitive_name(False, False, True) is None
+
+
+@pytest.mark.parametrize(
+    ("arguments", "field"),
+    [({"seed": -1}, "seed"), ({"subjects": 0}, "subjects"),
+     ({"trials": 1001}, "trials"), ({"rate": 0.0}, "rate"),
+     ({"points": (0,)}, "points")],
+)  # fmt: skip
+def test_arguments_out_of_their_domain_are_refused(
+    arguments: dict[str, object], field: str
+) -> None:
+    """Each argument is checked at the boundary, before anything is drawn."""
+    with pytest.raises(InvalidInputError) as info:
+        synthesize(**arguments)  # type: ignore[arg-type]
+    assert info.value.field == field

@@ -337,3 +337,23 @@ def test_reference_starts_in_the_tasks_start_and_ends_on_its_targets() -> None:
 def test_methods_are_the_method_and_both_baselines() -> None:
     """The experiments compare mp with least-norm and single, mp first."""
     assert [m.value for m in METHODS] == ["mp", "least-norm", "single"]
+
+
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [(["--samples", "1000000000"], "need 2 to 10001 samples of normalised time"),
+     (["--seed", "-1"], "seed must be 0 or more, got -1"),
+     (["--subjects", "5000"], "subjects must be 1..1000, got 5000"),
+     (["--trials", "0"], "trials must be 1..1000, got 0"),
+     (["--points", "17"], "grid point 17 does not exist")],
+)  # fmt: skip
+def test_similarity_options_out_of_range_are_clear_errors(
+    option: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Sizes that would exhaust memory (a billion samples once did) or that numpy
+    would refuse with a traceback (a negative seed): exit 1, the bound named."""
+    code = main(["experiment", "similarity", *option, "--json"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert message in captured.err
+    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"

@@ -14,17 +14,19 @@ from shared.errors import InvalidInputError
 
 #: Values of tau at which movements are compared, by default.
 SAMPLES = 101
+#: Most values of tau: a hundredth of a percent of the movement apart.
+MOST_SAMPLES = 10_001
 
 
 def tau_grid(samples: int = SAMPLES) -> np.ndarray:
     """``samples`` evenly spaced values of tau from 0 to 1, shape (samples,).
 
     Raises:
-        InvalidInputError: if ``samples`` < 2.
+        InvalidInputError: if ``samples`` is not within 2..``MOST_SAMPLES``.
     """
-    if samples < 2:
+    if not 2 <= samples <= MOST_SAMPLES:
         raise InvalidInputError(
-            f"need at least 2 samples of normalised time, got {samples}",
+            f"need 2 to {MOST_SAMPLES} samples of normalised time, got {samples}",
             field="samples",
         )
     return np.linspace(0.0, 1.0, samples)

@@ -22,12 +22,39 @@ from shared.demos.reach_model import (
 from shared.demos.retarget import ArmSize, ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, matrix_from_rotation_vector
 from shared.demos.trial import DemoSet, Trial
+from shared.errors import InvalidInputError
 from shared.robot.side import Side
 
 #: The paper's protocol (Section V.A).
 SUBJECTS, TRIALS, RATE = 16, 5, 100.0
+#: Most subjects, and most trials per subject and point, one set may have.
+MOST = 1000
 #: Orientation noise of the wrist frame [rad].
 ORIENTATION_NOISE = 0.01
+
+
+def _check(
+    seed: int,
+    subjects: int,
+    trials: int,
+    rate: float,
+    points: tuple[int, ...] | None,
+) -> None:
+    """Raise InvalidInputError naming the first argument out of its domain."""
+    if seed < 0:
+        raise InvalidInputError(f"seed must be 0 or more, got {seed}", field="seed")
+    for name, value in (("subjects", subjects), ("trials", trials)):
+        if not 1 <= value <= MOST:
+            raise InvalidInputError(
+                f"{name} must be 1..{MOST}, got {value}", field=name
+            )
+    if not (np.isfinite(rate) and rate > 0.0):
+        raise InvalidInputError(f"rate must be positive, got {rate}", field="rate")
+    for point in points or ():
+        if not 1 <= point <= 16:
+            raise InvalidInputError(
+                f"grid point {point} does not exist: points are 1..16", field="points"
+            )
 
 
 def synthesize(
@@ -46,7 +73,12 @@ def synthesize(
         trials: Trials per subject and point.
         rate: Sample rate [Hz].
         points: Grid points to reach (1..16); all if ``None``.
+
+    Raises:
+        InvalidInputError: for a negative seed, subjects or trials outside
+            1..``MOST``, a rate that is not positive, or a point outside 1..16.
     """
+    _check(seed, subjects, trials, rate, points)
     rng = np.random.default_rng(seed)
     people = draw_subjects(subjects, rng)
     styles = [draw_style(rng) for _ in people]

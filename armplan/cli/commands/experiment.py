@@ -158,13 +158,6 @@ def _demos(args: argparse.Namespace) -> tuple[Any, str]:
 
     if args.demos:
         return read_demos(args.demos), ", ".join(args.demos)
-    _at_least(args.subjects, 1, "subjects")
-    _at_least(args.trials, 1, "trials")
-    for point in args.points or ():
-        if not 1 <= point <= 16:
-            raise InvalidInputError(
-                f"grid point {point} does not exist: points are 1..16", field="points"
-            )
     points = tuple(sorted(set(args.points))) if args.points else None
     demos = synthesize(
         args.seed, subjects=args.subjects, trials=args.trials, points=points
