@@ -73,15 +73,20 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.set_defaults(run=run)
 
 
+#: Most concurrent clients in one row (each is a thread with its own wait).
+MOST_CLIENTS = 1000
+
+
 def _client_counts(text: str) -> list[int]:
-    """``"1,8,50"`` -> ``[1, 8, 50]``; each at least 1."""
+    """``"1,8,50"`` -> ``[1, 8, 50]``; each 1..``MOST_CLIENTS``."""
     try:
         counts = [int(part) for part in text.split(",")]
     except ValueError:
         counts = []
-    if not counts or min(counts) < 1:
+    if not counts or min(counts) < 1 or max(counts) > MOST_CLIENTS:
         raise argparse.ArgumentTypeError(
-            f"{text!r} is not a comma-separated list of positive client counts"
+            f"{text!r} is not a comma-separated list of client counts, "
+            f"each 1..{MOST_CLIENTS}"
         )
     return counts
 
