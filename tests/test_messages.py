@@ -65,6 +65,15 @@ def test_wrist_path_times_must_increase() -> None:
         parse(WristPath, {"times": [0.0, 0.1, 0.1], "positions": [[0.1, 0, 0]] * 3})
 
 
+@pytest.mark.parametrize("end", [600.01, 1e308])
+def test_wrist_path_lasts_at_most_ten_minutes(end: float) -> None:
+    """A path longer than 600 s is refused with its duration (1e308 s once
+    overflowed the motion decision's arithmetic); 600 s is accepted."""
+    with pytest.raises(InvalidInputError, match=r"the path lasts .* longer than 600 s"):
+        parse(WristPath, {"times": [0.0, end], "positions": [[0.1, 0, 0]] * 2})
+    parse(WristPath, {"times": [5.0, 605.0], "positions": [[0.1, 0, 0]] * 2})
+
+
 def test_wrist_path_lengths_must_match() -> None:
     """Times and positions need the same length."""
     with pytest.raises(InvalidInputError, match="2 times but 1 positions"):

@@ -11,6 +11,8 @@ from shared.robot.side import Side
 
 #: Most samples one path may hold (100 Hz for 10 minutes).
 MAX_SAMPLES = 60_000
+#: Longest a path may last, first sample to last [s] (10 minutes).
+MAX_DURATION = 600.0
 
 
 class WristPath(Message):
@@ -42,4 +44,10 @@ class WristPath(Message):
                 )
         if not all(math.isfinite(t) for t in self.times):
             raise ValueError("times must be finite")
+        if self.times[-1] - self.times[0] > MAX_DURATION:
+            raise ValueError(
+                f"the path lasts {self.times[-1] - self.times[0]:g} s, longer than "
+                f"{MAX_DURATION:g} s (from t = {self.times[0]:g} s to "
+                f"t = {self.times[-1]:g} s)"
+            )
         return self
