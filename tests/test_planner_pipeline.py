@@ -96,6 +96,23 @@ def test_grid_reaches_with_the_subjects_palms_keep_near_human_pace() -> None:
     assert np.max(ratios) <= 1.5
 
 
+@pytest.mark.parametrize("method", [Method.MP, Method.SINGLE])
+def test_the_requests_measure_weights_reach_the_ik(method: Method) -> None:
+    """A reach with a palm: the request's ``measures`` change the joint path
+    (mp's grasp measure and single's measure both weigh wrist discomfort),
+    and the shipped weights given explicitly change nothing."""
+    arm = load_arm("right")
+    goal = {"position": (0.12, -0.10, 0.05), "palm": (0.0, 0.0, 1.0)}
+
+    def joints(**options: object) -> np.ndarray:
+        request = _request(arm, goal, method=method.value, **options)
+        return np.array(plan(request).joint_paths[0].positions)
+
+    default = joints()
+    np.testing.assert_array_equal(joints(measures={"omega": 0.01, "mu": 0.03}), default)
+    assert np.abs(joints(measures={"omega": 0.0}) - default).max() > 1e-5
+
+
 def test_fastest_is_faster_and_still_within_the_limits(arm: ArmModel) -> None:
     """--fastest goes quicker than human pace, and no limit breaks."""
     goal = {"position": GOALS[arm.side.value]}

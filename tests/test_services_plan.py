@@ -77,6 +77,12 @@ CASES = {
         }
     ),
     "wrist-path": PlanRequest(wrist_path=timed_path()),
+    "palm-weights": PlanRequest.model_validate(
+        {
+            "targets": [{"position": (0.12, -0.10, 0.05), "palm": (0, 0, 1)}],
+            "measures": {"omega": 0.0, "mu": 0.3},
+        }
+    ),
 }
 
 

@@ -35,6 +35,7 @@ from armplan.experiments.similarity import METHODS
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from shared.messages import Method
+from shared.messages.measure_params import MeasureParams
 from shared.robot.arm_model import ArmModel, load_arm
 
 
@@ -69,6 +70,7 @@ def run_handover(
     methods: tuple[Method, ...] = METHODS,
     movements: int | None = None,
     starts: Starts = Starts.CHAINED,
+    measures: MeasureParams | None = None,
 ) -> tuple[list[ReferenceMovement], list[SimilaritySeries]]:
     """The reference and each method's S over the task (or its first movements).
 
@@ -78,11 +80,14 @@ def run_handover(
         methods: The methods to run.
         movements: Only the first this many movements (all if ``None``).
         starts: Where each movement starts.
+        measures: The IK measures' weights; default the shipped ones.
     """
     arm = load_arm(task.arm)
     reference = human_reference(arm, task, movements)
     stages = stages or LocalStages()
-    return reference, [_series(arm, stages, reference, m, starts) for m in methods]
+    return reference, [
+        _series(arm, stages, reference, m, starts, measures) for m in methods
+    ]
 
 
 def _series(
@@ -91,6 +96,7 @@ def _series(
     reference: list[ReferenceMovement],
     method: Method,
     starts: Starts,
+    measures: MeasureParams | None,
 ) -> SimilaritySeries:
     """Plan the task with ``method`` and compare it with ``reference``."""
     times, values, index, used = [], [], [], []
@@ -98,7 +104,8 @@ def _series(
     for k, move in enumerate(reference):
         if starts is Starts.REFERENCE:
             q = move.q[0]
-        path = track(stages, reach_wrist_path(arm, q, move.target), q, method)
+        wrist = reach_wrist_path(arm, q, move.target)
+        path = track(stages, wrist, q, method, measures)
         tau = move.times / move.times[-1]
         nao = at_tau_even(np.array(path.positions), tau)
         values.append(posture_similarity(nao, move.q, arm.limits))

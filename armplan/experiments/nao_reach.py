@@ -30,16 +30,11 @@ import numpy as np
 from armplan.experiments.normalised_time import at_tau_even
 from armplan.experiments.posture_from_points import joints_from_points
 from armplan.experiments.subject_reach import SubjectReach
+from services.planner.pipeline import track_movement
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import Stages
-from shared.messages import (
-    DecideRequest,
-    JointPath,
-    Method,
-    PathIKRequest,
-    ReachTarget,
-    WristPath,
-)
+from shared.messages import JointPath, Method, ReachTarget, WristPath
+from shared.messages.measure_params import MeasureParams
 from shared.robot.arm_model import ArmModel
 
 #: Path points per second of the human path [Hz] (the paper's 100 Hz).
@@ -79,11 +74,12 @@ def nao_reach(
     method: Method,
     source: PathSource,
     tau: np.ndarray,
+    measures: MeasureParams | None = None,
 ) -> NaoReach:
     """NAO's reach for ``reach`` with ``method`` (see the module docstring)."""
     q0 = start_posture(arm, reach)
     path = wrist_path(arm, reach, q0, source, tau)
-    joint_path = track(stages, path, q0, method)
+    joint_path = track(stages, path, q0, method, measures)
     q = np.array(joint_path.positions)
     elbow = np.array([arm.fk(posture).elbow for posture in q])
     return NaoReach(
@@ -119,12 +115,12 @@ def wrist_path(
     )
 
 
-def track(stages: Stages, path: WristPath, q0: np.ndarray, method: Method) -> JointPath:
+def track(
+    stages: Stages,
+    path: WristPath,
+    q0: np.ndarray,
+    method: Method,
+    measures: MeasureParams | None = None,
+) -> JointPath:
     """Decide (method ``mp``) and track ``path`` from ``q0``, as the planner does."""
-    begin = tuple(float(v) for v in q0)
-    decision = None
-    if method is Method.MP:
-        decision = stages.decide(DecideRequest(path=path, start=begin))
-    return stages.ik(
-        PathIKRequest(path=path, start=begin, method=method, decision=decision)
-    )
+    return track_movement(stages, path, q0, method, measures or MeasureParams())[0]

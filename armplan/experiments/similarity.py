@@ -26,6 +26,7 @@ from services.decide.grid_table import MIN_POINTS, sequence
 from services.planner.stages import LocalStages, Stages
 from shared.demos.trial import DemoSet
 from shared.messages import Method
+from shared.messages.measure_params import MeasureParams
 from shared.robot.arm_model import load_arm
 
 #: The methods compared, the paper's first.
@@ -62,6 +63,7 @@ def run_similarity(
     stages: Stages | None = None,
     methods: tuple[Method, ...] = METHODS,
     progress: Callable[[int, int], None] | None = None,
+    measures: MeasureParams | None = None,
 ) -> list[ReachError]:
     """The experiment on ``demos`` (right-arm reaches on the grid).
 
@@ -72,6 +74,7 @@ def run_similarity(
         stages: The planner's stages (default: in this process, shipped model).
         methods: The methods to run.
         progress: Called with (reaches done, reaches in all) after each.
+        measures: The IK measures' weights; default the shipped ones.
     """
     tau = tau_grid(samples)
     stages = stages or LocalStages()
@@ -80,7 +83,7 @@ def run_similarity(
     for done, reach in enumerate(reaches, start=1):
         arm = load_arm(_arm_of(demos, reach))
         for method in methods:
-            nao = nao_reach(arm, stages, reach, method, source, tau)
+            nao = nao_reach(arm, stages, reach, method, source, tau, measures)
             out.append(
                 ReachError(
                     reach.subject,

@@ -22,6 +22,7 @@ from services.decide.decider import CANDIDATES, Choice, Decider
 from services.decide.point import DecidingArm, decide_point
 from services.fit.model import MotionModel
 from services.ik.kernel.chain import ChainState
+from services.ik.measures import MeasureParams
 from services.ik.track import TrackedPath, track_path
 from shared.messages import Decision, WristPath
 from shared.primitives import BY_NAME, Primitive
@@ -46,6 +47,7 @@ def decide_path(
     goal: np.ndarray | None = None,
     palm: np.ndarray | None = None,
     times: np.ndarray | None = None,
+    params: MeasureParams | None = None,
 ) -> tuple[Decision, TrackedPath]:
     """Decide the primitive of every point of a wrist path while tracking it.
 
@@ -57,6 +59,7 @@ def decide_path(
         goal: Where the movement ends [m], shape (3,); default the last point.
         palm: Wanted palm direction at the goal (unit, shape (3,)), or ``None``.
         times: Times of the points [s], shape (n,); default 0.01 s apart.
+        params: The measures' weights; default the shipped ones.
 
     Returns:
         The decision (the winner and every g at each point) and the joint path.
@@ -81,7 +84,7 @@ def decide_path(
         made.append(settle(k, raw, previous))
         return BY_NAME[made[-1].name]
 
-    tracked = track_path(arm, positions, start_q, choose, palm=palm)
+    tracked = track_path(arm, positions, start_q, choose, palm=palm, params=params)
     for k in range(len(made), len(tracked.q)):  # a joint-space detour
         kin = arm.kinematics(tracked.q[k])
         raw = decide_point(decider, kin, target, size, wanted, made[-1])

@@ -42,6 +42,7 @@ from shared.messages import (
     Trajectory,
     WristPath,
 )
+from shared.messages.measure_params import MeasureParams
 from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
 from shared.robot.motion_limits import motion_limits
@@ -89,7 +90,7 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
     q = start
     for target in request.targets:
         path = reach_wrist_path(arm, q, target)
-        joint_path = _movement(stages, request.method, path, q, decisions)
+        joint_path = _movement(stages, request, path, q, decisions)
         paths.append(path)
         joints.append(joint_path)
         end = np.array(joint_path.positions[-1])
@@ -104,22 +105,50 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
     return PlanResult(trajectory, paths, decisions, joints)
 
 
+def track_movement(
+    stages: Stages,
+    path: WristPath,
+    start: np.ndarray,
+    method: Method,
+    measures: MeasureParams,
+) -> tuple[JointPath, Decision | None]:
+    """Decide (method mp) and track one movement's wrist path from ``start``.
+
+    Returns:
+        The joint path, and the decision (None for a baseline).
+    """
+    begin = tuple(float(v) for v in start)
+    decision = None
+    if method is Method.MP:
+        decision = stages.decide(
+            DecideRequest(path=path, start=begin, measures=measures)
+        )
+    joint_path = stages.ik(
+        PathIKRequest(
+            path=path,
+            start=begin,
+            method=method,
+            decision=decision,
+            measures=measures,
+        )
+    )
+    return joint_path, decision
+
+
 def _movement(
     stages: Stages,
-    method: Method,
+    request: PlanRequest,
     path: WristPath,
     start: np.ndarray,
     decisions: list[Decision],
 ) -> JointPath:
-    """Decide (method mp) and track one movement's wrist path."""
-    begin = tuple(float(v) for v in start)
-    decision = None
-    if method is Method.MP:
-        decision = stages.decide(DecideRequest(path=path, start=begin))
-        decisions.append(decision)
-    return stages.ik(
-        PathIKRequest(path=path, start=begin, method=method, decision=decision)
+    """``track_movement`` for ``request``, its decision kept in ``decisions``."""
+    joint_path, decision = track_movement(
+        stages, path, start, request.method, request.measures
     )
+    if decision is not None:
+        decisions.append(decision)
+    return joint_path
 
 
 def _follow_given(
@@ -133,7 +162,7 @@ def _follow_given(
     _check_within_reach(arm, path)
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
-    joint_path = _movement(stages, request.method, path, start, decisions)
+    joint_path = _movement(stages, request, path, start, decisions)
     limits = motion_limits(arm.limits)
     timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
     trajectory = trajectory_message([joint_path], timed, request.method)

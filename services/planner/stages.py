@@ -63,6 +63,7 @@ def decide(
         start,
         palm=palm,
         times=np.array(request.path.times),
+        params=request.measures,
     )
 
 
@@ -84,7 +85,13 @@ def path_ik(request: PathIKRequest) -> JointPath:
         primitives = [get_primitive(name) for name in names]
         choose = lambda k, st: primitives[k]  # noqa: E731
     tracked = track_path(
-        arm, np.array(path.positions), start, choose, method=request.method, palm=palm
+        arm,
+        np.array(path.positions),
+        start,
+        choose,
+        method=request.method,
+        palm=palm,
+        params=request.measures,
     )
     return joint_path_message(arm, path.times, tracked)
 
@@ -147,18 +154,20 @@ class LocalStages:
 
     def __init__(self, model: MotionModel | None = None) -> None:
         self.decider = default_decider() if model is None else Decider(model)
-        self._tracked: dict[int, TrackedPath] = {}
+        self._tracked: dict[int, tuple[DecideRequest, TrackedPath]] = {}
 
     def decide(self, request: DecideRequest) -> Decision:
         decision, tracked = decide(self.decider, request)
-        self._tracked = {id(decision): tracked}
+        self._tracked = {id(decision): (request, tracked)}
         return decision
 
     def ik(self, request: PathIKRequest) -> JointPath:
-        tracked = (
-            self._tracked.pop(id(request.decision), None) if request.decision else None
+        asked, tracked = (
+            self._tracked.pop(id(request.decision), (None, None))
+            if request.decision
+            else (None, None)
         )
-        if tracked is None:
+        if tracked is None or not _same_work(asked, request):
             return path_ik(request)
         return joint_path_message(
             load_arm(request.path.arm), request.path.times, tracked
@@ -166,3 +175,13 @@ class LocalStages:
 
     def timing(self, request: TimingRequest) -> Trajectory:
         return timing(request)
+
+
+def _same_work(asked: DecideRequest | None, request: PathIKRequest) -> bool:
+    """Whether ``request`` tracks what the decision ``asked`` for tracked."""
+    return (
+        asked is not None
+        and request.method is Method.MP
+        and (asked.path, asked.start, asked.measures)
+        == (request.path, request.start, request.measures)
+    )

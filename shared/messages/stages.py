@@ -7,6 +7,7 @@ from pydantic import Field
 from shared.messages.base import MAX_RATE, MIN_RATE, JointVector, Message
 from shared.messages.decision import Decision
 from shared.messages.joint_path import JointPath
+from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
 from shared.messages.wrist_path import WristPath
 
@@ -18,10 +19,12 @@ class DecideRequest(Message):
         path: The wrist path; its last point is the goal, its ``palm`` the
             wanted palm direction there.
         start: Posture at the first point [rad]; None: the arm at rest.
+        measures: The human performance measures' weights.
     """
 
     path: WristPath
     start: JointVector | None = None
+    measures: MeasureParams = Field(default_factory=MeasureParams)
 
 
 class PathIKRequest(Message):
@@ -32,12 +35,14 @@ class PathIKRequest(Message):
         start: Posture at the first point [rad]; None: the arm at rest.
         method: ``mp`` (needs ``decision``), ``least-norm`` or ``single``.
         decision: The primitive of each point (method ``mp``).
+        measures: The human performance measures' weights (the decision's).
     """
 
     path: WristPath
     start: JointVector | None = None
     method: Method = Method.MP
     decision: Decision | None = None
+    measures: MeasureParams = Field(default_factory=MeasureParams)
 
 
 class TimingSegment(Message):
