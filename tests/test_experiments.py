@@ -45,6 +45,7 @@ SIMILARITY_COMMANDS = [
 HANDOVER_COMMANDS = [
     "armplan experiment handover --out docs/results",
     "armplan experiment handover --starts reference --out docs/results",
+    "armplan experiment handover --omega 0 --out docs/results",
 ]
 
 
@@ -58,6 +59,18 @@ def documented(command: str, out: Path, *small: str) -> list[str]:
 def option(args: list[str], name: str, default: str) -> str:
     """The value of ``name`` in ``args``, or ``default``."""
     return args[args.index(name) + 1] if name in args else default
+
+
+def handover_name(args: list[str]) -> str:
+    """The file name (no suffix) a handover command writes: its starts, and
+    the measures' weights it was given."""
+    starts = option(args, "--starts", "chained")
+    weights = "".join(
+        f"-{name}-{float(args[args.index('--' + name) + 1]):g}"
+        for name in ("mu", "omega")
+        if "--" + name in args
+    )
+    return f"handover-{starts}{weights}"
 
 
 def run_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> dict[str, Any]:
@@ -94,8 +107,7 @@ def test_every_figure_in_the_docs_is_written_by_a_documented_command() -> None:
             f"similarity-{path}-{k}.png" for k in ("distribution", "point-means")
         }
     for command in HANDOVER_COMMANDS:
-        starts = option(shlex.split(command), "--starts", "chained")
-        written.add(f"handover-{starts}-similarity.png")
+        written.add(f"{handover_name(shlex.split(command))}-similarity.png")
     assert embedded == written
     assert all((DOCS.parent / "results" / name).is_file() for name in embedded)
 
@@ -105,7 +117,7 @@ def test_the_docs_show_the_tables_the_commands_wrote() -> None:
     text = DOCS.read_text()
     tables = sorted((DOCS.parent / "results").glob("*.md"))
     assert [t.stem for t in tables] == [
-        "handover-chained", "handover-reference",
+        "handover-chained-omega-0", "handover-chained", "handover-reference",
         "similarity-human", "similarity-planned",
     ]  # fmt: skip
     for table in tables:
@@ -168,10 +180,13 @@ def test_handover_command_json_and_plot(
         assert len(numbers["per_movement_mean_similarity"]) == 2
     assert data["mp"]["primitives"][0]  # the method names what moved the arm
     assert data["protocol"]["starts"] == starts
+    omega = float(option(args, "--omega", "0.01"))
+    assert data["protocol"]["measures"]["omega"] == omega
     assert set(data["bars"]) == {"above_least-norm", "above_single"}
-    assert_png(tmp_path / f"handover-{starts}-similarity.png")
-    assert "take the red block" in (tmp_path / f"handover-{starts}.md").read_text()
-    assert json.loads((tmp_path / f"handover-{starts}.json").read_text())["mp"]
+    name = handover_name(args)
+    assert_png(tmp_path / f"{name}-similarity.png")
+    assert "take the red block" in (tmp_path / f"{name}.md").read_text()
+    assert json.loads((tmp_path / f"{name}.json").read_text())["mp"]
 
 
 @pytest.mark.parametrize(

@@ -43,3 +43,40 @@ def add_json(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--json", action="store_true", help="print JSON instead of a table"
     )
+
+
+def add_measure_options(parser: argparse.ArgumentParser) -> None:
+    """``--mu K`` and ``--omega W``: the IK measures' two weights the paper names."""
+    parser.add_argument(
+        "--mu",
+        type=float,
+        metavar="K",
+        help="elbow swivel stiffness of TPE [J/rad^2] (eq. 17; default 0.03)",
+    )
+    parser.add_argument(
+        "--omega",
+        type=float,
+        metavar="W",
+        help="wrist discomfort weight of NTPE [J/rad^2] (eq. 19; default 0.01)",
+    )
+
+
+def measure_fields(args: argparse.Namespace) -> dict[str, float]:
+    """The ``MeasureParams`` fields given by ``--mu`` and ``--omega``."""
+    return {
+        name: getattr(args, name)
+        for name in ("mu", "omega")
+        if getattr(args, name, None) is not None
+    }
+
+
+def measures_from_args(args: argparse.Namespace) -> Any:
+    """The measures' weights (a ``MeasureParams``) with ``--mu``/``--omega`` applied.
+
+    Raises:
+        InvalidInputError: naming the option, if a weight is out of its range.
+    """
+    from shared.messages import parse
+    from shared.messages.measure_params import MeasureParams
+
+    return parse(MeasureParams, measure_fields(args))

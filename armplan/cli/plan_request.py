@@ -25,6 +25,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from armplan.cli.parsing import measure_fields
 from shared.errors import InvalidInputError
 from shared.messages import PlanRequest, WristPath, parse
 from shared.robot.side import Side
@@ -121,7 +122,7 @@ def _side(args: argparse.Namespace) -> Side:
 
 
 def _how(args: argparse.Namespace) -> dict[str, Any]:
-    """The options given that say how to plan: method, pace, rate, start."""
+    """The options given that say how to plan: method, pace, rate, start, weights."""
     fields: dict[str, Any] = {}
     if args.method is not None:
         fields["method"] = args.method
@@ -131,6 +132,8 @@ def _how(args: argparse.Namespace) -> dict[str, Any]:
         fields["rate"] = _finite(args.rate, "--rate")
     if args.start is not None:
         fields["start"] = _finite(args.start, "--start")
+    for name, value in measure_fields(args).items():
+        fields.setdefault("measures", {})[name] = _finite(value, f"--{name}")
     return fields
 
 
@@ -194,7 +197,10 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
             f"--arm {args.arm} but the task {path} is for the {request.arm.value} arm",
             field="arm",
         )
-    return parse(PlanRequest, request.model_dump() | _how(args))
+    fields, how = request.model_dump(), _how(args)
+    if "measures" in how:  # the task's other weights stay
+        how["measures"] = fields["measures"] | how["measures"]
+    return parse(PlanRequest, fields | how)
 
 
 def _finite(values: Any, name: str) -> Any:

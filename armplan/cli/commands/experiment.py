@@ -2,9 +2,10 @@
 
     armplan experiment similarity [--out DIR] [--json] [--demos FILE.mcap ...]
         [--subjects N] [--trials N] [--points P ...] [--seed S]
-        [--path human|planned] [--samples N] [--model FILE]
+        [--path human|planned] [--samples N] [--model FILE] [--mu K] [--omega W]
     armplan experiment handover [--out DIR] [--json] [--task FILE.json]
         [--movements N] [--starts chained|reference] [--model FILE]
+        [--mu K] [--omega W]
 
 ``similarity``: per subject and grid point, NAO's elbow (mp, least-norm,
 single) against the subject's retargeted elbow over normalised time
@@ -15,7 +16,9 @@ task, posture similarity S (eq. 22-23) to the human reference over time
 (Fig. 18); each movement from where the previous one ended (``chained``,
 the paper's protocol) or from the person's posture (``reference``). Both
 write tables, JSON and PNG plots into ``--out`` and print the tables
-(``--json``: the JSON). docs/results.md explains the protocols.
+(``--json``: the JSON). docs/results.md explains the protocols. ``--mu``
+and ``--omega`` set the IK measures' weights (every method's); the files
+then carry them in their names (``handover-chained-omega-0``).
 """
 
 from __future__ import annotations
@@ -27,7 +30,12 @@ from contextlib import contextmanager
 from typing import Any
 
 from armplan.cli.output import print_json, print_table
-from armplan.cli.parsing import add_json
+from armplan.cli.parsing import (
+    add_json,
+    add_measure_options,
+    measure_fields,
+    measures_from_args,
+)
 from shared.errors import InvalidInputError
 
 ORDER = 70
@@ -50,6 +58,7 @@ def _common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--model", metavar="FILE", help="motion model (default: shipped)"
     )
+    add_measure_options(parser)
     add_json(parser)
 
 
@@ -104,6 +113,7 @@ def run_similarity(args: argparse.Namespace) -> int:
     from armplan.experiments.similarity_summary import summary
 
     demos, source = _demos(args)
+    measures = measures_from_args(args)
     with _progress(args.json) as progress:
         task = progress.add_task("planning the reaches", total=None)
         rows = run(
@@ -114,10 +124,17 @@ def run_similarity(args: argparse.Namespace) -> int:
             progress=lambda done, total: progress.update(
                 task, completed=done, total=total
             ),
+            measures=measures,
         )
-    protocol = {"path": args.path, "demos": source, "samples": args.samples}
+    protocol = {
+        "path": args.path,
+        "demos": source,
+        "samples": args.samples,
+        "measures": measures.model_dump(),
+    }
     numbers = summary(rows, protocol)
-    written = write_report(rows, numbers, args.out, f"similarity-{args.path}")
+    name = f"similarity-{args.path}{_weights(args)}"
+    written = write_report(rows, numbers, args.out, name)
     _print(numbers, tables(numbers), written, args.json)
     return 0
 
@@ -134,19 +151,25 @@ def run_handover(args: argparse.Namespace) -> int:
     if args.movements is not None:
         _movements_within(args.movements, len(task.targets()))
     starts = Starts(args.starts)
+    measures = measures_from_args(args)
     with _progress(args.json) as progress:
         progress.add_task("planning the task", total=None)
         reference, series = run(
-            task, _stages(args.model), movements=args.movements, starts=starts
+            task,
+            _stages(args.model),
+            movements=args.movements,
+            starts=starts,
+            measures=measures,
         )
     protocol = {
         "task": str(args.task or DEFAULT_TASK.name),
         "movements": len(reference),
         "starts": starts.value,
         "reference": "shared.demos.reach_model, average person, retargeted to NAO",
+        "measures": measures.model_dump(),
     }
     numbers = summary(reference, series, protocol)
-    name = f"handover-{starts.value}"
+    name = f"handover-{starts.value}{_weights(args)}"
     written = write_report(reference, series, numbers, args.out, name)
     _print(numbers, tables(reference, series, numbers), written, args.json)
     return 0
@@ -166,6 +189,11 @@ def _demos(args: argparse.Namespace) -> tuple[Any, str]:
         demos,
         f"synthetic, seed {args.seed}, {args.subjects} subjects, {args.trials} trials",
     )
+
+
+def _weights(args: argparse.Namespace) -> str:
+    """The weights given, for file names: ``"-omega-0"``, or ``""`` if none."""
+    return "".join(f"-{name}-{value:g}" for name, value in measure_fields(args).items())
 
 
 def _movements_within(value: int, count: int) -> None:

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import argparse
 
-from armplan.cli.parsing import add_arm, add_json
+from armplan.cli.parsing import add_arm, add_json, add_measure_options
 from armplan.cli.plan_output import show
 from armplan.cli.plan_request import StepAction, request_from_args
 from armplan.cli.remote import add_remote, is_remote
@@ -113,6 +113,7 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
         metavar="Q",
         help="start posture [rad] (default: arm hanging at rest)",
     )
+    add_measure_options(parser)
 
 
 def run(args: argparse.Namespace) -> int:
