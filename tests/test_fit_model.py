@@ -149,11 +149,17 @@ def test_malformed_models_name_the_field(
 
 
 def test_fit_refuses_bad_options(demos: DemoSet) -> None:
-    """No trials, or bins out of range, are clear errors."""
+    """No trials, bins out of range, or a smoothing that is not positive or
+    so large that the tables' sums overflow (1e308 once made every
+    probability NaN and the decision crash), are clear errors."""
     with pytest.raises(InvalidInputError, match="no demonstrations"):
         fit_model(DemoSet({}, []))
     with pytest.raises(InvalidInputError, match=r"bins must be 2\.\.64"):
         fit_model(demos, bins=1)
+    for smoothing in (0.0, 1e308):
+        with pytest.raises(InvalidInputError) as info:
+            fit_model(demos, smoothing=smoothing)
+        assert info.value.field == "smoothing"
 
 
 def test_recordings_without_orientation_leave_w_r_unobserved(demos: DemoSet) -> None:

@@ -32,6 +32,7 @@ from services.fit.variables import VARIABLES, W_R
 from shared.demos.retarget import nao_arm_size
 from shared.demos.trial import DemoSet
 from shared.errors import InvalidInputError
+from shared.messages.motion_model import MAX_SMOOTHING
 from shared.primitives import MOTION_PRIMITIVES
 
 #: States per variable.
@@ -66,10 +67,12 @@ def fit_model(
     """
     if not demos.trials:
         raise InvalidInputError("no demonstrations to fit", field="demos")
-    if not 2 <= bins <= 64 or not smoothing > 0:
+    if not 2 <= bins <= 64:
+        raise InvalidInputError(f"bins must be 2..64, got {bins}", field="bins")
+    if not 0.0 < smoothing <= MAX_SMOOTHING:
         raise InvalidInputError(
-            f"bins must be 2..64 and smoothing > 0, got {bins} and {smoothing}",
-            field="bins",
+            f"smoothing must be in (0, {MAX_SMOOTHING:g}], got {smoothing}",
+            field="smoothing",
         )
     size = nao_arm_size(demos.trials[0].arm)
     values, names, first, oriented = [], [], [], []

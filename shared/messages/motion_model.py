@@ -29,6 +29,11 @@ _MOTION_NAMES = [p.name for p in MOTION_PRIMITIVES]
 Table = list[float]
 
 
+#: Largest pseudo-count per table cell: far above any demonstration set's
+#: counts (it would drown them), far below where the tables' sums overflow.
+MAX_SMOOTHING = 1e6
+
+
 class VariableFit(Message):
     """One motion variable's exponential density and its states.
 
@@ -92,7 +97,7 @@ class MotionModel(Message):
     arm: ArmLengths
     sample_rate: float = Field(gt=0.0)
     bins: int = Field(ge=2, le=64)
-    smoothing: float = Field(gt=0.0)
+    smoothing: float = Field(gt=0.0, le=MAX_SMOOTHING)
     variables: list[VariableFit] = Field(min_length=5, max_length=5)
     primitives: list[str] = Field(min_length=1, max_length=8)
     prior: Table
