@@ -97,3 +97,23 @@ def test_empty_csv(tmp_path: pathlib.Path) -> None:
     path.write_text("time,SHO_x\n")
     with pytest.raises(DemoFileError, match="at least one data row"):
         read_csv(path, MARKERS)
+
+
+def test_a_marker_absurdly_far_away_is_named(tmp_path: pathlib.Path) -> None:
+    """A coordinate of 1e308 cm is no position (its length once overflowed in
+    the retargeting): the error names the marker and the frame; an empty or
+    NaN cell stays a missing sample whose frame is dropped."""
+    path = tmp_path / "rec.csv"
+    _write(path, [0])
+    lines = path.read_text().splitlines()
+    cells = lines[5].split(",")
+    cells[4] = "1e308"  # SHO_y of the trial's fifth frame
+    lines[5] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(DemoFileError, match=r"marker 'SHO' at frame 4 is at"):
+        read_csv(path, MARKERS)
+    cells[4] = "nan"
+    lines[5] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    trials, _ = read_csv(path, MARKERS)
+    assert len(trials[0].times) == 29

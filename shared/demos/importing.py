@@ -1,7 +1,8 @@
 """Recorded marker tracks to a retargeted demonstration trial.
 
 Shared by the C3D and CSV readers: scale to metres, turn the axes to
-forward/left/up, drop frames where a marker is missing, measure the
+forward/left/up, drop frames where a marker is missing (refuse one more
+than ``FARTHEST`` from the origin: not a position), measure the
 subject's segment lengths, retarget to NAO (``retarget``) and, with a thumb
 marker, build the wrist frame from the forearm and the thumb side.
 """
@@ -18,6 +19,10 @@ from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, unit
 from shared.demos.trial import Trial
 from shared.errors import DemoFileError
+
+#: Farthest a marker may be from the capture's origin [m]: any capture
+#: volume is far smaller; beyond it a value is garbage, not a position.
+FARTHEST = 1000.0
 
 
 class MarkerTracks(NamedTuple):
@@ -41,12 +46,14 @@ def trial_from_tracks(
     """The retargeted trial and the subject's measured arm.
 
     Raises:
-        DemoFileError: if fewer than two frames have every marker.
+        DemoFileError: if fewer than two frames have every marker, or a
+            marker lies more than ``FARTHEST`` from the origin.
     """
     points = {
         role: markers.to_torso_axes(p * tracks.scale)
         for role, p in tracks.points.items()
     }
+    _check_near(points, markers, path)
     whole = np.all([np.isfinite(p).all(axis=1) for p in points.values()], axis=0)
     if int(whole.sum()) < 2:
         raise DemoFileError(
@@ -97,3 +104,21 @@ def wrist_frames(elbow: FloatArray, wrist: FloatArray, thumb: FloatArray) -> Flo
     side = side - np.einsum("ij,ij->i", side, x)[:, None] * x
     y = unit(np.cross(unit(side), x))
     return np.stack((x, y, np.cross(x, y)), axis=-1)
+
+
+def _check_near(points: dict[str, FloatArray], markers: MarkerMap, path: str) -> None:
+    """Raise DemoFileError naming the first marker and frame beyond ``FARTHEST``.
+
+    Non-finite values are missing samples (their frames are dropped), not
+    positions too far away.
+    """
+    for role, p in points.items():
+        far = np.flatnonzero(np.any(np.isfinite(p) & (np.abs(p) > FARTHEST), axis=1))
+        if far.size:
+            k = int(far[0])
+            raise DemoFileError(
+                path,
+                f"marker {markers.names[role]!r} at frame {k} is at "
+                f"{np.array2string(p[k], precision=4)} m, more than "
+                f"{FARTHEST:g} m from the origin: not a position",
+            )
