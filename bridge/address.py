@@ -32,6 +32,21 @@ def check_robot_url(url: str) -> str:
     return url
 
 
+def check_listen_url(url: str) -> str:
+    """``url`` if it is an address to serve at; else InvalidInputError.
+
+    The address reads ``tcp://HOST:PORT``; port 0 means any free one.
+    """
+    match = _URL.match(url)
+    if match is None or not 0 <= int(match.group(1)) < 65536:
+        raise InvalidInputError(
+            f"listen address {url!r} must look like tcp://HOST:PORT with a port "
+            "0..65535 (0: any free port)",
+            field="listen",
+        )
+    return url
+
+
 def robot_url(given: str | None, environ: Mapping[str, str] = os.environ) -> str:
     """The robot's address: ``given``, else ``$ARMPLAN_ROBOT``, else the sim's."""
     return check_robot_url(given or environ.get(ROBOT_ENV) or DEFAULT_ROBOT)

@@ -103,6 +103,13 @@ def test_ik_methods(method: str) -> None:
             ("fk", "--joints", "0", "0", "0", "3", "0"),
             "RElbowRoll = 3.00000 rad is outside",
         ),
+        (("sim", "--period", "0"), "control cycle 0.0 s must be 0.001..1 s"),
+        (("sim", "--period", "nan"), "control cycle nan s must be"),
+        (
+            ("sim", "--listen", "tcp://127.0.0.1:99999"),
+            "listen address 'tcp://127.0.0.1:99999' must look like",
+        ),
+        (("sim", "--listen", "garbage"), "listen address 'garbage'"),
     ],
 )
 def test_bad_input_gives_a_clear_error_and_no_traceback(

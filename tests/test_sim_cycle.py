@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bridge.sim.cycle import next_slot
+from bridge.sim.cycle import ControlCycle, check_period, next_slot
 from bridge.sim.joints import joint_specs
 from bridge.sim.log import SimLog
 from bridge.sim.robot import SimRobot
+from shared.errors import InvalidInputError
 
 
 @pytest.mark.parametrize("late", [0.0, 0.003, 0.0199, 0.02, 0.031, 0.095])
@@ -42,3 +43,15 @@ def test_state_lines_carry_the_time_the_positions_were_committed() -> None:
     limit = joint_specs()["RShoulderPitch"].velocity
     assert speed.max() <= limit * 1.001
     assert angles[-1] < 1.0  # it moved
+
+
+@pytest.mark.parametrize("period", [0.0, 0.0005, 1.5, 1e308, float("nan"), -0.02])
+def test_a_control_cycle_out_of_range_is_refused(period: float) -> None:
+    """0 once divided by zero in the cycle's thread, 1e308 overflowed its
+    clock and NaN its slot count, each leaving a sim that no longer moved:
+    the cycle is refused before any thread starts; 0.001..1 s is accepted."""
+    with pytest.raises(InvalidInputError, match="control cycle"):
+        check_period(period)
+    with pytest.raises(InvalidInputError):
+        ControlCycle(SimRobot(SimLog(None), {"RShoulderPitch": 1.0}), period)
+    assert check_period(0.001) == 0.001 and check_period(1.0) == 1.0

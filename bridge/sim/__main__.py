@@ -11,8 +11,10 @@ import sys
 import threading
 from collections.abc import Sequence
 
-from bridge.sim.cycle import PERIOD
+from bridge.address import check_listen_url
+from bridge.sim.cycle import PERIOD, check_period
 from bridge.sim.server import DEFAULT_LISTEN, serve
+from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
 
 
@@ -61,8 +63,14 @@ def run(listen: str, log: str | None, period: float, stop_on_eof: bool = False) 
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point."""
-    args = parser().parse_args(argv)
+    """Entry point; a malformed address or period is a usage error (exit 2)."""
+    p = parser()
+    args = p.parse_args(argv)
+    try:
+        check_listen_url(args.listen)
+        check_period(args.period)
+    except InvalidInputError as error:
+        p.error(error.message)
     return run(args.listen, args.log, args.period, args.stop_on_stdin_eof)
 
 

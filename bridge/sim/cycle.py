@@ -7,9 +7,23 @@ import threading
 import time
 
 from bridge.sim.robot import SimRobot
+from shared.errors import InvalidInputError
 
 #: ALMotion's documented control cycle [s].
 PERIOD = 0.02
+#: Shortest and longest control cycle a simulated NAO may run [s].
+SHORTEST, LONGEST = 0.001, 1.0
+
+
+def check_period(period: float) -> float:
+    """``period`` [s] if within ``SHORTEST``..``LONGEST``; else InvalidInputError."""
+    if not SHORTEST <= period <= LONGEST:  # NaN fails too
+        raise InvalidInputError(
+            f"control cycle {period} s must be {SHORTEST:g}..{LONGEST:g} s "
+            f"(ALMotion's is {PERIOD:g} s)",
+            field="period",
+        )
+    return period
 
 
 class ControlCycle:
@@ -21,7 +35,7 @@ class ControlCycle:
     """
 
     def __init__(self, robot: SimRobot, period: float = PERIOD) -> None:
-        self.period = period
+        self.period = check_period(period)
         self._robot = robot
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name="sim-cycle", daemon=True)

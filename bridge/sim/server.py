@@ -6,7 +6,8 @@ import sys
 import threading
 from pathlib import Path
 
-from bridge.sim.cycle import PERIOD, ControlCycle
+from bridge.address import check_listen_url
+from bridge.sim.cycle import PERIOD, ControlCycle, check_period
 from bridge.sim.joints import joint_specs
 from bridge.sim.log import SimLog
 from bridge.sim.motion import SimulatedMotion
@@ -45,7 +46,13 @@ def serve(
         log_path: JSON-lines log file (see :mod:`bridge.sim.log`), or None.
         period: Control cycle [s].
         stop: Set it to stop; None: run until the process is ended.
+
+    Raises:
+        InvalidInputError: a malformed ``listen`` address or a ``period``
+            outside 0.001..1 s, before anything starts.
     """
+    check_listen_url(listen)
+    check_period(period)
     qi.logging.setLevel(qi.logging.WARNING)
     stop = stop or threading.Event()
     log = SimLog(log_path)

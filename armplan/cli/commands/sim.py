@@ -32,8 +32,14 @@ def run(args: argparse.Namespace) -> int:
     """Become ``python -m bridge.sim``.
 
     A fresh interpreter loads libqi before pinocchio, which this one has
-    loaded already (see shared/libqi.py).
+    loaded already (see shared/libqi.py). The address and the period are
+    checked here first, so that a bad one is this command's typed error.
     """
+    from bridge.address import check_listen_url
+    from bridge.sim.cycle import check_period
+
+    check_listen_url(args.listen)
+    check_period(args.period)
     argv = [sys.executable, "-m", "bridge.sim", "--listen", args.listen]
     argv += ["--period", str(args.period)]
     if args.log:
