@@ -184,6 +184,19 @@ def test_armplan_certs_refuses_a_plain_endpoint(
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("days", ["0", "-5", "1000000000"])
+def test_armplan_certs_refuses_a_validity_out_of_range(
+    days: str, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--days outside 1..36500 is a typed error naming the range (openssl's own
+    message for 1e9 days was just "-----"), and nothing is written."""
+    assert main(["certs", "--out", str(tmp_path / "out"), "--days", days]) == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: certificates must be valid 1..36500 days, got {days}\n"
+    )
+    assert not (tmp_path / "out").exists()
+
+
 def test_passwords_are_kept_and_a_bad_line_is_named(tmp_path: pathlib.Path) -> None:
     """A second bundle in the same folder keeps the users' passwords."""
     first = write_bundle(tmp_path, endpoint="tls/127.0.0.1:7447")

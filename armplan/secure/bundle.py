@@ -25,7 +25,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from armplan.secure.acl import AccessControl
-from armplan.secure.certificates import DAYS, ensure_authority, issue_router_certificate
+from armplan.secure.certificates import (
+    DAYS,
+    MOST_DAYS,
+    ensure_authority,
+    issue_router_certificate,
+)
 from armplan.secure.errors import SecureSetupError
 from armplan.secure.passwords import ensure_passwords, write_private
 from shared.bus.config import check_endpoint
@@ -78,8 +83,12 @@ def write_bundle(
             certificate (the endpoint's host and the loopback names are added).
         paths: Where the processes will find the files; default ``directory``.
         connect: Other machines' routers this router connects to.
-        days: Validity of new certificates [days].
+        days: Validity of new certificates [days], 1..``MOST_DAYS``.
     """
+    if not 1 <= days <= MOST_DAYS:
+        raise SecureSetupError(
+            f"certificates must be valid 1..{MOST_DAYS} days, got {days}"
+        )
     for given in (endpoint, *connect):
         if not check_endpoint(given, "armplan certs").startswith("tls/"):
             raise SecureSetupError(

@@ -24,6 +24,8 @@ from armplan.secure.errors import SecureSetupError
 
 #: Validity of the certificates [days].
 DAYS = 825
+#: Longest validity a certificate may be given [days] (100 years).
+MOST_DAYS = 36_500
 #: Every router certificate's common name: the access rules know a router a
 #: router connects to by it (the names it is reached by are its alt names).
 ROUTER_COMMON_NAME = "armplan router"
