@@ -88,6 +88,7 @@ def test_grid_prints_the_table_4_like_table(capsys: pytest.CaptureFixture[str]) 
             "RShoulderPitch",
         ),
         (["--target", "0.12", "-0.1", "0.05", "--palm", "0", "0", "0"], "zero vector"),
+        (["--grid", "--plot", "grid.png"], "--plot draws one decision"),
     ],
 )
 def test_bad_input_is_a_clear_error(
@@ -96,6 +97,20 @@ def test_bad_input_is_a_clear_error(
     """Unreachable, NaN, out-of-range or zero inputs: exit 1 and a named error."""
     assert main(["decide", *args]) == 1
     assert message in capsys.readouterr().err
+
+
+def test_a_palm_of_huge_parts_is_the_same_direction(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """--palm 1e308 1e308 0 is the direction (1, 1, 0): the same decision (its
+    length once overflowed and the palm became the zero vector)."""
+    goal = ["--target", "0.12", "-0.1", "0.05", "--json"]
+    outputs = []
+    for palm in (["1e308", "1e308", "0"], ["1", "1", "0"]):
+        assert main(["decide", *goal, "--palm", *palm]) == 0
+        outputs.append(capsys.readouterr().out)
+    assert outputs[0] == outputs[1]
+    assert "W_PR" in outputs[0]
 
 
 def test_bad_wrist_path_file(

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from typing import Annotated, Any, TypeVar
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, ValidationError
@@ -33,8 +34,8 @@ class Message(BaseModel):
         return cls.model_json_schema()
 
 
-def _nonzero(v: tuple[float, float, float]) -> tuple[float, float, float]:
-    """``v`` scaled to unit length.
+def unit_direction(v: Sequence[float]) -> tuple[float, float, float]:
+    """``v`` (3 finite values) scaled to unit length; ValueError if zero.
 
     Its largest part is divided out first, so that huge finite values (1e308)
     do not overflow to a zero vector.
@@ -57,7 +58,7 @@ MIN_RATE, MAX_RATE = 1.0, 1000.0
 #: A point or vector in the torso frame [m] (or unitless for directions).
 Vec3 = tuple[float, float, float]
 #: A direction in the torso frame, normalised to unit length on input.
-Direction = Annotated[Vec3, AfterValidator(_nonzero)]
+Direction = Annotated[Vec3, AfterValidator(unit_direction)]
 #: Five joint angles in the paper's order (ShoulderPitch .. WristYaw) [rad].
 JointVector = tuple[float, float, float, float, float]
 

@@ -28,6 +28,7 @@ import numpy as np
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_arm, add_json, finite
 from shared.errors import InvalidInputError
+from shared.messages.base import unit_direction
 
 ORDER = 25
 HELP = "motion decision: which movement primitive drives each path point"
@@ -78,6 +79,11 @@ def run(args: argparse.Namespace) -> int:
 
     model = load_model(args.model) if args.model else default_model()
     if args.grid:
+        if args.plot:
+            raise InvalidInputError(
+                "--plot draws one decision: give --target or --wrist-path, not --grid",
+                field="plot",
+            )
         return _grid(args, model)
     from services.decide.path import decide_path
     from shared.robot import load_arm
@@ -107,11 +113,13 @@ def run(args: argparse.Namespace) -> int:
 def _palm(values: list[float] | None) -> np.ndarray | None:
     if values is None:
         return None
-    palm = np.array(finite(values, "palm"))
-    norm = float(np.linalg.norm(palm))
-    if norm < 1e-9:
-        raise InvalidInputError("--palm must not be the zero vector", field="palm")
-    return palm / norm
+    finite(values, "palm")
+    try:
+        return np.array(unit_direction(values))
+    except ValueError:
+        raise InvalidInputError(
+            "--palm must not be the zero vector", field="palm"
+        ) from None
 
 
 def _path(
