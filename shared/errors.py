@@ -435,29 +435,6 @@ class ServiceBusyError(ArmplanError):
         self.queued = int(queued)
 
 
-class EndpointNotWiredError(ArmplanError):
-    """A service process runs, but its algorithm is not connected to this key yet.
-
-    Attributes:
-        service: The service.
-        key: The key expression asked.
-        todo: What is missing.
-    """
-
-    kind = "endpoint_not_wired"
-
-    def __init__(self, service: str, *, key: str, todo: str) -> None:
-        super().__init__(
-            f"service {service!r} has no algorithm wired to {key} yet: {todo}",
-            service=service,
-            key=key,
-            todo=todo,
-        )
-        self.service = service
-        self.key = key
-        self.todo = todo
-
-
 class BusConfigError(ArmplanError):
     """The Zenoh configuration (file or option) is malformed or unsafe.
 

@@ -10,7 +10,6 @@ from shared.bus import Endpoint, NoArguments, Route
 from shared.bus.codec import answer, reply_error
 from shared.errors import (
     ArmplanError,
-    EndpointNotWiredError,
     InternalServiceError,
     PayloadTooLargeError,
     RequestTimeoutError,
@@ -132,7 +131,6 @@ def test_odd_evidence_keeps_kind_and_message() -> None:
         PayloadTooLargeError(size=10, limit=5, key="k"),
         InternalServiceError("ik", key="k", error_type="ValueError", detail="d"),
         ServiceBusyError("ik", key="k", queued=3),
-        EndpointNotWiredError("decide", key="decide", todo="wire it"),
     ],
     ids=lambda e: type(e).__name__,
 )

@@ -17,7 +17,7 @@ Keys: ``<namespace>/<route path>`` for queries (``armplan/ik/solve``) and
 from shared.bus.bus import Bus
 from shared.bus.config import DEFAULT_ENDPOINT, BusConfig
 from shared.bus.config_file import load_config
-from shared.bus.route import Endpoint, NoArguments, OpaqueMessage, Route
+from shared.bus.route import Endpoint, NoArguments, Route
 from shared.bus.runner import serve
 from shared.bus.service import ServiceHost
 from shared.bus.session import open_router
@@ -28,7 +28,6 @@ __all__ = [
     "BusConfig",
     "Endpoint",
     "NoArguments",
-    "OpaqueMessage",
     "Route",
     "ServiceHost",
     "load_config",

@@ -10,8 +10,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Generic, TypeVar
 
-from pydantic import ConfigDict
-
 from shared.bus.keys import check_name, check_path, service_key
 from shared.messages import Message
 
@@ -21,12 +19,6 @@ Rep = TypeVar("Rep", bound=Message)
 
 class NoArguments(Message):
     """The request of a query that takes no arguments (an empty payload is ``{}``)."""
-
-
-class OpaqueMessage(Message):
-    """Any JSON object; for skeleton routes whose message type is not written yet."""
-
-    model_config = ConfigDict(extra="allow")
 
 
 @dataclass(frozen=True)
