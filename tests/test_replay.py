@@ -223,6 +223,19 @@ def test_a_bad_speed_is_refused(speed: float) -> None:
         replay([], lambda k, p, e: None, speed=speed)
 
 
+def test_a_bad_speed_is_refused_before_connecting(
+    recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """armplan replay --speed 0 with no router: the speed is named, not the
+    missing router."""
+    from armplan.cli.main import main
+
+    path, _ = recording
+    argv = ["replay", str(path), "--speed", "0", "--connect", free_endpoint()]
+    assert main(argv) == 1
+    assert "speed must be a positive number" in capsys.readouterr().err
+
+
 def test_json_payloads_and_raw_bytes_come_back_identical(
     recording: tuple[Path, list[float]],
 ) -> None:

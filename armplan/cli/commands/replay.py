@@ -16,7 +16,7 @@ import sys
 import zenoh
 
 from services.recorder.arguments import add_bus_arguments, bus_config
-from services.recorder.replay import replay, replay_items
+from services.recorder.replay import check_speed, replay, replay_items
 from shared.bus import Bus
 from shared.errors import ServiceUnavailableError
 from shared.stop_signals import stop_on_signals
@@ -76,6 +76,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Read the file, then send its messages at their (scaled) times."""
+    check_speed(args.speed)  # before connecting: a bad option, not a lost router
     items = replay_items(args.files, keys=args.keys, recover=args.recover)
     config = bus_config(args)
     stop = stop_on_signals()
