@@ -123,6 +123,35 @@ def test_a_task_file_plans_what_the_options_plan(
     }
 
 
+def test_weights_beside_a_task_file_join_the_files_own(
+    tmp_path: pathlib.Path,
+) -> None:
+    """--omega beside a task whose file sets mu: the request has both (the
+    file's other weights stay), and the same weights written in the file
+    give the same request."""
+    import argparse
+
+    from armplan.cli.commands.plan import add_parser
+    from armplan.cli.plan_request import request_from_args
+
+    parser = argparse.ArgumentParser()
+    add_parser(parser.add_subparsers())
+    target = {"position": GOAL, "palm": (0.0, 0.0, 1.0)}
+    file = tmp_path / "task.json"
+    file.write_text(json.dumps({"targets": [target], "measures": {"mu": 0.1}}))
+    beside = request_from_args(
+        parser.parse_args(["plan", "--task", str(file), "--omega", "0"])
+    )
+    assert (beside.measures.mu, beside.measures.omega) == (0.1, 0.0)
+    both = tmp_path / "both.json"
+    both.write_text(
+        json.dumps({"targets": [target], "measures": {"mu": 0.1, "omega": 0.0}})
+    )
+    assert request_from_args(parser.parse_args(["plan", "--task", str(both)])) == (
+        beside
+    )
+
+
 def test_fastest_rate_and_left_arm(capsys: pytest.CaptureFixture[str]) -> None:
     """--fastest is quicker than human pace; --rate sets the sample interval;
     --arm left plans the left arm with its joint names."""
