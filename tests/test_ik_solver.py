@@ -209,6 +209,27 @@ def test_request_result_keys_joints_by_nao_name() -> None:
     assert result.primitive == "S_R E_PR W_P"
 
 
+def test_a_requests_measure_weights_reach_the_solver() -> None:
+    """The request's ``measures`` are the solver's: with a palm, single's
+    posture moves with the wrist discomfort weight (the wrist's turn shifts to
+    WristYaw as omega falls), and the shipped weights given explicitly change
+    nothing."""
+    arm = load_arm("right")
+
+    def joints(**measures: float) -> np.ndarray:
+        request = parse(
+            IKRequest,
+            {"target": [0.12, -0.13, 0.05], "palm": [0, 0, 1], "method": "single",
+             "measures": measures},
+        )  # fmt: skip
+        return np.array(list(solve_request(arm, request).joints.values()))
+
+    default = joints()
+    np.testing.assert_array_equal(joints(omega=0.01, mu=0.03), default)
+    free, stiff = joints(omega=0.0), joints(omega=1000.0)
+    assert abs(free[4]) > abs(default[4]) > abs(stiff[4])
+
+
 def test_shoulder_swing_points_the_wrist_and_keeps_the_elbow(
     arm: ArmModel, rng: np.random.Generator
 ) -> None:

@@ -73,9 +73,7 @@ class Plan(NamedTuple):
     measure: MeasureFactory
 
 
-def solve_request(
-    arm: ArmModel, request: IKRequest, params: MeasureParams | None = None
-) -> IKResult:
+def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
     """Solve an :class:`IKRequest` (validated already) and package the answer."""
     palm = None if request.palm is None else np.array(request.palm)
     start = rest(arm.side) if request.start is None else np.array(request.start)
@@ -87,7 +85,7 @@ def solve_request(
         palm=palm,
         start=start,
         swivel=request.swivel,
-        params=params,
+        params=request.measures,
     )
     return IKResult(
         arm=arm.side,

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from pydantic import Field
+
 from shared.messages.base import Direction, JointVector, Message, Vec3
+from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
 from shared.robot.side import Side
 
@@ -28,6 +31,7 @@ class IKRequest(Message):
         start: Start posture [rad]; ``None`` means the arm hanging at rest.
         swivel: Elbow swivel angle to move to, for the function primitive
             S_R E_P W_R [rad] (pi: elbow straight down).
+        measures: Weights of the human performance measures (eq. 17-21).
     """
 
     arm: Side = Side.RIGHT
@@ -37,6 +41,7 @@ class IKRequest(Message):
     method: Method = Method.MP
     start: JointVector | None = None
     swivel: float | None = None
+    measures: MeasureParams = Field(default_factory=MeasureParams)
 
 
 class IKResult(Message):

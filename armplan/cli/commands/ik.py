@@ -6,7 +6,13 @@ import argparse
 import sys
 
 from armplan.cli.output import print_json, print_table
-from armplan.cli.parsing import add_arm, add_json, finite
+from armplan.cli.parsing import (
+    add_arm,
+    add_json,
+    add_measure_options,
+    finite,
+    measure_fields,
+)
 from armplan.cli.remote import add_remote, is_remote
 from shared.messages import IKRequest, IKResult, Method, parse
 from shared.robot import load_arm
@@ -56,6 +62,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="RAD",
         help="elbow swivel angle to move to, for S_R E_P W_R [rad] (pi: elbow down)",
     )
+    add_measure_options(parser)
     add_json(parser)
     add_remote(parser)
     parser.set_defaults(run=run)
@@ -73,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
             "method": args.method,
             "start": finite(args.start, "start"),
             "swivel": args.swivel,
+            "measures": measure_fields(args),
         },
     )
     result = _solve_remote(args, request) if is_remote(args) else _solve(request)
