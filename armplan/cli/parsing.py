@@ -5,9 +5,12 @@ from __future__ import annotations
 import argparse
 import math
 import re
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from shared.errors import InvalidInputError
+
+if TYPE_CHECKING:
+    from shared.messages.measure_params import MeasureParams
 
 #: Negative numbers in any float spelling (-1, -.5, -1e-3) are values, not options.
 NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$", re.I)
@@ -70,7 +73,7 @@ def measure_fields(args: argparse.Namespace) -> dict[str, float]:
     }
 
 
-def measures_from_args(args: argparse.Namespace) -> Any:
+def measures_from_args(args: argparse.Namespace) -> MeasureParams:
     """The measures' weights (a ``MeasureParams``) with ``--mu``/``--omega`` applied.
 
     Raises:

@@ -149,7 +149,7 @@ def solve(
 def check_reachable(arm: ArmModel, target: np.ndarray) -> None:
     """Raise UnreachableTargetError if the wrist never gets this near or far."""
     shoulder = arm.fk(rest(arm.side)).shoulder
-    distance = math.dist(target, shoulder)  # inf, not a warning, for 1e308
+    distance = math.dist(target, shoulder)  # no overflow warning for 1e308
     low, high = arm.reach
     if not low - TOLERANCE <= distance <= high + TOLERANCE:
         raise UnreachableTargetError(
