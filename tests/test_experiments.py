@@ -18,10 +18,6 @@ from armplan.demo.task import DEFAULT_TASK, load_task
 from armplan.experiments.handover import Starts, run_handover
 from armplan.experiments.human_reference import human_reference
 from armplan.experiments.normalised_time import at_tau
-from armplan.experiments.posture_from_points import (
-    joints_from_points,
-    wrist_yaw_for_palm,
-)
 from armplan.experiments.posture_similarity import (
     least_similarity,
     posture_distance,
@@ -30,7 +26,12 @@ from armplan.experiments.posture_similarity import (
 from armplan.experiments.similarity import METHODS, mean_distance
 from armplan.experiments.subject_reach import subject_reaches
 from shared.demos import synthesize
+from shared.demos.posture_from_points import (
+    joints_from_points,
+    wrist_yaw_for_palm,
+)
 from shared.errors import InvalidInputError
+from shared.messages.measure_params import MeasureParams
 from shared.robot import Side, load_arm
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -180,7 +181,7 @@ def test_handover_command_json_and_plot(
         assert len(numbers["per_movement_mean_similarity"]) == 2
     assert data["mp"]["primitives"][0]  # the method names what moved the arm
     assert data["protocol"]["starts"] == starts
-    omega = float(option(args, "--omega", "0.01"))
+    omega = float(option(args, "--omega", str(MeasureParams().omega)))
     assert data["protocol"]["measures"]["omega"] == omega
     assert set(data["bars"]) == {"above_least-norm", "above_single"}
     name = handover_name(args)
@@ -372,3 +373,23 @@ def test_similarity_options_out_of_range_are_clear_errors(
     assert code == 1
     assert message in captured.err
     assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+
+
+def test_the_models_fitted_weights_are_every_methods(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """With ``--model``, every method tracks with that model's fitted weights
+    (the protocol names them), and ``--omega`` overrides only omega."""
+    from services.fit import default_model, save_model
+    from shared.messages.motion_model import FittedWeights
+
+    weights = FittedWeights(mu=0.5, omega=0.2, samples=1, explained=0.5)
+    path = tmp_path / "model.json"
+    save_model(default_model().model_copy(update={"weights": weights}), path)
+    base = ["experiment", "handover", "--movements", "1", "--model", str(path)]
+    data = run_json([*base, "--out", str(tmp_path), "--json"], capsys)
+    measures = data["protocol"]["measures"]
+    assert (measures["mu"], measures["omega"]) == (0.5, 0.2)
+    data = run_json([*base, "--omega", "0", "--out", str(tmp_path), "--json"], capsys)
+    measures = data["protocol"]["measures"]
+    assert (measures["mu"], measures["omega"]) == (0.5, 0.0)

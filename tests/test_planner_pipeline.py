@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 from test_timing_paths import distance_to_polyline
 
+from services.fit import default_model
 from services.ik.kernel import chain_for
 from services.planner.pipeline import plan
+from services.planner.stages import LocalStages
 from services.planner.wrist_path import reach_path
 from services.timing import check_limits, reach_duration
 from services.timing.paper_grid import TABLE4_TIMES
@@ -15,6 +17,8 @@ from shared.demos.nao_grid import nao_grid
 from shared.errors import UnreachableTargetError
 from shared.geometry.palm import roll_error
 from shared.messages import Method, PlanRequest, WristPath
+from shared.messages.measure_params import MeasureParams
+from shared.messages.motion_model import FittedWeights
 from shared.primitives import get_primitive
 from shared.robot import ArmModel, load_arm, motion_limits
 from shared.robot.postures import rest
@@ -109,8 +113,35 @@ def test_the_requests_measure_weights_reach_the_ik(method: Method) -> None:
         return np.array(plan(request).joint_paths[0].positions)
 
     default = joints()
-    np.testing.assert_array_equal(joints(measures={"omega": 0.01, "mu": 0.03}), default)
+    shipped = MeasureParams().model_dump()
+    np.testing.assert_array_equal(joints(measures=shipped), default)
     assert np.abs(joints(measures={"omega": 0.0}) - default).max() > 1e-5
+
+
+def test_a_models_fitted_weights_drive_mp_unless_the_request_gives_its_own() -> None:
+    """With a model carrying other weights, mp tracks with them (the decision
+    names them) exactly as with those weights in the request; a request's own
+    weights win over the model's."""
+    arm = load_arm("right")
+    goal = {"position": (0.12, -0.10, 0.05), "palm": (0.0, 0.0, 1.0)}
+    weights = FittedWeights(mu=0.5, omega=0.2, samples=1, explained=0.5)
+    model = default_model().model_copy(update={"weights": weights})
+    other = MeasureParams(mu=0.5, omega=0.2)
+
+    def run(
+        stages: LocalStages | None, **options: object
+    ) -> tuple[np.ndarray, MeasureParams]:
+        result = plan(_request(arm, goal, method="mp", **options), stages)
+        return np.array(result.joint_paths[0].positions), result.decisions[0].measures
+
+    by_model, named = run(LocalStages(model))
+    assert named == other
+    by_request, _ = run(None, measures=other.model_dump())
+    np.testing.assert_array_equal(by_model, by_request)
+    shipped, named = run(LocalStages(model), measures=MeasureParams().model_dump())
+    assert named == MeasureParams()
+    np.testing.assert_array_equal(shipped, run(None)[0])
+    assert np.abs(shipped - by_model).max() > 1e-5
 
 
 def test_fastest_is_faster_and_still_within_the_limits(arm: ArmModel) -> None:

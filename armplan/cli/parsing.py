@@ -54,13 +54,15 @@ def add_measure_options(parser: argparse.ArgumentParser) -> None:
         "--mu",
         type=float,
         metavar="K",
-        help="elbow swivel stiffness of TPE [J/rad^2] (eq. 17; default 0.03)",
+        help="elbow swivel stiffness of TPE [J/rad^2] (eq. 17; default: the "
+        "motion model's, fitted by armplan fit)",
     )
     parser.add_argument(
         "--omega",
         type=float,
         metavar="W",
-        help="wrist discomfort weight of NTPE [J/rad^2] (eq. 19; default 0.01)",
+        help="wrist discomfort weight of NTPE [J/rad^2] (eq. 19; default: the "
+        "motion model's, fitted by armplan fit)",
     )
 
 
@@ -73,8 +75,10 @@ def measure_fields(args: argparse.Namespace) -> dict[str, float]:
     }
 
 
-def measures_from_args(args: argparse.Namespace) -> MeasureParams:
-    """The measures' weights (a ``MeasureParams``) with ``--mu``/``--omega`` applied.
+def measures_from_args(
+    args: argparse.Namespace, base: MeasureParams | None = None
+) -> MeasureParams:
+    """The measures' weights: ``base`` (default the shipped) with ``--mu``/``--omega``.
 
     Raises:
         InvalidInputError: naming the option, if a weight is out of its range.
@@ -82,4 +86,5 @@ def measures_from_args(args: argparse.Namespace) -> MeasureParams:
     from shared.messages import parse
     from shared.messages.measure_params import MeasureParams
 
-    return parse(MeasureParams, measure_fields(args))
+    given = {} if base is None else base.model_dump()
+    return parse(MeasureParams, given | measure_fields(args))

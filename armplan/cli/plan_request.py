@@ -199,7 +199,7 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
         )
     fields, how = request.model_dump(), _how(args)
     if "measures" in how:  # the task's other weights stay
-        how["measures"] = fields["measures"] | how["measures"]
+        how["measures"] = (fields["measures"] or {}) | how["measures"]
     return parse(PlanRequest, fields | how)
 
 

@@ -29,10 +29,10 @@ from typing import NamedTuple
 import numpy as np
 
 from armplan.demo.task import Task
-from armplan.experiments.posture_from_points import joint_path_from_points
 from shared.demos.anthropometry import Subject, subject_from_stature
 from shared.demos.arm_pose import ArmPose, frame_from_directions
 from shared.demos.nao_grid import AVERAGE_STATURE
+from shared.demos.posture_from_points import joint_path_from_points
 from shared.demos.reach_model import AVERAGE_STYLE, plan_reach, sample_reach
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.wrist_roll import forearm_roll

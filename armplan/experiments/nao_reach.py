@@ -28,11 +28,11 @@ from typing import NamedTuple
 import numpy as np
 
 from armplan.experiments.normalised_time import at_tau_even
-from armplan.experiments.posture_from_points import joints_from_points
 from armplan.experiments.subject_reach import SubjectReach
 from services.planner.pipeline import track_movement
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import Stages
+from shared.demos.posture_from_points import joints_from_points
 from shared.messages import JointPath, Method, ReachTarget, WristPath
 from shared.messages.measure_params import MeasureParams
 from shared.robot.arm_model import ArmModel

@@ -59,7 +59,7 @@ def decide_path(
         goal: Where the movement ends [m], shape (3,); default the last point.
         palm: Wanted palm direction at the goal (unit, shape (3,)), or ``None``.
         times: Times of the points [s], shape (n,); default 0.01 s apart.
-        params: The measures' weights; default the shipped ones.
+        params: The measures' weights; default the motion model's.
 
     Returns:
         The decision (the winner and every g at each point) and the joint path.
@@ -71,6 +71,7 @@ def decide_path(
         else np.asarray(times, dtype=float)
     )
     decider = _decider(model, times)
+    params = params or decider.model.measures()
     end = positions[-1] if goal is None else np.asarray(goal, dtype=float)
     target = (float(end[0]), float(end[1]), float(end[2]))
     size = DecidingArm.of(arm)
@@ -89,7 +90,7 @@ def decide_path(
         kin = arm.kinematics(tracked.q[k])
         raw = decide_point(decider, kin, target, size, wanted, made[-1])
         made.append(settle(k, raw, made[-1]))
-    return decision_message(arm, times, made), tracked
+    return decision_message(arm, times, made, params), tracked
 
 
 class Settling:
@@ -177,8 +178,16 @@ def decide_wrist_path(
     return decision
 
 
-def decision_message(arm: ArmModel, times: np.ndarray, made: list[Choice]) -> Decision:
-    """The ``Decision`` message of recorded choices (columns: one entry per point)."""
+def decision_message(
+    arm: ArmModel,
+    times: np.ndarray,
+    made: list[Choice],
+    measures: MeasureParams | None = None,
+) -> Decision:
+    """The ``Decision`` message of recorded choices (columns: one entry per point).
+
+    ``measures``: the weights the path was tracked with (default the shipped).
+    """
     names = [choice.name for choice in made]
     return Decision.model_validate(
         {
@@ -188,6 +197,7 @@ def decision_message(arm: ArmModel, times: np.ndarray, made: list[Choice]) -> De
             "candidates": list(CANDIDATES),
             "g": [list(choice.g) for choice in made],
             "matrices": {name: BY_NAME[name].matrix for name in dict.fromkeys(names)},
+            "measures": measures or MeasureParams(),
         }
     )
 

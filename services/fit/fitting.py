@@ -3,8 +3,10 @@
 For every trial: its labels (the generator's, or ``labelling`` for recorded
 data) and its five motion variables (``demo_variables``). Then, per
 variable, the exponential density (rate by maximum likelihood, checked by
-leave-one-out cross-validation) and its equal-probability states; finally
-the network's tables (``conditionals``), counted over all samples.
+leave-one-out cross-validation) and its equal-probability states; then
+the network's tables (``conditionals``), counted over all samples; finally
+the IK measures' weights mu and omega, by regression on the same postures
+(``weights``).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from services.fit.model import (
     rounded,
 )
 from services.fit.variables import VARIABLES, W_R
+from services.fit.weights import fit_weights
 from shared.demos.retarget import nao_arm_size
 from shared.demos.trial import DemoSet
 from shared.errors import InvalidInputError
@@ -40,7 +43,8 @@ BINS = 20
 #: Pseudo-count in every table cell.
 SMOOTHING = 1.0
 
-#: Called after each trial with (trials done, trials in all).
+#: Called with (steps done, steps in all): one step per trial for the
+#: variables, one per trial for the weights.
 Progress = Callable[[int, int], None]
 
 
@@ -59,7 +63,7 @@ def fit_model(
         bins: States per variable (2..64).
         smoothing: Pseudo-count added to every table cell (> 0).
         sources: Names of the files the demonstrations came from.
-        progress: Told after each trial's variables are computed.
+        progress: Told after each trial's variables, then its weights' rows.
 
     Raises:
         InvalidInputError: if there are no trials, the options are out of
@@ -83,7 +87,7 @@ def fit_model(
         first.extend([True] + [False] * (n - 1))
         oriented.extend([trial.wrist_frame is not None] * n)
         if progress is not None:
-            progress(done, len(demos.trials))
+            progress(done, 2 * len(demos.trials))
     data, seen = np.vstack(values), np.array(oriented)
     fits = [_fit(data, seen, i) for i in range(len(VARIABLES))]
     edges = [bin_edges(fit.rate, bins) for fit in fits]
@@ -92,6 +96,13 @@ def fit_model(
     shown = tuple(p.name for p in MOTION_PRIMITIVES if p.name in set(names))
     labels = np.array([shown.index(name) for name in names])
     tables = count_tables(states, labels, np.array(first), shown, bins, smoothing)
+    count = len(demos.trials)
+    weights = fit_weights(
+        demos,
+        progress=None
+        if progress is None
+        else lambda done, _: progress(count + done, 2 * count),
+    )
     return MotionModel(
         version=MODEL_VERSION,
         arm=ArmLengths(upper_arm=size.upper_arm, forearm=size.forearm),
@@ -112,6 +123,7 @@ def fit_model(
         subjects=sorted({t.subject for t in demos.trials}),
         sources=list(sources),
         samples=len(data),
+        weights=weights,
     )
 
 

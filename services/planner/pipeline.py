@@ -110,9 +110,12 @@ def track_movement(
     path: WristPath,
     start: np.ndarray,
     method: Method,
-    measures: MeasureParams,
+    measures: MeasureParams | None,
 ) -> tuple[JointPath, Decision | None]:
     """Decide (method mp) and track one movement's wrist path from ``start``.
+
+    ``measures`` None: the decision's (the motion model's weights), or for a
+    baseline the shipped ones.
 
     Returns:
         The joint path, and the decision (None for a baseline).

@@ -91,7 +91,7 @@ def path_ik(request: PathIKRequest) -> JointPath:
         choose,
         method=request.method,
         palm=palm,
-        params=request.measures,
+        params=request.weights(),
     )
     return joint_path_message(arm, path.times, tracked)
 

@@ -16,6 +16,7 @@ from typing import NamedTuple
 from pydantic import Field, model_validator
 
 from shared.messages.base import Message
+from shared.messages.measure_params import MeasureParams
 from shared.primitives import BY_NAME
 from shared.robot.side import Side
 
@@ -51,6 +52,8 @@ class Decision(Message):
             [nat], shape (n, c).
         matrices: The primitive matrix e of every primitive in
             ``primitives``, by name.
+        measures: The IK measures' weights the path was tracked with while
+            deciding (the request's, else the motion model's).
     """
 
     arm: Side
@@ -59,6 +62,7 @@ class Decision(Message):
     candidates: list[str] = Field(min_length=1)
     g: list[list[float]]
     matrices: dict[str, MatrixRows]
+    measures: MeasureParams = Field(default_factory=MeasureParams)
 
     @model_validator(mode="after")
     def _consistent(self) -> Decision:

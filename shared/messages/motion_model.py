@@ -17,6 +17,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from shared.messages.base import Message
+from shared.messages.measure_params import MOST, MeasureParams
 from shared.messages.model_tables import CONDITIONED, Conditionals, conditionals
 from shared.primitives import MOTION_PRIMITIVES
 
@@ -71,6 +72,24 @@ class ArmLengths(Message):
     forearm: float = Field(gt=0.0)
 
 
+class FittedWeights(Message):
+    """The IK measures' weights fitted to the demonstrations (``services.fit.weights``).
+
+    Attributes:
+        mu: Swivel spring stiffness mu [J/rad^2] (eq. 17).
+        omega: Wrist discomfort weight omega [J/rad^2] (eq. 19), or ``None``
+            if the demonstrations have no wrist roll (not fitted).
+        samples: Regression equations (null directions over kept samples).
+        explained: 1 - |residual| / |gravity term|: how far the weights
+            account for the postures, 0..1.
+    """
+
+    mu: float = Field(ge=0.0, le=MOST)
+    omega: float | None = Field(ge=0.0, le=MOST)
+    samples: int = Field(ge=1)
+    explained: float = Field(ge=0.0, le=1.0)
+
+
 class MotionModel(Message):
     """The fitted motion model (densities, states and the network's tables).
 
@@ -91,6 +110,9 @@ class MotionModel(Message):
         subjects: Subjects fitted on.
         sources: Demonstration files fitted on.
         samples: Samples fitted on.
+        weights: The IK measures' weights fitted on the same
+            demonstrations, or ``None`` (a model fitted without them, or
+            written before they were): the IK then uses the shipped weights.
     """
 
     version: int
@@ -109,6 +131,7 @@ class MotionModel(Message):
     subjects: list[str] = Field(default_factory=list)
     sources: list[str] = Field(default_factory=list)
     samples: int = Field(ge=1)
+    weights: FittedWeights | None = None
 
     @model_validator(mode="after")
     def _consistent(self) -> MotionModel:
@@ -158,6 +181,15 @@ class MotionModel(Message):
     def conditionals(self) -> Conditionals:
         """The network's probability tables as numpy arrays."""
         return conditionals(self.counts())
+
+    def measures(self) -> MeasureParams:
+        """The IK measures' weights to plan with: the fitted ones over the shipped."""
+        if self.weights is None:
+            return MeasureParams()
+        fitted: dict[str, float] = {"mu": self.weights.mu}
+        if self.weights.omega is not None:
+            fitted["omega"] = self.weights.omega
+        return MeasureParams(**fitted)
 
     def edges(self) -> list[list[float]]:
         """Each variable's state edges, in ``VARIABLES`` order."""

@@ -19,12 +19,13 @@ class DecideRequest(Message):
         path: The wrist path; its last point is the goal, its ``palm`` the
             wanted palm direction there.
         start: Posture at the first point [rad]; None: the arm at rest.
-        measures: The human performance measures' weights.
+        measures: The human performance measures' weights; ``None``: the
+            motion model's (the decision says which it used).
     """
 
     path: WristPath
     start: JointVector | None = None
-    measures: MeasureParams = Field(default_factory=MeasureParams)
+    measures: MeasureParams | None = None
 
 
 class PathIKRequest(Message):
@@ -35,14 +36,23 @@ class PathIKRequest(Message):
         start: Posture at the first point [rad]; None: the arm at rest.
         method: ``mp`` (needs ``decision``), ``least-norm`` or ``single``.
         decision: The primitive of each point (method ``mp``).
-        measures: The human performance measures' weights (the decision's).
+        measures: The human performance measures' weights; ``None``: the
+            decision's (method ``mp``), else the shipped ones.
     """
 
     path: WristPath
     start: JointVector | None = None
     method: Method = Method.MP
     decision: Decision | None = None
-    measures: MeasureParams = Field(default_factory=MeasureParams)
+    measures: MeasureParams | None = None
+
+    def weights(self) -> MeasureParams:
+        """The weights to track with: the request's, the decision's, or the shipped."""
+        if self.measures is not None:
+            return self.measures
+        if self.decision is not None:
+            return self.decision.measures
+        return MeasureParams()
 
 
 class TimingSegment(Message):

@@ -49,7 +49,8 @@ class PlanRequest(Message):
         fastest: Go as fast as the limits allow instead of at human pace.
         rate: Sample rate of the returned trajectory [Hz] (targets only).
         measures: Weights of the IK's human performance measures (eq.
-            17-21); default the shipped ones.
+            17-21); ``None``: the motion model's fitted weights (method
+            ``mp``; the baselines, which use no model, the shipped ones).
         request_id: The caller's name for this request (1-64 letters, digits,
             ``_ . -``), or ``None``. The planner answers a request that
             repeats an id it saw recently with the first one's answer,
@@ -64,7 +65,7 @@ class PlanRequest(Message):
     method: Method = Method.MP
     fastest: bool = False
     rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
-    measures: MeasureParams = Field(default_factory=MeasureParams)
+    measures: MeasureParams | None = None
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
 
     @model_validator(mode="after")

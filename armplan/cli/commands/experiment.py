@@ -113,14 +113,15 @@ def run_similarity(args: argparse.Namespace) -> int:
     from armplan.experiments.similarity_summary import summary
 
     demos, source = _demos(args)
-    measures = measures_from_args(args)
+    stages = _stages(args.model)
+    measures = measures_from_args(args, stages.decider.model.measures())
     with _progress(args.json) as progress:
         task = progress.add_task("planning the reaches", total=None)
         rows = run(
             demos,
             PathSource(args.path),
             args.samples,
-            _stages(args.model),
+            stages,
             progress=lambda done, total: progress.update(
                 task, completed=done, total=total
             ),
@@ -151,12 +152,13 @@ def run_handover(args: argparse.Namespace) -> int:
     if args.movements is not None:
         _movements_within(args.movements, len(task.targets()))
     starts = Starts(args.starts)
-    measures = measures_from_args(args)
+    stages = _stages(args.model)
+    measures = measures_from_args(args, stages.decider.model.measures())
     with _progress(args.json) as progress:
         progress.add_task("planning the task", total=None)
         reference, series = run(
             task,
-            _stages(args.model),
+            stages,
             movements=args.movements,
             starts=starts,
             measures=measures,

@@ -5,7 +5,9 @@
 
 Shows its progress, then prints each motion variable's fitted exponential
 rate with its log-likelihood and leave-one-out cross-validated
-log-likelihood, and the primitives the network learned. With ``--hold-out
+log-likelihood, the primitives the network learned, and the IK measures'
+weights mu and omega fitted on the same postures (``services.fit.weights``),
+which the model carries to the IK. With ``--hold-out
 N`` the last N subjects (by name) are left out of the fit and the decision
 is compared with their labels sample by sample: the agreement and the
 confusion matrix are printed, and the model written is the one fitted
@@ -64,13 +66,15 @@ def run(args: argparse.Namespace) -> int:
         names = sorted(demos.subjects)
         train, held = _split(names, args.hold_out)
         fitted = demos.only(set(train))
-        progress.update(task, description="motion variables", total=len(fitted.trials))
+        progress.update(task, description="variables, then weights", total=None)
         model = fit_model(
             fitted,
             bins=args.bins,
             smoothing=args.smoothing,
             sources=args.files,
-            progress=lambda done, total: progress.update(task, completed=done),
+            progress=lambda done, total: progress.update(
+                task, completed=done, total=total
+            ),
         )
         save_model(model, args.output)
         agreement = None
@@ -139,6 +143,7 @@ def _report(model: Any, output: str, held: list[str], agreement: Any) -> dict[st
             }
             for v in model.variables
         ],
+        "weights": None if model.weights is None else model.weights.model_dump(),
     }
     if agreement is not None:
         report["held_out"] = {
@@ -184,8 +189,28 @@ def _print(
         f"({', '.join(model.primitives)}), {model.bins} states per variable; "
         f"fitted on {len(model.subjects)} subjects; written to {output}"
     )
+    console.print(_weights_line(model.weights))
     if agreement is not None:
         _print_agreement(console, held, agreement)
+
+
+def _weights_line(weights: Any) -> str:
+    """The fitted measures' weights in one line."""
+    if weights is None:
+        return (
+            "measures' weights: not fitted, no posture away from NAO's joint "
+            "limits (the IK uses the shipped ones)"
+        )
+    omega = (
+        "omega not fitted (no wrist roll in the demonstrations)"
+        if weights.omega is None
+        else f"omega = {weights.omega:g} J/rad^2"
+    )
+    return (
+        f"measures' weights: mu = {weights.mu:g} J/rad^2, {omega}; "
+        f"{weights.samples} equations, {100 * weights.explained:.1f} % of the "
+        "gravity term explained"
+    )
 
 
 def _print_agreement(console: Any, held: list[str], agreement: Any) -> None:
