@@ -46,7 +46,7 @@ SIMILARITY_COMMANDS = [
 HANDOVER_COMMANDS = [
     "armplan experiment handover --out docs/results",
     "armplan experiment handover --starts reference --out docs/results",
-    "armplan experiment handover --omega 0 --out docs/results",
+    "armplan experiment handover --mu 0.03 --omega 0.01 --out docs/results",
 ]
 
 
@@ -100,7 +100,7 @@ def test_the_docs_show_exactly_the_tested_commands() -> None:
 def test_every_figure_in_the_docs_is_written_by_a_documented_command() -> None:
     """Each PNG docs/results.md embeds is a file name one of its commands writes."""
     text = DOCS.read_text()
-    embedded = set(re.findall(r"\(results/([\w-]+\.png)\)", text))
+    embedded = set(re.findall(r"\(results/([\w.-]+\.png)\)", text))
     written = set()
     for command in SIMILARITY_COMMANDS:
         path = option(shlex.split(command), "--path", "human")
@@ -118,7 +118,7 @@ def test_the_docs_show_the_tables_the_commands_wrote() -> None:
     text = DOCS.read_text()
     tables = sorted((DOCS.parent / "results").glob("*.md"))
     assert [t.stem for t in tables] == [
-        "handover-chained-omega-0", "handover-chained", "handover-reference",
+        "handover-chained-mu-0.03-omega-0.01", "handover-chained", "handover-reference",
         "similarity-human", "similarity-planned",
     ]  # fmt: skip
     for table in tables:
