@@ -42,6 +42,7 @@ DOCS = Path(__file__).resolve().parents[1] / "docs" / "results.md"
 SIMILARITY_COMMANDS = [
     "armplan experiment similarity --out docs/results",
     "armplan experiment similarity --path planned --out docs/results",
+    "armplan experiment similarity --palm --out docs/results",
 ]
 HANDOVER_COMMANDS = [
     "armplan experiment handover --out docs/results",
@@ -60,6 +61,13 @@ def documented(command: str, out: Path, *small: str) -> list[str]:
 def option(args: list[str], name: str, default: str) -> str:
     """The value of ``name`` in ``args``, or ``default``."""
     return args[args.index(name) + 1] if name in args else default
+
+
+def similarity_name(args: list[str]) -> str:
+    """The file name (no suffix) a similarity command writes: its path source,
+    and whether the palm turns."""
+    palm = "-palm" if "--palm" in args else ""
+    return f"similarity-{option(args, '--path', 'human')}{palm}"
 
 
 def handover_name(args: list[str]) -> str:
@@ -103,10 +111,8 @@ def test_every_figure_in_the_docs_is_written_by_a_documented_command() -> None:
     embedded = set(re.findall(r"\(results/([\w.-]+\.png)\)", text))
     written = set()
     for command in SIMILARITY_COMMANDS:
-        path = option(shlex.split(command), "--path", "human")
-        written |= {
-            f"similarity-{path}-{k}.png" for k in ("distribution", "point-means")
-        }
+        name = similarity_name(shlex.split(command))
+        written |= {f"{name}-{k}.png" for k in ("distribution", "point-means")}
     for command in HANDOVER_COMMANDS:
         written.add(f"{handover_name(shlex.split(command))}-similarity.png")
     assert embedded == written
@@ -119,7 +125,7 @@ def test_the_docs_show_the_tables_the_commands_wrote() -> None:
     tables = sorted((DOCS.parent / "results").glob("*.md"))
     assert [t.stem for t in tables] == [
         "handover-chained-mu-0.03-omega-0.01", "handover-chained", "handover-reference",
-        "similarity-human", "similarity-planned",
+        "similarity-human-palm", "similarity-human", "similarity-planned",
     ]  # fmt: skip
     for table in tables:
         assert table.read_text() in text, table.name
@@ -131,7 +137,7 @@ def test_similarity_command_json_tables_and_plots(
 ) -> None:
     """A documented similarity run, small: each method's errors, a table, two PNGs."""
     args = documented(command, tmp_path, *SMALL)
-    path = option(args, "--path", "human")
+    name, palm = similarity_name(args), "--palm" in args
     data = run_json(args, capsys)
     for method in ("mp", "least-norm", "single"):
         numbers = data[method]
@@ -140,13 +146,21 @@ def test_similarity_command_json_tables_and_plots(
         assert 0.0 < numbers["mean_elbow_error_m"] < 0.05
         per_point = list(numbers["per_point_mean_elbow_error_m"].values())
         assert numbers["mean_elbow_error_m"] == pytest.approx(np.mean(per_point))
-    assert data["protocol"]["path"] == path
-    assert set(data["bars"]) == {"below_1cm", "below_least-norm", "below_single"}
-    assert_png(tmp_path / f"similarity-{path}-distribution.png")
-    assert_png(tmp_path / f"similarity-{path}-point-means.png")
-    table = (tmp_path / f"similarity-{path}.md").read_text()
+        s = numbers.get("mean_posture_similarity")
+        assert (s is not None) == palm
+        assert s is None or least_similarity(5) < s < 1.0
+    assert data["protocol"]["path"] == option(args, "--path", "human")
+    assert data["protocol"]["palm"] == palm and data["protocol"]["skipped"] == []
+    bars = {"below_1cm", "below_least-norm", "below_single"}
+    if palm:
+        bars |= {"posture_above_least-norm", "posture_above_single"}
+    assert set(data["bars"]) == bars
+    assert_png(tmp_path / f"{name}-distribution.png")
+    assert_png(tmp_path / f"{name}-point-means.png")
+    table = (tmp_path / f"{name}.md").read_text()
     assert "| P16 |" in table
-    assert json.loads((tmp_path / f"similarity-{path}.json").read_text())["mp"]
+    assert ("mean S" in table) == palm
+    assert json.loads((tmp_path / f"{name}.json").read_text())["mp"]
 
 
 def test_similarity_with_a_demo_file(
@@ -164,6 +178,51 @@ def test_similarity_with_a_demo_file(
     )  # fmt: skip
     assert list(data["mp"]["per_point_mean_elbow_error_m"]) == ["P6"]
     assert data["mp"]["reaches"] == 1
+
+
+def test_with_the_palm_nao_starts_in_the_subjects_posture_and_ends_on_its_palm() -> (
+    None
+):
+    """--palm: the subject's postures on NAO put NAO's arm on the subject's
+    points; every method starts there and ends with the palm turned as far
+    towards the subject's last as the forearm allows (no roll left)."""
+    from armplan.experiments.nao_reach import PathSource, nao_reach
+    from armplan.experiments.similarity import palm_turn, subject_postures
+    from services.planner.stages import LocalStages
+    from shared.geometry.palm import roll_error
+
+    arm = load_arm("right")
+    tau = np.linspace(0.0, 1.0, 21)
+    reach = subject_reaches(synthesize(4, subjects=1, trials=2, points=(6,)), tau)[0]
+    subject = subject_postures(arm, reach)
+    points = [arm.fk(q) for q in subject]
+    assert mean_distance(np.array([p.elbow for p in points]), reach.elbow) < 1e-3
+    assert mean_distance(np.array([p.wrist for p in points]), reach.wrist) < 1e-3
+    turn = palm_turn(arm, subject)
+    for method in METHODS:
+        nao = nao_reach(arm, LocalStages(), reach, method, PathSource.HUMAN, tau,
+                        turn=turn)  # fmt: skip
+        assert np.allclose(nao.q[0], subject[0])
+        rotation = arm.kinematics(nao.q[-1]).wrist_rotation
+        assert abs(roll_error(rotation, 1.0, turn.palm)) < 1e-3, method
+
+
+def test_palm_without_wrist_frames_is_a_clear_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Demonstrations with no wrist frames (marker sets without a hand) cannot
+    say where the palm faced: --palm names the subject and point."""
+    from shared.demos import write_demos
+
+    demos = synthesize(3, subjects=1, trials=1, points=(6,))
+    bare = demos._replace(trials=[t._replace(wrist_frame=None) for t in demos.trials])
+    write_demos(tmp_path / "demos.mcap", bare)
+    demo_file = str(tmp_path / "demos.mcap")
+    code = main(["experiment", "similarity", "--demos", demo_file, "--palm",
+                 "--samples", "11", "--out", str(tmp_path), "--json"])  # fmt: skip
+    captured = capsys.readouterr()
+    assert code == 1
+    assert "trials at P6 have no wrist frames" in captured.err
 
 
 @pytest.mark.parametrize("command", HANDOVER_COMMANDS)

@@ -55,11 +55,13 @@ class NaoReach(NamedTuple):
         elbow: Elbow positions [m], shape (m, 3).
         wrist: Wrist positions [m], shape (m, 3).
         primitives: What moved the arm at each path point, shape (n,).
+        q: Joint angles [rad], shape (m, 5).
     """
 
     elbow: np.ndarray
     wrist: np.ndarray
     primitives: list[str]
+    q: np.ndarray
 
 
 def start_posture(arm: ArmModel, reach: SubjectReach) -> np.ndarray:
@@ -75,10 +77,15 @@ def nao_reach(
     source: PathSource,
     tau: np.ndarray,
     measures: MeasureParams | None = None,
+    turn: PalmTurn | None = None,
 ) -> NaoReach:
-    """NAO's reach for ``reach`` with ``method`` (see the module docstring)."""
-    q0 = start_posture(arm, reach)
-    path = wrist_path(arm, reach, q0, source, tau)
+    """NAO's reach for ``reach`` with ``method`` (see the module docstring).
+
+    With ``turn`` NAO starts in its posture and turns the palm to its palm
+    on the way; otherwise it starts in ``start_posture`` and has no palm.
+    """
+    q0 = start_posture(arm, reach) if turn is None else turn.start
+    path = wrist_path(arm, reach, q0, source, tau, None if turn is None else turn.palm)
     joint_path = track(stages, path, q0, method, measures)
     q = np.array(joint_path.positions)
     elbow = np.array([arm.fk(posture).elbow for posture in q])
@@ -86,7 +93,20 @@ def nao_reach(
         at_tau_even(elbow, tau),
         at_tau_even(np.array(joint_path.wrist), tau),
         list(joint_path.primitives),
+        at_tau_even(q, tau),
     )
+
+
+class PalmTurn(NamedTuple):
+    """A reach's start posture and the palm to turn to on the way.
+
+    Attributes:
+        start: Start posture [rad], shape (5,).
+        palm: Palm direction to reach (unit), shape (3,).
+    """
+
+    start: np.ndarray
+    palm: np.ndarray
 
 
 def wrist_path(
@@ -95,12 +115,18 @@ def wrist_path(
     q0: np.ndarray,
     source: PathSource,
     tau: np.ndarray,
+    palm: np.ndarray | None = None,
 ) -> WristPath:
-    """NAO's wrist path from the posture ``q0`` [rad] (see the module docstring)."""
+    """NAO's wrist path from the posture ``q0`` [rad] (see the module docstring).
+
+    ``palm``: the palm direction to turn to on the way (unit, shape (3,)), or
+    ``None``.
+    """
     start = arm.fk(q0).wrist
+    facing = None if palm is None else tuple(float(v) for v in palm)
     if source is PathSource.PLANNED:
-        goal = ReachTarget(position=tuple(float(v) for v in reach.wrist[-1]))
-        return reach_wrist_path(arm, q0, goal)
+        end = tuple(float(v) for v in reach.wrist[-1])
+        return reach_wrist_path(arm, q0, ReachTarget(position=end, palm=facing))
     n = max(2, math.ceil(reach.duration * RATE) + 1)
     times = np.linspace(0.0, reach.duration, n)
     positions = np.stack(
@@ -112,6 +138,7 @@ def wrist_path(
         arm=arm.side,
         times=times.tolist(),
         positions=[tuple(p) for p in positions.tolist()],
+        palm=facing,
     )
 
 

@@ -9,6 +9,15 @@ same goal with each method (``nao_reach``), and the elbow error
 tau the normalised time of the reach (``normalised_time``) on an even grid.
 The paper's Fig. 14 is the distribution of e per point over the subjects,
 Fig. 15 its mean per point; here for ``mp`` and both baselines.
+
+With ``palm`` each reach also turns the palm: NAO starts in the subject's
+mean start posture on NAO, WristYaw included (``posture_from_points`` from
+the mean elbow, wrist and palm), and turns its palm on the way to where the
+subject's ends (as NAO's joints can face it: the subject's mean end posture
+on NAO); every reach then also gets the posture similarity S of eq. 22-23,
+NAO's five joints against the subject's, averaged over tau. A reach that a
+method cannot plan (no posture within the limits meets the palm there, as
+the planner judges it) is left out for every method and listed.
 """
 
 from __future__ import annotations
@@ -19,15 +28,19 @@ from typing import NamedTuple
 
 import numpy as np
 
-from armplan.experiments.nao_reach import PathSource, nao_reach
+from armplan.experiments.nao_reach import PalmTurn, PathSource, nao_reach
 from armplan.experiments.normalised_time import SAMPLES, tau_grid
+from armplan.experiments.posture_similarity import posture_similarity
 from armplan.experiments.subject_reach import SubjectReach, subject_reaches
 from services.decide.grid_table import MIN_POINTS, sequence
 from services.planner.stages import LocalStages, Stages
+from shared.demos.posture_from_points import joints_from_points
 from shared.demos.trial import DemoSet
+from shared.errors import InvalidInputError, UnreachableTargetError
+from shared.geometry.palm import palm_normal
 from shared.messages import Method
 from shared.messages.measure_params import MeasureParams
-from shared.robot.arm_model import load_arm
+from shared.robot.arm_model import ArmModel, load_arm
 
 #: The methods compared, the paper's first.
 METHODS = (Method.MP, Method.LEAST_NORM, Method.SINGLE)
@@ -45,6 +58,8 @@ class ReachError(NamedTuple):
         primitives: The primitives that moved NAO's arm, in order (runs of
             at least ``MIN_POINTS`` path points; one label for a baseline).
         human_primitives: Primitives of the subject's most common sequence.
+        posture_similarity: Mean S against the subject's postures (eq. 22-23)
+            for a reach with a palm; ``None`` without.
     """
 
     subject: str
@@ -54,6 +69,21 @@ class ReachError(NamedTuple):
     wrist_error: float
     primitives: list[str]
     human_primitives: list[str]
+    posture_similarity: float | None = None
+
+
+class Skipped(NamedTuple):
+    """A reach left out: which, and what the planner said.
+
+    Attributes:
+        subject: The subject's name.
+        point: Grid point 1..16.
+        reason: The planner's error message.
+    """
+
+    subject: str
+    point: int
+    reason: str
 
 
 def run_similarity(
@@ -64,6 +94,8 @@ def run_similarity(
     methods: tuple[Method, ...] = METHODS,
     progress: Callable[[int, int], None] | None = None,
     measures: MeasureParams | None = None,
+    palm: bool = False,
+    skipped: list[Skipped] | None = None,
 ) -> list[ReachError]:
     """The experiment on ``demos`` (right-arm reaches on the grid).
 
@@ -75,29 +107,88 @@ def run_similarity(
         methods: The methods to run.
         progress: Called with (reaches done, reaches in all) after each.
         measures: The IK measures' weights; default the shipped ones.
+        palm: Turn the palm as the subject did (see the module docstring).
+        skipped: Receives the reaches left out (with ``palm`` only).
+
+    Raises:
+        InvalidInputError: with ``palm``, if a trial has no wrist frames.
     """
     tau = tau_grid(samples)
     stages = stages or LocalStages()
-    out = []
+    out: list[ReachError] = []
     reaches = subject_reaches(demos, tau)
     for done, reach in enumerate(reaches, start=1):
         arm = load_arm(_arm_of(demos, reach))
-        for method in methods:
-            nao = nao_reach(arm, stages, reach, method, source, tau, measures)
-            out.append(
-                ReachError(
-                    reach.subject,
-                    reach.point,
-                    method,
-                    mean_distance(nao.elbow, reach.elbow),
-                    mean_distance(nao.wrist, reach.wrist),
-                    sequence(nao.primitives, MIN_POINTS)[0],
-                    _human_sequence(reach),
-                )
-            )
+        try:
+            out += _rows(arm, stages, reach, methods, source, tau, measures, palm)
+        except UnreachableTargetError as exc:
+            if not palm:
+                raise
+            if skipped is not None:
+                skipped.append(Skipped(reach.subject, reach.point, str(exc)))
         if progress is not None:
             progress(done, len(reaches))
     return out
+
+
+def _rows(
+    arm: ArmModel,
+    stages: Stages,
+    reach: SubjectReach,
+    methods: tuple[Method, ...],
+    source: PathSource,
+    tau: np.ndarray,
+    measures: MeasureParams | None,
+    palm: bool,
+) -> list[ReachError]:
+    """One row per method for ``reach``."""
+    subject = subject_postures(arm, reach) if palm else None
+    turn = None if subject is None else palm_turn(arm, subject)
+    rows = []
+    for method in methods:
+        nao = nao_reach(arm, stages, reach, method, source, tau, measures, turn)
+        similarity = None
+        if subject is not None:
+            similarity = float(np.mean(posture_similarity(nao.q, subject, arm.limits)))
+        rows.append(
+            ReachError(
+                reach.subject,
+                reach.point,
+                method,
+                mean_distance(nao.elbow, reach.elbow),
+                mean_distance(nao.wrist, reach.wrist),
+                sequence(nao.primitives, MIN_POINTS)[0],
+                _human_sequence(reach),
+                similarity,
+            )
+        )
+    return rows
+
+
+def subject_postures(arm: ArmModel, reach: SubjectReach) -> np.ndarray:
+    """The subject's mean postures on NAO [rad], shape (m, 5), WristYaw included.
+
+    Raises:
+        InvalidInputError: if the subject's trials have no wrist frames.
+    """
+    if reach.hand_y is None:
+        raise InvalidInputError(
+            f"subject {reach.subject}'s trials at P{reach.point} have no wrist "
+            "frames, so their palm is unknown: run without --palm",
+            field="palm",
+        )
+    q = None
+    out = []
+    for k, hand_y in enumerate(reach.hand_y):
+        q = joints_from_points(arm, reach.elbow[k], reach.wrist[k], hand_y, q)
+        out.append(q)
+    return np.array(out)
+
+
+def palm_turn(arm: ArmModel, subject: np.ndarray) -> PalmTurn:
+    """Start in the subject's first posture and face the palm of its last."""
+    rotation = arm.kinematics(subject[-1]).wrist_rotation
+    return PalmTurn(subject[0], palm_normal(rotation, arm.side.sign))
 
 
 def _arm_of(demos: DemoSet, reach: SubjectReach) -> str:

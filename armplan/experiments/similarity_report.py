@@ -1,6 +1,7 @@
 """What ``armplan experiment similarity`` writes: tables, JSON, two PNGs.
 
-Into the output directory, for path source ``human`` (or ``planned``):
+Into the output directory, for path source ``human`` (or ``planned``;
+``similarity-human-palm`` etc. with ``--palm``):
 ``similarity-human.json`` (``similarity_summary.summary``),
 ``similarity-human.md`` (the tables below, in centimetres),
 ``similarity-human-distribution.png`` (Fig. 14) and
@@ -17,6 +18,7 @@ from typing import Any
 from armplan.experiments.markdown_table import markdown_table
 from armplan.experiments.similarity import ReachError
 from armplan.experiments.similarity_plots import plot_distribution, plot_point_means
+from armplan.experiments.similarity_summary import POSTURE
 from shared.errors import InvalidInputError
 
 CM = 100.0
@@ -30,16 +32,19 @@ def tables(summary: dict[str, Any]) -> dict[str, Table]:
         [m, *(CM * summary[m][k] for k in _OVERALL_KEYS), summary[m]["reaches"]]
         for m in methods
     ]
+    header = ["method", "mean [cm]", "sd [cm]", "max [cm]", "wrist [cm]", "reaches"]
+    if POSTURE in summary[methods[0]]:
+        header[1:1] = ["mean S", "sd S"]
+        for row in overall:
+            numbers = summary[row[0]]
+            row[1:1] = [numbers[POSTURE], numbers["sd_posture_similarity"]]
     points = list(summary[methods[0]]["per_point_mean_elbow_error_m"])
     per_point = [
         [p, *(CM * summary[m]["per_point_mean_elbow_error_m"][p] for m in methods)]
         for p in points
     ]
     return {
-        "overall": (
-            ["method", "mean [cm]", "sd [cm]", "max [cm]", "wrist [cm]", "reaches"],
-            overall,
-        ),
+        "overall": (header, overall),
         "per point": (["point", *(f"{m} [cm]" for m in methods)], per_point),
         "by mp primitives": _by_count(summary, "by_mp_primitive_count", methods),
         "by human primitives": _by_count(summary, "by_human_primitive_count", methods),
@@ -77,7 +82,8 @@ def write_report(
         for title, table in tables(summary).items()
     )
     written.append(write_text(out / f"{name}.md", text))
-    title = f"elbow error on NAO, {summary['protocol']['path']} wrist path"
+    palm = ", palm turned" if summary["protocol"].get("palm") else ""
+    title = f"elbow error on NAO, {summary['protocol']['path']} wrist path{palm}"
     written.append(plot_distribution(rows, out / f"{name}-distribution.png", title))
     written.append(plot_point_means(rows, out / f"{name}-point-means.png", title))
     return written

@@ -5,7 +5,9 @@ similarity``: for each method its mean elbow error over all reaches (one
 reach = one subject at one point, its trials averaged), their standard
 deviation, the mean per point (Fig. 15) and the mean by the number of
 primitives NAO's ``mp`` reach used (the paper's three/two/one-MP groups);
-plus how each bar of the SPEC fares.
+plus how each bar of the SPEC fares. With a palm (``--palm``) each method
+also has its mean posture similarity S (eq. 22-23) and its standard
+deviation, and the bars include S above each baseline's.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ def method_summary(rows: Sequence[ReachError], method: Method) -> dict[str, Any]
     mine = [r for r in rows if r.method is method]
     elbow = np.array([r.elbow_error for r in mine])
     return {
+        **_posture(mine),
         "reaches": len(mine),
         "mean_elbow_error_m": float(elbow.mean()),
         "sd_elbow_error_m": float(elbow.std()),
@@ -47,6 +50,17 @@ def method_summary(rows: Sequence[ReachError], method: Method) -> dict[str, Any]
         "per_point_mean_elbow_error_m": {
             f"P{p}": float(np.mean(e)) for p, e in errors_by_point(rows, method).items()
         },
+    }
+
+
+def _posture(rows: Sequence[ReachError]) -> dict[str, float]:
+    """Mean and sd of the rows' posture similarity, if they have one."""
+    values = [r.posture_similarity for r in rows if r.posture_similarity is not None]
+    if not values:
+        return {}
+    return {
+        "mean_posture_similarity": float(np.mean(values)),
+        "sd_posture_similarity": float(np.std(values)),
     }
 
 
@@ -102,4 +116,16 @@ def bars(out: dict[str, Any], methods: Sequence[Method]) -> dict[str, Any]:
                 "met": mp < other,
                 "margin_m": other - mp,
             }
+    s_mp = out[Method.MP.value].get(POSTURE)
+    for method in methods:
+        if method is not Method.MP and s_mp is not None:
+            other = out[method.value][POSTURE]
+            result[f"posture_above_{method.value}"] = {
+                "met": s_mp > other,
+                "margin": s_mp - other,
+            }
     return result
+
+
+#: The summary's key of a method's mean posture similarity.
+POSTURE = "mean_posture_similarity"

@@ -29,6 +29,9 @@ class SubjectReach(NamedTuple):
         wrist: Mean wrist path at the tau grid [m], shape (m, 3).
         duration: Mean movement time [s].
         labels: The demonstrations' primitive sequences, one per trial.
+        hand_y: Mean direction of the wrist frame's y axis (a right hand's
+            palm normal) at the tau grid, unit, shape (m, 3); ``None`` if a
+            trial has no wrist frames.
     """
 
     subject: str
@@ -38,6 +41,7 @@ class SubjectReach(NamedTuple):
     wrist: np.ndarray
     duration: float
     labels: list[list[str]]
+    hand_y: np.ndarray | None = None
 
 
 def subject_reaches(demos: DemoSet, tau: np.ndarray) -> list[SubjectReach]:
@@ -67,4 +71,18 @@ def _mean(key: tuple[str, int], trials: list[Trial], tau: np.ndarray) -> Subject
     wrist = np.mean([at_tau(t.times, t.wrist, tau) for t in trials], axis=0)
     duration = float(np.mean([t.times[-1] - t.times[0] for t in trials]))
     labels = [list(t.labels) for t in trials if t.labels is not None]
-    return SubjectReach(key[0], key[1], len(trials), elbow, wrist, duration, labels)
+    return SubjectReach(
+        key[0], key[1], len(trials), elbow, wrist, duration, labels,
+        _mean_hand_y(trials, tau),
+    )  # fmt: skip
+
+
+def _mean_hand_y(trials: list[Trial], tau: np.ndarray) -> np.ndarray | None:
+    """The trials' mean wrist-frame y axis at ``tau``, normalised, shape (m, 3)."""
+    if any(t.wrist_frame is None for t in trials):
+        return None
+    mean = np.mean(
+        [at_tau(t.times, np.asarray(t.wrist_frame)[:, :, 1], tau) for t in trials],
+        axis=0,
+    )
+    return np.asarray(mean / np.linalg.norm(mean, axis=1, keepdims=True))

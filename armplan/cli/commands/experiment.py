@@ -84,6 +84,12 @@ def _similarity_parser(which: argparse._SubParsersAction) -> None:  # type: igno
         help="NAO's wrist path: the subject's, or the planner's own (default human)",
     )
     parser.add_argument("--samples", type=int, default=101, help="tau samples (101)")
+    parser.add_argument(
+        "--palm",
+        action="store_true",
+        help="NAO also turns its palm as the subject did, and each method's "
+        "postures are compared with the subject's (S, eq. 22-23)",
+    )
     parser.set_defaults(run=run_similarity)
 
 
@@ -108,6 +114,7 @@ def _handover_parser(which: argparse._SubParsersAction) -> None:  # type: ignore
 def run_similarity(args: argparse.Namespace) -> int:
     """Run the similarity experiment, write and print its results."""
     from armplan.experiments.nao_reach import PathSource
+    from armplan.experiments.similarity import Skipped
     from armplan.experiments.similarity import run_similarity as run
     from armplan.experiments.similarity_report import tables, write_report
     from armplan.experiments.similarity_summary import summary
@@ -115,6 +122,7 @@ def run_similarity(args: argparse.Namespace) -> int:
     demos, source = _demos(args)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
+    skipped: list[Skipped] = []
     with _progress(args.json) as progress:
         task = progress.add_task("planning the reaches", total=None)
         rows = run(
@@ -126,15 +134,20 @@ def run_similarity(args: argparse.Namespace) -> int:
                 task, completed=done, total=total
             ),
             measures=measures,
+            palm=args.palm,
+            skipped=skipped,
         )
     protocol = {
         "path": args.path,
         "demos": source,
         "samples": args.samples,
         "measures": measures.model_dump(),
+        "palm": args.palm,
+        "skipped": [s._asdict() for s in skipped],
     }
     numbers = summary(rows, protocol)
-    name = f"similarity-{args.path}{_weights(args)}"
+    palm = "-palm" if args.palm else ""
+    name = f"similarity-{args.path}{palm}{_weights(args)}"
     written = write_report(rows, numbers, args.out, name)
     _print(numbers, tables(numbers), written, args.json)
     return 0
