@@ -17,6 +17,9 @@ frozen), so the wrist stays on the path even where the primitive's own
 joints cannot follow it all (a shoulder swing cannot change the hand's
 distance from the shoulder); a locked joint then moves only in the part of
 the task the active ones cannot do. Joints near a limit give way smoothly.
+Where the task also turns the palm, the locked joints are less locked
+(``LOCKED_TURNING``): the demonstrations say the arm shares a roll the
+wrist cannot make (see its comment for the figures).
 
 Smoothness (the joint path is later timed by Ruckig, and a person's joints
 start and stop with the hand):
@@ -67,7 +70,7 @@ from services.ik.measures import Measure, MeasureParams, NoMeasure
 from services.ik.measures import factory as measure_factory
 from services.ik.solver import solve
 from services.ik.task import WristTask
-from services.ik.weighted import LOCKED, weighted_step
+from services.ik.weighted import LOCKED, LOCKED_TURNING, weighted_step
 from shared.geometry.palm import roll_error
 from shared.messages.method import Method
 from shared.primitives import FULL_GRASP, FULL_REACH, Primitive, turning_the_wrist
@@ -124,6 +127,9 @@ class TrackedPath(NamedTuple):
 class _Phase:
     """A primitive's phase: its label, active joints, measure and wrist task.
 
+    ``base`` is each joint's weight in the step: 1 if active, else
+    ``LOCKED``, or ``LOCKED_TURNING`` where the task turns the palm.
+
     A plain class, not a NamedTuple: compiled, its fields are read directly
     (the tracker reads them several times per path point).
     """
@@ -132,6 +138,8 @@ class _Phase:
         self, label: str, active: tuple[int, ...], measure: Measure, task: WristTask
     ) -> None:
         self.label, self.active, self.measure, self.task = label, active, measure, task
+        locked = LOCKED if task.palm is None else LOCKED_TURNING
+        self.base = [1.0 if k in active else locked for k in range(5)]
 
 
 class _Follow:
@@ -392,9 +400,8 @@ def _step(
 ) -> list[float]:
     """The weighted step of ``phase`` towards ``point`` [rad], 5 floats."""
     err, cols = phase.task.at(point, roll_left).residual(st)
-    base = [1.0 if k in phase.active else LOCKED for k in range(5)]
     return weighted_step(
-        q, err, cols, phase.measure.gradient(st), base, chain.lower, chain.upper,
+        q, err, cols, phase.measure.gradient(st), phase.base, chain.lower, chain.upper,
         ALPHA * gain, MAX_STEP, MAX_NULL_STEP * gain, MARGIN,
     )  # fmt: skip
 

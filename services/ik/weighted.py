@@ -7,7 +7,8 @@ sum(dq_k^2 / w_k) that does the task (weighted least norm, Whitney 1969;
 Chan and Dubey 1995 for limits). Two things set w:
 
     - The primitive: its active joints have w = 1, the others ``LOCKED``
-      (0.1: moving one of them costs ten times as much).
+      (0.1: moving one of them costs ten times as much), or
+      ``LOCKED_TURNING`` (0.25) where the task also turns the palm.
       A locked joint thus moves only in the part of the task the active
       joints cannot do at all (a shoulder swing cannot change the hand's
       distance from the shoulder), and then as little as it can: the wrist
@@ -46,6 +47,16 @@ from services.ik.kernel.small import factor3, normal_solver, solve3
 Cols = list[tuple[float, ...]]
 #: Weight of a joint the primitive does not move.
 LOCKED: Final = 0.1
+#: The same where the task also turns the palm (a fourth row, the roll):
+#: there, with 0.1, a roll WristYaw cannot make (the people hold it at its
+#: limit) falls on the primitive's own shoulder joints, mostly ElbowYaw,
+#: instead of being shared by the arm. Chosen on the demonstrations the
+#: shipped motion model was fitted on: ``armplan experiment similarity
+#: --palm --seed 0``, mp's mean posture similarity S (eq. 22-23) to the
+#: subjects' for 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.5 and 1: 0.9499,
+#: 0.9724, 0.9773, 0.97907, 0.97914, 0.9786, 0.9776, 0.9781 (least-norm
+#: 0.9758, single 0.9764); the best, 0.25, is taken.
+LOCKED_TURNING: Final = 0.25
 #: Damping of the weighted solve [m^2]: a joint that barely moves the
 #: wrist (ElbowYaw of a straight arm) must not take huge steps for it.
 DAMPING: Final = 1e-6
@@ -252,4 +263,4 @@ def _largest(values: list[float]) -> float:
     return top
 
 
-__all__ = ["FLOOR", "LOCKED", "limit_weight", "weighted_step"]
+__all__ = ["FLOOR", "LOCKED", "LOCKED_TURNING", "limit_weight", "weighted_step"]
