@@ -81,8 +81,9 @@ def nao_reach(
 ) -> NaoReach:
     """NAO's reach for ``reach`` with ``method`` (see the module docstring).
 
-    With ``turn`` NAO starts in its posture and turns the palm to its palm
-    on the way; otherwise it starts in ``start_posture`` and has no palm.
+    With ``turn`` NAO starts in ``turn.start`` and turns its palm to
+    ``turn.palm`` on the way; without, it starts in ``start_posture`` and
+    has no palm to turn.
     """
     q0 = start_posture(arm, reach) if turn is None else turn.start
     path = wrist_path(arm, reach, q0, source, tau, None if turn is None else turn.palm)
