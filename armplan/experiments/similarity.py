@@ -34,7 +34,7 @@ from armplan.experiments.posture_similarity import posture_similarity
 from armplan.experiments.subject_reach import SubjectReach, subject_reaches
 from services.decide.grid_table import MIN_POINTS, sequence
 from services.planner.stages import LocalStages, Stages
-from shared.demos.posture_from_points import joints_from_points
+from shared.demos.posture_from_points import joint_path_from_palms
 from shared.demos.trial import DemoSet
 from shared.errors import InvalidInputError, UnreachableTargetError
 from shared.geometry.palm import palm_normal
@@ -177,12 +177,7 @@ def subject_postures(arm: ArmModel, reach: SubjectReach) -> np.ndarray:
             "frames, so their palm is unknown: run without --palm",
             field="palm",
         )
-    q = None
-    out = []
-    for k, hand_y in enumerate(reach.hand_y):
-        q = joints_from_points(arm, reach.elbow[k], reach.wrist[k], hand_y, q)
-        out.append(q)
-    return np.array(out)
+    return joint_path_from_palms(arm, reach.elbow, reach.wrist, reach.hand_y)
 
 
 def palm_turn(arm: ArmModel, subject: np.ndarray) -> PalmTurn:

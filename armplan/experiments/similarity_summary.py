@@ -117,8 +117,10 @@ def bars(out: dict[str, Any], methods: Sequence[Method]) -> dict[str, Any]:
                 "margin_m": other - mp,
             }
     s_mp = out[Method.MP.value].get(POSTURE)
+    if s_mp is None:
+        return result
     for method in methods:
-        if method is not Method.MP and s_mp is not None:
+        if method is not Method.MP:
             other = out[method.value][POSTURE]
             result[f"posture_above_{method.value}"] = {
                 "met": s_mp > other,

@@ -116,10 +116,30 @@ def joint_path_from_points(
         frames: Wrist frames, shape (n, 3, 3), or ``None``.
         guess: Warm start of the first sample [rad], shape (5,).
     """
+    palms = None if frames is None else np.asarray(frames)[:, :, 1]
+    return joint_path_from_palms(arm, elbow, wrist, palms, guess)
+
+
+def joint_path_from_palms(
+    arm: ArmModel,
+    elbow: np.ndarray,
+    wrist: np.ndarray,
+    palms: np.ndarray | None = None,
+    guess: np.ndarray | None = None,
+) -> np.ndarray:
+    """:func:`joint_path_from_points` given each wrist frame's y axis alone.
+
+    Args:
+        arm: The NAO arm.
+        elbow: Elbow positions [m], shape (n, 3).
+        wrist: Wrist positions [m], shape (n, 3).
+        palms: Palm normals (wrist frame's y axis), shape (n, 3), or ``None``.
+        guess: Warm start of the first sample [rad], shape (5,).
+    """
     q = rest(arm.side) if guess is None else np.asarray(guess, dtype=float)
     out = []
     for k in range(len(elbow)):
-        palm = None if frames is None else frames[k][:, 1]
+        palm = None if palms is None else palms[k]
         q = joints_from_points(arm, elbow[k], wrist[k], palm, q)
         out.append(q)
     return np.array(out)
