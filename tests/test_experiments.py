@@ -49,6 +49,8 @@ HANDOVER_COMMANDS = [
     "armplan experiment handover --starts reference --out docs/results",
     "armplan experiment handover --mu 0.03 --omega 0.01 --out docs/results",
 ]
+#: Not the paper's: random reaches and chains (tests/test_experiment_pace.py).
+PACE_COMMANDS = ["armplan experiment pace --out docs/results"]
 
 
 def documented(command: str, out: Path, *small: str) -> list[str]:
@@ -102,7 +104,7 @@ def test_the_docs_show_exactly_the_tested_commands() -> None:
     """Every ``armplan experiment`` command in docs/results.md is one tested here."""
     lines = [line.strip() for line in DOCS.read_text().splitlines()]
     shown = [line for line in lines if line.startswith("armplan experiment")]
-    assert shown == SIMILARITY_COMMANDS + HANDOVER_COMMANDS
+    assert shown == SIMILARITY_COMMANDS + HANDOVER_COMMANDS + PACE_COMMANDS
 
 
 def test_every_figure_in_the_docs_is_written_by_a_documented_command() -> None:
@@ -115,6 +117,7 @@ def test_every_figure_in_the_docs_is_written_by_a_documented_command() -> None:
         written |= {f"{name}-{k}.png" for k in ("distribution", "point-means")}
     for command in HANDOVER_COMMANDS:
         written.add(f"{handover_name(shlex.split(command))}-similarity.png")
+    written.add("pace-ratios.png")  # armplan experiment pace
     assert embedded == written
     assert all((DOCS.parent / "results" / name).is_file() for name in embedded)
 
@@ -125,7 +128,7 @@ def test_the_docs_show_the_tables_the_commands_wrote() -> None:
     tables = sorted((DOCS.parent / "results").glob("*.md"))
     assert [t.stem for t in tables] == [
         "handover-chained-mu-0.03-omega-0.01", "handover-chained", "handover-reference",
-        "similarity-human-palm", "similarity-human", "similarity-planned",
+        "pace", "similarity-human-palm", "similarity-human", "similarity-planned",
     ]  # fmt: skip
     for table in tables:
         assert table.read_text() in text, table.name

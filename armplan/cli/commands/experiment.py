@@ -6,6 +6,9 @@
     armplan experiment handover [--out DIR] [--json] [--task FILE.json]
         [--movements N] [--starts chained|reference] [--model FILE]
         [--mu K] [--omega W]
+    armplan experiment pace [--out DIR] [--json] [--reaches N] [--chains N]
+        [--seed S] [--methods M ...] [--arm right|left] [--model FILE]
+        [--mu K] [--omega W]
 
 ``similarity``: per subject and grid point, NAO's elbow (mp, least-norm,
 single) against the subject's retargeted elbow over normalised time
@@ -18,7 +21,9 @@ the paper's protocol) or from the person's posture (``reference``). Both
 write tables, JSON and PNG plots into ``--out`` and print the tables
 (``--json``: the JSON). docs/results.md explains the protocols. ``--mu``
 and ``--omega`` set the IK measures' weights (every method's); the files
-then carry them in their names (``handover-chained-omega-0``).
+then carry them in their names (``handover-chained-omega-0``). ``pace``
+(not the paper's): random reaches and chains of reaches with random palms,
+planned in this process; each trajectory's duration over the human one.
 """
 
 from __future__ import annotations
@@ -39,7 +44,10 @@ from armplan.cli.parsing import (
 from shared.errors import InvalidInputError
 
 ORDER = 70
-HELP = "the paper's experiments: similarity (Fig. 14-15), handover (Fig. 18)"
+HELP = (
+    "the paper's experiments: similarity (Fig. 14-15), handover (Fig. 18); "
+    "and pace (random reaches)"
+)
 #: Where the results go by default.
 OUT = "experiment-results"
 
@@ -51,6 +59,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     which.required = True
     _similarity_parser(which)
     _handover_parser(which)
+    _pace_parser(which)
 
 
 def _common(parser: argparse.ArgumentParser) -> None:
@@ -109,6 +118,29 @@ def _handover_parser(which: argparse._SubParsersAction) -> None:  # type: ignore
         "the person's posture",
     )
     parser.set_defaults(run=run_handover)
+
+
+def _pace_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    help_ = "random reaches and chains with palms: duration over the human one"
+    parser = which.add_parser("pace", help=help_, description=help_)
+    _common(parser)
+    parser.add_argument("--reaches", type=int, default=120, help="random reaches (120)")
+    parser.add_argument(
+        "--chains", type=int, default=30, help="random chains with palms (30)"
+    )
+    parser.add_argument("--seed", type=int, default=5, help="random tasks' seed (5)")
+    parser.add_argument(
+        "--methods",
+        nargs="+",
+        choices=("mp", "least-norm", "single"),
+        default=["mp", "least-norm", "single"],
+        metavar="METHOD",
+        help="mp, least-norm, single (default all)",
+    )
+    parser.add_argument(
+        "--arm", choices=("right", "left"), default="right", help="default right"
+    )
+    parser.set_defaults(run=run_pace)
 
 
 def run_similarity(args: argparse.Namespace) -> int:
@@ -190,6 +222,56 @@ def run_handover(args: argparse.Namespace) -> int:
     return 0
 
 
+def run_pace(args: argparse.Namespace) -> int:
+    """Run the pace experiment, write and print its results."""
+    from armplan.experiments.pace import (
+        CHAIN_LENGTH,
+        LEAST_MOVE,
+        NEAR_LIMIT,
+        PaceRun,
+        random_tasks,
+        run_task,
+    )
+    from armplan.experiments.pace_report import tables, write_report
+    from armplan.experiments.pace_summary import summary
+    from shared.messages import Method
+    from shared.robot.arm_model import load_arm
+
+    _at_least(args.reaches, 0, "reaches")
+    _at_least(args.chains, 0, "chains")
+    if args.reaches + args.chains == 0:
+        raise InvalidInputError(
+            "--reaches and --chains are both 0: nothing to plan", field="reaches"
+        )
+    arm = load_arm(args.arm)
+    stages = _stages(args.model)
+    measures = measures_from_args(args, stages.decider.model.measures())
+    tasks = random_tasks(arm, args.reaches, args.chains, args.seed)
+    methods = list(dict.fromkeys(args.methods))
+    runs: dict[str, list[PaceRun]] = {}
+    with _progress(args.json) as progress:
+        bar = progress.add_task("planning", total=len(tasks) * len(methods))
+        for name in methods:
+            runs[name] = []
+            for task in tasks:
+                runs[name].append(run_task(arm, task, Method(name), stages, measures))
+                progress.advance(bar)
+    protocol = {
+        "arm": arm.side.value,
+        "seed": args.seed,
+        "reaches": args.reaches,
+        "chains": args.chains,
+        "chain_length": CHAIN_LENGTH,
+        "least_move_m": LEAST_MOVE,
+        "near_limit_rad": NEAR_LIMIT,
+        "measures": measures.model_dump(),
+    }
+    numbers = summary(runs, protocol)
+    written = write_report(numbers, args.out)
+    _print(numbers, tables(numbers), written, args.json)
+    return 0
+
+
 def _demos(args: argparse.Namespace) -> tuple[Any, str]:
     """The demonstrations and where they came from."""
     from shared.demos import read_demos, synthesize
@@ -243,7 +325,8 @@ def _print(
     for title, (headers, rows) in tables.items():
         sys.stdout.write(f"\n{title}\n")
         print_table(headers, rows)
-    sys.stdout.write("\nbars: " + _bars(numbers["bars"]) + "\n")
+    if "bars" in numbers:
+        sys.stdout.write("\nbars: " + _bars(numbers["bars"]) + "\n")
     sys.stdout.write("wrote " + ", ".join(str(p) for p in written) + "\n")
 
 

@@ -1,0 +1,89 @@
+"""What ``armplan experiment pace`` writes: JSON, a table, one PNG.
+
+Into the output directory: ``pace.json`` (``pace_summary.summary``),
+``pace.md`` (per method and kind of task: planned, refused, median, mean
+and largest ratio to human pace, how many slow, how many of those near a
+limit and how many of the others short) and ``pace-ratios.png`` (each
+method's ratios, sorted, per kind).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+from armplan.experiments.figure_file import COLOURS, new_figure, save_png
+from armplan.experiments.markdown_table import markdown_table
+from armplan.experiments.pace_summary import KINDS, SHORT, SLOW
+from armplan.experiments.similarity_report import Table, make_dir, write_text
+
+#: The table's columns after method and kind, with the summary's keys.
+_COLUMNS = {
+    "tasks": "tasks",
+    "planned": "planned",
+    "refused": "refused",
+    "median_ratio": "median T/asked",
+    "mean_ratio": "mean T/asked",
+    "max_ratio": "max T/asked",
+    "slow": f"over {SLOW:g}",
+    "slow_near_limit": "of those near a limit",
+    "slow_short": f"others short (< {SHORT:g} s)",
+}
+
+
+def methods_of(summary: dict[str, Any]) -> list[str]:
+    """The methods in the summary, in its order."""
+    return [k for k in summary if k != "protocol"]
+
+
+def tables(summary: dict[str, Any]) -> dict[str, Table]:
+    """One table: a row per method and kind of task."""
+    rows = [
+        [method, name, *(summary[method][name][key] for key in _COLUMNS)]
+        for name in KINDS.values()
+        for method in methods_of(summary)
+    ]
+    return {"pace": (["method", "tasks of", *_COLUMNS.values()], rows)}
+
+
+def write_report(summary: dict[str, Any], out: str | Path) -> list[Path]:
+    """Write the JSON, the table and the figure; returns the paths.
+
+    Raises:
+        InvalidInputError: if the directory cannot be made or written.
+    """
+    out = make_dir(out)
+    written = [write_text(out / "pace.json", json.dumps(summary, indent=2) + "\n")]
+    text = "".join(
+        f"**{title}**\n\n" + markdown_table(*table) + "\n"
+        for title, table in tables(summary).items()
+    )
+    written.append(write_text(out / "pace.md", text))
+    written.append(plot_ratios(summary, out / "pace-ratios.png"))
+    return written
+
+
+def plot_ratios(summary: dict[str, Any], path: Path) -> Path:
+    """Each method's ratios to human pace, sorted, one panel per kind of task."""
+    figure = new_figure(10.0, 4.0)
+    for k, name in enumerate(KINDS.values()):
+        ax = figure.add_subplot(1, len(KINDS), k + 1)
+        for method in methods_of(summary):
+            ratios = np.sort(summary[method][name]["ratios"])
+            share = np.arange(1, len(ratios) + 1) / max(len(ratios), 1)
+            ax.step(ratios, share, where="post", color=COLOURS.get(method),
+                    label=f"{method} ({len(ratios)} planned)")  # fmt: skip
+        ax.axvline(SLOW, color="grey", ls=":", lw=0.8)
+        ax.set_xscale("log")
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xlabel("trajectory duration / human duration [-]")
+        ax.set_ylabel("share of the planned tasks [-]")
+        ax.set_title(f"random {name}")
+        ax.legend(loc="lower right", fontsize=8)
+        ax.grid(alpha=0.3)
+    return save_png(figure, path)

@@ -1,0 +1,146 @@
+"""armplan experiment pace: random tasks, the ratio to human pace, the JSON contract."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from test_experiments import PACE_COMMANDS, assert_png, documented, run_json
+
+from armplan.cli.main import main
+from armplan.experiments.pace import (
+    CHAIN_LENGTH,
+    LEAST_MOVE,
+    NEAR_LIMIT,
+    PaceTask,
+    near_limit,
+    random_tasks,
+    run_task,
+)
+from shared.demos.nao_grid import nao_grid
+from shared.messages import Method
+from shared.robot import load_arm
+from shared.robot.postures import rest
+
+SMALL = ["--reaches", "4", "--chains", "2"]
+
+
+@pytest.mark.parametrize("command", PACE_COMMANDS)
+def test_pace_command_json_table_and_plot(
+    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The documented run on 4 reaches and 2 chains: every method plans every
+    reach, no trajectory is quicker than the human one, the counts add up and
+    the files are written."""
+    data = run_json(documented(command, tmp_path, *SMALL), capsys)
+    assert data["protocol"]["seed"] == 5
+    assert data["protocol"]["chain_length"] == CHAIN_LENGTH
+    for method in ("mp", "least-norm", "single"):
+        reaches, chains = data[method]["reaches"], data[method]["chains"]
+        assert reaches["tasks"] == reaches["planned"] == 4
+        assert chains["tasks"] == 2 == chains["planned"] + chains["refused"]
+        assert len(chains["errors"]) == chains["refused"]
+        for kind in (reaches, chains):
+            ratios = kind["ratios"]
+            assert all(r > 0.99 for r in ratios)
+            if ratios:
+                assert kind["median_ratio"] == pytest.approx(np.median(ratios))
+                assert kind["max_ratio"] == max(ratios)
+                assert kind["slow"] == sum(r > 1.5 for r in ratios)
+            assert 0 <= kind["slow_near_limit"] + kind["slow_short"] <= kind["slow"]
+    assert_png(tmp_path / "pace-ratios.png")
+    assert "chains" in (tmp_path / "pace.md").read_text()
+    assert json.loads((tmp_path / "pace.json").read_text())["mp"]
+
+
+def test_random_tasks_are_reachable_seeded_and_as_described() -> None:
+    """Same seed, same tasks; reaches alternate the rest posture and random
+    ones within the ranges; each target is the wrist of a posture (within
+    the reach's shell) and at least LEAST_MOVE from where the hand was;
+    chains start at rest with a unit palm at each target."""
+    arm = load_arm("left")
+    tasks = random_tasks(arm, 6, 3, seed=11)
+    again = random_tasks(arm, 6, 3, seed=11)
+    assert all(
+        np.array_equal(a.targets, b.targets) for a, b in zip(tasks, again, strict=True)
+    )
+    assert not np.array_equal(tasks[0].targets, random_tasks(arm, 1, 0, 12)[0].targets)
+    reaches, chains = tasks[:6], tasks[6:]
+    assert [t.kind for t in tasks] == ["reach"] * 6 + ["chain"] * 3
+    assert all(np.array_equal(t.start, rest(arm.side)) for t in reaches[::2])
+    lower, upper = np.array(arm.limits.lower), np.array(arm.limits.upper)
+    for task in reaches[1::2]:
+        assert np.all((task.start >= lower) & (task.start <= upper))
+    shoulder = arm.fk(rest(arm.side)).shoulder
+    for task in tasks:
+        here = arm.fk(task.start).wrist
+        for target in task.targets:
+            assert np.linalg.norm(target - here) >= LEAST_MOVE
+            assert np.linalg.norm(target - shoulder) <= arm.upper_arm_length + (
+                arm.forearm_length + 1e-9
+            )
+            here = target
+    for task in chains:
+        assert task.palms is not None and len(task.palms) == CHAIN_LENGTH
+        assert np.allclose(np.linalg.norm(task.palms, axis=1), 1.0)
+        assert np.array_equal(task.start, rest(arm.side))
+
+
+def test_a_grid_reach_is_at_human_pace() -> None:
+    """A grid reach from rest (which the planner keeps within 10 % of the human
+    duration) has a ratio within 10 % of 1; not near a limit."""
+    arm = load_arm("right")
+    target = nao_grid(arm.side)[4].wrist
+    task = PaceTask("reach", rest(arm.side), np.array([target]), None)
+    run = run_task(arm, task, Method.MP)
+    assert run.error is None
+    assert run.ratio == pytest.approx(1.0, abs=0.1)
+    assert not run.near_limit
+
+
+def test_a_palm_no_posture_meets_is_refused_and_named() -> None:
+    """A chain whose palm cannot be met at its target: no ratio, the planner's
+    message naming the palm (a reach from the seeded run)."""
+    arm = load_arm("right")
+    palm = np.array([-0.7426, -0.1316, 0.6567])
+    task = PaceTask(
+        "chain",
+        rest(arm.side),
+        np.array([[-0.06115, -0.1744, 0.1923]]),
+        np.array([palm / np.linalg.norm(palm)]),
+    )
+    run = run_task(arm, task, Method.LEAST_NORM)
+    assert run.ratio is None and not run.near_limit
+    assert run.error is not None and "palm facing" in run.error
+
+
+def test_near_limit_counts_only_a_limit_approached() -> None:
+    """A joint brought within NEAR_LIMIT of its limit counts; one that starts
+    there and stays does not; a path in mid-range does not."""
+    arm = load_arm("right")
+    upper = np.array(arm.limits.upper)
+    middle = (np.array(arm.limits.lower) + upper) / 2
+    to_limit = np.array([middle, middle.copy()])
+    to_limit[1, 2] = upper[2] - NEAR_LIMIT / 2
+    assert near_limit(arm, to_limit)
+    stays = np.array([to_limit[1], to_limit[1]])
+    assert not near_limit(arm, stays)
+    assert not near_limit(arm, np.array([middle, middle + 0.1]))
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [(["--reaches", "-1"], "--reaches must be at least 0, got -1"),
+     (["--reaches", "0", "--chains", "0"], "--reaches and --chains are both 0")],
+)  # fmt: skip
+def test_no_tasks_is_a_clear_error(
+    args: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Negative or no tasks at all: exit 1, the option named, typed JSON error."""
+    code = main(["experiment", "pace", *args, "--json"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert message in captured.err
+    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
