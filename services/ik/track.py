@@ -46,13 +46,18 @@ start and stop with the hand):
       reaches with a palm slowed to several times the human duration.)
 
 If the arm cannot follow the path within its limits (more than
-``DETOUR_AFTER`` off and still drifting away), ends it more than ``MISSED``
-from the goal, or could meet the goal only by a jump (a joint moving more
-than ``JUMP`` at the last point, typically a palm that a joint on its limit
-kept from turning, met at the end by swinging another joint by up to a
-radian: no timing can make that smooth), the whole movement goes in joint
-space from the start to the goal posture solved by :func:`services.ik.solve`,
-and ``detour_from`` is 0.
+``DETOUR_AFTER`` off and still drifting away), chatters along it (a joint
+stepping ``CHATTER`` or more one way and then the other at the next point:
+with a joint on its limit the others can meet at a fold, where the step
+that does the task flips sign from one point to the next; capped at
+``MAX_STEP`` the joint went to and fro across it for dozens of points, a
+sawtooth the timing could only follow by stopping at every tooth), ends it
+more than ``MISSED`` from the goal, or could meet the goal only by a jump (a
+joint moving more than ``JUMP`` at the last point, typically a palm that a
+joint on its limit kept from turning, met at the end by swinging another
+joint by up to a radian: no timing can make that smooth), the whole
+movement goes in joint space from the start to the goal posture solved by
+:func:`services.ik.solve`, and ``detour_from`` is 0.
 """
 
 from __future__ import annotations
@@ -102,6 +107,9 @@ MISSED: Final = 1e-5
 #: Largest change of a joint at the goal's convergence [rad]: removing the
 #: last step's residual takes far less; more is another posture, a jump.
 JUMP: Final = 0.01
+#: A joint that steps at least this much one way and then the other, at two
+#: consecutive points, chatters [rad]: 5 rad/s reversed within one point.
+CHATTER: Final = 0.05
 ALL_JOINTS: Final[tuple[int, ...]] = (0, 1, 2, 3, 4)
 
 
@@ -209,13 +217,19 @@ def track_path(
     phases = _Phases(run)
     st = run.chain.state(q)
     roll_left = _roll_left(run, points, st)
+    previous = [0.0] * 5
     for k, point in enumerate(points):
         wanted = _wanted(method, choose, k, st)
         phases.update(wanted, st)
         if k > 0 or len(points) == 1:
             # The path starts where the arm is: its first posture is the
             # start, also when the palm is still to turn (the next steps do).
+            before = q
             q, st = _follow(run.chain, phases, point, roll_left[k], q, st, gains[k])
+            step = [a - b for a, b in zip(q, before, strict=True)]
+            if _chatters(previous, step):
+                return _detour(arm, run, points, begin, phases.phase)
+            previous = step
         if phases.lost(st, point):
             return _detour(arm, run, points, begin, phases.phase)
         if k == len(points) - 1:
@@ -427,6 +441,14 @@ def _arrive(
     phase = phases.phase
     q, _ = converge(run.chain, phase.task.at(goal), phase.active, NoMeasure(), q)
     return q, run.chain.state(q)
+
+
+def _chatters(before: list[float], step: list[float]) -> bool:
+    """True if a joint reverses a step of ``CHATTER`` or more by another [rad]."""
+    for a, b in zip(before, step, strict=True):
+        if a * b < 0.0 and min(abs(a), abs(b)) >= CHATTER:
+            return True
+    return False
 
 
 def _jumped(before: list[float], after: list[float]) -> bool:
