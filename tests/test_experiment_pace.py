@@ -144,3 +144,18 @@ def test_no_tasks_is_a_clear_error(
     assert code == 1
     assert message in captured.err
     assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+
+
+def test_a_kind_with_no_task_has_no_ratios(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """No reaches asked: their numbers are null in the JSON and "-" in the table."""
+    args = ["experiment", "pace", "--reaches", "0", "--chains", "1", "--methods"]
+    data = run_json([*args, "mp", "--out", str(tmp_path), "--json"], capsys)
+    reaches = data["mp"]["reaches"]
+    assert reaches["tasks"] == reaches["planned"] == reaches["slow"] == 0
+    assert reaches["median_ratio"] is None and reaches["ratios"] == []
+    assert (
+        "| mp | reaches | 0 | 0 | 0 | - | - | - |" in (tmp_path / "pace.md").read_text()
+    )
+    assert list(data) == ["protocol", "mp", "files"]

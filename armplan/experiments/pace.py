@@ -15,9 +15,9 @@ experiment looks where they do not go, with the real in-process planner:
 For each planned task the ratio is the trajectory's duration over the sum
 of the human durations of its movements (each from the posture where it
 starts to the one where it ends), so 1 is human pace; and whether any
-sample brings a joint within ``NEAR_LIMIT`` of its range's end (the joints
-give way near a limit, which can slow the reach: docs/planning.md, Known
-limits).
+sample brings a joint within ``NEAR_LIMIT`` of a limit it started further
+from (the joints give way near a limit, which can slow the reach:
+docs/planning.md, Known limits).
 """
 
 from __future__ import annotations

@@ -41,13 +41,17 @@ def methods_of(summary: dict[str, Any]) -> list[str]:
 
 
 def tables(summary: dict[str, Any]) -> dict[str, Table]:
-    """One table: a row per method and kind of task."""
+    """One table: a row per method and kind of task ("-" where none was planned)."""
     rows = [
-        [method, name, *(summary[method][name][key] for key in _COLUMNS)]
+        [method, name, *(_cell(summary[method][name][key]) for key in _COLUMNS)]
         for name in KINDS.values()
         for method in methods_of(summary)
     ]
     return {"pace": (["method", "tasks of", *_COLUMNS.values()], rows)}
+
+
+def _cell(value: Any) -> Any:
+    return "-" if value is None else value
 
 
 def write_report(summary: dict[str, Any], out: str | Path) -> list[Path]:
