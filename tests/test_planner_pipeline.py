@@ -127,6 +127,26 @@ def test_a_reach_across_a_fold_does_not_chatter(method: Method) -> None:
     assert np.linalg.norm(arm.fk(q[-1]).wrist - FOLD_GOAL) < 1e-3
 
 
+#: A reach from rest (``armplan experiment pace``, seed 5) that brings
+#: ShoulderPitch to rest 8 mrad from its limit before the goal.
+NEAR_LIMIT_GOAL = (-0.04145436, -0.1821518, 0.02708322)
+
+
+@pytest.mark.parametrize("method", list(Method))
+def test_every_joint_slows_into_the_goal(method: Method) -> None:
+    """No joint's last step is larger than its step before: the goal's last
+    residual is met by every joint, not by a jump of one that had stopped
+    (with the primitive's joints alone, ShoulderPitch moved 0.5 mrad at the
+    last point after steps of 0, and the reach took 5.4 times its human
+    duration)."""
+    arm = load_arm("right")
+    result = plan(_request(arm, {"position": NEAR_LIMIT_GOAL}, method=method.value))
+    steps = np.abs(np.diff(np.array(result.joint_paths[0].positions), axis=0))
+    assert np.all(steps[-1] <= steps[-2] + 1e-9)
+    assert np.linalg.norm(arm.fk(np.array(result.trajectory.positions[-1])).wrist
+                          - NEAR_LIMIT_GOAL) < 1e-3  # fmt: skip
+
+
 @pytest.mark.parametrize("method", [Method.MP, Method.SINGLE])
 def test_the_requests_measure_weights_reach_the_ik(method: Method) -> None:
     """A reach with a palm: the request's ``measures`` change the joint path

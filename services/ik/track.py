@@ -36,7 +36,12 @@ start and stop with the hand):
       by the next one, a smooth recurrence. (Iterating only where the
       residual crossed a threshold made a sawtooth that was invisible in
       position but multiplied the jerk tenfold.)
-    - At the goal only the wrist task is converged (no null-space jump).
+    - At the goal only the wrist task is converged (no null-space jump),
+      with every joint, as the steps before it moved every joint. (With the
+      primitive's own joints alone, one of them near a limit met the last
+      micrometres by moving 0.5 mrad where the path had brought it to rest,
+      a hook the timing paid for over the whole reach: 5.4 times the human
+      duration on one random reach of ``armplan experiment pace``, 3.9 now.)
     - A wanted palm turns with the hand: at each point the roll still to
       make is the roll the start posture lacks times the part of the path
       still ahead, so the palm arrives with the hand. (Asked for the final
@@ -427,13 +432,14 @@ def _arrive(
     q: list[float],
     wanted: Primitive | None,
 ) -> tuple[list[float], ChainState]:
-    """Converge the wrist task onto the goal, without null-space motion.
+    """Converge the wrist task onto the goal with every joint, no null-space motion.
 
-    If the phase's joints cannot bring the wrist within ``ARRIVED`` of the
-    goal, the full-arm primitive of the same task does.
+    If the phase's task leaves the wrist more than ``ARRIVED`` from the goal
+    (a task of the wrist's direction only leaves its distance), the
+    full-arm primitive of the same task converges the position.
     """
     phase = phases.phase
-    q, _ = converge(run.chain, phase.task.at(goal), phase.active, NoMeasure(), q)
+    q, _ = converge(run.chain, phase.task.at(goal), ALL_JOINTS, NoMeasure(), q)
     st = run.chain.state(q)
     if wanted is None or phase.task.at(goal).position_error(st) <= ARRIVED:
         return q, st
