@@ -229,9 +229,9 @@ def track_path(
         if k > 0 or len(points) == 1:
             # The path starts where the arm is: its first posture is the
             # start, also when the palm is still to turn (the next steps do).
-            before = q
-            q, st = _follow(run.chain, phases, point, roll_left[k], q, st, gains[k])
-            step = [a - b for a, b in zip(q, before, strict=True)]
+            q, st, step = _follow(
+                run.chain, phases, point, roll_left[k], q, st, gains[k]
+            )
             if _chatters(previous, step):
                 return _detour(arm, run, points, begin, phases.phase)
             previous = step
@@ -392,12 +392,13 @@ def _follow(
     q: list[float],
     st: ChainState,
     gain: float,
-) -> tuple[list[float], ChainState]:
+) -> tuple[list[float], ChainState, list[float]]:
     """One step of eq. 14 towards ``point``, null-space gain scaled by ``gain``.
 
     ``roll_left`` is the palm's roll still to make there [rad] (``_roll_left``).
     During a change of phase the step blends the old phase's and the new
-    one's. The state after the step is the next point's state.
+    one's. Returns the posture after the step, its state (the next point's)
+    and the step [rad].
     """
     old, weight = phases.blend()
     dq = _step(chain, phases.phase, point, roll_left, q, st, gain)
@@ -405,7 +406,7 @@ def _follow(
         before = _step(chain, old, point, roll_left, q, st, gain)
         dq = [weight * dq[k] + (1.0 - weight) * before[k] for k in range(len(dq))]
     q = [q[k] + dq[k] for k in range(len(q))]
-    return q, chain.state(q)
+    return q, chain.state(q), dq
 
 
 def _step(
