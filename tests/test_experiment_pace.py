@@ -7,9 +7,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_experiments import PACE_COMMANDS, assert_png, documented, run_json
+from test_experiments import (
+    PACE_COMMANDS,
+    assert_invalid_input,
+    assert_png,
+    documented,
+    run_json,
+)
 
-from armplan.cli.main import main
 from armplan.experiments.pace import (
     CHAIN_LENGTH,
     LEAST_MOVE,
@@ -139,11 +144,7 @@ def test_no_tasks_is_a_clear_error(
     args: list[str], message: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """Negative or no tasks at all: exit 1, the option named, typed JSON error."""
-    code = main(["experiment", "pace", *args, "--json"])
-    captured = capsys.readouterr()
-    assert code == 1
-    assert message in captured.err
-    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+    assert_invalid_input(["experiment", "pace", *args], message, capsys)
 
 
 def test_a_kind_with_no_task_has_no_ratios(

@@ -91,6 +91,18 @@ def run_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> dict[str, A
     return json.loads(out)
 
 
+def assert_invalid_input(
+    args: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``armplan <args> --json`` exits 1 with ``message`` on stderr and a typed
+    ``invalid_input`` error as its JSON."""
+    code = main([*args, "--json"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert message in captured.err
+    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+
+
 def assert_png(path: Path) -> None:
     """A PNG file: its magic bytes, and matplotlib reads it back as an image."""
     from matplotlib.image import imread
@@ -276,11 +288,9 @@ def test_movements_out_of_the_task_is_a_clear_error(
     count: str, message: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """--movements outside 1..(the task's movements): exit 1, the bound named."""
-    code = main(["experiment", "handover", "--movements", count, "--json"])
-    captured = capsys.readouterr()
-    assert code == 1
-    assert message in captured.err
-    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+    assert_invalid_input(
+        ["experiment", "handover", "--movements", count], message, capsys
+    )
 
 
 def test_movements_takes_the_first_movements_of_the_task() -> None:
@@ -445,11 +455,7 @@ def test_similarity_options_out_of_range_are_clear_errors(
 ) -> None:
     """Sizes that would exhaust memory (a billion samples once did) or that numpy
     would refuse with a traceback (a negative seed): exit 1, the bound named."""
-    code = main(["experiment", "similarity", *option, "--json"])
-    captured = capsys.readouterr()
-    assert code == 1
-    assert message in captured.err
-    assert json.loads(captured.out)["error"]["kind"] == "invalid_input"
+    assert_invalid_input(["experiment", "similarity", *option], message, capsys)
 
 
 def test_the_models_fitted_weights_are_every_methods(
