@@ -107,14 +107,9 @@ def joint_path_from_points(
     frames: np.ndarray | None = None,
     guess: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Joint angles [rad], shape (n, 5), for n retargeted postures.
+    """:func:`joint_path_from_palms` given whole wrist frames, shape (n, 3, 3).
 
-    Args:
-        arm: The NAO arm.
-        elbow: Elbow positions [m], shape (n, 3).
-        wrist: Wrist positions [m], shape (n, 3).
-        frames: Wrist frames, shape (n, 3, 3), or ``None``.
-        guess: Warm start of the first sample [rad], shape (5,).
+    Their y axes are the palm normals; ``frames`` ``None`` means no palm.
     """
     palms = None if frames is None else np.asarray(frames)[:, :, 1]
     return joint_path_from_palms(arm, elbow, wrist, palms, guess)
@@ -127,7 +122,9 @@ def joint_path_from_palms(
     palms: np.ndarray | None = None,
     guess: np.ndarray | None = None,
 ) -> np.ndarray:
-    """:func:`joint_path_from_points` given each wrist frame's y axis alone.
+    """Joint angles [rad], shape (n, 5), for n retargeted postures, warm-started.
+
+    Each sample starts from the one before (the first from ``guess``).
 
     Args:
         arm: The NAO arm.
