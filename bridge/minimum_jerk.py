@@ -2,11 +2,14 @@
 
 Each segment between two postures follows the minimum-jerk profile
 ``q = q0 + (q1 - q0) (10 s^3 - 15 s^4 + 6 s^5)``, ``s = t / T``, which starts
-and ends at rest: its peak speed is ``1.875 |q1 - q0| / T`` and its peak
-acceleration ``5.774 |q1 - q0| / T^2``.
+and ends at rest: its peak speed is ``PEAK_SPEED |q1 - q0| / T``, its peak
+acceleration ``PEAK_ACCELERATION |q1 - q0| / T^2`` and its peak jerk
+``PEAK_JERK |q1 - q0| / T^3``.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import numpy.typing as npt
@@ -14,10 +17,19 @@ import numpy.typing as npt
 from shared.messages import Trajectory
 from shared.robot import Side, load_arm
 
+#: Peaks of the blend's first three derivatives in s over [0, 1]: 15/8 at
+#: s = 1/2, 10/sqrt(3) at s = 1/2 -+ sqrt(3)/6, and 60 at both ends.
+PEAK_SPEED, PEAK_ACCELERATION, PEAK_JERK = 1.875, 10.0 / math.sqrt(3.0), 60.0
+
+
+def minimum_jerk_blend(s: np.ndarray) -> np.ndarray:
+    """``10 s^3 - 15 s^4 + 6 s^5``: 0 at s = 0, 1 at s = 1, at rest at both [-]."""
+    return s**3 * (10.0 - 15.0 * s + 6.0 * s**2)
+
 
 def _profile(s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Minimum-jerk blend and its first two derivatives in ``s``, each (k,)."""
-    blend = 10 * s**3 - 15 * s**4 + 6 * s**5
+    blend = minimum_jerk_blend(s)
     speed = 30 * s**2 - 60 * s**3 + 30 * s**4
     accel = 60 * s - 180 * s**2 + 120 * s**3
     return blend, speed, accel

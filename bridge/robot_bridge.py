@@ -3,7 +3,7 @@
 :class:`RobotBridge` plays one trajectory on a NAO (real or simulated):
 
 1. the trajectory becomes command frames at the timeline's rate, and every
-   frame is checked against the joints' position, speed and acceleration
+   frame is checked against the joints' position, speed, acceleration and jerk
    limits; one bad frame refuses the whole trajectory, before the robot is
    even contacted;
 2. the robot is connected (again, if it went away), the arm's joints are

@@ -464,8 +464,10 @@ class TrajectoryRefusedError(ArmplanError):
 
     Attributes:
         joint: NAO joint name, e.g. ``RShoulderPitch``.
-        quantity: ``"position"``, ``"velocity"`` or ``"acceleration"``.
-        value: The offending value [rad, rad/s or rad/s^2].
+        quantity: ``"position"``, ``"velocity"``, ``"acceleration"``,
+            ``"jerk"``, or ``"start"`` (the arm is away from the start and
+            the approach move is off).
+        value: The offending value [rad, rad/s, rad/s^2 or rad/s^3].
         limit: The limit it breaks, same unit (the bound crossed, for a position).
         frame: Index of the command frame (1 is the first key; 0 is the start).
         time: Time of that frame from the trajectory's start [s].

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from bridge.approach import approach_frames
-from bridge.checks import check_frames
+from bridge.checks import check_accelerations, check_frames, check_speeds
 from bridge.frames import frames_from_trajectory
-from bridge.limits import RAMP_TIME, FrameLimits
+from bridge.limits import JERK_RAMP_TIME, RAMP_TIME, FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from shared.errors import InvalidInputError, TrajectoryRefusedError
-from shared.messages import Trajectory
+from shared.messages import CommandFrames, Trajectory
 from shared.robot import Side, load_arm
 from shared.robot.postures import rest
 
@@ -92,6 +92,63 @@ def test_an_acceleration_spike_is_refused(rng: np.random.Generator) -> None:
     assert "rad/s^2" in error.message
 
 
+def frames_of(
+    positions: np.ndarray, start: np.ndarray, rate: float = 100.0
+) -> CommandFrames:
+    """Right-arm frames 1..m at ``rate`` [Hz] from ``start``, positions (m, 5)."""
+    return CommandFrames(
+        arm=Side.RIGHT,
+        rate=rate,
+        joint_names=list(Side.RIGHT.joint_names),
+        start=start.tolist(),
+        times=(np.arange(1, len(positions) + 1) / rate).tolist(),
+        positions=positions.tolist(),
+    )
+
+
+def test_the_jerk_of_a_cubic_is_measured_exactly() -> None:
+    """Keys on q = q0 + c t^3 (any spacing) have jerk 6 c: a limit just above
+    passes, one just below refuses at the first window, naming the jerk."""
+    start = rest("right")
+    c = 40.0  # [rad/s^3] on RShoulderPitch: jerk 240 rad/s^3
+    t = np.array([0.01, 0.03, 0.04, 0.07, 0.08])
+    positions = np.tile(start, (len(t), 1))
+    positions[:, 0] += c * t**3
+    frames = frames_of(positions, start).model_copy(update={"times": t.tolist()})
+    limits = FrameLimits.for_arm("right")
+    check_frames(frames, limits._replace(jerk=np.full(5, 6.0 * c * (1 + 1e-6))))
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        check_frames(frames, limits._replace(jerk=np.full(5, 6.0 * c * (1 - 1e-6))))
+    error = caught.value
+    assert (error.joint, error.quantity, error.frame) == ("RShoulderPitch", "jerk", 2)
+    assert error.value == pytest.approx(6.0 * c, rel=1e-6)
+    assert "rad/s^3" in error.message and "frames 0 to 3" in error.message
+
+
+def test_a_step_in_acceleration_is_refused_by_the_jerk_check() -> None:
+    """Bang-bang RWristYaw (acceleration +-0.9 of its limit, switched at once):
+    within the speed and acceleration checks, refused by the jerk check at the
+    switch, against the default jerk limit (acceleration limit / 0.05 s)."""
+    limits = FrameLimits.for_arm("right")
+    start = rest("right")
+    a, half, rate = 0.9 * limits.acceleration[4], 0.04, 100.0
+    t = np.arange(1, round(2 * half * rate) + 1) / rate
+    up = 0.5 * a * np.minimum(t, half) ** 2
+    down = a * half * np.maximum(t - half, 0.0) - 0.5 * a * np.maximum(t - half, 0) ** 2
+    positions = np.tile(start, (len(t), 1))
+    positions[:, 4] += up + down
+    frames = frames_of(positions, start, rate)
+    q = np.vstack([start, positions])
+    times = np.concatenate([[0.0], t])
+    check_accelerations(check_speeds(q, times, limits), times, limits)  # pass
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        check_frames(frames, limits)
+    error = caught.value
+    assert (error.joint, error.quantity) == ("RWristYaw", "jerk")
+    assert abs(error.time - half) <= 2.0 / rate
+    assert error.limit == pytest.approx(24.6229 / RAMP_TIME / JERK_RAMP_TIME)
+
+
 def test_frames_of_another_arm_are_invalid(rng: np.random.Generator) -> None:
     """Left-arm frames checked against right-arm limits: InvalidInputError."""
     with pytest.raises(InvalidInputError, match="expected the joints"):
@@ -100,15 +157,49 @@ def test_frames_of_another_arm_are_invalid(rng: np.random.Generator) -> None:
         )
 
 
-def test_the_approach_move_stays_within_a_quarter_of_the_limits() -> None:
-    """A far approach is slow: its frames pass the checks at 25 % of the limits."""
+def at_rest_around(frames: CommandFrames, count: int = 3) -> CommandFrames:
+    """``frames`` with the arm held ``count`` frames at its start before them
+    and at its end after them: what the robot does around the move."""
+    period = 1.0 / frames.rate
+    first = np.tile(frames.start, (count, 1))
+    last = np.tile(frames.positions[-1], (count, 1))
+    times = np.concatenate(
+        [
+            np.arange(1, count + 1) * period,
+            np.asarray(frames.times) + count * period,
+            frames.times[-1] + np.arange(count + 1, 2 * count + 1) * period,
+        ]
+    )
+    return frames.model_copy(
+        update={
+            "times": times.tolist(),
+            "positions": np.vstack([first, frames.positions, last]).tolist(),
+        }
+    )
+
+
+@pytest.mark.parametrize(
+    "target",
+    [[-1.0, -1.0, -1.5, 1.4, 1.5], [1.45, 0.15, 1.25, 0.45, 0.2]],
+    ids=["far", "near"],
+)
+@pytest.mark.parametrize("rate", [25.0, 1000.0])
+def test_the_approach_move_stays_within_a_quarter_of_the_limits(
+    target: list[float], rate: float
+) -> None:
+    """Far or near, the approach passes the checks at 25 % of the limits, jerk
+    included, also seen with the arm at rest before and after it, at
+    Choregraphe's 25 fps and at 1000 fps, where the frames show the motion
+    itself: it starts and ends without a step in acceleration. (A half
+    cosine's step passes at 25 fps but not at 1000.)"""
     limits = FrameLimits.for_arm("right")
     current = rest("right")
-    target = np.array([-1.0, -1.0, -1.5, 1.4, 1.5])
-    move = approach_frames(Side.RIGHT, current, target, limits, 25.0)
+    move = approach_frames(Side.RIGHT, current, np.array(target), limits, rate)
     quarter = limits._replace(
-        velocity=0.25 * limits.velocity, acceleration=0.25 * limits.acceleration
+        velocity=0.25 * limits.velocity,
+        acceleration=0.25 * limits.acceleration,
+        jerk=0.25 * limits.jerk,
     )
-    check_frames(move, quarter)
+    check_frames(at_rest_around(move), quarter)
     assert np.allclose(move.positions[-1], target)
     assert move.duration >= 0.5
