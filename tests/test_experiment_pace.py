@@ -137,13 +137,16 @@ def test_near_limit_counts_only_a_limit_approached() -> None:
 
 @pytest.mark.parametrize(
     ("args", "message"),
-    [(["--reaches", "-1"], "--reaches must be at least 0, got -1"),
+    [(["--reaches", "-1"], "--reaches must be 0..1000, got -1"),
+     (["--chains", "1001"], "--chains must be 0..1000, got 1001"),
+     (["--seed", "-1"], "--seed must be 0 or more, got -1"),
      (["--reaches", "0", "--chains", "0"], "--reaches and --chains are both 0")],
 )  # fmt: skip
 def test_no_tasks_is_a_clear_error(
     args: list[str], message: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Negative or no tasks at all: exit 1, the option named, typed JSON error."""
+    """Negative, too many or no tasks at all, or a negative seed: exit 1, the
+    option named, typed JSON error (before any planning)."""
     assert_invalid_input(["experiment", "pace", *args], message, capsys)
 
 

@@ -458,6 +458,43 @@ def test_similarity_options_out_of_range_are_clear_errors(
     assert_invalid_input(["experiment", "similarity", *option], message, capsys)
 
 
+def test_synthetic_options_with_demonstration_files_are_clear_errors(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--subjects (or --trials, --seed, --points) shape the synthetic set; with
+    --demos it was silently ignored. Refused, naming it, before the file is
+    even read."""
+    missing = str(tmp_path / "absent.mcap")
+    assert_invalid_input(
+        ["experiment", "similarity", "--demos", missing, "--subjects", "5"],
+        "--subjects is an option of the synthetic demonstrations",
+        capsys,
+    )
+
+
+@pytest.mark.parametrize(
+    "experiment",
+    [["similarity", "--subjects", "1", "--trials", "1", "--points", "1"],
+     ["handover", "--movements", "1"],
+     ["pace", "--reaches", "1", "--chains", "0"]],
+    ids=["similarity", "handover", "pace"],
+)  # fmt: skip
+def test_an_output_folder_that_is_a_file_is_refused_before_the_work(
+    experiment: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out naming a file: exit 1 with the path named and the file untouched,
+    checked up front (the similarity experiment used to run to its end first,
+    then fail to make the folder)."""
+    out = tmp_path / "results.txt"
+    out.write_text("keep me")
+    assert_invalid_input(
+        ["experiment", *experiment, "--out", str(out)],
+        f"--out {str(out)!r}: not a folder",
+        capsys,
+    )
+    assert out.read_text() == "keep me"
+
+
 def test_the_models_fitted_weights_are_every_methods(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

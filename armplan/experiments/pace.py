@@ -29,7 +29,7 @@ import numpy as np
 from services.planner.pipeline import plan
 from services.planner.stages import Stages
 from services.timing import reach_duration
-from shared.errors import ArmplanError
+from shared.errors import ArmplanError, InvalidInputError
 from shared.messages import Method, PlanRequest
 from shared.messages.measure_params import MeasureParams
 from shared.robot.arm_model import ArmModel
@@ -41,6 +41,9 @@ CHAIN_LENGTH = 4
 LEAST_MOVE = 0.03
 #: A joint this close to a limit counts as near it [rad].
 NEAR_LIMIT = 0.05
+#: Most reaches, and most chains, one run may plan (about 0.1 s per task
+#: and method on the benchmark machine: 1000 of each, about 10 minutes).
+MOST = 1000
 
 
 class PaceTask(NamedTuple):
@@ -105,7 +108,13 @@ def random_palm(rng: np.random.Generator) -> np.ndarray:
 
 
 def random_tasks(arm: ArmModel, reaches: int, chains: int, seed: int) -> list[PaceTask]:
-    """``reaches`` random reaches, then ``chains`` random chains (see the module)."""
+    """``reaches`` random reaches, then ``chains`` random chains (see the module).
+
+    Raises:
+        InvalidInputError: a negative seed, a count outside 0..``MOST``, or
+            no task at all; names the option.
+    """
+    _check_counts(reaches, chains, seed)
     rng = np.random.default_rng(seed)
     tasks = []
     for k in range(reaches):
@@ -121,6 +130,20 @@ def random_tasks(arm: ArmModel, reaches: int, chains: int, seed: int) -> list[Pa
         palms = np.array([random_palm(rng) for _ in targets])
         tasks.append(PaceTask("chain", start, np.array(targets), palms))
     return tasks
+
+
+def _check_counts(reaches: int, chains: int, seed: int) -> None:
+    if seed < 0:
+        raise InvalidInputError(f"--seed must be 0 or more, got {seed}", field="seed")
+    for name, value in (("reaches", reaches), ("chains", chains)):
+        if not 0 <= value <= MOST:
+            raise InvalidInputError(
+                f"--{name} must be 0..{MOST}, got {value}", field=name
+            )
+    if reaches + chains == 0:
+        raise InvalidInputError(
+            "--reaches and --chains are both 0: nothing to plan", field="reaches"
+        )
 
 
 def run_task(
