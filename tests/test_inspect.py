@@ -135,3 +135,36 @@ def test_validate_reports_a_message_that_does_not_match_its_schema(
     err = capsys.readouterr().err
     assert "1 messages do not match their channel's schema" in err
     assert "armplan/bridge/state (JointState): joint_names: Field required" in err
+
+
+def test_validate_as_json_is_one_document_with_the_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--validate --json on a bad message: exit 1, stdout one parseable JSON
+    document (the inventory and the typed error), the error once on stderr."""
+    path = tmp_path / "bad.mcap"
+    with RotatingWriter(path) as writer:
+        schema = JointState.json_schema()
+        writer.write("armplan/bridge/state", "JointState", schema, b'{"time": 0}', 1, 1)
+    assert main(["inspect", str(path), "--validate", "--json"]) == 1
+    captured = capsys.readouterr()
+    data = json.loads(captured.out)
+    assert data["messages"] == 1 and data["error"]["kind"] == "recording_error"
+    assert captured.err.count("armplan: error:") == 1
+
+
+def test_a_demonstration_file_validates(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """armplan's own demonstration files (``demos synth``) pass --validate: their
+    schemas DemoSubject and DemoSample are armplan's models."""
+    path = tmp_path / "demos.mcap"
+    assert (
+        main(["demos", "synth", "-o", str(path), "--subjects", "1", "--trials", "1"])
+        == 0
+    )
+    capsys.readouterr()
+    assert main(["inspect", str(path), "--validate", "--json"]) == 0
+    channels = json.loads(capsys.readouterr().out)["channels"]
+    assert {c["schema"] for c in channels} == {"DemoSubject", "DemoSample"}
+    assert all(c["invalid"] == 0 for c in channels)

@@ -16,6 +16,7 @@ from pydantic import BaseModel, ValidationError
 
 from shared.bus.topics import TOPICS
 from shared.messages.base import describe_validation_error
+from shared.messages.demo import DemoSample, DemoSubject
 from shared.recording.foxglove import (
     FRAME_TRANSFORMS_SCHEMA_NAME,
     FrameTransforms,
@@ -28,9 +29,19 @@ from shared.recording.reader import Record
 
 @cache
 def schema_models() -> dict[str, type[BaseModel]]:
-    """The model behind each schema name the recorder writes."""
+    """The model behind each schema name armplan writes.
+
+    The recorder's, and the demonstration files' (``shared.demos.demo_file``).
+    """
     models: dict[str, type[BaseModel]] = {
-        m.__name__: m for m in (PrimitiveSample, RobotDescription, RawPayload)
+        m.__name__: m
+        for m in (
+            PrimitiveSample,
+            RobotDescription,
+            RawPayload,
+            DemoSubject,
+            DemoSample,
+        )
     }
     models[FRAME_TRANSFORMS_SCHEMA_NAME] = FrameTransforms
     for topic in TOPICS:

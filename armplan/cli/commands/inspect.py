@@ -47,18 +47,31 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def run(args: argparse.Namespace) -> int:
     """Print the recording's summary; exit 1 on damage (without --recover)."""
     inventory = take_inventory(args.file, recover=args.recover, validate=args.validate)
+    error = _invalid(inventory)
     if args.json:
-        print_json(as_json(inventory))
+        # one JSON document, the error (if any) in it
+        extra = {} if error is None else {"error": error.to_wire()}
+        print_json({**as_json(inventory), **extra})
     else:
         _print(inventory, args.validate)
+    if error is None:
+        return 0
+    if args.json:
+        sys.stderr.write(f"armplan: error: {error.message}\n")
+        return 1
+    raise error
+
+
+def _invalid(inventory: Inventory) -> RecordingError | None:
+    """The error for messages that do not match their schema, if any."""
     invalid = sum(c.invalid for c in inventory.channels)
-    if invalid:
-        raise RecordingError(
-            f"{inventory.path}: {invalid} messages do not match their channel's "
-            f"schema, e.g. {inventory.problems[0]}",
-            path=str(inventory.path),
-        )
-    return 0
+    if not invalid:
+        return None
+    return RecordingError(
+        f"{inventory.path}: {invalid} messages do not match their channel's "
+        f"schema, e.g. {inventory.problems[0]}",
+        path=str(inventory.path),
+    )
 
 
 def as_json(inventory: Inventory) -> dict[str, Any]:
