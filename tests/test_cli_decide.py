@@ -68,6 +68,17 @@ def test_plot_writes_a_png(
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = capsys.readouterr().out
     assert "S_R E_P W_P" in text and "mm from the goal" in text
+    assert f"wrote {png}" in text
+
+
+def test_a_plot_named_as_a_folder_is_refused(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--plot DIR once wrote DIR.png beside it and said nothing: now refused."""
+    code = main(["decide", "--target", "0.12", "-0.1", "0.04", "--plot", str(tmp_path)])
+    assert code == 1
+    assert "name a .png file" in capsys.readouterr().err
+    assert not tmp_path.with_suffix(".png").exists()
 
 
 def test_grid_prints_the_table_4_like_table(capsys: pytest.CaptureFixture[str]) -> None:
@@ -88,13 +99,20 @@ def test_grid_prints_the_table_4_like_table(capsys: pytest.CaptureFixture[str]) 
             "RShoulderPitch",
         ),
         (["--target", "0.12", "-0.1", "0.05", "--palm", "0", "0", "0"], "zero vector"),
-        (["--grid", "--plot", "grid.png"], "--plot draws one decision"),
+        (["--grid", "--plot", "grid.png"], "--plot is for one decision"),
+        (["--grid", "--duration", "1"], "--duration is for one decision"),
+        (["--grid", "--start", "0", "0", "0", "0.5", "0"], "--start is for one"),
+        (["--grid", "--palm", "0", "0", "1"], "--palm is for one decision"),
+        (["--target", "0.12", "-0.1", "0.05", "--demos", "d.mcap"], "--demos adds"),
+        (["--target", "0.12", "-0.1", "0.05", "--plot", "decision"], "name a .png"),
+        (["--target", "0.12", "-0.1", "0.05", "--plot", "/absent/d.png"], "folder"),
     ],
 )
 def test_bad_input_is_a_clear_error(
     args: list[str], message: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Unreachable, NaN, out-of-range or zero inputs: exit 1 and a named error."""
+    """Unreachable, NaN, out-of-range or zero inputs, options the form would
+    ignore, a plot file matplotlib would rename: exit 1 and a named error."""
     assert main(["decide", *args]) == 1
     assert message in capsys.readouterr().err
 
@@ -111,6 +129,19 @@ def test_a_palm_of_huge_parts_is_the_same_direction(
         outputs.append(capsys.readouterr().out)
     assert outputs[0] == outputs[1]
     assert "W_PR" in outputs[0]
+
+
+def test_a_wrist_path_starts_at_its_first_sample(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A one-sample path 21 cm from the resting wrist: the arm starts on it, as
+    ``armplan plan`` does (it once reported the wrist 212 mm from the goal)."""
+    path = tmp_path / "one.csv"
+    path.write_text("t,x,y,z\n0,0.15,-0.1,0.1\n")
+    assert main(["decide", "--wrist-path", str(path)]) == 0
+    assert "1 points; wrist 0.000 mm from the goal" in capsys.readouterr().out
+    assert main(["decide", "--wrist-path", str(path), "--duration", "1"]) == 1
+    assert "--wrist-path keeps its own times" in capsys.readouterr().err
 
 
 def test_bad_wrist_path_file(

@@ -162,7 +162,7 @@ def _follow_given(
     stages: Stages,
 ) -> PlanResult:
     """Joint angles at the wrist path's own times (no retiming), limits checked."""
-    _check_within_reach(arm, path)
+    check_path_within_reach(arm, path)
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
     joint_path = _movement(stages, request, path, start, decisions)
@@ -188,7 +188,7 @@ def start_on_path(
     return solve(arm, first, method=method, palm=palm, start=start).q
 
 
-def _check_within_reach(arm: ArmModel, path: WristPath) -> None:
+def check_path_within_reach(arm: ArmModel, path: WristPath) -> None:
     """Raise, naming the sample, if a wrist-path sample is out of the arm's reach."""
     for k, position in enumerate(path.positions):
         try:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -59,7 +60,6 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--duration",
         type=float,
-        default=DURATION,
         help=f"movement time of --target [s] (default {DURATION})",
     )
     parser.add_argument(
@@ -77,13 +77,9 @@ def run(args: argparse.Namespace) -> int:
     """Decide and print."""
     from services.fit import default_model, load_model
 
+    _check_options(args)
     model = load_model(args.model) if args.model else default_model()
     if args.grid:
-        if args.plot:
-            raise InvalidInputError(
-                "--plot draws one decision: give --target or --wrist-path, not --grid",
-                field="plot",
-            )
         return _grid(args, model)
     from services.decide.path import decide_path
     from shared.robot import load_arm
@@ -95,19 +91,67 @@ def run(args: argparse.Namespace) -> int:
     )
     arm.limits.check(start, where="in the start posture")
     palm = _palm(args.palm)
-    times, positions = _path(args, arm, start)
+    plot = _plot_file(args.plot)
+    times, positions, start = _path(args, arm, start, palm)
     decision, tracked = decide_path(
         model, arm, positions, start, palm=palm, times=times
     )
-    if args.plot:
+    if plot is not None:
         from services.decide.plot import plot_decision
 
-        plot_decision(decision, args.plot, title=_title(args, positions))
+        plot_decision(decision, plot, title=_title(args, positions))
     if args.json:
         print_json(decision.model_dump(mode="json"))
         return 0
     _print_runs(decision, tracked, positions)
+    if plot is not None:
+        sys.stdout.write(f"wrote {plot}\n")
     return 0
+
+
+#: Options that shape one decision, not the --grid table.
+ONE_DECISION = ("start", "palm", "duration", "plot")
+
+
+def _check_options(args: argparse.Namespace) -> None:
+    """Refuse options the chosen form would ignore, naming them."""
+    if args.grid:
+        for name in ONE_DECISION:
+            if getattr(args, name) is not None:
+                raise InvalidInputError(
+                    f"--{name} is for one decision (--target or --wrist-path); "
+                    "--grid decides the reaches of the 16 grid points from rest",
+                    field=name,
+                )
+        return
+    if args.demos is not None:
+        raise InvalidInputError(
+            "--demos adds the demonstrations' sequences to --grid's table",
+            field="demos",
+        )
+    if args.wrist_path and args.duration is not None:
+        raise InvalidInputError(
+            "--duration is the movement time of --target; --wrist-path keeps "
+            "its own times",
+            field="duration",
+        )
+
+
+def _plot_file(plot: str | None) -> Path | None:
+    """The plot's file: a PNG path whose folder exists (checked before work)."""
+    if plot is None:
+        return None
+    path = Path(plot)
+    if path.suffix.lower() != ".png" or path.is_dir():
+        raise InvalidInputError(
+            f"--plot {plot!r}: name a .png file to write", field="plot"
+        )
+    if not path.parent.is_dir():
+        raise InvalidInputError(
+            f"--plot {plot!r}: folder {str(path.parent)!r} does not exist",
+            field="plot",
+        )
+    return path
 
 
 def _palm(values: list[float] | None) -> np.ndarray | None:
@@ -123,34 +167,36 @@ def _palm(values: list[float] | None) -> np.ndarray | None:
 
 
 def _path(
-    args: argparse.Namespace, arm: Any, start: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """(times [s], positions [m]) of the wrist path to decide along."""
+    args: argparse.Namespace, arm: Any, start: np.ndarray, palm: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(times [s], positions [m], start posture [rad]) of the path to decide along.
+
+    A CSV path starts at its first sample: as ``armplan plan`` does, the arm
+    starts in the posture that puts the wrist there (``start`` itself if it
+    does already).
+    """
+    from services.ik.solver import check_reachable
+    from services.planner.pipeline import check_path_within_reach, start_on_path
+    from shared.messages import Method
+
     if args.wrist_path:
         from services.decide.wrist_csv import read_wrist_csv
 
         path = read_wrist_csv(args.wrist_path, arm.side)
-        return np.array(path.times), np.array(path.positions)
+        if palm is not None:
+            path = path.model_copy(update={"palm": tuple(float(v) for v in palm)})
+        check_path_within_reach(arm, path)
+        start = start_on_path(arm, path, start, Method.MP)
+        return np.array(path.times), np.array(path.positions), start
     from services.planner.wrist_path import reach_path
 
-    if not 0.05 <= args.duration <= 60.0:
+    duration = DURATION if args.duration is None else args.duration
+    if not 0.05 <= duration <= 60.0:
         raise InvalidInputError("--duration must be 0.05..60 s", field="duration")
     target = np.array(finite(args.target, "target"))
-    _check_reachable(arm, target)
-    path = reach_path(arm, start, target, args.duration, RATE)
-    return path.times, path.positions
-
-
-def _check_reachable(arm: Any, target: np.ndarray) -> None:
-    from shared.errors import UnreachableTargetError
-
-    shoulder = arm.fk(np.zeros(5)).shoulder
-    distance = float(np.linalg.norm(target - shoulder))
-    low, high = arm.reach
-    if not low - 1e-4 <= distance <= high + 1e-4:
-        raise UnreachableTargetError(
-            target, arm=arm.side.value, distance=distance, reach=arm.reach
-        )
+    check_reachable(arm, target)
+    path = reach_path(arm, start, target, duration, RATE)
+    return path.times, path.positions, start
 
 
 def _title(args: argparse.Namespace, positions: np.ndarray) -> str:
