@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pathlib
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -10,6 +11,8 @@ import pytest
 
 from armplan.launch import Launcher, free_endpoint
 from shared.bus import load_config
+
+REPO = pathlib.Path(__file__).resolve().parents[1]
 
 CASES = [
     ["--target", "0.12", "-0.13", "0.05"],
@@ -78,3 +81,26 @@ def test_no_ik_service_names_it() -> None:
         out = armplan("ik", *CASES[0], "--connect", config.endpoint)
     assert out.returncode == 1
     assert "service 'ik' is unavailable for armplan/ik/solve" in out.stderr
+
+
+def test_a_zenoh_config_alone_implies_remote(tmp_path: pathlib.Path) -> None:
+    """--zenoh-config without --remote asks the services it configures (it was
+    silently ignored and the posture solved in-process): with no router at the
+    file's endpoint, the clear no-router error."""
+    missing = free_endpoint()
+    text = (REPO / "config" / "zenoh.json5").read_text()
+    config = tmp_path / "elsewhere.json5"
+    config.write_text(text.replace('"tcp/127.0.0.1:7447"', f'"{missing}"'))
+    out = armplan("ik", *CASES[0], "--zenoh-config", str(config))
+    assert out.returncode == 1 and "Traceback" not in out.stderr
+    assert f"no Zenoh router answers at {missing}" in out.stderr
+
+
+def test_a_swivel_the_primitive_ignores_is_refused() -> None:
+    """--swivel is S_R E_P W_R's goal; with the default primitive or a baseline
+    it was silently ignored. Refused, naming the primitive or method."""
+    out = armplan("ik", *CASES[0], "--swivel", "1.0")
+    assert out.returncode == 1
+    assert "primitive 'S_R E_PR W_P' does not use it" in out.stderr
+    out = armplan("ik", *CASES[0], "--swivel", "1.0", "--method", "single")
+    assert out.returncode == 1 and "method 'single' does not use it" in out.stderr

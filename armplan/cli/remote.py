@@ -3,7 +3,8 @@
 ``--remote`` sends the command to the running services over Zenoh instead of
 computing it in-process; ``--connect tcp/HOST:PORT`` says where the router is
 (and implies ``--remote``); ``--zenoh-config FILE`` names the armplan Zenoh
-configuration (namespace, limits; default ``config/zenoh.json5``).
+configuration (namespace, limits; default ``config/zenoh.json5``) and also
+implies ``--remote``: it configures only the connection to the services.
 """
 
 from __future__ import annotations
@@ -27,13 +28,15 @@ def add_remote(parser: argparse.ArgumentParser) -> None:
         help=f"router endpoint, implies --remote (default {DEFAULT_ENDPOINT})",
     )
     parser.add_argument(
-        "--zenoh-config", metavar="FILE", help="armplan Zenoh config (JSON5)"
+        "--zenoh-config",
+        metavar="FILE",
+        help="armplan Zenoh config (JSON5), implies --remote",
     )
 
 
 def is_remote(args: argparse.Namespace) -> bool:
-    """Whether the command should go to the services."""
-    return bool(args.remote or args.connect)
+    """Whether the command should go to the services (``--zenoh-config`` too)."""
+    return bool(args.remote or args.connect or args.zenoh_config)
 
 
 def connect(args: argparse.Namespace) -> Bus:

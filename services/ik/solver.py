@@ -172,12 +172,15 @@ def _plan(
                 f"--primitive applies to method 'mp' only, not {method.value!r}",
                 field="primitive",
             )
+        _check_swivel_used(swivel, f"method {method.value!r}")
         return Plan(None, ALL_JOINTS, measure_factory.for_baseline(method, params))
     primitive = (
         (FULL_GRASP if palm is not None else FULL_REACH)
         if name is None
         else get_primitive(name)
     )
+    if primitive.ik is not IKMethod.GPM_NULL:
+        _check_swivel_used(swivel, f"primitive {primitive.name!r}")
     if palm is not None and not primitive.orients_wrist:
         raise InvalidInputError(
             f"primitive {primitive.name!r} does not turn the wrist; a palm direction "
@@ -189,6 +192,16 @@ def _plan(
         primitive.active,
         measure_factory.for_primitive(primitive, target, params, swivel),
     )
+
+
+def _check_swivel_used(swivel: float | None, what: str) -> None:
+    """Refuse a swivel goal that ``what`` would ignore."""
+    if swivel is not None:
+        raise InvalidInputError(
+            f"--swivel is the goal of the function primitive S_R E_P W_R; {what} "
+            "does not use it (give --primitive 'S_R E_P W_R')",
+            field="swivel",
+        )
 
 
 def _closed_form(
