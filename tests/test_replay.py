@@ -236,6 +236,46 @@ def test_a_bad_speed_is_refused_before_connecting(
     assert "speed must be a positive number" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [(["--wait", "-1"], "--wait must be 0 or more seconds, got -1.0"),
+     (["--wait", "nan"], "--wait must be 0 or more seconds, got nan"),
+     (["--keys", "bogus/key"],
+      "no recorded message matches --keys bogus/key; the recording holds "
+      "bridge/state, misc/raw, plan/request, plan/trajectory")],
+)  # fmt: skip
+def test_options_that_would_do_nothing_are_refused_before_connecting(
+    option: list[str],
+    message: str,
+    recording: tuple[Path, list[float]],
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A negative or NaN --wait, or --keys that match nothing (once 'sent 0 of
+    0 messages', exit 0): exit 1 naming the option (and the recorded keys),
+    with no router there to blame."""
+    from armplan.cli.main import main
+
+    path, _ = recording
+    assert main(["replay", str(path), *option, "--connect", free_endpoint()]) == 1
+    assert message in capsys.readouterr().err
+
+
+def test_record_refuses_an_endless_or_empty_setting(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """record --duration inf (accepted once, as if given none) and --namespace ''
+    (once the default namespace, silently): exit 1 naming the option, no file."""
+    from armplan.cli.main import main
+
+    out = tmp_path / "r.mcap"
+    base = ["record", "-o", str(out), "--connect", free_endpoint()]
+    assert main([*base, "--duration", "inf"]) == 1
+    assert "--duration must be a positive number of seconds" in capsys.readouterr().err
+    assert main([*base, "--duration", "1", "--namespace", ""]) == 1
+    assert "namespace '' must be chunks" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_json_payloads_and_raw_bytes_come_back_identical(
     recording: tuple[Path, list[float]],
 ) -> None:

@@ -117,7 +117,7 @@ def bus_config(args: argparse.Namespace) -> BusConfig:
         BusConfigError: if the file, an endpoint or the namespace is malformed.
     """
     config = load_config(args.config, tuple(args.connect or ()))
-    if args.namespace:
+    if args.namespace is not None:
         config = dataclasses.replace(
             config, namespace=args.namespace, source=f"{config.source} + --namespace"
         )

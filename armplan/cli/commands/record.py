@@ -8,6 +8,7 @@ See ``docs/recording.md`` for the channels and how to open them in Foxglove.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import threading
 import time
@@ -48,9 +49,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Record until stopped; print the files and what they hold."""
-    if args.duration is not None and not args.duration > 0:
+    if args.duration is not None and not (
+        math.isfinite(args.duration) and args.duration > 0
+    ):
         raise InvalidInputError(
-            f"--duration must be positive, got {args.duration}", field="duration"
+            f"--duration must be a positive number of seconds, got {args.duration} "
+            "(leave it out to record until Ctrl-C)",
+            field="duration",
         )
     config = bus_config(args)
     options = options_from_args(args)

@@ -11,6 +11,7 @@ session.mcap --keys plan/trajectory --wait-for bridge``.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 import zenoh
@@ -18,7 +19,7 @@ import zenoh
 from services.recorder.arguments import add_bus_arguments, bus_config
 from services.recorder.replay import check_speed, replay, replay_items
 from shared.bus import Bus
-from shared.errors import ServiceUnavailableError
+from shared.errors import InvalidInputError, ServiceUnavailableError
 from shared.stop_signals import stop_on_signals
 
 ORDER = 91
@@ -74,10 +75,32 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.set_defaults(run=run)
 
 
+def _check_wait(wait: float) -> None:
+    if not (math.isfinite(wait) and wait >= 0.0):
+        raise InvalidInputError(
+            f"--wait must be 0 or more seconds, got {wait}", field="wait"
+        )
+
+
+def _no_key_matches(args: argparse.Namespace) -> None:
+    """Raise: ``--keys`` matched nothing; name the keys the recording holds."""
+    held = sorted(
+        {item.path for item in replay_items(args.files, recover=args.recover)}
+    )
+    raise InvalidInputError(
+        f"no recorded message matches --keys {' '.join(args.keys)}; the recording "
+        f"holds {', '.join(held) if held else 'no messages'}",
+        field="keys",
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     """Read the file, then send its messages at their (scaled) times."""
     check_speed(args.speed)  # before connecting: a bad option, not a lost router
+    _check_wait(args.wait)
     items = replay_items(args.files, keys=args.keys, recover=args.recover)
+    if args.keys and not items:
+        _no_key_matches(args)
     config = bus_config(args)
     stop = stop_on_signals()
     with Bus.connect(config, wait=args.wait) as bus:
