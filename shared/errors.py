@@ -22,6 +22,19 @@ def _fmt_fixed(value: float, decimals: int) -> str:
     return f"{value:.{decimals}f}" if abs(value) < 1e6 else f"{value:.{decimals}g}"
 
 
+def _decimals_apart(value: float, bounds: tuple[float, float], least: int = 5) -> int:
+    """Fewest decimals from ``least`` (up to 12) printing ``value`` unlike ``bounds``.
+
+    A value just outside a range must not read as its bound.
+    """
+    decimals = least
+    while decimals < 12 and any(
+        _fmt_fixed(value, decimals) == f"{bound:.{decimals}f}" for bound in bounds
+    ):
+        decimals += 1
+    return decimals
+
+
 class ArmplanError(Exception):
     """Root of every error armplan raises on purpose.
 
@@ -195,9 +208,10 @@ class JointLimitError(ArmplanError):
         self, joint: str, value: float, lower: float, upper: float, where: str = ""
     ) -> None:
         at = f" {where}" if where else ""
+        n = _decimals_apart(value, (lower, upper))
         super().__init__(
-            f"{joint} = {_fmt_fixed(value, 5)} rad{at} is outside its range "
-            f"[{lower:.5f}, {upper:.5f}] rad",
+            f"{joint} = {_fmt_fixed(value, n)} rad{at} is outside its range "
+            f"[{lower:.{n}f}, {upper:.{n}f}] rad",
             joint=joint,
             value=float(value),
             lower=float(lower),

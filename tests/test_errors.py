@@ -58,3 +58,15 @@ def test_messages_name_the_evidence() -> None:
     assert "0.5000 m from the right shoulder" in str(EXAMPLES[3])
     assert "RElbowRoll velocity 9 rad/s at sample 12 (t = 0.120 s)" in str(EXAMPLES[6])
     assert UnknownArmError("middle").evidence == {"field": "arm", "name": "middle"}
+
+
+def test_a_joint_just_outside_its_range_does_not_read_as_its_bound() -> None:
+    """0.0349065 against a lower limit 0.0349066 once printed both as 0.03491
+    ("0.03491 is outside [0.03491, ...]"); enough decimals now tell them apart,
+    and a value far outside keeps five."""
+    near = str(JointLimitError("RElbowRoll", 0.0349065, 0.0349066, 1.54462))
+    assert "RElbowRoll = 0.0349065 rad is outside its range [0.0349066, 1.5446200]" in (
+        near
+    )
+    far = str(JointLimitError("RElbowRoll", 2.0, 0.0349066, 1.54462))
+    assert "RElbowRoll = 2.00000 rad is outside its range [0.03491, 1.54462]" in far
