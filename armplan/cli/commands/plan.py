@@ -104,7 +104,11 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
         help="as fast as the limits allow instead of at human pace",
     )
     parser.add_argument(
-        "--rate", type=float, metavar="HZ", help="trajectory samples per second [Hz]"
+        "--rate",
+        type=float,
+        metavar="HZ",
+        help="trajectory samples per second [Hz] (default 100); the duration is "
+        "rounded up to whole sample periods, so a low rate can lengthen it",
     )
     parser.add_argument(
         "--start",
