@@ -123,6 +123,19 @@ def test_bad_input_gives_a_clear_error_and_no_traceback(
     assert "Traceback" not in out.stderr
 
 
+def test_up_checks_the_robot_address_before_starting_anything() -> None:
+    """up --robot garbage: the one error line, and no router or service was
+    started first (they used to start, log that they were ready, and stop)."""
+    from armplan.launch import free_endpoint
+
+    out = armplan("up", "--robot", "garbage", "--listen", free_endpoint())
+    assert out.returncode == 1
+    assert out.stderr == (
+        "armplan: error: robot address 'garbage' must look like tcp://HOST:PORT "
+        "(a real NAO: tcp://IP:9559)\n"
+    )
+
+
 def test_json_errors_are_machine_readable() -> None:
     """With --json an error is also printed as {"error": {kind, message, evidence}}."""
     out = armplan("ik", "--target", "0.5", "-0.12", "0.05", "--json")

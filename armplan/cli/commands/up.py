@@ -69,6 +69,10 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Start everything, print where it listens, run until SIGTERM/SIGINT."""
     config = load_config(args.config, tuple(args.listen or ()))
+    if args.robot is not None:
+        from bridge.address import check_robot_url
+
+        check_robot_url(args.robot)  # before anything starts
     stop = stop_on_signals()
     launcher = Launcher(config, args.only, stop=stop)
     # starts; stops everything on the way out (the robot side first)
