@@ -358,7 +358,7 @@ def test_bad_keys_and_unwritable_files_are_clear_errors(
 def test_armplan_record_cli_records_for_a_duration(
     config: BusConfig, tmp_path: Path
 ) -> None:
-    """`armplan record --duration` records, closes and reports the count."""
+    """`armplan record --duration` records, closes and reports the counts."""
     out = tmp_path / "cli.mcap"
     process = subprocess.Popen(
         [
@@ -394,5 +394,10 @@ def test_armplan_record_cli_records_for_a_duration(
         process.kill()
         process.wait(30)
     assert process.returncode == 0, stderr
-    assert "armplan record: 5 messages in" in stdout
+    assert "armplan record: 5 messages (and 1 derived for Foxglove) in" in stdout
     assert len(recorded(out)) == 5
+    # the two counts add up to what `armplan inspect` finds in the file (it
+    # once said 5 where inspect said 6: the robot description)
+    from shared.recording.inventory import take_inventory
+
+    assert take_inventory(out).count == 6

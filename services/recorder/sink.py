@@ -39,6 +39,8 @@ class RecordingSink:
     Attributes:
         received: Samples queued so far.
         written: Samples written so far (derived messages not counted).
+        derived: Messages armplan added for Foxglove so far (each file's robot
+            description, poses derived from joint states and trajectories).
         failed: Samples that could not be written (logged).
     """
 
@@ -47,6 +49,7 @@ class RecordingSink:
         self.namespace = namespace
         self.received = 0
         self.written = 0
+        self.derived = 0
         self.failed = 0
         self._queue: queue.SimpleQueue[Incoming | None] = queue.SimpleQueue()
         self._files = RotatingWriter(
@@ -146,6 +149,7 @@ class RecordingSink:
                 d.log_time,
                 sample.publish_time,
             )
+            self.derived += 1
 
     def _on_open(self, writer: MessageWriter, number: int) -> None:
         """Start a file: the recorder's metadata, then the robot description."""
@@ -164,4 +168,5 @@ class RecordingSink:
             d = description_message(now)
             channel = writer.add_channel(d.topic, d.schema_name, d.schema)
             writer.write_raw(channel, d.data, d.log_time, d.log_time)
+            self.derived += 1
         writer.flush()

@@ -68,7 +68,8 @@ def run(args: argparse.Namespace) -> int:
         _wait(stop, args.duration)
     sink = recorder.sink
     files = ", ".join(map(str, sink.paths))
-    _say(f"armplan record: {sink.written} messages in {files}")
+    extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
+    _say(f"armplan record: {sink.written} messages{extra} in {files}")
     return 0
 
 
