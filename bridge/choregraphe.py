@@ -167,9 +167,19 @@ def behavior_xml(frames: CommandFrames, name: str = "armplan trajectory") -> str
 
 
 def write_behavior(frames: CommandFrames, path: str | Path) -> Path:
-    """Write ``frames`` as a Choregraphe behavior file; returns its path."""
+    """Write ``frames`` as a Choregraphe behavior file; returns its path.
+
+    Raises:
+        InvalidInputError: naming the path and the reason it cannot be written.
+    """
     path = Path(path)
-    path.write_text(behavior_xml(frames), encoding="utf-8")
+    text = behavior_xml(frames)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot write {path}: {exc.strerror}", field="output"
+        ) from None
     return path
 
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from shared.errors import InvalidInputError
 from shared.messages import CommandFrames
 
 #: Fraction of the speed limits used to reach the start posture.
@@ -85,7 +86,17 @@ def python_script(frames: CommandFrames) -> str:
 
 
 def write_python(frames: CommandFrames, path: str | Path) -> Path:
-    """Write the replay script of ``frames`` to ``path``; returns the path."""
+    """Write the replay script of ``frames`` to ``path``; returns the path.
+
+    Raises:
+        InvalidInputError: naming the path and the reason it cannot be written.
+    """
     path = Path(path)
-    path.write_text(python_script(frames), encoding="utf-8")
+    text = python_script(frames)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot write {path}: {exc.strerror}", field="output"
+        ) from None
     return path

@@ -489,7 +489,7 @@ def test_an_output_folder_that_is_a_file_is_refused_before_the_work(
     out.write_text("keep me")
     assert_invalid_input(
         ["experiment", *experiment, "--out", str(out)],
-        f"--out {str(out)!r}: not a folder",
+        f"cannot write into {out} (--out): it is a file, not a folder",
         capsys,
     )
     assert out.read_text() == "keep me"

@@ -36,6 +36,7 @@ from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import PLAN
 from shared.messages import ExecuteReply, ExecuteRequest, Trajectory
 from shared.messages.request_id import with_request_id
+from shared.output_paths import check_output_folder
 
 #: Longest wait for the planner's answer [s].
 PLAN_TIMEOUT = 60.0
@@ -112,8 +113,11 @@ def run_demo(
     """Run the whole demo; ``say`` gets each progress line.
 
     Raises:
+        InvalidInputError: ``options.out`` cannot be a folder, or the task
+            file is bad (before anything starts).
         ArmplanError: a step failed (everything started is stopped first).
     """
+    check_output_folder(options.out)
     task = load_task(options.task)
     _clear(options.out)
     stack = DemoStack(

@@ -25,6 +25,7 @@ from armplan.launch import Launcher
 from armplan.launch.robot import RobotStack
 from services.recorder import RecorderProcess
 from shared.bus import BusConfig
+from shared.errors import ArmplanError, error_from_wire
 
 #: The recording, in the demo's folder.
 RECORDING_FILE = "session.mcap"
@@ -32,6 +33,8 @@ RECORDING_FILE = "session.mcap"
 SIM_LOG_FILE = "sim.jsonl"
 #: The processes' own logs, in the demo's folder.
 LOGS_DIR = "logs"
+#: What a process's start failure says about its output.
+SEE_LOG = "see its log"
 #: Wait for the last publications to reach the recorder before stopping it [s].
 SETTLE = 0.5
 
@@ -85,12 +88,15 @@ class DemoStack:
         logs = self.out / LOGS_DIR
         logs.mkdir(parents=True, exist_ok=True)
         with self._exits as exits:
-            self.launcher = exits.enter_context(
-                Launcher(self.config, log=self._log("services"), stop=self._stop)
-            )
-            self.robot = exits.enter_context(self._robot_stack())
+            with _naming_log(self._log_path("services")):
+                self.launcher = exits.enter_context(
+                    Launcher(self.config, log=self._log("services"), stop=self._stop)
+                )
+            with _naming_log(self._log_path("bridge")):
+                self.robot = exits.enter_context(self._robot_stack())
             if self._record:
-                self.recorder = exits.enter_context(self._recorder())
+                with _naming_log(self._log_path("recorder")):
+                    self.recorder = exits.enter_context(self._recorder())
             self._exits = exits.pop_all()  # started: keep them running
         return self
 
@@ -109,9 +115,13 @@ class DemoStack:
         log = self._log("recorder")
         return RecorderProcess.start(self.config, self.out / RECORDING_FILE, log=log)
 
+    def _log_path(self, name: str) -> Path:
+        """The log file of ``name``'s processes: ``out/logs/<name>.log``."""
+        return self.out / LOGS_DIR / f"{name}.log"
+
     def _log(self, name: str) -> IO[str]:
         """The log file ``out/logs/<name>.log``, closed when the stack stops."""
-        path = self.out / LOGS_DIR / f"{name}.log"
+        path = self._log_path(name)
         return self._exits.enter_context(path.open("a", encoding="utf-8"))
 
     def processes(self) -> dict[str, int]:
@@ -150,6 +160,31 @@ class DemoStack:
         trace: TracebackType | None,
     ) -> None:
         self.stop(settle=kind is None)
+
+
+@contextlib.contextmanager
+def _naming_log(path: Path) -> Iterator[None]:
+    """A start failure that says "see its log" also says where: ``path``.
+
+    The error keeps its kind and evidence (plus ``log``); only its words
+    gain the path, e.g. "... while starting (see its log demo/logs/services.log)".
+    """
+    try:
+        yield
+    except ArmplanError as error:
+        if SEE_LOG not in error.message:
+            raise
+        named = f"{SEE_LOG} {path}"
+        evidence = {
+            key: value.replace(SEE_LOG, named) if isinstance(value, str) else value
+            for key, value in error.evidence.items()
+        }
+        wire = {
+            "kind": error.kind,
+            "message": error.message.replace(SEE_LOG, named),
+            "evidence": {**evidence, "log": str(path)},
+        }
+        raise error_from_wire(wire) from None
 
 
 @contextlib.contextmanager

@@ -30,6 +30,7 @@ from armplan.secure.certificates import (
     MOST_DAYS,
     ensure_authority,
     issue_router_certificate,
+    subject_alt_names,
 )
 from armplan.secure.errors import SecureSetupError
 from armplan.secure.passwords import ensure_passwords, write_private
@@ -84,6 +85,11 @@ def write_bundle(
         paths: Where the processes will find the files; default ``directory``.
         connect: Other machines' routers this router connects to.
         days: Validity of new certificates [days], 1..``MOST_DAYS``.
+
+    Raises:
+        SecureSetupError: a bad validity, endpoint or host (checked before
+            anything is written), a folder that cannot be made, or openssl
+            failing.
     """
     if not 1 <= days <= MOST_DAYS:
         raise SecureSetupError(
@@ -94,10 +100,11 @@ def write_bundle(
             raise SecureSetupError(
                 f"endpoint {given!r} must use tls/, e.g. {DEFAULT_ENDPOINT}"
             )
-    directory.mkdir(parents=True, exist_ok=True)
+    names = [*hosts, endpoint_host(endpoint), "localhost", "127.0.0.1"]
+    subject_alt_names(names)  # a malformed host fails here, before any file
+    make_folder(directory)
     where = paths or str(directory.resolve())
     authority = ensure_authority(directory, days)
-    names = [*hosts, endpoint_host(endpoint), "localhost", "127.0.0.1"]
     issue_router_certificate(directory, authority, list(dict.fromkeys(names)), days)
     access = AccessControl.from_file(TEMPLATE)
     passwords = ensure_passwords(directory / "passwords.txt", access.usernames())
@@ -111,6 +118,17 @@ def write_bundle(
         if user != ROUTER_USER and user in access.usernames()
     }
     return Bundle(directory, router_config, clients, authority.created)
+
+
+def make_folder(directory: Path) -> Path:
+    """Make ``directory`` (and its parents); SecureSetupError naming it if not."""
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SecureSetupError(
+            f"cannot make the folder {directory}: {exc.strerror}", path=str(directory)
+        ) from None
+    return directory
 
 
 def endpoint_host(endpoint: str) -> str:

@@ -13,8 +13,9 @@ from collections.abc import Sequence
 
 from bridge.address import check_listen_url
 from bridge.sim.cycle import PERIOD, check_period
+from bridge.sim.log import check_log_file
 from bridge.sim.server import DEFAULT_LISTEN, serve
-from shared.errors import InvalidInputError
+from shared.errors import ArmplanError, InvalidInputError
 from shared.stop_signals import stop_on_signals
 
 
@@ -63,15 +64,26 @@ def run(listen: str, log: str | None, period: float, stop_on_eof: bool = False) 
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point; a malformed address or period is a usage error (exit 2)."""
+    """Entry point; returns the exit code.
+
+    A malformed address or period, or a log file that cannot be written, is
+    a usage error (exit 2); an address it cannot listen at exits 1 with the
+    reason on one line.
+    """
     p = parser()
     args = p.parse_args(argv)
     try:
         check_listen_url(args.listen)
         check_period(args.period)
+        if args.log is not None:
+            check_log_file(args.log)
     except InvalidInputError as error:
         p.error(error.message)
-    return run(args.listen, args.log, args.period, args.stop_on_stdin_eof)
+    try:
+        return run(args.listen, args.log, args.period, args.stop_on_stdin_eof)
+    except ArmplanError as error:  # e.g. the address is in use
+        sys.stderr.write(f"{p.prog}: error: {error.message}\n")
+        return 1
 
 
 def exit_now(code: int) -> None:

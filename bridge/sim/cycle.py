@@ -45,9 +45,14 @@ class ControlCycle:
         self._thread.start()
 
     def stop(self, timeout: float = 2.0) -> None:
-        """Stop cycling and wait for the thread (at most ``timeout`` [s])."""
+        """Stop cycling and wait for the thread (at most ``timeout`` [s]).
+
+        Safe before :meth:`start` (nothing to wait for): a sim that failed to
+        listen stops its cycle on the way out without a second error.
+        """
         self._stop.set()
-        self._thread.join(timeout)
+        if self._thread.ident is not None:
+            self._thread.join(timeout)
 
     def _run(self) -> None:
         next_time = time.monotonic()

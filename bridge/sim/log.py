@@ -28,20 +28,54 @@ import threading
 import time
 from collections import deque
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
+
+from shared.errors import InvalidInputError
 
 #: Entries kept in memory.
 KEEP = 20000
+
+
+def open_log(path: str | Path) -> TextIO:
+    """The log file ``path`` opened to append; InvalidInputError if it cannot be.
+
+    Raises:
+        InvalidInputError: naming the path and the reason (empty path, a
+            folder, a missing folder, no permission).
+    """
+    if not str(path):
+        raise InvalidInputError("the sim log's path is empty", field="log")
+    try:
+        return open(path, "a", encoding="utf-8")
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot write the sim log {path}: {exc.strerror}", field="log"
+        ) from None
+
+
+def check_log_file(path: str | Path) -> Path:
+    """``path`` if the sim can append its log there (made if missing).
+
+    Raises:
+        InvalidInputError: as :func:`open_log`.
+    """
+    open_log(path).close()
+    return Path(path)
 
 
 class SimLog:
     """A thread-safe JSON-lines log, flushed at every line, also kept in memory."""
 
     def __init__(self, path: str | Path | None = None) -> None:
+        """Start the log; ``path``: also append it to this file (else memory only).
+
+        Raises:
+            InvalidInputError: if the file cannot be opened to append.
+        """
         self._origin = time.monotonic()
         self._lock = threading.Lock()
         self._entries: deque[dict[str, Any]] = deque(maxlen=KEEP)
-        self._file = None if path is None else open(path, "a", encoding="utf-8")  # noqa: SIM115
+        self._file = None if path is None else open_log(path)
 
     @property
     def origin(self) -> float:

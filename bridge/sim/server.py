@@ -9,6 +9,7 @@ from pathlib import Path
 from bridge.address import check_listen_url
 from bridge.sim.cycle import PERIOD, ControlCycle, check_period
 from bridge.sim.joints import joint_specs
+from bridge.sim.listen import listen_failure
 from bridge.sim.log import SimLog
 from bridge.sim.motion import SimulatedMotion
 from bridge.sim.process import READY
@@ -27,6 +28,14 @@ def rest_posture() -> dict[str, float]:
     for side in Side:
         posture.update(zip(side.joint_names, rest(side).tolist(), strict=True))
     return posture
+
+
+def _listen(session: qi.Session, url: str) -> None:
+    """Listen at ``url``; InvalidInputError naming it and why if libqi cannot."""
+    try:
+        session.listenStandalone(url)
+    except RuntimeError as error:
+        raise listen_failure(url, error) from None
 
 
 def serve(
@@ -49,7 +58,9 @@ def serve(
 
     Raises:
         InvalidInputError: a malformed ``listen`` address or a ``period``
-            outside 0.001..1 s, before anything starts.
+            outside 0.001..1 s, or a log file that cannot be written, before
+            anything starts; an address it cannot listen at (in use, not
+            local), naming it.
     """
     check_listen_url(listen)
     check_period(period)
@@ -60,7 +71,7 @@ def serve(
     cycle = ControlCycle(robot, period)
     session = qi.Session()
     try:
-        session.listenStandalone(listen)
+        _listen(session, listen)
         session.registerService("ALMotion", SimulatedMotion(robot, log))
         url = session.endpoints()[0]
         limits = {n: [s.lower, s.upper, s.velocity] for n, s in joint_specs().items()}

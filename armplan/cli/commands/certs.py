@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from armplan.secure import write_bundle
 from armplan.secure.bundle import (
@@ -69,11 +68,14 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Write the folder and say what is in it."""
+    from shared.output_paths import check_output_folder
+
+    folder = check_output_folder(args.out)
     compose = bool(args.compose)
     endpoint = args.endpoint or (TEMPLATE_ENDPOINT if compose else DEFAULT_ENDPOINT)
     paths = args.paths or (TEMPLATE_PATHS if compose else None)
     bundle = write_bundle(
-        Path(args.out),
+        folder,
         endpoint=endpoint,
         hosts=args.host,
         paths=paths,

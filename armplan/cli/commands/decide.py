@@ -30,6 +30,7 @@ from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_arm, add_json, finite
 from shared.errors import InvalidInputError
 from shared.messages.base import unit_direction
+from shared.output_paths import check_output_file
 
 ORDER = 25
 HELP = "motion decision: which movement primitive drives each path point"
@@ -138,20 +139,14 @@ def _check_options(args: argparse.Namespace) -> None:
 
 
 def _plot_file(plot: str | None) -> Path | None:
-    """The plot's file: a PNG path whose folder exists (checked before work)."""
+    """The plot's file: a writable PNG path (checked before work)."""
     if plot is None:
         return None
-    path = Path(plot)
-    if path.suffix.lower() != ".png" or path.is_dir():
+    if Path(plot).suffix.lower() != ".png" or Path(plot).is_dir():
         raise InvalidInputError(
             f"--plot {plot!r}: name a .png file to write", field="plot"
         )
-    if not path.parent.is_dir():
-        raise InvalidInputError(
-            f"--plot {plot!r}: folder {str(path.parent)!r} does not exist",
-            field="plot",
-        )
-    return path
+    return check_output_file(plot, field="plot")
 
 
 def _palm(values: list[float] | None) -> np.ndarray | None:

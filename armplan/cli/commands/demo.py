@@ -58,13 +58,15 @@ def run(args: argparse.Namespace) -> int:
     from armplan.demo import DEFAULT_TASK, DemoOptions, run_demo, summary_lines
     from armplan.launch import free_endpoint
     from shared.bus import load_config
+    from shared.output_paths import check_output_folder
 
+    out = check_output_folder(args.out)
     _interrupt_on_sigterm()
     started = time.monotonic()
     endpoint = args.listen or free_endpoint()
     options = DemoOptions(
         config=load_config(args.config, (endpoint,)),
-        out=Path(args.out),
+        out=out,
         robot=_robot(args.robot),
         record=not args.no_record,
         task=Path(args.task) if args.task else DEFAULT_TASK,

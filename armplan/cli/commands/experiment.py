@@ -32,7 +32,6 @@ import argparse
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
-from pathlib import Path
 from typing import Any
 
 from armplan.cli.output import print_json, print_table
@@ -43,6 +42,7 @@ from armplan.cli.parsing import (
     measures_from_args,
 )
 from shared.errors import InvalidInputError
+from shared.output_paths import check_output_folder
 
 ORDER = 70
 HELP = (
@@ -168,7 +168,7 @@ def run_similarity(args: argparse.Namespace) -> int:
     from armplan.experiments.similarity_summary import summary
 
     demos, source = _demos(args)
-    _check_out(args.out)
+    check_output_folder(args.out)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
     skipped: list[Skipped] = []
@@ -213,7 +213,7 @@ def run_handover(args: argparse.Namespace) -> int:
     task = load_task(args.task or DEFAULT_TASK)
     if args.movements is not None:
         _movements_within(args.movements, len(task.targets()))
-    _check_out(args.out)
+    check_output_folder(args.out)
     starts = Starts(args.starts)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
@@ -257,7 +257,7 @@ def run_pace(args: argparse.Namespace) -> int:
 
     arm = load_arm(args.arm)
     tasks = random_tasks(arm, args.reaches, args.chains, args.seed)
-    _check_out(args.out)
+    check_output_folder(args.out)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
     methods = list(dict.fromkeys(args.methods))
@@ -309,16 +309,6 @@ def _demos(args: argparse.Namespace) -> tuple[Any, str]:
         demos,
         f"synthetic, seed {args.seed}, {args.subjects} subjects, {args.trials} trials",
     )
-
-
-def _check_out(out: str) -> None:
-    """Refuse an output folder that cannot be one, before any work is done."""
-    path = Path(out)
-    if not out or (path.exists() and not path.is_dir()):
-        raise InvalidInputError(
-            f"--out {out!r}: not a folder (results go into a folder, made if missing)",
-            field="out",
-        )
 
 
 def _weights(args: argparse.Namespace) -> str:

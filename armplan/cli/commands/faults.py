@@ -83,6 +83,7 @@ def run(args: argparse.Namespace) -> int:
         )
         return 1
     from armplan.faults import SuiteOptions
+    from shared.output_paths import check_output_folder
 
     for name in ("requests", "concurrency", "examples"):
         if getattr(args, name) < 1:
@@ -91,6 +92,7 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidInputError("--requests must be at least 3", field="requests")
     if args.burst < 0:
         raise InvalidInputError("--burst must not be negative", field="burst")
+    kept = None if args.out is None else check_output_folder(args.out)
     options = SuiteOptions(
         requests=args.requests,
         concurrency=args.concurrency,
@@ -98,8 +100,8 @@ def run(args: argparse.Namespace) -> int:
         examples=args.examples,
         seed=args.seed,
     )
-    if args.out:
-        return _run(Path(args.out), options, args.json)
+    if kept is not None:
+        return _run(kept, options, args.json)
     with tempfile.TemporaryDirectory(prefix="armplan-faults-") as out:
         return _run(Path(out), options, args.json)
 

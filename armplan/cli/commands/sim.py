@@ -32,17 +32,23 @@ def run(args: argparse.Namespace) -> int:
     """Become ``python -m bridge.sim``.
 
     A fresh interpreter loads libqi before pinocchio, which this one has
-    loaded already (see shared/libqi.py). The address and the period are
-    checked here first, so that a bad one is this command's typed error.
+    loaded already (see shared/libqi.py). The address (well formed, free,
+    local), the period and the log file are checked here first, so that a
+    bad one is this command's typed error and nothing starts.
     """
     from bridge.address import check_listen_url
     from bridge.sim.cycle import check_period
+    from bridge.sim.listen import check_can_listen
+    from bridge.sim.log import check_log_file
 
     check_listen_url(args.listen)
     check_period(args.period)
+    check_can_listen(args.listen)
+    if args.log is not None:
+        check_log_file(args.log)
     argv = [sys.executable, "-m", "bridge.sim", "--listen", args.listen]
     argv += ["--period", str(args.period)]
-    if args.log:
+    if args.log is not None:
         argv += ["--log", args.log]
     sys.stdout.flush()
     sys.stderr.flush()

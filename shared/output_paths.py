@@ -1,0 +1,113 @@
+"""Where a command writes, checked before it does any work.
+
+Every command that writes a file (``-o FILE``) or into a folder (``--out
+DIR``) asks here first, so that a path it cannot use is one typed error
+naming the path and the operating system's reason ("Is a directory", "No
+such file or directory", "Permission denied", ...), before any planning,
+process or half-written file. A file output that is also one of the
+command's inputs is refused too: writing it would destroy that input.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+from shared.errors import InvalidInputError
+
+
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether ``a`` and ``b`` name one file (resolved, or one inode)."""
+    if Path(a).resolve() == Path(b).resolve():
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_output_file(
+    output: str | Path, inputs: Sequence[str | Path] = (), field: str = "output"
+) -> Path:
+    """``output`` as a path if the command may write that file.
+
+    Args:
+        output: The file to write, as the user gave it.
+        inputs: Every file the command reads.
+        field: The option's name, for the error's evidence.
+
+    Raises:
+        InvalidInputError: ``output`` is no file name, is a folder, lies in
+            a folder that does not exist or cannot be written, or is one of
+            ``inputs``.
+    """
+    path = Path(output)
+    if not str(output) or path.name in ("", ".", ".."):
+        raise InvalidInputError(
+            f"output {str(output)!r} is not a file name", field=field
+        )
+    problem = _file_problem(path)
+    if problem:
+        raise InvalidInputError(f"cannot write {output}: {problem}", field=field)
+    for name in inputs:
+        if same_file(path, name):
+            raise InvalidInputError(
+                f"output {path} is also an input ({name}): writing it would "
+                "destroy that input; choose another output name",
+                field=field,
+                input=str(name),
+            )
+    return path
+
+
+def check_output_folder(out: str | Path, option: str = "--out") -> Path:
+    """``out`` as a path if the command may write into that folder (made if missing).
+
+    Args:
+        out: The folder as the user gave it.
+        option: The command-line option it came from, for the message.
+
+    Raises:
+        InvalidInputError: naming ``option``, the path and what is wrong.
+    """
+    field = option.lstrip("-")
+    if not str(out):
+        raise InvalidInputError(
+            f"{option} is empty: name a folder (. for the current one)", field=field
+        )
+    problem = _folder_problem(Path(out))
+    if problem:
+        raise InvalidInputError(
+            f"cannot write into {out} ({option}): {problem}", field=field, path=str(out)
+        )
+    return Path(out)
+
+
+def _file_problem(path: Path) -> str:
+    """Why no file can be written at ``path`` (the OS's words), or ``""``."""
+    folder = path.parent
+    if path.is_dir():
+        code = errno.EISDIR
+    elif not folder.exists():
+        code = errno.ENOENT
+    elif not folder.is_dir():
+        code = errno.ENOTDIR
+    elif path.exists():
+        code = 0 if os.access(path, os.W_OK) else errno.EACCES
+    else:
+        code = 0 if os.access(folder, os.W_OK | os.X_OK) else errno.EACCES
+    return os.strerror(code) if code else ""
+
+
+def _folder_problem(path: Path) -> str:
+    """Why no files can be written into folder ``path``, or ``""``."""
+    if path.exists() and not path.is_dir():
+        return "it is a file, not a folder"
+    existing = next(p for p in (path, *path.parents) if p.exists())
+    if not existing.is_dir():
+        return f"{existing} is a file, not a folder"
+    if not os.access(existing, os.W_OK | os.X_OK):
+        return f"{existing}: {os.strerror(errno.EACCES)}"
+    return ""

@@ -1,0 +1,154 @@
+"""``armplan export``: an output path it cannot write, a trajectory too long.
+
+Each is refused with one line naming the path (or the file) and the reason,
+exit code 1, and nothing written.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armplan.cli.main import main
+from bridge.frames import frames_from_trajectory
+from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.python_export import write_python
+from shared.errors import InvalidInputError
+from shared.messages import Trajectory
+from shared.messages.wrist_path import MAX_DURATION
+from shared.robot.postures import rest
+
+FORMATS = ("python", "choregraphe")
+
+
+def trajectory() -> Trajectory:
+    start = rest("right")
+    return minimum_jerk_trajectory(
+        "right", [start, start + np.array([-0.6, -0.3, -0.4, 0.5, 0.7])], [0.6]
+    )
+
+
+def held_until(end: float) -> Trajectory:
+    """The reach, then its last posture held still until ``end`` [s]."""
+    reach = trajectory().model_dump()
+    for name in ("positions", "wrist_path", "primitives"):
+        reach[name].append(reach[name][-1])
+    for name in ("velocities", "accelerations"):
+        reach[name].append([0.0] * len(reach["joint_names"]))
+    reach["times"].append(end)
+    return Trajectory.model_validate(reach)
+
+
+@pytest.fixture
+def source(tmp_path: Path) -> Path:
+    path = tmp_path / "trajectory.json"
+    path.write_text(trajectory().to_json())
+    return path
+
+
+def export(
+    capsys: pytest.CaptureFixture[str], fmt: str, source: Path, output: str
+) -> tuple[int, str]:
+    """Exit code and standard error of ``armplan export FMT SOURCE -o OUTPUT``."""
+    code = main(["export", fmt, str(source), "-o", output])
+    return code, capsys.readouterr().err
+
+
+def exported(capsys: pytest.CaptureFixture[str], source: Path, output: Path) -> str:
+    """Standard output of a successful ``armplan export python``."""
+    assert main(["export", "python", str(source), "-o", str(output)]) == 0
+    return capsys.readouterr().out
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_a_folder_as_output_is_refused(
+    fmt: str, source: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """-o DIR names the folder and says it is one, instead of IsADirectoryError."""
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    code, err = export(capsys, fmt, source, str(folder))
+    assert code == 1
+    assert err == f"armplan: error: cannot write {folder}: Is a directory\n"
+    assert list(folder.iterdir()) == []
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_an_output_in_a_missing_folder_is_refused(
+    fmt: str, source: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """-o /missing/x.py: the path and "No such file or directory", nothing made."""
+    output = tmp_path / "missing" / "x.py"
+    code, err = export(capsys, fmt, source, str(output))
+    assert code == 1
+    assert err == f"armplan: error: cannot write {output}: No such file or directory\n"
+    assert not output.parent.exists()
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_an_output_under_a_file_is_refused(
+    fmt: str, source: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """-o FILE/x.py: the path and "Not a directory"."""
+    output = source / "x.py"
+    code, err = export(capsys, fmt, source, str(output))
+    assert code == 1
+    assert err == f"armplan: error: cannot write {output}: Not a directory\n"
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_an_empty_output_is_refused(
+    fmt: str,
+    source: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """-o "" is no file name (it used to try to write the folder ".")."""
+    monkeypatch.chdir(tmp_path)
+    code, err = export(capsys, fmt, source, "")
+    assert code == 1
+    assert err == "armplan: error: output '' is not a file name\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["trajectory.json"]
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_a_trajectory_longer_than_the_longest_path_is_refused(
+    fmt: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A last sample at 601 s (1e6 s hung, filling the memory with frames) is
+    refused with the duration and the cap it exceeds, before any frame is made."""
+    source = tmp_path / "t_gap.json"
+    source.write_text(held_until(MAX_DURATION + 1.0).to_json())
+    output = tmp_path / "x.out"
+    code, err = export(capsys, fmt, source, str(output))
+    assert code == 1
+    assert err == (
+        f"armplan: error: {source}: the trajectory lasts 601 s, longer than 600 s "
+        "(the longest wrist path armplan plans, "
+        "shared.messages.wrist_path.MAX_DURATION)\n"
+    )
+    assert not output.exists()
+
+
+def test_a_trajectory_of_the_longest_duration_is_exported(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The cap itself is allowed: 600 s is 15000 frames at 25 fps."""
+    source = tmp_path / "long.json"
+    source.write_text(held_until(MAX_DURATION).to_json())
+    output = tmp_path / "long.py"
+    assert exported(capsys, source, output).startswith(
+        f"wrote {output}: 15000 frames at 25 fps (600.000 s"
+    )
+
+
+def test_the_writer_names_a_path_it_cannot_write(tmp_path: Path) -> None:
+    """write_python itself turns the OS's error into a typed one."""
+    frames = frames_from_trajectory(trajectory())
+    with pytest.raises(InvalidInputError) as caught:
+        write_python(frames, tmp_path)
+    assert caught.value.message == f"cannot write {tmp_path}: Is a directory"
+    assert caught.value.field == "output"

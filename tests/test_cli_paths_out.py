@@ -1,0 +1,123 @@
+"""``--out DIR`` of ``armplan certs``, ``demo`` and ``faults``; ``certs --host``;
+the log a failed ``armplan demo`` start points to.
+
+A folder that cannot be one is refused with the path and the reason, exit
+code 1, before any process starts or any file is written.
+"""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from armplan.cli.main import main
+
+COMMANDS = ("certs", "demo", "faults")
+
+
+def armplan(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str]:
+    """Exit code and standard error of ``armplan ARGS``, run in this process."""
+    code = main(list(args))
+    return code, capsys.readouterr().err
+
+
+@pytest.fixture
+def here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """An empty current folder (a relative --out lands in it)."""
+    folder = tmp_path / "here"
+    folder.mkdir()
+    monkeypatch.chdir(folder)
+    return folder
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_a_file_as_out_is_refused(
+    command: str, here: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out FILE names the file and says it is no folder (was FileExistsError)."""
+    (here / "results").write_text("kept\n")
+    code, err = armplan(capsys, command, "--out", "results")
+    assert code == 1
+    assert err == (
+        "armplan: error: cannot write into results (--out): "
+        "it is a file, not a folder\n"
+    )
+    assert (here / "results").read_text() == "kept\n"
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_an_out_under_a_file_is_refused(
+    command: str, here: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out FILE/sub names the file in the way."""
+    (here / "results").write_text("kept\n")
+    code, err = armplan(capsys, command, "--out", "results/sub")
+    assert code == 1
+    assert err == (
+        "armplan: error: cannot write into results/sub (--out): "
+        "results is a file, not a folder\n"
+    )
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_an_empty_out_is_refused(
+    command: str, here: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out "" is refused; certs wrote into the current folder, demo too."""
+    code, err = armplan(capsys, command, "--out", "")
+    assert code == 1
+    assert err == (
+        "armplan: error: --out is empty: name a folder (. for the current one)\n"
+    )
+    assert list(here.iterdir()) == []
+
+
+@pytest.mark.parametrize("host", ["", "bad host", "under_score"])
+def test_a_bad_host_writes_nothing(
+    host: str, here: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """certs --host checks every name before the authority is made (ca.key
+    and ca.pem were left behind)."""
+    code, err = armplan(capsys, "certs", "--out", "c3", "--host", host)
+    assert code == 1
+    assert err == (
+        f"armplan: error: host {host!r} is neither a DNS name nor an IP address\n"
+    )
+    assert list(here.iterdir()) == []
+
+
+@pytest.fixture
+def busy_endpoint() -> Iterator[str]:
+    """A Zenoh endpoint on 127.0.0.1 whose port another socket listens on."""
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        yield f"tcp/127.0.0.1:{taken.getsockname()[1]}"
+
+
+def test_a_failed_demo_start_names_the_log_to_read(
+    tmp_path: Path, busy_endpoint: str
+) -> None:
+    """The router cannot listen on a port in use: the error gives the log's
+    path (it said only "see its log"), and that log tells why."""
+    out = tmp_path / "demo"
+    demo = ["demo", "--out", str(out), "--listen", busy_endpoint, "--no-record"]
+    done = subprocess.run(
+        [sys.executable, "-m", "armplan", *demo],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    log = out / "logs" / "services.log"
+    assert done.returncode == 1
+    assert done.stderr == (
+        "armplan: error: service 'router' is unavailable: its process exited "
+        f"with code 1 while starting (see its log {log})\n"
+    )
+    assert "Address already in use" in log.read_text()

@@ -1,0 +1,136 @@
+"""``armplan sim``: an address it cannot listen at, a log it cannot write.
+
+Run as real processes (``armplan sim`` becomes ``python -m bridge.sim``).
+Each is refused with one line naming the address or the path and the
+reason, exit code 1, no traceback, and no simulated NAO started.
+"""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from bridge.sim import READY
+from bridge.sim.cycle import ControlCycle
+from bridge.sim.log import SimLog
+from bridge.sim.robot import SimRobot
+from bridge.sim.server import rest_posture
+
+#: An address of TEST-NET-1 (RFC 5737): never one of this machine's.
+NOT_LOCAL = "tcp://192.0.2.1:9559"
+
+
+def run(*args: str) -> subprocess.CompletedProcess[str]:
+    """Run ``python ARGS`` with closed stdin; a sim that starts ends at the timeout."""
+    return subprocess.run(
+        [sys.executable, *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+        stdin=subprocess.DEVNULL,
+    )
+
+
+def armplan_sim(*args: str) -> subprocess.CompletedProcess[str]:
+    return run("-m", "armplan", "sim", *args)
+
+
+def assert_refused(done: subprocess.CompletedProcess[str], stderr: str) -> None:
+    """Exit 1, exactly ``stderr``, and the sim never served."""
+    assert done.returncode == 1
+    assert done.stderr == stderr
+    assert READY not in done.stdout
+
+
+@pytest.fixture
+def busy_url() -> Iterator[str]:
+    """A NAOqi address on 127.0.0.1 whose port another socket listens on."""
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        yield f"tcp://127.0.0.1:{taken.getsockname()[1]}"
+
+
+def test_a_busy_port_is_refused_naming_the_address(busy_url: str) -> None:
+    """The port in use is one line, not a bind traceback and a second one
+    ("cannot join thread before it is started") from the cleanup."""
+    assert_refused(
+        armplan_sim("--listen", busy_url),
+        f"armplan: error: cannot listen at {busy_url}: Address already in use\n",
+    )
+
+
+def test_an_address_of_another_machine_is_refused() -> None:
+    """The sim can only listen on this machine's addresses."""
+    assert_refused(
+        armplan_sim("--listen", NOT_LOCAL),
+        f"armplan: error: cannot listen at {NOT_LOCAL}: "
+        "Cannot assign requested address\n",
+    )
+
+
+def test_the_sim_process_itself_reports_a_busy_port_on_one_line(
+    busy_url: str,
+) -> None:
+    """python -m bridge.sim, past every check, fails in libqi's listen: one
+    line naming the address, exit 1, and the cleanup raises nothing more."""
+    done = run("-m", "bridge.sim", "--listen", busy_url)
+    assert done.returncode == 1
+    assert "Traceback" not in done.stderr
+    last = done.stderr.strip().splitlines()[-1]
+    assert last == (
+        f"python -m bridge.sim: error: cannot listen at {busy_url}: "
+        "Address already in use"
+    )
+
+
+def test_a_cycle_that_never_started_stops_quietly() -> None:
+    """stop() before start() (the listen failed) is no error."""
+    cycle = ControlCycle(SimRobot(SimLog(), rest_posture()))
+    cycle.stop()
+    cycle.stop()
+
+
+def test_a_folder_as_log_is_refused(tmp_path: Path) -> None:
+    """--log DIR: the path and "Is a directory", before the sim starts."""
+    assert_refused(
+        armplan_sim("--listen", "tcp://127.0.0.1:0", "--log", str(tmp_path)),
+        f"armplan: error: cannot write the sim log {tmp_path}: Is a directory\n",
+    )
+
+
+def test_a_log_in_a_missing_folder_is_refused(tmp_path: Path) -> None:
+    """--log /missing/x.log: the path and "No such file or directory"."""
+    log = tmp_path / "missing" / "x.log"
+    assert_refused(
+        armplan_sim("--listen", "tcp://127.0.0.1:0", "--log", str(log)),
+        f"armplan: error: cannot write the sim log {log}: No such file or directory\n",
+    )
+    assert not log.parent.exists()
+
+
+def test_an_empty_log_path_is_refused() -> None:
+    """--log "" is refused rather than silently logging nowhere."""
+    assert_refused(
+        armplan_sim("--listen", "tcp://127.0.0.1:0", "--log", ""),
+        "armplan: error: the sim log's path is empty\n",
+    )
+
+
+def test_the_sim_process_refuses_a_folder_as_log(tmp_path: Path) -> None:
+    """python -m bridge.sim --log DIR is a usage error (exit 2) naming the path."""
+    done = run(
+        "-m", "bridge.sim", "--listen", "tcp://127.0.0.1:0", "--log", str(tmp_path)
+    )
+    assert done.returncode == 2
+    assert done.stderr.endswith(
+        f"python -m bridge.sim: error: cannot write the sim log {tmp_path}: "
+        "Is a directory\n"
+    )
+    assert READY not in done.stdout
