@@ -8,6 +8,7 @@ model (``MotionModel``), naming the first field that is wrong.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 from pathlib import Path
@@ -18,14 +19,24 @@ from shared.messages.base import parse
 
 
 def save_model(model: MotionModel, path: str | Path) -> None:
-    """Write ``model`` as JSON to ``path`` (atomically: a reader never sees half)."""
-    path = Path(path)
+    """Write ``model`` as JSON to ``path`` (atomically: a reader never sees half).
+
+    Raises:
+        ModelFileError: if ``path`` is no file name or cannot be written; no
+            partial file is left behind.
+    """
+    given, path = str(path), Path(path)
+    if not given or not path.name or path.name == "..":
+        raise ModelFileError(repr(given), "not a file name for the motion model")
     partial = path.with_name(path.name + ".partial")
     try:
         partial.write_text(model.model_dump_json(indent=None) + "\n")
         os.replace(partial, path)
     except OSError as exc:
         raise ModelFileError(str(path), f"cannot write it: {exc.strerror}") from None
+    finally:
+        with contextlib.suppress(OSError):
+            partial.unlink()
 
 
 def load_model(path: str | Path) -> MotionModel:

@@ -15,14 +15,18 @@ import ezc3d
 import numpy as np
 
 from shared.demos.anthropometry import Subject
-from shared.demos.importing import MarkerTracks, trial_from_tracks
+from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.trial import Trial
 from shared.errors import DemoFileError
 
 
 def read_c3d(
-    path: str | Path, markers: MarkerMap, trial: int = 0
+    path: str | Path,
+    markers: MarkerMap,
+    trial: int = 0,
+    *,
+    report: Report | None = None,
 ) -> tuple[Trial, Subject]:
     """The trial recorded in a C3D file, retargeted to NAO.
 
@@ -30,11 +34,14 @@ def read_c3d(
         path: The C3D file.
         markers: Which markers are shoulder, elbow, wrist (and thumb).
         trial: Trial number to give it.
+        report: Gets a one-line note of the frames dropped for a missing
+            marker, if any.
 
     Raises:
         DemoFileError: if the file cannot be read as C3D, lacks a mapped marker
             (the error names the missing ones and lists those present), has
-            unknown units, or too few complete frames.
+            unknown units, too few complete frames, or an implausible arm
+            (``importing.check_segments``).
     """
     path = Path(path)
     try:
@@ -48,10 +55,15 @@ def read_c3d(
     cloud = np.asarray(data["data"]["points"], dtype=float)  # (4, markers, frames)
     times = np.arange(cloud.shape[2]) / rate
     points = {role: cloud[:3, i, :].T for role, i in index.items()}
-    scale = UNIT_SCALE[markers.units or _units(point, str(path))]
+    units = markers.units or _units(point, str(path))
     name = markers.subject or path.stem
     return trial_from_tracks(
-        MarkerTracks(times, points, scale), markers, name, trial, str(path)
+        MarkerTracks(times, points, units),
+        markers,
+        name,
+        trial,
+        str(path),
+        report=report,
     )
 
 

@@ -5,11 +5,14 @@ The format (one header row, then one row per frame, comma-separated)::
     time,trial,RSHO_x,RSHO_y,RSHO_z,RELB_x,RELB_y,RELB_z,RWRB_x,RWRB_y,RWRB_z
     0.00,0,12.1,-180.3,1402.0,...
 
-``time`` [s] is required and increases within a trial; ``trial`` (an
-integer) is optional and splits the rows into trials (rows of one trial
+``time`` [s] is required and increases within a trial; ``trial`` (a whole
+number) is optional and splits the rows into trials (rows of one trial
 consecutive); each marker of the marker map (``markers``) has three columns
 ``<name>_x``, ``<name>_y``, ``<name>_z`` in the map's units (default
-metres). Other columns are ignored; empty cells are missing samples.
+metres). Other columns are ignored. An empty (or ``nan``) marker cell is a
+missing sample, as capture systems export gaps: its row is dropped and the
+number of dropped rows reported. A row that lacks a needed cell (shorter
+than the header) is refused, as is an empty time or trial cell.
 OptiTrack's own CSV export has several header rows: flatten it to this form.
 """
 
@@ -18,50 +21,54 @@ from __future__ import annotations
 import csv
 import math
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
 from shared.demos.anthropometry import Subject
-from shared.demos.importing import MarkerTracks, trial_from_tracks
-from shared.demos.markers import UNIT_SCALE, MarkerMap
+from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
+from shared.demos.markers import MarkerMap
 from shared.demos.trial import Trial
 from shared.errors import DemoFileError
 
 
-def read_csv(path: str | Path, markers: MarkerMap) -> tuple[list[Trial], Subject]:
+class Row(NamedTuple):
+    """One data row: its line in the file (from 1) and its cells."""
+
+    line: int
+    cells: list[str]
+
+
+def read_csv(
+    path: str | Path, markers: MarkerMap, *, report: Report | None = None
+) -> tuple[list[Trial], Subject]:
     """The trials in a CSV file, retargeted to NAO, and the subject's arm.
+
+    Args:
+        path: The CSV file.
+        markers: Which markers are shoulder, elbow, wrist (and thumb).
+        report: Gets a one-line note per trial of the rows dropped for a
+            missing marker, if any.
 
     Raises:
         DemoFileError: if the file is missing or empty, lacks a column (the
-            error names it), holds a value that is not a number, or has times
-            that do not increase within a trial.
+            error names it), has a row without a needed cell, a trial that is
+            not a whole number, a value that is not a finite number (naming
+            line, column and value), times that do not increase within a
+            trial, or an implausible arm (``importing.check_segments``).
     """
     path = Path(path)
     header, rows = _rows(path)
     columns = _columns(header, markers, str(path))
-    trial_of = header.index("trial") if "trial" in header else None
-    groups: dict[int, list[list[str]]] = {}
-    order: list[int] = []
-    for row in rows:
-        key = (
-            int(_number(row[trial_of], str(path), "trial"))
-            if trial_of is not None
-            else 0
-        )
-        if key not in groups:
-            order.append(key)
-            groups[key] = []
-        elif order[-1] != key:
-            raise DemoFileError(
-                str(path), f"the rows of trial {key} are not consecutive"
-            )
-        groups[key].append(row)
-    scale = UNIT_SCALE[markers.units or "m"]
+    groups = _trials(rows, header, str(path))
+    units = markers.units or "m"
     name = markers.subject or path.stem
     trials, people = [], []
-    for key in order:
-        tracks = _tracks(groups[key], columns, scale, str(path), key)
-        trial, person = trial_from_tracks(tracks, markers, name, key, str(path))
+    for key, group in groups.items():
+        tracks = _tracks(group, columns, header, units, str(path), key)
+        trial, person = trial_from_tracks(
+            tracks, markers, name, key, str(path), report=report
+        )
         trials.append(trial)
         people.append(person)
     subject = Subject(
@@ -73,17 +80,24 @@ def read_csv(path: str | Path, markers: MarkerMap) -> tuple[list[Trial], Subject
     return trials, subject
 
 
-def _rows(path: Path) -> tuple[list[str], list[list[str]]]:
+def _rows(path: Path) -> tuple[list[str], list[Row]]:
+    """The header and the non-blank data rows, each with its line."""
+    table: list[Row] = []
     try:
         with open(path, newline="") as stream:
-            table = [row for row in csv.reader(stream) if row]
+            reader = csv.reader(stream)
+            start = 1
+            for cells in reader:
+                if cells:
+                    table.append(Row(start, cells))
+                start = reader.line_num + 1
     except OSError as exc:
         raise DemoFileError(str(path), f"cannot read it: {exc.strerror}") from None
     except (csv.Error, UnicodeDecodeError) as exc:
         raise DemoFileError(str(path), f"not a CSV file ({exc})") from None
     if len(table) < 2:
         raise DemoFileError(str(path), "needs a header row and at least one data row")
-    return [h.strip() for h in table[0]], table[1:]
+    return [h.strip() for h in table[0].cells], table[1:]
 
 
 def _columns(header: list[str], markers: MarkerMap, path: str) -> dict[str, list[int]]:
@@ -91,50 +105,141 @@ def _columns(header: list[str], markers: MarkerMap, path: str) -> dict[str, list
     wanted = {"time": ["time"]}
     for role, name in markers.names.items():
         wanted[role] = [f"{name}_{axis}" for axis in "xyz"]
-    missing = [c for cols in wanted.values() for c in cols if c not in header]
+    needed = [c for cols in wanted.values() for c in cols]
+    missing = [c for c in needed if c not in header]
     if missing:
         raise DemoFileError(
             path,
             f"lacks the column{'s' if len(missing) > 1 else ''} {', '.join(missing)}",
         )
+    for column in [*needed, "trial"]:
+        if header.count(column) > 1:
+            raise DemoFileError(
+                path, f"the header names column {column!r} more than once"
+            )
     return {role: [header.index(c) for c in cols] for role, cols in wanted.items()}
 
 
-def _number(cell: str, path: str, column: str) -> float:
-    text = cell.strip()
+def _trials(rows: list[Row], header: list[str], path: str) -> dict[int, list[Row]]:
+    """The rows of each trial, in file order (all in trial 0 without ``trial``)."""
+    if "trial" not in header:
+        return {0: rows}
+    index = header.index("trial")
+    groups: dict[int, list[Row]] = {}
+    last: int | None = None
+    for row in rows:
+        key = _trial_number(_cell(row, index, header, path), row.line, path)
+        if key in groups and key != last:
+            raise DemoFileError(
+                path,
+                f"line {row.line}: the rows of trial {key} are not consecutive",
+                line=row.line,
+            )
+        groups.setdefault(key, []).append(row)
+        last = key
+    return groups
+
+
+def _trial_number(text: str, line: int, path: str) -> int:
+    """The trial number in a ``trial`` cell: a whole number from 0 (``3``, ``3.0``)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value != round(value) or value < 0:
+        shown = "an empty cell" if not text else repr(text)
+        raise DemoFileError(
+            path,
+            f"line {line}, column 'trial' holds {shown}, which is not a trial "
+            "number (a whole number from 0)",
+            line=line,
+            column="trial",
+            value=text,
+        )
+    return int(text) if text.isdigit() else int(value)
+
+
+def _cell(row: Row, index: int, header: list[str], path: str) -> str:
+    """The stripped cell ``index`` of ``row``; refuse a row too short for it."""
+    if index >= len(row.cells):
+        raise DemoFileError(
+            path,
+            f"line {row.line} has {len(row.cells)} cells, the header "
+            f"{len(header)}: it lacks column {header[index]!r} (leave a cell "
+            "empty for a missing sample)",
+            line=row.line,
+            column=header[index],
+        )
+    return row.cells[index].strip()
+
+
+def _number(text: str, line: int, column: str, path: str) -> float:
+    """A cell's number; an empty cell or ``nan`` is a missing sample (NaN)."""
     if not text:
         return math.nan
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         raise DemoFileError(
-            path, f"column {column!r} holds {text!r}, which is not a number"
+            path,
+            f"line {line}, column {column!r} holds {text!r}, which is not a number",
+            line=line,
+            column=column,
+            value=text,
         ) from None
+    if math.isinf(value):
+        raise DemoFileError(
+            path,
+            f"line {line}, column {column!r} holds {text!r}, which is not a "
+            "finite number",
+            line=line,
+            column=column,
+            value=text,
+        )
+    return value
 
 
 def _tracks(
-    rows: list[list[str]],
+    rows: list[Row],
     columns: dict[str, list[int]],
-    scale: float,
+    header: list[str],
+    units: str,
     path: str,
     trial: int,
 ) -> MarkerTracks:
-    def column(index: int, name: str) -> np.ndarray:
+    """The marker tracks of one trial's rows (in the file's units)."""
+
+    def column(index: int) -> np.ndarray:
         return np.array(
             [
-                _number(row[index] if index < len(row) else "", path, name)
+                _number(_cell(row, index, header, path), row.line, header[index], path)
                 for row in rows
             ]
         )
 
-    times = column(columns["time"][0], "time")
-    if not np.all(np.isfinite(times)) or not np.all(np.diff(times) > 0):
-        raise DemoFileError(
-            path, f"the times of trial {trial} must be given and increase"
-        )
+    times = column(columns["time"][0])
+    _check_times(times, rows, path, trial)
     points = {
-        role: np.stack([column(i, role) for i in cols], axis=1)
+        role: np.stack([column(i) for i in cols], axis=1)
         for role, cols in columns.items()
         if role != "time"
     }
-    return MarkerTracks(times, points, scale)
+    return MarkerTracks(times, points, units, [row.line for row in rows])
+
+
+def _check_times(times: np.ndarray, rows: list[Row], path: str, trial: int) -> None:
+    """Refuse a missing time, or one not after the row before, naming the line."""
+    what = f"the times of trial {trial} must be given and increase"
+    missing = np.flatnonzero(~np.isfinite(times))
+    if missing.size:
+        line = rows[int(missing[0])].line
+        raise DemoFileError(path, f"{what}: line {line} has none", line=line)
+    back = np.flatnonzero(np.diff(times) <= 0)
+    if back.size:
+        k = int(back[0]) + 1
+        raise DemoFileError(
+            path,
+            f"{what}: line {rows[k].line} has t = {times[k]:g} s, line "
+            f"{rows[k - 1].line} t = {times[k - 1]:g} s",
+            line=rows[k].line,
+        )

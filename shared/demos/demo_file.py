@@ -11,6 +11,8 @@ into a ``DemoFileError`` that names the file and what is wrong.
 
 from __future__ import annotations
 
+import contextlib
+import os
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TypeVar
@@ -18,11 +20,13 @@ from typing import TypeVar
 import numpy as np
 
 from shared.demos.anthropometry import Subject
+from shared.demos.paths import check_distinct
 from shared.demos.rotations import matrix_from_quaternion, quaternion_from_matrix
 from shared.demos.trial import DemoSet, Trial
 from shared.errors import DemoFileError, InvalidInputError, RecordingError
 from shared.messages.base import parse
 from shared.messages.demo import DemoSample, DemoSubject
+from shared.output_paths import check_output_file
 from shared.recording import MessageWriter
 from shared.recording.reader import Recording
 
@@ -35,36 +39,71 @@ _TRIAL_GAP_NS = 1_000_000_000
 def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
     """Write ``demos`` to an MCAP file; returns the number of samples written.
 
+    The file is written under a ``.partial`` name and renamed when complete,
+    so a failure leaves no half-written file (and an older file intact).
+
     Args:
         path: File to create (overwritten).
         demos: Subjects and trials (retargeted to NAO).
         source: Where the data came from, stored with each subject.
+
+    Raises:
+        InvalidInputError: if ``path`` is no file name, a directory, or in a
+            folder that does not exist (``shared.output_paths.check_output_file``).
+        DemoFileError: if a subject is not a valid ``DemoSubject`` (e.g. a
+            zero-length segment).
+        RecordingError: if the file cannot be written.
     """
+    path = check_output_file(path)
+    people = [_subject_message(s, source, path) for s in demos.subjects.values()]
+    partial = path.with_name(path.name + ".partial")
+    try:
+        count = _write(partial, people, demos.trials)
+        os.replace(partial, path)
+    except OSError as exc:
+        raise RecordingError(
+            f"cannot write {path}: {exc.strerror}", path=str(path)
+        ) from None
+    finally:
+        with contextlib.suppress(OSError):
+            partial.unlink()
+    return count
+
+
+def _write(path: Path, people: list[DemoSubject], trials: list[Trial]) -> int:
+    """Write the subject messages, then every trial's samples; count samples."""
     clock = 0
     with MessageWriter(path) as writer:
-        for subject in demos.subjects.values():
-            writer.write(SUBJECT_TOPIC, _subject_message(subject, source), clock)
+        for person in people:
+            writer.write(SUBJECT_TOPIC, person, clock)
         # One channel lookup, then raw writes: MessageWriter.write builds the
         # class's JSON schema on every call, which costs milliseconds.
         channel = writer.channel_id(
             SAMPLE_TOPIC, DemoSample.__name__, DemoSample.json_schema()
         )
-        for trial in demos.trials:
+        for trial in trials:
             for sample in samples_of(trial):
                 stamp = clock + round(sample.time * 1e9)
                 writer.write_raw(channel, sample.to_json().encode(), stamp)
             clock += round(float(trial.times[-1]) * 1e9) + _TRIAL_GAP_NS
-        return writer.count - len(demos.subjects)
+        return writer.count - len(people)
 
 
-def _subject_message(subject: Subject, source: str) -> DemoSubject:
-    return DemoSubject(
-        name=subject.name,
-        stature=subject.stature if subject.stature > 0 else None,
-        upper_arm=subject.upper_arm,
-        forearm=subject.forearm,
-        source=source,
-    )
+def _subject_message(subject: Subject, source: str, path: Path) -> DemoSubject:
+    """The subject's message; an invalid one names the subject and field."""
+    fields = {
+        "name": subject.name,
+        "stature": subject.stature if subject.stature > 0 else None,
+        "upper_arm": subject.upper_arm,
+        "forearm": subject.forearm,
+        "source": source,
+    }
+    try:
+        return parse(DemoSubject, fields)
+    except InvalidInputError as exc:
+        raise DemoFileError(
+            str(path), f"not written, subject {subject.name!r}: {exc.message}"
+        ) from None
 
 
 def samples_of(trial: Trial) -> list[DemoSample]:
@@ -99,12 +138,15 @@ def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
     """The demonstrations in one or more MCAP files, validated.
 
     Raises:
-        DemoFileError: naming the file and the problem, if a file is missing,
+        DemoFileError: naming the file and the problem, if a file is given
+            twice (its trials would count twice), is missing,
             empty, truncated, not MCAP, holds a malformed message or no
             samples, or has a trial whose samples are out of order.
     """
     if isinstance(paths, (str, Path)):
         paths = [paths]
+    paths = list(paths)
+    check_distinct(paths)
     subjects: dict[str, Subject] = {}
     trials: list[Trial] = []
     for path in paths:

@@ -1,20 +1,23 @@
 """Recorded marker tracks to a retargeted demonstration trial.
 
 Shared by the C3D and CSV readers: scale to metres, turn the axes to
-forward/left/up, drop frames where a marker is missing (refuse one more
-than ``FARTHEST`` from the origin: not a position), measure the
-subject's segment lengths, retarget to NAO (``retarget``) and, with a thumb
-marker, build the wrist frame from the forearm and the thumb side.
+forward/left/up, drop frames where a marker is missing (the documented
+gaps; their count goes to ``report``), refuse a marker more than
+``FARTHEST`` from the origin (not a position), measure the subject's
+segment lengths and refuse implausible ones (``check_segments``), retarget
+to NAO (``retarget``) and, with a thumb marker, build the wrist frame from
+the forearm and the thumb side.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
 
 from shared.demos.anthropometry import Subject
-from shared.demos.markers import MarkerMap
+from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, unit
 from shared.demos.trial import Trial
@@ -23,6 +26,20 @@ from shared.errors import DemoFileError
 #: Farthest a marker may be from the capture's origin [m]: any capture
 #: volume is far smaller; beyond it a value is garbage, not a position.
 FARTHEST = 1000.0
+#: Shortest and longest plausible human upper arm or forearm [m]. Adults'
+#: are 0.2..0.4 m (``anthropometry``); the range is generous, so only wrong
+#: units or misplaced markers fall outside it.
+SEGMENT_RANGE = (0.05, 1.0)
+#: Largest relative difference of one frame's segment length from the
+#: trial's median: skin markers move a few centimetres, not half an arm.
+SEGMENT_SPREAD = 0.5
+#: A segment shorter than this [m] has no direction: its markers coincide.
+COINCIDENT = 1e-6
+#: The arm's segments: name, and the roles of the markers at its ends.
+SEGMENTS = (("upper arm", "shoulder", "elbow"), ("forearm", "elbow", "wrist"))
+
+#: Where notes for the user go (e.g. dropped frames), one line each.
+Report = Callable[[str], None]
 
 
 class MarkerTracks(NamedTuple):
@@ -32,28 +49,56 @@ class MarkerTracks(NamedTuple):
         times: Frame times [s], shape (n,).
         points: Marker positions by role (shoulder, elbow, wrist, thumb),
             each shape (n, 3).
-        scale: Metres per file unit.
+        units: The file's length unit, a key of ``UNIT_SCALE`` (m, cm, mm).
+        lines: The file's line of each frame (CSV), or ``None``.
     """
 
     times: FloatArray
     points: dict[str, FloatArray]
-    scale: float
+    units: str
+    lines: list[int] | None = None
+
+    @property
+    def scale(self) -> float:
+        """Metres per file unit."""
+        return UNIT_SCALE[self.units]
+
+    def frame(self, k: int) -> str:
+        """Frame ``k`` named for a message: ``frame 4 (t = 0.04 s, line 7)``."""
+        line = "" if self.lines is None else f", line {self.lines[k]}"
+        return f"frame {k} (t = {self.times[k]:g} s{line})"
 
 
 def trial_from_tracks(
-    tracks: MarkerTracks, markers: MarkerMap, subject: str, trial: int, path: str
+    tracks: MarkerTracks,
+    markers: MarkerMap,
+    subject: str,
+    trial: int,
+    path: str,
+    *,
+    report: Report | None = None,
 ) -> tuple[Trial, Subject]:
     """The retargeted trial and the subject's measured arm.
 
+    Args:
+        tracks: The trial's raw marker tracks.
+        markers: The marker map (roles, arm, axes, declared units).
+        subject: The subject's name.
+        trial: The trial's number.
+        path: The file, for messages.
+        report: Gets a one-line note if frames with a missing marker were
+            dropped (their number), or ``None`` to drop them silently.
+
     Raises:
-        DemoFileError: if fewer than two frames have every marker, or a
-            marker lies more than ``FARTHEST`` from the origin.
+        DemoFileError: if fewer than two frames have every marker, a marker
+            lies more than ``FARTHEST`` from the origin, or a segment is
+            degenerate or implausibly long or short (``check_segments``).
     """
     points = {
         role: markers.to_torso_axes(p * tracks.scale)
         for role, p in tracks.points.items()
     }
-    _check_near(points, markers, path)
+    _check_near(points, markers, tracks, path)
     whole = np.all([np.isfinite(p).all(axis=1) for p in points.values()], axis=0)
     if int(whole.sum()) < 2:
         raise DemoFileError(
@@ -61,6 +106,11 @@ def trial_from_tracks(
             f"fewer than two frames have all of the markers "
             f"{', '.join(markers.names.values())}",
         )
+    _report_gaps(whole, tracks, trial, path, report)
+    kept = np.flatnonzero(whole)
+    check_segments(
+        points, kept, tracks, markers, f"subject {subject!r}, trial {trial}", path
+    )
     times = tracks.times[whole] - tracks.times[whole][0]
     points = {role: p[whole] for role, p in points.items()}
     human = ArmTrack(points["shoulder"], points["elbow"], points["wrist"])
@@ -106,7 +156,110 @@ def wrist_frames(elbow: FloatArray, wrist: FloatArray, thumb: FloatArray) -> Flo
     return np.stack((x, y, np.cross(x, y)), axis=-1)
 
 
-def _check_near(points: dict[str, FloatArray], markers: MarkerMap, path: str) -> None:
+def check_segments(
+    points: dict[str, FloatArray],
+    kept: np.ndarray,
+    tracks: MarkerTracks,
+    markers: MarkerMap,
+    trial: str,
+    path: str,
+) -> None:
+    """Refuse a degenerate or implausible upper arm or forearm.
+
+    For each segment, over the frames ``kept`` (those with every marker):
+    a frame whose two markers coincide (closer than ``COINCIDENT``) is a
+    degenerate arm; a median length outside ``SEGMENT_RANGE`` points at
+    wrong units; a frame outside that range, or more than ``SEGMENT_SPREAD``
+    off the median, at a misplaced or mislabelled marker there.
+
+    Args:
+        points: Marker positions [m] by role, torso axes, each shape (n, 3).
+        kept: Indices of the frames to check, shape (m,).
+        tracks: The raw tracks (frame times, lines, units), for messages.
+        markers: The marker map (names and declared units).
+        trial: The trial named for messages, e.g. ``"subject 'P01', trial 0"``.
+        path: The file, for messages.
+
+    Raises:
+        DemoFileError: naming the subject, trial, segment, the length found
+            and the frame, or for a median the units read and whether the
+            marker map declared them.
+    """
+    for segment, start, end in SEGMENTS:
+        lengths = np.linalg.norm(points[end][kept] - points[start][kept], axis=1)
+        ends = f"{markers.names[start]!r} to {markers.names[end]!r}"
+        problem = _segment_problem(
+            lengths, kept, tracks, markers, f"{segment} ({ends})"
+        )
+        if problem is not None:
+            raise DemoFileError(path, f"{trial}{problem}", segment=segment, trial=trial)
+
+
+def _segment_problem(
+    lengths: FloatArray,
+    kept: np.ndarray,
+    tracks: MarkerTracks,
+    markers: MarkerMap,
+    segment: str,
+) -> str | None:
+    """What is wrong with one segment's lengths [m], shape (m,), or ``None``."""
+    low, high = SEGMENT_RANGE
+    span = f"a human's is {100 * low:g} cm to {high:g} m"
+    zero = np.flatnonzero(lengths < COINCIDENT)
+    if zero.size:
+        frame = tracks.frame(int(kept[zero[0]]))
+        return f", {frame}: degenerate arm, zero-length {segment}: the markers coincide"
+    median = float(np.median(lengths))
+    if not low <= median <= high:
+        return (
+            f": the {segment} is {_length(median)} long (median of {len(lengths)} "
+            f"frames), but {span}; coordinates were read in "
+            f"{_units_read(tracks, markers)}: are the units right?"
+        )
+    off = np.abs(lengths / median - 1.0) > SEGMENT_SPREAD
+    odd = np.flatnonzero(off | (lengths < low) | (lengths > high))
+    if not odd.size:
+        return None
+    k = int(odd[0])
+    return (
+        f", {tracks.frame(int(kept[k]))}: the {segment} is {_length(lengths[k])} "
+        f"long, its median {_length(median)} ({span}): a marker is misplaced "
+        "or mislabelled there (empty cells would drop the frame)"
+    )
+
+
+def _length(metres: float) -> str:
+    """A length for a message: ``0.3 mm`` below a centimetre, else ``0.312 m``."""
+    return f"{metres * 1000:.3g} mm" if metres < 0.01 else f"{metres:.3g} m"
+
+
+def _units_read(tracks: MarkerTracks, markers: MarkerMap) -> str:
+    """The units the coordinates were read in, and where they came from."""
+    if markers.units is not None:
+        return f'{tracks.units}, as the marker map\'s "units" declares'
+    return f'{tracks.units}, the file\'s default (the marker map has no "units")'
+
+
+def _report_gaps(
+    whole: np.ndarray,
+    tracks: MarkerTracks,
+    trial: int,
+    path: str,
+    report: Report | None,
+) -> None:
+    """Tell ``report`` how many frames are dropped for a missing marker."""
+    gaps = np.flatnonzero(~whole)
+    if report is None or not gaps.size:
+        return
+    report(
+        f"{path}: trial {trial}: dropped {gaps.size} of {len(whole)} frames with "
+        f"a missing marker, the first at {tracks.frame(int(gaps[0]))}"
+    )
+
+
+def _check_near(
+    points: dict[str, FloatArray], markers: MarkerMap, tracks: MarkerTracks, path: str
+) -> None:
     """Raise DemoFileError naming the first marker and frame beyond ``FARTHEST``.
 
     Non-finite values are missing samples (their frames are dropped), not
@@ -116,9 +269,15 @@ def _check_near(points: dict[str, FloatArray], markers: MarkerMap, path: str) ->
         far = np.flatnonzero(np.any(np.isfinite(p) & (np.abs(p) > FARTHEST), axis=1))
         if far.size:
             k = int(far[0])
+            line = "" if tracks.lines is None else f" (line {tracks.lines[k]})"
+            if 2 * far.size > len(p):
+                line += (
+                    f"; so are most of its frames: coordinates were read in "
+                    f"{_units_read(tracks, markers)}: are the units right?"
+                )
             raise DemoFileError(
                 path,
                 f"marker {markers.names[role]!r} at frame {k} is at "
                 f"{np.array2string(p[k], precision=4)} m, more than "
-                f"{FARTHEST:g} m from the origin: not a position",
+                f"{FARTHEST:g} m from the origin: not a position{line}",
             )

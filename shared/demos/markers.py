@@ -17,6 +17,9 @@ A JSON file, read by ``armplan demos import ... --markers MAP.json``::
       "subject": "P01",        optional: subject name (default the file name)
       "stature": 1.72          optional: the subject's height [m]
     }
+
+Each role needs its own marker: a map giving one marker to two roles (say
+shoulder and elbow) would make a zero-length arm segment, and is refused.
 """
 
 from __future__ import annotations
@@ -82,8 +85,8 @@ def read_marker_map(path: str | Path) -> MarkerMap:
     """The marker map in a JSON file.
 
     Raises:
-        DemoFileError: if the file is missing, not JSON, or not a marker map
-            (naming the field that is wrong).
+        DemoFileError: if the file is missing, not JSON, not a marker map
+            (naming the field that is wrong), or gives one marker to two roles.
     """
     path = Path(path)
     try:
@@ -93,10 +96,33 @@ def read_marker_map(path: str | Path) -> MarkerMap:
             str(path), f"cannot read the marker map: {exc.strerror}"
         ) from None
     try:
-        return parse(MarkerMap, json.loads(text))
+        markers = parse(MarkerMap, json.loads(text))
     except json.JSONDecodeError as exc:
         raise DemoFileError(
             str(path), f"the marker map is not valid JSON ({exc})"
         ) from None
     except InvalidInputError as exc:
         raise DemoFileError(str(path), exc.message) from None
+    _check_distinct(markers, str(path))
+    return markers
+
+
+def _check_distinct(markers: MarkerMap, path: str) -> None:
+    """Raise DemoFileError if one marker is given for several roles.
+
+    Two roles on one marker make a zero-length segment (no direction to
+    retarget), e.g. shoulder and elbow on ``RSHO``.
+    """
+    roles: dict[str, list[str]] = {}
+    for role, name in markers.names.items():
+        roles.setdefault(name, []).append(role)
+    for name, used in roles.items():
+        if len(used) > 1:
+            listed = ", ".join(used[:-1]) + " and " + used[-1]
+            raise DemoFileError(
+                path,
+                f"the marker map gives marker {name!r} for {listed}: each needs "
+                "its own marker, else the arm has a zero-length segment",
+                marker=name,
+                roles=used,
+            )

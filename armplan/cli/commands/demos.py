@@ -9,6 +9,10 @@
 ``shared/demos/markers.py``, CSV columns in ``shared/demos/csv_import.py``),
 retargets it to NAO and writes the same MCAP form; ``info`` counts subjects,
 trials, samples and labels.
+
+Files are checked before any work: a file given twice (its trials would
+count twice) and an output that is also an input are refused. ``import``
+notes on stderr how many frames it dropped for a missing marker.
 """
 
 from __future__ import annotations
@@ -66,7 +70,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def run_synth(args: argparse.Namespace) -> int:
     """Write the synthetic set."""
     from shared.demos import synthesize, write_demos
+    from shared.output_paths import check_output_file
 
+    check_output_file(args.output)
     demos = synthesize(args.seed, subjects=args.subjects, trials=args.trials)
     count = write_demos(args.output, demos, source=f"synthetic, seed {args.seed}")
     sys.stdout.write(
@@ -82,23 +88,28 @@ def run_import(args: argparse.Namespace) -> int:
     from shared.demos.c3d_import import read_c3d
     from shared.demos.csv_import import read_csv
     from shared.demos.markers import read_marker_map
+    from shared.demos.paths import check_distinct
+    from shared.output_paths import check_output_file
 
+    check_distinct(args.files)
+    check_output_file(args.output, [*args.files, args.markers])
+    for name in args.files:
+        if Path(name).suffix.lower() not in (".c3d", ".csv"):
+            raise InvalidInputError(
+                f"{name}: expected a .c3d or .csv file", field="files"
+            )
     markers = read_marker_map(args.markers)
     subjects: dict[str, Subject] = {}
     trials: list[Trial] = []
     for name in args.files:
         path = Path(name)
         if path.suffix.lower() == ".c3d":
-            trial, subject = read_c3d(path, markers, _next_trial(trials))
+            trial, subject = read_c3d(path, markers, _next_trial(trials), report=_note)
             found = [trial]
-        elif path.suffix.lower() == ".csv":
-            found, subject = read_csv(path, markers)
+        else:
+            found, subject = read_csv(path, markers, report=_note)
             base = _next_trial(trials)
             found = [t._replace(trial=base + i) for i, t in enumerate(found)]
-        else:
-            raise InvalidInputError(
-                f"{path}: expected a .c3d or .csv file", field="files"
-            )
         subjects.setdefault(subject.name, subject)
         trials.extend(found)
     count = write_demos(
@@ -109,6 +120,11 @@ def run_import(args: argparse.Namespace) -> int:
         f"{count} samples, retargeted to NAO's {markers.arm.value} arm\n"
     )
     return 0
+
+
+def _note(text: str) -> None:
+    """A note for the user on stderr (not an error: the import goes on)."""
+    sys.stderr.write(f"armplan: note: {text}\n")
 
 
 def _next_trial(trials: list[Trial]) -> int:

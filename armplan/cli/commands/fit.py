@@ -12,6 +12,11 @@ N`` the last N subjects (by name) are left out of the fit and the decision
 is compared with their labels sample by sample: the agreement and the
 confusion matrix are printed, and the model written is the one fitted
 without them.
+
+The output is checked before any work: it must be a file name in an
+existing folder and none of the demonstration files (which it would
+overwrite); a demonstration file given twice is refused (its trials would
+count twice).
 """
 
 from __future__ import annotations
@@ -59,7 +64,11 @@ def run(args: argparse.Namespace) -> int:
     """Read, fit, write, report."""
     from services.fit import fit_model, save_model
     from shared.demos import read_demos
+    from shared.demos.paths import check_distinct
+    from shared.output_paths import check_output_file
 
+    check_distinct(args.files)
+    check_output_file(args.output, args.files)
     with _progress(args.json) as (progress, console):
         task = progress.add_task("reading demonstrations", total=None)
         demos = read_demos(args.files)

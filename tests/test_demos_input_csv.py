@@ -1,0 +1,151 @@
+"""CSV import refuses malformed cells naming line and column, and notes gaps."""
+
+from __future__ import annotations
+
+import csv
+import json
+import pathlib
+
+import numpy as np
+import pytest
+
+from armplan.cli.main import main
+from shared.demos.csv_import import read_csv
+from shared.demos.markers import MarkerMap
+from shared.errors import DemoFileError
+
+MARKERS = MarkerMap(shoulder="RSHO", elbow="RELB", wrist="RWRB")
+HEADER = ["time", "trial"] + [
+    f"{m}_{a}" for m in ("RSHO", "RELB", "RWRB") for a in "xyz"
+]
+
+
+def arm_rows(trial: int, n: int = 30, scale: float = 1.0) -> list[list[str]]:
+    """Rows of one trial of a swinging arm (upper arm 0.3 m, forearm 0.25 m)."""
+    angle = np.linspace(0.0, 1.2, n) + 0.1 * trial
+    shoulder = np.tile([0.1, -0.2, 1.4], (n, 1))
+    down = np.stack((np.sin(angle), np.zeros(n), -np.cos(angle)), axis=1)
+    elbow = shoulder + 0.3 * down
+    wrist = elbow + 0.25 * down
+    rows = []
+    for k in range(n):
+        cells = [f"{k / 100:.2f}", str(trial)]
+        cells += [f"{scale * v:.6f}" for p in (shoulder, elbow, wrist) for v in p[k]]
+        rows.append(cells)
+    return rows
+
+
+def write_csv(path: pathlib.Path, rows: list[list[str]]) -> pathlib.Path:
+    """``rows`` under the header; line k + 2 of the file holds ``rows[k]``."""
+    with open(path, "w", newline="") as stream:
+        csv.writer(stream).writerows([HEADER, *rows])
+    return path
+
+
+def test_a_trial_cell_too_big_for_an_integer_names_line_and_column(
+    tmp_path: pathlib.Path,
+) -> None:
+    """'1e400' (infinite as a float) is refused, not an OverflowError."""
+    rows = arm_rows(0)
+    rows[5][1] = "1e400"
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: line 7, column 'trial' holds '1e400', which is not a trial "
+        "number (a whole number from 0)"
+    )
+
+
+@pytest.mark.parametrize("value", ["1.5", "-1", "", "one"])
+def test_a_trial_number_must_be_whole(tmp_path: pathlib.Path, value: str) -> None:
+    """1.5 is not silently read as trial 1; negatives, blanks, words refused."""
+    rows = arm_rows(1)
+    rows[3][1] = value
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError, match=r"line 5, column 'trial' holds") as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.evidence["line"] == 5
+
+
+def test_whole_trial_numbers_written_as_floats_are_read(tmp_path: pathlib.Path) -> None:
+    """'3.0' is trial 3 (spreadsheets write whole numbers that way)."""
+    rows = arm_rows(3)
+    for row in rows:
+        row[1] = "3.0"
+    trials, _ = read_csv(write_csv(tmp_path / "rec.csv", rows), MARKERS)
+    assert [t.trial for t in trials] == [3]
+
+
+def test_a_bad_number_names_the_csv_column_and_line(tmp_path: pathlib.Path) -> None:
+    """The message names RSHO_z and the line, not the role 'shoulder'."""
+    rows = arm_rows(0)
+    rows[2][4] = "abc"
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: line 4, column 'RSHO_z' holds 'abc', which is not a number"
+    )
+
+
+def test_an_infinite_coordinate_is_refused(tmp_path: pathlib.Path) -> None:
+    """'inf' is not a gap (that is an empty cell) but a bad value."""
+    rows = arm_rows(0)
+    rows[0][6] = "inf"
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError, match=r"line 2, column 'RELB_y' holds 'inf'"):
+        read_csv(path, MARKERS)
+
+
+def test_a_row_lacking_cells_is_refused_naming_its_line(tmp_path: pathlib.Path) -> None:
+    """A row cut short is not a gap: refused, naming line and first lost column."""
+    rows = arm_rows(0)
+    rows[7] = rows[7][:8]
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: line 9 has 8 cells, the header 11: it lacks column 'RWRB_x' "
+        "(leave a cell empty for a missing sample)"
+    )
+
+
+def test_an_empty_time_is_refused_naming_its_line(tmp_path: pathlib.Path) -> None:
+    """Without its time a row cannot be placed: refused, naming the line."""
+    rows = arm_rows(0)
+    rows[4][0] = ""
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError, match="trial 0 must be given and increase: "):
+        read_csv(path, MARKERS)
+    with pytest.raises(DemoFileError, match="line 6 has none"):
+        read_csv(path, MARKERS)
+
+
+def test_empty_marker_cells_drop_the_row_and_the_cli_says_so(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Gaps are documented as dropped frames; the import counts them on stderr."""
+    rows = arm_rows(0) + arm_rows(1)
+    rows[4][3] = ""
+    rows[40][8] = ""
+    rows[41][2] = "nan"
+    path = write_csv(tmp_path / "gaps.csv", rows)
+    markers = tmp_path / "map.json"
+    markers.write_text(
+        json.dumps({"shoulder": "RSHO", "elbow": "RELB", "wrist": "RWRB"})
+    )
+    out = tmp_path / "gaps.mcap"
+    code = main(
+        ["demos", "import", str(path), "--markers", str(markers), "-o", str(out)]
+    )
+    assert code == 0
+    captured = capsys.readouterr()
+    assert f"{out}: 1 subjects, 2 trials, 57 samples" in captured.out
+    notes = captured.err.splitlines()
+    assert notes == [
+        f"armplan: note: {path}: trial 0: dropped 1 of 30 frames with a missing "
+        "marker, the first at frame 4 (t = 0.04 s, line 6)",
+        f"armplan: note: {path}: trial 1: dropped 2 of 30 frames with a missing "
+        "marker, the first at frame 10 (t = 0.1 s, line 42)",
+    ]
