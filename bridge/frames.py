@@ -7,10 +7,14 @@ import math
 import numpy as np
 
 from bridge.interpolation import positions_at
+from shared.errors import InvalidInputError
 from shared.messages import CommandFrames, Trajectory
 
 #: Choregraphe's default timeline frame rate [Hz].
 DEFAULT_RATE = 25.0
+#: Most frames one trajectory may become: 2 hours at 25 fps. The longest
+#: plan (64 targets, each held up to 60 s) is about 75 minutes.
+MAX_FRAMES = 180_000
 
 
 def frame_times(duration: float, rate: float = DEFAULT_RATE) -> np.ndarray:
@@ -22,8 +26,20 @@ def frame_times(duration: float, rate: float = DEFAULT_RATE) -> np.ndarray:
     Args:
         duration: Length of the movement [s].
         rate: Frame rate [Hz].
+
+    Raises:
+        InvalidInputError: more than ``MAX_FRAMES`` frames (checked before
+            any is made: a trajectory of 1e6 s once filled the memory).
     """
     count = max(1, math.ceil(duration * rate - 1e-9))
+    if count > MAX_FRAMES:
+        raise InvalidInputError(
+            f"a trajectory of {duration:g} s at {rate:g} fps is {count} frames, "
+            f"more than {MAX_FRAMES}: lower the frame rate or split the movement",
+            field="times",
+            frames=count,
+            limit=MAX_FRAMES,
+        )
     return np.arange(1, count + 1) / rate
 
 

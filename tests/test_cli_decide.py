@@ -105,7 +105,10 @@ def test_grid_prints_the_table_4_like_table(capsys: pytest.CaptureFixture[str]) 
         (["--grid", "--palm", "0", "0", "1"], "--palm is for one decision"),
         (["--target", "0.12", "-0.1", "0.05", "--demos", "d.mcap"], "--demos adds"),
         (["--target", "0.12", "-0.1", "0.05", "--plot", "decision"], "name a .png"),
-        (["--target", "0.12", "-0.1", "0.05", "--plot", "/absent/d.png"], "No such file"),
+        (
+            ["--target", "0.12", "-0.1", "0.05", "--plot", "/absent/d.png"],
+            "No such file",
+        ),
     ],
 )
 def test_bad_input_is_a_clear_error(

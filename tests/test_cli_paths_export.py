@@ -12,12 +12,11 @@ import numpy as np
 import pytest
 
 from armplan.cli.main import main
-from bridge.frames import frames_from_trajectory
+from bridge.frames import MAX_FRAMES, frames_from_trajectory
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.python_export import write_python
 from shared.errors import InvalidInputError
 from shared.messages import Trajectory
-from shared.messages.wrist_path import MAX_DURATION
 from shared.robot.postures import rest
 
 FORMATS = ("python", "choregraphe")
@@ -115,33 +114,32 @@ def test_an_empty_output_is_refused(
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_a_trajectory_longer_than_the_longest_path_is_refused(
+def test_a_trajectory_of_too_many_frames_is_refused(
     fmt: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """A last sample at 601 s (1e6 s hung, filling the memory with frames) is
-    refused with the duration and the cap it exceeds, before any frame is made."""
+    """A last sample at 1e6 s (it hung, filling the memory with frames) is
+    refused with the frame count and the cap, before any frame is made."""
     source = tmp_path / "t_gap.json"
-    source.write_text(held_until(MAX_DURATION + 1.0).to_json())
+    source.write_text(held_until(1e6).to_json())
     output = tmp_path / "x.out"
     code, err = export(capsys, fmt, source, str(output))
     assert code == 1
     assert err == (
-        f"armplan: error: {source}: the trajectory lasts 601 s, longer than 600 s "
-        "(the longest wrist path armplan plans, "
-        "shared.messages.wrist_path.MAX_DURATION)\n"
+        "armplan: error: a trajectory of 1e+06 s at 25 fps is 25000000 frames, "
+        f"more than {MAX_FRAMES}: lower the frame rate or split the movement\n"
     )
     assert not output.exists()
 
 
-def test_a_trajectory_of_the_longest_duration_is_exported(
+def test_a_trajectory_of_the_most_frames_is_exported(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """The cap itself is allowed: 600 s is 15000 frames at 25 fps."""
+    """The cap itself is allowed: a plan held 2 hours is 180000 frames at 25 fps."""
     source = tmp_path / "long.json"
-    source.write_text(held_until(MAX_DURATION).to_json())
+    source.write_text(held_until(MAX_FRAMES / 25.0).to_json())
     output = tmp_path / "long.py"
     assert exported(capsys, source, output).startswith(
-        f"wrote {output}: 15000 frames at 25 fps (600.000 s"
+        f"wrote {output}: {MAX_FRAMES} frames at 25 fps"
     )
 
 

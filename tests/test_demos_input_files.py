@@ -128,4 +128,6 @@ def test_synth_refuses_a_directory_as_output(
 ) -> None:
     """A folder is no output file."""
     assert main(["demos", "synth", "-o", str(tmp_path)]) == 1
-    assert _error(capsys) == f"armplan: error: cannot write {tmp_path}: Is a directory\n"
+    assert (
+        _error(capsys) == f"armplan: error: cannot write {tmp_path}: Is a directory\n"
+    )

@@ -12,7 +12,6 @@ from armplan.cli.parsing import add_json
 from shared.errors import InvalidInputError
 from shared.messages import Trajectory, parse
 from shared.messages.base import MAX_RATE, MIN_RATE
-from shared.messages.wrist_path import MAX_DURATION
 from shared.output_paths import check_output_file
 
 ORDER = 60
@@ -50,24 +49,6 @@ def read_trajectory(path: str) -> Trajectory:
     return parse(Trajectory, data)
 
 
-def check_duration(trajectory: Trajectory, path: str) -> Trajectory:
-    """``trajectory`` if it lasts at most ``MAX_DURATION`` [s]; else InvalidInputError.
-
-    Its frames are sampled at ``--rate`` over the whole duration, so a
-    trajectory of 1e6 s would make tens of millions of frames.
-    """
-    if not trajectory.duration <= MAX_DURATION:
-        raise InvalidInputError(
-            f"{path}: the trajectory lasts {trajectory.duration:g} s, longer than "
-            f"{MAX_DURATION:g} s (the longest wrist path armplan plans, "
-            "shared.messages.wrist_path.MAX_DURATION)",
-            field="times",
-            duration=trajectory.duration,
-            limit=MAX_DURATION,
-        )
-    return trajectory
-
-
 def run(args: argparse.Namespace) -> int:
     """Check the frames against the limits, then write them."""
     from bridge import (
@@ -84,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
             field="rate",
         )
     check_output_file(args.output)
-    trajectory = check_duration(read_trajectory(args.trajectory), args.trajectory)
+    trajectory = read_trajectory(args.trajectory)
     frames = frames_from_trajectory(trajectory, args.rate)
     check_frames(frames, FrameLimits.for_arm(trajectory.arm))
     writer = write_behavior if args.format == "choregraphe" else write_python
