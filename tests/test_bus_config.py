@@ -118,10 +118,17 @@ def test_bad_settings_name_the_setting(
     assert str(tmp_path) in caught.value.message
 
 
-@pytest.mark.parametrize("endpoint", ["127.0.0.1:7447", "tcp/127.0.0.1", "tcp/h:99999"])
-def test_malformed_endpoint_is_refused(endpoint: str) -> None:
-    """Endpoints must read PROTO/HOST:PORT."""
-    with pytest.raises(BusConfigError, match="must read PROTO/HOST:PORT"):
+@pytest.mark.parametrize(
+    ("endpoint", "message"),
+    [("127.0.0.1:7447", "must read PROTO/HOST:PORT"),
+     ("tcp/127.0.0.1", "must read PROTO/HOST:PORT"),
+     ("tcp/h:99999", "port 99999 is outside 1..65535"),
+     ("tls/127.0.0.1:0", "port 0 is outside 1..65535")],
+)  # fmt: skip
+def test_malformed_endpoint_is_refused(endpoint: str, message: str) -> None:
+    """Endpoints must read PROTO/HOST:PORT, with a port in range (said as such:
+    a well-formed endpoint with port 99999 once read as malformed)."""
+    with pytest.raises(BusConfigError, match=message):
         load_config(None, (endpoint,))
 
 

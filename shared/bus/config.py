@@ -43,9 +43,15 @@ def check_endpoint(endpoint: str, source: str) -> str:
         BusConfigError: naming ``source`` (file or option) and the endpoint.
     """
     match = _ENDPOINT.match(endpoint)
-    if not match or not 0 < int(match.group(3)) < 65536:
+    if not match:
         raise BusConfigError(
             f"endpoint {endpoint!r} must read PROTO/HOST:PORT, e.g. {DEFAULT_ENDPOINT}",
+            source=source,
+            setting="endpoint",
+        )
+    if not 0 < int(match.group(3)) < 65536:
+        raise BusConfigError(
+            f"endpoint {endpoint!r}: port {int(match.group(3))} is outside 1..65535",
             source=source,
             setting="endpoint",
         )
