@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import pathlib
 import subprocess
 import sys
 
@@ -134,6 +135,27 @@ def test_up_checks_the_robot_address_before_starting_anything() -> None:
         "armplan: error: robot address 'garbage' must look like tcp://HOST:PORT "
         "(a real NAO: tcp://IP:9559)\n"
     )
+
+
+@pytest.mark.parametrize(
+    "command", [("fit", "absent.mcap", "-o", "m.json"), ("faults", "--seed", "-1")]
+)
+def test_an_error_is_one_line_on_stderr(
+    command: tuple[str, ...], tmp_path: pathlib.Path
+) -> None:
+    """fit's progress display left a blank line before its error; faults took a
+    negative seed. Each error is now the one line on stderr, nothing else."""
+    out = subprocess.run(
+        [sys.executable, "-m", "armplan", *command],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert out.returncode == 1
+    assert out.stderr.startswith("armplan: error: ")
+    assert out.stderr.count("\n") == 1 and out.stderr.endswith("\n")
 
 
 def test_json_errors_are_machine_readable() -> None:

@@ -118,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
 def measure(args: argparse.Namespace) -> dict[str, float]:
     """Every benchmark's figures, flat, under one progress bar."""
     from armplan.bench import ik_cost, plan_cost, service_latency
-    from armplan.bench.progress import progress_bar
+    from armplan.cli.progress import progress_bar
 
     load_start = os.getloadavg()[0]
     with progress_bar() as bar:

@@ -361,17 +361,8 @@ def _bars(bars: dict[str, Any]) -> str:
 
 @contextmanager
 def _progress(quiet: bool) -> Iterator[Any]:
-    """A rich progress display on stderr (off with --json)."""
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
+    """The progress bar on stderr (off with --json)."""
+    from armplan.cli.progress import progress_bar
 
-    progress = Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        console=Console(file=sys.stderr),
-        disable=quiet,
-        transient=True,
-    )
-    with progress:
+    with progress_bar(quiet) as progress:
         yield progress

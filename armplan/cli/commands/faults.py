@@ -92,6 +92,10 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidInputError("--requests must be at least 3", field="requests")
     if args.burst < 0:
         raise InvalidInputError("--burst must not be negative", field="burst")
+    if args.seed < 0:
+        raise InvalidInputError(
+            f"--seed must be 0 or more, got {args.seed}", field="seed"
+        )
     kept = None if args.out is None else check_output_folder(args.out)
     options = SuiteOptions(
         requests=args.requests,

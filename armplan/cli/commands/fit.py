@@ -113,21 +113,13 @@ def _split(names: list[str], hold_out: int) -> tuple[list[str], list[str]]:
 
 @contextmanager
 def _progress(quiet: bool) -> Iterator[tuple[Any, Any]]:
-    """A rich progress display on stderr, and a console for stdout."""
+    """The progress bar on stderr, and a console for stdout."""
     from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
 
-    console = Console(file=sys.stdout, soft_wrap=True)
-    progress = Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        console=Console(file=sys.stderr),
-        disable=quiet,
-        transient=True,
-    )
-    with progress:
-        yield progress, console
+    from armplan.cli.progress import progress_bar
+
+    with progress_bar(quiet) as progress:
+        yield progress, Console(file=sys.stdout, soft_wrap=True)
 
 
 def _report(model: Any, output: str, held: list[str], agreement: Any) -> dict[str, Any]:

@@ -1,4 +1,7 @@
-"""A progress bar for ``armplan bench``, on stderr so ``--json`` stays clean."""
+"""The progress bar of long commands (bench, fit, experiment).
+
+On stderr, so ``--json`` and the tables on stdout stay clean.
+"""
 
 from __future__ import annotations
 
@@ -17,10 +20,12 @@ from rich.progress import (
 
 
 @contextmanager
-def progress_bar() -> Iterator[Progress]:
+def progress_bar(quiet: bool = False) -> Iterator[Progress]:
     """A rich progress bar on stderr that disappears when done.
 
-    Where stderr is not a terminal (a pipe, a test) it draws nothing.
+    Where stderr is not a terminal (a pipe, a test), or ``quiet``, it draws
+    nothing (not even the blank line a transient display leaves behind
+    there, which came before an error's line).
     """
     console = Console(stderr=True)
     with Progress(
@@ -31,6 +36,6 @@ def progress_bar() -> Iterator[Progress]:
         TimeElapsedColumn(),
         console=console,
         transient=True,
-        disable=not console.is_terminal,
+        disable=quiet or not console.is_terminal,
     ) as progress:
         yield progress
