@@ -27,6 +27,7 @@ import numpy as np
 
 from shared.errors import InvalidInputError
 from shared.messages import CommandFrames
+from shared.output_paths import write_output_text
 
 #: XML namespace of Choregraphe projects.
 NAMESPACE = "http://www.aldebaran-robotics.com/schema/choregraphe/project.xsd"
@@ -172,15 +173,7 @@ def write_behavior(frames: CommandFrames, path: str | Path) -> Path:
     Raises:
         InvalidInputError: naming the path and the reason it cannot be written.
     """
-    path = Path(path)
-    text = behavior_xml(frames)
-    try:
-        path.write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise InvalidInputError(
-            f"cannot write {path}: {exc.strerror}", field="output"
-        ) from None
-    return path
+    return write_output_text(path, behavior_xml(frames))
 
 
 def _local(tag: str) -> str:

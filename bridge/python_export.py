@@ -22,8 +22,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from shared.errors import InvalidInputError
 from shared.messages import CommandFrames
+from shared.output_paths import write_output_text
 
 #: Fraction of the speed limits used to reach the start posture.
 START_SPEED = 0.2
@@ -91,12 +91,4 @@ def write_python(frames: CommandFrames, path: str | Path) -> Path:
     Raises:
         InvalidInputError: naming the path and the reason it cannot be written.
     """
-    path = Path(path)
-    text = python_script(frames)
-    try:
-        path.write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise InvalidInputError(
-            f"cannot write {path}: {exc.strerror}", field="output"
-        ) from None
-    return path
+    return write_output_text(path, python_script(frames))

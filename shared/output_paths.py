@@ -85,6 +85,23 @@ def check_output_folder(out: str | Path, option: str = "--out") -> Path:
     return Path(out)
 
 
+def write_output_text(path: str | Path, text: str, field: str = "output") -> Path:
+    """Write ``text`` (UTF-8) to ``path``; returns the path.
+
+    Raises:
+        InvalidInputError: naming the path and the OS's reason if it cannot be
+            written.
+    """
+    path = Path(path)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot write {path}: {exc.strerror}", field=field
+        ) from None
+    return path
+
+
 def _file_problem(path: Path) -> str:
     """Why no file can be written at ``path`` (the OS's words), or ``""``."""
     folder = path.parent
