@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from collections.abc import Sequence
@@ -53,12 +54,28 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     parser.add_argument("--rate", type=float, default=25.0, help="frame rate [Hz]")
     args = parser.parse_args(argv)
+    replies = replies_stream()
     client = NaoqiClient(args.robot)
     try:
-        serve(RobotBridge(client, rate=args.rate), sys.stdin, sys.stdout)
+        serve(RobotBridge(client, rate=args.rate), sys.stdin, replies)
     finally:
         client.close()
+        replies.flush()
     return 0
+
+
+def replies_stream() -> TextIO:
+    """The process's stdout, for the replies alone; anything else goes to stderr.
+
+    libqi's native log lines (``[W] ... qi.path.sdklayout: ...``) are written
+    to file descriptor 1 by C++, past Python: the reply stream keeps a copy of
+    the original stdout, and descriptor 1 becomes stderr's, so a reader of
+    stdout gets JSON lines only.
+    """
+    sys.stdout.flush()
+    replies = os.fdopen(os.dup(1), "w", encoding="utf-8", buffering=1)
+    os.dup2(2, 1)
+    return replies
 
 
 if __name__ == "__main__":

@@ -51,7 +51,11 @@ def with_sample(
 
 
 class BridgeProcess:
-    """``python -m bridge --robot URL``, one JSON line in, one out."""
+    """``python -m bridge --robot URL``, one JSON line in, one out.
+
+    Every stdout line must be a reply: libqi's own log lines once came first
+    on stdout, and a reader had to skip them.
+    """
 
     def __init__(self, robot: str) -> None:
         self.process = subprocess.Popen(
@@ -67,8 +71,7 @@ class BridgeProcess:
     def _read(self) -> None:
         assert self.process.stdout is not None
         for line in self.process.stdout:
-            if line.startswith("{"):
-                self.lines.put(line)
+            self.lines.put(line)
 
     def send(self, request: ExecuteRequest) -> None:
         assert self.process.stdin is not None
