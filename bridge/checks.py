@@ -8,7 +8,11 @@ acceleration limit, and the third difference under its jerk limit. Each
 difference is a divided difference: k! times it is the k-th derivative of
 any smooth curve through the frames somewhere in its window, so a value over
 a limit proves the robot cannot pass through those keys within it, however
-it interpolates between them. One bad frame refuses the whole trajectory, with a
+it interpolates between them. The arm is at rest before frame 0 and after
+the last frame (the robot holds its last key), so the acceleration and jerk
+of starting from rest and of coming to rest are checked too
+(:func:`check_rest_ends`): a trajectory that sets off at speed is a step
+the robot cannot make. One bad frame refuses the whole trajectory, with a
 :class:`~shared.errors.TrajectoryRefusedError` naming the joint, the frame,
 its time and the limit.
 """
@@ -23,6 +27,9 @@ from shared.messages import CommandFrames
 
 #: Slack on every comparison, relative to the limit: float round-off only.
 SLACK = 1e-9
+#: Frames of rest seen before frame 0 and after the last frame: enough for
+#: every jerk window (four frames) that reaches into the rest.
+REST = 2
 
 
 def check_frames(frames: CommandFrames, limits: FrameLimits) -> None:
@@ -45,6 +52,7 @@ def check_frames(frames: CommandFrames, limits: FrameLimits) -> None:
     velocity = check_speeds(q, t, limits)
     acceleration = check_accelerations(velocity, t, limits)
     check_jerks(acceleration, t, limits)
+    check_rest_ends(q, t, 1.0 / frames.rate, limits)
 
 
 def _first(mask: np.ndarray) -> tuple[int, int] | None:
@@ -182,5 +190,76 @@ def check_jerks(accel: np.ndarray, t: np.ndarray, limits: FrameLimits) -> None:
             f"jerk {value:.1f} rad/s^3 over frames {k - 2} to {k + 1} (t = "
             f"{t[k - 2]:.3f} to {t[k + 1]:.3f} s) exceeds its limit "
             f"{limits.jerk[j]:.1f} rad/s^3"
+        ),
+    )
+
+
+def check_rest_ends(
+    q: np.ndarray, t: np.ndarray, period: float, limits: FrameLimits
+) -> None:
+    """Starting from rest and coming to rest within the acceleration and jerk limits.
+
+    The frames are seen with ``REST`` frames of the start posture before
+    frame 0 and of the last posture after the last frame, ``period`` apart;
+    only the windows that reach into that rest are checked here (the others
+    were, by :func:`check_accelerations` and :func:`check_jerks`).
+
+    Args:
+        q: Angles of frames 0..m [rad], shape (m + 1, n).
+        t: Their times [s], shape (m + 1,).
+        period: Time between frames [s].
+        limits: The joints' limits.
+    """
+    m = len(q) - 1
+    before = t[0] - period * np.arange(REST, 0, -1)
+    after = t[-1] + period * np.arange(1, REST + 1)
+    tp = np.concatenate([before, t, after])
+    qp = np.vstack([np.repeat(q[:1], REST, axis=0), q, np.repeat(q[-1:], REST, axis=0)])
+    velocity = np.diff(qp, axis=0) / np.diff(tp)[:, None]
+    accel = np.diff(velocity, axis=0) / (0.5 * (tp[2:] - tp[:-2]))[:, None]
+    jerk = np.diff(accel, axis=0) / ((tp[3:] - tp[:-3]) / 3.0)[:, None]
+    for quantity, values, bound, width in (
+        ("acceleration", accel, limits.acceleration, 3),
+        ("jerk", jerk, limits.jerk, 4),
+    ):
+        first = np.arange(len(values))  # each window's first padded frame
+        touches = (first < REST) | (first + width - 1 > REST + m)
+        hit = _first(touches[:, None] & (np.abs(values) > bound * (1.0 + SLACK)))
+        if hit is not None:
+            _refuse_at_rest(
+                quantity, values, bound, hit, first[hit[0]] < REST, t, limits
+            )
+
+
+def _refuse_at_rest(
+    quantity: str,
+    values: np.ndarray,
+    bound: np.ndarray,
+    hit: tuple[int, int],
+    starting: bool,
+    t: np.ndarray,
+    limits: FrameLimits,
+) -> None:
+    """Raise for ``values[hit]`` over ``bound`` when starting or coming to rest."""
+    i, j = hit
+    frame = 0 if starting else len(t) - 1
+    unit = "rad/s^2" if quantity == "acceleration" else "rad/s^3"
+    when = (
+        "setting off from rest at frame 0"
+        if starting
+        else f"coming to rest at frame {frame}"
+    )
+    value = abs(values[i, j])
+    raise TrajectoryRefusedError(
+        limits.names[j],
+        quantity,
+        value,
+        bound[j],
+        frame=frame,
+        time=t[frame],
+        detail=(
+            f"{quantity} {value:.1f} {unit} {when} (t = {t[frame]:.3f} s; the arm "
+            f"rests before the first frame and after the last) exceeds its limit "
+            f"{bound[j]:.1f} {unit}"
         ),
     )

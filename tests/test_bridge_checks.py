@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 
 from bridge.approach import approach_frames
-from bridge.checks import check_accelerations, check_frames, check_speeds
+from bridge.checks import (
+    check_accelerations,
+    check_frames,
+    check_jerks,
+    check_speeds,
+)
 from bridge.frames import frames_from_trajectory
 from bridge.limits import JERK_RAMP_TIME, RAMP_TIME, FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
@@ -108,17 +113,25 @@ def frames_of(
 
 def test_the_jerk_of_a_cubic_is_measured_exactly() -> None:
     """Keys on q = q0 + c t^3 (any spacing) have jerk 6 c: a limit just above
-    passes, one just below refuses at the first window, naming the jerk."""
+    passes, one just below refuses at the first window, naming the jerk. (The
+    frames' own windows: the cubic does not come to rest, which check_frames
+    would also refuse.)"""
     start = rest("right")
     c = 40.0  # [rad/s^3] on RShoulderPitch: jerk 240 rad/s^3
-    t = np.array([0.01, 0.03, 0.04, 0.07, 0.08])
-    positions = np.tile(start, (len(t), 1))
-    positions[:, 0] += c * t**3
-    frames = frames_of(positions, start).model_copy(update={"times": t.tolist()})
+    t = np.array([0.0, 0.01, 0.03, 0.04, 0.07, 0.08])
+    q = np.tile(start, (len(t), 1))
+    q[:, 0] += c * t**3
     limits = FrameLimits.for_arm("right")
-    check_frames(frames, limits._replace(jerk=np.full(5, 6.0 * c * (1 + 1e-6))))
+
+    def check(jerk: float) -> None:
+        within = limits._replace(jerk=np.full(5, jerk))
+        check_jerks(
+            check_accelerations(check_speeds(q, t, within), t, within), t, within
+        )
+
+    check(6.0 * c * (1 + 1e-6))
     with pytest.raises(TrajectoryRefusedError) as caught:
-        check_frames(frames, limits._replace(jerk=np.full(5, 6.0 * c * (1 - 1e-6))))
+        check(6.0 * c * (1 - 1e-6))
     error = caught.value
     assert (error.joint, error.quantity, error.frame) == ("RShoulderPitch", "jerk", 2)
     assert error.value == pytest.approx(6.0 * c, rel=1e-6)
@@ -147,6 +160,38 @@ def test_a_step_in_acceleration_is_refused_by_the_jerk_check() -> None:
     assert (error.joint, error.quantity) == ("RWristYaw", "jerk")
     assert abs(error.time - half) <= 2.0 / rate
     assert error.limit == pytest.approx(24.6229 / RAMP_TIME / JERK_RAMP_TIME)
+
+
+@pytest.mark.parametrize(
+    ("shape", "quantity", "frame"),
+    [
+        ("one frame", "acceleration", 0),
+        ("ramp", "acceleration", 0),
+        ("stop", "acceleration", 10),
+    ],
+)
+def test_setting_off_or_stopping_abruptly_is_refused(
+    shape: str, quantity: str, frame: int
+) -> None:
+    """The arm rests before frame 0 and after the last frame: a one-frame
+    request moving RElbowYaw 0.2 rad (no acceleration window among its own
+    frames), or setting off at a constant 7.5 rad/s, was played (every
+    difference among the frames was within limits); so was a halt from 8
+    rad/s. Each is refused, naming the joint, the rest and the frame."""
+    start = rest("right")
+    t = np.arange(1, 2 if shape == "one frame" else 11) / 25.0
+    positions = np.tile(start, (len(t), 1))
+    if shape == "one frame":
+        positions[:, 2] -= 0.2
+    elif shape == "ramp":
+        positions[:, 2] -= 7.5 * t
+    else:  # accelerating at 20 rad/s^2 to 8 rad/s at the last frame, then held
+        positions[:, 2] -= 0.5 * 20.0 * t**2
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        check_frames(frames_of(positions, start, 25.0), FrameLimits.for_arm("right"))
+    error = caught.value
+    assert (error.joint, error.quantity, error.frame) == ("RElbowYaw", quantity, frame)
+    assert "the arm rests before the first frame and after the last" in error.message
 
 
 def test_frames_of_another_arm_are_invalid(rng: np.random.Generator) -> None:
