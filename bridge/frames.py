@@ -12,9 +12,11 @@ from shared.messages import CommandFrames, Trajectory
 
 #: Choregraphe's default timeline frame rate [Hz].
 DEFAULT_RATE = 25.0
-#: Most frames one trajectory may become: 2 hours at 25 fps. The longest
-#: plan (64 targets, each held up to 60 s) is about 75 minutes.
-MAX_FRAMES = 180_000
+#: Most frames one trajectory may become: 30 minutes at 25 fps (a planned
+#: trajectory is at most 10 minutes). More, sent as one angleInterpolation
+#: call, took libqi so long to convert that the robot stopped answering
+#: getAngles (100 000 frames to the simulated NAO).
+MAX_FRAMES = 45_000
 
 
 def frame_times(duration: float, rate: float = DEFAULT_RATE) -> np.ndarray:

@@ -134,7 +134,7 @@ def test_a_trajectory_of_too_many_frames_is_refused(
 def test_a_trajectory_of_the_most_frames_is_exported(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """The cap itself is allowed: a plan held 2 hours is 180000 frames at 25 fps."""
+    """The cap itself is allowed: 30 minutes is 45000 frames at 25 fps."""
     source = tmp_path / "long.json"
     source.write_text(held_until(MAX_FRAMES / 25.0).to_json())
     output = tmp_path / "long.py"

@@ -328,3 +328,28 @@ def test_three_hundred_random_reachable_targets(arm: ArmModel) -> None:
         assert np.linalg.norm(hand[-1] - goal) < 1e-3
         ik_path = np.array(result.joint_paths[0].wrist)
         assert distance_to_polyline(hand, ik_path).max() < 1e-3
+
+
+def test_a_trajectory_too_long_for_the_bus_is_refused() -> None:
+    """The longest allowed task (64 targets held 60 s) planned 387 000 samples
+    at 100 Hz, 89 MB the bridge could not take (11.8 GB of memory at 1000 Hz).
+    Dwells alone over MAX_TRAJECTORY_SAMPLES are refused when the request is
+    read; a trajectory that grows over it with its movements, after timing."""
+    from pydantic import ValidationError
+
+    from shared.errors import InvalidInputError
+    from shared.messages.target import MAX_TRAJECTORY_SAMPLES
+
+    targets = [{"position": (0.12, -0.1, 0.05)}, {"position": (0.1, -0.14, 0.0)}]
+    held = [t | {"dwell": 60.0} for t in targets]
+    with pytest.raises(ValidationError, match="the dwells alone"):
+        PlanRequest.model_validate({"targets": held, "rate": 1000.0})
+    # 59 s of dwell: 59 000 samples, plus the two movements' over the cap
+    under = [t | {"dwell": 29.5} for t in targets]
+    request = PlanRequest.model_validate({"targets": under, "rate": 1000.0})
+    with pytest.raises(InvalidInputError, match="the trajectory would have") as caught:
+        plan(request)
+    assert caught.value.evidence["samples"] > MAX_TRAJECTORY_SAMPLES
+    # the same task at 100 Hz is planned
+    result = plan(request.model_copy(update={"rate": 100.0}))
+    assert 5900 < len(result.trajectory.times) < MAX_TRAJECTORY_SAMPLES

@@ -19,6 +19,10 @@ from shared.robot.side import Side
 
 #: Most targets one task may hold.
 MAX_TARGETS = 64
+#: Most samples a planned trajectory may have: 10 minutes at 100 Hz. About
+#: 230 bytes each as JSON, so the trajectory stays under the bus's default
+#: 16 MiB payload limit and can be sent to the bridge and recorded.
+MAX_TRAJECTORY_SAMPLES = 60_000
 
 
 class ReachTarget(Message):
@@ -76,5 +80,13 @@ class PlanRequest(Message):
             raise ValueError(
                 f"wrist_path is for the {self.wrist_path.arm.value} arm, "
                 f"the request for the {self.arm.value}"
+            )
+        held = sum(t.dwell for t in self.targets)
+        if held * self.rate > MAX_TRAJECTORY_SAMPLES:
+            raise ValueError(
+                f"the dwells alone ({held:g} s at {self.rate:g} Hz) make "
+                f"{held * self.rate:.0f} samples, more than "
+                f"{MAX_TRAJECTORY_SAMPLES} (MAX_TRAJECTORY_SAMPLES): lower the "
+                "rate or split the task"
             )
         return self
