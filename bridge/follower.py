@@ -77,7 +77,9 @@ class TrajectoryFollower:
         except ArmplanError as error:
             log.warning("follow: not a trajectory: %s", error.message)
             return
-        self.bridge.execute(ExecuteRequest(trajectory=trajectory, rate=self.rate))
+        self.bridge.execute(
+            ExecuteRequest(trajectory=trajectory, rate=self.rate), wait=True
+        )
         self.played += 1
 
     def stop(self) -> None:

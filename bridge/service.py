@@ -8,8 +8,11 @@ publishes what crosses the robot's boundary: the checked command frames
 (``bridge/frames``), each measured joint state while the arm moves
 (``bridge/state``) and the tracking report (``bridge/report``). A trajectory
 with one frame over a limit is refused with the bridge's typed error before
-anything is published or sent. One robot plays one trajectory at a time:
-requests wait for the one that is playing.
+anything is published or sent. One robot plays one trajectory at a time: a
+request that comes while one is playing is refused with ``robot_busy``
+(naming about how long is left), not queued, so the robot never starts a
+movement its caller may have given up on. The follower (``--follow``)
+waits instead: it plays the planner's trajectories in order by design.
 
 Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 --with-sim`` and ``armplan demo`` do); see :mod:`bridge.serve`.
@@ -19,6 +22,7 @@ from __future__ import annotations
 
 import logging
 import threading
+import time
 from collections.abc import Sequence
 from typing import Any
 
@@ -30,7 +34,7 @@ from shared.bus.topics import (
     BRIDGE_REPORT_TOPIC,
     BRIDGE_STATE_TOPIC,
 )
-from shared.errors import ArmplanError
+from shared.errors import ArmplanError, RobotBusyError
 from shared.messages import ExecuteReply, ExecuteRequest, JointState
 
 log = logging.getLogger("armplan.bridge")
@@ -48,21 +52,34 @@ class BridgeService:
         self.bus = bus
         self.robot = robot
         self._lock = threading.Lock()
+        self._ends = 0.0  # monotonic time the playing trajectory ends, about
 
-    def execute(self, request: ExecuteRequest) -> ExecuteReply:
+    def execute(self, request: ExecuteRequest, wait: bool = False) -> ExecuteReply:
         """Check, play and report one trajectory (see ``RobotBridge.execute``).
 
+        Args:
+            request: The trajectory and how to play it.
+            wait: Wait for a trajectory that is playing to end (the
+                follower's way), instead of refusing this one.
+
         Raises:
+            RobotBusyError: another trajectory is playing (``wait`` False).
             TrajectoryRefusedError: a frame breaks a limit (nothing sent,
                 nothing published).
             RobotUnavailableError, RobotCommandError: from the robot.
         """
-        with self._lock:
-            try:
-                return self._play(request)
-            except ArmplanError as error:
-                log.warning("execute: %s", error.message)
-                raise
+        if not self._lock.acquire(blocking=wait):
+            remaining = max(self._ends - time.monotonic(), 0.0)
+            log.warning("execute: refused, the robot is busy (%.1f s left)", remaining)
+            raise RobotBusyError(self.robot.client.url, remaining)
+        try:
+            self._ends = time.monotonic() + request.trajectory.duration
+            return self._play(request)
+        except ArmplanError as error:
+            log.warning("execute: %s", error.message)
+            raise
+        finally:
+            self._lock.release()
 
     def _play(self, request: ExecuteRequest) -> ExecuteReply:
         trajectory = request.trajectory

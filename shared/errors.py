@@ -541,6 +541,32 @@ class RobotUnavailableError(ArmplanError):
         self.elapsed = None if elapsed is None else float(elapsed)
 
 
+class RobotBusyError(ArmplanError):
+    """The robot is playing another trajectory; this one was refused, not queued.
+
+    A queued movement would start whenever the one before ends, perhaps long
+    after its caller gave up waiting: a robot must not move on a stale
+    command.
+
+    Attributes:
+        url: The robot's NAOqi address.
+        remaining: About how long the playing trajectory still runs [s].
+    """
+
+    kind = "robot_busy"
+
+    def __init__(self, url: str, remaining: float) -> None:
+        super().__init__(
+            f"the robot at {url} is playing another trajectory (about "
+            f"{remaining:.1f} s left); nothing was sent: send this one when it "
+            "is done",
+            url=url,
+            remaining=float(remaining),
+        )
+        self.url = url
+        self.remaining = float(remaining)
+
+
 class RobotCommandError(ArmplanError):
     """The robot answered, but refused or failed a command.
 

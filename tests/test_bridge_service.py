@@ -31,6 +31,7 @@ from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import TRAJECTORY_TOPIC
 from shared.errors import (
     InvalidInputError,
+    RobotBusyError,
     RobotUnavailableError,
     TrajectoryRefusedError,
 )
@@ -230,6 +231,35 @@ def test_a_published_trajectory_is_followed(
     )
     assert max(report.tracking_rms_deg.values()) < 1.0
     assert [e for e in commands_received(sim) if e["event"] == "motion"]
+
+
+def test_a_request_while_the_robot_plays_is_refused_not_queued(
+    stack: Stack, sim: SimProcess
+) -> None:
+    """A second execute during a 2 s trajectory: robot_busy at once, naming the
+    time left; the first plays to its end, and the sim received one movement.
+    (Queued, 95 of 100 flooded requests whose callers had timed out were
+    played one after another for minutes.)"""
+    outcome: dict[str, Any] = {}
+
+    def first() -> None:
+        outcome["reply"] = stack.execute(reach())
+
+    caller = threading.Thread(target=first)
+    caller.start()
+    try:
+        time.sleep(0.5)
+        with pytest.raises(RobotBusyError) as caught:
+            stack.execute(reach(), timeout=5.0)
+    finally:
+        caller.join(30.0)
+    assert caught.value.message.startswith(
+        f"the robot at {stack.url} is playing another trajectory (about "
+    )
+    assert 0.0 < caught.value.evidence["remaining"] <= 2.0
+    assert max(outcome["reply"].report.tracking_rms_deg.values()) < 1.0
+    motions = [e for e in commands_received(sim) if e["event"] == "motion"]
+    assert [m["method"] for m in motions].count("angleInterpolation") == 1
 
 
 def test_a_sim_killed_mid_trajectory_errs_within_2_s_and_is_used_again(
