@@ -42,7 +42,7 @@ def check_frames(frames: CommandFrames, limits: FrameLimits) -> None:
     """
     if tuple(frames.joint_names) != tuple(limits.names):
         raise InvalidInputError(
-            f"frames move {list(frames.joint_names)}, expected the joints "
+            f"frames move {_names(frames.joint_names)}, expected the joints "
             f"{list(limits.names)}",
             field="joint_names",
         )
@@ -53,6 +53,14 @@ def check_frames(frames: CommandFrames, limits: FrameLimits) -> None:
     acceleration = check_accelerations(velocity, t, limits)
     check_jerks(acceleration, t, limits)
     check_rest_ends(q, t, 1.0 / frames.rate, limits)
+
+
+def _names(names: list[str], shown: int = 6) -> str:
+    """``names`` for a message: the first ``shown`` and how many in all."""
+    if len(names) <= shown:
+        return str(list(names))
+    head = ", ".join(repr(name) for name in names[:shown])
+    return f"[{head}, ...] ({len(names)} joints)"
 
 
 def _first(mask: np.ndarray) -> tuple[int, int] | None:

@@ -194,6 +194,27 @@ def test_setting_off_or_stopping_abruptly_is_refused(
     assert "the arm rests before the first frame and after the last" in error.message
 
 
+def test_thousands_of_joint_names_are_not_all_quoted() -> None:
+    """Frames of 3000 joints: the error names the first few and the count (it
+    once quoted all 3000 names)."""
+    names = [f"J{k}" for k in range(3000)]
+    frames = CommandFrames(
+        arm=Side.RIGHT,
+        rate=25.0,
+        joint_names=names,
+        start=[0.0] * 3000,
+        times=[0.04],
+        positions=[[0.0] * 3000],
+    )
+    with pytest.raises(InvalidInputError) as caught:
+        check_frames(frames, FrameLimits.for_arm("right"))
+    assert caught.value.message.startswith(
+        "frames move ['J0', 'J1', 'J2', 'J3', 'J4', 'J5', ...] (3000 joints), "
+        "expected the joints ['RShoulderPitch',"
+    )
+    assert len(caught.value.message) < 300
+
+
 def test_frames_of_another_arm_are_invalid(rng: np.random.Generator) -> None:
     """Left-arm frames checked against right-arm limits: InvalidInputError."""
     with pytest.raises(InvalidInputError, match="expected the joints"):

@@ -46,7 +46,10 @@ def unit_direction(v: Sequence[float]) -> tuple[float, float, float]:
     u = (v[0] / scale, v[1] / scale, v[2] / scale)
     norm = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
     if scale * norm < 1e-9:
-        raise ValueError("a direction must not be the zero vector")
+        raise ValueError(
+            f"a direction must not be the zero vector (its length {scale * norm:g} "
+            "is under 1e-9)"
+        )
     return (u[0] / norm, u[1] / norm, u[2] / norm)
 
 
