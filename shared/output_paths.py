@@ -10,9 +10,10 @@ command's inputs is refused too: writing it would destroy that input.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from shared.errors import InvalidInputError
@@ -100,6 +101,23 @@ def write_output_text(path: str | Path, text: str, field: str = "output") -> Pat
             f"cannot write {path}: {exc.strerror}", field=field
         ) from None
     return path
+
+
+@contextlib.contextmanager
+def replaced_when_done(path: Path) -> Iterator[Path]:
+    """A ``<name>.partial`` file to write, renamed to ``path`` when the block ends.
+
+    A reader never sees half a file, and if the block raises, ``path`` (an
+    older file of that name) is left as it was and the partial file removed.
+    ``OSError`` from the rename propagates to the caller, for its own error.
+    """
+    partial = path.with_name(path.name + ".partial")
+    try:
+        yield partial
+        os.replace(partial, path)
+    finally:
+        with contextlib.suppress(OSError):
+            partial.unlink()
 
 
 def _file_problem(path: Path) -> str:

@@ -8,14 +8,13 @@ model (``MotionModel``), naming the first field that is wrong.
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
 from pathlib import Path
 
 from services.fit.model import MODEL_VERSION, MotionModel
 from shared.errors import InvalidInputError, ModelFileError
 from shared.messages.base import parse
+from shared.output_paths import replaced_when_done
 
 
 def save_model(model: MotionModel, path: str | Path) -> None:
@@ -28,15 +27,11 @@ def save_model(model: MotionModel, path: str | Path) -> None:
     given, path = str(path), Path(path)
     if not given or not path.name or path.name == "..":
         raise ModelFileError(repr(given), "not a file name for the motion model")
-    partial = path.with_name(path.name + ".partial")
     try:
-        partial.write_text(model.model_dump_json(indent=None) + "\n")
-        os.replace(partial, path)
+        with replaced_when_done(path) as partial:
+            partial.write_text(model.model_dump_json(indent=None) + "\n")
     except OSError as exc:
         raise ModelFileError(str(path), f"cannot write it: {exc.strerror}") from None
-    finally:
-        with contextlib.suppress(OSError):
-            partial.unlink()
 
 
 def load_model(path: str | Path) -> MotionModel:

@@ -11,8 +11,6 @@ into a ``DemoFileError`` that names the file and what is wrong.
 
 from __future__ import annotations
 
-import contextlib
-import os
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TypeVar
@@ -26,7 +24,7 @@ from shared.demos.trial import DemoSet, Trial
 from shared.errors import DemoFileError, InvalidInputError, RecordingError
 from shared.messages.base import parse
 from shared.messages.demo import DemoSample, DemoSubject
-from shared.output_paths import check_output_file
+from shared.output_paths import check_output_file, replaced_when_done
 from shared.recording import MessageWriter
 from shared.recording.reader import Recording
 
@@ -56,17 +54,13 @@ def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
     """
     path = check_output_file(path)
     people = [_subject_message(s, source, path) for s in demos.subjects.values()]
-    partial = path.with_name(path.name + ".partial")
     try:
-        count = _write(partial, people, demos.trials)
-        os.replace(partial, path)
+        with replaced_when_done(path) as partial:
+            count = _write(partial, people, demos.trials)
     except OSError as exc:
         raise RecordingError(
             f"cannot write {path}: {exc.strerror}", path=str(path)
         ) from None
-    finally:
-        with contextlib.suppress(OSError):
-            partial.unlink()
     return count
 
 
