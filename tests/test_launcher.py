@@ -23,6 +23,7 @@ from typing import IO
 
 import pytest
 
+from armplan.cli.commands.status import _rows as status_rows
 from armplan.launch import SERVICES, free_endpoint
 from shared.bus import Bus, load_config
 from shared.bus.routes import ROUTES
@@ -204,3 +205,15 @@ def test_bad_options_are_refused_before_starting(bad: str) -> None:
     """A malformed endpoint or unknown service: an error, nothing started."""
     out = armplan("up", bad)
     assert out.returncode in (1, 2) and "error" in out.stderr
+
+
+def test_status_names_the_keys_of_the_bridge_started_on_request() -> None:
+    """The bridge is no service of ``up``'s, yet status lists what it answers."""
+    rows = status_rows([*(s.name for s in SERVICES), "bridge", "recorder", "x"], "ns")
+    extra = {name: (state, keys) for name, state, keys in rows[len(SERVICES) :]}
+    assert extra == {
+        "bridge": ("alive", "ns/bridge/execute"),
+        "recorder": ("alive", "-"),
+        "x": ("alive", "-"),
+    }
+    assert all(keys != "-" for _, _, keys in rows[: len(SERVICES)])

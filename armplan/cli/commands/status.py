@@ -8,6 +8,7 @@ import sys
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
 from armplan.launch import SERVICES
+from armplan.launch.catalog import PROCESSES, ServiceSpec
 from shared.bus import Bus, load_config
 from shared.errors import ServiceUnavailableError
 
@@ -67,15 +68,30 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _rows(alive: list[str], namespace: str) -> list[tuple[str, str, str]]:
-    """(service, alive|absent, keys) for every known service and any other alive."""
-    known = {s.name: s for s in SERVICES}
+    """(service, alive|absent, keys) for every service, then any other process alive.
+
+    A process ``armplan up`` starts only when asked (recorder, bridge) is
+    listed once alive, with its keys; a token no process of ours declares
+    has keys ``-``.
+    """
+    known = {s.name for s in SERVICES}
+    others = {s.name: s for s in PROCESSES if s.name not in known}
     rows = [
         (
             spec.name,
             "alive" if spec.name in alive else "absent",
-            ", ".join(r.key(namespace) for r in spec.routes),
+            _keys(spec, namespace),
         )
         for spec in SERVICES
     ]
-    rows += [(name, "alive", "-") for name in alive if name not in known]
+    rows += [
+        (name, "alive", _keys(others[name], namespace) if name in others else "-")
+        for name in alive
+        if name not in known
+    ]
     return rows
+
+
+def _keys(spec: ServiceSpec, namespace: str) -> str:
+    """The keys ``spec`` answers, comma-separated, or ``-`` if none."""
+    return ", ".join(r.key(namespace) for r in spec.routes) or "-"
