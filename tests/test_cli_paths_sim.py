@@ -90,6 +90,18 @@ def test_the_sim_process_itself_reports_a_busy_port_on_one_line(
     )
 
 
+def test_the_sim_process_speaks_as_the_command_that_started_it(
+    busy_url: str,
+) -> None:
+    """``armplan sim`` becomes ``python -m bridge.sim --prog armplan``: a port
+    taken after armplan's own check is still armplan's error."""
+    done = run("-m", "bridge.sim", "--listen", busy_url, "--prog", "armplan")
+    assert done.returncode == 1
+    assert done.stderr.strip().splitlines()[-1] == (
+        f"armplan: error: cannot listen at {busy_url}: Address already in use"
+    )
+
+
 def test_a_cycle_that_never_started_stops_quietly() -> None:
     """stop() before start() (the listen failed) is no error."""
     cycle = ControlCycle(SimRobot(SimLog(), rest_posture()))

@@ -45,6 +45,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         action="store_true",
         help="stop when standard input closes (its parent process ended)",
     )
+    # The command a person typed, for error messages (``armplan sim`` execs this).
+    p.add_argument("--prog", default=None, help=argparse.SUPPRESS)
 
 
 def _watch_stdin(stop: threading.Event) -> None:
@@ -72,6 +74,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     p = parser()
     args = p.parse_args(argv)
+    p.prog = args.prog or p.prog
     try:
         check_listen_url(args.listen)
         check_period(args.period)

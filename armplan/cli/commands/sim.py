@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
     if args.log is not None:
         check_log_file(args.log)
     argv = [sys.executable, "-m", "bridge.sim", "--listen", args.listen]
-    argv += ["--period", str(args.period)]
+    argv += ["--period", str(args.period), "--prog", "armplan"]
     if args.log is not None:
         argv += ["--log", args.log]
     sys.stdout.flush()
