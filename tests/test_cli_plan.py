@@ -205,6 +205,19 @@ def test_the_table_and_summary(capsys: pytest.CaptureFixture[str]) -> None:
     assert error is not None and float(error[1]) < 1.0
 
 
+def test_a_coarse_rate_says_it_lengthens_the_reach(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """At 1 Hz a 0.7 s reach lasts one whole second: the summary says why
+    it is slower than human pace; at 100 Hz it says human pace alone."""
+    assert main(["plan", "--target", *AT_GOAL, "--rate", "1"]) == 0
+    coarse = capsys.readouterr().out.split("\n\n")[1]
+    assert "duration 1.000 s, 2 samples (1 Hz, human pace, each reach " in coarse
+    assert "lengthened to whole 1 s samples)" in coarse
+    assert main(["plan", "--target", *AT_GOAL]) == 0
+    assert "(100 Hz, human pace); method" in capsys.readouterr().out
+
+
 def _bad_paths(folder: pathlib.Path) -> dict[str, tuple[pathlib.Path, str]]:
     """Each bad wrist-path file and what its error must say."""
     _, lines = write_path(folder)

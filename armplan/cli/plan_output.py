@@ -77,6 +77,11 @@ def print_samples(trajectory: Trajectory, every: int = EVERY) -> None:
     print_table((*headers, "primitive"), rows)
 
 
+#: Below this rate [Hz] (NAO's 20 ms cycle) the summary says that reaches
+#: last whole sample periods, which at such rates visibly slows them.
+COARSE_RATE = 50.0
+
+
 def print_summary(
     request: PlanRequest, trajectory: Trajectory, summary: Summary
 ) -> None:
@@ -86,6 +91,9 @@ def print_summary(
         pace = "at the wrist path's own times"
     else:
         speed = "as fast as the limits allow" if request.fastest else "human pace"
+        if request.rate < COARSE_RATE:
+            period = 1.0 / request.rate
+            speed += f", each reach lengthened to whole {period:g} s samples"
         pace = f"{request.rate:g} Hz, {speed}"
     lines = [
         f"duration {summary.duration:.3f} s, {n} samples ({pace}); "
