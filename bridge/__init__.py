@@ -4,8 +4,9 @@
 - :mod:`bridge.choregraphe`, :mod:`bridge.python_export`,
   :mod:`bridge.almotion`: the frames as a Choregraphe behavior, a
   Choregraphe-style Python script, and an ALMotion ``angleInterpolation`` call.
-- :mod:`bridge.checks`: every frame against the joints' limits, before
-  anything is sent.
+- :mod:`bridge.checks`, :mod:`bridge.fidelity`: every frame against the
+  joints' limits, and the lines between frames against the trajectory,
+  before anything is sent (both: :mod:`bridge.checked_frames`).
 - :mod:`bridge.naoqi_client`, :mod:`bridge.playback`,
   :mod:`bridge.robot_bridge`, :mod:`bridge.tracking`: sending to a NAO,
   reading back, and the tracking report.
@@ -16,6 +17,7 @@
 
 import shared.libqi  # noqa: F401  (first: see shared/libqi.py)
 from bridge.almotion import AngleInterpolationCall, angle_interpolation_call
+from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.choregraphe import behavior_xml, read_behavior, write_behavior
 from bridge.frames import DEFAULT_RATE, frame_times, frames_from_trajectory
@@ -33,6 +35,7 @@ __all__ = [
     "angle_interpolation_call",
     "behavior_xml",
     "check_frames",
+    "checked_frames",
     "frame_times",
     "frames_from_trajectory",
     "python_script",

@@ -4,11 +4,13 @@
 
 1. the trajectory becomes command frames at the timeline's rate, and every
    frame is checked against the joints' position, speed, acceleration and jerk
-   limits; one bad frame refuses the whole trajectory, before the robot is
+   limits, and the lines between frames against the trajectory (within a
+   degree); one bad frame refuses the whole trajectory, before the robot is
    even contacted;
-2. the robot is connected (again, if it went away), the arm's joints are
-   stiffened, and if the arm is not at the trajectory's start a slow approach
-   move (checked the same way) brings it there;
+2. the robot is connected (again, if it went away); with the approach off,
+   an arm away from the trajectory's start refuses it here; the arm's joints
+   are stiffened, and if the arm is not at the start a slow approach move
+   (checked the same way) brings it there;
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz;
 4. the answer is the executed joint states and the tracking report (RMS and
@@ -27,8 +29,9 @@ import numpy as np
 
 from bridge.almotion import angle_interpolation_call
 from bridge.approach import approach_frames
+from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
-from bridge.frames import DEFAULT_RATE, frames_from_trajectory
+from bridge.frames import DEFAULT_RATE
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from bridge.playback import SAMPLE_PERIOD, play_and_sample
@@ -47,6 +50,7 @@ from shared.robot import Side
 START_TOLERANCE = math.radians(0.5)
 
 StateCallback = Callable[[JointState], None]
+FramesCallback = Callable[[CommandFrames], None]
 
 
 class RobotBridge:
@@ -90,14 +94,17 @@ class RobotBridge:
         """Checked command frames of ``trajectory``; nothing is sent.
 
         Raises:
-            TrajectoryRefusedError: naming the first frame over a limit.
+            TrajectoryRefusedError: naming the first frame over a limit, or
+                the joint whose frames stray furthest from the trajectory.
         """
-        frames = frames_from_trajectory(trajectory, rate or self.rate)
-        check_frames(frames, self.limits(trajectory.arm))
-        return frames
+        limits = self.limits(trajectory.arm)
+        return checked_frames(trajectory, rate or self.rate, limits)
 
     def handle(
-        self, request: ExecuteRequest, on_state: StateCallback | None = None
+        self,
+        request: ExecuteRequest,
+        on_state: StateCallback | None = None,
+        on_play: FramesCallback | None = None,
     ) -> ExecuteReply:
         """Answer an execute request (see :meth:`execute`)."""
         return self.execute(
@@ -105,6 +112,7 @@ class RobotBridge:
             rate=request.rate,
             approach=request.approach,
             on_state=on_state,
+            on_play=on_play,
         )
 
     def execute(
@@ -114,6 +122,7 @@ class RobotBridge:
         rate: float | None = None,
         approach: bool = True,
         on_state: StateCallback | None = None,
+        on_play: FramesCallback | None = None,
     ) -> ExecuteReply:
         """Play ``trajectory`` on the robot and report how well it followed.
 
@@ -123,6 +132,8 @@ class RobotBridge:
             approach: Move to the start first if the arm is elsewhere; if
                 False, an arm away from the start refuses the trajectory.
             on_state: Called with each measured state during the movement.
+            on_play: Called with the frames once every check has passed and
+                the arm is at their start, just before they are sent.
 
         Raises:
             TrajectoryRefusedError: a frame breaks a limit (nothing sent).
@@ -132,8 +143,13 @@ class RobotBridge:
         """
         frames = self.frames(trajectory, rate)
         names = list(frames.joint_names)
+        current = self.client.get_angles(names, use_sensors=False)
+        if not approach:
+            _check_at_start(frames, current)
         self.client.stiffen(names)
-        approach_time = self._approach(frames, approach)
+        approach_time = self._approach(frames, current)
+        if on_play is not None:
+            on_play(frames)
         call = angle_interpolation_call(frames)
         samples = play_and_sample(
             self.client, call, period=self.sample_period, on_sample=on_state
@@ -146,32 +162,44 @@ class RobotBridge:
             approach_duration=approach_time,
         )
 
-    def _approach(self, frames: CommandFrames, allowed: bool) -> float:
-        """Bring the arm to the frames' start if needed; the move's length [s]."""
-        names = list(frames.joint_names)
-        current = self.client.get_angles(names, use_sensors=False)
+    def _approach(self, frames: CommandFrames, current: np.ndarray) -> float:
+        """Bring the arm from ``current`` [rad] to the frames' start if needed.
+
+        Returns:
+            The approach move's length [s] (0 if the arm is at the start).
+        """
         start = np.asarray(frames.start)
-        gap = np.abs(current - start)
-        if gap.max() <= START_TOLERANCE:
+        if np.abs(current - start).max() <= START_TOLERANCE:
             return 0.0
-        if not allowed:
-            j = int(np.argmax(gap))
-            raise TrajectoryRefusedError(
-                names[j],
-                "start",
-                current[j],
-                start[j],
-                frame=0,
-                time=0.0,
-                detail=(
-                    f"is at {current[j]:.4f} rad, {math.degrees(gap[j]):.2f} deg "
-                    f"from the trajectory's start {start[j]:.4f} rad, and the "
-                    "approach move is off"
-                ),
-            )
         move = approach_frames(
             frames.arm, current, start, self.limits(frames.arm), frames.rate
         )
         check_frames(move, self.limits(frames.arm))
         play_and_sample(self.client, angle_interpolation_call(move), period=0.05)
         return move.duration
+
+
+def _check_at_start(frames: CommandFrames, current: np.ndarray) -> None:
+    """Refuse ``frames`` unless the arm, at ``current`` [rad], is at their start.
+
+    Raises:
+        TrajectoryRefusedError: naming the joint farthest from the start.
+    """
+    start = np.asarray(frames.start)
+    gap = np.abs(current - start)
+    if gap.max() <= START_TOLERANCE:
+        return
+    j = int(np.argmax(gap))
+    raise TrajectoryRefusedError(
+        frames.joint_names[j],
+        "start",
+        current[j],
+        start[j],
+        frame=0,
+        time=0.0,
+        detail=(
+            f"is at {current[j]:.4f} rad, {math.degrees(gap[j]):.2f} deg "
+            f"from the trajectory's start {start[j]:.4f} rad, and the "
+            "approach move is off"
+        ),
+    )

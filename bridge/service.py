@@ -35,7 +35,7 @@ from shared.bus.topics import (
     BRIDGE_STATE_TOPIC,
 )
 from shared.errors import ArmplanError, RobotBusyError
-from shared.messages import ExecuteReply, ExecuteRequest, JointState
+from shared.messages import CommandFrames, ExecuteReply, ExecuteRequest, JointState
 
 log = logging.getLogger("armplan.bridge")
 
@@ -82,21 +82,24 @@ class BridgeService:
             self._lock.release()
 
     def _play(self, request: ExecuteRequest) -> ExecuteReply:
-        trajectory = request.trajectory
-        frames = self.robot.frames(trajectory, request.rate)
+        reply = self.robot.handle(
+            request, on_state=self._publish_state, on_play=self._publish_frames
+        )
+        self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
+        worst = max(reply.report.tracking_rms_deg.values(), default=0.0)
+        log.info("played; worst joint RMS %.3f deg", worst)
+        return reply
+
+    def _publish_frames(self, frames: CommandFrames) -> None:
+        """Publish and log the frames about to be sent (every check passed)."""
         self.bus.publish(BRIDGE_FRAMES_TOPIC, frames)
         log.info(
             "playing %d frames (%.2f s, %s arm) on %s",
             len(frames.times),
             frames.duration,
-            trajectory.arm.value,
+            frames.arm.value,
             self.robot.client.url,
         )
-        reply = self.robot.handle(request, on_state=self._publish_state)
-        self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
-        worst = max(reply.report.tracking_rms_deg.values(), default=0.0)
-        log.info("played; worst joint RMS %.3f deg", worst)
-        return reply
 
     def _publish_state(self, state: JointState) -> None:
         self.bus.publish(BRIDGE_STATE_TOPIC, state)

@@ -479,8 +479,9 @@ class TrajectoryRefusedError(ArmplanError):
     Attributes:
         joint: NAO joint name, e.g. ``RShoulderPitch``.
         quantity: ``"position"``, ``"velocity"``, ``"acceleration"``,
-            ``"jerk"``, or ``"start"`` (the arm is away from the start and
-            the approach move is off).
+            ``"jerk"``, ``"start"`` (the arm is away from the start and
+            the approach move is off) or ``"frame_rate"`` (the lines between
+            frames stray from the trajectory; value and limit are that gap).
         value: The offending value [rad, rad/s, rad/s^2 or rad/s^3].
         limit: The limit it breaks, same unit (the bound crossed, for a position).
         frame: Index of the command frame (1 is the first key; 0 is the start).

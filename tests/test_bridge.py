@@ -137,6 +137,20 @@ def test_an_over_speed_trajectory_never_reaches_the_robot(
     assert commands_logged(sim) == []
 
 
+def test_frames_too_sparse_for_the_movement_never_reach_the_robot(
+    sim: SimProcess, bridge: BridgeProcess, rng: np.random.Generator
+) -> None:
+    """At 2 frames a second the keys keep every limit, but the robot would cut
+    the movement short: refused naming the joint and a rate that would do."""
+    request = ExecuteRequest(trajectory=realistic(rng), rate=2.0)
+    error = bridge.execute(request)["error"]
+    assert error["kind"] == "trajectory_refused"
+    assert error["evidence"]["quantity"] == "frame_rate"
+    assert "between frames at 2 Hz (at most 1 deg): at " in error["message"]
+    time.sleep(0.1)
+    assert commands_logged(sim) == []
+
+
 def test_the_simulated_nao_tracks_within_one_degree_rms(
     sim: SimProcess, bridge: BridgeProcess, rng: np.random.Generator
 ) -> None:

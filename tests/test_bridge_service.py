@@ -185,6 +185,25 @@ def test_an_over_speed_trajectory_is_refused_and_the_sim_receives_nothing(
     assert published.on(stack.bus.key("bridge/frames")) == []
 
 
+def test_a_trajectory_away_from_the_arm_with_the_approach_off_sends_nothing(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """The arm rests; a trajectory starting at the arm stretched forward, with
+    the approach off, is refused naming the start: no command (not even
+    stiffness) reaches the sim and no frames are published as if played."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [1.0]
+    )
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        stack.bus.call(
+            EXECUTE, ExecuteRequest(trajectory=trajectory, approach=False), timeout=30
+        )
+    assert "the approach move is off" in caught.value.message
+    time.sleep(0.3)  # anything sent would have been logged by now
+    assert commands_received(sim) == []
+    assert published.on(stack.bus.key("bridge/frames")) == []
+
+
 def test_a_trajectory_is_played_reported_and_published(
     stack: Stack, sim: SimProcess, published: Published
 ) -> None:

@@ -24,8 +24,7 @@ from typing import Any, NamedTuple
 from armplan.demo.task import Task
 from bridge import (
     FrameLimits,
-    check_frames,
-    frames_from_trajectory,
+    checked_frames,
     write_behavior,
     write_python,
 )
@@ -59,8 +58,8 @@ class Execution(NamedTuple):
 
 def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
     """Write the trajectory, its exports and the report; returns them by name."""
-    frames = frames_from_trajectory(run.trajectory, run.rate)
-    check_frames(frames, FrameLimits.for_arm(run.trajectory.arm))
+    limits = FrameLimits.for_arm(run.trajectory.arm)
+    frames = checked_frames(run.trajectory, run.rate, limits)
     files = {
         "trajectory": out / TRAJECTORY_FILE,
         "choregraphe": write_behavior(frames, out / BEHAVIOR_FILE),

@@ -53,8 +53,7 @@ def run(args: argparse.Namespace) -> int:
     """Check the frames against the limits, then write them."""
     from bridge import (
         FrameLimits,
-        check_frames,
-        frames_from_trajectory,
+        checked_frames,
         write_behavior,
         write_python,
     )
@@ -66,8 +65,7 @@ def run(args: argparse.Namespace) -> int:
         )
     check_output_file(args.output)
     trajectory = read_trajectory(args.trajectory)
-    frames = frames_from_trajectory(trajectory, args.rate)
-    check_frames(frames, FrameLimits.for_arm(trajectory.arm))
+    frames = checked_frames(trajectory, args.rate, FrameLimits.for_arm(trajectory.arm))
     writer = write_behavior if args.format == "choregraphe" else write_python
     path = writer(frames, args.output)
     summary = {

@@ -1,0 +1,30 @@
+"""A trajectory as command frames the robot may be sent: every check passed."""
+
+from __future__ import annotations
+
+from bridge.checks import check_frames
+from bridge.fidelity import check_follows
+from bridge.frames import frames_from_trajectory
+from bridge.limits import FrameLimits
+from shared.messages import CommandFrames, Trajectory
+
+
+def checked_frames(
+    trajectory: Trajectory, rate: float, limits: FrameLimits
+) -> CommandFrames:
+    """``trajectory`` as frames at ``rate`` [Hz], checked; nothing is sent.
+
+    The frames must keep every limit of ``limits`` (:mod:`bridge.checks`)
+    and follow the trajectory within a degree between keys
+    (:mod:`bridge.fidelity`).
+
+    Raises:
+        InvalidInputError: more frames than the bridge sends in one call,
+            or joints other than the limits'.
+        TrajectoryRefusedError: naming the first frame that breaks a limit,
+            or the joint that strays furthest between frames.
+    """
+    frames = frames_from_trajectory(trajectory, rate)
+    check_frames(frames, limits)
+    check_follows(frames, trajectory)
+    return frames

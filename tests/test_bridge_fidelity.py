@@ -1,0 +1,100 @@
+"""Frames that follow their trajectory (bridge.fidelity, bridge.checked_frames).
+
+The straight lines between frames stray from a smooth curve by at most an
+eighth of its largest acceleration times the frame period squared, and by a
+quarter as much at twice the rate; a rate too low for a movement is refused
+naming the joint, and the rate the refusal suggests passes.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from bridge.checked_frames import checked_frames
+from bridge.fidelity import FOLLOW_TOLERANCE, check_follows, largest_gap
+from bridge.frames import frames_from_trajectory
+from bridge.limits import FrameLimits
+from bridge.minimum_jerk import minimum_jerk_trajectory
+from shared.errors import TrajectoryRefusedError
+from shared.messages import Trajectory
+from shared.robot.postures import forward, rest
+
+LIMITS = FrameLimits.for_arm("right")
+
+
+def reach(seconds: float = 1.0) -> Trajectory:
+    """Rest to the arm stretched forward, minimum jerk, at 1000 Hz samples."""
+    return minimum_jerk_trajectory(
+        "right", [rest("right"), forward("right")], [seconds], rate=1000.0
+    )
+
+
+def wave(rng: np.random.Generator, swings: int = 4) -> Trajectory:
+    """From rest, RElbowYaw swings 0.4 rad back and forth, 0.3 s a swing."""
+    start = rest("right")
+    out = start.copy()
+    out[2] += 0.4
+    postures = [start, *([out, start] * (swings // 2))]
+    jitter = rng.uniform(-0.02, 0.02, (len(postures), 5))
+    jitter[0] = 0.0
+    return minimum_jerk_trajectory(
+        "right", np.asarray(postures) + jitter, [0.3] * (len(postures) - 1)
+    )
+
+
+@pytest.mark.parametrize("rate", [10.0, 25.0, 50.0])
+def test_the_gap_keeps_the_chord_bound(rate: float) -> None:
+    """gap <= max|q''| T^2 / 8 (the chord of a curve over one period T), and
+    more than half of it: the check measures what the robot would skip."""
+    trajectory = reach()
+    gap = largest_gap(frames_from_trajectory(trajectory, rate), trajectory)[0]
+    bound = np.abs(trajectory.accelerations).max() / (8.0 * rate**2)
+    assert 0.5 * bound < gap <= bound * (1.0 + 1e-6)
+
+
+def test_the_gap_falls_with_the_square_of_the_period() -> None:
+    """Twice the rate, a quarter of the gap (within 10 %)."""
+    trajectory = reach()
+    gaps = [
+        largest_gap(frames_from_trajectory(trajectory, r), trajectory)[0]
+        for r in (20.0, 40.0)
+    ]
+    assert gaps[0] / gaps[1] == pytest.approx(4.0, rel=0.1)
+
+
+def test_planned_speed_frames_at_25_hz_pass(rng: np.random.Generator) -> None:
+    """Choregraphe's 25 Hz follows a reach and a wave within a degree."""
+    for trajectory in (reach(), wave(rng)):
+        frames = checked_frames(trajectory, 25.0, LIMITS)
+        assert largest_gap(frames, trajectory)[0] < FOLLOW_TOLERANCE
+
+
+def test_a_wave_at_2_hz_is_refused_and_the_suggested_rate_passes(
+    rng: np.random.Generator,
+) -> None:
+    """At 2 Hz the swings fall between frames: refused (every limit check
+    passes), naming RElbowYaw; the rate the message offers passes."""
+    trajectory = wave(rng)
+    frames = frames_from_trajectory(trajectory, 2.0)
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        check_follows(frames, trajectory)
+    error = caught.value
+    print("\n" + error.message)
+    assert error.quantity == "frame_rate" and error.joint == "RElbowYaw"
+    assert error.value > FOLLOW_TOLERANCE == error.limit
+    assert f"would pass {math.degrees(error.value):.1f} deg" in error.message
+    offered = re.search(r"at (\d+) Hz it would not", error.message)
+    assert offered is not None
+    checked_frames(trajectory, float(offered[1]), LIMITS)
+
+
+def test_checked_frames_refuses_a_rate_too_low_for_the_movement(
+    rng: np.random.Generator,
+) -> None:
+    """The one entry the bridge, export and demo use applies the check."""
+    with pytest.raises(TrajectoryRefusedError, match="between frames at 4 Hz"):
+        checked_frames(wave(rng), 4.0, LIMITS)
