@@ -23,7 +23,7 @@ from typing import IO
 
 from armplan.launch import Launcher
 from armplan.launch.robot import RobotStack
-from services.recorder import RecorderProcess
+from services.recorder import RecorderOptions, RecorderProcess
 from shared.bus import BusConfig
 from shared.errors import ArmplanError, error_from_wire
 
@@ -113,7 +113,12 @@ class DemoStack:
 
     def _recorder(self) -> RecorderProcess:
         log = self._log("recorder")
-        return RecorderProcess.start(self.config, self.out / RECORDING_FILE, log=log)
+        return RecorderProcess.start(
+            self.config,
+            self.out / RECORDING_FILE,
+            options=RecorderOptions(overwrite=True),  # the demo's folder is its own
+            log=log,
+        )
 
     def _log_path(self, name: str) -> Path:
         """The log file of ``name``'s processes: ``out/logs/<name>.log``."""

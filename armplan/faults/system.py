@@ -20,7 +20,7 @@ from armplan.demo.stack import LOGS_DIR, RECORDING_FILE, DemoStack
 from armplan.launch import Launcher, free_endpoint
 from armplan.launch.child import Child
 from armplan.launch.robot import RobotStack
-from services.recorder import RecorderProcess
+from services.recorder import RecorderOptions, RecorderProcess
 from shared.bus import Bus, BusConfig, load_config
 from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import StartStop
@@ -160,7 +160,9 @@ class FaultSystem(StartStop):
             (self.out / LOGS_DIR / f"recorder-{self._recorders}.log").open("a")
         )
         recorder = self._exits.enter_context(
-            RecorderProcess.start(self.config, path, log=log)
+            RecorderProcess.start(
+                self.config, path, options=RecorderOptions(overwrite=True), log=log
+            )
         )
         self.stack.recorder = recorder
         return recorder.pid

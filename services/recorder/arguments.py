@@ -41,8 +41,13 @@ def add_recorder_arguments(parser: argparse.ArgumentParser) -> None:
         "-o",
         "--output",
         metavar="FILE.mcap",
-        help="the recording (default: armplan-<date>-<time>.mcap here); with "
-        "rotation, FILE-0001.mcap, FILE-0002.mcap, ...",
+        help="the recording (default: armplan-<date>-<time>-<ms>.mcap here); with "
+        "rotation, FILE-0001.mcap, FILE-0002.mcap, ...; an existing one is refused",
+    )
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace an existing recording at -o (with rotation: its numbered files)",
     )
     parser.add_argument(
         "--keys",
@@ -92,6 +97,7 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         rotation=rotation,
         flush_every=args.flush_every,
         foxglove=not args.no_foxglove,
+        overwrite=args.overwrite,
     )
 
 

@@ -60,6 +60,8 @@ def recorder_command(config: BusConfig, options: RecorderOptions) -> list[str]:
         command += ["--rotate-duration", str(options.rotation.max_seconds)]
     if not options.foxglove:
         command.append("--no-foxglove")
+    if options.overwrite:
+        command.append("--overwrite")
     return command
 
 
@@ -110,6 +112,7 @@ class RecorderProcess(Closes):
             foxglove=base.foxglove,
             planned_prefix=base.planned_prefix,
             executed_prefix=base.executed_prefix,
+            overwrite=base.overwrite,
         )
         process = subprocess.Popen(
             recorder_command(config, options),

@@ -7,7 +7,9 @@ router, records until SIGTERM or SIGINT, then closes its file with its
 summary and exits 0. Once recording it prints one line, ``recording <keys>
 to <file>``, on stdout (what ``services.recorder.control`` waits for). It
 exits 1 with the error on stderr if the configuration is wrong, no router
-answers or the file cannot be created.
+answers, the file cannot be created (or exists, without ``--overwrite``),
+or the file system refuses a write (disk full): then at once, since what
+it receives could no longer be kept.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from services.recorder.arguments import (
 )
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
-from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.process import add_common_arguments, start_process
 from shared.errors import ArmplanError
 
 log = logging.getLogger("armplan.recorder")
@@ -44,7 +46,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             keys = " ".join(rec.keys)
             sys.stdout.write(f"{READY_PREFIX}{keys} to {rec.sink.paths[0]}\n")
             sys.stdout.flush()
-            wait_for(stop)
+            rec.wait(stop)
     except ArmplanError as error:
         log.error("%s: %s", NAME, error.message)
         return 1

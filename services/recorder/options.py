@@ -14,8 +14,14 @@ from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
 
 
 def default_output() -> Path:
-    """``armplan-YYYYmmdd-HHMMSS.mcap`` in the current folder (local time)."""
-    return Path(time.strftime("armplan-%Y%m%d-%H%M%S.mcap"))
+    """``armplan-YYYYmmdd-HHMMSS-mmm.mcap`` in the current folder (local time).
+
+    The milliseconds keep recorders started in the same second apart; the
+    file is created exclusively, so two can never share one.
+    """
+    now = time.time()
+    stamp = time.strftime("%Y%m%d-%H%M%S", time.localtime(now))
+    return Path(f"armplan-{stamp}-{int(now * 1000) % 1000:03d}.mcap")
 
 
 def check_keys(keys: tuple[str, ...], namespace: str) -> tuple[str, ...]:
@@ -54,6 +60,8 @@ class RecorderOptions:
             ``/decision``, ``/robot_description``).
         planned_prefix: Frame prefix of the planned arm ("" moves the URDF).
         executed_prefix: Frame prefix of the executed arm.
+        overwrite: Replace an existing recording at ``output`` (with
+            rotation: its numbered files); if False, one is refused.
     """
 
     output: Path = field(default_factory=default_output)
@@ -63,6 +71,7 @@ class RecorderOptions:
     foxglove: bool = True
     planned_prefix: str = ""
     executed_prefix: str = "executed/"
+    overwrite: bool = False
 
     def __post_init__(self) -> None:
         if not 0 < self.flush_every <= 10.0:

@@ -8,7 +8,8 @@ lost), and gives each the most specific channel it fits:
    after the class (``Trajectory``), its JSON schema from pydantic;
 2. any other JSON object (unknown topic, or a payload that does not parse
    as its class): the topic's schemaless channel, schema ``"json"``;
-3. anything else (binary, text, JSON that is not an object): a
+3. anything else (binary, text, JSON that is not an object, Python's
+   NaN and Infinity, which JSON readers such as Foxglove's refuse): a
    ``RawPayload`` (base64 and the Zenoh encoding) on the topic's
    ``RawPayload`` channel.
 
@@ -77,9 +78,15 @@ def relative_path(key: str, namespace: str) -> str | None:
     return key[len(prefix) :] if key.startswith(prefix) else None
 
 
+def _not_json(constant: str) -> None:
+    """``json.loads``' hook for NaN and Infinity, which JSON does not have."""
+    raise ValueError(f"{constant} is not JSON")
+
+
 def _json_object(payload: bytes) -> bool:
+    """Whether ``payload`` is a JSON object by the standard (no NaN, Infinity)."""
     try:
-        return isinstance(json.loads(payload), dict)
+        return isinstance(json.loads(payload, parse_constant=_not_json), dict)
     except (ValueError, UnicodeDecodeError, RecursionError):
         return False
 

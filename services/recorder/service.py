@@ -26,6 +26,7 @@ receipt time. Publish time is always the receipt time.
 from __future__ import annotations
 
 import logging
+import threading
 import time
 from pathlib import Path
 
@@ -36,9 +37,12 @@ from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
 from shared.bus import Bus
 from shared.bus.keys import alive_key
+from shared.errors import RecordingError
 from shared.lifecycle import StartStop
 
 NAME = "recorder"
+#: Period at which :meth:`Recorder.wait` checks the writer [s].
+POLL = 0.2
 log = logging.getLogger("armplan.recorder")
 
 
@@ -108,11 +112,23 @@ class Recorder(StartStop):
             )
         )
 
+    def wait(self, stop: threading.Event, timeout: float | None = None) -> None:
+        """Until ``stop`` is set, the file takes no more, or ``timeout`` [s] passes."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while not self.sink.broken.is_set():
+            left = POLL if deadline is None else min(POLL, deadline - time.monotonic())
+            if left <= 0 or stop.wait(left):
+                return
+
     def stop(self) -> list[Path]:
         """Withdraw the token and subscriptions, write out the rest, close.
 
         Returns:
             The files written, in order.
+
+        Raises:
+            RecordingError: if the file system refused a write: the reason,
+                how many messages were written, and how to read them.
         """
         if self._token is not None:
             self._token.undeclare()  # type: ignore[no-untyped-call]
@@ -126,4 +142,13 @@ class Recorder(StartStop):
             self.sink.written,
             ", ".join(map(str, paths)),
         )
+        if self.sink.error is not None:
+            error = self.sink.error
+            raise RecordingError(
+                f"{error.message}; recording stopped after {self.sink.written} "
+                f"messages; armplan inspect --recover {error.path} reads them "
+                "(the file lacks its summary)",
+                path=error.path,
+                readable=self.sink.written,
+            )
         return paths

@@ -7,6 +7,12 @@ thread takes the samples in arrival order, gives each its channel
 flushes the file to the OS at least every ``flush_every`` seconds, also
 when no message comes. :meth:`RecordingSink.stop` writes what is still
 queued, then closes the file with its summary.
+
+A sample that cannot be written (or whose Foxglove messages cannot be
+made) is logged, counted and skipped. A file the file system refuses to
+take more of (disk full, file too large) ends the writing: ``error`` holds
+why, ``broken`` is set, and the recorder stops rather than keep receiving
+what it can no longer keep.
 """
 
 from __future__ import annotations
@@ -19,10 +25,11 @@ from pathlib import Path
 
 from services.recorder.options import RecorderOptions
 from services.recorder.routing import Entry, Incoming, route
+from shared.errors import RecordingError
 from shared.recording.foxglove import FoxgloveChannels, description_message
 from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.rotation import RotatingWriter
-from shared.recording.writer import MessageWriter
+from shared.recording.writer import MAX_TIME, MessageWriter
 
 log = logging.getLogger("armplan.recorder")
 #: Longest wait for the writer thread to write the queue out when stopping [s].
@@ -42,6 +49,9 @@ class RecordingSink:
         derived: Messages armplan added for Foxglove so far (each file's robot
             description, poses derived from joint states and trajectories).
         failed: Samples that could not be written (logged).
+        error: Why the writing ended early (the file system refused more),
+            or ``None``.
+        broken: Set when ``error`` is.
     """
 
     def __init__(self, options: RecorderOptions, namespace: str) -> None:
@@ -51,9 +61,15 @@ class RecordingSink:
         self.written = 0
         self.derived = 0
         self.failed = 0
+        self.error: RecordingError | None = None
+        self.broken = threading.Event()
         self._queue: queue.SimpleQueue[Incoming | None] = queue.SimpleQueue()
         self._files = RotatingWriter(
-            options.output, options.rotation, self._on_open, options.flush_every
+            options.output,
+            options.rotation,
+            self._on_open,
+            options.flush_every,
+            overwrite=options.overwrite,
         )
         self._foxglove = (
             FoxgloveChannels(options.planned_prefix, options.executed_prefix)
@@ -92,15 +108,37 @@ class RecordingSink:
             if self._thread.is_alive():
                 log.error("recorder: writer still busy after %.0f s", timeout)
         if not self._thread.is_alive():
-            self._files.close()
+            try:
+                self._files.close()
+            except RecordingError as error:
+                self._fail(error)
         return self.paths
 
     def _run(self) -> None:
+        """Write samples until the stop sentinel or a refused write."""
+        try:
+            self._drain()
+        except RecordingError as error:
+            self._fail(error)
+
+    def _fail(self, error: RecordingError) -> None:
+        """Keep the first reason the writing ended, and say it."""
+        if self.error is None:
+            self.error = error
+            log.error(
+                "recorder: %s; stopped after %d messages", error.message, self.written
+            )
+        self.broken.set()
+
+    def _drain(self) -> None:
         """Write samples in arrival order until the stop sentinel.
 
         Under traffic the live writer flushes on a write once ``flush_every``
         has passed since its last flush; when no sample comes for half of it,
         this flushes whatever is buffered.
+
+        Raises:
+            RecordingError: the file system refused a write.
         """
         while True:
             try:
@@ -124,6 +162,8 @@ class RecordingSink:
                 sample.publish_time,
             )
             self.written += 1
+        except RecordingError:
+            raise  # the file takes no more: see _run
         except Exception:  # a writer keeps writing: log, count, go on
             self.failed += 1
             log.exception("recorder: could not write a sample of %s", sample.key)
@@ -131,6 +171,11 @@ class RecordingSink:
         self._derive(entry, sample)
 
     def _derive(self, entry: Entry, sample: Incoming) -> None:
+        """Write the Foxglove messages of a typed sample; skip them if they fail.
+
+        The sample itself is written already: a message that cannot be shown
+        (a missing joint, times beyond MCAP's range) only loses its poses.
+        """
         if self._foxglove is None or entry.message is None:
             return
         try:
@@ -138,6 +183,16 @@ class RecordingSink:
         except KeyError as missing:
             log.warning(
                 "recorder: %s lacks joint %s; no Foxglove poses", entry.topic, missing
+            )
+            return
+        except (ArithmeticError, ValueError) as error:
+            log.warning("recorder: no Foxglove poses for %s: %s", entry.topic, error)
+            return
+        if not all(0 <= d.log_time <= MAX_TIME for d in derived):
+            log.warning(
+                "recorder: no Foxglove poses for %s: its times pass MCAP's range "
+                "(0 to 2^64 ns)",
+                entry.topic,
             )
             return
         for d in derived:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from shared.errors import InvalidInputError
+from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import Closes
 from shared.recording.writer import MessageWriter
 
@@ -76,6 +76,9 @@ class RotatingWriter(Closes):
         on_open: Called with each new file's writer and its number before
             anything else is written to it.
         flush_every: Longest time between flushes to the OS [s].
+        overwrite: Replace an existing recording at ``path`` (with rotation:
+            its numbered files, all of them removed on opening); if False, an
+            existing one is refused and every file is created exclusively.
 
     Attributes:
         paths: Every file started so far, in order.
@@ -87,8 +90,11 @@ class RotatingWriter(Closes):
         policy: RotationPolicy | None = None,
         on_open: Callable[[MessageWriter, int], None] | None = None,
         flush_every: float = FLUSH_EVERY,
+        *,
+        overwrite: bool = True,
     ) -> None:
         self.path = Path(path)
+        self.overwrite = overwrite
         self.policy = policy or RotationPolicy()
         self.paths: list[Path] = []
         self._on_open = on_open
@@ -106,10 +112,38 @@ class RotatingWriter(Closes):
         return self._writer
 
     def open(self) -> RotatingWriter:
-        """Start the first file now (else the first message starts it)."""
+        """Start the first file now (else the first message starts it).
+
+        Raises:
+            RecordingError: if the recording exists (and ``overwrite`` is
+                False) or the file cannot be created.
+        """
         if self._writer is None:
             self._next()
         return self
+
+    def _earlier_parts(self) -> list[Path]:
+        """Numbered files of an earlier recording at this path, in order."""
+        if not self.policy.rotates:
+            return []
+        pattern = f"{self.path.stem}-[0-9][0-9][0-9][0-9]{self.path.suffix or '.mcap'}"
+        return sorted(self.path.parent.glob(pattern))
+
+    def _clear_earlier(self) -> None:
+        """Remove (``overwrite``) or refuse an earlier rotating recording."""
+        earlier = self._earlier_parts()
+        if earlier and not self.overwrite:
+            more = len(earlier) - 1
+            which = (
+                f"{earlier[0]} and {more} more numbered files" if more else earlier[0]
+            )
+            raise RecordingError(
+                f"{which} of an earlier recording exist: give another name, or "
+                "--overwrite to replace them",
+                path=str(earlier[0]),
+            )
+        for part in earlier:
+            part.unlink(missing_ok=True)
 
     def _due(self) -> bool:
         """Whether the current file has reached a limit."""
@@ -124,8 +158,15 @@ class RotatingWriter(Closes):
         if self._writer is not None:
             self._writer.close()
         number = len(self.paths) + 1
+        if number == 1:
+            self._clear_earlier()
         path = part_path(self.path, number) if self.policy.rotates else self.path
-        self._writer = MessageWriter(path, chunked=False, flush_every=self._flush_every)
+        self._writer = MessageWriter(
+            path,
+            chunked=False,
+            flush_every=self._flush_every,
+            overwrite=self.overwrite,
+        )
         self._opened = time.monotonic()
         self.paths.append(path)
         if self._on_open is not None:

@@ -17,12 +17,14 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import IO, Any
 
 from mcap.writer import CompressionType, Writer
 
-from shared.errors import RecordingError
+from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import Closes
 from shared.messages.base import Message
 
@@ -32,18 +34,39 @@ PROFILE = "armplan"
 class MessageWriter(Closes):
     """An MCAP writer for pydantic messages.
 
+    Every write, flush and close that the file system refuses (disk full,
+    file too large, device gone) raises :class:`RecordingError` naming the
+    file and the reason; the file then lacks its summary, and
+    ``read_records(..., recover=True)`` reads what reached it.
+
     Args:
-        path: File to create (overwritten).
+        path: File to create.
         chunked: Compressed chunks (offline) or one record per message (live).
         flush_every: Live layout only: longest time between flushes [s].
+        overwrite: Replace an existing file; if False, an existing file is
+            refused (created exclusively, so two writers cannot share it).
+
+    Raises:
+        RecordingError: if the file cannot be created or written, or exists
+            and ``overwrite`` is False.
     """
 
     def __init__(
-        self, path: str | Path, *, chunked: bool = True, flush_every: float = 0.2
+        self,
+        path: str | Path,
+        *,
+        chunked: bool = True,
+        flush_every: float = 0.2,
+        overwrite: bool = True,
     ):
         self.path = Path(path)
         try:
-            self._file: IO[bytes] = open(self.path, "wb")  # noqa: SIM115 (closed in close())
+            self._file: IO[bytes] = open(self.path, "wb" if overwrite else "xb")  # noqa: SIM115 (closed in close())
+        except FileExistsError:
+            raise RecordingError(
+                f"{self.path} exists: give another name, or --overwrite to replace it",
+                path=str(self.path),
+            ) from None
         except OSError as exc:
             raise RecordingError(
                 f"cannot create {self.path}: {exc.strerror}", path=str(self.path)
@@ -53,8 +76,16 @@ class MessageWriter(Closes):
             chunk_size=256 * 1024,
             compression=CompressionType.ZSTD if chunked else CompressionType.NONE,
             use_chunking=chunked,
+            enable_data_crcs=True,
         )
-        self._writer.start(profile=PROFILE, library="armplan")
+        self.closed = False
+        try:
+            with self._writing():
+                self._writer.start(profile=PROFILE, library="armplan")
+                self._file.flush()
+        except RecordingError:
+            self._abandon()
+            raise
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
         self._typed: dict[tuple[str, type[Message]], int] = {}
@@ -63,20 +94,40 @@ class MessageWriter(Closes):
         self._flush_every = flush_every
         self._last_flush = time.monotonic()
         self.count = 0
-        self.closed = False
+
+    def _abandon(self) -> None:
+        """Close the file without its summary, whatever the file system says."""
+        self.closed = True
+        with suppress(OSError):  # the bytes it could not take are lost either way
+            self._file.close()
+
+    @contextmanager
+    def _writing(self) -> Iterator[None]:
+        """Turn the file system's refusal into a :class:`RecordingError`."""
+        try:
+            yield
+        except OSError as exc:
+            raise RecordingError(
+                f"cannot write {self.path}: {exc.strerror or exc}", path=str(self.path)
+            ) from None
 
     def schema_id(self, name: str, schema: dict[str, Any]) -> int:
         """The id of schema ``name``, registering it on first use."""
         if name not in self._schemas:
             data = json.dumps(schema).encode()
-            self._schemas[name] = self._writer.register_schema(name, "jsonschema", data)
+            with self._writing():
+                sid = self._writer.register_schema(name, "jsonschema", data)
+            self._schemas[name] = sid
         return self._schemas[name]
 
     def channel_id(self, topic: str, schema_name: str, schema: dict[str, Any]) -> int:
         """The id of the channel for ``topic``, registering it on first use."""
         if topic not in self._channels:
             sid = self.schema_id(schema_name, schema)
-            self._channels[topic] = self._writer.register_channel(topic, "json", sid)
+            with self._writing():
+                self._channels[topic] = self._writer.register_channel(
+                    topic, "json", sid
+                )
         return self._channels[topic]
 
     def add_channel(self, topic: str, schema_name: str, schema: dict[str, Any]) -> int:
@@ -89,14 +140,16 @@ class MessageWriter(Closes):
         key = (topic, schema_name)
         if key not in self._typed_channels:
             sid = self.schema_id(schema_name, schema)
-            self._typed_channels[key] = self._writer.register_channel(
-                topic, "json", sid
-            )
+            with self._writing():
+                self._typed_channels[key] = self._writer.register_channel(
+                    topic, "json", sid
+                )
         return self._typed_channels[key]
 
     def add_metadata(self, name: str, data: dict[str, str]) -> None:
         """Append a metadata record ``name`` (string keys and values)."""
-        self._writer.add_metadata(name, data)
+        with self._writing():
+            self._writer.add_metadata(name, data)
 
     @property
     def size(self) -> int:
@@ -131,14 +184,23 @@ class MessageWriter(Closes):
     def write_raw(
         self, channel: int, data: bytes, log_time: int, publish_time: int | None = None
     ) -> None:
-        """Append already-encoded JSON ``data`` on a registered channel."""
-        self._writer.add_message(
-            channel,
-            log_time=log_time,
-            data=data,
-            publish_time=log_time if publish_time is None else publish_time,
-            sequence=self.count,
-        )
+        """Append already-encoded JSON ``data`` on a registered channel.
+
+        Raises:
+            InvalidInputError: if a time is outside MCAP's range (0 to 2^64 ns).
+            RecordingError: if the file system refuses the write.
+        """
+        publish_time = log_time if publish_time is None else publish_time
+        check_time(log_time, "log_time")
+        check_time(publish_time, "publish_time")
+        with self._writing():
+            self._writer.add_message(
+                channel,
+                log_time=log_time,
+                data=data,
+                publish_time=publish_time,
+                sequence=self.count,
+            )
         self.count += 1
         if (
             not self._chunked
@@ -148,7 +210,8 @@ class MessageWriter(Closes):
 
     def flush(self) -> None:
         """Push buffered bytes to the OS (live layout: everything written so far)."""
-        self._file.flush()
+        with self._writing():
+            self._file.flush()
         self._last_flush = time.monotonic()
 
     def close(self) -> None:
@@ -156,7 +219,24 @@ class MessageWriter(Closes):
         if self.closed:
             return
         self.closed = True
-        try:
-            self._writer.finish()  # type: ignore[no-untyped-call]
-        finally:
-            self._file.close()
+        with self._writing():
+            try:
+                self._writer.finish()  # type: ignore[no-untyped-call]
+            finally:
+                self._file.close()
+
+
+#: Largest time an MCAP record holds [ns since the epoch] (unsigned 64 bits).
+MAX_TIME = 2**64 - 1
+
+
+def check_time(value: int, name: str) -> None:
+    """Refuse a time [ns] outside MCAP's range before any byte is written.
+
+    Raises:
+        InvalidInputError: naming ``name`` and the value.
+    """
+    if not 0 <= value <= MAX_TIME:
+        raise InvalidInputError(
+            f"{name} {value} ns is outside MCAP's range (0 to 2^64 ns)", field=name
+        )

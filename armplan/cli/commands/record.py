@@ -2,6 +2,8 @@
 
 The recorder runs in this process (``services.recorder.Recorder``); Ctrl-C,
 SIGTERM or ``--duration`` stop it, and the file is closed with its summary.
+A write the file system refuses (disk full) stops it at once with the
+reason and exit code 1.
 See ``docs/recording.md`` for the channels and how to open them in Foxglove.
 """
 
@@ -10,8 +12,6 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-import threading
-import time
 
 from services.recorder.arguments import (
     add_bus_arguments,
@@ -26,8 +26,6 @@ from shared.stop_signals import stop_on_signals
 
 ORDER = 90
 HELP = "record Zenoh key expressions to an MCAP file until Ctrl-C"
-#: Period at which the command checks for its stop request [s].
-POLL = 0.2
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -65,20 +63,12 @@ def run(args: argparse.Namespace) -> int:
             f"armplan record: recording {' '.join(recorder.keys)} to "
             f"{recorder.sink.paths[0]}; Ctrl-C stops"
         )
-        _wait(stop, args.duration)
+        recorder.wait(stop, args.duration)
     sink = recorder.sink
     files = ", ".join(map(str, sink.paths))
     extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
     _say(f"armplan record: {sink.written} messages{extra} in {files}")
     return 0
-
-
-def _wait(stop: threading.Event, duration: float | None) -> None:
-    """Until ``stop`` is set or ``duration`` [s] has passed (signals stay live)."""
-    deadline = None if duration is None else time.monotonic() + duration
-    while deadline is None or (left := deadline - time.monotonic()) > 0:
-        if stop.wait(POLL if deadline is None else min(POLL, left)):
-            return
 
 
 def _say(line: str) -> None:

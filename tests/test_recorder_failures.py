@@ -1,0 +1,249 @@
+"""The recorder when things go wrong: a full disk, an existing file, odd samples.
+
+A file the file system stops taking (RLIMIT_FSIZE, /dev/full) ends the
+recording at once with a one-line error and exit code 1, the messages
+that reached the file readable with --recover; an existing recording is
+refused unless --overwrite; a sample whose Foxglove poses cannot be made
+loses only its poses; NaN is not JSON; a flipped byte is a checksum error.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import zenoh
+
+from armplan.launch import free_endpoint
+from services.recorder.options import RecorderOptions
+from services.recorder.routing import Incoming, route
+from services.recorder.sink import RecordingSink
+from shared.bus import Bus, BusConfig, open_router
+from shared.errors import InvalidInputError, RecordingError
+from shared.messages import JointState, Trajectory
+from shared.recording import read_records
+from shared.recording.reader import CHANGED, Recording
+from shared.recording.rotation import RotatingWriter, RotationPolicy, part_path
+from shared.recording.writer import MAX_TIME, MessageWriter
+from shared.robot import Side
+
+NS = "recfail"
+JOINTS = list(Side.RIGHT.joint_names)
+#: A file size the recorder passes after a few dozen 2 kB messages [bytes].
+FILE_LIMIT = 64 * 1024
+
+
+@pytest.fixture(scope="module")
+def config() -> Iterator[BusConfig]:
+    """A router on a free loopback port."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace=NS)
+    with open_router(config):
+        yield config
+
+
+def record(
+    config: BusConfig, out: Path, *extra: str, limit: int | None = None
+) -> subprocess.Popen[str]:
+    """``armplan record -o out`` on ``config``'s router, files capped at ``limit``."""
+
+    def cap() -> None:
+        if limit is not None:
+            resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    return subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "armplan",
+            "record",
+            "-o",
+            str(out),
+            "--keys",
+            "misc/*",
+            "--connect",
+            config.endpoint,
+            "--namespace",
+            NS,
+            *extra,
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "ARMPLAN_ZENOH_CONFIG": ""},
+        preexec_fn=cap,
+    )
+
+
+def trajectory(times: list[float]) -> Trajectory:
+    n = len(times)
+    zeros = [[0.0] * 5 for _ in range(n)]
+    return Trajectory(
+        arm=Side.RIGHT,
+        joint_names=JOINTS,
+        times=times,
+        positions=[[0.0, -0.1, 0.3, 0.4, 0.0]] * n,
+        velocities=zeros,
+        accelerations=zeros,
+        primitives=["S_R E_PR W_PR"] * n,
+        wrist_path=[[0.1, -0.1, 0.0]] * n,
+    )
+
+
+def test_a_full_file_stops_the_recorder_at_once_with_the_reason(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """Files capped at 64 kB: the recorder exits 1 within seconds of the cap,
+    naming the file and the reason, no traceback; what reached the file
+    reads back with recover, and it is what the recorder counted or fewer."""
+    out = tmp_path / "full.mcap"
+    process = record(config, out, limit=FILE_LIMIT)
+    try:
+        assert process.stdout is not None
+        assert "armplan record: recording" in process.stdout.readline()
+        payload = json.dumps({"pad": "x" * 2000}).encode()
+        with Bus.connect(config) as bus:
+            publisher = bus.session.declare_publisher(
+                bus.key("misc/x"), congestion_control=zenoh.CongestionControl.BLOCK
+            )
+            deadline = time.monotonic() + 30.0
+            while process.poll() is None:
+                assert time.monotonic() < deadline, "still recording past the cap"
+                publisher.put(payload)
+                time.sleep(0.005)
+            publisher.undeclare()
+        _, stderr = process.communicate(timeout=30)
+    finally:
+        process.kill()
+        process.wait(30)
+    print("\n" + stderr)
+    assert process.returncode == 1
+    assert "Traceback" not in stderr
+    line = stderr.strip().splitlines()[-1]
+    assert line.startswith(f"armplan: error: cannot write {out}: File too large;")
+    assert line.endswith(
+        f"armplan inspect --recover {out} reads them (the file lacks its summary)"
+    )
+    said = int(line.split("recording stopped after ")[1].split(" messages")[0])
+    kept = [r for r in read_records(out, recover=True) if r.topic.endswith("misc/x")]
+    assert 10 <= len(kept) <= said
+    assert os.path.getsize(out) <= FILE_LIMIT
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_a_device_that_takes_nothing_is_one_line(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """-o /dev/full: refused as existing; with --overwrite, cannot write."""
+    for extra, said in (
+        ((), "armplan: error: /dev/full exists: give another name, or --overwrite"),
+        (("--overwrite",), "armplan: error: cannot write /dev/full: No space left"),
+    ):
+        process = record(config, Path("/dev/full"), "--duration", "2", *extra)
+        _, stderr = process.communicate(timeout=60)
+        assert process.returncode == 1, stderr
+        assert stderr.startswith(said), stderr
+        assert "Traceback" not in stderr
+
+
+def test_an_existing_recording_is_refused_unless_overwrite(tmp_path: Path) -> None:
+    """The file is left as it was; --overwrite (overwrite=True) replaces it."""
+    out = tmp_path / "taken.mcap"
+    out.write_bytes(b"an earlier session")
+    with pytest.raises(RecordingError, match=r"taken\.mcap exists: give another"):
+        RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+    assert out.read_bytes() == b"an earlier session"
+    options = RecorderOptions(output=out, keys=("**",), overwrite=True)
+    RecordingSink(options, NS).start().stop()
+    assert [r.topic for r in read_records(out)] == ["/robot_description"]
+
+
+def test_two_writers_cannot_share_a_file(tmp_path: Path) -> None:
+    """Created exclusively: the second writer of one path is refused."""
+    out = tmp_path / "one.mcap"
+    with (
+        MessageWriter(out, chunked=False, overwrite=False),
+        pytest.raises(RecordingError, match="exists"),
+    ):
+        MessageWriter(out, chunked=False, overwrite=False)
+
+
+def test_earlier_numbered_files_are_refused_or_all_replaced(tmp_path: Path) -> None:
+    """Rotation: parts of an earlier recording are refused; with overwrite
+    every one goes, so no stale part is left beside the new ones."""
+    path = tmp_path / "r.mcap"
+    for n in (1, 2, 3):
+        part_path(path, n).write_bytes(b"old")
+    policy = RotationPolicy(max_bytes=10_000)
+    with pytest.raises(
+        RecordingError, match=r"r-0001\.mcap and 2 more numbered files of an earlier"
+    ):
+        RotatingWriter(path, policy, overwrite=False).open()
+    with RotatingWriter(path, policy, overwrite=True).open():
+        pass
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r-0001.mcap"]
+
+
+def test_a_sample_without_poses_loses_only_its_poses(tmp_path: Path) -> None:
+    """Trajectories whose times overflow MCAP's clock (2e10 s) or a float
+    (1e300 s): each is written, its Foxglove poses are skipped, and the
+    writer goes on with the next sample."""
+    out = tmp_path / "odd.mcap"
+    sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+    samples = [
+        trajectory([0.0, 2e10]).to_json().encode(),
+        trajectory([0.0, 1e300]).to_json().encode(),
+        JointState(joint_names=JOINTS, positions=[0.0, -0.1, 0.3, 0.4, 0.0], time=1.0)
+        .to_json()
+        .encode(),
+    ]
+    keys = ["plan/trajectory", "plan/trajectory", "bridge/state"]
+    for i, (key, payload) in enumerate(zip(keys, samples, strict=True)):
+        sink.put(Incoming(f"{NS}/{key}", payload, "application/json", i + 1, i + 2))
+    sink.stop()
+    assert sink.error is None and sink.failed == 0 and sink.written == 3
+    records = list(read_records(out))
+    assert [r.raw for r in records if r.topic.startswith(NS)] == samples
+    assert any(r.topic.startswith("/tf") for r in records)  # the state's poses
+
+
+def test_nan_is_not_json() -> None:
+    """Python's NaN and Infinity go to the raw channel, kept byte for byte."""
+    for payload in (b'{"time": NaN}', b'{"x": -Infinity}'):
+        entry = route(Incoming(f"{NS}/misc/x", payload, "x", 1, 1), NS)
+        assert entry.schema_name == "RawPayload"
+
+
+def test_a_time_beyond_mcap_is_refused_before_a_byte(tmp_path: Path) -> None:
+    """log_time 2^64 ns: refused; the file stays whole and readable."""
+    out = tmp_path / "t.mcap"
+    with MessageWriter(out, chunked=False) as writer:
+        channel = writer.add_channel("a", "json", {})
+        writer.write_raw(channel, b"{}", MAX_TIME)
+        with pytest.raises(InvalidInputError, match="log_time 18446744073709551616"):
+            writer.write_raw(channel, b"{}", MAX_TIME + 1)
+        writer.write_raw(channel, b"{}", 5)
+    assert [r.log_time for r in read_records(out)] == [MAX_TIME, 5]
+
+
+def test_a_changed_byte_is_a_checksum_error(tmp_path: Path) -> None:
+    """A digit changed inside a message keeps it valid JSON; the data
+    section's checksum still tells the file was changed."""
+    out = tmp_path / "c.mcap"
+    with MessageWriter(out, chunked=False) as writer:
+        channel = writer.add_channel("a", "json", {})
+        for i in range(10):
+            writer.write_raw(channel, json.dumps({"t": 0.45 + i}).encode(), i + 1)
+    data = out.read_bytes()
+    out.write_bytes(data.replace(b'"t": 3.45', b'"t": 3.49', 1))
+    recording = Recording(out)
+    assert len(list(recording)) == 10
+    assert recording.damage == CHANGED
+    with pytest.raises(RecordingError, match="checksum does not match"):
+        list(read_records(out))
