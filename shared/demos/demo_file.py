@@ -168,7 +168,7 @@ def _read_one(path: Path) -> DemoSet:
     except RecordingError as exc:
         raise DemoFileError(str(path), _why(exc)) from None
     if recording.damage is not None:
-        if recording.count == 0 and "InvalidMagic" in recording.damage:
+        if recording.not_mcap:
             raise DemoFileError(
                 str(path), "not an MCAP file (no MCAP magic at its start)"
             )

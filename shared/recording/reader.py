@@ -3,13 +3,39 @@
 from __future__ import annotations
 
 import json
+import struct
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from mcap.exceptions import EndOfFile, InvalidMagic
 from mcap.reader import NonSeekingReader
+from mcap.stream_reader import CRCValidationError
 
 from shared.errors import RecordingError
+
+#: What each kind of damage means, for messages (``describe_damage``).
+TRUNCATED = (
+    "it ends in the middle of a record, without its summary (still being "
+    "written, or its writer was stopped: killed, disk full)"
+)
+CHANGED = "its checksum does not match: bytes were changed after it was written"
+NOT_JSON = "a message in it is not UTF-8 JSON"
+NOT_MCAP = "it holds bytes that are not MCAP records"
+NO_MAGIC = "no MCAP magic at its start"
+
+
+def describe_damage(error: Exception) -> str:
+    """What a reading error says about the file, in words (no library names)."""
+    if isinstance(error, InvalidMagic):
+        return NO_MAGIC
+    if isinstance(error, CRCValidationError):
+        return CHANGED
+    if isinstance(error, (EndOfFile, struct.error)):
+        return TRUNCATED
+    if isinstance(error, (UnicodeDecodeError, json.JSONDecodeError)):
+        return NOT_JSON
+    return NOT_MCAP
 
 
 class Record(NamedTuple):
@@ -36,9 +62,10 @@ class Recording:
     """The messages of one MCAP file, read in file order, stopping at damage.
 
     Iterate it for :class:`Record` s. Reading stops quietly at the first
-    damaged byte (truncation by a killed writer, garbage); afterwards
-    ``damage`` says what was wrong (``None`` if the file was read whole) and
-    ``count`` how many messages came out.
+    damaged byte (truncation by a killed writer, garbage, a checksum that
+    does not match); afterwards ``damage`` says in words what was wrong
+    (``None`` if the file was read whole) and ``count`` how many messages
+    came out.
 
     Args:
         path: An MCAP file with JSON messages.
@@ -59,6 +86,13 @@ class Recording:
             raise RecordingError(
                 f"{self.path} is a folder, not an MCAP file", path=str(self.path)
             )
+        if not self.path.is_file():
+            raise RecordingError(
+                f"{self.path} is not a regular file (a device or a pipe?), not an "
+                "MCAP file",
+                path=str(self.path),
+                readable=0,
+            )
         if self.path.stat().st_size == 0:
             raise RecordingError(
                 f"{self.path} is empty, not an MCAP file",
@@ -75,7 +109,9 @@ class Recording:
                 f"cannot read {self.path}: {exc.strerror}", path=str(self.path)
             ) from None
         with stream:
-            messages = NonSeekingReader(stream).iter_messages(log_time_order=False)
+            messages = NonSeekingReader(stream, validate_crcs=True).iter_messages(
+                log_time_order=False
+            )
             while True:
                 try:
                     schema, channel, message = next(messages)
@@ -83,11 +119,7 @@ class Recording:
                 except StopIteration:
                     return
                 except Exception as exc:  # any decoding failure of the bytes is damage
-                    self.damage = (
-                        f"{type(exc).__name__}: {exc}"
-                        if str(exc)
-                        else type(exc).__name__
-                    )
+                    self.damage = describe_damage(exc)
                     return
                 if self.topics is not None and channel.topic not in self.topics:
                     continue
@@ -112,25 +144,25 @@ class Recording:
         """
         if self.damage is None:
             return
-        if not recover or (self.count == 0 and "InvalidMagic" in self.damage):
+        if not recover or self.not_mcap:
             raise self.error()
+
+    @property
+    def not_mcap(self) -> bool:
+        """Whether nothing in the file was MCAP (no magic at its start)."""
+        return self.count == 0 and self.damage == NO_MAGIC
 
     def error(self) -> RecordingError:
         """The error that describes this file's damage."""
-        if (
-            self.count == 0
-            and self.damage is not None
-            and "InvalidMagic" in self.damage
-        ):
+        if self.not_mcap:
             return RecordingError(
-                f"{self.path} is not an MCAP file (no MCAP magic at its start)",
+                f"{self.path} is not an MCAP file ({NO_MAGIC})",
                 path=str(self.path),
                 readable=0,
             )
         return RecordingError(
-            f"{self.path} is damaged after {self.count} readable messages "
-            f"({self.damage}); read it with recover=True "
-            "(armplan inspect --recover) to get that prefix",
+            f"{self.path} is damaged after {self.count} readable messages: "
+            f"{self.damage}; --recover (or recover=True) reads those messages",
             path=str(self.path),
             readable=self.count,
         )

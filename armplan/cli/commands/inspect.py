@@ -127,6 +127,10 @@ def _print(inventory: Inventory, validate: bool) -> None:
         )
 
 
+#: A channel whose messages all came within this span [s] shows no rate.
+BURST = 1e-3
+
+
 def _table(inventory: Inventory, validate: bool) -> Table:
     table = Table(show_edge=False)
     table.add_column("topic", no_wrap=True)
@@ -137,14 +141,15 @@ def _table(inventory: Inventory, validate: bool) -> Table:
         table.add_column("invalid", justify="right")
     origin = inventory.first or 0
     for c in inventory.channels:
-        rate = (c.count - 1) / c.duration if c.duration > 0 else 0.0
+        burst = c.duration < BURST  # a rate over a burst means nothing
+        rate = "-" if burst else f"{(c.count - 1) / c.duration:.1f}"
         row = [
             escape(c.topic),
             escape(c.schema or "-"),
             str(c.count),
             f"{(c.first - origin) / 1e9:.3f}",
             f"{c.duration:.3f}",
-            f"{rate:.1f}",
+            rate,
         ]
         table.add_row(*row, *([str(c.invalid)] if validate else []))
     return table
