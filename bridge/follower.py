@@ -5,7 +5,9 @@ follower subscribed there hands each one to the bridge, in arrival order, on
 its own thread (Zenoh's threads only queue). So a recording replayed with
 ``armplan replay --keys plan/trajectory`` drives the robot. A payload that is
 not a trajectory, a refused trajectory or a lost robot is logged, and the
-follower goes on with the next one.
+follower goes on with the next one. When more trajectories wait than
+``QUEUE_LIMIT``, the oldest waiting one is dropped (with a warning): the
+robot falls behind by at most that many, and the newest command is kept.
 """
 
 from __future__ import annotations
@@ -22,10 +24,29 @@ from shared.errors import ArmplanError
 from shared.messages import ExecuteRequest, Trajectory, parse
 
 log = logging.getLogger("armplan.bridge")
-#: Trajectories waiting to be played; more are dropped, with a warning.
+#: Trajectories waiting to be played; beyond it the oldest waiting is dropped.
 QUEUE_LIMIT = 16
 #: Longest wait for the trajectory being played when stopping [s].
 STOP_GRACE = 2.0
+
+
+def offer_newest(waiting: queue.Queue[bytes | None], item: bytes) -> bool:
+    """Queue ``item``; if ``waiting`` is full, drop its oldest item first.
+
+    Returns:
+        Whether an item was dropped.
+    """
+    dropped = False
+    while True:
+        try:
+            waiting.put_nowait(item)
+            return dropped
+        except queue.Full:
+            try:
+                waiting.get_nowait()
+                dropped = True
+            except queue.Empty:  # the worker took one meanwhile
+                pass
 
 
 class TrajectoryFollower:
@@ -57,10 +78,11 @@ class TrajectoryFollower:
         return self
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread
-        try:
-            self._queue.put_nowait(sample.payload.to_bytes())
-        except queue.Full:
-            log.warning("follow: %d trajectories waiting, one dropped", QUEUE_LIMIT)
+        if offer_newest(self._queue, sample.payload.to_bytes()):
+            log.warning(
+                "follow: %d trajectories waiting; dropped the oldest of them",
+                QUEUE_LIMIT,
+            )
 
     def _work(self) -> None:
         while (payload := self._queue.get()) is not None:

@@ -9,6 +9,7 @@ there, so the bridge also has to connect again to every new one.
 
 from __future__ import annotations
 
+import queue
 import socket
 import threading
 import time
@@ -23,6 +24,7 @@ import zenoh
 from armplan.launch import Launcher, free_endpoint
 from armplan.launch.robot import RobotStack
 from bridge.address import check_robot_url, robot_url
+from bridge.follower import offer_newest
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
@@ -144,6 +146,15 @@ def commands_received(sim: SimProcess) -> list[dict[str, Any]]:
     """The sim's log entries for commands it got (calls and motions)."""
     assert sim.log_path is not None
     return [e for e in read_log(sim.log_path) if e["event"] in ("call", "motion")]
+
+
+def test_a_full_follower_queue_drops_its_oldest_not_the_newest() -> None:
+    """Three slots, five trajectories offered: the last three wait, in order;
+    the two oldest went, each offer saying whether it dropped one."""
+    waiting: queue.Queue[bytes | None] = queue.Queue(3)
+    dropped = [offer_newest(waiting, bytes([i])) for i in range(5)]
+    assert dropped == [False, False, False, True, True]
+    assert [waiting.get_nowait() for _ in range(3)] == [b"\x02", b"\x03", b"\x04"]
 
 
 def test_robot_addresses_are_checked() -> None:

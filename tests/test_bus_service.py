@@ -17,6 +17,7 @@ import zenoh
 
 from armplan.launch import free_endpoint
 from shared.bus import Bus, BusConfig, Endpoint, Route, ServiceHost, open_router
+from shared.bus.deadline import current_due
 from shared.errors import (
     InternalServiceError,
     RequestTimeoutError,
@@ -332,3 +333,49 @@ def test_a_reply_says_where_its_time_went_in_the_service(
     with Swallower(service_bus, LOSSY, lose=0):
         assert client.wait_alive(["lossy"], 5.0) == []
         assert client.call_timed(LOSSY, Text(text="x")) == (Text(text="answered"), None)
+
+
+class Recorded:
+    """A handler that holds its first request until released and notes every
+    request it runs, and whether its caller still waited when it finished."""
+
+    def __init__(self) -> None:
+        self.gate = Gate()
+        self.ran: list[str] = []
+        self.late: list[bool] = []
+
+    def __call__(self, request: Text) -> Text:
+        self.ran.append(request.text)
+        if request.text == "held":
+            self.gate(request)
+        due = current_due()
+        self.late.append(due is not None and due.passed)
+        return request
+
+
+def test_requests_their_callers_left_are_dropped_unserved(config: BusConfig) -> None:
+    """One worker held past its caller's 0.5 s: the 8 calls queued behind it,
+    each given up after 0.3 s, are never run, and the next caller is served
+    right after the held one; the held handler can tell its caller has gone."""
+    handler = Recorded()
+    single = dataclasses.replace(config, workers=1)
+    with (
+        Bus.connect(single) as service_bus,
+        ServiceHost(service_bus, "gated", [Endpoint(GATED, handler)]),
+        Bus.connect(single) as client,
+        ThreadPoolExecutor(9) as pool,
+    ):
+        assert client.wait_alive(["gated"], 5.0) == []
+        held = pool.submit(client.call, GATED, Text(text="held"), timeout=0.5)
+        assert handler.gate.entered.wait(5.0)
+        left = [
+            pool.submit(client.call, GATED, Text(text=f"left {i}"), timeout=0.3)
+            for i in range(8)
+        ]
+        for call in [held, *left]:
+            assert isinstance(call.exception(10.0), RequestTimeoutError)
+        time.sleep(0.1)  # the service counts from receipt, a moment after sending
+        handler.gate.release.set()
+        assert client.call(GATED, Text(text="new"), timeout=5.0).text == "new"
+    assert handler.ran == ["held", "new"]  # none of the 8 abandoned ones
+    assert handler.late == [True, False]

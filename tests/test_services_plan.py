@@ -23,6 +23,7 @@ from shared.demos.nao_grid import nao_grid
 from shared.errors import (
     InvalidInputError,
     PayloadTooLargeError,
+    RequestTimeoutError,
     ServiceUnavailableError,
     UnreachableTargetError,
 )
@@ -180,6 +181,33 @@ def test_a_repeated_request_id_is_planned_and_published_once(bus: Bus) -> None:
     other = CASES["fastest"].model_copy(update={"request_id": request.request_id})
     with pytest.raises(InvalidInputError, match="request_id"):
         bus.call(PLAN, other)
+
+
+def test_a_plan_its_caller_left_is_not_published(bus: Bus) -> None:
+    """A 16-target task asked with a 50 ms timeout: the caller gets its
+    timeout; the planner, finding its caller gone when the plan is done,
+    publishes no trajectory (a following robot would move for no one). The
+    same task asked patiently is published."""
+    published: list[bytes] = []
+
+    def keep(sample: zenoh.Sample) -> None:
+        published.append(sample.payload.to_bytes())
+
+    task = PlanRequest.model_validate(
+        {"targets": [{"position": tuple(g.wrist)} for g in nao_grid("right")]}
+    )
+    subscriber = bus.session.declare_subscriber(f"{NAMESPACE}/{TRAJECTORY_TOPIC}", keep)
+    try:
+        time.sleep(0.5)  # let the router learn of the subscriber
+        with pytest.raises(RequestTimeoutError):
+            bus.call(PLAN, task, timeout=0.05)
+        time.sleep(3.0)  # the plan takes well under a second on these services
+        assert published == []
+        reply = bus.call(PLAN, task)
+        time.sleep(0.5)  # the publication follows the reply closely
+    finally:
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    assert published == [reply.to_json().encode()]
 
 
 def test_an_unreachable_target_comes_back_typed(bus: Bus) -> None:

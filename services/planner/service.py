@@ -11,7 +11,9 @@ It runs the in-process planner (``services.planner.pipeline.plan``) with
 its stages as the decide, ik and timing services (``remote.RemoteStages``),
 so a plan made here equals one made in-process. A request repeating a
 recent ``request_id`` gets the first one's answer, planned and published
-once (``answer_once.AnswerOnce``). A service it needs that is
+once (``answer_once.AnswerOnce``). A plan finished after its caller
+stopped waiting (``shared.bus.deadline``) is not published: a robot that
+follows the trajectories would otherwise move for no one. A service it needs that is
 not running gives a ``service_unavailable`` error naming it at once (its
 liveliness token is checked before any work); once it is back, the next
 plan works. The parts are published so that a recorder subscribed to the
@@ -28,8 +30,10 @@ from services.planner.answer_once import AnswerOnce
 from services.planner.pipeline import PlanResult, plan
 from services.planner.remote import RemoteStages
 from shared.bus import Bus, Endpoint
+from shared.bus.deadline import current_due
 from shared.bus.routes import PLAN, TRAJECTORY_TOPIC
 from shared.bus.topics import DECISION_TOPIC, JOINT_PATH_TOPIC, PLAN_REQUEST_TOPIC
+from shared.errors import RequestTimeoutError
 from shared.messages import PlanRequest, Trajectory
 
 NAME = "planner"
@@ -45,6 +49,11 @@ def remote_planner(bus: Bus) -> Planner:
         bus.publish(PLAN_REQUEST_TOPIC, request)
         stages.require(request)
         result = plan(request, stages)
+        due = current_due()
+        if due is not None and due.passed:  # a following robot would move for no one
+            raise RequestTimeoutError(
+                NAME, key=PLAN.key(bus.config.namespace), timeout=due.budget
+            )
         publish_parts(bus, result)
         return result.trajectory
 

@@ -31,6 +31,7 @@ from typing import Any
 
 import zenoh
 
+from shared.bus.deadline import budget_attachment
 from shared.bus.keys import alive_key
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices
 from shared.bus.route import Rep, Route
@@ -118,11 +119,13 @@ def _ask(
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
 
     def send() -> None:
+        left = max(deadline - time.monotonic(), 1e-3)
         replies = session.get(
             key,
             payload=body,
             encoding=zenoh.Encoding.APPLICATION_JSON,
-            timeout=max(deadline - time.monotonic(), 1e-3),
+            timeout=left,
+            attachment=budget_attachment(left),
         )
         threading.Thread(target=_forward, args=(replies, inbox), daemon=True).start()
 

@@ -7,7 +7,10 @@ services), and declares the liveliness token ``<ns>/alive/<service>`` once it
 is ready. Every query is answered: a reply, or a ``reply_err`` carrying an
 ``ErrorReply`` (see ``codec.answer``); a full queue answers ``service_busy``.
 A reply's Zenoh attachment is a ``ServiceTiming``: where the request's time
-went inside the service.
+went inside the service. A query's attachment is its caller's budget
+(``shared.bus.deadline``): a query still queued when its caller has stopped
+waiting is dropped unserved, so a flood of abandoned requests does not
+delay the next caller.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ import contextlib
 import logging
 import queue
 import threading
+import time
 from collections.abc import Sequence
 from typing import Any
 
@@ -23,6 +27,7 @@ import zenoh
 
 from shared.bus.bus import Bus
 from shared.bus.codec import answer, reply_error
+from shared.bus.deadline import Due, deadline_of, serving_until
 from shared.bus.keys import alive_key, check_name
 from shared.bus.route import Endpoint
 from shared.errors import ServiceBusyError
@@ -32,7 +37,8 @@ log = logging.getLogger("armplan.bus")
 #: Longest wait for a worker to finish its request when stopping [s].
 STOP_GRACE = 2.0
 
-_Job = tuple[Endpoint[Any, Any], str, zenoh.Query]
+#: An endpoint, its key, the query and when its caller stops waiting.
+_Job = tuple[Endpoint[Any, Any], str, zenoh.Query, Due | None]
 
 
 class ServiceHost(StartStop):
@@ -72,8 +78,9 @@ class ServiceHost(StartStop):
 
     def _declare(self, endpoint: Endpoint[Any, Any], key: str) -> zenoh.Queryable[None]:
         def enqueue(query: zenoh.Query) -> None:  # on Zenoh's thread: no waiting
+            due = deadline_of(query, time.monotonic())
             try:
-                self._jobs.put_nowait((endpoint, key, query))
+                self._jobs.put_nowait((endpoint, key, query, due))
             except queue.Full:
                 busy = ServiceBusyError(self.name, key=key, queued=self._jobs.qsize())
                 with query, contextlib.suppress(zenoh.ZError):  # caller gone
@@ -91,11 +98,20 @@ class ServiceHost(StartStop):
                 log.exception("%s: failed to serve a query", job[1])
 
     def _serve(
-        self, endpoint: Endpoint[Any, Any], key: str, query: zenoh.Query
+        self,
+        endpoint: Endpoint[Any, Any],
+        key: str,
+        query: zenoh.Query,
+        due: Due | None,
     ) -> None:
         with query:
+            if due is not None and due.passed:
+                late = time.monotonic() - due.at
+                log.info("%s: dropped a request its caller left %.2f s ago", key, late)
+                return  # finished unanswered: no one waits for it
             payload = query.payload if query.payload is not None else b""
-            result = answer(endpoint, payload, key, self._bus.config.max_payload)
+            with serving_until(due):
+                result = answer(endpoint, payload, key, self._bus.config.max_payload)
             try:
                 if result.ok:
                     timing = result.timing

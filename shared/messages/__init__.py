@@ -84,3 +84,8 @@ __all__ += ["FitRequest"]
 from shared.messages.service_timing import ServiceTiming  # noqa: E402
 
 __all__ += ["ServiceTiming"]
+
+# How long a caller waits (the Zenoh attachment of its queries).
+from shared.messages.caller_budget import CallerBudget  # noqa: E402
+
+__all__ += ["CallerBudget"]

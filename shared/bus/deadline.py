@@ -1,0 +1,86 @@
+"""The caller's deadline inside a service: skip or stop work no one awaits.
+
+Every query carries a :class:`~shared.messages.CallerBudget` (the caller's
+time left, [s]) as its attachment. The service host turns it into a
+deadline on its own monotonic clock when the query arrives
+(:func:`deadline_of`). A query still queued past its deadline is dropped
+unserved; a handler runs inside :func:`serving_until`, so that it can ask
+:func:`current_due` before doing what only a waiting caller wants (the
+planner publishes a trajectory, which a following robot plays, only if its
+caller still waits).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import NamedTuple
+
+import zenoh
+from pydantic import ValidationError
+
+from shared.messages import CallerBudget
+
+_local = threading.local()
+
+
+class Due(NamedTuple):
+    """When a query's caller stops waiting.
+
+    Attributes:
+        at: The deadline [s, this process's monotonic clock].
+        budget: The caller's time left when it sent the query [s].
+    """
+
+    at: float
+    budget: float
+
+    @property
+    def passed(self) -> bool:
+        """Whether the caller has stopped waiting."""
+        return time.monotonic() > self.at
+
+
+def budget_attachment(seconds: float) -> bytes:
+    """The attachment of a query whose caller waits ``seconds`` [s] more."""
+    return CallerBudget(timeout=max(seconds, 1e-3)).to_json().encode()
+
+
+def deadline_of(query: zenoh.Query, received: float) -> Due | None:
+    """When the caller of ``query`` stops waiting, if it said.
+
+    Args:
+        query: The query.
+        received: When it arrived [s, monotonic clock].
+
+    Returns:
+        ``received`` plus the caller's budget, or ``None`` for a query
+        without a (valid) budget: it is served whenever its turn comes.
+    """
+    attachment = query.attachment
+    if attachment is None:
+        return None
+    try:
+        budget = CallerBudget.model_validate_json(attachment.to_bytes())
+    except ValidationError:
+        return None
+    return Due(received + budget.timeout, budget.timeout)
+
+
+@contextmanager
+def serving_until(due: Due | None) -> Iterator[None]:
+    """Run the block as the handler of a query ``due`` then (``None``: never)."""
+    before = getattr(_local, "due", None)
+    _local.due = due
+    try:
+        yield
+    finally:
+        _local.due = before
+
+
+def current_due() -> Due | None:
+    """The deadline of the query this thread serves, if it has one."""
+    due: Due | None = getattr(_local, "due", None)
+    return due
