@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from bridge.limits import FrameLimits
-from shared.errors import InvalidInputError, TrajectoryRefusedError
+from shared.errors import InvalidInputError, TrajectoryRefusedError, fixed
 from shared.messages import CommandFrames
 
 #: Slack on every comparison, relative to the limit: float round-off only.
@@ -91,7 +91,7 @@ def check_positions(q: np.ndarray, t: np.ndarray, limits: FrameLimits) -> None:
         frame=k,
         time=t[k],
         detail=(
-            f"angle {q[k, j]:.4f} rad at frame {k} (t = {t[k]:.3f} s) is outside "
+            f"angle {fixed(q[k, j], 4)} rad at frame {k} (t = {t[k]:.3f} s) is outside "
             f"its range [{limits.lower[j]:.4f}, {limits.upper[j]:.4f}] rad"
         ),
     )
@@ -122,7 +122,7 @@ def check_speeds(q: np.ndarray, t: np.ndarray, limits: FrameLimits) -> np.ndarra
         frame=k,
         time=t[k],
         detail=(
-            f"speed {speed:.3f} rad/s from frame {k - 1} (t = {t[k - 1]:.3f} s) "
+            f"speed {fixed(speed, 3)} rad/s from frame {k - 1} (t = {t[k - 1]:.3f} s) "
             f"to frame {k} (t = {t[k]:.3f} s) exceeds its limit "
             f"{limits.velocity[j]:.3f} rad/s"
         ),
@@ -160,7 +160,7 @@ def check_accelerations(
         frame=k,
         time=t[k],
         detail=(
-            f"acceleration {value:.2f} rad/s^2 at frame {k} (t = {t[k]:.3f} s) "
+            f"acceleration {fixed(value, 2)} rad/s^2 at frame {k} (t = {t[k]:.3f} s) "
             f"exceeds its limit {limits.acceleration[j]:.2f} rad/s^2"
         ),
     )
@@ -195,7 +195,7 @@ def check_jerks(accel: np.ndarray, t: np.ndarray, limits: FrameLimits) -> None:
         frame=k,
         time=t[k],
         detail=(
-            f"jerk {value:.1f} rad/s^3 over frames {k - 2} to {k + 1} (t = "
+            f"jerk {fixed(value, 1)} rad/s^3 over frames {k - 2} to {k + 1} (t = "
             f"{t[k - 2]:.3f} to {t[k + 1]:.3f} s) exceeds its limit "
             f"{limits.jerk[j]:.1f} rad/s^3"
         ),
@@ -266,8 +266,8 @@ def _refuse_at_rest(
         frame=frame,
         time=t[frame],
         detail=(
-            f"{quantity} {value:.1f} {unit} {when} (t = {t[frame]:.3f} s; the arm "
-            f"rests before the first frame and after the last) exceeds its limit "
+            f"{quantity} {fixed(value, 1)} {unit} {when} (t = {t[frame]:.3f} s; the "
+            "arm rests before the first frame and after the last) exceeds its limit "
             f"{bound[j]:.1f} {unit}"
         ),
     )

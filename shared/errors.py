@@ -17,7 +17,7 @@ def _fmt_vec(values: Sequence[float]) -> str:
     return "(" + ", ".join(f"{float(v):.4g}" for v in values) + ")"
 
 
-def _fmt_fixed(value: float, decimals: int) -> str:
+def fixed(value: float, decimals: int) -> str:
     """``value`` with ``decimals`` decimals, or in exponent form if huge (1e308)."""
     return f"{value:.{decimals}f}" if abs(value) < 1e6 else f"{value:.{decimals}g}"
 
@@ -29,7 +29,7 @@ def _decimals_apart(value: float, bounds: tuple[float, float], least: int = 5) -
     """
     decimals = least
     while decimals < 12 and any(
-        _fmt_fixed(value, decimals) == f"{bound:.{decimals}f}" for bound in bounds
+        fixed(value, decimals) == f"{bound:.{decimals}f}" for bound in bounds
     ):
         decimals += 1
     return decimals
@@ -127,7 +127,7 @@ class UnreachableTargetError(ArmplanError):
     ) -> None:
         prefix = f"{at}: " if at else ""
         where = (
-            f"{prefix}target {_fmt_vec(target)} m is {_fmt_fixed(distance, 4)} m "
+            f"{prefix}target {_fmt_vec(target)} m is {fixed(distance, 4)} m "
             f"from the {arm} shoulder"
         )
         span = f"the wrist reaches {reach[0]:.4f}..{reach[1]:.4f} m from it"
@@ -210,7 +210,7 @@ class JointLimitError(ArmplanError):
         at = f" {where}" if where else ""
         n = _decimals_apart(value, (lower, upper))
         super().__init__(
-            f"{joint} = {_fmt_fixed(value, n)} rad{at} is outside its range "
+            f"{joint} = {fixed(value, n)} rad{at} is outside its range "
             f"[{lower:.{n}f}, {upper:.{n}f}] rad",
             joint=joint,
             value=float(value),

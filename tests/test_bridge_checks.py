@@ -84,6 +84,25 @@ def test_a_frame_out_of_range_is_named() -> None:
     )
 
 
+def test_an_absurd_angle_is_named_briefly() -> None:
+    """1e308 rad reads as 1e+308, not as 309 digits."""
+    limits = FrameLimits.for_arm("right")
+    start = [float(v) for v in rest("right")]
+    far = [1e308, *start[1:]]
+    frames = CommandFrames(
+        arm="right",
+        rate=25.0,
+        joint_names=list(limits.names),
+        start=start,
+        times=[0.04],
+        positions=[far],
+    )
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        check_frames(frames, limits)
+    assert "RShoulderPitch angle 1e+308 rad at frame 1" in caught.value.message
+    assert len(caught.value.message) < 200
+
+
 def test_an_acceleration_spike_is_refused(rng: np.random.Generator) -> None:
     """Under the speed limit but a sharp kink: the acceleration check names it."""
     bad = with_sample(smooth(rng), 48, 4, 0.25)  # WristYaw, limit 24.6 rad/s

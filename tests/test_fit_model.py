@@ -137,6 +137,7 @@ def test_missing_file(tmp_path: pathlib.Path) -> None:
         ("shoulder", [[1.0, 2.0]], "shoulder: shape"),
         ("primitives", ["S_R E_P W_P", "W_R"], "primitives must be distinct motion"),
         ("bins", 1, "bins"),
+        ("sample_rate", 1e300, "sample_rate"),  # made every decision NaN
     ],
 )
 def test_malformed_models_name_the_field(

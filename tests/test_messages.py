@@ -9,8 +9,10 @@ import pytest
 
 from shared.errors import InvalidInputError
 from shared.messages import (
+    CommandFrames,
     Decision,
     ErrorReply,
+    ExecutedJointStates,
     IKRequest,
     JointPath,
     PlanRequest,
@@ -61,15 +63,80 @@ def test_deep_nesting_is_a_typed_error() -> None:
 
 def test_wrist_path_times_must_increase() -> None:
     """A wrist path with a repeated time names the sample."""
-    with pytest.raises(InvalidInputError, match=r"sample 2 .* is not after sample 1"):
+    with pytest.raises(
+        InvalidInputError, match=r"sample 2 \(t = 0.1 s\) comes 0 s after sample 1"
+    ):
         parse(WristPath, {"times": [0.0, 0.1, 0.1], "positions": [[0.1, 0, 0]] * 3})
 
 
-@pytest.mark.parametrize("end", [600.01, 1e308])
-def test_wrist_path_lasts_at_most_ten_minutes(end: float) -> None:
+def _timed(times: list[float]) -> dict[str, dict[str, object]]:
+    """A joint path, a trajectory and command frames at ``times``, by class."""
+    n, row = len(times), [0.0] * 5
+    names = ["RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "RWristYaw"]
+    common = {"arm": "right", "joint_names": names, "times": times}
+    return {
+        "JointPath": common
+        | {"positions": [row] * n, "primitives": ["x"] * n, "wrist": [[0, 0, 0]] * n},
+        "Trajectory": common
+        | {
+            "positions": [row] * n,
+            "velocities": [row] * n,
+            "accelerations": [row] * n,
+            "primitives": ["x"] * n,
+            "wrist_path": [[0, 0, 0]] * n,
+        },
+        "CommandFrames": common | {"rate": 25.0, "start": row, "positions": [row] * n},
+    }
+
+
+@pytest.mark.parametrize(
+    ("times", "message"),
+    [
+        ([1.0, 1.0 + 1e-15], r"sample 1 \(t = 1 s\) comes 1.11e-15 s after sample 0"),
+        ([1.0, 0.5], r"sample 1 \(t = 0.5 s\) comes -0.5 s after sample 0"),
+        ([1.0, 1e308], r"times\[1\] is 1e\+308 s: times must be finite and within"),
+    ],
+)
+def test_every_timed_message_checks_its_times(times: list[float], message: str) -> None:
+    """Steps under a microsecond once made NaN speeds (an internal error),
+    1e308 s overflowed, and a joint path's times were not checked at all."""
+    for name, data in _timed(times).items():
+        cls = {"JointPath": JointPath, "Trajectory": Trajectory}.get(
+            name, CommandFrames
+        )
+        with pytest.raises(InvalidInputError, match=message):
+            parse(cls, data)
+    for name, data in _timed([0.5, 0.5 + 1e-6, 1.0]).items():  # a microsecond will do
+        cls = {"JointPath": JointPath, "Trajectory": Trajectory}.get(
+            name, CommandFrames
+        )
+        parse(cls, data)
+
+
+def test_measured_times_need_only_increase() -> None:
+    """Readings of the robot may come closer than a microsecond apart."""
+    row = [0.0] * 5
+    states = ExecutedJointStates(
+        arm="right",
+        joint_names=["a"] * 5,
+        times=[0.0, 1e-9],
+        measured=[row, row],
+        commanded=[row, row],
+    )
+    assert states.times == [0.0, 1e-9]
+
+
+@pytest.mark.parametrize(
+    ("end", "message"),
+    [
+        (600.01, r"the path lasts .* longer than 600 s"),
+        (1e308, r"times\[1\] is 1e\+308 s"),
+    ],
+)
+def test_wrist_path_lasts_at_most_ten_minutes(end: float, message: str) -> None:
     """A path longer than 600 s is refused with its duration (1e308 s once
     overflowed the motion decision's arithmetic); 600 s is accepted."""
-    with pytest.raises(InvalidInputError, match=r"the path lasts .* longer than 600 s"):
+    with pytest.raises(InvalidInputError, match=message):
         parse(WristPath, {"times": [0.0, end], "positions": [[0.1, 0, 0]] * 2})
     parse(WristPath, {"times": [5.0, 605.0], "positions": [[0.1, 0, 0]] * 2})
 

@@ -353,3 +353,34 @@ def test_a_trajectory_too_long_for_the_bus_is_refused() -> None:
     # the same task at 100 Hz is planned
     result = plan(request.model_copy(update={"rate": 100.0}))
     assert 5900 < len(result.trajectory.times) < MAX_TRAJECTORY_SAMPLES
+
+
+def test_the_timing_stage_refuses_what_no_robot_could_take() -> None:
+    """Asked directly (as the timing service is), a 600 s movement at 1000 Hz
+    is refused before any timing (it made 600 001 samples, 218 MB), and a
+    joint path naming other joints than the arm's is refused, naming them."""
+    from services.planner.stages import timing
+    from shared.errors import InvalidInputError
+    from shared.messages import TimingRequest, TimingSegment
+
+    request = PlanRequest.model_validate(
+        {"targets": [{"position": (0.12, -0.1, 0.05)}]}
+    )
+    joint_path = plan(request).joint_paths[0]
+    slow = TimingRequest(
+        segments=[TimingSegment(joint_path=joint_path, duration=600.0)], rate=1000.0
+    )
+    with pytest.raises(InvalidInputError, match="would have 600001 samples"):
+        timing(slow)
+    renamed = joint_path.model_copy(update={"joint_names": ["a", "b", "c", "d", "e"]})
+    odd = TimingRequest(segments=[TimingSegment(joint_path=renamed)])
+    with pytest.raises(
+        InvalidInputError, match=r"segment 0 moves the right arm's \['a'"
+    ):
+        timing(odd)
+    assert (
+        len(
+            timing(TimingRequest(segments=[TimingSegment(joint_path=joint_path)])).times
+        )
+        > 10
+    )

@@ -191,26 +191,33 @@ def test_earlier_numbered_files_are_refused_or_all_replaced(tmp_path: Path) -> N
 
 
 def test_a_sample_without_poses_loses_only_its_poses(tmp_path: Path) -> None:
-    """Trajectories whose times overflow MCAP's clock (2e10 s) or a float
-    (1e300 s): each is written, its Foxglove poses are skipped, and the
-    writer goes on with the next sample."""
+    """A trajectory stamped a second before MCAP's clock ends (its poses
+    would pass 2^64 ns) is written, its Foxglove poses skipped, and the
+    writer goes on; times of 2e10 s, which once did the same, are no
+    trajectory any more and go to the json channel, also kept."""
     out = tmp_path / "odd.mcap"
     sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+    late = MAX_TIME - 10**9
+    data = json.loads(trajectory([0.0, 2.0]).to_json())
+    far_apart = json.dumps(data | {"times": [0.0, 2e10]}).encode()
+    state = JointState(
+        joint_names=JOINTS, positions=[0.0, -0.1, 0.3, 0.4, 0.0], time=1.0
+    )
     samples = [
-        trajectory([0.0, 2e10]).to_json().encode(),
-        trajectory([0.0, 1e300]).to_json().encode(),
-        JointState(joint_names=JOINTS, positions=[0.0, -0.1, 0.3, 0.4, 0.0], time=1.0)
-        .to_json()
-        .encode(),
+        ("plan/trajectory", trajectory([0.0, 2.0]).to_json().encode(), late),
+        ("plan/trajectory", far_apart, 1),
+        ("bridge/state", state.to_json().encode(), 2),
     ]
-    keys = ["plan/trajectory", "plan/trajectory", "bridge/state"]
-    for i, (key, payload) in enumerate(zip(keys, samples, strict=True)):
-        sink.put(Incoming(f"{NS}/{key}", payload, "application/json", i + 1, i + 2))
+    for key, payload, t in samples:
+        sink.put(Incoming(f"{NS}/{key}", payload, "application/json", t, t))
     sink.stop()
     assert sink.error is None and sink.failed == 0 and sink.written == 3
     records = list(read_records(out))
-    assert [r.raw for r in records if r.topic.startswith(NS)] == samples
-    assert any(r.topic.startswith("/tf") for r in records)  # the state's poses
+    mine = [r for r in records if r.topic.startswith(NS)]
+    assert [r.raw for r in mine] == [payload for _, payload, _ in samples]
+    assert [r.schema for r in mine] == ["Trajectory", "json", "JointState"]
+    assert not any(r.topic.startswith("/tf/planned") for r in records)
+    assert any(r.topic.startswith("/tf/executed") for r in records)  # the state's
 
 
 def test_nan_is_not_json() -> None:

@@ -136,6 +136,12 @@ def test_files_that_are_not_recordings(
         take_inventory(path, recover=True)
 
 
+def test_a_name_too_long_for_the_file_system_is_a_recording_error() -> None:
+    """A 5000-character name (the fit service once answered internal_error)."""
+    with pytest.raises(RecordingError, match="File name too long"):
+        list(read_records("x" * 5000 + ".mcap"))
+
+
 def test_a_folder_is_not_a_recording(tmp_path: Path) -> None:
     """A directory path is refused with a clear message."""
     with pytest.raises(RecordingError, match="is a folder, not an MCAP file"):

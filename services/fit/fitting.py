@@ -35,7 +35,7 @@ from services.fit.weights import fit_weights
 from shared.demos.retarget import nao_arm_size
 from shared.demos.trial import DemoSet
 from shared.errors import InvalidInputError
-from shared.messages.motion_model import MAX_SMOOTHING
+from shared.messages.motion_model import MAX_SAMPLE_RATE, MAX_SMOOTHING, MIN_SAMPLE_RATE
 from shared.primitives import MOTION_PRIMITIVES
 
 #: States per variable.
@@ -153,4 +153,12 @@ def _sample_rate(demos: DemoSet) -> float:
     steps = np.concatenate([np.diff(t.times) for t in demos.trials if len(t.times) > 1])
     if steps.size == 0:
         raise InvalidInputError("every trial has a single sample", field="demos")
-    return float(1.0 / np.median(steps))
+    rate = float(1.0 / np.median(steps))
+    if not MIN_SAMPLE_RATE <= rate <= MAX_SAMPLE_RATE:
+        raise InvalidInputError(
+            f"the demonstrations are sampled at {rate:.4g} Hz (median step); a "
+            f"model takes {MIN_SAMPLE_RATE:g} to {MAX_SAMPLE_RATE:g} Hz: are the "
+            "times in seconds?",
+            field="demos",
+        )
+    return rate

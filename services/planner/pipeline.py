@@ -29,7 +29,8 @@ from services.planner.build import trajectory_message
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
-from shared.errors import InvalidInputError, UnreachableTargetError
+from services.timing.sample_cap import check_samples
+from shared.errors import UnreachableTargetError
 from shared.messages import (
     DecideRequest,
     Decision,
@@ -43,7 +44,6 @@ from shared.messages import (
     WristPath,
 )
 from shared.messages.measure_params import MeasureParams
-from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
 from shared.robot.motion_limits import motion_limits
@@ -105,23 +105,6 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
     )
     check_samples(len(trajectory.times), request.rate)
     return PlanResult(trajectory, paths, decisions, joints)
-
-
-def check_samples(samples: int, rate: float) -> None:
-    """Refuse a trajectory of more than ``MAX_TRAJECTORY_SAMPLES`` samples.
-
-    Raises:
-        InvalidInputError: naming the count, the duration and the cap.
-    """
-    if samples > MAX_TRAJECTORY_SAMPLES:
-        raise InvalidInputError(
-            f"the trajectory would have {samples} samples ({samples / rate:g} s at "
-            f"{rate:g} Hz), more than {MAX_TRAJECTORY_SAMPLES}, the most the bus "
-            "and the robot bridge take: lower the rate or split the task",
-            field="rate",
-            samples=samples,
-            limit=MAX_TRAJECTORY_SAMPLES,
-        )
 
 
 def track_movement(

@@ -20,6 +20,7 @@ from services.fit.model import MotionModel
 from services.ik.track import TrackedPath, track_path
 from services.planner.build import arc_length, joint_path_message, trajectory_message
 from services.timing import Segment, time_segments
+from services.timing.sample_cap import check_asked, check_samples
 from shared.errors import InvalidInputError
 from shared.messages import (
     DecideRequest,
@@ -116,8 +117,15 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
 
     Each movement is timed by the hand's arc length along its IK path, so its
     human bell is the hand's speed profile.
+
+    Raises:
+        InvalidInputError: a trajectory over ``MAX_TRAJECTORY_SAMPLES``
+            samples (refused before timing when the asked durations and
+            dwells alone pass it), or joint names other than the arm's.
     """
+    check_asked(request)
     first = request.segments[0].joint_path
+    _check_joint_names(request)
     limits = limits or motion_limits(load_arm(first.arm).limits)
     segments = [
         Segment(
@@ -129,9 +137,29 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
         for s in request.segments
     ]
     timed = time_segments(segments, limits, rate=request.rate)
+    check_samples(len(timed.times), request.rate)
     return trajectory_message(
         [s.joint_path for s in request.segments], timed, request.method
     )
+
+
+def _check_joint_names(request: TimingRequest) -> None:
+    """Every segment moves the first one's arm, by its joints' names, in order.
+
+    Raises:
+        InvalidInputError: naming the segment and the names.
+    """
+    arm = request.segments[0].joint_path.arm
+    names = list(arm.joint_names)
+    for k, segment in enumerate(request.segments):
+        path = segment.joint_path
+        if path.arm is not arm or path.joint_names != names:
+            raise InvalidInputError(
+                f"segment {k} moves the {path.arm.value} arm's {path.joint_names}; "
+                f"a {arm.value} arm's task moves {names}, in that order",
+                field="segments",
+                index=k,
+            )
 
 
 @cache

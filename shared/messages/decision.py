@@ -17,6 +17,7 @@ from pydantic import Field, model_validator
 
 from shared.messages.base import Message
 from shared.messages.measure_params import MeasureParams
+from shared.messages.sample_times import check_times
 from shared.primitives import BY_NAME
 from shared.robot.side import Side
 
@@ -72,6 +73,7 @@ class Decision(Message):
                 f"{n} times but {len(self.primitives)} primitives and "
                 f"{len(self.g)} rows of g: one of each per time"
             )
+        check_times(self.times)
         _check_names("candidates", self.candidates)
         if len(set(self.candidates)) != len(self.candidates):
             raise ValueError("candidates: a primitive is named twice")

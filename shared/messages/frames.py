@@ -14,6 +14,7 @@ from pydantic import Field, NonNegativeFloat, model_validator
 
 from shared.messages.base import MAX_RATE, MIN_RATE, Message
 from shared.messages.joint_path import Row, Trajectory
+from shared.messages.sample_times import check_times
 from shared.robot.side import Side
 
 #: Highest frame rate a timeline may have [Hz]; ALMotion's cycle is 50 Hz.
@@ -26,14 +27,6 @@ def _check_table(name: str, rows: list[Row], n: int, width: int) -> None:
     for i, row in enumerate(rows):
         if len(row) != width:
             raise ValueError(f"{name}[{i}] has {len(row)} values, expected {width}")
-
-
-def _check_increasing(times: list[float], first_above: float | None) -> None:
-    if first_above is not None and times and not times[0] > first_above:
-        raise ValueError(f"times[0] must be above {first_above} s, got {times[0]}")
-    for i in range(1, len(times)):
-        if not times[i] > times[i - 1]:
-            raise ValueError(f"times must increase: time {i} is not after {i - 1}")
 
 
 class CommandFrames(Message):
@@ -62,7 +55,7 @@ class CommandFrames(Message):
         if len(self.start) != width:
             raise ValueError(f"start has {len(self.start)} values, expected {width}")
         _check_table("positions", self.positions, len(self.times), width)
-        _check_increasing(self.times, first_above=0.0)
+        check_times(self.times, first_above=0.0)
         return self
 
     @property
@@ -127,7 +120,7 @@ class ExecutedJointStates(Message):
         width = len(self.joint_names)
         _check_table("measured", self.measured, len(self.times), width)
         _check_table("commanded", self.commanded, len(self.times), width)
-        _check_increasing(self.times, first_above=None)
+        check_times(self.times, min_step=0.0)
         if self.round_trips and len(self.round_trips) != len(self.times):
             raise ValueError(
                 f"round_trips has {len(self.round_trips)} values for "

@@ -6,6 +6,8 @@ from pydantic import Field, model_validator
 
 from shared.messages.base import Message, Vec3
 from shared.messages.method import Method
+from shared.messages.sample_times import check_times
+from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 from shared.robot.side import Side
 
 Row = list[float]
@@ -33,7 +35,7 @@ class JointPath(Message):
 
     arm: Side
     joint_names: list[str]
-    times: list[float] = Field(min_length=1)
+    times: list[float] = Field(min_length=1, max_length=MAX_TRAJECTORY_SAMPLES)
     positions: list[Row]
     primitives: list[str]
     wrist: list[Vec3]
@@ -44,6 +46,7 @@ class JointPath(Message):
         _check_rows("positions", self.positions, n, len(self.joint_names))
         if len(self.primitives) != n or len(self.wrist) != n:
             raise ValueError("primitives and wrist need one entry per time")
+        check_times(self.times)
         return self
 
 
@@ -64,7 +67,7 @@ class Trajectory(Message):
 
     arm: Side
     joint_names: list[str]
-    times: list[float] = Field(min_length=1)
+    times: list[float] = Field(min_length=1, max_length=MAX_TRAJECTORY_SAMPLES)
     positions: list[Row]
     velocities: list[Row]
     accelerations: list[Row]
@@ -79,11 +82,7 @@ class Trajectory(Message):
             _check_rows(name, getattr(self, name), n, width)
         if len(self.primitives) != n or len(self.wrist_path) != n:
             raise ValueError("primitives and wrist_path need one entry per time")
-        for i in range(1, n):
-            if not self.times[i] > self.times[i - 1]:
-                raise ValueError(
-                    f"times must increase: sample {i} is not after {i - 1}"
-                )
+        check_times(self.times)
         return self
 
     @property

@@ -35,6 +35,11 @@ Table = list[float]
 MAX_SMOOTHING = 1e6
 
 
+#: Range of a model's demonstration sample rate [Hz]: a rate of 1e300 once
+#: passed and made every later decision NaN.
+MIN_SAMPLE_RATE, MAX_SAMPLE_RATE = 1.0, 10_000.0
+
+
 class VariableFit(Message):
     """One motion variable's exponential density and its states.
 
@@ -96,8 +101,9 @@ class MotionModel(Message):
     Attributes:
         version: File format version (``MODEL_VERSION``).
         arm: Arm lengths of the demonstrations after retargeting [m].
-        sample_rate: Sample rate of the demonstrations [Hz]; the transition
-            table is per sample at this rate.
+        sample_rate: Sample rate of the demonstrations [Hz], 1 to 10 000
+            (motion capture runs at 50-1000 Hz); the transition table is per
+            sample at this rate.
         bins: States per variable.
         smoothing: Pseudo-count added to every table cell.
         variables: The five variables' densities, in ``VARIABLES`` order.
@@ -117,7 +123,7 @@ class MotionModel(Message):
 
     version: int
     arm: ArmLengths
-    sample_rate: float = Field(gt=0.0)
+    sample_rate: float = Field(ge=MIN_SAMPLE_RATE, le=MAX_SAMPLE_RATE)
     bins: int = Field(ge=2, le=64)
     smoothing: float = Field(gt=0.0, le=MAX_SMOOTHING)
     variables: list[VariableFit] = Field(min_length=5, max_length=5)

@@ -9,7 +9,7 @@ from shared.messages.decision import Decision
 from shared.messages.joint_path import JointPath
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
-from shared.messages.wrist_path import WristPath
+from shared.messages.wrist_path import MAX_DURATION, WristPath
 
 
 class DecideRequest(Message):
@@ -60,12 +60,13 @@ class TimingSegment(Message):
 
     Attributes:
         joint_path: The movement's joint path (from the IK stage).
-        duration: Wanted duration [s] (human pace), or None: the fastest.
+        duration: Wanted duration [s] (human pace), at most 600, or None:
+            the fastest.
         dwell: Rest at the movement's end [s].
     """
 
     joint_path: JointPath
-    duration: float | None = Field(default=None, gt=0.0)
+    duration: float | None = Field(default=None, gt=0.0, le=MAX_DURATION)
     dwell: float = Field(default=0.0, ge=0.0, le=60.0)
 
 

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import math
-
 from pydantic import Field, model_validator
 
 from shared.messages.base import Direction, Message, Vec3
+from shared.messages.sample_times import check_times
 from shared.robot.side import Side
 
 #: Most samples one path may hold (100 Hz for 10 minutes).
@@ -36,14 +35,7 @@ class WristPath(Message):
             raise ValueError(
                 f"{len(self.times)} times but {len(self.positions)} positions"
             )
-        for i in range(1, len(self.times)):
-            if not self.times[i] > self.times[i - 1]:
-                raise ValueError(
-                    f"times must increase: sample {i} (t = {self.times[i]:g} s) "
-                    f"is not after sample {i - 1} (t = {self.times[i - 1]:g} s)"
-                )
-        if not all(math.isfinite(t) for t in self.times):
-            raise ValueError("times must be finite")
+        check_times(self.times)
         if self.times[-1] - self.times[0] > MAX_DURATION:
             raise ValueError(
                 f"the path lasts {self.times[-1] - self.times[0]:g} s, longer than "

@@ -80,6 +80,20 @@ class Recording:
         self.topics = None if topics is None else set(topics)
         self.damage: str | None = None
         self.count = 0
+        try:
+            self._check_file()
+        except OSError as exc:  # a name too long, a folder without permission
+            raise RecordingError(
+                f"cannot read {self.path}: {exc.strerror or exc}", path=str(self.path)
+            ) from None
+
+    def _check_file(self) -> None:
+        """Refuse a path that is not a non-empty regular file.
+
+        Raises:
+            RecordingError: naming what the path is instead.
+            OSError: if the file system cannot even say (see ``__init__``).
+        """
         if not self.path.exists():
             raise RecordingError(f"{self.path}: no such file", path=str(self.path))
         if self.path.is_dir():
