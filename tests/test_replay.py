@@ -286,3 +286,25 @@ def test_json_payloads_and_raw_bytes_come_back_identical(
     raw = [i for i in items if i.path == "misc/raw"]
     assert raw and all(i.encoding == "zenoh/bytes" for i in raw)
     assert json.loads(items[0].payload) == {"i": 0}
+
+
+def test_files_started_out_of_order_are_refused(tmp_path: Path) -> None:
+    """Two recordings, the later named first: refused naming both, since
+    its messages would play before the earlier ones; in order they play."""
+    from services.recorder.options import RecorderOptions
+    from services.recorder.routing import Incoming
+    from services.recorder.sink import RecordingSink
+    from shared.errors import RecordingError
+
+    files = []
+    for i in range(2):
+        out = tmp_path / f"s{i}.mcap"
+        sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), "ns").start()
+        t = time.time_ns()
+        sink.put(Incoming("ns/misc/x", b'{"i": %d}' % i, "application/json", t, t))
+        sink.stop()
+        files.append(out)
+        time.sleep(0.01)  # the second starts later
+    assert [item.payload for item in replay_items(files)] == [b'{"i": 0}', b'{"i": 1}']
+    with pytest.raises(RecordingError, match=r"s0\.mcap was started before .*s1\.mcap"):
+        replay_items(files[::-1])

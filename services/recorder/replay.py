@@ -99,9 +99,29 @@ def _records(
     return records
 
 
-def _namespace(path: str | Path) -> str:
-    """The namespace the recorder recorded ``path`` under ("" if unknown)."""
-    return read_metadata(path).get(ARMPLAN_METADATA, {}).get("namespace", "")
+def _recorder_metadata(path: str | Path) -> dict[str, str]:
+    """What the recorder noted in ``path`` (namespace, part, start), if anything."""
+    return read_metadata(path).get(ARMPLAN_METADATA, {})
+
+
+def _check_order(files: list[Path], started: list[str | None]) -> None:
+    """Refuse files not given in the order they were started.
+
+    Rotated parts are each stamped with the time they started
+    (``started_ns``); parts given out of order, or parts of two recordings
+    mixed, would play earlier messages after later ones.
+
+    Raises:
+        RecordingError: naming the two files.
+    """
+    for k in range(1, len(files)):
+        before, now = started[k - 1], started[k]
+        if before is not None and now is not None and int(now) < int(before):
+            raise RecordingError(
+                f"{files[k]} was started before {files[k - 1]}: give the numbered "
+                "files of one recording, in order",
+                path=str(files[k]),
+            )
 
 
 def replay_items(
@@ -114,7 +134,8 @@ def replay_items(
 
     Args:
         paths: An MCAP file written by the recorder, or the numbered files of
-            a rotating recording, in order (offsets run on across them).
+            a rotating recording, in order (offsets run on across them;
+            files started out of order are refused).
         keys: Only keys matching these expressions (relative to the
             namespace, e.g. ``plan/trajectory``, ``bridge/*``); all if ``None``.
         recover: Replay the readable prefix of a damaged file.
@@ -123,10 +144,12 @@ def replay_items(
         RecordingError: if a file cannot be read (or is damaged, without
             ``recover``), or a raw payload in it is malformed.
     """
-    files = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    files = [Path(paths)] if isinstance(paths, (str, Path)) else list(map(Path, paths))
+    noted = [_recorder_metadata(path) for path in files]
+    _check_order(files, [n.get("started_ns") for n in noted])
     per_file = []
-    for path in files:
-        namespace = _namespace(path)
+    for path, note in zip(files, noted, strict=True):
+        namespace = note.get("namespace", "")
         per_file.append((path, namespace, _records(path, namespace, keys, recover)))
     firsts = [records[0].log_time for _, _, records in per_file if records]
     if not firsts:
