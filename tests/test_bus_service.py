@@ -379,3 +379,15 @@ def test_requests_their_callers_left_are_dropped_unserved(config: BusConfig) -> 
         assert client.call(GATED, Text(text="new"), timeout=5.0).text == "new"
     assert handler.ran == ["held", "new"]  # none of the 8 abandoned ones
     assert handler.late == [True, False]
+
+
+def test_a_day_long_timeout_is_told_as_a_day() -> None:
+    """The budget sent is clamped into a millisecond .. a day, never refused."""
+    from shared.bus.deadline import budget_attachment
+    from shared.messages import CallerBudget
+    from shared.messages.caller_budget import MAX_BUDGET
+
+    def told(seconds: float) -> float:
+        return CallerBudget.model_validate_json(budget_attachment(seconds)).timeout
+
+    assert told(1e9) == MAX_BUDGET and told(-1.0) == 1e-3 and told(2.5) == 2.5

@@ -22,6 +22,10 @@ import zenoh
 from pydantic import ValidationError
 
 from shared.messages import CallerBudget
+from shared.messages.caller_budget import MAX_BUDGET
+
+#: Longest attachment read as a budget [bytes] (ours are about 20).
+LONGEST = 256
 
 _local = threading.local()
 
@@ -44,8 +48,13 @@ class Due(NamedTuple):
 
 
 def budget_attachment(seconds: float) -> bytes:
-    """The attachment of a query whose caller waits ``seconds`` [s] more."""
-    return CallerBudget(timeout=max(seconds, 1e-3)).to_json().encode()
+    """The attachment of a query whose caller waits ``seconds`` [s] more.
+
+    Clamped to a millisecond .. a day (``MAX_BUDGET``): a longer wait is
+    told as a day.
+    """
+    budget = min(max(seconds, 1e-3), MAX_BUDGET)
+    return CallerBudget(timeout=budget).to_json().encode()
 
 
 def deadline_of(query: zenoh.Query, received: float) -> Due | None:
@@ -62,8 +71,11 @@ def deadline_of(query: zenoh.Query, received: float) -> Due | None:
     attachment = query.attachment
     if attachment is None:
         return None
+    data = attachment.to_bytes()
+    if len(data) > LONGEST:  # not ours; parsed on Zenoh's thread, so not read
+        return None
     try:
-        budget = CallerBudget.model_validate_json(attachment.to_bytes())
+        budget = CallerBudget.model_validate_json(data)
     except ValidationError:
         return None
     return Due(received + budget.timeout, budget.timeout)
