@@ -91,7 +91,7 @@ class RotatingWriter(Closes):
         on_open: Callable[[MessageWriter, int], None] | None = None,
         flush_every: float = FLUSH_EVERY,
         *,
-        overwrite: bool = True,
+        overwrite: bool = False,
     ) -> None:
         self.path = Path(path)
         self.overwrite = overwrite
@@ -137,8 +137,9 @@ class RotatingWriter(Closes):
             which = (
                 f"{earlier[0]} and {more} more numbered files" if more else earlier[0]
             )
+            verb = "exist" if more else "exists"
             raise RecordingError(
-                f"{which} of an earlier recording exist: give another name, or "
+                f"{which} of an earlier recording {verb}: give another name, or "
                 "--overwrite to replace them",
                 path=str(earlier[0]),
             )
