@@ -486,6 +486,7 @@ class TrajectoryRefusedError(ArmplanError):
         limit: The limit it breaks, same unit (the bound crossed, for a position).
         frame: Index of the command frame (1 is the first key; 0 is the start).
         time: Time of that frame from the trajectory's start [s].
+        detail: What is wrong, after the joint's name.
     """
 
     kind = "trajectory_refused"
@@ -500,9 +501,10 @@ class TrajectoryRefusedError(ArmplanError):
         frame: int,
         time: float,
         detail: str,
+        outcome: str = "nothing was sent",
     ) -> None:
         super().__init__(
-            f"trajectory refused, nothing was sent: {joint} {detail}",
+            f"trajectory refused, {outcome}: {joint} {detail}",
             joint=joint,
             quantity=quantity,
             value=float(value),
@@ -516,6 +518,20 @@ class TrajectoryRefusedError(ArmplanError):
         self.limit = float(limit)
         self.frame = int(frame)
         self.time = float(time)
+        self.detail = detail
+
+    def instead(self, outcome: str) -> TrajectoryRefusedError:
+        """The same refusal, saying ``outcome`` (e.g. "nothing was written")."""
+        return TrajectoryRefusedError(
+            self.joint,
+            self.quantity,
+            self.value,
+            self.limit,
+            frame=self.frame,
+            time=self.time,
+            detail=self.detail,
+            outcome=outcome,
+        )
 
 
 class RobotUnavailableError(ArmplanError):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import pathlib
 import subprocess
 from collections.abc import Iterator
@@ -76,3 +77,22 @@ def test_no_planner_names_it(capsys: pytest.CaptureFixture[str]) -> None:
         code, _, err = run(capsys, "--target", *AT_GOAL, "--connect", config.endpoint)
     assert code == 1
     assert "service 'planner' is unavailable for armplan/plan" in err
+
+
+def test_a_task_file_with_an_old_request_id_is_planned_anew(
+    capsys: pytest.CaptureFixture[str], endpoint: str, tmp_path: pathlib.Path
+) -> None:
+    """A request copied from a recording keeps its request_id: run twice,
+    then edited, it is planned each time (not the first run's kept answer,
+    nor refused as an id reused for another task)."""
+    task = tmp_path / "request.json"
+    request = {"targets": [{"position": [float(v) for v in AT_GOAL]}]}
+    task.write_text(json.dumps(request | {"request_id": "from-a-recording"}))
+    first = run(capsys, "--task", str(task), "--json", "--connect", endpoint)
+    again = run(capsys, "--task", str(task), "--json", "--connect", endpoint)
+    assert first[0] == again[0] == 0 and again == first
+    request["targets"][0]["dwell"] = 0.5
+    task.write_text(json.dumps(request | {"request_id": "from-a-recording"}))
+    edited = run(capsys, "--task", str(task), "--json", "--connect", endpoint)
+    assert edited[0] == 0, edited[2]
+    assert json.loads(edited[1])["times"][-1] > json.loads(first[1])["times"][-1]

@@ -131,7 +131,8 @@ def test_cli_refuses_an_unsafe_trajectory(
     assert (
         main(["export", "choregraphe", str(source), "-o", str(tmp_path / "f.xar")]) == 1
     )
-    assert "RShoulderPitch speed" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "trajectory refused, nothing was written: RShoulderPitch speed" in err
     assert not (tmp_path / "f.xar").exists()
     assert (
         main(

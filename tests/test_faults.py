@@ -20,7 +20,7 @@ import pytest
 from armplan.faults import Call, Outcome, Tally, passed, send
 from armplan.faults.bad_input import bad_input_scenario, spoiled
 from armplan.faults.burst import burst_scenario
-from armplan.faults.kill_restart import restart_scenario
+from armplan.faults.kill_restart import _recovered, restart_scenario
 from armplan.faults.outcome import Result
 from armplan.faults.recorder_kill import recorder_scenario
 from armplan.faults.requests import GoodRequests, good_requests
@@ -112,6 +112,25 @@ def test_the_suite_fails_on_a_lost_request_or_a_crash() -> None:
     assert report["total"]["lost"] == 1 and report["total"]["crashes"] == 1
     assert report["passed"] is False
     assert report["load_average"] == {"start": 1.0, "end": 2.0}
+
+
+def test_a_process_left_unrecovered_fails_the_suite() -> None:
+    """A restart after which calls still fail is a failed suite, not a note."""
+    stuck = Tally("d", results=[Result("plan", Outcome.SUCCEEDED)])
+    stuck.facts = {"recovered": False}
+    assert not passed([stuck])
+
+
+def test_overlapping_executes_refused_robot_busy_still_count_as_recovered() -> None:
+    """One robot plays one trajectory at a time: an execute refused
+    robot_busy beside one that played is a healthy answer; none that played,
+    or a failed plan, is not."""
+    played = Result("bridge/execute", Outcome.SUCCEEDED)
+    busy = Result("bridge/execute", Outcome.TYPED, "robot_busy")
+    plan_ok = Result("plan", Outcome.SUCCEEDED)
+    assert _recovered([plan_ok, played, busy, busy])
+    assert not _recovered([plan_ok, busy])
+    assert not _recovered([played, Result("plan", Outcome.TYPED, "ik_failed")])
 
 
 @pytest.fixture(scope="module")

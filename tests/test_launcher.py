@@ -186,6 +186,7 @@ def test_status_without_a_router_names_the_endpoint() -> None:
         f"service 'router' is unavailable: no Zenoh router answers at {endpoint}"
         in (out.stderr)
     )
+    assert "or give the router's address with --connect" in out.stderr
 
 
 def test_a_port_in_use_is_reported(tmp_path: pathlib.Path) -> None:
@@ -217,3 +218,15 @@ def test_status_names_the_keys_of_the_bridge_started_on_request() -> None:
         "x": ("alive", "-"),
     }
     assert all(keys != "-" for _, _, keys in rows[: len(SERVICES)])
+
+
+def test_a_misspelt_service_is_said_to_be_no_process_of_ours() -> None:
+    """`status --require brige` or `replay --wait-for brige` used to read like a
+    bridge that did not start; the message now says no process has the name."""
+    from armplan.launch.catalog import unknown_hint
+
+    assert unknown_hint(["brige", "ik"]) == (
+        " (no armplan process is called 'brige'; ours: fit, decide, ik, timing, "
+        "planner, recorder, bridge)"
+    )
+    assert unknown_hint(["bridge", "recorder", "planner"]) == ""

@@ -142,6 +142,20 @@ def test_a_name_too_long_for_the_file_system_is_a_recording_error() -> None:
         list(read_records("x" * 5000 + ".mcap"))
 
 
+def test_a_rotated_recording_named_by_its_stem_points_to_its_parts(
+    tmp_path: Path,
+) -> None:
+    """`-o r.mcap --rotate-size` wrote r-0001.mcap ...: asking for r.mcap says so."""
+    for n in (1, 2, 3):
+        (tmp_path / f"r-{n:04d}.mcap").write_bytes(b"x")
+    with pytest.raises(
+        RecordingError,
+        match=r"r\.mcap: no such file; the recording was rotated into r-0001\.mcap "
+        r"to r-0003\.mcap$",
+    ):
+        list(read_records(tmp_path / "r.mcap"))
+
+
 def test_a_folder_is_not_a_recording(tmp_path: Path) -> None:
     """A directory path is refused with a clear message."""
     with pytest.raises(RecordingError, match="is a folder, not an MCAP file"):

@@ -308,3 +308,31 @@ def test_files_started_out_of_order_are_refused(tmp_path: Path) -> None:
     assert [item.payload for item in replay_items(files)] == [b'{"i": 0}', b'{"i": 1}']
     with pytest.raises(RecordingError, match=r"s0\.mcap was started before .*s1\.mcap"):
         replay_items(files[::-1])
+
+
+def test_a_file_twice_or_a_part_left_out_is_refused(tmp_path: Path) -> None:
+    """Parts 1 and 3 of a rotated recording (part 2 left out), or one file
+    twice, would play with a hole or twice: refused, naming them."""
+    from services.recorder.options import RecorderOptions
+    from services.recorder.routing import Incoming
+    from services.recorder.sink import RecordingSink
+    from shared.errors import RecordingError
+    from shared.recording.rotation import RotationPolicy, part_path
+
+    out = tmp_path / "r.mcap"
+    options = RecorderOptions(
+        output=out, keys=("**",), rotation=RotationPolicy(max_bytes=1)
+    )
+    sink = RecordingSink(options, "ns").start()
+    for i in range(3):
+        t = time.time_ns()
+        sink.put(Incoming("ns/misc/x", b'{"i": %d}' % i, "application/json", t, t))
+        time.sleep(0.05)  # each message starts its own part (1 byte each)
+    sink.stop()
+    parts = [part_path(out, n) for n in (1, 2, 3, 4)]  # 1: the description only
+    assert all(p.exists() for p in parts)
+    assert len(replay_items(parts)) == 3
+    with pytest.raises(RecordingError, match=r"r-0003\.mcap is part 3 .* part 2 is"):
+        replay_items([parts[0], parts[2]])
+    with pytest.raises(RecordingError, match=r"r-0001\.mcap is given twice"):
+        replay_items([parts[0], parts[0]])

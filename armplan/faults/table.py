@@ -24,7 +24,10 @@ COLUMNS = (
 
 
 def passed(tallies: Sequence[Tally]) -> bool:
-    """No request lost, no unclear error, no crash, in any scenario."""
+    """No request lost, no unclear error, no crash, none left unrecovered.
+
+    In any scenario; "unrecovered": a restarted process that does not serve.
+    """
     return all(t.healthy for t in tallies)
 
 

@@ -56,8 +56,10 @@ class Tally:
 
     @property
     def healthy(self) -> bool:
-        """Nothing lost, nothing unclear, nothing crashed."""
-        return self.lost == 0 and self.unclear == 0 and not self.crashes
+        """Nothing lost, unclear or crashed, and recovered after a restart."""
+        recovered = self.facts.get("recovered", True) is not False
+        clean = self.lost == 0 and self.unclear == 0 and not self.crashes
+        return clean and recovered
 
     def kinds(self) -> dict[str, int]:
         """How many requests ended with each error kind (not successes)."""

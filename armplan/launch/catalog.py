@@ -6,6 +6,7 @@ Each service runs as ``python -m services.<name>`` (its ``__main__.py`` calls
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, NamedTuple
 
 from shared.bus import Route
@@ -68,3 +69,19 @@ BRIDGE = ServiceSpec("bridge", "bridge.serve", (EXECUTE,))
 SIM = ServiceSpec("sim", "bridge.sim", ())
 #: Every process the catalogue knows besides the router.
 PROCESSES: tuple[ServiceSpec, ...] = (*SERVICES, RECORDER, BRIDGE, SIM)
+
+
+def unknown_hint(names: Sequence[str]) -> str:
+    """A hint naming those of ``names`` no armplan process answers to, or ``""``.
+
+    For a service that is not alive: a misspelt name ("brige") waits its
+    whole timeout and then reads like a process that did not start.
+    """
+    ours = [s.name for s in PROCESSES if s.routes or s.name == RECORDER.name]
+    unknown = [n for n in names if n not in ours]
+    if not unknown:
+        return ""
+    return (
+        f" (no armplan process is called {', '.join(map(repr, unknown))}; "
+        f"ours: {', '.join(ours)})"
+    )

@@ -104,22 +104,36 @@ def _recorder_metadata(path: str | Path) -> dict[str, str]:
     return read_metadata(path).get(ARMPLAN_METADATA, {})
 
 
-def _check_order(files: list[Path], started: list[str | None]) -> None:
-    """Refuse files not given in the order they were started.
+def _check_order(files: list[Path], noted: list[dict[str, str]]) -> None:
+    """Refuse files that are not the parts of recordings, once each, in order.
 
-    Rotated parts are each stamped with the time they started
-    (``started_ns``); parts given out of order, or parts of two recordings
-    mixed, would play earlier messages after later ones.
+    Each part is stamped with the time it started (``started_ns``) and its
+    number (``part``). Parts given out of order, parts of two recordings
+    mixed, a file given twice or a part left out would play messages out of
+    their order, twice, or with a hole.
 
     Raises:
-        RecordingError: naming the two files.
+        RecordingError: naming the files.
     """
+    seen: dict[Path, Path] = {}
+    for path in files:
+        first = seen.setdefault(path.resolve(), path)
+        if first is not path:
+            raise RecordingError(f"{path} is given twice", path=str(path))
     for k in range(1, len(files)):
-        before, now = started[k - 1], started[k]
-        if before is not None and now is not None and int(now) < int(before):
+        before, now = noted[k - 1], noted[k]
+        started = [int(n.get("started_ns", "-1")) for n in (before, now)]
+        if min(started) >= 0 and started[1] <= started[0]:
             raise RecordingError(
-                f"{files[k]} was started before {files[k - 1]}: give the numbered "
-                "files of one recording, in order",
+                f"{files[k]} was started before {files[k - 1]}: give the "
+                "numbered files of one recording, in order",
+                path=str(files[k]),
+            )
+        part, previous = int(now.get("part", "1")), int(before.get("part", "0"))
+        if part > 1 and part != previous + 1:
+            raise RecordingError(
+                f"{files[k]} is part {part} of its recording but follows "
+                f"{files[k - 1]}, part {previous}: part {previous + 1} is missing",
                 path=str(files[k]),
             )
 
@@ -135,7 +149,8 @@ def replay_items(
     Args:
         paths: An MCAP file written by the recorder, or the numbered files of
             a rotating recording, in order (offsets run on across them;
-            files started out of order are refused).
+            files out of order, given twice or with a part missing between
+            them are refused).
         keys: Only keys matching these expressions (relative to the
             namespace, e.g. ``plan/trajectory``, ``bridge/*``); all if ``None``.
         recover: Replay the readable prefix of a damaged file.
@@ -146,7 +161,7 @@ def replay_items(
     """
     files = [Path(paths)] if isinstance(paths, (str, Path)) else list(map(Path, paths))
     noted = [_recorder_metadata(path) for path in files]
-    _check_order(files, [n.get("started_ns") for n in noted])
+    _check_order(files, noted)
     per_file = []
     for path, note in zip(files, noted, strict=True):
         namespace = note.get("namespace", "")

@@ -33,7 +33,8 @@ def open_client(config: BusConfig, wait: float = 0.0) -> zenoh.Session:
                 raise ServiceUnavailableError(
                     "router",
                     reason=f"no Zenoh router answers at {', '.join(config.endpoints)} "
-                    f"({_short(error)}); start one with `armplan up`",
+                    f"({_short(error)}); start one with `armplan up`, or give the "
+                    "router's address with --connect",
                 ) from None
             time.sleep(RETRY_EVERY)
 

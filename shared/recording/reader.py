@@ -25,6 +25,16 @@ NOT_MCAP = "it holds bytes that are not MCAP records"
 NO_MAGIC = "no MCAP magic at its start"
 
 
+def _parts_hint(path: Path) -> str:
+    """Where a rotated recording's numbered files are, if ``path`` was rotated."""
+    suffix = path.suffix or ".mcap"
+    parts = sorted(path.parent.glob(f"{path.stem}-[0-9][0-9][0-9][0-9]{suffix}"))
+    if not parts:
+        return ""
+    names = parts[0].name if len(parts) == 1 else f"{parts[0].name} to {parts[-1].name}"
+    return f"; the recording was rotated into {names}"
+
+
 def describe_damage(error: Exception) -> str:
     """What a reading error says about the file, in words (no library names)."""
     if isinstance(error, InvalidMagic):
@@ -95,7 +105,10 @@ class Recording:
             OSError: if the file system cannot even say (see ``__init__``).
         """
         if not self.path.exists():
-            raise RecordingError(f"{self.path}: no such file", path=str(self.path))
+            raise RecordingError(
+                f"{self.path}: no such file{_parts_hint(self.path)}",
+                path=str(self.path),
+            )
         if self.path.is_dir():
             raise RecordingError(
                 f"{self.path} is a folder, not an MCAP file", path=str(self.path)

@@ -9,7 +9,7 @@ from typing import Any
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
-from shared.errors import InvalidInputError
+from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import Trajectory, parse
 from shared.messages.base import MAX_RATE, MIN_RATE
 from shared.output_paths import check_output_file
@@ -65,7 +65,12 @@ def run(args: argparse.Namespace) -> int:
         )
     check_output_file(args.output)
     trajectory = read_trajectory(args.trajectory)
-    frames = checked_frames(trajectory, args.rate, FrameLimits.for_arm(trajectory.arm))
+    try:
+        frames = checked_frames(
+            trajectory, args.rate, FrameLimits.for_arm(trajectory.arm)
+        )
+    except TrajectoryRefusedError as error:  # the bridge's words are "sent"
+        raise error.instead("nothing was written") from None
     writer = write_behavior if args.format == "choregraphe" else write_python
     path = writer(frames, args.output)
     summary = {

@@ -137,10 +137,15 @@ def plan_trajectory(request: PlanRequest) -> Trajectory:
 
 
 def _plan_remote(args: argparse.Namespace, request: PlanRequest) -> Trajectory:
-    """Plan ``request`` with the planner service (``armplan/plan``)."""
+    """Plan ``request`` with the planner service (``armplan/plan``).
+
+    Each run is a new request: it gets a fresh ``request_id``, also when a
+    ``--task`` file carries one (say, copied from a recording), which would
+    otherwise get that request's answer, neither planned nor published again.
+    """
     from armplan.cli.remote import connect
     from shared.bus.routes import PLAN
-    from shared.messages.request_id import with_request_id
+    from shared.messages.request_id import with_new_request_id
 
     with connect(args) as bus:
-        return bus.call(PLAN, with_request_id(request), repeat=True)
+        return bus.call(PLAN, with_new_request_id(request), repeat=True)

@@ -16,6 +16,7 @@ import sys
 
 import zenoh
 
+from armplan.launch.catalog import unknown_hint
 from services.recorder.arguments import add_bus_arguments, bus_config
 from services.recorder.replay import check_speed, replay, replay_items
 from shared.bus import Bus
@@ -107,7 +108,8 @@ def run(args: argparse.Namespace) -> int:
         missing = bus.wait_alive(args.wait_for, args.wait)
         if missing:
             raise ServiceUnavailableError(
-                ", ".join(missing), reason=f"not alive after {args.wait:g} s"
+                ", ".join(missing),
+                reason=f"not alive after {args.wait:g} s{unknown_hint(missing)}",
             )
 
         def publish(path: str, payload: bytes, encoding: str) -> None:

@@ -8,7 +8,7 @@ import sys
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
 from armplan.launch import SERVICES
-from armplan.launch.catalog import PROCESSES, ServiceSpec
+from armplan.launch.catalog import PROCESSES, ServiceSpec, unknown_hint
 from shared.bus import Bus, load_config
 from shared.errors import ServiceUnavailableError
 
@@ -62,7 +62,8 @@ def run(args: argparse.Namespace) -> int:
     missing = [name for name in args.require if name not in alive]
     if missing:
         raise ServiceUnavailableError(
-            ", ".join(missing), reason=f"not alive on {config.endpoint}"
+            ", ".join(missing),
+            reason=f"not alive on {config.endpoint}{unknown_hint(missing)}",
         )
     return 0
 
