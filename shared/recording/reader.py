@@ -13,6 +13,7 @@ from mcap.reader import NonSeekingReader
 from mcap.stream_reader import CRCValidationError
 
 from shared.errors import RecordingError
+from shared.recording.rotation import numbered_parts
 
 #: What each kind of damage means, for messages (``describe_damage``).
 TRUNCATED = (
@@ -27,8 +28,7 @@ NO_MAGIC = "no MCAP magic at its start"
 
 def _parts_hint(path: Path) -> str:
     """Where a rotated recording's numbered files are, if ``path`` was rotated."""
-    suffix = path.suffix or ".mcap"
-    parts = sorted(path.parent.glob(f"{path.stem}-[0-9][0-9][0-9][0-9]{suffix}"))
+    parts = numbered_parts(path)
     if not parts:
         return ""
     names = parts[0].name if len(parts) == 1 else f"{parts[0].name} to {parts[-1].name}"

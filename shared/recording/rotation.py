@@ -65,6 +65,12 @@ def part_path(path: Path, number: int) -> Path:
     return path.with_name(f"{path.stem}-{number:04d}{path.suffix or '.mcap'}")
 
 
+def numbered_parts(path: Path) -> list[Path]:
+    """The numbered files of a rotating recording at ``path`` now, in order."""
+    pattern = f"{path.stem}-[0-9][0-9][0-9][0-9]{path.suffix or '.mcap'}"
+    return sorted(path.parent.glob(pattern))
+
+
 class RotatingWriter(Closes):
     """Live-layout MCAP files, numbered, each closed with its summary.
 
@@ -124,10 +130,7 @@ class RotatingWriter(Closes):
 
     def _earlier_parts(self) -> list[Path]:
         """Numbered files of an earlier recording at this path, in order."""
-        if not self.policy.rotates:
-            return []
-        pattern = f"{self.path.stem}-[0-9][0-9][0-9][0-9]{self.path.suffix or '.mcap'}"
-        return sorted(self.path.parent.glob(pattern))
+        return numbered_parts(self.path) if self.policy.rotates else []
 
     def _clear_earlier(self) -> None:
         """Remove (``overwrite``) or refuse an earlier rotating recording."""
