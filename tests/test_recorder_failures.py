@@ -10,6 +10,7 @@ loses only its poses; NaN is not JSON; a flipped byte is a checksum error.
 from __future__ import annotations
 
 import json
+import logging
 import os
 import resource
 import subprocess
@@ -24,6 +25,7 @@ import zenoh
 from armplan.launch import free_endpoint
 from services.recorder.options import RecorderOptions
 from services.recorder.routing import Incoming, route
+from services.recorder.service import Recorder
 from services.recorder.sink import RecordingSink
 from shared.bus import Bus, BusConfig, open_router
 from shared.errors import InvalidInputError, RecordingError
@@ -254,3 +256,33 @@ def test_a_changed_byte_is_a_checksum_error(tmp_path: Path) -> None:
     assert recording.damage == CHANGED
     with pytest.raises(RecordingError, match="checksum does not match"):
         list(read_records(out))
+
+
+def test_the_recorder_says_when_the_router_goes_and_comes_back(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A router stopped under a recorder: a warning that nothing is recorded
+    until it is back, then one when it is; the recording goes on."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace=NS)
+    out = tmp_path / "gone.mcap"
+
+    def said(text: str, timeout: float = 30.0) -> bool:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            recorder.watch_router()
+            if any(text in r.getMessage() for r in caplog.records):
+                return True
+            time.sleep(0.1)
+        return False
+
+    caplog.set_level(logging.WARNING, logger="armplan.recorder")
+    router = open_router(config)
+    with (
+        Bus.connect(config) as bus,
+        Recorder(bus, RecorderOptions(output=out, keys=("misc/*",))) as recorder,
+    ):
+        router.close()
+        assert said(f"lost the router at {config.endpoint}; nothing is recorded")
+        with open_router(config):
+            assert said(f"the router at {config.endpoint} is back; recording")
+    assert [r.topic for r in read_records(out)] == ["/robot_description"]  # whole

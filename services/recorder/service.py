@@ -75,6 +75,7 @@ class Recorder(StartStop):
         self._exprs = [zenoh.KeyExpr(key) for key in self.keys]
         self._subscriber: zenoh.Subscriber[None] | None = None
         self._token: zenoh.LivelinessToken | None = None
+        self._connected = True
 
     def start(self) -> Recorder:
         """Open the file, subscribe, then announce liveliness.
@@ -113,12 +114,38 @@ class Recorder(StartStop):
         )
 
     def wait(self, stop: threading.Event, timeout: float | None = None) -> None:
-        """Until ``stop`` is set, the file takes no more, or ``timeout`` [s] passes."""
+        """Until ``stop`` is set, the file takes no more, or ``timeout`` [s] passes.
+
+        Meanwhile it says when the router is lost and when it is back
+        (:meth:`watch_router`): nothing is recorded in between.
+        """
         deadline = None if timeout is None else time.monotonic() + timeout
         while not self.sink.broken.is_set():
+            self.watch_router()
             left = POLL if deadline is None else min(POLL, deadline - time.monotonic())
             if left <= 0 or stop.wait(left):
                 return
+
+    def watch_router(self) -> None:
+        """Log a warning when the router goes away, and when it comes back.
+
+        Zenoh reconnects by itself; what is published while no router
+        connects the recorder is not recorded, so the log says when.
+        """
+        connected = bool(self._bus.session.info.routers_zid())
+        if connected == self._connected:
+            return
+        self._connected = connected
+        endpoints = ", ".join(self._bus.config.endpoints)
+        if connected:
+            log.warning("recorder: the router at %s is back; recording", endpoints)
+        else:
+            log.warning(
+                "recorder: lost the router at %s; nothing is recorded until it "
+                "is back (%d messages so far)",
+                endpoints,
+                self.sink.written,
+            )
 
     def stop(self) -> list[Path]:
         """Withdraw the token and subscriptions, write out the rest, close.
