@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from bridge.checks import check_frames
-from bridge.fidelity import check_follows
+from bridge.fidelity import check_follows, follow_tolerance
 from bridge.frames import frames_from_trajectory
 from bridge.limits import FrameLimits
 from shared.messages import CommandFrames, Trajectory
@@ -15,8 +15,8 @@ def checked_frames(
     """``trajectory`` as frames at ``rate`` [Hz], checked; nothing is sent.
 
     The frames must keep every limit of ``limits`` (:mod:`bridge.checks`)
-    and follow the trajectory within a degree between keys
-    (:mod:`bridge.fidelity`).
+    and follow the trajectory between keys within a degree, or a fast
+    joint's chord gap at 25 fps (:mod:`bridge.fidelity`).
 
     Raises:
         InvalidInputError: more frames than the bridge sends in one call,
@@ -26,5 +26,5 @@ def checked_frames(
     """
     frames = frames_from_trajectory(trajectory, rate)
     check_frames(frames, limits)
-    check_follows(frames, trajectory)
+    check_follows(frames, trajectory, follow_tolerance(limits))
     return frames

@@ -7,8 +7,10 @@ at a few hertz a movement is cut short (at 1 Hz a 0.3 s wave swing is not
 made at all), while every frame still passes the limit checks. The bridge
 therefore compares the straight lines between the frames with the
 trajectory, at each of its samples and halfway between frames, and refuses
-frames that stray from it by more than :data:`FOLLOW_TOLERANCE`, naming the
-joint, the time and a frame rate that would do.
+frames that stray from it by more than a degree (or, for a joint as fast as
+WristYaw, the gap its acceleration limit makes at 25 fps:
+:func:`follow_tolerance`), naming the joint, the time and a frame rate that
+would do.
 """
 
 from __future__ import annotations
@@ -16,52 +18,67 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numpy.typing as npt
 
-from bridge.frames import frames_from_trajectory
+from bridge.frames import DEFAULT_RATE, frames_from_trajectory
 from bridge.interpolation import positions_at
+from bridge.limits import FrameLimits
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import CommandFrames, Trajectory
 from shared.messages.base import MAX_RATE
 
 #: Largest allowed gap between the lines through the frames and the
-#: trajectory [rad] (1 degree, the tracking the bridge is held to).
+#: trajectory [rad] (1 degree, the tracking the bridge is held to), unless a
+#: joint's own limits allow more (:func:`follow_tolerance`).
 FOLLOW_TOLERANCE = math.radians(1.0)
 #: Frame rates tried before a refusal suggests one.
 ATTEMPTS = 8
 
 
+def follow_tolerance(limits: FrameLimits) -> np.ndarray:
+    """Largest allowed gap of each joint [rad], shape (n,).
+
+    One degree, or the chord gap a joint at its acceleration limit makes
+    between frames at Choregraphe's 25 fps (``a T^2 / 8``) if larger, so
+    that every trajectory within the bridge's limits passes at 25 fps: the
+    fast WristYaw of a ``--fastest`` reach with a palm strays 1.1 degree
+    there, within its 2.8.
+    """
+    chord = np.asarray(limits.acceleration, float) / (8.0 * DEFAULT_RATE**2)
+    return np.maximum(FOLLOW_TOLERANCE, chord)
+
+
 def check_follows(
-    frames: CommandFrames,
-    trajectory: Trajectory,
-    tolerance: float = FOLLOW_TOLERANCE,
+    frames: CommandFrames, trajectory: Trajectory, tolerance: npt.ArrayLike
 ) -> None:
     """Refuse ``frames`` if the lines between them stray from ``trajectory``.
 
     Args:
         frames: The trajectory's command frames (``frames_from_trajectory``).
         trajectory: The trajectory [s, rad].
-        tolerance: Largest allowed gap [rad].
+        tolerance: Largest allowed gap [rad], per joint (shape (n,)) or one.
 
     Raises:
         TrajectoryRefusedError: quantity ``"frame_rate"``, naming the joint
             and the time of the largest gap [rad] and a rate that would do.
     """
-    gap, joint, time = largest_gap(frames, trajectory)
-    if gap <= tolerance:
+    limit = np.broadcast_to(np.asarray(tolerance, float), (len(frames.joint_names),))
+    ratio, joint, time, gap = _worst(frames, trajectory, limit)
+    if ratio <= 1.0:
         return
     frame = int(np.searchsorted(frames.times, time)) + 1
     raise TrajectoryRefusedError(
         frames.joint_names[joint],
         "frame_rate",
         gap,
-        tolerance,
+        limit[joint],
         frame=frame,
         time=time,
         detail=(
             f"would pass {math.degrees(gap):.1f} deg from the trajectory at "
             f"t = {time:.3f} s between frames at {frames.rate:g} Hz (at most "
-            f"{math.degrees(tolerance):g} deg): "
-            + _advice(trajectory, frames.rate, gap, tolerance)
+            f"{math.degrees(limit[joint]):.3g} deg): "
+            + _advice(trajectory, frames.rate, ratio, limit)
         ),
     )
 
@@ -74,6 +91,29 @@ def largest_gap(
     Returns:
         The gap [rad], the index of its joint, and its time from the start [s].
     """
+    t, gap = _gaps(frames, trajectory)
+    i, j = np.unravel_index(int(np.argmax(gap)), gap.shape)
+    return float(gap[i, j]), int(j), float(t[i])
+
+
+def _worst(
+    frames: CommandFrames, trajectory: Trajectory, limit: np.ndarray
+) -> tuple[float, int, float, float]:
+    """The gap largest against its joint's limit: (gap / limit, joint, time, gap)."""
+    t, gap = _gaps(frames, trajectory)
+    ratio = gap / limit
+    i, j = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+    return float(ratio[i, j]), int(j), float(t[i]), float(gap[i, j])
+
+
+def _gaps(
+    frames: CommandFrames, trajectory: Trajectory
+) -> tuple[np.ndarray, np.ndarray]:
+    """Times [s] (k,) and gaps [rad] (k, n) of the lines through the frames.
+
+    At the trajectory's samples and at the midpoints between frames, where
+    the lines are farthest from a smooth curve.
+    """
     t_keys = np.concatenate([[0.0], frames.times])
     q_keys = np.vstack([np.asarray(frames.start)[None, :], frames.positions])
     samples = np.asarray(trajectory.times) - trajectory.times[0]
@@ -81,25 +121,25 @@ def largest_gap(
     lines = np.column_stack(
         [np.interp(t, t_keys, q_keys[:, j]) for j in range(q_keys.shape[1])]
     )
-    gap = np.abs(lines - positions_at(trajectory, t))  # (k, n)
-    i, j = np.unravel_index(int(np.argmax(gap)), gap.shape)
-    return float(gap[i, j]), int(j), float(t[i])
+    return t, np.abs(lines - positions_at(trajectory, t))
 
 
-def _advice(trajectory: Trajectory, rate: float, gap: float, tolerance: float) -> str:
+def _advice(
+    trajectory: Trajectory, rate: float, ratio: float, limit: np.ndarray
+) -> str:
     """A frame rate that passes, found by trying, or why none is offered.
 
     The gap of straight lines falls about with the square of the frame
     period; starting from that estimate, rates a quarter apart are tried.
     """
     for _ in range(ATTEMPTS):
-        rate = min(math.ceil(1.25 * rate * math.sqrt(gap / tolerance)), MAX_RATE)
+        rate = min(math.ceil(1.25 * rate * math.sqrt(ratio)), MAX_RATE)
         try:
             frames = frames_from_trajectory(trajectory, rate)
         except InvalidInputError:
             break  # too many frames at this rate
-        gap = largest_gap(frames, trajectory)[0]
-        if gap <= tolerance:
+        ratio = _worst(frames, trajectory, limit)[0]
+        if ratio <= 1.0:
             return f"at {rate:g} Hz it would not"
         if rate >= MAX_RATE:
             break
