@@ -210,6 +210,34 @@ def test_a_plan_its_caller_left_is_not_published(bus: Bus) -> None:
     assert published == [reply.to_json().encode()]
 
 
+def test_a_repeat_still_waiting_gets_the_plan_its_first_caller_left(
+    bus: Bus,
+) -> None:
+    """Asked with a 50 ms timeout, then again at once under the same id (the
+    documented way to ask for a late answer): the repeat gets the plan, and
+    it is published once, since a caller still waited for it."""
+    published: list[bytes] = []
+
+    def keep(sample: zenoh.Sample) -> None:
+        published.append(sample.payload.to_bytes())
+
+    task = with_request_id(
+        PlanRequest.model_validate(
+            {"targets": [{"position": tuple(g.wrist)} for g in nao_grid("right")]}
+        )
+    )
+    subscriber = bus.session.declare_subscriber(f"{NAMESPACE}/{TRAJECTORY_TOPIC}", keep)
+    try:
+        time.sleep(0.5)  # let the router learn of the subscriber
+        with pytest.raises(RequestTimeoutError):
+            bus.call(PLAN, task, timeout=0.05, repeat=True)
+        reply = bus.call(PLAN, task, timeout=60.0, repeat=True)
+        time.sleep(0.5)  # the publication follows the reply closely
+    finally:
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    assert published == [reply.to_json().encode()]
+
+
 def test_an_unreachable_target_comes_back_typed(bus: Bus) -> None:
     """The planner's own typed error, with its evidence, through the service."""
     far = PlanRequest.model_validate({"targets": [{"position": (0.5, -0.12, 0.05)}]})

@@ -11,8 +11,9 @@ It runs the in-process planner (``services.planner.pipeline.plan``) with
 its stages as the decide, ik and timing services (``remote.RemoteStages``),
 so a plan made here equals one made in-process. A request repeating a
 recent ``request_id`` gets the first one's answer, planned and published
-once (``answer_once.AnswerOnce``). A plan finished after its caller
-stopped waiting (``shared.bus.deadline``) is not published: a robot that
+once (``answer_once.AnswerOnce``). A plan finished after its callers
+(the first and any repeat, ``waiting.Waiting``) stopped waiting
+(``shared.bus.deadline``) is not published: a robot that
 follows the trajectories would otherwise move for no one. A service it needs that is
 not running gives a ``service_unavailable`` error naming it at once (its
 liveliness token is checked before any work); once it is back, the next
@@ -29,6 +30,7 @@ from typing import Any
 from services.planner.answer_once import AnswerOnce
 from services.planner.pipeline import PlanResult, plan
 from services.planner.remote import RemoteStages
+from services.planner.waiting import Waiting
 from shared.bus import Bus, Endpoint
 from shared.bus.deadline import current_due
 from shared.bus.routes import PLAN, TRAJECTORY_TOPIC
@@ -44,23 +46,27 @@ def remote_planner(bus: Bus) -> Planner:
     """Plan through the stage services, publishing the request and every part."""
     stages = RemoteStages(bus)
     once: AnswerOnce[PlanRequest, Trajectory] = AnswerOnce(PlanRequest.to_json)
+    waiting = Waiting()
 
     def plan_and_publish(request: PlanRequest) -> Trajectory:
         bus.publish(PLAN_REQUEST_TOPIC, request)
         stages.require(request)
         result = plan(request, stages)
         due = current_due()
-        if due is not None and due.passed:  # a following robot would move for no one
+        if waiting.all_gone(request.request_id, due):  # a robot would move for no one
             raise RequestTimeoutError(
-                NAME, key=PLAN.key(bus.config.namespace), timeout=due.budget
+                NAME,
+                key=PLAN.key(bus.config.namespace),
+                timeout=0.0 if due is None else due.budget,
             )
         publish_parts(bus, result)
         return result.trajectory
 
     def plan_remotely(request: PlanRequest) -> Trajectory:
-        return once.answer(
-            request.request_id, request, lambda: plan_and_publish(request)
-        )
+        with waiting.caller(request.request_id, current_due()):
+            return once.answer(
+                request.request_id, request, lambda: plan_and_publish(request)
+            )
 
     return plan_remotely
 
