@@ -95,22 +95,20 @@ def _timed(times: list[float]) -> dict[str, dict[str, object]]:
         ([1.0, 1.0 + 1e-15], r"sample 1 \(t = 1 s\) comes 1.11e-15 s after sample 0"),
         ([1.0, 0.5], r"sample 1 \(t = 0.5 s\) comes -0.5 s after sample 0"),
         ([1.0, 1e308], r"times\[1\] is 1e\+308 s: times must be finite and within"),
+        ([1.0, 90_001.0], r"the times span 90000 s, more than 86400 s \(a day\)"),
     ],
 )
 def test_every_timed_message_checks_its_times(times: list[float], message: str) -> None:
     """Steps under a microsecond once made NaN speeds (an internal error),
-    1e308 s overflowed, and a joint path's times were not checked at all."""
+    1e308 s overflowed, and a joint path's times were not checked at all;
+    clock timestamps (Unix time) pass, a microsecond apart."""
+    classes = {"JointPath": JointPath, "Trajectory": Trajectory}
     for name, data in _timed(times).items():
-        cls = {"JointPath": JointPath, "Trajectory": Trajectory}.get(
-            name, CommandFrames
-        )
         with pytest.raises(InvalidInputError, match=message):
-            parse(cls, data)
-    for name, data in _timed([0.5, 0.5 + 1e-6, 1.0]).items():  # a microsecond will do
-        cls = {"JointPath": JointPath, "Trajectory": Trajectory}.get(
-            name, CommandFrames
-        )
-        parse(cls, data)
+            parse(classes.get(name, CommandFrames), data)
+    for fine in ([0.5, 0.5 + 1e-6, 1.0], [1.7e9, 1.7e9 + 0.01]):
+        for name, data in _timed(fine).items():
+            parse(classes.get(name, CommandFrames), data)
 
 
 def test_measured_times_need_only_increase() -> None:

@@ -1,5 +1,7 @@
 """Checks of a message's sample times: finite, increasing, not absurdly close.
 
+Clock timestamps (Unix time) are times too: only the span is held to a day.
+
 Every timed message (wrist and joint paths, decisions, trajectories, command
 frames) checks its times here, once, when it is read: a step of 1e-15 s
 turned speeds into NaN deep inside a service (an internal error instead of
@@ -13,8 +15,11 @@ from collections.abc import Sequence
 
 #: Smallest step between two samples [s] (a microsecond).
 MIN_STEP = 1e-6
-#: Largest time, and largest span of times, a message may hold [s] (a day).
+#: Largest span of times a message may hold [s] (a day).
 MAX_SPAN = 86_400.0
+#: Largest time [s]: Unix time in the year 2286, so that clock timestamps
+#: pass and a time in nanoseconds still fits MCAP's 64 bits.
+MAX_TIME = 1e10
 
 
 def check_times(
@@ -31,14 +36,20 @@ def check_times(
             which need only increase.
 
     Raises:
-        ValueError: naming the first sample that is not finite, not within
-            a day, or not after the one before by ``min_step`` or more.
+        ValueError: naming the first sample that is not finite or beyond
+            ``MAX_TIME``, or not after the one before by ``min_step`` or
+            more, or a span of times over a day.
     """
     for i, t in enumerate(times):
-        if not (math.isfinite(t) and abs(t) <= MAX_SPAN):
+        if not (math.isfinite(t) and abs(t) <= MAX_TIME):
             raise ValueError(
-                f"times[{i}] is {t:g} s: times must be finite and within {MAX_SPAN:g} s"
+                f"times[{i}] is {t:g} s: times must be finite and within {MAX_TIME:g} s"
             )
+    if times and times[-1] - times[0] > MAX_SPAN:
+        raise ValueError(
+            f"the times span {times[-1] - times[0]:g} s, more than {MAX_SPAN:g} s "
+            f"(a day), from t = {times[0]:.9g} s to t = {times[-1]:.9g} s"
+        )
     if first_above is not None and times and not times[0] > first_above:
         raise ValueError(f"times[0] must be above {first_above:g} s, got {times[0]:g}")
     for i in range(1, len(times)):
