@@ -230,3 +230,6 @@ def test_a_misspelt_service_is_said_to_be_no_process_of_ours() -> None:
         "planner, recorder, bridge)"
     )
     assert unknown_hint(["bridge", "recorder", "planner"]) == ""
+    assert unknown_hint(["sim"]) == (
+        " ('sim' holds no liveliness token (it speaks NAOqi, not Zenoh))"
+    )

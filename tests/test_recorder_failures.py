@@ -254,8 +254,13 @@ def test_a_changed_byte_is_a_checksum_error(tmp_path: Path) -> None:
     recording = Recording(out)
     assert len(list(recording)) == 10
     assert recording.damage == CHANGED
-    with pytest.raises(RecordingError, match="checksum does not match"):
+    with pytest.raises(RecordingError) as caught:
         list(read_records(out))
+    assert caught.value.message.endswith(
+        "its checksum does not match: bytes were changed after it was written, "
+        "somewhere in its 10 messages (which cannot be told); --recover (or "
+        "recover=True) reads them all, the changed bytes included"
+    )
 
 
 def test_the_recorder_says_when_the_router_goes_and_comes_back(
@@ -286,3 +291,19 @@ def test_the_recorder_says_when_the_router_goes_and_comes_back(
         with open_router(config):
             assert said(f"the router at {config.endpoint} is back; recording")
     assert [r.topic for r in read_records(out)] == ["/robot_description"]  # whole
+
+
+def test_overwrite_finds_the_parts_of_a_name_with_glob_characters(
+    tmp_path: Path,
+) -> None:
+    """`r[1].mcap` rotated: its parts are found (the name is no pattern), so
+    --overwrite removes them all and a plain run refuses them."""
+    path = tmp_path / "r[1].mcap"
+    for n in (1, 2, 3):
+        part_path(path, n).write_bytes(b"old")
+    policy = RotationPolicy(max_bytes=10_000)
+    with pytest.raises(RecordingError, match="and 2 more numbered files"):
+        RotatingWriter(path, policy).open()
+    with RotatingWriter(path, policy, overwrite=True).open():
+        pass
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r[1]-0001.mcap"]

@@ -336,3 +336,29 @@ def test_a_file_twice_or_a_part_left_out_is_refused(tmp_path: Path) -> None:
         replay_items([parts[0], parts[2]])
     with pytest.raises(RecordingError, match=r"r-0001\.mcap is given twice"):
         replay_items([parts[0], parts[0]])
+
+
+def test_two_recordings_made_at_once_are_not_replayed_as_one(tmp_path: Path) -> None:
+    """A second recorder started while the first records: each file is in
+    start order, but their messages interleave, so they are refused."""
+    from services.recorder.options import RecorderOptions
+    from services.recorder.routing import Incoming
+    from services.recorder.sink import RecordingSink
+    from shared.errors import RecordingError
+
+    def sink(name: str) -> RecordingSink:
+        options = RecorderOptions(output=tmp_path / name, keys=("**",))
+        return RecordingSink(options, "ns").start()
+
+    first = sink("x.mcap")
+    time.sleep(0.01)
+    second = sink("y.mcap")
+    for i in range(3):
+        t = time.time_ns()
+        for each in (first, second):
+            each.put(Incoming("ns/misc/x", b'{"i": %d}' % i, "application/json", t, t))
+        time.sleep(0.01)
+    first.stop()
+    second.stop()
+    with pytest.raises(RecordingError, match=r"y\.mcap overlaps .*x\.mcap"):
+        replay_items([tmp_path / "x.mcap", tmp_path / "y.mcap"])

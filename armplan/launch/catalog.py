@@ -72,16 +72,23 @@ PROCESSES: tuple[ServiceSpec, ...] = (*SERVICES, RECORDER, BRIDGE, SIM)
 
 
 def unknown_hint(names: Sequence[str]) -> str:
-    """A hint naming those of ``names`` no armplan process answers to, or ``""``.
+    """A hint for those of ``names`` no liveliness token can show, or ``""``.
 
     For a service that is not alive: a misspelt name ("brige") waits its
-    whole timeout and then reads like a process that did not start.
+    whole timeout and then reads like a process that did not start; the
+    simulated NAO runs but speaks NAOqi, not Zenoh, so it holds no token.
     """
     ours = [s.name for s in PROCESSES if s.routes or s.name == RECORDER.name]
-    unknown = [n for n in names if n not in ours]
-    if not unknown:
-        return ""
-    return (
-        f" (no armplan process is called {', '.join(map(repr, unknown))}; "
-        f"ours: {', '.join(ours)})"
-    )
+    silent = [s.name for s in PROCESSES if s.name not in ours]
+    unknown = [n for n in names if n not in ours and n not in silent]
+    hints = [
+        f"{n!r} holds no liveliness token (it speaks NAOqi, not Zenoh)"
+        for n in names
+        if n in silent
+    ]
+    if unknown:
+        hints.append(
+            f"no armplan process is called {', '.join(map(repr, unknown))}; "
+            f"ours: {', '.join(ours)}"
+        )
+    return f" ({'; '.join(hints)})" if hints else ""

@@ -15,6 +15,7 @@ import math
 import threading
 import time
 from collections.abc import Callable, Iterable, Sequence
+from itertools import pairwise
 from pathlib import Path
 from typing import NamedTuple
 
@@ -138,6 +139,28 @@ def _check_order(files: list[Path], noted: list[dict[str, str]]) -> None:
             )
 
 
+def _check_no_overlap(files: list[tuple[Path, list[Record]]]) -> None:
+    """Refuse files whose messages were received while the one before's were.
+
+    Consecutive parts of one recording follow each other (one writer wrote
+    them, in order); two recordings made at the same time overlap, and would
+    play their messages twice and out of order.
+
+    Raises:
+        RecordingError: naming the two files.
+    """
+    kept = [(path, records) for path, records in files if records]
+    for (before, earlier), (path, later) in pairwise(kept):
+        if later[0].publish_time < earlier[-1].publish_time:
+            raise RecordingError(
+                f"{path} overlaps {before}: its first message was received "
+                f"{(earlier[-1].publish_time - later[0].publish_time) / 1e9:.3f} s "
+                "before that file's last; two recordings made at once cannot be "
+                "replayed as one",
+                path=str(path),
+            )
+
+
 def replay_items(
     paths: str | Path | Sequence[str | Path],
     *,
@@ -166,6 +189,7 @@ def replay_items(
     for path, note in zip(files, noted, strict=True):
         namespace = note.get("namespace", "")
         per_file.append((path, namespace, _records(path, namespace, keys, recover)))
+    _check_no_overlap([(path, records) for path, _, records in per_file])
     firsts = [records[0].log_time for _, _, records in per_file if records]
     if not firsts:
         return []

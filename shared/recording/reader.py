@@ -187,6 +187,14 @@ class Recording:
                 path=str(self.path),
                 readable=0,
             )
+        if self.damage == CHANGED:  # found at the end: which message, unknown
+            return RecordingError(
+                f"{self.path}: {CHANGED}, somewhere in its {self.count} messages "
+                "(which cannot be told); --recover (or recover=True) reads them "
+                "all, the changed bytes included",
+                path=str(self.path),
+                readable=self.count,
+            )
         return RecordingError(
             f"{self.path} is damaged after {self.count} readable messages: "
             f"{self.damage}; --recover (or recover=True) reads those messages",

@@ -11,6 +11,7 @@ description), and channels and schemas are registered again in each file.
 
 from __future__ import annotations
 
+import glob
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -67,7 +68,8 @@ def part_path(path: Path, number: int) -> Path:
 
 def numbered_parts(path: Path) -> list[Path]:
     """The numbered files of a rotating recording at ``path`` now, in order."""
-    pattern = f"{path.stem}-[0-9][0-9][0-9][0-9]{path.suffix or '.mcap'}"
+    stem, suffix = glob.escape(path.stem), glob.escape(path.suffix or ".mcap")
+    pattern = f"{stem}-[0-9][0-9][0-9][0-9]{suffix}"
     return sorted(path.parent.glob(pattern))
 
 

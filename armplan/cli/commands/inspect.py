@@ -21,6 +21,7 @@ from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import RecordingError
 from shared.recording.inventory import Inventory, take_inventory
+from shared.recording.reader import CHANGED
 
 ORDER = 92
 HELP = "show a recording's channels, message counts and time range"
@@ -120,7 +121,12 @@ def _print(inventory: Inventory, validate: bool) -> None:
         f"from {_clock(first)} to {_clock(last)} ({span:.3f} s)"
     )
     console.print(_table(inventory, validate))
-    if inventory.damage is not None:
+    if inventory.damage == CHANGED:
+        console.print(
+            f"[yellow]{escape(CHANGED)}, somewhere in these {inventory.count} "
+            "messages (which cannot be told): shown with the changed bytes[/yellow]"
+        )
+    elif inventory.damage is not None:
         console.print(
             f"[yellow]damaged after {inventory.count} readable messages "
             f"({escape(inventory.damage)}); shown: the readable prefix[/yellow]"
