@@ -1,6 +1,9 @@
-"""Shared fixtures: both arms, and a seeded random generator."""
+"""Shared fixtures: both arms, a seeded random generator, a port in use."""
 
 from __future__ import annotations
+
+import socket
+from collections.abc import Iterator
 
 import numpy as np
 import pytest
@@ -21,3 +24,12 @@ def rng() -> np.random.Generator:
 def random_posture(arm: ArmModel, rng: np.random.Generator) -> np.ndarray:
     """A posture drawn uniformly within the joint limits [rad]."""
     return rng.uniform(arm.limits.lower, arm.limits.upper)
+
+
+@pytest.fixture
+def busy_port() -> Iterator[int]:
+    """A port on 127.0.0.1 that another socket listens on, for the test's time."""
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        yield int(taken.getsockname()[1])

@@ -7,10 +7,8 @@ code 1, before any process starts or any file is written.
 
 from __future__ import annotations
 
-import socket
 import subprocess
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -92,12 +90,9 @@ def test_a_bad_host_writes_nothing(
 
 
 @pytest.fixture
-def busy_endpoint() -> Iterator[str]:
+def busy_endpoint(busy_port: int) -> str:
     """A Zenoh endpoint on 127.0.0.1 whose port another socket listens on."""
-    with socket.socket() as taken:
-        taken.bind(("127.0.0.1", 0))
-        taken.listen()
-        yield f"tcp/127.0.0.1:{taken.getsockname()[1]}"
+    return f"tcp/127.0.0.1:{busy_port}"
 
 
 def test_a_failed_demo_start_names_the_log_to_read(

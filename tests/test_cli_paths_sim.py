@@ -7,10 +7,8 @@ reason, exit code 1, no traceback, and no simulated NAO started.
 
 from __future__ import annotations
 
-import socket
 import subprocess
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -49,12 +47,9 @@ def assert_refused(done: subprocess.CompletedProcess[str], stderr: str) -> None:
 
 
 @pytest.fixture
-def busy_url() -> Iterator[str]:
+def busy_url(busy_port: int) -> str:
     """A NAOqi address on 127.0.0.1 whose port another socket listens on."""
-    with socket.socket() as taken:
-        taken.bind(("127.0.0.1", 0))
-        taken.listen()
-        yield f"tcp://127.0.0.1:{taken.getsockname()[1]}"
+    return f"tcp://127.0.0.1:{busy_port}"
 
 
 def test_a_busy_port_is_refused_naming_the_address(busy_url: str) -> None:

@@ -12,7 +12,6 @@ import pathlib
 import queue
 import re
 import signal
-import socket
 import subprocess
 import sys
 import threading
@@ -189,13 +188,9 @@ def test_status_without_a_router_names_the_endpoint() -> None:
     assert "or give the router's address with --connect" in out.stderr
 
 
-def test_a_port_in_use_is_reported(tmp_path: pathlib.Path) -> None:
+def test_a_port_in_use_is_reported(tmp_path: pathlib.Path, busy_port: int) -> None:
     """The router cannot listen: armplan up exits 1 naming the router."""
-    with socket.socket() as taken:
-        taken.bind(("127.0.0.1", 0))
-        taken.listen()
-        port = taken.getsockname()[1]
-        out = armplan("up", "--listen", f"tcp/127.0.0.1:{port}", "--only", "ik")
+    out = armplan("up", "--listen", f"tcp/127.0.0.1:{busy_port}", "--only", "ik")
     assert out.returncode == 1
     assert "service 'router' is unavailable" in out.stderr
     assert "exited with code 1 while starting" in out.stderr
