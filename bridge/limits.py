@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 import numpy.typing as npt
 
 from shared.robot import Side, load_arm
-from shared.robot.motion_limits import JERK_TIME
+from shared.robot.motion_limits import JERK_TIME, MotionLimits, motion_limits
 
 #: Default acceleration limit as the time a joint takes to reach its speed
 #: limit from rest [s]: limit = speed limit / this. A safety net for the
@@ -22,8 +20,10 @@ RAMP_TIME = 0.1
 JERK_RAMP_TIME = JERK_TIME
 
 
-class FrameLimits(NamedTuple):
+class FrameLimits(MotionLimits):
     """Limits of the joints a set of frames moves.
+
+    ``MotionLimits`` with the bridge's looser defaults (:meth:`for_arm`).
 
     Attributes:
         names: NAO joint names, shape (n,).
@@ -34,12 +34,7 @@ class FrameLimits(NamedTuple):
         jerk: Jerk limits [rad/s^3], shape (n,).
     """
 
-    names: tuple[str, ...]
-    lower: np.ndarray
-    upper: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray
-    jerk: np.ndarray
+    __slots__ = ()
 
     @classmethod
     def for_arm(
@@ -56,21 +51,15 @@ class FrameLimits(NamedTuple):
                 default: speed limit / :data:`RAMP_TIME`.
             jerk: Jerk limits [rad/s^3], scalar or shape (5,); default:
                 acceleration limit / :data:`JERK_RAMP_TIME`.
+
+        Raises:
+            InvalidInputError: a limit is not a positive finite number, or has
+                the wrong shape.
         """
-        limits = load_arm(side).limits
+        joints = load_arm(side).limits
         if acceleration is None:
-            accel = limits.velocity / RAMP_TIME
-        else:
-            accel = np.broadcast_to(np.asarray(acceleration, dtype=float), (5,))
+            acceleration = np.asarray(joints.velocity, dtype=float) / RAMP_TIME
+        accel = motion_limits(joints, acceleration=acceleration).acceleration
         if jerk is None:
-            jerks = accel / JERK_RAMP_TIME
-        else:
-            jerks = np.broadcast_to(np.asarray(jerk, dtype=float), (5,))
-        return cls(
-            names=limits.names,
-            lower=limits.lower.copy(),
-            upper=limits.upper.copy(),
-            velocity=limits.velocity.copy(),
-            acceleration=np.array(accel, dtype=float),
-            jerk=np.array(jerks, dtype=float),
-        )
+            jerk = accel / JERK_RAMP_TIME
+        return cls(*motion_limits(joints, acceleration=accel, jerk=jerk))

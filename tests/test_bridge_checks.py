@@ -18,6 +18,7 @@ from bridge.minimum_jerk import minimum_jerk_trajectory
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import CommandFrames, Trajectory
 from shared.robot import Side, load_arm
+from shared.robot.motion_limits import motion_limits
 from shared.robot.postures import rest
 
 
@@ -288,3 +289,28 @@ def test_the_approach_move_stays_within_a_quarter_of_the_limits(
     check_frames(at_rest_around(move), quarter)
     assert np.allclose(move.positions[-1], target)
     assert move.duration >= 0.5
+
+
+@pytest.mark.parametrize(
+    ("given", "quantity"),
+    [({"jerk": -1.0}, "jerk"), ({"acceleration": float("nan")}, "acceleration")],
+)
+def test_bridge_limits_given_by_hand_are_checked(
+    given: dict[str, float], quantity: str
+) -> None:
+    """A negative or NaN limit is refused with the joint named, not trusted."""
+    with pytest.raises(InvalidInputError, match=rf"{quantity} limit of RShoulderPitch"):
+        FrameLimits.for_arm("right", **given)
+
+
+def test_bridge_limits_are_the_timing_limits_loosened() -> None:
+    """Same positions and speeds as the robot file; acceleration and jerk by
+    the bridge's ramp times, above the timing service's defaults."""
+    bridge = FrameLimits.for_arm("left")
+    timing = motion_limits(load_arm("left").limits)
+    np.testing.assert_array_equal(bridge.upper, timing.upper)
+    np.testing.assert_array_equal(bridge.velocity, timing.velocity)
+    np.testing.assert_allclose(bridge.acceleration, timing.velocity / RAMP_TIME)
+    np.testing.assert_allclose(bridge.jerk, bridge.acceleration / JERK_RAMP_TIME)
+    assert np.all(bridge.acceleration > timing.acceleration)
+    assert np.all(bridge.jerk > timing.jerk)
