@@ -7,10 +7,13 @@
    limits, and the lines between frames against the trajectory (within a
    degree); one bad frame refuses the whole trajectory, before the robot is
    even contacted;
-2. the robot is connected (again, if it went away); with the approach off,
-   an arm away from the trajectory's start refuses it here; the arm's joints
-   are stiffened, and if the arm is not at the start a slow approach move
-   (checked the same way) brings it there;
+2. the robot is connected (again, if it went away) and the arm's commanded
+   angles are read once they hold still (``bridge.at_rest``: an arm still
+   moving is busy); with the approach off, an arm away from the
+   trajectory's start refuses it here; the arm's joints are stiffened, and
+   if the arm is not at the start, or the first frame from where it is
+   breaks a limit (``bridge.start_gap``), a slow approach move (checked the
+   same way) brings it there;
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz;
 4. the answer is the executed joint states and the tracking report (RMS and
@@ -22,21 +25,21 @@ The Zenoh wrapper (the bridge process) only feeds requests to
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 import numpy as np
 
 from bridge.almotion import angle_interpolation_call
 from bridge.approach import approach_frames
+from bridge.at_rest import angles_at_rest
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.frames import DEFAULT_RATE
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from bridge.playback import SAMPLE_PERIOD, play_and_sample
+from bridge.start_gap import needs_approach
 from bridge.tracking import executed_states, tracking_report
-from shared.errors import TrajectoryRefusedError
 from shared.messages import (
     CommandFrames,
     ExecuteReply,
@@ -45,9 +48,6 @@ from shared.messages import (
     Trajectory,
 )
 from shared.robot import Side
-
-#: The arm counts as at the trajectory's start within this much [rad].
-START_TOLERANCE = math.radians(0.5)
 
 StateCallback = Callable[[JointState], None]
 FramesCallback = Callable[[CommandFrames], None]
@@ -137,17 +137,18 @@ class RobotBridge:
 
         Raises:
             TrajectoryRefusedError: a frame breaks a limit (nothing sent).
+            RobotBusyError: the arm was still moving after a second.
             RobotUnavailableError: the robot cannot be reached, or went away
                 during the movement (raised within 2 s of it going).
             RobotCommandError: the robot refused a command.
         """
         frames = self.frames(trajectory, rate)
         names = list(frames.joint_names)
-        current = self.client.get_angles(names, use_sensors=False)
-        if not approach:
-            _check_at_start(frames, current)
+        current = angles_at_rest(self.client, names)
+        limits = self.limits(frames.arm)
+        move_first = needs_approach(frames, current, limits, approach)
         self.client.stiffen(names)
-        approach_time = self._approach(frames, current)
+        approach_time = self._approach(frames, current) if move_first else 0.0
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)
@@ -163,43 +164,15 @@ class RobotBridge:
         )
 
     def _approach(self, frames: CommandFrames, current: np.ndarray) -> float:
-        """Bring the arm from ``current`` [rad] to the frames' start if needed.
+        """Bring the arm from ``current`` [rad] to the frames' start.
 
         Returns:
-            The approach move's length [s] (0 if the arm is at the start).
+            The approach move's length [s].
         """
         start = np.asarray(frames.start)
-        if np.abs(current - start).max() <= START_TOLERANCE:
-            return 0.0
         move = approach_frames(
             frames.arm, current, start, self.limits(frames.arm), frames.rate
         )
         check_frames(move, self.limits(frames.arm))
         play_and_sample(self.client, angle_interpolation_call(move), period=0.05)
         return move.duration
-
-
-def _check_at_start(frames: CommandFrames, current: np.ndarray) -> None:
-    """Refuse ``frames`` unless the arm, at ``current`` [rad], is at their start.
-
-    Raises:
-        TrajectoryRefusedError: naming the joint farthest from the start.
-    """
-    start = np.asarray(frames.start)
-    gap = np.abs(current - start)
-    if gap.max() <= START_TOLERANCE:
-        return
-    j = int(np.argmax(gap))
-    raise TrajectoryRefusedError(
-        frames.joint_names[j],
-        "start",
-        current[j],
-        start[j],
-        frame=0,
-        time=0.0,
-        detail=(
-            f"is at {current[j]:.4f} rad, {math.degrees(gap[j]):.2f} deg "
-            f"from the trajectory's start {start[j]:.4f} rad, and the "
-            "approach move is off"
-        ),
-    )

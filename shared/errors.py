@@ -563,25 +563,33 @@ class RobotBusyError(ArmplanError):
 
     A queued movement would start whenever the one before ends, perhaps long
     after its caller gave up waiting: a robot must not move on a stale
-    command.
+    command. An arm found moving by a command the bridge did not send (or
+    one still running after the robot was out of reach) is busy too: a move
+    started from a moving arm would jerk it.
 
     Attributes:
         url: The robot's NAOqi address.
-        remaining: About how long the playing trajectory still runs [s].
+        remaining: About how long the playing trajectory still runs [s], or
+            ``None`` if not known (the arm was found moving).
     """
 
     kind = "robot_busy"
 
-    def __init__(self, url: str, remaining: float) -> None:
+    def __init__(self, url: str, remaining: float | None) -> None:
+        if remaining is None:
+            what = "has an arm still moving (a command not sent by this bridge, or "
+            what += "one that went on while the robot was out of reach)"
+        else:
+            what = f"is playing another trajectory (about {remaining:.1f} s left)"
+        done = "has stopped" if remaining is None else "is done"
         super().__init__(
-            f"the robot at {url} is playing another trajectory (about "
-            f"{remaining:.1f} s left); nothing was sent: send this one when it "
-            "is done",
+            f"the robot at {url} {what}; nothing was sent: send this one when it "
+            f"{done}",
             url=url,
-            remaining=float(remaining),
+            remaining=None if remaining is None else float(remaining),
         )
         self.url = url
-        self.remaining = float(remaining)
+        self.remaining = None if remaining is None else float(remaining)
 
 
 class RobotCommandError(ArmplanError):

@@ -1,0 +1,57 @@
+"""The arm's commanded angles once it is still: no move starts from a moving arm.
+
+A new ``angleInterpolation`` replaces the one running on the same joints,
+from wherever the arm is commanded to be at that moment, at rest. An arm
+still moving (a command from Choregraphe or another client, or the bridge's
+own movement that went on while the robot was out of reach) would be
+stopped dead and sent back the other way within one control cycle, far
+beyond its acceleration and jerk limits. So the commanded angles are read
+twice, more than two of ALMotion's 20 ms cycles apart, and only equal
+readings count.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from bridge.naoqi_client import NaoqiClient
+from shared.errors import RobotBusyError
+
+#: Time between two readings that must agree [s]: over two 20 ms cycles.
+READ_GAP = 0.045
+#: Longest wait for a moving arm to stop before refusing [s].
+STILL_WAIT = 1.0
+#: Readings closer than this count as equal [rad].
+STILL = 1e-6
+
+
+def angles_at_rest(
+    client: NaoqiClient,
+    names: list[str],
+    wait: float = STILL_WAIT,
+    gap: float = READ_GAP,
+) -> np.ndarray:
+    """The commanded angles of ``names`` [rad], shape (n,), once they hold still.
+
+    Args:
+        client: The robot.
+        names: NAO joint names.
+        wait: Longest wait for a moving arm to stop [s].
+        gap: Time between readings [s].
+
+    Raises:
+        RobotBusyError: the arm still moved after ``wait``.
+        RobotUnavailableError: the robot cannot be reached.
+    """
+    deadline = time.monotonic() + wait
+    before = client.get_angles(names, use_sensors=False)
+    while True:
+        time.sleep(gap)
+        now = client.get_angles(names, use_sensors=False)
+        if np.abs(now - before).max() <= STILL:
+            return now
+        if time.monotonic() >= deadline:
+            raise RobotBusyError(client.url, None)
+        before = now
