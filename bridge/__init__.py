@@ -17,7 +17,7 @@
 
 import shared.libqi  # noqa: F401  (first: see shared/libqi.py)
 from bridge.almotion import AngleInterpolationCall, angle_interpolation_call
-from bridge.checked_frames import checked_frames
+from bridge.checked_frames import check_behavior, checked_frames
 from bridge.checks import check_frames
 from bridge.choregraphe import behavior_xml, read_behavior, write_behavior
 from bridge.frames import DEFAULT_RATE, frame_times, frames_from_trajectory
@@ -34,6 +34,7 @@ __all__ = [
     "RobotBridge",
     "angle_interpolation_call",
     "behavior_xml",
+    "check_behavior",
     "check_frames",
     "checked_frames",
     "frame_times",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from bridge.checks import check_frames
+from bridge.choregraphe import behavior_frames
 from bridge.fidelity import check_follows, follow_tolerance
 from bridge.frames import frames_from_trajectory
 from bridge.limits import FrameLimits
@@ -28,3 +29,14 @@ def checked_frames(
     check_frames(frames, limits)
     check_follows(frames, trajectory, follow_tolerance(limits))
     return frames
+
+
+def check_behavior(frames: CommandFrames, limits: FrameLimits) -> None:
+    """Refuse ``frames`` if they break a limit as a Choregraphe behavior holds them.
+
+    Each angle is rounded to ``bridge.choregraphe.DECIMALS`` in degrees.
+
+    Raises:
+        TrajectoryRefusedError: naming the first frame that breaks a limit.
+    """
+    check_frames(behavior_frames(frames), limits)

@@ -33,8 +33,9 @@ from shared.output_paths import write_output_text
 NAMESPACE = "http://www.aldebaran-robotics.com/schema/choregraphe/project.xsd"
 #: Curve units of Choregraphe: degrees for joints, a fraction for hands.
 DEGREE_UNIT, FRACTION_UNIT = 0, 1
-#: Decimals written for each key's value (1e-4 degree).
-DECIMALS = 4
+#: Decimals written for each key's value (1e-6 degree: rounding to 1e-4
+#: degree alone made a 1000 fps timeline's jerk 3.6 times the bridge's limit).
+DECIMALS = 6
 
 _PORTS = (
     ("Input", "onLoad", 0, 1, "Signal sent when diagram is loaded."),
@@ -95,12 +96,35 @@ def _box_head(name: str, box_id: int, tooltip: str, xy: str, indent: str) -> str
     )
 
 
+def _shown(name: str, values: np.ndarray) -> list[str]:
+    """A curve's values as the file holds them: degrees (fraction for a hand)."""
+    shown = values if _is_hand(name) else np.degrees(values)
+    return [f"{v:.{DECIMALS}f}" for v in shown]
+
+
+def behavior_frames(frames: CommandFrames) -> CommandFrames:
+    """``frames`` as the behavior file holds them: each value rounded as written.
+
+    This is what Choregraphe plays, so it is what the bridge's checks must
+    pass (``armplan export`` and the demo check it).
+    """
+    positions = np.asarray(frames.positions, dtype=float)
+    written = np.column_stack(
+        [
+            np.array(_shown(name, positions[:, j]), dtype=float)
+            for j, name in enumerate(frames.joint_names)
+        ]
+    )
+    hands = np.array([_is_hand(name) for name in frames.joint_names])
+    read = np.where(hands, written, np.radians(written))
+    return frames.model_copy(update={"positions": read.tolist()})
+
+
 def _curve(name: str, frame_numbers: list[int], values: np.ndarray, ind: str) -> str:
     unit = FRACTION_UNIT if _is_hand(name) else DEGREE_UNIT
-    shown = values if _is_hand(name) else np.degrees(values)
     keys = "".join(
-        f'{ind}    <Key frame="{k}" value="{v:.{DECIMALS}f}" />\n'
-        for k, v in zip(frame_numbers, shown, strict=True)
+        f'{ind}    <Key frame="{k}" value="{v}" />\n'
+        for k, v in zip(frame_numbers, _shown(name, values), strict=True)
     )
     return (
         f'{ind}<ActuatorCurve name="value" actuator={quoteattr(name)} '

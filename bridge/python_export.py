@@ -55,10 +55,13 @@ if __name__ == "__main__":
 '''
 
 
-def _numbers(values: list[float], digits: int) -> str:
-    return (
-        "[" + ", ".join(f"{v:.{digits}f}".rstrip("0").rstrip(".") for v in values) + "]"
-    )
+def _numbers(values: list[float]) -> str:
+    """``values`` exactly, in their shortest round-trip form.
+
+    The script plays what was checked: times rounded to 1e-6 s made a 900
+    fps script's jerk 2.8 times the bridge's limit.
+    """
+    return "[" + ", ".join(repr(float(v)) for v in values) + "]"
 
 
 def python_script(frames: CommandFrames) -> str:
@@ -77,11 +80,11 @@ def python_script(frames: CommandFrames) -> str:
     for j, name in enumerate(frames.joint_names):
         lines += [
             f'names.append("{name}")',
-            f"times.append({_numbers(list(frames.times), 6)})",
-            f"keys.append({_numbers(list(columns[j]), 7)})",
+            f"times.append({_numbers(list(frames.times))})",
+            f"keys.append({_numbers(list(columns[j]))})",
             "",
         ]
-    lines.append(f"start = {_numbers(list(frames.start), 7)}")
+    lines.append(f"start = {_numbers(list(frames.start))}")
     return "\n".join(lines) + _RUNNER.format(speed=START_SPEED)
 
 

@@ -12,13 +12,20 @@ import pytest
 
 from armplan.cli.main import main
 from bridge.almotion import angle_interpolation_call
-from bridge.choregraphe import read_behavior
+from bridge.checks import check_frames
+from bridge.choregraphe import (
+    behavior_frames,
+    behavior_xml,
+    read_behavior,
+    timeline_from_xml,
+)
 from bridge.frames import frames_from_trajectory
+from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.python_export import python_script, write_python
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
-from shared.messages import Trajectory
+from shared.messages import CommandFrames, Trajectory
 from shared.robot.postures import rest
 
 
@@ -57,9 +64,9 @@ def test_the_script_holds_choregraphes_names_times_keys() -> None:
     assert "motion.angleInterpolation(names, keys, times, True)" in text
     lists = script_lists(text)
     assert lists["names"] == frames.joint_names
-    assert np.allclose(lists["times"], [frames.times] * 5)
-    assert np.allclose(np.array(lists["keys"]).T, frames.positions, atol=1e-7)
-    assert np.allclose(lists["start"], frames.start, atol=1e-7)
+    assert lists["times"] == [frames.times] * 5  # exactly: what was checked
+    np.testing.assert_array_equal(np.array(lists["keys"]).T, frames.positions)
+    assert lists["start"] == frames.start
 
 
 def test_the_script_plays_on_the_simulated_nao(tmp_path: Path) -> None:
@@ -163,3 +170,55 @@ def test_cli_refuses_a_frame_rate_out_of_range(
     )
     assert "--rate must be in [1, 1000] Hz" in capsys.readouterr().err
     assert not out.exists()
+
+
+def written_frames(path: Path, tmp_path: Path) -> CommandFrames:
+    """What an export file holds, as frames: the behavior's keys read back
+    (frame numbers over fps, degrees), or the script's lists."""
+    if path.suffix == ".xar":
+        keys = read_behavior(path)
+        times = keys.times(keys.names[0])
+        positions = np.column_stack([keys.angles(name) for name in keys.names])
+        names, rate = keys.names, keys.fps
+    else:
+        lists = script_lists(path.read_text())
+        names, times = lists["names"], np.array(lists["times"][0])
+        positions = np.array(lists["keys"]).T
+        rate = 1.0 / times[0]
+    start = json.loads((tmp_path / "plan.json").read_text())["positions"][0]
+    return CommandFrames(
+        arm="right",
+        rate=rate,
+        joint_names=names,
+        start=start,
+        times=times.tolist(),
+        positions=positions.tolist(),
+    )
+
+
+@pytest.mark.parametrize(("kind", "rate"), [("choregraphe", 1000), ("python", 900)])
+def test_what_a_fast_export_holds_keeps_the_limits(
+    kind: str, rate: int, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The fastest reach at 900-1000 fps: the file's own numbers, read back,
+    keep every limit (keys rounded to 1e-4 degree, or times to 1e-6 s, made
+    jerks of 3.6 and 2.8 times the limit)."""
+    plan = tmp_path / "plan.json"
+    target = ["--target", "0.12", "-0.13", "0.05", "--fastest"]
+    assert main(["plan", *target, "--rate", str(rate), "--json"]) == 0
+    plan.write_text(capsys.readouterr().out)
+    out = tmp_path / ("b.xar" if kind == "choregraphe" else "p.py")
+    assert main(["export", kind, str(plan), "-o", str(out), "--rate", str(rate)]) == 0
+    written = written_frames(out, tmp_path)
+    assert len(written.times) > 300
+    check_frames(written, FrameLimits.for_arm("right"))
+
+
+def test_a_behavior_holds_the_frames_as_rounded() -> None:
+    """behavior_frames (what the checks see) is what the file reads back as."""
+    frames = frames_from_trajectory(trajectory(), 100.0)
+    keys = timeline_from_xml(behavior_xml(frames))
+    held = behavior_frames(frames)
+    for j, name in enumerate(frames.joint_names):
+        np.testing.assert_array_equal(np.array(held.positions)[:, j], keys.angles(name))
+    assert 0 < np.abs(np.subtract(held.positions, frames.positions)).max() < 1e-7

@@ -24,6 +24,7 @@ from typing import Any, NamedTuple
 from armplan.demo.task import Task
 from bridge import (
     FrameLimits,
+    check_behavior,
     checked_frames,
     write_behavior,
     write_python,
@@ -60,6 +61,7 @@ def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
     """Write the trajectory, its exports and the report; returns them by name."""
     limits = FrameLimits.for_arm(run.trajectory.arm)
     frames = checked_frames(run.trajectory, run.rate, limits)
+    check_behavior(frames, limits)
     files = {
         "trajectory": out / TRAJECTORY_FILE,
         "choregraphe": write_behavior(frames, out / BEHAVIOR_FILE),

@@ -53,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
     """Check the frames against the limits, then write them."""
     from bridge import (
         FrameLimits,
+        check_behavior,
         checked_frames,
         write_behavior,
         write_python,
@@ -66,9 +67,10 @@ def run(args: argparse.Namespace) -> int:
     check_output_file(args.output)
     trajectory = read_trajectory(args.trajectory)
     try:
-        frames = checked_frames(
-            trajectory, args.rate, FrameLimits.for_arm(trajectory.arm)
-        )
+        limits = FrameLimits.for_arm(trajectory.arm)
+        frames = checked_frames(trajectory, args.rate, limits)
+        if args.format == "choregraphe":
+            check_behavior(frames, limits)
     except TrajectoryRefusedError as error:  # the bridge's words are "sent"
         raise error.instead("nothing was written") from None
     writer = write_behavior if args.format == "choregraphe" else write_python
