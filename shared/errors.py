@@ -234,6 +234,8 @@ class LimitViolationError(ArmplanError):
         limit: The limit it exceeds, same unit.
         index: Index of the sample.
         time: Time of the sample [s].
+        context: Why the sample asks that much, if not plain (e.g. to stop
+            at the end), shown in brackets after the limit.
     """
 
     kind = "limit_violation"
@@ -252,11 +254,14 @@ class LimitViolationError(ArmplanError):
         limit: float,
         index: int,
         time: float,
+        *,
+        context: str = "",
     ) -> None:
         unit = self._units.get(quantity, "")
+        why = f" ({context})" if context else ""
         super().__init__(
             f"{joint} {quantity} {value:.4g} {unit} at sample {index} "
-            f"(t = {time:.3f} s) exceeds its limit {limit:.4g} {unit}",
+            f"(t = {time:.3f} s) exceeds its limit {limit:.4g} {unit}{why}",
             joint=joint,
             quantity=quantity,
             value=float(value),

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from services.timing import time_given
+from services.timing.check import check_limits
 from shared.errors import InvalidInputError, LimitViolationError
 from shared.robot import load_arm, motion_limits
 
@@ -65,3 +66,39 @@ def test_a_single_sample_is_a_still_trajectory() -> None:
     """One time, one posture: zero speed."""
     out = time_given([0.5], [HOME], LIMITS)
     assert out.velocities.tolist() == [[0.0] * 5]
+
+
+def _eased_then_steady(times: np.ndarray) -> np.ndarray:
+    """0 -> 1 over ``times``: speed eased up over the first half, then steady."""
+    u = np.minimum(2.0 * times / times[-1], 1.0)
+    speed = 3 * u**2 - 2 * u**3
+    s = np.concatenate(
+        [[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(times))]
+    )
+    return s / s[-1]
+
+
+@pytest.mark.parametrize("end", ["start", "end"])
+def test_a_path_at_speed_at_either_end_is_refused(end: str) -> None:
+    """0.5 rad in 1 s, eased at one end and at speed (0.67 rad/s) at the
+    other: every sample inside keeps the limits, but leaving or stopping dead
+    within one 10 ms step asks 67 rad/s^2; named with that end's sample."""
+    times = np.linspace(0.0, 1.0, 101)
+    s = _eased_then_steady(times)
+    s = s if end == "end" else 1.0 - s[::-1]
+    q = HOME + np.outer(s, np.array([0.0, 0.0, 0.5, 0.0, 0.0]))
+    check_limits(times, q, LIMITS)  # within the limits inside the path
+    with pytest.raises(
+        LimitViolationError, match=f"the path must {end} at rest"
+    ) as caught:
+        time_given(times, q, LIMITS)
+    assert caught.value.joint == "RElbowYaw"
+    assert caught.value.quantity == "acceleration"
+    assert caught.value.index == (0 if end == "start" else 100)
+
+
+def test_a_path_at_rest_at_both_ends_is_timed_as_given() -> None:
+    """The same move eased at both ends passes, and its speed ends at zero."""
+    times = np.linspace(0.0, 1.0, 101)
+    out = time_given(times, _minimum_jerk(times, np.full(5, 0.3)), LIMITS)
+    assert np.abs(out.velocities[[0, -1]]).max() < 1e-3
