@@ -210,6 +210,41 @@ def test_a_plan_its_caller_left_is_not_published(bus: Bus) -> None:
     assert published == [reply.to_json().encode()]
 
 
+def test_callers_told_they_timed_out_get_no_published_plan(
+    bus: Bus, rng: np.random.Generator
+) -> None:
+    """40 one-target plans asked with 10-100 ms budgets, about the plan's own
+    time: each either answered and published once, or told request_timeout
+    and not published. (Finished within 2 ms of the caller's deadline, 1 in
+    10 timed-out plans was published: the deadline runs from the query's
+    arrival, and the answer must still travel back.)"""
+    published: list[bytes] = []
+    subscriber = bus.session.declare_subscriber(
+        f"{NAMESPACE}/{TRAJECTORY_TOPIC}",
+        lambda sample: published.append(sample.payload.to_bytes()),
+    )
+    goals = [tuple(g.wrist) for g in nao_grid("right")]
+    outcomes = []
+    try:
+        time.sleep(0.5)  # let the router learn of the subscriber
+        for k in range(40):
+            task = PlanRequest.model_validate(
+                {"targets": [{"position": goals[k % len(goals)]}]}
+            )
+            before = len(published)
+            try:
+                bus.call(PLAN, task, timeout=float(rng.uniform(0.01, 0.1)))
+                answered = True
+            except RequestTimeoutError:
+                answered = False
+            time.sleep(0.25)  # a publication follows its plan within milliseconds
+            outcomes.append((answered, len(published) - before))
+    finally:
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    assert all(count == (1 if answered else 0) for answered, count in outcomes)
+    assert any(answered for answered, _ in outcomes)
+
+
 def test_a_repeat_still_waiting_gets_the_plan_its_first_caller_left(
     bus: Bus,
 ) -> None:

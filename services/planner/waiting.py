@@ -15,7 +15,7 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from shared.bus.deadline import Due
+from shared.bus.deadline import REPLY_MARGIN, Due
 
 
 class Waiting:
@@ -46,13 +46,15 @@ class Waiting:
                         del self._ats[key]
 
     def all_gone(self, key: str | None, due: Due | None) -> bool:
-        """Whether every caller of ``key`` has stopped waiting.
+        """Whether every caller of ``key`` stops waiting before an answer.
 
-        Without a ``key``: whether the one caller, due by ``due``, has.
+        That is: each is past its deadline or within ``REPLY_MARGIN`` of it
+        (an answer sent now may not reach it in time). Without a ``key``:
+        whether the one caller, due by ``due``, does.
         """
         if key is None:
-            return due is not None and due.passed
-        now = time.monotonic()
+            return due is not None and due.too_late
+        late = time.monotonic() + REPLY_MARGIN
         with self._lock:
             ats = list(self._ats.get(key, []))
-        return bool(ats) and all(at is not None and now > at for at in ats)
+        return bool(ats) and all(at is not None and late > at for at in ats)
