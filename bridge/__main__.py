@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import os
 import sys
 import time
@@ -23,17 +24,37 @@ from typing import TextIO
 
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
-from shared.errors import ArmplanError
+from shared.errors import ArmplanError, InternalServiceError
 from shared.messages import ExecuteRequest, parse
+
+log = logging.getLogger("armplan.bridge")
 
 
 def answer(bridge: RobotBridge, line: str) -> str:
-    """The reply line for one request line."""
+    """The reply line for one request line.
+
+    An unexpected failure is logged with its traceback and answered as
+    ``internal_error``; the bridge serves the next line.
+    """
     try:
         reply = bridge.handle(parse(ExecuteRequest, line))
     except ArmplanError as error:
-        return json.dumps({"error": error.to_wire(), "at": time.monotonic()})
+        return _error_line(error)
+    except Exception as error:  # the next request must still be served
+        log.exception("execute failed unexpectedly")
+        return _error_line(
+            InternalServiceError(
+                "bridge",
+                key="stdin",
+                error_type=type(error).__name__,
+                detail=str(error).splitlines()[0] if str(error) else "",
+            )
+        )
     return reply.to_json()
+
+
+def _error_line(error: ArmplanError) -> str:
+    return json.dumps({"error": error.to_wire(), "at": time.monotonic()})
 
 
 def serve(bridge: RobotBridge, source: TextIO, sink: TextIO) -> None:

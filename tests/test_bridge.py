@@ -237,3 +237,25 @@ def test_a_robot_killed_mid_trajectory_gives_a_typed_error_within_2_s(
         bridge.close()
         first.stop()
         second.stop()
+
+
+def test_a_trajectory_of_no_joints_is_refused_and_the_next_one_plays(
+    bridge: BridgeProcess,
+) -> None:
+    """joint_names [] (and rows of nothing): invalid_input naming the field;
+    the same bridge process plays the next request (it used to exit)."""
+    hold = minimum_jerk_trajectory("right", [rest("right"), rest("right")], [0.5])
+    empty = hold.model_dump(mode="json")
+    empty.update(
+        joint_names=[],
+        positions=[[] for _ in hold.times],
+        velocities=[[] for _ in hold.times],
+        accelerations=[[] for _ in hold.times],
+    )
+    bridge.process.stdin.write(json.dumps({"trajectory": empty}) + "\n")  # type: ignore[union-attr]
+    bridge.process.stdin.flush()  # type: ignore[union-attr]
+    error = bridge.reply()["error"]
+    assert error["kind"] == "invalid_input"
+    assert error["evidence"]["field"] == "trajectory.joint_names"
+    reply = ExecuteReply.model_validate(bridge.execute(ExecuteRequest(trajectory=hold)))
+    assert reply.frames > 0 and bridge.process.poll() is None

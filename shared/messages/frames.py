@@ -79,7 +79,7 @@ class JointState(Message):
     """
 
     time: float
-    joint_names: list[str]
+    joint_names: list[str] = Field(min_length=1)
     positions: list[float]
 
     @model_validator(mode="after")
@@ -108,7 +108,7 @@ class ExecutedJointStates(Message):
     """
 
     arm: Side
-    joint_names: list[str]
+    joint_names: list[str] = Field(min_length=1)
     times: list[float]
     measured: list[Row]
     commanded: list[Row]
@@ -149,7 +149,7 @@ class TrackingReport(Message):
         duration: Time of the last sample from the start [s].
     """
 
-    joint_names: list[str]
+    joint_names: list[str] = Field(min_length=1)
     tracking_rms_deg: dict[str, float]
     tracking_max_deg: dict[str, float]
     latency: float = Field(default=0.0, ge=0.0)

@@ -34,7 +34,7 @@ class JointPath(Message):
     """
 
     arm: Side
-    joint_names: list[str]
+    joint_names: list[str] = Field(min_length=1)
     times: list[float] = Field(min_length=1, max_length=MAX_TRAJECTORY_SAMPLES)
     positions: list[Row]
     primitives: list[str]
@@ -66,7 +66,7 @@ class Trajectory(Message):
     """
 
     arm: Side
-    joint_names: list[str]
+    joint_names: list[str] = Field(min_length=1)
     times: list[float] = Field(min_length=1, max_length=MAX_TRAJECTORY_SAMPLES)
     positions: list[Row]
     velocities: list[Row]
