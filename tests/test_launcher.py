@@ -196,6 +196,29 @@ def test_a_port_in_use_is_reported(tmp_path: pathlib.Path, busy_port: int) -> No
     assert "exited with code 1 while starting" in out.stderr
 
 
+def test_a_second_up_on_the_same_port_fails_and_leaves_the_first_alone(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A router already answers on the port: the second armplan up's router
+    cannot listen, and the second up exits 1 naming it, instead of starting
+    its services on the first one's router (where its fit replaced the
+    first's model)."""
+    endpoint = free_endpoint()
+    with armplan_up("--listen", endpoint, "--only", "ik", log=tmp_path / "a.log") as up:
+        up.wait_ready()
+        second = armplan("up", "--listen", endpoint, "--only", "ik")
+        assert second.returncode == 1
+        assert "armplan up: ready" not in second.stdout
+        assert "service 'router' is unavailable" in second.stderr
+        assert "Address already in use" in second.stderr
+        assert up.process.poll() is None
+        status = armplan("status", "--connect", endpoint, "--json")
+        alive = [
+            s for s in json.loads(status.stdout)["services"] if s["state"] == "alive"
+        ]
+        assert [s["service"] for s in alive] == ["ik"]  # one ik: the first up's
+
+
 @pytest.mark.parametrize("bad", ["--listen=127.0.0.1:7447", "--only=everything"])
 def test_bad_options_are_refused_before_starting(bad: str) -> None:
     """A malformed endpoint or unknown service: an error, nothing started."""

@@ -15,6 +15,7 @@ outlives them (the main thread). Example::
 
 from __future__ import annotations
 
+import secrets
 import threading
 import time
 from collections.abc import Sequence
@@ -34,6 +35,11 @@ GRACE = 5.0
 POLL = 0.1
 
 
+def new_router_id() -> str:
+    """A random Zenoh id: 32 hex digits, the first not 0 (Zenoh refuses that)."""
+    return secrets.choice("123456789abcdef") + secrets.token_hex(16)[1:]
+
+
 class Launcher(StartStop):
     """The router and a set of services as child processes.
 
@@ -41,6 +47,8 @@ class Launcher(StartStop):
         config: The bus settings every child gets.
         specs: The services started.
         router: The router process, once started.
+        router_id: The router's Zenoh id (hex), to tell it from another
+            router on the same port.
         services: The service processes by name, once started.
     """
 
@@ -64,6 +72,7 @@ class Launcher(StartStop):
         self.config = config
         self.specs = SERVICES if names is None else tuple(map(service_spec, names))
         self.router: Child | None = None
+        self.router_id = new_router_id()
         self.services: dict[str, Child] = {}
         self._log = log
         self._stop = stop or threading.Event()
@@ -91,9 +100,8 @@ class Launcher(StartStop):
 
     def start_router(self) -> Child:
         """Start (or restart) the router on the configured endpoints; does not wait."""
-        self.router = Child.start(
-            "router", ROUTER_MODULE, self._args("--listen"), self._log
-        )
+        args = [*self._args("--listen"), "--id", self.router_id]
+        self.router = Child.start("router", ROUTER_MODULE, args, self._log)
         return self.router
 
     def start_service(self, name: str) -> Child:
@@ -110,15 +118,46 @@ class Launcher(StartStop):
         return args
 
     def _connect(self, timeout: float) -> Bus:
+        """A session on this launcher's own router, once it answers.
+
+        A router answering on the endpoint is not enough: another one (a
+        second ``armplan up``) may hold the port, and this one's router then
+        exits, unable to listen, while the services would join the other.
+
+        Raises:
+            ServiceUnavailableError: the router exited, or only another
+                router answered until ``timeout`` [s].
+        """
         deadline = time.monotonic() + timeout
         while True:
             self._check_running()
             try:
-                return Bus.connect(self.config)
+                bus = Bus.connect(self.config)
             except ServiceUnavailableError:
                 if time.monotonic() > deadline:
                     raise
                 time.sleep(POLL)
+                continue
+            if self._on_own_router(bus):
+                return bus
+            bus.close()
+            if time.monotonic() > deadline:
+                raise ServiceUnavailableError(
+                    "router",
+                    reason=f"another router answers on "
+                    f"{', '.join(self.config.endpoints)}: is another armplan "
+                    "running there? Choose another endpoint with --listen",
+                )
+            time.sleep(POLL)
+
+    def _on_own_router(self, bus: Bus, wait: float = 1.0) -> bool:
+        """Whether ``bus`` is connected to this launcher's router."""
+        deadline = time.monotonic() + wait
+        while True:
+            routers = {str(zid) for zid in bus.session.info.routers_zid()}
+            if routers or time.monotonic() > deadline:
+                return self.router_id in routers
+            time.sleep(0.01)
 
     def _wait_alive(self, bus: Bus, timeout: float) -> None:
         wanted = [spec.name for spec in self.specs]

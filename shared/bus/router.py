@@ -1,6 +1,6 @@
 """The Zenoh router process: ``python -m shared.bus.router``.
 
-Usage: ``python -m shared.bus.router [--config FILE] [--listen ENDPOINT]``.
+Usage: ``python -m shared.bus.router [--config FILE] [--listen ENDPOINT] [--id HEX]``.
 A Python Zenoh session in ``mode: "router"`` listening on the configured
 endpoints only (default ``tcp/127.0.0.1:7447``), multicast scouting off. It
 runs until SIGTERM or SIGINT; it exits 1 with the reason if it cannot listen.
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import re
 from collections.abc import Sequence
 
 from shared.bus.config_file import load_config
@@ -26,7 +27,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     stop = start_process(args.log_level)
     try:
         config = load_config(args.config, tuple(args.listen or ()))
-        with open_router(config):
+        with open_router(config, args.id):
             log.info("router listening on %s", ", ".join(config.endpoints))
             wait_for(stop)
     except ArmplanError as error:
@@ -46,7 +47,23 @@ def _parser() -> argparse.ArgumentParser:
         metavar="ENDPOINT",
         help="endpoint to listen on, e.g. tcp/127.0.0.1:7447 (default: the config's)",
     )
+    parser.add_argument(
+        "--id",
+        type=_zid,
+        help="the router's Zenoh id, 1-32 hex digits, no leading 0 (default: "
+        "random); lets "
+        "the process that started it tell it from another router on the port",
+    )
     return parser
+
+
+def _zid(text: str) -> str:
+    """``text`` if it is a Zenoh id: 1-32 lowercase hex digits, no leading 0."""
+    if not re.fullmatch(r"[1-9a-f][0-9a-f]{0,31}", text):
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a Zenoh id (1-32 lowercase hex digits, no leading 0)"
+        )
+    return text
 
 
 if __name__ == "__main__":

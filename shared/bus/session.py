@@ -39,14 +39,16 @@ def open_client(config: BusConfig, wait: float = 0.0) -> zenoh.Session:
             time.sleep(RETRY_EVERY)
 
 
-def open_router(config: BusConfig) -> zenoh.Session:
+def open_router(config: BusConfig, zid: str | None = None) -> zenoh.Session:
     """A router session listening on ``config.endpoints`` only.
+
+    ``zid``: its Zenoh id (hex); default a random one.
 
     Raises:
         BusConfigError: if it cannot listen there (port in use, bad address).
     """
     try:
-        return zenoh.open(router_config(config))
+        return zenoh.open(router_config(config, zid))
     except zenoh.ZError as error:
         raise BusConfigError(
             f"cannot listen on {', '.join(config.endpoints)} ({_short(error)}); "

@@ -23,13 +23,19 @@ _NO_SCOUTING = (
 )
 
 
-def router_config(bus: BusConfig) -> zenoh.Config:
-    """The router's Zenoh config: the file, listening on ``bus.endpoints`` only."""
+def router_config(bus: BusConfig, zid: str | None = None) -> zenoh.Config:
+    """The router's Zenoh config: the file, listening on ``bus.endpoints`` only.
+
+    ``zid``: the router's Zenoh id (hex), so that whoever started it can
+    tell it from another router on the same port; default Zenoh's random one.
+    """
     config = (
         zenoh.Config()
         if bus.router_text is None
         else zenoh.Config.from_json5(bus.router_text)
     )
+    if zid is not None:
+        _insert(config, "id", json.dumps(zid), bus)
     _insert(config, "mode", '"router"', bus)
     _insert(config, "listen/endpoints", json.dumps(list(bus.endpoints)), bus)
     for key, value in _NO_SCOUTING:
