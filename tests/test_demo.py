@@ -27,6 +27,7 @@ import numpy as np
 import pytest
 
 from armplan.demo import DEFAULT_TASK, load_task
+from armplan.demo.folder_claim import CLAIM_FILE, claimed_folder
 from bridge import FrameLimits, check_frames, frames_from_trajectory, read_behavior
 from bridge.sim.log import read_log
 from services.ik import check_reachable
@@ -327,3 +328,22 @@ def test_a_malformed_task_file_names_the_problem(tmp_path: Path) -> None:
     path.write_text(json.dumps(task))
     with pytest.raises(InvalidInputError, match="start"):
         load_task(path)
+
+
+def test_a_second_demo_into_a_folder_in_use_is_refused(tmp_path: Path) -> None:
+    """While a run holds the folder (here this process), a demo into it exits 1
+    naming the folder and the holder's PID, starts nothing and leaves the
+    folder's files alone; once released, the folder can be claimed again."""
+    out = tmp_path / "results"
+    with claimed_folder(out):
+        (out / "report.json").write_text("{}")
+        demo = Demo("--out", str(out))
+        code, _, stderr = demo.finish(60.0)
+        assert code == 1
+        assert f"{out} is the output folder of another armplan demo" in stderr
+        assert f"(pid {os.getpid()})" in stderr
+        assert demo.seen == set()
+        assert (out / "report.json").read_text() == "{}"
+    assert not (out / CLAIM_FILE).exists()
+    with claimed_folder(out):
+        assert (out / CLAIM_FILE).read_text() == f"{os.getpid()}\n"

@@ -20,6 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from armplan.demo.folder_claim import claimed_folder
 from armplan.demo.outputs import (
     BEHAVIOR_FILE,
     PYTHON_FILE,
@@ -113,12 +114,21 @@ def run_demo(
     """Run the whole demo; ``say`` gets each progress line.
 
     Raises:
-        InvalidInputError: ``options.out`` cannot be a folder, or the task
-            file is bad (before anything starts).
+        InvalidInputError: ``options.out`` cannot be a folder, another
+            demo is writing into it, or the task file is bad (before
+            anything starts).
         ArmplanError: a step failed (everything started is stopped first).
     """
     check_output_folder(options.out)
     task = load_task(options.task)
+    with claimed_folder(options.out):
+        return _run_in(options, task, say, stop)
+
+
+def _run_in(
+    options: DemoOptions, task: Task, say: Say, stop: threading.Event | None
+) -> DemoResult:
+    """``run_demo`` in its claimed output folder."""
     _clear(options.out)
     stack = DemoStack(
         options.config,
