@@ -219,11 +219,42 @@ def test_a_second_up_on_the_same_port_fails_and_leaves_the_first_alone(
         assert [s["service"] for s in alive] == ["ik"]  # one ik: the first up's
 
 
-@pytest.mark.parametrize("bad", ["--listen=127.0.0.1:7447", "--only=everything"])
+def test_the_sim_serves_where_asked(tmp_path: pathlib.Path) -> None:
+    """--with-sim --sim-listen tcp://127.0.0.1:0: the sim on a free port (a
+    NAO's 9559 may be taken), named on the sim's line, the bridge on it."""
+    endpoint = free_endpoint()
+    with armplan_up(
+        "--listen",
+        endpoint,
+        "--only",
+        "ik",
+        "--with-sim",
+        "--sim-listen",
+        "tcp://127.0.0.1:0",
+        log=tmp_path / "up.log",
+    ) as up:
+        lines = up.wait_ready()
+        sim = next(line for line in lines if line.startswith("sim "))
+        url = sim.rsplit(" ", 1)[1]
+        assert url.startswith("tcp://127.0.0.1:") and url != "tcp://127.0.0.1:0"
+        assert any(line.endswith(f"-> robot {url}") for line in lines)
+        up.process.send_signal(signal.SIGINT)
+        assert up.process.wait(EXIT_TIMEOUT) == 0
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        "--listen=127.0.0.1:7447",
+        "--only=everything",
+        "--with-sim --sim-listen=9559",
+    ],
+)
 def test_bad_options_are_refused_before_starting(bad: str) -> None:
     """A malformed endpoint or unknown service: an error, nothing started."""
-    out = armplan("up", bad)
+    out = armplan("up", *bad.split())
     assert out.returncode in (1, 2) and "error" in out.stderr
+    assert "ready" not in out.stdout
 
 
 def test_status_names_the_keys_of_the_bridge_started_on_request() -> None:

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
-from shared.errors import InvalidInputError
+from shared.errors import ArmplanError, InvalidInputError
 
 if TYPE_CHECKING:
     from armplan.faults import SuiteOptions
@@ -77,11 +77,11 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def run(args: argparse.Namespace) -> int:
     """Run the suite, print the table; 1 if anything was lost or crashed."""
     if importlib.util.find_spec("hypothesis") is None:
-        sys.stderr.write(
-            "armplan faults: the bad inputs are made with hypothesis, one of the "
-            "development tools: pip install -e '.[dev]'\n"
+        raise ArmplanError(
+            "armplan faults makes its bad inputs with hypothesis, from the "
+            "development extra: pip install -c constraints.txt -e '.[dev]'",
+            missing=["hypothesis"],
         )
-        return 1
     from armplan.faults import SuiteOptions
     from shared.output_paths import check_output_folder
 

@@ -43,11 +43,18 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--with-sim``, ``--with-bridge``, ``--robot`` and ``--follow``."""
+    """The robot side: the sim, the bridge, the robot, follow mode."""
     parser.add_argument(
         "--with-sim",
         action="store_true",
         help=f"also start the simulated NAO on {SIM_LISTEN} and the bridge to it",
+    )
+    parser.add_argument(
+        "--sim-listen",
+        metavar="URL",
+        default=SIM_LISTEN,
+        help=f"where the simulated NAO serves (default {SIM_LISTEN}; port 0: any "
+        "free one)",
     )
     parser.add_argument(
         "--with-bridge",
@@ -73,6 +80,10 @@ def run(args: argparse.Namespace) -> int:
         from bridge.address import check_robot_url
 
         check_robot_url(args.robot)  # before anything starts
+    if args.with_sim:
+        from bridge.address import check_listen_url
+
+        check_listen_url(args.sim_listen)
     stop = stop_on_signals()
     launcher = Launcher(config, args.only, stop=stop)
     # starts; stops everything on the way out (the robot side first)
@@ -90,7 +101,12 @@ def _robot_stack(
     if not (args.with_sim or args.with_bridge or args.robot or args.follow):
         return contextlib.nullcontext()
     return RobotStack(
-        config, robot=args.robot, sim=args.with_sim, follow=args.follow, stop=stop
+        config,
+        robot=args.robot,
+        sim=args.with_sim,
+        sim_listen=args.sim_listen,
+        follow=args.follow,
+        stop=stop,
     )
 
 
