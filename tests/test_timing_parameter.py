@@ -68,3 +68,17 @@ def test_bad_parameters_are_named(parameter: np.ndarray, message: str) -> None:
     q = np.linspace(ARM.limits.middle, ARM.limits.middle + 0.3, 6)
     with pytest.raises(InvalidInputError, match=message):
         time_path(q, LIMITS, parameter=parameter)
+
+
+@pytest.mark.parametrize("points", [2, 11])
+def test_a_turn_in_place_is_timed_by_the_joints(points: int) -> None:
+    """Only WristYaw turns, so the hand's arc length stands still: timed as
+    with no parameter (it gave NaN widths: an untyped error, or a singular
+    spline), within the limits, ending at the turn's end."""
+    q = np.tile(rest("right"), (points, 1))
+    q[:, 4] = np.linspace(0.0, 1.0, points)
+    held = time_path(q, LIMITS, parameter=np.zeros(points))
+    free = time_path(q, LIMITS)
+    assert held.duration == pytest.approx(free.duration)
+    check_limits(held.times, held.positions, LIMITS)
+    np.testing.assert_allclose(held.positions[-1], q[-1], atol=1e-12)

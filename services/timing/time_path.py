@@ -136,14 +136,18 @@ def knot_widths(
     With a parameter: its increments, with the chord (rescaled to the
     parameter's mean step) added in quadrature at ``FLOOR`` weight, so that a
     stretch where the parameter stands still (the hand waits while the arm
-    turns) still gets room. No floor: near the ends of a reach the hand
-    creeps (minimum jerk) and the joints with it, so both terms shrink
-    together and q(u) stays nearly straight; a floor would bend it there.
+    turns) still gets room; a parameter that stands still all along (the
+    wrist turning in place) gives the chord alone. No floor: near the ends
+    of a reach the hand creeps (minimum jerk) and the joints with it, so
+    both terms shrink together and q(u) stays nearly straight; a floor would
+    bend it there.
     """
     chord = np.linalg.norm(np.diff(points, axis=0) / limits.velocity, axis=1)
     if parameter is None:
         return np.sqrt(chord**2 + (FLOOR * chord.mean()) ** 2)
     step = np.diff(parameter)
+    if not step.any():  # the hand stands still (a turn in place): chord alone
+        return knot_widths(points, None, limits)
     scale = FLOOR * step.mean() / chord.mean()
     return np.sqrt(step**2 + (scale * chord) ** 2)
 
