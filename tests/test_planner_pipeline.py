@@ -299,6 +299,19 @@ def test_a_wrist_path_leaving_the_workspace_names_the_sample() -> None:
         plan(PlanRequest(arm=arm.side, wrist_path=bad))
 
 
+def test_a_repeated_target_is_a_longer_hold() -> None:
+    """The same target twice (a task with a duplicate waypoint) is planned:
+    as the target once, with the two dwells; it was refused as a joint path
+    of zero length."""
+    arm = load_arm("right")
+    goal = {"position": (0.12, -0.13, 0.05)}
+    twice = plan(_request(arm, {**goal, "dwell": 0.5}, {**goal, "dwell": 0.3}))
+    once = plan(_request(arm, {**goal, "dwell": 0.8}))
+    assert twice.trajectory.times == once.trajectory.times
+    np.testing.assert_allclose(twice.trajectory.positions, once.trajectory.positions)
+    assert twice.trajectory.primitives == once.trajectory.primitives
+
+
 def test_an_unreachable_target_is_refused_before_planning() -> None:
     """A target beyond the arm's reach: the error names it and the reach."""
     arm = load_arm("left")

@@ -40,6 +40,29 @@ def test_path_index_counts_along_the_joined_path() -> None:
     assert 49.0 in out.path_index
 
 
+def test_a_target_already_reached_is_only_its_dwell() -> None:
+    """A still segment between the reach and the retreat (a repeated target):
+    no movement time, its dwell added to the rest, rest samples pointing at
+    the join (the reach's last point), the same motion otherwise."""
+    reach, retreat = _reach_hold_retreat()
+    still = Segment(np.tile(reach.path[-1], (31, 1)), 0.5, 0.3)  # type: ignore[index]
+    plain = time_segments([reach, retreat], LIMITS)
+    out = time_segments([reach, still, retreat], LIMITS)
+    assert out.duration == pytest.approx(plain.duration + 0.3)
+    check_limits(out.times, out.positions, LIMITS)
+    rest = np.isclose(out.path_index, 49.0)
+    assert rest.sum() == 80  # 0.8 s at 100 Hz; the last sample starts the retreat
+    assert out.path_index[-1] == 49 + 30 + 49
+
+
+def test_a_task_of_one_target_already_reached_holds() -> None:
+    """Nothing to move: the dwell alone, or one sample without one."""
+    still = np.tile(HOME, (31, 1))
+    assert time_segments([Segment(still, None, 0.2)], LIMITS).duration == 0.2
+    single = time_segments([Segment(still, None, 0.0)], LIMITS)
+    assert len(single.times) == 1 and np.array_equal(single.positions[0], HOME)
+
+
 def test_dwell_rounds_up_to_whole_periods() -> None:
     """A 0.123 s dwell holds for 0.13 s at 100 Hz."""
     task = _reach_hold_retreat()

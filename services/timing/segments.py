@@ -3,7 +3,9 @@
 A task such as reach, hold, retreat is a list of :class:`Segment`: each a
 joint path timed from rest to rest (:func:`~services.timing.time_path.time_path`),
 followed by a rest of ``dwell`` seconds at its last point. Consecutive
-segments must join (a segment starts where the previous one ended). Every
+segments must join (a segment starts where the previous one ended). A
+segment whose path does not move (a target the arm is already at) takes no
+time: only its dwell is kept, as a rest. Every
 segment's duration and every dwell is a whole number of sample periods, so
 the whole trajectory is on one uniform grid.
 
@@ -24,7 +26,7 @@ from typing import NamedTuple
 import numpy as np
 import numpy.typing as npt
 
-from services.timing.time_path import RATE, sample_period, time_path
+from services.timing.time_path import RATE, REPEAT, sample_period, time_path
 from services.timing.trajectory import TimedTrajectory, concatenate, hold
 from shared.errors import InvalidInputError
 from shared.robot.motion_limits import MotionLimits
@@ -68,23 +70,34 @@ def time_segments(
     for k, segment in enumerate(segments):
         path = np.asarray(segment.path, dtype=float)
         _check_join(k, previous, path)
-        part = time_path(
-            path,
-            limits,
-            duration=segment.duration,
-            rate=rate,
-            parameter=segment.parameter,
+        still = _still(path)  # already there: no movement, a rest at the join
+        part = (
+            hold(path[-1], 0.0, 0.0, period, 0.0)
+            if still
+            else time_path(
+                path,
+                limits,
+                duration=segment.duration,
+                rate=rate,
+                parameter=segment.parameter,
+            )
         )
         parts.append(part.shifted(start_time, offset))
         start_time += part.duration
+        rest_at = offset if still else offset + len(path) - 1
         offset += len(path) - 1
         dwell = _dwell_periods(k, segment.dwell, period) * period
         if dwell > 0.0:
-            parts.append(hold(path[-1], start_time, dwell, period, offset))
+            parts.append(hold(path[-1], start_time, dwell, period, rest_at))
             start_time += dwell
         previous = path[-1]
     joined = concatenate(parts)
     return joined._replace(times=np.arange(len(joined.times)) * period)
+
+
+def _still(path: np.ndarray) -> bool:
+    """Whether every point of ``path`` (n, joints) repeats its first."""
+    return bool(np.all(np.abs(path - path[0]) <= REPEAT))
 
 
 def time_path_with_stops(
