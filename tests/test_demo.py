@@ -315,19 +315,37 @@ def test_the_shipped_task_is_the_papers_and_within_reach() -> None:
 
 
 def test_a_malformed_task_file_names_the_problem(tmp_path: Path) -> None:
-    """Not JSON, no phases, a start of four angles: typed errors naming them."""
+    """Not JSON, nested too deeply, no phases, a misspelt key, a start of four
+    angles, of words or outside a range: typed errors naming the file and
+    the field (words in the start, and 100 000 nested lists, used to escape
+    as ValueError and RecursionError)."""
     path = tmp_path / "task.json"
-    path.write_text("{")
-    with pytest.raises(InvalidInputError, match=f"{path} is not JSON"):
-        load_task(path)
-    path.write_text('{"phases": []}')
-    with pytest.raises(InvalidInputError, match="a task needs a list of phases"):
-        load_task(path)
-    task = json.loads(DEFAULT_TASK.read_text())
-    task["start"] = [0.0, 0.0, 0.0, 0.1]
-    path.write_text(json.dumps(task))
-    with pytest.raises(InvalidInputError, match="start"):
-        load_task(path)
+    shipped = json.loads(DEFAULT_TASK.read_text())
+    cases = [
+        ("{", "TaskFile: not valid JSON"),
+        ("[" * 100_000 + "]" * 100_000, "not valid JSON"),
+        ('{"phases": []}', r"phases: List should have at least 1 item"),
+        (
+            json.dumps({**shipped, "phase": []}),
+            r"phase: Extra inputs are not permitted",
+        ),
+        (
+            json.dumps({**shipped, "start": [0.0, 0.0, 0.0, 0.1]}),
+            "start: the start posture must be",
+        ),
+        (
+            json.dumps({**shipped, "start": list("abcde")}),
+            "start: the start posture must be",
+        ),
+        (
+            json.dumps({**shipped, "start": [0.0, -0.05, 1.57, 0.0, 0.0]}),
+            r"RElbowRoll = 0\.00000 rad in the start posture is outside its range",
+        ),
+    ]
+    for text, words in cases:
+        path.write_text(text)
+        with pytest.raises(InvalidInputError, match=f"^{path}: .*{words}"):
+            load_task(path)
 
 
 def test_a_second_demo_into_a_folder_in_use_is_refused(tmp_path: Path) -> None:

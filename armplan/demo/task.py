@@ -11,15 +11,15 @@ WristYaw origin); NAO's wrist reaches 0.114-0.162 m from its shoulder.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
+from pydantic import Field, field_validator
 
-from shared.errors import InvalidInputError, UnreachableTargetError
+from shared.errors import InvalidInputError, JointLimitError, UnreachableTargetError
 from shared.messages import PlanRequest, ReachTarget, parse
+from shared.messages.base import Message
 from shared.robot import Side, load_arm
 from shared.robot.postures import forward, rest
 
@@ -27,6 +27,8 @@ from shared.robot.postures import forward, rest
 DEFAULT_TASK = Path(__file__).with_name("handover_task.json")
 #: Named start postures a task file may use instead of five angles.
 POSTURES = {"forward": forward, "rest": rest}
+#: Joint angles in a start posture given as numbers.
+ANGLES = 5
 
 
 @dataclass(frozen=True)
@@ -75,27 +77,85 @@ class Task:
         return parse(PlanRequest, request)
 
 
+class TaskPhase(Message):
+    """A phase as the task file writes it.
+
+    Attributes:
+        name: Short name.
+        says: What NAO does, in words.
+        targets: Its wrist targets, in order, at least one.
+    """
+
+    name: str = Field(min_length=1)
+    says: str = ""
+    targets: list[ReachTarget] = Field(min_length=1)
+
+
+class TaskFile(Message):
+    """The task file's form (see ``handover_task.json``); unknown keys are refused.
+
+    Attributes:
+        name: The task's name (default: the file's name).
+        source: Where the task comes from, in words.
+        arm: The arm that moves.
+        frame: The targets' frame, in words.
+        start: ``"forward"``, ``"rest"`` or five joint angles [rad], within
+            the joints' ranges.
+        start_note: Why this start, in words.
+        phases: The steps, in order, at least one.
+    """
+
+    name: str | None = None
+    source: str = ""
+    arm: Side = Side.RIGHT
+    frame: str = ""
+    start: str | list[float] = "forward"
+    start_note: str = ""
+    phases: list[TaskPhase] = Field(min_length=1)
+
+    @field_validator("start", mode="before")
+    @classmethod
+    def _start(cls, value: object) -> object:
+        """A named posture or five numbers, said in one message if neither."""
+        if isinstance(value, str) and value in POSTURES:
+            return value
+        if (
+            isinstance(value, list)
+            and len(value) == ANGLES
+            and all(
+                isinstance(q, int | float) and not isinstance(q, bool) for q in value
+            )
+        ):
+            return value
+        raise ValueError(
+            f"the start posture must be {' or '.join(map(repr, POSTURES))}, or "
+            f"{ANGLES} joint angles [rad] as numbers"
+        )
+
+
 def load_task(path: str | Path = DEFAULT_TASK) -> Task:
     """Read a task file.
 
     Raises:
         InvalidInputError: naming the file and what is wrong in it.
     """
-    data = _read_json(Path(path))
+    path = Path(path)
     try:
-        arm = Side.parse(data.get("arm", "right"))
-        phases = tuple(_phase(p) for p in data["phases"])
-        start = _start(data.get("start", "forward"), arm)
-        task = Task(str(data.get("name", Path(path).stem)), arm, start, phases)
+        data = parse(TaskFile, _read(path))
+        start = data.start
+        angles = POSTURES[start](data.arm) if isinstance(start, str) else start
+        phases = tuple(
+            Phase(phase.name, phase.says, tuple(phase.targets)) for phase in data.phases
+        )
+        name = data.name or path.stem
+        task = Task(name, data.arm, tuple(float(q) for q in angles), phases)
         task.plan_request()  # checks the whole request once, here
+        load_arm(task.arm).limits.check(np.array(task.start), "in the start posture")
         _check_reach(task)
         return task
-    except InvalidInputError as error:
-        raise InvalidInputError(f"{path}: {error.message}", field="task") from None
-    except (KeyError, TypeError, AttributeError) as error:
+    except (InvalidInputError, JointLimitError) as error:
         raise InvalidInputError(
-            f"{path}: not a task file ({type(error).__name__}: {error}); see "
-            f"{DEFAULT_TASK.name} for the form",
+            f"{path}: {error.message} (see {DEFAULT_TASK.name} for the form)",
             field="task",
         ) from None
 
@@ -115,34 +175,11 @@ def _check_reach(task: Task) -> None:
                 ) from None
 
 
-def _read_json(path: Path) -> dict[str, Any]:
+def _read(path: Path) -> bytes:
+    """The file's bytes; InvalidInputError naming it if it cannot be read."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        return path.read_bytes()
     except OSError as error:
         raise InvalidInputError(
             f"cannot read task file {path}: {error.strerror}", field="task"
         ) from None
-    except ValueError as error:
-        raise InvalidInputError(f"{path} is not JSON: {error}", field="task") from None
-    if not isinstance(data, dict) or not data.get("phases"):
-        raise InvalidInputError(f"{path}: a task needs a list of phases", field="task")
-    return data
-
-
-def _phase(data: dict[str, Any]) -> Phase:
-    targets = tuple(parse(ReachTarget, t) for t in data["targets"])
-    if not targets:
-        raise InvalidInputError(f"phase {data['name']!r} has no targets", field="task")
-    return Phase(str(data["name"]), str(data.get("says", "")), targets)
-
-
-def _start(value: str | list[float], arm: Side) -> tuple[float, ...]:
-    if isinstance(value, str):
-        if value not in POSTURES:
-            raise InvalidInputError(
-                f"unknown start posture {value!r}; known: {', '.join(POSTURES)} "
-                "or five joint angles [rad]",
-                field="start",
-            )
-        return tuple(float(q) for q in POSTURES[value](arm))
-    return tuple(float(q) for q in value)
