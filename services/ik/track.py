@@ -116,6 +116,10 @@ JUMP: Final = 0.01
 #: consecutive points, chatters [rad]: 5 rad/s reversed within one point.
 CHATTER: Final = 0.05
 ALL_JOINTS: Final[tuple[int, ...]] = (0, 1, 2, 3, 4)
+#: A path shorter than this does not move the hand [m] (a turn in place:
+#: its length is rounding noise, which as a scale made the null-space gains
+#: noise over noise, and the joint path jumped).
+STILL: Final = 1e-12
 
 
 class TrackedPath(NamedTuple):
@@ -331,16 +335,25 @@ def _roll_left(run: _Follow, points: list[list[float]], st: ChainState) -> list[
 def _progress(points: list[list[float]]) -> list[float]:
     """Each point's share of the path's length, 0 to 1.
 
-    Where the hand does not move at all, each point's share of the points.
+    Where the hand does not move at all (a turn in place), the minimum-jerk
+    share of the points: the turn starts and ends at rest, as the hand's
+    bell-shaped speed would have made it.
     """
     steps = _steps(points)
     length = math.fsum(steps)
     last = max(len(points) - 1, 1)
+    if length <= STILL:
+        return [_minimum_jerk(k / last) for k in range(len(points))]
     out, done = [], 0.0
-    for k, step in enumerate(steps):
+    for step in steps:
         done += step
-        out.append(done / length if length > 1e-12 else k / last)
+        out.append(done / length)
     return out
+
+
+def _minimum_jerk(tau: float) -> float:
+    """The minimum-jerk blend 10 t^3 - 15 t^4 + 6 t^5 of ``tau`` in [0, 1]."""
+    return tau**3 * (10.0 - 15.0 * tau + 6.0 * tau * tau)
 
 
 def _steps(points: list[list[float]]) -> list[float]:
@@ -351,8 +364,10 @@ def _steps(points: list[list[float]]) -> list[float]:
 def _gains(points: list[list[float]]) -> tuple[list[float], float]:
     """Gain factor per point (its hand step over the mean step), and the mean [m]."""
     steps = _steps(points)
+    if math.fsum(steps) <= STILL:  # the hand stands still: no self-motion
+        return [0.0] * len(steps), 0.0
     mean = math.fsum(steps) / max(len(steps) - 1, 1)
-    return [s / mean if mean > 0.0 else 0.0 for s in steps], mean
+    return [s / mean for s in steps], mean
 
 
 def _wanted(

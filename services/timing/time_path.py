@@ -47,6 +47,9 @@ from shared.robot.motion_limits import MotionLimits
 RATE = 100.0
 #: Path points closer than this to the previous one are repeats [rad].
 REPEAT = 1e-9
+#: A path parameter that changes less than this from end to end stands still
+#: (its steps are rounding noise, a meaningless scale for the knots).
+STILL = 1e-9
 #: Times the limits are tightened if a sampled result fails its check.
 RETRIES = 3
 #: Factor applied to the limits at each retry.
@@ -136,8 +139,9 @@ def knot_widths(
     With a parameter: its increments, with the chord (rescaled to the
     parameter's mean step) added in quadrature at ``FLOOR`` weight, so that a
     stretch where the parameter stands still (the hand waits while the arm
-    turns) still gets room; a parameter that stands still all along (the
-    wrist turning in place) gives the chord alone. No floor: near the ends
+    turns) still gets room; a parameter that stands still all along, but
+    for rounding noise (``STILL``: the wrist turning in place), gives the
+    chord alone. No floor: near the ends
     of a reach the hand creeps (minimum jerk) and the joints with it, so
     both terms shrink together and q(u) stays nearly straight; a floor would
     bend it there.
@@ -146,7 +150,7 @@ def knot_widths(
     if parameter is None:
         return np.sqrt(chord**2 + (FLOOR * chord.mean()) ** 2)
     step = np.diff(parameter)
-    if not step.any():  # the hand stands still (a turn in place): chord alone
+    if parameter[-1] - parameter[0] <= STILL:  # a turn in place: chord alone
         return knot_widths(points, None, limits)
     scale = FLOOR * step.mean() / chord.mean()
     return np.sqrt(step**2 + (scale * chord) ** 2)
