@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from bridge.checks import check_frames
-from bridge.choregraphe import behavior_frames
+from bridge.checks import check_frames, check_sample_range
+from bridge.choregraphe import QUANTUM, behavior_frames
 from bridge.fidelity import check_follows, follow_tolerance
 from bridge.frames import frames_from_trajectory
 from bridge.limits import FrameLimits
@@ -15,7 +15,11 @@ def checked_frames(
 ) -> CommandFrames:
     """``trajectory`` as frames at ``rate`` [Hz], checked; nothing is sent.
 
-    The frames must keep every limit of ``limits`` (:mod:`bridge.checks`)
+    The trajectory's own samples must lie in the joints' ranges; the curve
+    between them is held in the ranges (a cubic through samples seconds
+    apart overshoots a limit the planned path only touches), by a written
+    angle's last digit (``QUANTUM``) so no rounding takes it out. The frames
+    must keep every limit of ``limits`` (:mod:`bridge.checks`)
     and follow the trajectory between keys within a degree, or a fast
     joint's chord gap at 25 fps (:mod:`bridge.fidelity`).
 
@@ -25,7 +29,9 @@ def checked_frames(
         TrajectoryRefusedError: naming the first frame that breaks a limit,
             or the joint that strays furthest between frames.
     """
-    frames = frames_from_trajectory(trajectory, rate)
+    check_sample_range(trajectory, limits)
+    inside = (limits.lower + QUANTUM, limits.upper - QUANTUM)
+    frames = frames_from_trajectory(trajectory, rate, inside)
     check_frames(frames, limits)
     check_follows(frames, trajectory, follow_tolerance(limits))
     return frames

@@ -23,7 +23,7 @@ import numpy as np
 
 from bridge.limits import FrameLimits
 from shared.errors import InvalidInputError, TrajectoryRefusedError, fixed
-from shared.messages import CommandFrames
+from shared.messages import CommandFrames, Trajectory
 
 #: Slack on every comparison, relative to the limit: float round-off only.
 SLACK = 1e-9
@@ -69,13 +69,34 @@ def _first(mask: np.ndarray) -> tuple[int, int] | None:
     return None if len(hits) == 0 else (int(hits[0][0]), int(hits[0][1]))
 
 
-def check_positions(q: np.ndarray, t: np.ndarray, limits: FrameLimits) -> None:
+def check_sample_range(trajectory: Trajectory, limits: FrameLimits) -> None:
+    """Every sample of ``trajectory`` in its joint's range (named as a sample).
+
+    Raises:
+        InvalidInputError: if the trajectory's joints are not the limits'.
+        TrajectoryRefusedError: naming the first sample out of range.
+    """
+    if tuple(trajectory.joint_names) != tuple(limits.names):
+        raise InvalidInputError(
+            f"the trajectory moves {_names(trajectory.joint_names)}, expected the "
+            f"joints {list(limits.names)}",
+            field="joint_names",
+        )
+    t = np.asarray(trajectory.times, dtype=float)
+    q = np.asarray(trajectory.positions, dtype=float)
+    check_positions(q, t - t[0], limits, what="sample")
+
+
+def check_positions(
+    q: np.ndarray, t: np.ndarray, limits: FrameLimits, what: str = "frame"
+) -> None:
     """Every angle in its joint's range.
 
     Args:
         q: Angles of frames 0..m [rad], shape (m + 1, n).
         t: Their times [s], shape (m + 1,).
         limits: The joints' limits.
+        what: What a row is called in the message (``frame`` or ``sample``).
     """
     slack = SLACK * np.maximum(1.0, np.abs(limits.upper - limits.lower))
     hit = _first((q < limits.lower - slack) | (q > limits.upper + slack))
@@ -91,8 +112,8 @@ def check_positions(q: np.ndarray, t: np.ndarray, limits: FrameLimits) -> None:
         frame=k,
         time=t[k],
         detail=(
-            f"angle {fixed(q[k, j], 4)} rad at frame {k} (t = {t[k]:.3f} s) is outside "
-            f"its range [{limits.lower[j]:.4f}, {limits.upper[j]:.4f}] rad"
+            f"angle {fixed(q[k, j], 4)} rad at {what} {k} (t = {t[k]:.3f} s) is "
+            f"outside its range [{limits.lower[j]:.4f}, {limits.upper[j]:.4f}] rad"
         ),
     )
 

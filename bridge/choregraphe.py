@@ -36,6 +36,9 @@ DEGREE_UNIT, FRACTION_UNIT = 0, 1
 #: Decimals written for each key's value (1e-6 degree: rounding to 1e-4
 #: degree alone made a 1000 fps timeline's jerk 3.6 times the bridge's limit).
 DECIMALS = 6
+#: The smallest step of a written angle [rad]: frames are held this far
+#: inside the joints' ranges, so that rounding never puts one outside.
+QUANTUM = math.radians(10.0**-DECIMALS)
 
 _PORTS = (
     ("Input", "onLoad", 0, 1, "Signal sent when diagram is loaded."),

@@ -46,13 +46,18 @@ def frame_times(duration: float, rate: float = DEFAULT_RATE) -> np.ndarray:
 
 
 def frames_from_trajectory(
-    trajectory: Trajectory, rate: float = DEFAULT_RATE
+    trajectory: Trajectory,
+    rate: float = DEFAULT_RATE,
+    within: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> CommandFrames:
     """Sample ``trajectory`` at the frames of a ``rate`` timeline.
 
     Args:
         trajectory: The trajectory (times from its first sample) [s, rad].
         rate: Frame rate [Hz], Choregraphe's 25 by default.
+        within: Joint ranges to hold the curve between samples in (see
+            ``bridge.interpolation.positions_at``); only for a trajectory
+            whose samples are all within them.
 
     Returns:
         Frames 1..m at ``k / rate`` [s] with the trajectory's angles there
@@ -65,5 +70,5 @@ def frames_from_trajectory(
         joint_names=list(trajectory.joint_names),
         start=[float(v) for v in trajectory.positions[0]],
         times=times.tolist(),
-        positions=positions_at(trajectory, times).tolist(),
+        positions=positions_at(trajectory, times, within).tolist(),
     )

@@ -6,13 +6,16 @@ import numpy as np
 import pytest
 
 from bridge.approach import approach_frames
+from bridge.checked_frames import check_behavior, checked_frames
 from bridge.checks import (
     check_accelerations,
     check_frames,
     check_jerks,
     check_speeds,
 )
+from bridge.choregraphe import QUANTUM
 from bridge.frames import frames_from_trajectory
+from bridge.interpolation import positions_at
 from bridge.limits import JERK_RAMP_TIME, RAMP_TIME, FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from shared.errors import InvalidInputError, TrajectoryRefusedError
@@ -314,3 +317,52 @@ def test_bridge_limits_are_the_timing_limits_loosened() -> None:
     np.testing.assert_allclose(bridge.jerk, bridge.acceleration / JERK_RAMP_TIME)
     assert np.all(bridge.acceleration > timing.acceleration)
     assert np.all(bridge.jerk > timing.jerk)
+
+
+def sparse_near_a_limit() -> Trajectory:
+    """Three samples 1 s apart, RShoulderRoll coming within 1 mrad of its lower
+    limit at t = 1 s still moving down (the planned path turns back between
+    samples): the cubic through them dips below the limit."""
+    limits = load_arm("right").limits
+    base = minimum_jerk_trajectory("right", [rest("right")] * 3, [1.0, 1.0])
+    keep = [0, len(base.times) // 2, len(base.times) - 1]
+    q = np.array([base.positions[k] for k in keep])
+    v = np.zeros_like(q)
+    q[:, 1] = limits.lower[1] + np.array([0.05, 0.001, 0.05])
+    v[1, 1] = -0.05
+    return base.model_copy(
+        update={
+            "times": [0.0, 1.0, 2.0],
+            "positions": q.tolist(),
+            "velocities": v.tolist(),
+            "accelerations": np.zeros_like(q).tolist(),
+            "primitives": ["x"] * 3,
+            "wrist_path": [base.wrist_path[k] for k in keep],
+        }
+    )
+
+
+def test_the_curve_between_sparse_samples_is_held_in_the_ranges() -> None:
+    """The cubic overshoots the limit between samples the planner kept in
+    range (refused at 1 Hz before); the frames are held inside, by the last
+    written digit, and pass every check."""
+    trajectory = sparse_near_a_limit()
+    limits = FrameLimits.for_arm("right")
+    t = np.linspace(0.0, 2.0, 201)
+    assert positions_at(trajectory, t)[:, 1].min() < limits.lower[1]
+    frames = checked_frames(trajectory, 25.0, limits)
+    q = np.array(frames.positions)
+    assert q[:, 1].min() >= limits.lower[1] + QUANTUM * (1 - 1e-9)
+    check_behavior(frames, limits)
+
+
+def test_a_sample_out_of_range_is_named_as_a_sample() -> None:
+    """Holding the curve in range must not hide a sample outside it."""
+    trajectory = sparse_near_a_limit()
+    q = np.array(trajectory.positions)
+    q[1, 1] = load_arm("right").limits.lower[1] - 0.01
+    bad = trajectory.model_copy(update={"positions": q.tolist()})
+    with pytest.raises(
+        TrajectoryRefusedError, match=r"RShoulderRoll angle -1\.3364 rad at sample 1 "
+    ):
+        checked_frames(bad, 25.0, FrameLimits.for_arm("right"))
