@@ -21,7 +21,7 @@ import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 import pytest
@@ -365,3 +365,46 @@ def test_a_second_demo_into_a_folder_in_use_is_refused(tmp_path: Path) -> None:
     assert not (out / CLAIM_FILE).exists()
     with claimed_folder(out):
         assert (out / CLAIM_FILE).read_text() == f"{os.getpid()}\n"
+
+
+def test_a_claim_won_on_a_removed_file_is_tried_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Run B opens the claim file just before run A ends and removes it; B's
+    lock on the removed file must not count, or a run C would lock a new
+    file and two runs would share the folder. (Real files and locks; only
+    the interleaving is forced, by holding B after its open.)"""
+    import armplan.demo.folder_claim as claim
+
+    out = tmp_path / "results"
+    b_opened, a_done, c_done = threading.Event(), threading.Event(), threading.Event()
+    real_open = os.open
+    results: dict[str, str] = {}
+
+    def open_then_wait(*args: Any, **kwargs: Any) -> int:
+        fd = real_open(*args, **kwargs)
+        if threading.current_thread().name == "B" and not b_opened.is_set():
+            b_opened.set()
+            a_done.wait(10)
+        return fd
+
+    def run_b() -> None:
+        with claimed_folder(out):
+            results["B"] = "claimed"
+            c_done.wait(10)
+
+    monkeypatch.setattr(claim.os, "open", open_then_wait)
+    with claimed_folder(out):  # run A
+        b = threading.Thread(target=run_b, name="B")
+        b.start()
+        assert b_opened.wait(10)
+    a_done.set()
+    time.sleep(0.2)  # B claims the new file
+    with (
+        pytest.raises(InvalidInputError, match="another armplan demo still running"),
+        claimed_folder(out),  # run C
+    ):
+        pass
+    c_done.set()
+    b.join(10)
+    assert results == {"B": "claimed"}

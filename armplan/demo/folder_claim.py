@@ -31,29 +31,55 @@ def claimed_folder(out: Path) -> Iterator[Path]:
     """
     out.mkdir(parents=True, exist_ok=True)
     path = out / CLAIM_FILE
+    fd = _claim(out, path)
     try:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-    except OSError as error:
-        raise InvalidInputError(
-            f"cannot claim the output folder {out}: {error.strerror}", field="out"
-        ) from None
-    try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise InvalidInputError(
-                f"{out} is the output folder of another armplan demo still running"
-                f"{_holder(fd)}: wait for it, or give another --out",
-                field="out",
-            ) from None
         os.ftruncate(fd, 0)
         os.write(fd, f"{os.getpid()}\n".encode())
         try:
             yield out
         finally:
-            path.unlink(missing_ok=True)
+            path.unlink(missing_ok=True)  # while held: no one holds it after
     finally:
         os.close(fd)
+
+
+def _claim(out: Path, path: Path) -> int:
+    """The claim file's descriptor, locked; raises if another run holds it.
+
+    A lock won on a file its holder removed on the way out (opened just
+    before) claims nothing: the next run would make and lock a new file. So
+    the locked file must still be the one at ``path``, or it is tried again.
+    """
+    while True:
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as error:
+            raise InvalidInputError(
+                f"cannot claim the output folder {out}: {error.strerror}", field="out"
+            ) from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = _holder(fd)
+            os.close(fd)
+            raise InvalidInputError(
+                f"{out} is the output folder of another armplan demo still running"
+                f"{holder}: wait for it, or give another --out",
+                field="out",
+            ) from None
+        if _same_file(fd, path):
+            return fd
+        os.close(fd)  # its holder removed it meanwhile: claim the new one
+
+
+def _same_file(fd: int, path: Path) -> bool:
+    """Whether ``fd`` is the file now at ``path``."""
+    try:
+        at_path = os.stat(path)
+    except FileNotFoundError:
+        return False
+    held = os.fstat(fd)
+    return (held.st_dev, held.st_ino) == (at_path.st_dev, at_path.st_ino)
 
 
 def _holder(fd: int) -> str:
