@@ -9,7 +9,6 @@ tracking it again (the services recompute it: same inputs, same result).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from functools import cache
 from typing import Protocol
 
@@ -37,9 +36,10 @@ from shared.robot import load_arm
 from shared.robot.motion_limits import MotionLimits, motion_limits
 from shared.robot.postures import rest
 
-#: A hand moving less than this along a movement turns in place [m]: ten
-#: times the tracker's tolerance at the goal (services.ik.track.ARRIVED).
-IN_PLACE = 1e-5
+#: A hand whose arc is under this share of the arc its joints' travel would
+#: sweep at arm's length turns in place (a palm turn: tens of micrometres of
+#: IK wobble against centimetres; a reach: a third or more).
+IN_PLACE_SHARE = 0.01
 
 
 class Stages(Protocol):
@@ -131,13 +131,15 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     check_asked(request)
     first = request.segments[0].joint_path
     _check_joint_names(request)
-    limits = limits or motion_limits(load_arm(first.arm).limits)
+    arm = load_arm(first.arm)
+    limits = limits or motion_limits(arm.limits)
+    reach = arm.upper_arm_length + arm.forearm_length
     segments = [
         Segment(
             np.array(s.joint_path.positions),
             s.duration,
             s.dwell,
-            _hand_parameter(s.joint_path.wrist),
+            _hand_parameter(s.joint_path, reach),
         )
         for s in request.segments
     ]
@@ -148,15 +150,18 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     )
 
 
-def _hand_parameter(wrist: Sequence[Sequence[float]]) -> np.ndarray | None:
+def _hand_parameter(path: JointPath, reach: float) -> np.ndarray | None:
     """The hand's arc length along a movement [m], or None if it turns in place.
 
-    ``None`` times the movement by the joints' own chord. In place, the
-    hand's arc is the IK's micrometre wobble: knots spaced by it made a
-    0.4 rad palm turn take 1.9 s where the joints allow 0.4 s.
+    In place: the hand's arc is under ``IN_PLACE_SHARE`` of the arc the
+    joints' own motion would sweep at arm's length (``reach`` [m] times the
+    largest joint travel [rad]). It is then the IK's micrometre wobble, and
+    knots spaced by it made a 0.4 rad palm turn take 1.9-3.7 s where the
+    joints allow 0.4 s; ``None`` times the movement by the joints' chord.
     """
-    along = arc_length(wrist)
-    return None if along[-1] < IN_PLACE else along
+    along = arc_length(path.wrist)
+    travel = np.abs(np.diff(np.asarray(path.positions), axis=0)).sum(axis=0).max()
+    return None if along[-1] < IN_PLACE_SHARE * reach * travel else along
 
 
 def _check_joint_names(request: TimingRequest) -> None:
