@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 import json
+import math
 import os
 import queue
 import signal
@@ -34,7 +35,7 @@ from services.ik import check_reachable
 from shared.errors import InvalidInputError
 from shared.messages import Trajectory, parse
 from shared.recording.reader import summarize
-from shared.robot import load_arm
+from shared.robot import Side, load_arm
 from shared.robot.postures import forward
 
 #: Longest a demo run may take on a loaded machine [s].
@@ -342,10 +343,16 @@ def test_a_malformed_task_file_names_the_problem(tmp_path: Path) -> None:
             r"RElbowRoll = 0\.00000 rad in the start posture is outside its range",
         ),
     ]
+    cases += [
+        (json.dumps({**shipped, "start": [math.nan, 0, 0, 0.5, 0]}), "finite numbers"),
+        (json.dumps({**shipped, "arm": "middle"}), "unknown arm 'middle'"),
+    ]
     for text, words in cases:
         path.write_text(text)
         with pytest.raises(InvalidInputError, match=f"^{path}: .*{words}"):
             load_task(path)
+    path.write_text(json.dumps({**shipped, "arm": "Right"}))  # as --arm takes it
+    assert load_task(path).arm is Side.RIGHT
 
 
 def test_a_second_demo_into_a_folder_in_use_is_refused(tmp_path: Path) -> None:

@@ -11,6 +11,7 @@ WristYaw origin); NAO's wrist reaches 0.114-0.162 m from its shoulder.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -122,15 +123,28 @@ class TaskFile(Message):
         if (
             isinstance(value, list)
             and len(value) == ANGLES
-            and all(
-                isinstance(q, int | float) and not isinstance(q, bool) for q in value
-            )
+            and all(_finite_number(q) for q in value)
         ):
             return value
         raise ValueError(
             f"the start posture must be {' or '.join(map(repr, POSTURES))}, or "
-            f"{ANGLES} joint angles [rad] as numbers"
+            f"{ANGLES} joint angles [rad] as finite numbers"
         )
+
+    @field_validator("arm", mode="before")
+    @classmethod
+    def _arm(cls, value: object) -> object:
+        """``right`` or ``left``, in any case (as ``--arm`` takes them)."""
+        return Side.parse(value).value if isinstance(value, str) else value
+
+
+def _finite_number(value: object) -> bool:
+    """Whether ``value`` is a finite int or float (not a bool)."""
+    return (
+        isinstance(value, int | float)
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+    )
 
 
 def load_task(path: str | Path = DEFAULT_TASK) -> Task:
