@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from bridge.naoqi_client import NaoqiClient
-from shared.errors import RobotBusyError
+from shared.errors import RobotBusyError, RobotCommandError
 
 #: Time between two readings that must agree [s]: over two 20 ms cycles.
 READ_GAP = 0.045
@@ -44,14 +44,25 @@ def angles_at_rest(
     Raises:
         RobotBusyError: the arm still moved after ``wait``.
         RobotUnavailableError: the robot cannot be reached.
+        RobotCommandError: the robot gave angles that are not numbers.
     """
     deadline = time.monotonic() + wait
-    before = client.get_angles(names, use_sensors=False)
+    before = _read(client, names)
     while True:
         time.sleep(gap)
-        now = client.get_angles(names, use_sensors=False)
+        now = _read(client, names)
         if np.abs(now - before).max() <= STILL:
             return now
         if time.monotonic() >= deadline:
             raise RobotBusyError(client.url, None)
         before = now
+
+
+def _read(client: NaoqiClient, names: list[str]) -> np.ndarray:
+    """The commanded angles [rad], (n,); finite, or RobotCommandError."""
+    angles = client.get_angles(names, use_sensors=False)
+    if not np.all(np.isfinite(angles)):
+        raise RobotCommandError(
+            client.url, "getAngles", f"it gave angles that are not numbers: {angles}"
+        )
+    return angles

@@ -156,11 +156,15 @@ class NaoqiClient:
         """Angles of ``names`` [rad], measured (``use_sensors``) or commanded, (n,)."""
         return np.array(self.call("getAngles", names, use_sensors), dtype=float)
 
-    def stiffen(self, names: list[str], duration: float = 0.2) -> None:
-        """Make ``names`` fully stiff, ramping over ``duration`` [s] if needed."""
+    def stiffen(self, names: list[str], duration: float = 0.2) -> bool:
+        """Make ``names`` fully stiff, ramping over ``duration`` [s] if needed.
+
+        Returns:
+            Whether it ramped (False: they were stiff already).
+        """
         stiffness = np.array(self.call("getStiffnesses", names), dtype=float)
         if np.all(stiffness >= 1.0):
-            return
+            return False
         self.call(
             "stiffnessInterpolation",
             names,
@@ -168,6 +172,7 @@ class NaoqiClient:
             duration,
             timeout=duration + self.call_timeout,
         )
+        return True
 
     def wait_available(self, timeout: float, poll: float = 0.2) -> bool:
         """Try to connect until it works or ``timeout`` [s] passes; True if up."""

@@ -147,7 +147,9 @@ class RobotBridge:
         current = angles_at_rest(self.client, names)
         limits = self.limits(frames.arm)
         move_first = needs_approach(frames, current, limits, approach)
-        self.client.stiffen(names)
+        if self.client.stiffen(names):  # another client may have moved it meanwhile
+            current = angles_at_rest(self.client, names)
+            move_first = needs_approach(frames, current, limits, approach)
         approach_time = self._approach(frames, current) if move_first else 0.0
         if on_play is not None:
             on_play(frames)

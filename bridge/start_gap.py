@@ -74,8 +74,8 @@ def needs_approach(
             time=error.time,
             detail=(
                 f"{error.detail}, counted from where the arm is "
-                f"({math.degrees(gap[j]):.2f} deg from the trajectory's start), "
-                "and the approach move is off"
+                f"({math.degrees(gap[frames.joint_names.index(error.joint)]):.2f} "
+                "deg from the trajectory's start), and the approach move is off"
             ),
         ) from None
     return False

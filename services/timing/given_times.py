@@ -88,7 +88,7 @@ def check_rest_ends(t: np.ndarray, q: np.ndarray, limits: MotionLimits) -> None:
     try:
         check_limits(np.concatenate([before, t, after]), padded, limits)
     except LimitViolationError as error:
-        starting = error.index < REST + len(t) // 2
+        starting = error.time - t[0] < t[-1] - error.time
         k = 0 if starting else len(t) - 1
         raise LimitViolationError(
             error.joint,
