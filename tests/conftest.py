@@ -1,14 +1,19 @@
-"""Shared fixtures: both arms, a seeded random generator, a port in use."""
+"""Shared fixtures: both arms, a seeded random generator, a port in use, a sim."""
 
 from __future__ import annotations
 
 import socket
 from collections.abc import Iterator
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pytest
 
 from shared.robot import ArmModel, Side, load_arm
+
+if TYPE_CHECKING:
+    from bridge.sim import SimProcess
 
 
 @pytest.fixture(params=[Side.RIGHT, Side.LEFT], ids=["right", "left"])
@@ -33,3 +38,16 @@ def busy_port() -> Iterator[int]:
         taken.bind(("127.0.0.1", 0))
         taken.listen()
         yield int(taken.getsockname()[1])
+
+
+@pytest.fixture
+def sim(tmp_path: Path) -> Iterator[SimProcess]:
+    """A simulated NAO process logging to ``tmp_path / "sim.jsonl"``."""
+    from bridge.sim import SimProcess  # libqi: loaded only by the tests using it
+
+    process = SimProcess(log_path=tmp_path / "sim.jsonl")
+    process.start()
+    try:
+        yield process
+    finally:
+        process.stop()

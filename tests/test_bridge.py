@@ -96,16 +96,6 @@ class BridgeProcess:
 
 
 @pytest.fixture
-def sim(tmp_path: Path) -> Iterator[SimProcess]:
-    process = SimProcess(log_path=tmp_path / "sim.jsonl")
-    process.start()
-    try:
-        yield process
-    finally:
-        process.stop()
-
-
-@pytest.fixture
 def bridge(sim: SimProcess) -> Iterator[BridgeProcess]:
     process = BridgeProcess(sim.url)
     try:

@@ -11,8 +11,6 @@ from __future__ import annotations
 import math
 import threading
 import time
-from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -32,16 +30,6 @@ from shared.robot.postures import rest
 #: A posture inside every range, away from rest.
 POSTURE = rest("right") + np.array([-0.3, -0.1, 0.0, 0.3, 0.2])
 NAMES = ["RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "RWristYaw"]
-
-
-@pytest.fixture
-def sim(tmp_path: Path) -> Iterator[SimProcess]:
-    process = SimProcess(log_path=tmp_path / "sim.jsonl")
-    process.start()
-    try:
-        yield process
-    finally:
-        process.stop()
 
 
 @pytest.fixture
