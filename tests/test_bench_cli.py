@@ -26,7 +26,7 @@ QUOTIENTS = [
     ("speedup_vs_ikpy", "ikpy_per_target_ms", "ik_per_target_ms"),
     ("toppra_over_plan", "toppra_ms", "plan_mp_ms"),
     ("ikpy_over_plan", "ikpy_ms", "plan_mp_ms"),
-    ("toppra_over_timing", "toppra_ms", "part_timing_ms"),
+    ("toppra_over_timing", "toppra_ms", "part_timing_fastest_ms"),
     ("ikpy_over_tracking", "ikpy_ms", "part_tracking_ms"),
 ] + [
     (f"services_{k}_ratio", f"services_{k}_p50_ms", "in_process_p50_ms")
@@ -97,6 +97,9 @@ def test_the_work_and_the_machine_are_recorded(figures: dict[str, float]) -> Non
     plans counted; the processor, CPUs and the load average over the run."""
     assert figures["cpu_model"] == cpu_model()
     assert figures["targets"] == 1.0 and figures["services_plans"] == 2.0
+    # each client count keeps its clients busy: 10 plans per client at least
+    assert figures["services_1_plans"] == 10.0 and figures["services_3_plans"] == 30.0
+    assert figures["in_process_plans"] == 2.0
     assert figures["plan_points"] == figures["services_path_points"]
     assert 90 <= figures["plan_points"] <= 110
     assert figures["plan_duration_s"] == pytest.approx(1.0, abs=0.1)
@@ -178,3 +181,22 @@ def test_the_bars_show_the_in_process_plan_both_ways(
     }
     print_bars({"plan_mp_ms": 12.0}, [])
     assert "back to back" not in capsys.readouterr().out
+
+
+def test_the_peers_are_compared_on_like_work(figures: dict[str, float]) -> None:
+    """toppra beside our fastest timing (both as fast as the limits allow),
+    with both trajectories' durations; ikpy's accuracy beside ours; the
+    SLSQP ratio also on the targets both reached (null if none)."""
+    assert 0.0 < figures["toppra_duration_s"] <= figures["timing_fastest_duration_s"]
+    assert figures["timing_fastest_duration_s"] < figures["plan_duration_s"]
+    assert 0.0 <= figures["tracking_max_error_mm"] < 0.1
+    assert figures["ikpy_max_error_mm"] >= 0.0
+    common = figures["common_targets"]
+    assert common in (0.0, 1.0)
+    ratio = figures["speedup_vs_slsqp_on_common"]
+    if common:
+        assert ratio == pytest.approx(
+            figures["slsqp_per_common_target_ms"] / figures["ik_per_common_target_ms"]
+        )
+    else:
+        assert ratio is None

@@ -12,10 +12,11 @@ def test_the_benchmark_reports_every_load_beside_in_process() -> None:
     """One row in-process, one per concurrency level, each with p50, p99, rate
     and ratio; the work is a one-second reach of about 100 path points; each
     stage timed here and through its service; the progress callback runs once
-    per timed call (3 plans per row, 3 rounds of 3 stages at each place)."""
+    per timed call (3 plans in-process, 10 per client through the services,
+    3 rounds of 3 stages at each place)."""
     calls: list[None] = []
     result = service_latency.run(n=3, clients=(1, 2), after=lambda: calls.append(None))
-    assert len(calls) == service_latency.steps(3, (1, 2)) == 9 + 18
+    assert len(calls) == service_latency.steps(3, (1, 2)) == 3 + 10 + 20 + 18
     assert list(result.hops) == ["decide", "ik", "timing"]
     for hop in result.hops.values():
         assert len(hop.here.samples) == len(hop.service.samples) == 3
@@ -24,7 +25,7 @@ def test_the_benchmark_reports_every_load_beside_in_process() -> None:
         assert np.all(hop.inside.samples < hop.service.samples)  # per call
     assert len(result.in_process.samples) == 3
     assert [load.clients for load in result.loads] == [1, 2]
-    assert all(len(load.latency.samples) == 3 for load in result.loads)
+    assert [len(load.latency.samples) for load in result.loads] == [10, 20]
     assert result.duration == pytest.approx(1.0, abs=0.1)
     assert 90 <= result.path_points <= 110
     rows = result.table()

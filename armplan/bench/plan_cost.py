@@ -36,6 +36,7 @@ from armplan.bench.service_latency import one_second_reach
 from armplan.bench.timer import Timing, time_calls, time_rounds
 from armplan.bench.timing_cost import toppra_trajectory
 from services.planner.pipeline import plan
+from services.timing import time_path
 from shared.messages import Method, PlanRequest, parse
 from shared.robot import load_arm, motion_limits
 from shared.robot.postures import rest
@@ -52,6 +53,10 @@ class PlanCost(NamedTuple):
         ikpy: Time per ikpy pass over the path's points [s].
         ikpy_reached: Fraction of points ikpy reached within 0.1 mm.
         parts: Our plan's parts, each timed on its own.
+        toppra_duration: Duration of toppra's time-optimal trajectory [s].
+        fastest_duration: Duration of our fastest timing of the path [s].
+        tracking_error: Our IK tracking's largest wrist error on the path [m].
+        ikpy_error: ikpy's largest wrist error on the path's points [m].
         load_average: The machine's 1-minute load average at the start and
             the end of the run (runnable processes; compare with its CPUs).
     """
@@ -63,6 +68,10 @@ class PlanCost(NamedTuple):
     ikpy: Timing
     ikpy_reached: float
     parts: PlanParts
+    toppra_duration: float
+    fastest_duration: float
+    tracking_error: float
+    ikpy_error: float
     load_average: tuple[float, float] = (0.0, 0.0)
 
     def plan_time(self, method: Method = Method.MP) -> float:
@@ -87,7 +96,12 @@ class PlanCost(NamedTuple):
             "ikpy_reached_fraction": self.ikpy_reached,
             "toppra_over_plan": self.peer_time("toppra") / self.plan_time(),
             "ikpy_over_plan": self.peer_time("ikpy") / self.plan_time(),
-            "toppra_over_timing": self.peer_time("toppra") / parts.median("timing"),
+            "toppra_over_timing": self.peer_time("toppra")
+            / parts.median("timing_fastest"),
+            "toppra_duration_s": self.toppra_duration,
+            "timing_fastest_duration_s": self.fastest_duration,
+            "tracking_max_error_mm": self.tracking_error * 1e3,
+            "ikpy_max_error_mm": self.ikpy_error * 1e3,
             "ikpy_over_tracking": self.peer_time("ikpy") / parts.median("tracking"),
             "ik_tracking_per_point_us": parts.tracking_per_point * 1e6,
             "decision_per_point_us": parts.decision_per_point * 1e6,
@@ -100,6 +114,11 @@ class PlanCost(NamedTuple):
         """Median time of ``"toppra"`` or ``"ikpy"`` on the reach [s]."""
         timing: Timing = getattr(self, peer)
         return timing.percentile(50)
+
+
+def _largest_error(reached: object, points: np.ndarray) -> float:
+    """Largest distance [m] between the wrists reached and the path's points."""
+    return float(np.linalg.norm(np.asarray(reached) - points, axis=1).max())
 
 
 def steps(repeats: int, ikpy_passes: int) -> int:
@@ -155,5 +174,9 @@ def run(
         ikpy=ikpy,
         ikpy_reached=ikpy_peer.reached_fraction(chain, solved[-1], points),
         parts=PlanParts(count, {name: timings[f"part_{name}"] for name in PARTS}),
+        toppra_duration=toppra_trajectory(joint_path, limits)[0],
+        fastest_duration=time_path(joint_path, limits).duration,
+        tracking_error=_largest_error(first.joint_paths[0].wrist, points),
+        ikpy_error=_largest_error([arm.fk(q).wrist for q in solved[-1]], points),
         load_average=(load_start, os.getloadavg()[0]),
     )

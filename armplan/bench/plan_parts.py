@@ -8,7 +8,10 @@ The parts of planning one reach with method ``mp`` in this process, as
   point, made inside the IK tracker's loop, and the ``Decision`` message;
 - ``tracking``: the IK tracking alone: the same path with the decided
   primitives replayed (what the ik service computes);
-- ``timing``: Ruckig's time parameterisation (``time_segments``);
+- ``timing``: Ruckig's time parameterisation (``time_segments``) at the
+  reach's human pace, as the plan asks for it;
+- ``timing_fastest``: the same, as fast as the limits allow: the problem
+  toppra solves (time-optimal), so the one to compare it with;
 - ``messages``: the ``JointPath`` and ``Trajectory`` messages.
 
 The decision's own cost is ``decide_and_track`` minus ``tracking``.
@@ -33,7 +36,14 @@ from shared.robot import ArmModel, motion_limits
 from shared.robot.postures import rest
 
 #: Parts measured, in pipeline order.
-PARTS = ("wrist_path", "decide_and_track", "tracking", "timing", "messages")
+PARTS = (
+    "wrist_path",
+    "decide_and_track",
+    "tracking",
+    "timing",
+    "timing_fastest",
+    "messages",
+)
 
 
 class PlanParts(NamedTuple):
@@ -101,6 +111,7 @@ def part_calls(
             arc_length(joint_path.wrist),
         )
     ]
+    fastest = [segments[0]._replace(duration=None)]
     limits = motion_limits(arm.limits)
     timed = time_segments(segments, limits)
 
@@ -115,5 +126,6 @@ def part_calls(
             arm, points, start, lambda k, st: primitives[k], method=Method.MP
         ),
         "timing": lambda: time_segments(segments, limits),
+        "timing_fastest": lambda: time_segments(fastest, limits),
         "messages": messages,
     }

@@ -45,6 +45,9 @@ CLIENTS = (1, 8, 50)
 GRID_POINT = 13
 #: Plans sent before measuring.
 WARM_UP = 3
+#: Plans per client at the least, so that the clients stay busy: 100 plans
+#: over 50 clients (2 each) kept all 50 in flight only 47 % of the time.
+PER_CLIENT = 10
 #: The services a plan goes through.
 SERVICES = ("fit", "decide", "ik", "timing", "planner")
 
@@ -128,6 +131,7 @@ class ServiceLatency(NamedTuple):
             name = what.replace("services, ", "services_").replace(" clients", "")
             name = name.replace("-", "_")
             out |= {
+                f"{name}_plans": float(self._plans(what)),
                 f"{name}_p50_ms": p50,
                 f"{name}_p99_ms": p99,
                 f"{name}_per_s": rate,
@@ -135,6 +139,16 @@ class ServiceLatency(NamedTuple):
             if name != "in_process":
                 out[f"{name}_ratio"] = ratio
         return out | self._hop_figures()
+
+    def _plans(self, what: str) -> int:
+        """Plans timed in the row called ``what``."""
+        if what == "in-process":
+            return len(self.in_process.samples)
+        return next(
+            len(x.latency.samples)
+            for x in self.loads
+            if x.clients == int(what.split()[1])
+        )
 
     def _hop_figures(self) -> dict[str, float]:
         """Per stage, medians [ms]: ``stage_<name>_<what>_ms``.
@@ -166,7 +180,15 @@ def one_second_reach() -> PlanRequest:
 
 def steps(n: int, clients: Sequence[int]) -> int:
     """How many timed calls ``run(n, clients)`` makes (for a progress bar)."""
-    return n * (1 + len(clients)) + stage_hops.steps(n)
+    return n + sum(plans_for(n, k) for k in clients) + stage_hops.steps(n)
+
+
+def plans_for(n: int, clients: int) -> int:
+    """Plans timed with ``clients`` concurrent clients.
+
+    ``n``, or ``PER_CLIENT`` each if that is more.
+    """
+    return max(n, PER_CLIENT * clients)
 
 
 def run(
@@ -237,5 +259,5 @@ def _load(
 
     start = time.perf_counter()
     with ThreadPoolExecutor(clients) as pool:
-        latency = list(pool.map(timed, range(n)))
+        latency = list(pool.map(timed, range(plans_for(n, clients))))
     return Load(clients, Timing(np.array(latency)), time.perf_counter() - start)

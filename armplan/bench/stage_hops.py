@@ -136,8 +136,8 @@ def time_hops(
         call()
     for kept in told.values():
         kept.clear()
-    timed_there = time_rounds(there, rounds, after)
-    timed_here = time_rounds(here, rounds, after)
+    timed_there = time_rounds(there, rounds, after, warm=False)  # warmed above
+    timed_here = time_rounds(here, rounds, after, warm=False)
     return {
         name: StageHop(
             timed_here[name],
