@@ -9,6 +9,10 @@ from test_timing_paths import distance_to_polyline
 from services.ik.track import track_path
 from services.planner.wrist_path import reach_path
 from services.timing import check_limits, reach_duration, time_path
+from services.timing.parameter_limits import parameter_limits
+from services.timing.path_spline import PathSpline
+from services.timing.scalar_profile import plan_rest_to_rest
+from services.timing.time_path import distinct_points, knot_widths, required_stretch
 from shared.errors import InvalidInputError
 from shared.primitives import FULL_REACH
 from shared.robot import load_arm, motion_limits
@@ -82,3 +86,23 @@ def test_a_turn_in_place_is_timed_by_the_joints(points: int) -> None:
     assert held.duration == pytest.approx(free.duration)
     check_limits(held.times, held.positions, LIMITS)
     np.testing.assert_allclose(held.positions[-1], q[-1], atol=1e-12)
+
+
+def test_a_profile_to_be_shrunk_is_judged_alike_on_its_shrunk_grid() -> None:
+    """The time-optimal profile under the hand's constant limits on u is too
+    slow for the reach (15 s); judged on the grid of the shrunk profile
+    (fewer points) its stretch agrees with the full grid's within 1 %, and
+    the fastest timing keeps every limit."""
+    q, arc = _reach((0.12, -0.13, 0.05))
+    points, index = distinct_points(q)
+    spline = PathSpline(
+        points, knot_widths(points, arc[index], LIMITS), LIMITS.lower, LIMITS.upper
+    )
+    shape = parameter_limits(spline.bounds(), LIMITS, spline.length)
+    profile = plan_rest_to_rest(spline.length, shape)
+    full = required_stretch(spline, profile, LIMITS, 0.01)
+    shrunk = required_stretch(spline, profile, LIMITS, 0.01, shrunk_grid=True)
+    assert profile.duration > 5.0 and full < 1.0  # to be shrunk
+    assert shrunk == pytest.approx(full, rel=0.01)
+    fastest = time_path(q, LIMITS, parameter=arc)
+    check_limits(fastest.times, fastest.positions, LIMITS)
