@@ -33,7 +33,7 @@ def checked_frames(
     inside = (limits.lower + QUANTUM, limits.upper - QUANTUM)
     frames = frames_from_trajectory(trajectory, rate, inside)
     check_frames(frames, limits)
-    check_follows(frames, trajectory, follow_tolerance(limits))
+    check_follows(frames, trajectory, follow_tolerance(limits), inside)
     return frames
 
 

@@ -49,7 +49,10 @@ def follow_tolerance(limits: FrameLimits) -> np.ndarray:
 
 
 def check_follows(
-    frames: CommandFrames, trajectory: Trajectory, tolerance: npt.ArrayLike
+    frames: CommandFrames,
+    trajectory: Trajectory,
+    tolerance: npt.ArrayLike,
+    within: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> None:
     """Refuse ``frames`` if the lines between them stray from ``trajectory``.
 
@@ -57,6 +60,8 @@ def check_follows(
         frames: The trajectory's command frames (``frames_from_trajectory``).
         trajectory: The trajectory [s, rad].
         tolerance: Largest allowed gap [rad], per joint (shape (n,)) or one.
+        within: The ranges the frames were held in, if any (the frame rates
+            a refusal tries are made the same way).
 
     Raises:
         TrajectoryRefusedError: quantity ``"frame_rate"``, naming the joint
@@ -78,7 +83,7 @@ def check_follows(
             f"would pass {math.degrees(gap):.1f} deg from the trajectory at "
             f"t = {time:.3f} s between frames at {frames.rate:g} Hz (at most "
             f"{math.degrees(limit[joint]):.3g} deg): "
-            + _advice(trajectory, frames.rate, ratio, limit)
+            + _advice(trajectory, frames.rate, ratio, limit, within)
         ),
     )
 
@@ -125,7 +130,11 @@ def _gaps(
 
 
 def _advice(
-    trajectory: Trajectory, rate: float, ratio: float, limit: np.ndarray
+    trajectory: Trajectory,
+    rate: float,
+    ratio: float,
+    limit: np.ndarray,
+    within: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> str:
     """A frame rate that passes, found by trying, or why none is offered.
 
@@ -135,7 +144,7 @@ def _advice(
     for _ in range(ATTEMPTS):
         rate = min(math.ceil(1.25 * rate * math.sqrt(ratio)), MAX_RATE)
         try:
-            frames = frames_from_trajectory(trajectory, rate)
+            frames = frames_from_trajectory(trajectory, rate, within)
         except InvalidInputError:
             break  # too many frames at this rate
         ratio = _worst(frames, trajectory, limit)[0]
