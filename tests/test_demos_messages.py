@@ -37,6 +37,8 @@ def test_sample_round_trip_and_normalisation() -> None:
     ("field", "value", "message"),
     [
         ("primitive", "S_R X_Y", "unknown movement primitive"),
+        ("primitive", "W_R", "'W_R' is a function primitive"),
+        ("primitive", "S_R E_P W_R", "a demonstration is labelled with a motion"),
         ("wrist_orientation", [0.0, 0.0, 0.0, 0.0], "must not be zero"),
         ("elbow", [0.0, math.nan, 0.0], "elbow.1"),
         ("time", -0.01, "time"),

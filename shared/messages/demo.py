@@ -15,7 +15,7 @@ from typing import Annotated
 from pydantic import AfterValidator, Field
 
 from shared.messages.base import Message, Vec3
-from shared.primitives import BY_NAME
+from shared.primitives import BY_NAME, MOTION_PRIMITIVES
 from shared.robot.side import Side
 
 #: A rotation as a unit quaternion (w, x, y, z).
@@ -30,11 +30,23 @@ def _unit_quaternion(q: QuaternionTuple) -> QuaternionTuple:
 
 
 def _known_primitive(name: str | None) -> str | None:
+    """A motion primitive's name (spacing free): the decision's candidates.
+
+    Function primitives (``S_R E_P W_R``, ``W_R``) are not decided from the
+    arm's state, so they label no demonstration; ``armplan fit`` failed on
+    one with an internal error.
+    """
     if name is None:
         return None
     key = " ".join(name.split())
     if key not in BY_NAME:
         raise ValueError(f"unknown movement primitive {name!r}")
+    if BY_NAME[key] not in MOTION_PRIMITIVES:
+        motion = ", ".join(p.name for p in MOTION_PRIMITIVES)
+        raise ValueError(
+            f"{key!r} is a function primitive; a demonstration is labelled with "
+            f"a motion primitive ({motion})"
+        )
     return key
 
 
