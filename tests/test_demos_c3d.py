@@ -151,6 +151,20 @@ def test_frames_with_a_gap_are_dropped(
     assert trial.wrist_frame is None
 
 
+def test_a_truncated_c3d_file_is_refused(
+    c3d_file: pathlib.Path, tmp_path: pathlib.Path
+) -> None:
+    """Cut in half, ezc3d reads a third of the frames without complaint (and
+    shortens its header to match): refused naming both counts, not imported
+    as a shorter trial whose last frame is mid-reach."""
+    whole = c3d_file.read_bytes()
+    cut = tmp_path / "cut.c3d"
+    cut.write_bytes(whole[: len(whole) // 2])
+    frames = len(read_c3d(c3d_file, MarkerMap.model_validate(MAP))[0].times)
+    with pytest.raises(DemoFileError, match=rf"truncated: its header says {frames} "):
+        read_c3d(cut, MarkerMap.model_validate(MAP))
+
+
 def test_not_a_c3d_file(tmp_path: pathlib.Path) -> None:
     """A file that is not C3D says so."""
     path = tmp_path / "bad.c3d"

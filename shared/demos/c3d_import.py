@@ -8,6 +8,7 @@ a ``Subject:`` prefix (``Sub1:RSHO`` matches ``RSHO``).
 
 from __future__ import annotations
 
+import struct
 from pathlib import Path
 from typing import Any
 
@@ -53,6 +54,7 @@ def read_c3d(
     index = _marker_indices(labels, markers, str(path))
     rate = float(data["header"]["points"]["frame_rate"])
     cloud = np.asarray(data["data"]["points"], dtype=float)  # (4, markers, frames)
+    _check_whole(path, cloud.shape[2])
     times = np.arange(cloud.shape[2]) / rate
     points = {role: cloud[:3, i, :].T for role, i in index.items()}
     units = markers.units or _units(point, str(path))
@@ -64,6 +66,41 @@ def read_c3d(
         trial,
         str(path),
         report=report,
+    )
+
+
+#: The header's last frame when the file holds more than a 16-bit count.
+MANY_FRAMES = 65535
+#: Processor types (parameter section, byte 4) whose integers are big-endian.
+BIG_ENDIAN = {86}  # MIPS
+
+
+def _check_whole(path: Path, frames: int) -> None:
+    """Raise if the file holds fewer frames than its header says.
+
+    ezc3d reads a cut file without complaint, and shortens its header and
+    parameters to what it read: a file cut in half became a trial of a
+    third of its frames, whose last frame (the reach's goal) was mid-reach.
+    So the header's own first and last frame are read from the file.
+
+    Raises:
+        DemoFileError: naming both counts.
+    """
+    with path.open("rb") as file:
+        header = file.read(512)
+        if len(header) < 10 or header[0] < 2:
+            return
+        file.seek((header[0] - 1) * 512)
+        block = file.read(4)
+    order = ">" if len(block) == 4 and block[3] in BIG_ENDIAN else "<"
+    first, last = struct.unpack(order + "HH", header[6:10])
+    said = last - first + 1
+    if last == MANY_FRAMES or said <= frames:
+        return
+    raise DemoFileError(
+        str(path),
+        f"truncated: its header says {said} frames ({first}..{last}), only "
+        f"{frames} could be read",
     )
 
 
