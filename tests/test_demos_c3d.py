@@ -165,6 +165,45 @@ def test_a_truncated_c3d_file_is_refused(
         read_c3d(cut, MarkerMap.model_validate(MAP))
 
 
+def test_two_people_under_one_subject_name_are_refused(
+    tmp_path: pathlib.Path, c3d_file: pathlib.Path, recorded: Recorded
+) -> None:
+    """The same map's subject for two files whose arms differ by 30 %: two
+    people under one name, refused naming the file; the same person in two
+    files is one subject."""
+    bigger = tmp_path / "bigger.c3d"
+    zeros = np.zeros_like(recorded.wrist)
+    _write_c3d(
+        bigger,
+        {
+            "RSHO": _to_lab(zeros),
+            "RELB": _to_lab(1.3 * recorded.elbow),
+            "RWRB": _to_lab(1.3 * recorded.wrist),
+        },
+    )
+    markers = tmp_path / "map.json"
+    markers.write_text(json.dumps({k: v for k, v in MAP.items() if k != "thumb"}))
+
+    def run(*files: pathlib.Path) -> subprocess.CompletedProcess[str]:
+        out = tmp_path / f"out{len(list(tmp_path.glob('out*')))}.mcap"
+        command = [sys.executable, "-m", "armplan", "demos", "import", *map(str, files)]
+        return subprocess.run(
+            [*command, "--markers", str(markers), "-o", str(out)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+
+    refused = run(c3d_file, bigger)
+    assert refused.returncode == 1
+    assert f"{bigger}: subject 'P01' measures" in refused.stderr
+    assert "two people under one name?" in refused.stderr
+    again = tmp_path / "again.c3d"
+    again.write_bytes(c3d_file.read_bytes())
+    assert run(c3d_file, again).returncode == 0
+
+
 def test_not_a_c3d_file(tmp_path: pathlib.Path) -> None:
     """A file that is not C3D says so."""
     path = tmp_path / "bad.c3d"

@@ -131,3 +131,15 @@ def test_synth_refuses_a_directory_as_output(
     assert (
         _error(capsys) == f"armplan: error: cannot write {tmp_path}: Is a directory\n"
     )
+
+
+def test_two_people_under_one_name_are_refused(
+    demos: pathlib.Path, tmp_path: pathlib.Path
+) -> None:
+    """Two synthetic sets of other seeds both name their person S01: refused
+    naming both files and arms (the later arm used to replace the earlier)."""
+    other = tmp_path / "other.mcap"
+    argv = ["demos", "synth", "-o", str(other), "--subjects", "1", "--trials", "1"]
+    assert main([*argv, "--seed", "1"]) == 0
+    with pytest.raises(DemoFileError, match=rf"subject 'S01' has arms .* in {demos}"):
+        read_demos([demos, other])

@@ -11,6 +11,7 @@ into a ``DemoFileError`` that names the file and what is wrong.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TypeVar
@@ -142,12 +143,40 @@ def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
     paths = list(paths)
     check_distinct(paths)
     subjects: dict[str, Subject] = {}
+    found_in: dict[str, Path] = {}
     trials: list[Trial] = []
     for path in paths:
         more = _read_one(Path(path))
-        subjects.update(more.subjects)
+        for name, subject in more.subjects.items():
+            if name in subjects:
+                _check_same(subjects[name], subject, found_in[name], Path(path))
+            subjects[name], found_in[name] = subject, Path(path)
         trials.extend(more.trials)
     return DemoSet(subjects, trials)
+
+
+def _check_same(first: Subject, again: Subject, where: Path, here: Path) -> None:
+    """Raise unless ``again`` is the same person as ``first`` (same arm).
+
+    Two people recorded under one name (two synthetic sets of other seeds,
+    or ``reach.csv`` from two sessions without a subject in the marker map)
+    were merged, the later arm replacing the earlier one.
+
+    Raises:
+        DemoFileError: naming the subject, both files and both arms.
+    """
+    if math.isclose(first.upper_arm, again.upper_arm, abs_tol=1e-9) and math.isclose(
+        first.forearm, again.forearm, abs_tol=1e-9
+    ):
+        return
+    where_text = "earlier in it" if where == here else f"in {where}"
+    raise DemoFileError(
+        str(here),
+        f"subject {first.name!r} has arms of {again.upper_arm:.3f} + "
+        f"{again.forearm:.3f} m here and {first.upper_arm:.3f} + "
+        f"{first.forearm:.3f} m {where_text}: two people under one name? Give "
+        'each its own (the marker map\'s "subject")',
+    )
 
 
 def _read_one(path: Path) -> DemoSet:
@@ -158,9 +187,10 @@ def _read_one(path: Path) -> DemoSet:
         for index, record in enumerate(recording):
             if record.topic == SUBJECT_TOPIC:
                 s = _parse(DemoSubject, record.data, path, index, record.topic)
-                subjects[s.name] = Subject(
-                    s.name, s.stature or 0.0, s.upper_arm, s.forearm
-                )
+                person = Subject(s.name, s.stature or 0.0, s.upper_arm, s.forearm)
+                if s.name in subjects:
+                    _check_same(subjects[s.name], person, path, path)
+                subjects[s.name] = person
             elif record.topic == SAMPLE_TOPIC:
                 samples.append(
                     _parse(DemoSample, record.data, path, index, SAMPLE_TOPIC)

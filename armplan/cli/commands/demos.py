@@ -25,10 +25,10 @@ from typing import TYPE_CHECKING
 
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
-from shared.errors import InvalidInputError
+from shared.errors import DemoFileError, InvalidInputError
 
 if TYPE_CHECKING:
-    from shared.demos import Trial
+    from shared.demos import Subject, Trial
 
 ORDER = 30
 HELP = "demonstrations: synthesise, import motion capture (C3D, CSV), summarise"
@@ -84,7 +84,7 @@ def run_synth(args: argparse.Namespace) -> int:
 
 def run_import(args: argparse.Namespace) -> int:
     """Read motion capture, retarget, write MCAP."""
-    from shared.demos import DemoSet, Subject, write_demos
+    from shared.demos import DemoSet, write_demos
     from shared.demos.c3d_import import read_c3d
     from shared.demos.csv_import import read_csv
     from shared.demos.markers import read_marker_map
@@ -110,6 +110,7 @@ def run_import(args: argparse.Namespace) -> int:
             found, subject = read_csv(path, markers, report=_note)
             base = _next_trial(trials)
             found = [t._replace(trial=base + i) for i, t in enumerate(found)]
+        _check_one_person(subjects.get(subject.name), subject, name)
         subjects.setdefault(subject.name, subject)
         trials.extend(found)
     count = write_demos(
@@ -125,6 +126,37 @@ def run_import(args: argparse.Namespace) -> int:
 def _note(text: str) -> None:
     """A note for the user on stderr (not an error: the import goes on)."""
     sys.stderr.write(f"armplan: note: {text}\n")
+
+
+#: Largest difference of a segment's measured length between two files of
+#: one person, relative (marker placement moves from session to session).
+SAME_ARM = 0.1
+
+
+def _check_one_person(seen: Subject | None, subject: Subject, name: str) -> None:
+    """Raise if ``subject`` (from file ``name``) is another person of that name.
+
+    Two people's ``reach.csv`` from two folders, with no subject in the
+    marker map, both became subject ``reach``: one person of two arms.
+
+    Raises:
+        DemoFileError: naming the file, the subject and both arms.
+    """
+    if seen is None:
+        return
+    for seen_length, length in (
+        (seen.upper_arm, subject.upper_arm),
+        (seen.forearm, subject.forearm),
+    ):
+        if abs(length - seen_length) > SAME_ARM * seen_length:
+            raise DemoFileError(
+                name,
+                f"subject {subject.name!r} measures {subject.upper_arm:.3f} + "
+                f"{subject.forearm:.3f} m here, {seen.upper_arm:.3f} + "
+                f"{seen.forearm:.3f} m in an earlier file: two people under one "
+                "name? Give each file's person a name (the marker map's "
+                '"subject")',
+            )
 
 
 def _next_trial(trials: list[Trial]) -> int:
