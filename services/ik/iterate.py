@@ -25,6 +25,7 @@ from services.ik.kernel.chain import Chain, ChainState, chain_for
 from services.ik.measures import Measure, NoMeasure
 from services.ik.task import WristTask
 from shared.robot.arm_model import ArmModel
+from shared.robot.side import Side
 
 #: Largest accepted wrist error of a solution [m] (the contract says 1 mm).
 TOLERANCE = 1e-4
@@ -236,14 +237,26 @@ def _score(task: WristTask, measure: Measure, st: ChainState) -> tuple[float, fl
 def _seeds(
     chain: Chain, start: np.ndarray, active: tuple[int, ...]
 ) -> list[list[float]]:
-    """Fixed restart postures: start, with the active joints drawn in their ranges."""
+    """Fixed restart postures: start, with the active joints drawn in their ranges.
+
+    The draws are the same fractions of the ranges for both arms, read from
+    the mirrored end for the left arm's mirrored joints (all but
+    ShoulderPitch), so a left-arm solve restarts from the mirrors of the
+    right arm's seeds and ends in the mirror of its answer (the same seeds
+    for both arms once gave the left arm other postures and plans up to
+    0.6 s shorter or longer).
+    """
     rng = np.random.default_rng(SEED)
     idx = np.array(active)
     lower, upper = chain.limits.lower[idx], chain.limits.upper[idx]
     margin = 0.05 * (upper - lower)
+    low, high = lower + margin, upper - margin
+    mirrored = (chain.side is Side.LEFT) & (idx != 0)  # 0: ShoulderPitch
     seeds = []
     for _ in range(N_SEEDS):
+        share = rng.random(len(idx))  # what rng.uniform(low, high) draws
+        share = np.where(mirrored, 1.0 - share, share)
         q = np.array(start, dtype=float)
-        q[idx] = rng.uniform(lower + margin, upper - margin)
+        q[idx] = low + (high - low) * share
         seeds.append([float(v) for v in q])
     return seeds

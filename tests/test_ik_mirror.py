@@ -1,0 +1,35 @@
+"""The left arm's IK is the mirror of the right arm's, restarts included."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from armplan.cli.main import main
+
+#: A least-norm solve that fails its first attempt and restarts from seeds
+#: (found by a mirror sweep): right start and target [rad, m].
+START = (0.3620663529827741, -0.11594668562839616, 1.9032458507880112,
+         0.46396890520714473, 0.5418615891533609)  # fmt: skip
+TARGET = (-0.007950826449217747, -0.20735782719883689, 0.03713936207049065)
+#: NAO's mirror of a right posture onto the left arm: the rolls and yaws flip.
+MIRROR = np.array([1.0, -1.0, -1.0, -1.0, -1.0])
+
+
+def solve(arm: str, start: np.ndarray, target: np.ndarray, capsys) -> np.ndarray:  # type: ignore[no-untyped-def]
+    argv = ["ik", "--arm", arm, "--method", "least-norm", "--json"]
+    argv += ["--start", *map(repr, map(float, start))]
+    argv += ["--target", *map(repr, map(float, target))]
+    assert main(argv) == 0
+    return np.array(list(json.loads(capsys.readouterr().out)["joints"].values()))
+
+
+def test_a_restarted_solve_is_mirrored(capsys: pytest.CaptureFixture[str]) -> None:
+    """The same seeds for both arms gave the left arm another posture (1.2 rad
+    away from the mirror); its seeds are now the mirrors of the right's."""
+    start, target = np.array(START), np.array(TARGET)
+    right = solve("right", start, target, capsys)
+    left = solve("left", MIRROR * start, target * np.array([1.0, -1.0, 1.0]), capsys)
+    np.testing.assert_allclose(left, MIRROR * right, atol=1e-9)
