@@ -149,3 +149,15 @@ def test_empty_marker_cells_drop_the_row_and_the_cli_says_so(
         f"armplan: note: {path}: trial 1: dropped 2 of 30 frames with a missing "
         "marker, the first at frame 10 (t = 0.1 s, line 42)",
     ]
+
+
+def test_a_byte_order_mark_is_read_past(tmp_path: pathlib.Path) -> None:
+    """Excel's "CSV UTF-8" starts with a byte-order mark: the same trials as
+    without it (it was refused as lacking the column time)."""
+    plain = write_csv(tmp_path / "plain.csv", arm_rows(0))
+    marked = tmp_path / "marked.csv"
+    marked.write_bytes(b"\xef\xbb\xbf" + plain.read_bytes())
+    expected, _ = read_csv(plain, MARKERS)
+    trials, _ = read_csv(marked, MARKERS)
+    np.testing.assert_array_equal(trials[0].wrist, expected[0].wrist)
+    np.testing.assert_array_equal(trials[0].times, expected[0].times)

@@ -84,7 +84,7 @@ def _rows(path: Path) -> tuple[list[str], list[Row]]:
     """The header and the non-blank data rows, each with its line."""
     table: list[Row] = []
     try:
-        with open(path, newline="") as stream:
+        with open(path, newline="", encoding="utf-8-sig") as stream:  # Excel: BOM
             reader = csv.reader(stream)
             start = 1
             for cells in reader:
