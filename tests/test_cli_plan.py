@@ -178,6 +178,21 @@ def test_a_wrist_path_keeps_its_times(
     assert trajectory.method == method
 
 
+def test_a_wrist_path_with_a_byte_order_mark_is_read(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A CSV saved as Excel's "CSV UTF-8" starts with a byte-order mark; it
+    was refused as lacking its t,x,y,z header. It plans as the same file
+    without one."""
+    file, lines = write_path(tmp_path)
+    marked = tmp_path / "marked.csv"
+    marked.write_text("\n".join(lines) + "\n", encoding="utf-8-sig")
+    assert marked.read_bytes().startswith(b"\xef\xbb\xbf")
+    with_mark = plan_json(capsys, "--wrist-path", str(marked))
+    without = plan_json(capsys, "--wrist-path", str(file))
+    assert with_mark.positions == without.positions
+
+
 def test_the_table_and_summary(capsys: pytest.CaptureFixture[str]) -> None:
     """Without --json: every tenth sample in degrees with its primitive, then
     duration, primitives in order, final wrist error [mm] and method."""

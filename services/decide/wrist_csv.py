@@ -28,7 +28,7 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
     """
     path = Path(path)
     try:
-        with open(path, newline="") as stream:
+        with open(path, newline="", encoding="utf-8-sig") as stream:  # Excel: BOM
             rows = [row for row in csv.reader(stream) if row]
     except OSError as exc:
         raise InvalidInputError(
