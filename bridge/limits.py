@@ -6,13 +6,19 @@ import numpy as np
 import numpy.typing as npt
 
 from shared.robot import Side, load_arm
-from shared.robot.motion_limits import JERK_TIME, MotionLimits, motion_limits
+from shared.robot.motion_limits import (
+    JERK_TIME,
+    NET_ACCELERATION_TIME,
+    MotionLimits,
+    motion_limits,
+)
 
 #: Default acceleration limit as the time a joint takes to reach its speed
 #: limit from rest [s]: limit = speed limit / this. A safety net for the
 #: frames the bridge sends, above what the timing service's defaults produce
-#: (NAO's arm motors reach their no-load speed in about a tenth of a second).
-RAMP_TIME = 0.1
+#: (NAO's arm motors reach their no-load speed in about a tenth of a second);
+#: a request's own timing limits may not go above it.
+RAMP_TIME = NET_ACCELERATION_TIME
 #: Default jerk limit as the time a joint takes to build its acceleration
 #: limit from zero [s]: limit = acceleration limit / this. The timing's own
 #: ramp (``shared.robot.motion_limits.JERK_TIME``) on the bridge's looser

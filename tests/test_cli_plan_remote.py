@@ -26,6 +26,12 @@ CASES = {
     ],
     "fastest-single": ["--target", *AT_GOAL, "--fastest", "--method", "single"],
     "unreachable": ["--target", "0.5", "-0.12", "0.05"],  # the same error
+    # the limits reach the timing service
+    "limits": [
+        *["--target", *AT_GOAL, "--fastest"],
+        *["--max-acceleration", "5", "--max-jerk", "40", "30", "30", "30", "30"],
+    ],
+    "limits-over-the-net": ["--target", *AT_GOAL, "--max-jerk", "1e9"],
 }
 
 

@@ -11,9 +11,10 @@ Three ways to say what to do, one per command line:
   m); ``--palm`` (once) is the palm direction held along it. Its times are
   kept, so ``--fastest``, ``--rate`` and ``--dwell`` do not apply.
 - ``--task FILE.json``: a whole ``PlanRequest`` as JSON, the message the
-  planner service takes. ``--method``, ``--fastest``, ``--rate`` and
-  ``--start`` given beside it override the file's; ``--arm`` must agree with
-  it; ``--dwell`` and ``--palm`` belong in the file.
+  planner service takes. ``--method``, ``--fastest``, ``--rate``,
+  ``--start``, the weights and the limits given beside it override the
+  file's; ``--arm`` must agree with it; ``--dwell`` and ``--palm`` belong in
+  the file.
 """
 
 from __future__ import annotations
@@ -134,7 +135,28 @@ def _how(args: argparse.Namespace) -> dict[str, Any]:
         fields["start"] = _finite(args.start, "--start")
     for name, value in measure_fields(args).items():
         fields.setdefault("measures", {})[name] = _finite(value, f"--{name}")
+    for name in ("acceleration", "jerk"):
+        values = getattr(args, f"max_{name}", None)
+        if values is not None:
+            fields.setdefault("limits", {})[name] = _limit(values, name)
     return fields
+
+
+def _limit(values: list[float], name: str) -> float | list[float]:
+    """``--max-<name>``'s values: one for every joint, or five."""
+    option = f"--max-{name}"
+    if len(values) not in (1, 5):
+        raise InvalidInputError(
+            f"{option} takes one value (every joint) or five (ShoulderPitch to "
+            f"WristYaw), got {len(values)}",
+            field=name,
+        )
+    _finite(values, option)
+    if min(values) <= 0.0:
+        raise InvalidInputError(
+            f"{option} must be positive, got {min(values):g}", field=name
+        )
+    return values[0] if len(values) == 1 else values
 
 
 def _from_wrist_path(args: argparse.Namespace) -> PlanRequest:
@@ -198,8 +220,9 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
             field="arm",
         )
     fields, how = request.model_dump(), _how(args)
-    if "measures" in how:  # the task's other weights stay
-        how["measures"] = (fields["measures"] or {}) | how["measures"]
+    for part in ("measures", "limits"):  # the task's others stay
+        if part in how:
+            how[part] = (fields[part] or {}) | how[part]
     return parse(PlanRequest, fields | how)
 
 

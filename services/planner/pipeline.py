@@ -29,6 +29,7 @@ from services.planner.build import trajectory_message
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
+from services.timing.request_limits import request_limits
 from services.timing.sample_cap import check_samples
 from shared.errors import UnreachableTargetError
 from shared.messages import (
@@ -46,7 +47,6 @@ from shared.messages import (
 from shared.messages.measure_params import MeasureParams
 from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
-from shared.robot.motion_limits import motion_limits
 from shared.robot.postures import rest
 
 #: A start posture whose wrist is this close to a wrist path's first sample is
@@ -77,12 +77,14 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
         UnreachableTargetError: a target (or a wrist-path sample) beyond reach.
         JointLimitError: a start posture outside the joint ranges.
         LimitViolationError: a wrist path timed faster than the limits allow.
+        InvalidInputError: timing limits above the bridge's safety net.
         PrimitiveCannotReachError, InvalidInputError: from the stages.
     """
     stages = stages or LocalStages()
     arm = load_arm(request.arm)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     arm.limits.check(start, where="in the start posture")
+    request_limits(arm.limits, request.limits)  # refused before any planning
     if request.wrist_path is not None:
         return _follow_given(arm, request, request.wrist_path, start, stages)
     for target in request.targets:
@@ -101,7 +103,12 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
         )
         q = end
     trajectory = stages.timing(
-        TimingRequest(segments=segments, rate=request.rate, method=request.method)
+        TimingRequest(
+            segments=segments,
+            rate=request.rate,
+            method=request.method,
+            limits=request.limits,
+        )
     )
     check_samples(len(trajectory.times), request.rate)
     return PlanResult(trajectory, paths, decisions, joints)
@@ -168,7 +175,7 @@ def _follow_given(
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
     joint_path = _movement(stages, request, path, start, decisions)
-    limits = motion_limits(arm.limits)
+    limits = request_limits(arm.limits, request.limits)
     timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
     trajectory = trajectory_message([joint_path], timed, request.method)
     return PlanResult(trajectory, [path], decisions, [joint_path])

@@ -20,6 +20,7 @@ from services.fit.model import MotionModel
 from services.ik.track import TrackedPath, track_path
 from services.planner.build import arc_length, joint_path_message, trajectory_message
 from services.timing import Segment, time_segments
+from services.timing.request_limits import request_limits
 from services.timing.sample_cap import check_asked, check_samples
 from shared.errors import InvalidInputError
 from shared.messages import (
@@ -33,7 +34,7 @@ from shared.messages import (
 )
 from shared.primitives import get_primitive
 from shared.robot import load_arm
-from shared.robot.motion_limits import MotionLimits, motion_limits
+from shared.robot.motion_limits import MotionLimits
 from shared.robot.postures import rest
 
 #: A hand whose arc is under this share of the arc its joints' travel would
@@ -132,7 +133,7 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     first = request.segments[0].joint_path
     _check_joint_names(request)
     arm = load_arm(first.arm)
-    limits = limits or motion_limits(arm.limits)
+    limits = limits or request_limits(arm.limits, request.limits)
     reach = arm.upper_arm_length + arm.forearm_length
     segments = [
         Segment(

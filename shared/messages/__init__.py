@@ -66,6 +66,11 @@ from shared.messages.stages import (  # noqa: E402
 
 __all__ += ["DecideRequest", "PathIKRequest", "TimingRequest", "TimingSegment"]
 
+# Acceleration and jerk limits a plan or timing request may set.
+from shared.messages.timing_limits import TimingLimits  # noqa: E402
+
+__all__ += ["TimingLimits"]
+
 # The motion model (fit service: served, published, read by decide).
 from shared.messages.motion_model import (  # noqa: E402
     ArmLengths,

@@ -9,6 +9,7 @@ from shared.messages.decision import Decision
 from shared.messages.joint_path import JointPath
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
+from shared.messages.timing_limits import TimingLimits
 from shared.messages.wrist_path import MAX_DURATION, WristPath
 
 
@@ -77,8 +78,11 @@ class TimingRequest(Message):
         segments: The movements, in order; each starts where the last ended.
         rate: Sample rate of the trajectory [Hz].
         method: The method that made the joint paths (carried to the result).
+        limits: Acceleration and jerk limits to time with; ``None``: the
+            defaults.
     """
 
     segments: list[TimingSegment] = Field(min_length=1, max_length=64)
     rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
     method: Method = Method.MP
+    limits: TimingLimits | None = None

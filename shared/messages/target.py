@@ -14,6 +14,7 @@ from shared.messages.base import (
 )
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
+from shared.messages.timing_limits import TimingLimits
 from shared.messages.wrist_path import WristPath
 from shared.robot.side import Side
 
@@ -52,6 +53,8 @@ class PlanRequest(Message):
         method: Planning method.
         fastest: Go as fast as the limits allow instead of at human pace.
         rate: Sample rate of the returned trajectory [Hz] (targets only).
+        limits: Acceleration and jerk limits to time with (``TimingLimits``:
+            up to the bridge's safety net); ``None``: the defaults.
         measures: Weights of the IK's human performance measures (eq.
             17-21); ``None``: the motion model's fitted weights (method
             ``mp``; the baselines, which use no model, the shipped ones).
@@ -69,6 +72,7 @@ class PlanRequest(Message):
     method: Method = Method.MP
     fastest: bool = False
     rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
+    limits: TimingLimits | None = None
     measures: MeasureParams | None = None
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
 

@@ -23,7 +23,9 @@ Why a NAO can follow these (defaults: 0.25 s and 0.05 s):
   about 420 rad/s^3, below the defaults' 33 rad/s^2 and 660 rad/s^3.
 
 Either default can be replaced, per joint or for all joints, with
-:func:`motion_limits`.
+:func:`motion_limits` (a request's ``TimingLimits``: :func:`asked_limits`),
+up to the bridge's safety net (:func:`net_limits`): speed from rest in
+``NET_ACCELERATION_TIME``, acceleration built in ``JERK_TIME``.
 """
 
 from __future__ import annotations
@@ -40,6 +42,9 @@ from shared.robot.limits import JointLimits
 ACCELERATION_TIME = 0.25
 #: Time from zero to full acceleration at the default jerk limit [s].
 JERK_TIME = 0.05
+#: Time from rest to full speed at the bridge's safety net [s]: NAO's arm
+#: motors reach their no-load speed in about a tenth of a second.
+NET_ACCELERATION_TIME = 0.1
 
 
 class MotionLimits(NamedTuple):
@@ -146,3 +151,46 @@ def _frozen(values: npt.ArrayLike) -> np.ndarray:
 
 
 __all__ = ["ACCELERATION_TIME", "JERK_TIME", "MotionLimits", "motion_limits"]
+
+
+def net_limits(joints: JointLimits) -> MotionLimits:
+    """The bridge's safety net [rad/s^2, rad/s^3]: the highest limits allowed.
+
+    Acceleration: speed limit / ``NET_ACCELERATION_TIME``; jerk: that
+    / ``JERK_TIME`` (2.5 times the defaults of both).
+    """
+    velocity = np.asarray(joints.velocity, dtype=float)
+    return motion_limits(joints, acceleration=velocity / NET_ACCELERATION_TIME)
+
+
+def asked_limits(
+    joints: JointLimits,
+    acceleration: npt.ArrayLike | None = None,
+    jerk: npt.ArrayLike | None = None,
+) -> MotionLimits:
+    """:func:`motion_limits` with a request's limits, checked against the net.
+
+    Args:
+        joints: Position and speed limits from the robot description.
+        acceleration: [rad/s^2], a scalar or shape (n,), or None (default).
+        jerk: [rad/s^3], a scalar or shape (n,), or None (default).
+
+    Raises:
+        InvalidInputError: a limit that is not a positive finite number, or
+            above the net (:func:`net_limits`), naming the joint and the net.
+    """
+    limits = motion_limits(joints, acceleration=acceleration, jerk=jerk)
+    net = net_limits(joints)
+    for name, unit in (("acceleration", "rad/s^2"), ("jerk", "rad/s^3")):
+        asked, most = getattr(limits, name), getattr(net, name)
+        over = asked > most * (1.0 + 1e-12)
+        if np.any(over):
+            k = int(np.argmax(over))
+            raise InvalidInputError(
+                f"{name} limit of {joints.names[k]} is {asked[k]:g} {unit}, above "
+                f"the {most[k]:g} {unit} the robot bridge allows (its safety net): "
+                "the bridge would refuse the trajectory",
+                field=name,
+                joint=joints.names[k],
+            )
+    return limits

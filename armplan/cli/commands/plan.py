@@ -2,7 +2,8 @@
 
     armplan plan --target X Y Z [--dwell S] [--palm X Y Z] [--target ...]
                  [--arm right|left] [--method mp|least-norm|single]
-                 [--fastest] [--rate HZ] [--start Q1..Q5] [--json]
+                 [--fastest] [--rate HZ] [--start Q1..Q5]
+                 [--max-acceleration A [A x4]] [--max-jerk J [J x4]] [--json]
     armplan plan --wrist-path FILE.csv [--arm ...] [--method ...]
                  [--start ...] [--palm X Y Z] [--json]
     armplan plan --task FILE.json [--method ...] [--fastest] [--rate HZ] [--json]
@@ -117,7 +118,29 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
         metavar="Q",
         help="start posture [rad] (default: arm hanging at rest)",
     )
+    _add_limits(parser)
     add_measure_options(parser)
+
+
+def _add_limits(parser: argparse.ArgumentParser) -> None:
+    """The timing's acceleration and jerk limits (``TimingLimits``)."""
+    parser.add_argument(
+        "--max-acceleration",
+        type=float,
+        nargs="+",
+        metavar="A",
+        help="acceleration limit [rad/s^2]: one for every joint or five, "
+        "ShoulderPitch to WristYaw (default: speed limit / 0.25 s; at most "
+        "speed limit / 0.1 s, the bridge's safety net)",
+    )
+    parser.add_argument(
+        "--max-jerk",
+        type=float,
+        nargs="+",
+        metavar="J",
+        help="jerk limit [rad/s^3]: one or five (default: the acceleration limit "
+        "/ 0.05 s; at most the safety net's, speed limit / 0.1 s / 0.05 s)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
