@@ -161,3 +161,39 @@ def test_a_byte_order_mark_is_read_past(tmp_path: pathlib.Path) -> None:
     trials, _ = read_csv(marked, MARKERS)
     np.testing.assert_array_equal(trials[0].wrist, expected[0].wrist)
     np.testing.assert_array_equal(trials[0].times, expected[0].times)
+
+
+def test_a_one_row_trial_is_refused_naming_the_trial_and_its_line(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A trial of one row shows no movement: the error names the trial and its
+    line (it said only that fewer than two frames have all of the markers)."""
+    rows = arm_rows(0) + arm_rows(1, n=1)
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: trial 1 has a single row (line 32); a trial needs at least 2 "
+        "samples, from its start to its goal"
+    )
+    assert caught.value.evidence["trial"] == 1
+    assert caught.value.evidence["line"] == 32
+
+
+def test_a_trial_left_with_one_whole_frame_names_subject_trial_and_lines(
+    tmp_path: pathlib.Path,
+) -> None:
+    """Three rows, two with a gap: the error names the subject, the trial and
+    its lines, and says why the frames went."""
+    rows = arm_rows(0) + arm_rows(1, n=3)
+    rows[30][3] = ""
+    rows[31][8] = ""
+    path = write_csv(tmp_path / "rec.csv", rows)
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: subject 'rec', trial 1 (lines 32-34): 1 of its 3 frames has "
+        "all of the markers RSHO, RELB, RWRB (a frame with a missing marker is "
+        "dropped); a trial needs at least 2"
+    )
+    assert caught.value.evidence["trial"] == 1

@@ -7,12 +7,13 @@ The format (one header row, then one row per frame, comma-separated)::
 
 ``time`` [s] is required and increases within a trial; ``trial`` (a whole
 number) is optional and splits the rows into trials (rows of one trial
-consecutive); each marker of the marker map (``markers``) has three columns
-``<name>_x``, ``<name>_y``, ``<name>_z`` in the map's units (default
-metres). Other columns are ignored. An empty (or ``nan``) marker cell is a
-missing sample, as capture systems export gaps: its row is dropped and the
-number of dropped rows reported. A row that lacks a needed cell (shorter
-than the header) is refused, as is an empty time or trial cell.
+consecutive, at least two of them); each marker of the marker map
+(``markers``) has three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` in
+the map's units (default metres). Other columns are ignored. An empty (or
+``nan``) marker cell is a missing sample, as capture systems export gaps:
+its row is dropped and the number of dropped rows reported. A row that
+lacks a needed cell (shorter than the header) is refused, as is an empty
+time or trial cell.
 OptiTrack's own CSV export has several header rows: flatten it to this form.
 """
 
@@ -28,7 +29,7 @@ import numpy as np
 from shared.demos.anthropometry import Subject
 from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import MarkerMap
-from shared.demos.trial import Trial
+from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError
 
 
@@ -54,8 +55,9 @@ def read_csv(
         DemoFileError: if the file is missing or empty, lacks a column (the
             error names it), has a row without a needed cell, a trial that is
             not a whole number, a value that is not a finite number (naming
-            line, column and value), times that do not increase within a
-            trial, or an implausible arm (``importing.check_segments``).
+            line, column and value), a trial of a single row, times that do
+            not increase within a trial (each naming the trial and line), or
+            an implausible arm (``importing.check_segments``).
     """
     path = Path(path)
     header, rows = _rows(path)
@@ -228,7 +230,18 @@ def _tracks(
 
 
 def _check_times(times: np.ndarray, rows: list[Row], path: str, trial: int) -> None:
-    """Refuse a missing time, or one not after the row before, naming the line."""
+    """Refuse a one-row trial, a missing time, or one not after the row before.
+
+    Each error names the trial and the line.
+    """
+    if len(rows) < MIN_SAMPLES:
+        raise DemoFileError(
+            path,
+            f"trial {trial} has a single row (line {rows[0].line}); a trial needs "
+            f"at least {MIN_SAMPLES} samples, from its start to its goal",
+            trial=trial,
+            line=rows[0].line,
+        )
     what = f"the times of trial {trial} must be given and increase"
     missing = np.flatnonzero(~np.isfinite(times))
     if missing.size:

@@ -20,7 +20,7 @@ from shared.demos.anthropometry import Subject
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, unit
-from shared.demos.trial import Trial
+from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError
 
 #: Farthest a marker may be from the capture's origin [m]: any capture
@@ -63,6 +63,13 @@ class MarkerTracks(NamedTuple):
         """Metres per file unit."""
         return UNIT_SCALE[self.units]
 
+    def span(self) -> str:
+        """The trial's lines for a message, `` (lines 2-31)``; ``""`` without."""
+        if not self.lines:
+            return ""
+        first, last = self.lines[0], self.lines[-1]
+        return f" (line {first})" if first == last else f" (lines {first}-{last})"
+
     def frame(self, k: int) -> str:
         """Frame ``k`` named for a message: ``frame 4 (t = 0.04 s, line 7)``."""
         line = "" if self.lines is None else f", line {self.lines[k]}"
@@ -90,8 +97,9 @@ def trial_from_tracks(
             dropped (their number), or ``None`` to drop them silently.
 
     Raises:
-        DemoFileError: if fewer than two frames have every marker, a marker
-            lies more than ``FARTHEST`` from the origin, or a segment is
+        DemoFileError: if fewer than ``MIN_SAMPLES`` frames have every marker
+            (naming subject, trial and, for CSV, its lines), a marker lies
+            more than ``FARTHEST`` from the origin, or a segment is
             degenerate or implausibly long or short (``check_segments``).
     """
     points = {
@@ -100,17 +108,11 @@ def trial_from_tracks(
     }
     _check_near(points, markers, tracks, path)
     whole = np.all([np.isfinite(p).all(axis=1) for p in points.values()], axis=0)
-    if int(whole.sum()) < 2:
-        raise DemoFileError(
-            path,
-            f"fewer than two frames have all of the markers "
-            f"{', '.join(markers.names.values())}",
-        )
+    named = f"subject {subject!r}, trial {trial}"
+    _check_enough(whole, tracks, markers, named, path, trial=trial)
     _report_gaps(whole, tracks, trial, path, report)
     kept = np.flatnonzero(whole)
-    check_segments(
-        points, kept, tracks, markers, f"subject {subject!r}, trial {trial}", path
-    )
+    check_segments(points, kept, tracks, markers, named, path)
     times = tracks.times[whole] - tracks.times[whole][0]
     points = {role: p[whole] for role, p in points.items()}
     human = ArmTrack(points["shoulder"], points["elbow"], points["wrist"])
@@ -238,6 +240,45 @@ def _units_read(tracks: MarkerTracks, markers: MarkerMap) -> str:
     if markers.units is not None:
         return f'{tracks.units}, as the marker map\'s "units" declares'
     return f'{tracks.units}, the file\'s default (the marker map has no "units")'
+
+
+def _check_enough(
+    whole: np.ndarray,
+    tracks: MarkerTracks,
+    markers: MarkerMap,
+    named: str,
+    path: str,
+    *,
+    trial: int,
+) -> None:
+    """Refuse a trial with fewer than ``MIN_SAMPLES`` frames with every marker.
+
+    Args:
+        whole: Whether each frame has every marker, shape (n,).
+        tracks: The raw tracks (for the trial's lines).
+        markers: The marker map (for the markers' names).
+        named: The trial named for messages, e.g. ``"subject 'P01', trial 0"``.
+        path: The file, for messages.
+        trial: The trial's number, for the evidence.
+    """
+    count = int(whole.sum())
+    if count >= MIN_SAMPLES:
+        return
+    if len(whole) < MIN_SAMPLES:
+        found = f"has {len(whole)} frame{'' if len(whole) == 1 else 's'}"
+    else:
+        found = (
+            f"{count} of its {len(whole)} frames {'has' if count == 1 else 'have'} "
+            f"all of the markers {', '.join(markers.names.values())} (a frame "
+            "with a missing marker is dropped)"
+        )
+    raise DemoFileError(
+        path,
+        f"{named}{tracks.span()}: {found}; a trial needs at least {MIN_SAMPLES}",
+        trial=trial,
+        frames=len(whole),
+        whole=count,
+    )
 
 
 def _report_gaps(

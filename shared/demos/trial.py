@@ -10,6 +10,10 @@ from shared.demos.anthropometry import Subject
 from shared.demos.rotations import FloatArray
 from shared.robot.side import Side
 
+#: Fewest samples of a trial: a reach moves from its start to its goal, and
+#: one sample shows no movement (no step between samples, no sample rate).
+MIN_SAMPLES = 2
+
 
 class Trial(NamedTuple):
     """One reach of one subject, retargeted to NAO (torso frame).
