@@ -153,6 +153,41 @@ def test_sample_without_its_subject(tmp_path: pathlib.Path, small: DemoSet) -> N
         read_demos(path)
 
 
+def test_a_subject_without_samples_is_refused(
+    tmp_path: pathlib.Path, small: DemoSet
+) -> None:
+    """A subject record with no sample of that subject is refused, naming the
+    subject and file (it was read as a subject with no trials)."""
+    path = tmp_path / "idle.mcap"
+    samples = samples_of(small.trials[0])
+    idle = DemoSubject(name="S99", upper_arm=0.3, forearm=0.25)
+    subject = DemoSubject(name=samples[0].subject, upper_arm=0.3, forearm=0.25)
+    _write(path, [subject, idle], [s.to_json().encode() for s in samples])
+    with pytest.raises(DemoFileError) as caught:
+        read_demos(path)
+    assert caught.value.message == (
+        f"{path}: subject 'S99' has a 'demo/subject' record but no samples"
+    )
+    assert caught.value.evidence["subject"] == "S99"
+
+
+def test_a_one_sample_trial_is_refused(tmp_path: pathlib.Path, small: DemoSet) -> None:
+    """A trial of one sample shows no movement: refused naming the trial, its
+    subject and the file (it was read, and fitted, as a trial)."""
+    path = tmp_path / "short.mcap"
+    first, second = samples_of(small.trials[0]), samples_of(small.trials[1])
+    subject = DemoSubject(name=first[0].subject, upper_arm=0.3, forearm=0.25)
+    _write(path, [subject], [s.to_json().encode() for s in [*first, second[0]]])
+    with pytest.raises(DemoFileError) as caught:
+        read_demos(path)
+    name = f"trial {second[0].trial} of subject {second[0].subject!r}"
+    assert caught.value.message == (
+        f"{path}: {name} has a single sample (t = {second[0].time:g} s); a trial "
+        "needs at least 2 samples, from its start to its goal"
+    )
+    assert caught.value.evidence["trial"] == second[0].trial
+
+
 def test_cli_reports_a_bad_file_without_traceback(tmp_path: pathlib.Path) -> None:
     """armplan demos info on a broken file: exit 1, one clear line, no traceback."""
     path = tmp_path / "broken.mcap"

@@ -5,8 +5,9 @@ Topics (each channel's schema is the pydantic model's JSON schema):
     ``demo/sample``   one ``DemoSample`` per sample, trial after trial.
 
 Reading validates every message once, here, and turns any problem (missing,
-empty, truncated or foreign file, a malformed message, a trial out of order)
-into a ``DemoFileError`` that names the file and what is wrong.
+empty, truncated or foreign file, a malformed message, a trial out of order
+or of a single sample, a subject without samples) into a ``DemoFileError``
+that names the file and what is wrong.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import numpy as np
 from shared.demos.anthropometry import Subject
 from shared.demos.paths import check_distinct
 from shared.demos.rotations import matrix_from_quaternion, quaternion_from_matrix
-from shared.demos.trial import DemoSet, Trial
+from shared.demos.trial import MIN_SAMPLES, DemoSet, Trial
 from shared.errors import DemoFileError, InvalidInputError, RecordingError
 from shared.messages.base import parse
 from shared.messages.demo import DemoSample, DemoSubject
@@ -136,7 +137,9 @@ def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
         DemoFileError: naming the file and the problem, if a file is given
             twice (its trials would count twice), is missing,
             empty, truncated, not MCAP, holds a malformed message or no
-            samples, or has a trial whose samples are out of order.
+            samples, has a subject without samples (naming it), a trial of
+            a single sample or whose samples are out of order (naming the
+            trial and its subject).
     """
     if isinstance(paths, (str, Path)):
         paths = [paths]
@@ -260,12 +263,40 @@ def _trials(
             )
         seen.add(key)
         groups.append([sample])
+    _check_every_subject_moves(subjects, {key[0] for key in seen}, path)
     return [_trial(group, path) for group in groups]
+
+
+def _check_every_subject_moves(
+    subjects: dict[str, Subject], moving: set[str], path: Path
+) -> None:
+    """Refuse a subject record without a sample: a person who reached nowhere.
+
+    Args:
+        subjects: The file's subjects, by name.
+        moving: The names of the subjects its samples are of.
+        path: The file, for messages.
+    """
+    for name in subjects:
+        if name not in moving:
+            raise DemoFileError(
+                str(path),
+                f"subject {name!r} has a {SUBJECT_TOPIC!r} record but no samples",
+                subject=name,
+            )
 
 
 def _trial(group: list[DemoSample], path: Path) -> Trial:
     first = group[0]
     name = f"trial {first.trial} of subject {first.subject!r}"
+    if len(group) < MIN_SAMPLES:
+        raise DemoFileError(
+            str(path),
+            f"{name} has a single sample (t = {first.time:g} s); a trial needs at "
+            f"least {MIN_SAMPLES} samples, from its start to its goal",
+            subject=first.subject,
+            trial=first.trial,
+        )
     times = np.array([s.time for s in group])
     if len(times) > 1 and not np.all(np.diff(times) > 0):
         bad = int(np.argmin(np.diff(times) > 0)) + 1
