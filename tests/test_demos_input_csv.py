@@ -197,3 +197,35 @@ def test_a_trial_left_with_one_whole_frame_names_subject_trial_and_lines(
         "dropped); a trial needs at least 2"
     )
     assert caught.value.evidence["trial"] == 1
+
+
+def test_times_in_milliseconds_are_refused_on_import(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 100 Hz trial with its times in milliseconds reads as 0.1 Hz: the
+    import refuses it, naming the file, trial and lines and saying to divide
+    by 1000, and writes nothing (it imported, and only the fit refused)."""
+    rows = arm_rows(0)
+    for k, row in enumerate(rows):
+        row[0] = f"{10 * k}"
+    path = write_csv(tmp_path / "ms.csv", rows)
+    markers = tmp_path / "map.json"
+    markers.write_text(
+        json.dumps({"shoulder": "RSHO", "elbow": "RELB", "wrist": "RWRB"})
+    )
+    out = tmp_path / "ms.mcap"
+    code = main(
+        ["demos", "import", str(path), "--markers", str(markers), "-o", str(out)]
+    )
+    assert code == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {path}: trial 0 (lines 2-31): the times step 10 apart "
+        "(median), a sample rate of 0.1 Hz if they are seconds; demonstrations "
+        "are sampled at 1 to 10000 Hz: these look like milliseconds: divide them "
+        "by 1000 (times are in seconds)\n"
+    )
+    assert not out.exists()
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.evidence["trial"] == 0
+    assert caught.value.evidence["rate"] == pytest.approx(0.1)

@@ -163,6 +163,24 @@ def test_fit_refuses_bad_options(demos: DemoSet) -> None:
         assert info.value.field == "smoothing"
 
 
+def test_fit_refuses_times_in_milliseconds_first(demos: DemoSet) -> None:
+    """Times in milliseconds are refused in the import's words, before any
+    trial is fitted (the check ran after the variables and the weights)."""
+    slow = DemoSet(
+        demos.subjects, [t._replace(times=1000 * t.times) for t in demos.trials]
+    )
+    steps: list[int] = []
+    with pytest.raises(InvalidInputError) as info:
+        fit_model(slow, progress=lambda done, _: steps.append(done))
+    assert info.value.message == (
+        "the demonstrations: the times step 10 apart (median), a sample rate of "
+        "0.1 Hz if they are seconds; demonstrations are sampled at 1 to 10000 Hz: "
+        "these look like milliseconds: divide them by 1000 (times are in seconds)"
+    )
+    assert info.value.field == "times"
+    assert steps == []
+
+
 def test_recordings_without_orientation_leave_w_r_unobserved(demos: DemoSet) -> None:
     """Without wrist frames W_R gets no density; its table rows stay normalised."""
     blind = DemoSet(

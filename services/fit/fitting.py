@@ -33,9 +33,10 @@ from services.fit.model import (
 from services.fit.variables import VARIABLES, W_R
 from services.fit.weights import fit_weights
 from shared.demos.retarget import nao_arm_size
+from shared.demos.sample_rate import check_seconds
 from shared.demos.trial import DemoSet
 from shared.errors import InvalidInputError
-from shared.messages.motion_model import MAX_SAMPLE_RATE, MAX_SMOOTHING, MIN_SAMPLE_RATE
+from shared.messages.motion_model import MAX_SMOOTHING
 from shared.primitives import MOTION_PRIMITIVES
 
 #: States per variable.
@@ -67,7 +68,9 @@ def fit_model(
 
     Raises:
         InvalidInputError: if there are no trials, the options are out of
-            range, or a variable cannot be fitted (e.g. all zero).
+            range, the times are not in seconds (``check_seconds``, before
+            any fitting), or a variable cannot be fitted (e.g.
+            all zero).
     """
     if not demos.trials:
         raise InvalidInputError("no demonstrations to fit", field="demos")
@@ -78,6 +81,7 @@ def fit_model(
             f"smoothing must be in (0, {MAX_SMOOTHING:g}], got {smoothing}",
             field="smoothing",
         )
+    rate = _sample_rate(demos)
     size = nao_arm_size(demos.trials[0].arm)
     values, names, first, oriented = [], [], [], []
     for done, trial in enumerate(demos.trials, start=1):
@@ -106,7 +110,7 @@ def fit_model(
     return MotionModel(
         version=MODEL_VERSION,
         arm=ArmLengths(upper_arm=size.upper_arm, forearm=size.forearm),
-        sample_rate=_sample_rate(demos),
+        sample_rate=rate,
         bins=bins,
         smoothing=smoothing,
         variables=[
@@ -149,16 +153,8 @@ def _variable(index: int, fit: ExponentialFit, edges: np.ndarray) -> VariableFit
 
 
 def _sample_rate(demos: DemoSet) -> float:
-    """Median sample rate of the trials [Hz]."""
-    steps = np.concatenate([np.diff(t.times) for t in demos.trials if len(t.times) > 1])
-    if steps.size == 0:
+    """Median sample rate of the trials [Hz], refused unless times are seconds."""
+    steps = [t.times for t in demos.trials if len(t.times) > 1]
+    if not steps:
         raise InvalidInputError("every trial has a single sample", field="demos")
-    rate = float(1.0 / np.median(steps))
-    if not MIN_SAMPLE_RATE <= rate <= MAX_SAMPLE_RATE:
-        raise InvalidInputError(
-            f"the demonstrations are sampled at {rate:.4g} Hz (median step); a "
-            f"model takes {MIN_SAMPLE_RATE:g} to {MAX_SAMPLE_RATE:g} Hz: are the "
-            "times in seconds?",
-            field="demos",
-        )
-    return rate
+    return check_seconds(steps, "the demonstrations")

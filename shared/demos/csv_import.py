@@ -5,15 +5,16 @@ The format (one header row, then one row per frame, comma-separated)::
     time,trial,RSHO_x,RSHO_y,RSHO_z,RELB_x,RELB_y,RELB_z,RWRB_x,RWRB_y,RWRB_z
     0.00,0,12.1,-180.3,1402.0,...
 
-``time`` [s] is required and increases within a trial; ``trial`` (a whole
-number) is optional and splits the rows into trials (rows of one trial
-consecutive, at least two of them); each marker of the marker map
-(``markers``) has three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` in
-the map's units (default metres). Other columns are ignored. An empty (or
-``nan``) marker cell is a missing sample, as capture systems export gaps:
-its row is dropped and the number of dropped rows reported. A row that
-lacks a needed cell (shorter than the header) is refused, as is an empty
-time or trial cell.
+``time`` [s] is required and increases within a trial; a trial whose median
+step is not that of 1 to 10 000 Hz in seconds is refused (times in
+milliseconds; ``sample_rate``). ``trial`` (a whole number) is optional and
+splits the rows into trials (rows of one trial consecutive, at least two of
+them); each marker of the marker map (``markers``) has three columns
+``<name>_x``, ``<name>_y``, ``<name>_z`` in the map's units (default
+metres). Other columns are ignored. An empty (or ``nan``) marker cell is a
+missing sample, as capture systems export gaps: its row is dropped and the
+number of dropped rows reported. A row that lacks a needed cell (shorter
+than the header) is refused, as is an empty time or trial cell.
 OptiTrack's own CSV export has several header rows: flatten it to this form.
 """
 
@@ -29,8 +30,9 @@ import numpy as np
 from shared.demos.anthropometry import Subject
 from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import MarkerMap
+from shared.demos.sample_rate import check_seconds
 from shared.demos.trial import MIN_SAMPLES, Trial
-from shared.errors import DemoFileError
+from shared.errors import DemoFileError, InvalidInputError
 
 
 class Row(NamedTuple):
@@ -56,8 +58,9 @@ def read_csv(
             error names it), has a row without a needed cell, a trial that is
             not a whole number, a value that is not a finite number (naming
             line, column and value), a trial of a single row, times that do
-            not increase within a trial (each naming the trial and line), or
-            an implausible arm (``importing.check_segments``).
+            not increase within a trial or are not in seconds (each naming
+            the trial and line), or an implausible arm
+            (``importing.check_segments``).
     """
     path = Path(path)
     header, rows = _rows(path)
@@ -230,9 +233,10 @@ def _tracks(
 
 
 def _check_times(times: np.ndarray, rows: list[Row], path: str, trial: int) -> None:
-    """Refuse a one-row trial, a missing time, or one not after the row before.
+    """Refuse a trial's times: one row, a gap, a step back, or not seconds.
 
-    Each error names the trial and the line.
+    A missing time or one not after the row before names its line; times
+    not in seconds (``sample_rate.check_seconds``) name the trial's lines.
     """
     if len(rows) < MIN_SAMPLES:
         raise DemoFileError(
@@ -256,3 +260,10 @@ def _check_times(times: np.ndarray, rows: list[Row], path: str, trial: int) -> N
             f"{rows[k - 1].line} t = {times[k - 1]:g} s",
             line=rows[k].line,
         )
+    span = f"trial {trial} (lines {rows[0].line}-{rows[-1].line})"
+    try:
+        check_seconds([times], span)
+    except InvalidInputError as exc:
+        raise DemoFileError(
+            path, exc.message, trial=trial, line=rows[0].line, **exc.evidence
+        ) from None

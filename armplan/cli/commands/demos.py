@@ -6,8 +6,9 @@
 
 ``synth`` writes the synthetic set (the paper's protocol, ``shared.demos``);
 ``import`` reads C3D or CSV motion capture with a marker map (format in
-``shared/demos/markers.py``, CSV columns in ``shared/demos/csv_import.py``),
-retargets it to NAO and writes the same MCAP form; ``info`` counts subjects,
+``shared/demos/markers.py``, CSV columns in ``shared/demos/csv_import.py``;
+CSV times in seconds, milliseconds refused), retargets it to NAO and writes
+the same MCAP form; ``info`` counts subjects,
 trials, samples and labels.
 
 Files are checked before any work: a file given twice (its trials would
@@ -55,7 +56,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     imported = actions.add_parser(
         "import",
         help="import C3D or CSV motion capture",
-        description="read C3D (one trial per file) or CSV files, retarget to NAO",
+        description="read C3D (one trial per file) or CSV files (times in "
+        "seconds), retarget to NAO",
     )
     imported.add_argument("files", nargs="+", metavar="FILE.c3d|FILE.csv")
     imported.add_argument("--markers", required=True, metavar="MAP.json")
