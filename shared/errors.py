@@ -84,6 +84,22 @@ class UnknownArmError(InvalidInputError):
         self.name = name
 
 
+class TooFewSamplesError(InvalidInputError):
+    """Too few samples for a fit to mean anything: the fit is refused.
+
+    Attributes:
+        found: The samples that count, e.g. those before their trial's end.
+        needed: The fewest that give defined estimates.
+    """
+
+    kind = "too_few_samples"
+
+    def __init__(self, message: str, *, field: str, found: int, needed: int) -> None:
+        super().__init__(message, field=field, found=int(found), needed=int(needed))
+        self.found = int(found)
+        self.needed = int(needed)
+
+
 class UnknownPrimitiveError(InvalidInputError):
     """A movement primitive's name is not one of the ten."""
 

@@ -11,6 +11,7 @@ from shared.errors import (
     LimitViolationError,
     PrimitiveCannotReachError,
     RemoteError,
+    TooFewSamplesError,
     UnknownArmError,
     UnknownPrimitiveError,
     UnreachableTargetError,
@@ -28,6 +29,7 @@ EXAMPLES: list[ArmplanError] = [
     PrimitiveCannotReachError("E_R W_P", (0.1, 0, 0), (0.1, 0, 0.01), 0.01, "why"),
     JointLimitError("RElbowRoll", 2.0, 0.03, 1.54),
     LimitViolationError("RElbowRoll", "velocity", 9.0, 7.19, 12, 0.12),
+    TooFewSamplesError("2 samples are too few", field="demos", found=1, needed=2),
 ]
 
 

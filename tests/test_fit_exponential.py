@@ -14,7 +14,7 @@ from services.fit.exponential import (
     loo_log_densities,
     quantiles,
 )
-from shared.errors import InvalidInputError
+from shared.errors import InvalidInputError, TooFewSamplesError
 
 
 @pytest.mark.parametrize("rate", [0.5, 3.2, 8.0, 40.0])
@@ -51,6 +51,19 @@ def test_leave_one_out_closed_form_equals_refitting() -> None:
     assert fit.loo_log_likelihood < fit.log_likelihood
 
 
+def test_leave_one_out_of_a_dominant_sample_equals_refitting() -> None:
+    """Beside a sample of 1, others of 1e-20 vanish from the sum: the LOO
+    rate without it must come from those others (2 / 3e-20), as refitting
+    gives, not from a floor on a cancelled sum (it gave -9e307)."""
+    x = np.array([1.0, 1e-20, 2e-20])
+    brute = [
+        float(log_density(x[i], (x.size - 1) / np.delete(x, i).sum()))
+        for i in range(x.size)
+    ]
+    np.testing.assert_allclose(loo_log_densities(x), brute, rtol=1e-12)
+    assert loo_log_densities(x)[0] == pytest.approx(math.log(2 / 3e-20) - 2 / 3e-20)
+
+
 def test_bins_have_equal_probability() -> None:
     """The edges are the density's quantiles k/K: each bin holds 1/K of samples."""
     rate, bins = 2.5, 10
@@ -72,9 +85,24 @@ def test_bins_have_equal_probability() -> None:
         ([0.0, 0.0, 0.0], "every sample is zero"),
         ([0.1, -0.2], ">= 0"),
         ([0.1, math.nan], "finite"),
+        ([0.0, 0.7, 0.0], "only 1 of 3 samples is nonzero"),
     ],
 )
 def test_unfittable_samples(x: list[float], message: str) -> None:
     """Samples an exponential cannot fit raise an error naming the variable."""
     with pytest.raises(InvalidInputError, match=f"S_R: .*{message}"):
         fit_exponential(np.array(x), "S_R")
+
+
+def test_one_nonzero_sample_is_too_few_to_cross_validate() -> None:
+    """Two samples, one at the goal (0): the LOO rate without the other is
+    infinite, so the fit is refused naming how many are needed (its LOO
+    log-likelihood read -9e306, from a floor on the zero sum)."""
+    with pytest.raises(TooFewSamplesError) as info:
+        fit_exponential(np.array([0.0, 0.4]), "W_P")
+    assert info.value.message == (
+        "W_P: only 1 of 2 samples is nonzero; leave-one-out cross-validation "
+        "needs at least 2, so that the rate fitted without any one sample rests "
+        "on a nonzero sum"
+    )
+    assert (info.value.found, info.value.needed, info.value.field) == (1, 2, "W_P")

@@ -18,8 +18,8 @@ from services.fit import (
 )
 from services.fit.conditionals import CONDITIONED
 from services.fit.demo_variables import trial_variables
-from shared.demos import DemoSet, nao_arm_size, synthesize
-from shared.errors import InvalidInputError, ModelFileError
+from shared.demos import DemoSet, Trial, nao_arm_size, synthesize
+from shared.errors import InvalidInputError, ModelFileError, TooFewSamplesError
 
 
 @pytest.fixture(scope="module")
@@ -179,6 +179,47 @@ def test_fit_refuses_times_in_milliseconds_first(demos: DemoSet) -> None:
     )
     assert info.value.field == "times"
     assert steps == []
+
+
+def _samples_of(trial: Trial, keep: list[int]) -> Trial:
+    """``trial`` cut to the samples ``keep``, its goal still its last wrist."""
+    frames = None if trial.wrist_frame is None else trial.wrist_frame[keep]
+    return trial._replace(
+        times=trial.times[keep] - trial.times[keep[0]],
+        shoulder=trial.shoulder[keep],
+        elbow=trial.elbow[keep],
+        wrist=trial.wrist[keep],
+        wrist_frame=frames,
+        target=trial.wrist[keep[-1]].copy(),
+        labels=None if trial.labels is None else [trial.labels[k] for k in keep],
+    )
+
+
+def test_a_fit_on_two_samples_is_refused(demos: DemoSet) -> None:
+    """A trial of 2 samples (start and goal) has one sample that moves: the
+    fit is refused naming how many are needed (it reported leave-one-out
+    log-likelihoods of about -1e307)."""
+    trial = demos.trials[0]
+    short = DemoSet(demos.subjects, [_samples_of(trial, [0, len(trial.times) - 1])])
+    with pytest.raises(TooFewSamplesError) as info:
+        fit_model(short)
+    assert info.value.message == (
+        "2 samples in 1 trial are too few to fit: a fit needs at least 2 samples "
+        "that are not their trial's last, 1 here (a trial's last sample is at its "
+        "goal, where every motion variable is 0, and leave-one-out "
+        "cross-validation must keep one that moves to fit each rate on)"
+    )
+    assert (info.value.found, info.value.needed) == (1, 2)
+
+
+def test_two_moving_samples_give_defined_cross_validation(demos: DemoSet) -> None:
+    """Start, middle and goal of one reach are enough: every leave-one-out
+    log-likelihood is an ordinary number, not a floor's."""
+    trial = demos.trials[0]
+    n = len(trial.times)
+    model = fit_model(DemoSet(demos.subjects, [_samples_of(trial, [0, n // 2, n - 1])]))
+    for v in model.variables:
+        assert v.loo_log_likelihood is None or -10.0 < v.loo_log_likelihood < 10.0
 
 
 def test_recordings_without_orientation_leave_w_r_unobserved(demos: DemoSet) -> None:

@@ -19,7 +19,7 @@ import numpy as np
 from services.fit.conditionals import count_tables
 from services.fit.demo_variables import trial_variables
 from services.fit.discretize import bin_edges, bin_indices
-from services.fit.exponential import ExponentialFit, fit_exponential
+from services.fit.exponential import MIN_NONZERO, ExponentialFit, fit_exponential
 from services.fit.labelling import infer_labels
 from services.fit.model import (
     MODEL_VERSION,
@@ -35,7 +35,7 @@ from services.fit.weights import fit_weights
 from shared.demos.retarget import nao_arm_size
 from shared.demos.sample_rate import check_seconds
 from shared.demos.trial import DemoSet
-from shared.errors import InvalidInputError
+from shared.errors import InvalidInputError, TooFewSamplesError
 from shared.messages.motion_model import MAX_SMOOTHING
 from shared.primitives import MOTION_PRIMITIVES
 
@@ -43,6 +43,16 @@ from shared.primitives import MOTION_PRIMITIVES
 BINS = 20
 #: Pseudo-count in every table cell.
 SMOOTHING = 1.0
+#: Fewest samples, over all trials, that are not their trial's last. A trial
+#: ends at its goal (a sample's ``target`` is the wrist's position at the
+#: reach's end; the roll's goal is the last wrist frame), so its last
+#: sample's variables are 0, up to rounding, and add nothing to a rate's sum.
+#: Leave-one-out cross-validation fits each rate without one sample: with one
+#: sample before the trials' ends, leaving it out leaves only zeros (or
+#: rounding noise), an infinite rate, and log-likelihoods near -1e307. Two is
+#: the fewest for which every leave-one-out fit keeps a sample that moves: a
+#: floor for the model's numbers to be defined, not a size for a good model.
+MIN_MOVING = 2
 
 #: Called with (steps done, steps in all): one step per trial for the
 #: variables, one per trial for the weights.
@@ -69,8 +79,9 @@ def fit_model(
     Raises:
         InvalidInputError: if there are no trials, the options are out of
             range, the times are not in seconds (``check_seconds``, before
-            any fitting), or a variable cannot be fitted (e.g.
-            all zero).
+            any fitting), or a variable cannot be fitted (e.g. all zero).
+        TooFewSamplesError: with fewer than ``MIN_MOVING`` samples before
+            their trials' ends (before any fitting).
     """
     if not demos.trials:
         raise InvalidInputError("no demonstrations to fit", field="demos")
@@ -81,7 +92,8 @@ def fit_model(
             f"smoothing must be in (0, {MAX_SMOOTHING:g}], got {smoothing}",
             field="smoothing",
         )
-    rate = _sample_rate(demos)
+    _check_enough(demos)
+    rate = check_seconds([t.times for t in demos.trials], "the demonstrations")
     size = nao_arm_size(demos.trials[0].arm)
     values, names, first, oriented = [], [], [], []
     for done, trial in enumerate(demos.trials, start=1):
@@ -131,11 +143,39 @@ def fit_model(
     )
 
 
+def _check_enough(demos: DemoSet) -> None:
+    """Refuse demonstrations with fewer than ``MIN_MOVING`` samples that move.
+
+    Raises:
+        TooFewSamplesError: naming the samples, the trials, how many are
+            before their trial's end and how many are needed.
+    """
+    samples, trials = demos.samples, len(demos.trials)
+    moving = samples - trials
+    if moving >= MIN_MOVING:
+        return
+    raise TooFewSamplesError(
+        f"{samples} sample{'' if samples == 1 else 's'} in {trials} "
+        f"trial{'' if trials == 1 else 's'} are too few to fit: a fit needs at "
+        f"least {MIN_MOVING} samples that are not their trial's last, "
+        f"{moving} here (a trial's last sample is at its goal, where every "
+        "motion variable is 0, and leave-one-out cross-validation must keep "
+        "one that moves to fit each rate on)",
+        field="demos",
+        found=moving,
+        needed=MIN_MOVING,
+    )
+
+
 def _fit(data: np.ndarray, seen: np.ndarray, index: int) -> ExponentialFit:
-    """The variable's density; W_R only from samples that observe it."""
+    """The variable's density; W_R only from samples that observe it.
+
+    W_R is unobserved (a fixed rate) unless ``MIN_NONZERO`` samples show a
+    roll: recordings without a thumb marker, or a roll that never changes.
+    """
     if index != W_R:
         return fit_exponential(data[:, index], VARIABLES[index])
-    if int(seen.sum()) < 2 or not np.any(data[seen, W_R] > 0):
+    if np.count_nonzero(data[seen, W_R] > 0) < MIN_NONZERO:
         return ExponentialFit(UNOBSERVED_RATE, 0, math.nan, math.nan)
     return fit_exponential(data[seen, W_R], VARIABLES[W_R])
 
@@ -150,11 +190,3 @@ def _variable(index: int, fit: ExponentialFit, edges: np.ndarray) -> VariableFit
         loo_log_likelihood=None if fit.samples == 0 else fit.loo_log_likelihood,
         edges=rounded(edges, 12),
     )
-
-
-def _sample_rate(demos: DemoSet) -> float:
-    """Median sample rate of the trials [Hz], refused unless times are seconds."""
-    steps = [t.times for t in demos.trials if len(t.times) > 1]
-    if not steps:
-        raise InvalidInputError("every trial has a single sample", field="demos")
-    return check_seconds(steps, "the demonstrations")
