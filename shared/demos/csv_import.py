@@ -6,15 +6,16 @@ The format (one header row, then one row per frame, comma-separated)::
     0.00,0,12.1,-180.3,1402.0,...
 
 ``time`` [s] is required and increases within a trial; a trial whose median
-step is not that of 1 to 10 000 Hz in seconds is refused (times in
-milliseconds; ``sample_rate``). ``trial`` (a whole number) is optional and
-splits the rows into trials (rows of one trial consecutive, at least two of
-them); each marker of the marker map (``markers``) has three columns
-``<name>_x``, ``<name>_y``, ``<name>_z`` in the map's units (default
-metres). Other columns are ignored. An empty (or ``nan``) marker cell is a
-missing sample, as capture systems export gaps: its row is dropped and the
-number of dropped rows reported. A row that lacks a needed cell (shorter
-than the header) is refused, as is an empty time or trial cell.
+step is outside 0.1 ms to 1 s (1 to 10 000 Hz) is refused, its times not
+seconds (most often milliseconds; ``sample_rate``). ``trial`` (a whole
+number) is optional and splits the rows into trials (rows of one trial
+consecutive, at least two of them); each marker of the marker map
+(``markers``) has three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` in
+the map's units (default metres). Other columns are ignored. An empty (or
+``nan``) marker cell is a missing sample, as capture systems export gaps:
+its row is dropped and the number of dropped rows reported. A row that
+lacks a needed cell (shorter than the header) is refused, as is an empty
+time or trial cell.
 OptiTrack's own CSV export has several header rows: flatten it to this form.
 """
 

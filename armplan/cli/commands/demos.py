@@ -8,8 +8,7 @@
 ``import`` reads C3D or CSV motion capture with a marker map (format in
 ``shared/demos/markers.py``, CSV columns in ``shared/demos/csv_import.py``;
 CSV times in seconds, milliseconds refused), retargets it to NAO and writes
-the same MCAP form; ``info`` counts subjects,
-trials, samples and labels.
+the same MCAP form; ``info`` counts subjects, trials, samples and labels.
 
 Files are checked before any work: a file given twice (its trials would
 count twice) and an output that is also an input are refused. ``import``
