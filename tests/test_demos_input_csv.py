@@ -42,6 +42,18 @@ def write_csv(path: pathlib.Path, rows: list[list[str]]) -> pathlib.Path:
     return path
 
 
+def import_cli(path: pathlib.Path, out: pathlib.Path) -> int:
+    """``armplan demos import`` of the CSV ``path`` into ``out``, with a marker
+    map of its shoulder, elbow and wrist columns; its exit code."""
+    markers = path.with_name("map.json")
+    markers.write_text(
+        json.dumps({"shoulder": "RSHO", "elbow": "RELB", "wrist": "RWRB"})
+    )
+    return main(
+        ["demos", "import", str(path), "--markers", str(markers), "-o", str(out)]
+    )
+
+
 def test_a_trial_cell_too_big_for_an_integer_names_line_and_column(
     tmp_path: pathlib.Path,
 ) -> None:
@@ -131,15 +143,8 @@ def test_empty_marker_cells_drop_the_row_and_the_cli_says_so(
     rows[40][8] = ""
     rows[41][2] = "nan"
     path = write_csv(tmp_path / "gaps.csv", rows)
-    markers = tmp_path / "map.json"
-    markers.write_text(
-        json.dumps({"shoulder": "RSHO", "elbow": "RELB", "wrist": "RWRB"})
-    )
     out = tmp_path / "gaps.mcap"
-    code = main(
-        ["demos", "import", str(path), "--markers", str(markers), "-o", str(out)]
-    )
-    assert code == 0
+    assert import_cli(path, out) == 0
     captured = capsys.readouterr()
     assert f"{out}: 1 subjects, 2 trials, 57 samples" in captured.out
     notes = captured.err.splitlines()
@@ -209,15 +214,8 @@ def test_times_in_milliseconds_are_refused_on_import(
     for k, row in enumerate(rows):
         row[0] = f"{10 * k}"
     path = write_csv(tmp_path / "ms.csv", rows)
-    markers = tmp_path / "map.json"
-    markers.write_text(
-        json.dumps({"shoulder": "RSHO", "elbow": "RELB", "wrist": "RWRB"})
-    )
     out = tmp_path / "ms.mcap"
-    code = main(
-        ["demos", "import", str(path), "--markers", str(markers), "-o", str(out)]
-    )
-    assert code == 1
+    assert import_cli(path, out) == 1
     assert capsys.readouterr().err == (
         f"armplan: error: {path}: trial 0 (lines 2-31): the times step 10 apart "
         "(median), a sample rate of 0.1 Hz if they are seconds; demonstrations "
