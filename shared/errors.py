@@ -8,6 +8,7 @@ again on the other side with :func:`error_from_wire`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any, ClassVar
 
@@ -206,6 +207,60 @@ class PrimitiveCannotReachError(ArmplanError):
         self.target = tuple(float(v) for v in target)
         self.nearest = tuple(float(v) for v in nearest)
         self.residual = float(residual)
+
+
+class SwivelNotReachedError(ArmplanError):
+    """S_R E_P W_R held the wrist but swivelled the elbow short of the goal.
+
+    The posture reached travels with the error (``joints``), so a caller
+    that can use the nearest swivel still has it.
+
+    Attributes:
+        goal: The swivel angle asked [rad].
+        reached: The swivel angle reached [rad], in [0, 2 pi).
+        shortfall: ``reached - goal`` wrapped into [-pi, pi) [rad].
+        elbow_miss: Distance of the elbow from where the goal puts it [m].
+        joint: NAO name of the joint on its limit, or ``""`` if none is.
+        limit: That joint's limit [rad], or ``None``.
+        joints: The posture reached, keyed by NAO joint name [rad].
+    """
+
+    kind = "swivel_not_reached"
+
+    def __init__(
+        self,
+        goal: float,
+        reached: float,
+        *,
+        shortfall: float,
+        elbow_miss: float,
+        joints: dict[str, float],
+        joint: str = "",
+        limit: float | None = None,
+    ) -> None:
+        if joint and limit is not None:
+            why = f"{joint} is on its limit {limit:.5f} rad"
+        else:
+            why = "no joint is on a limit (the solver stopped there)"
+        super().__init__(
+            f"elbow swivel {goal:.4f} rad not reached: the elbow stopped at "
+            f"{reached:.4f} rad, {math.degrees(abs(shortfall)):.1f} deg short and "
+            f"{elbow_miss * 1000:.1f} mm from where the goal puts it; {why}",
+            goal=float(goal),
+            reached=float(reached),
+            shortfall=float(shortfall),
+            elbow_miss=float(elbow_miss),
+            joint=joint,
+            limit=None if limit is None else float(limit),
+            joints={name: float(v) for name, v in joints.items()},
+        )
+        self.goal = float(goal)
+        self.reached = float(reached)
+        self.shortfall = float(shortfall)
+        self.elbow_miss = float(elbow_miss)
+        self.joint = joint
+        self.limit = None if limit is None else float(limit)
+        self.joints = dict(joints)
 
 
 class JointLimitError(ArmplanError):

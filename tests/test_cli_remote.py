@@ -14,6 +14,13 @@ from shared.bus import load_config
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 
+#: From a bent arm, S_R E_P W_R swivelling the elbow round the held wrist to
+#: 4.4 rad: RElbowYaw meets its limit at 3.52 rad.
+SWIVEL_SHORT = [
+    *("--target", "0.14092095", "-0.13101531", "0.09501147"),
+    *("--start", "0.3", "-0.3", "1.0", "0.9", "0.0"),
+    *("--primitive", "S_R E_P W_R", "--swivel", "4.4"),
+]
 CASES = [
     ["--target", "0.12", "-0.13", "0.05"],
     ["--arm", "left", "--target", "0.12", "0.13", "0.05", "--method", "least-norm"],
@@ -21,6 +28,7 @@ CASES = [
     ["--target", "0.12", "-0.13", "0.05", "--palm", "0", "0", "-1"],
     ["--target", "0.5", "-0.12", "0.05"],  # unreachable: the same error
     ["--target", "0.12", "-0.13", "0.05", "--primitive", "X"],  # unknown primitive
+    SWIVEL_SHORT,  # RElbowYaw meets its limit short of the swivel: the same error
 ]
 
 
@@ -104,3 +112,20 @@ def test_a_swivel_the_primitive_ignores_is_refused() -> None:
     assert "primitive 'S_R E_PR W_P' does not use it" in out.stderr
     out = armplan("ik", *CASES[0], "--swivel", "1.0", "--method", "single")
     assert out.returncode == 1 and "method 'single' does not use it" in out.stderr
+
+
+def test_a_swivel_a_joint_limit_stops_short_is_an_error() -> None:
+    """From a bent arm (the wrist the target), 3.5 rad is reached and said
+    beside the goal; at 4.4 rad RElbowYaw meets its limit at 3.5197 rad, once
+    printed as a success: exit 1 naming the swivel reached and the joint."""
+    reached = armplan("ik", *SWIVEL_SHORT[:-1], "3.5")
+    assert reached.returncode == 0, reached.stderr
+    assert "elbow swivel 3.5000 rad reached (asked 3.5000 rad)" in reached.stdout
+    out = armplan("ik", *SWIVEL_SHORT, "--json")
+    assert out.returncode == 1 and "Traceback" not in out.stderr
+    assert (
+        "elbow swivel 4.4000 rad not reached: the elbow stopped at 3.5197 rad"
+        in out.stderr
+    )
+    assert "RElbowYaw is on its limit 2.08567 rad" in out.stderr
+    assert '"kind": "swivel_not_reached"' in out.stdout

@@ -11,6 +11,7 @@ from shared.errors import (
     LimitViolationError,
     PrimitiveCannotReachError,
     RemoteError,
+    SwivelNotReachedError,
     TooFewSamplesError,
     UnknownArmError,
     UnknownPrimitiveError,
@@ -30,6 +31,15 @@ EXAMPLES: list[ArmplanError] = [
     JointLimitError("RElbowRoll", 2.0, 0.03, 1.54),
     LimitViolationError("RElbowRoll", "velocity", 9.0, 7.19, 12, 0.12),
     TooFewSamplesError("2 samples are too few", field="demos", found=1, needed=2),
+    SwivelNotReachedError(
+        4.4,
+        3.52,
+        shortfall=-0.88,
+        elbow_miss=0.029,
+        joints={"RElbowYaw": 2.08567},
+        joint="RElbowYaw",
+        limit=2.08567,
+    ),
 ]
 
 

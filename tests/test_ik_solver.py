@@ -10,7 +10,7 @@ from conftest import random_posture
 from scipy.optimize import minimize
 
 from services.ik import solve, solve_request
-from services.ik.iterate import solve_gpm
+from services.ik.iterate import TOLERANCE, solve_gpm
 from services.ik.kernel import chain_for
 from services.ik.kernel.small import NormalSolver
 from services.ik.measures import MeasureParams, SwivelGoal, TotalPotentialEnergy
@@ -19,6 +19,7 @@ from shared.errors import (
     InvalidInputError,
     JointLimitError,
     PrimitiveCannotReachError,
+    SwivelNotReachedError,
     UnreachableTargetError,
 )
 from shared.geometry import palm_normal, swivel_angle
@@ -149,6 +150,58 @@ def test_function_primitive_swivels_the_elbow_round_the_held_wrist(
     assert SwivelGoal(goal, 1.0).value(chain_for(arm).state(sol.q)) < 1e-6
     with pytest.raises(PrimitiveCannotReachError, match="holds the wrist in place"):
         solve(arm, points.wrist + 0.01, primitive="S_R E_P W_R", start=start)
+
+
+def _bent_start(arm: ArmModel) -> np.ndarray:
+    """A bent arm in front of the shoulder, mirrored for the left arm [rad]."""
+    return np.array([0.3, -0.3, 1.0, 0.9, 0.0]) * np.array([1, *[arm.side.sign] * 4])
+
+
+def test_the_swivel_reached_is_reported_beside_the_swivel_asked(
+    arm: ArmModel,
+) -> None:
+    """The IK result says which swivel was asked and which was reached."""
+    start = _bent_start(arm)
+    points = arm.fk(start)
+    goal = swivel_angle(*points[:3]) + 0.3
+    request = IKRequest(
+        arm=arm.side,
+        target=tuple(points.wrist),
+        primitive="S_R E_P W_R",
+        start=tuple(start),
+        swivel=goal,
+    )
+    result = solve_request(arm, request)
+    assert result.swivel_goal == goal
+    assert result.swivel_reached == pytest.approx(goal, abs=1e-3)
+    q = np.array(list(result.joints.values()))
+    assert swivel_angle(*arm.fk(q)[:3]) == pytest.approx(result.swivel_reached)
+
+
+def test_a_swivel_stopped_by_a_joint_limit_is_refused_naming_the_joint(
+    arm: ArmModel,
+) -> None:
+    """Two radians on from the bent arm, ElbowYaw meets its limit 0.87 rad
+    short of the goal with the wrist held: once a silent success, now a typed
+    error with the swivel reached, the joint and the posture it stopped in."""
+    start = _bent_start(arm)
+    points = arm.fk(start)
+    goal = swivel_angle(*points[:3]) + 2.0 * arm.side.sign
+    with pytest.raises(SwivelNotReachedError) as caught:
+        solve(arm, points.wrist, primitive="S_R E_P W_R", start=start, swivel=goal)
+    error = caught.value
+    elbow_yaw = arm.joint_names[2]
+    assert error.joint == elbow_yaw
+    assert error.limit == pytest.approx(arm.side.sign * arm.limits.upper[2])
+    q = np.array([error.joints[name] for name in arm.joint_names])
+    assert arm.limits.contains(q)
+    after = arm.fk(q)
+    assert np.linalg.norm(after.wrist - points.wrist) < MM
+    assert error.reached == pytest.approx(swivel_angle(*after[:3]))
+    assert abs(error.shortfall) == pytest.approx(0.87, abs=0.01)
+    assert error.elbow_miss > TOLERANCE
+    assert f"{elbow_yaw} is on its limit" in error.message
+    assert f"elbow swivel {goal:.4f} rad not reached" in error.message
 
 
 def test_too_far_target_names_the_reach() -> None:

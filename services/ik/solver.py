@@ -29,6 +29,7 @@ from services.ik.kernel.chain import ChainState, chain_for
 from services.ik.measures import MeasureParams
 from services.ik.measures import factory as measure_factory
 from services.ik.measures.factory import MeasureFactory
+from services.ik.swivel_reach import check_swivel
 from services.ik.task import WristTask, controls_radius
 from shared.errors import (
     InvalidInputError,
@@ -55,6 +56,8 @@ class IKSolution(NamedTuple):
         primitive: The primitive whose joints moved, or ``None`` (baselines).
         method: The method used.
         iterations: Iterations spent (0 for closed-form solutions).
+        swivel: Elbow swivel angle reached [rad] when a swivel goal was
+            given (S_R E_P W_R), else ``None``.
     """
 
     q: np.ndarray
@@ -63,6 +66,7 @@ class IKSolution(NamedTuple):
     primitive: str | None
     method: Method
     iterations: int
+    swivel: float | None = None
 
 
 class Plan(NamedTuple):
@@ -96,6 +100,8 @@ def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
         primitive=solution.primitive,
         method=solution.method,
         iterations=solution.iterations,
+        swivel_goal=request.swivel,
+        swivel_reached=solution.swivel,
     )
 
 
@@ -126,6 +132,8 @@ def solve(
         JointLimitError: if ``start`` is outside the joint ranges.
         UnreachableTargetError: if no posture within the limits reaches it.
         PrimitiveCannotReachError: if the primitive's joints cannot reach it.
+        SwivelNotReachedError: if S_R E_P W_R holds the wrist but a joint
+            limit stops the elbow short of ``swivel`` (``swivel_reach``).
         InvalidInputError: for a primitive with a baseline method, or a palm
             direction for a primitive that does not orient the wrist.
     """
@@ -143,7 +151,10 @@ def solve(
         _check_held(arm, plan.primitive, start, target)
     measure = plan.measure(chain_for(arm).state(start))
     q, iterations = solve_gpm(arm, task, plan.active, measure, start)
-    return _accept(arm, plan, task, q, method, iterations)
+    solution = _accept(arm, plan, task, q, method, iterations)
+    if swivel is None:
+        return solution
+    return solution._replace(swivel=check_swivel(arm, plan.active, q, swivel))
 
 
 def check_reachable(arm: ArmModel, target: np.ndarray) -> None:

@@ -56,6 +56,12 @@ class IKResult(Message):
         primitive: The primitive whose joints moved (``None`` for baselines).
         method: The method used.
         iterations: Solver iterations spent.
+        swivel_goal: The elbow swivel angle asked (S_R E_P W_R) [rad], or
+            ``None`` if none was.
+        swivel_reached: The elbow swivel angle reached [rad], in [0, 2 pi),
+            when one was asked. The elbow is within the solver's position
+            tolerance of where the goal puts it; short of that the answer is
+            ``SwivelNotReachedError`` instead.
     """
 
     arm: Side
@@ -66,3 +72,5 @@ class IKResult(Message):
     primitive: str | None
     method: Method
     iterations: int
+    swivel_goal: float | None = None
+    swivel_reached: float | None = None

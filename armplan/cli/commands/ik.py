@@ -96,6 +96,11 @@ def run(args: argparse.Namespace) -> int:
         + (f", primitive {result.primitive}" if result.primitive else "")
         + "\n"
     )
+    if result.swivel_goal is not None and result.swivel_reached is not None:
+        sys.stdout.write(
+            f"elbow swivel {result.swivel_reached:.4f} rad reached "
+            f"(asked {result.swivel_goal:.4f} rad)\n"
+        )
     return 0
 
 
