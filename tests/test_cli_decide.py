@@ -9,9 +9,12 @@ import sys
 
 import numpy as np
 import pytest
+from test_demos_input_csv import MARKERS, arm_rows, write_csv
 
 from armplan.cli.main import main
 from services.fit import default_model, save_model
+from shared.demos import DemoSet, synthesize, write_demos
+from shared.demos.csv_import import read_csv
 from shared.messages import Decision, parse
 from shared.primitives import BY_NAME
 
@@ -87,6 +90,51 @@ def test_grid_prints_the_table_4_like_table(capsys: pytest.CaptureFixture[str]) 
     data = json.loads(capsys.readouterr().out)
     assert [row["point"] for row in data["nao"]] == list(range(1, 17))
     assert all(row["sequence"][0] == "S_R E_P W_P" for row in data["nao"][:4])
+
+
+def _demos_file(tmp_path: pathlib.Path, synthetic: bool) -> str:
+    """Two recorded reaches (imported: no grid point, no labels), with the
+    16 synthetic grid reaches of one subject if ``synthetic``."""
+    recorded, person = read_csv(
+        write_csv(tmp_path / "rec.csv", arm_rows(1) + arm_rows(2)), MARKERS
+    )
+    grid = synthesize(0, subjects=1, trials=1) if synthetic else DemoSet({}, [])
+    demos = DemoSet({**grid.subjects, person.name: person}, grid.trials + recorded)
+    path = tmp_path / "demos.mcap"
+    write_demos(path, demos)
+    return str(path)
+
+
+def test_grid_says_which_demonstrated_reaches_it_leaves_out(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Recorded reaches have no grid point: once silently dropped from
+    --demos' table, now counted with the reason, in JSON and in the table."""
+    path = _demos_file(tmp_path, synthetic=True)
+    assert main(["decide", "--grid", "--demos", path, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert sum(row["trials"] for row in data["demonstrations"]) == 16
+    assert data["left_out"] == {"count": 2, "no_point": 2, "no_labels": 0, "of": 18}
+    assert main(["decide", "--grid", "--demos", path]) == 0
+    assert (
+        "2 of 18 demonstrated reaches left out of the table: 2 have no grid point "
+        "(point 0, as recorded reaches are imported)"
+    ) in capsys.readouterr().out
+
+
+def test_grid_refuses_demos_it_can_use_none_of(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Only recorded reaches: the demonstrations' table would be empty (it
+    was, without a word); refused naming the file, the count and why."""
+    path = _demos_file(tmp_path, synthetic=False)
+    assert main(["decide", "--grid", "--demos", path]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert (
+        f"{path}: none of its 2 reaches can enter the grid table: 2 have no grid "
+        "point (point 0, as recorded reaches are imported)"
+    ) in captured.err
 
 
 @pytest.mark.parametrize(

@@ -5,9 +5,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from services.decide.grid_table import GridRow, demo_rows, grid_rows, runs, sequence
+from services.decide.grid_table import (
+    GridRow,
+    LeftOut,
+    demo_rows,
+    grid_rows,
+    left_out,
+    runs,
+    sequence,
+)
 from services.fit import default_model
-from shared.demos import synthesize
+from shared.demos import DemoSet, synthesize
 from shared.demos.nao_grid import nao_grid
 from shared.robot import load_arm
 
@@ -61,3 +69,20 @@ def test_demonstrations_give_the_same_kind_of_table() -> None:
     for row in table:
         assert row.sequence[0] == "S_R E_P W_P" and 1 <= len(row.sequence) <= 3
         assert row.trials == 4 and 0.5 <= row.share <= 1.0
+
+
+def test_reaches_the_table_cannot_use_are_counted_by_reason() -> None:
+    """A reach with no grid point (point 0, as imported) and one without
+    labels stay out of the demonstrations' table, and are counted apart."""
+    demos = synthesize(2, subjects=1, trials=1)
+    first, second, *rest = demos.trials
+    mixed = DemoSet(
+        demos.subjects, [first._replace(point=0), second._replace(labels=None), *rest]
+    )
+    assert left_out(mixed) == LeftOut(no_point=1, no_labels=1, of=16)
+    assert sum(row.trials for row in demo_rows(mixed)) == 14
+    assert left_out(demos) == LeftOut(0, 0, 16) and left_out(demos).count == 0
+    assert left_out(mixed).describe() == (
+        "1 has no grid point (point 0, as recorded reaches are imported) "
+        "and 1 has no primitive labels"
+    )

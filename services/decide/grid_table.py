@@ -9,7 +9,10 @@ the primitives in the order they win. Switches lasting fewer than
 switches) are counted apart and not as primitives of the sequence.
 
 ``demo_rows`` gives the same table from labelled demonstrations: per point
-the most common sequence of labels and how many trials follow it.
+the most common sequence of labels and how many trials follow it. Reaches
+without a grid point (point 0: every imported recording) or without labels
+cannot enter it; ``left_out`` counts them by reason, so that a table is never
+silently thinner than the file.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from services.decide.path import decide_path
 from services.fit.model import MotionModel
 from services.planner.wrist_path import reach_path
 from shared.demos.nao_grid import nao_grid
-from shared.demos.trial import DemoSet
+from shared.demos.trial import DemoSet, Trial
 from shared.robot.arm_model import load_arm
 from shared.robot.postures import rest
 from shared.robot.side import Side
@@ -72,6 +75,58 @@ class DemoRow(NamedTuple):
     trials: int
 
 
+class LeftOut(NamedTuple):
+    """Demonstrated reaches the grid table leaves out, by reason.
+
+    Attributes:
+        no_point: Reaches not on the grid (point 0, as imported recordings are).
+        no_labels: Reaches on the grid without primitive labels.
+        of: Reaches in the demonstrations, left out or not.
+    """
+
+    no_point: int
+    no_labels: int
+    of: int
+
+    @property
+    def count(self) -> int:
+        """Reaches left out, for any reason."""
+        return self.no_point + self.no_labels
+
+    def describe(self) -> str:
+        """The counts in words, e.g. "2 have no grid point (point 0, ...)"."""
+        parts = []
+        if self.no_point:
+            parts.append(
+                f"{self.no_point} {_have(self.no_point)} no grid point (point 0, "
+                "as recorded reaches are imported)"
+            )
+        if self.no_labels:
+            parts.append(
+                f"{self.no_labels} {_have(self.no_labels)} no primitive labels"
+            )
+        return " and ".join(parts) or "none"
+
+
+def _have(count: int) -> str:
+    return "has" if count == 1 else "have"
+
+
+def left_out(demos: DemoSet) -> LeftOut:
+    """How many of ``demos``' reaches ``demo_rows`` leaves out, and why."""
+    reasons = Counter(_why_left_out(trial) for trial in demos.trials)
+    return LeftOut(reasons["no_point"], reasons["no_labels"], len(demos.trials))
+
+
+def _why_left_out(trial: Trial) -> str | None:
+    """``"no_point"``, ``"no_labels"`` or ``None`` if the table can use it."""
+    if not trial.point:
+        return "no_point"
+    if trial.labels is None:
+        return "no_labels"
+    return None
+
+
 def runs(labels: Sequence[str]) -> list[tuple[str, int]]:
     """Consecutive equal labels as (label, count), in order."""
     out: list[tuple[str, int]] = []
@@ -112,10 +167,13 @@ def grid_rows(model: MotionModel, side: Side | str = Side.RIGHT) -> list[GridRow
 
 
 def demo_rows(demos: DemoSet) -> list[DemoRow]:
-    """Per grid point, the demonstrations' most common label sequence."""
+    """Per grid point, the demonstrations' most common label sequence.
+
+    Reaches off the grid or unlabelled are left out (``left_out`` counts them).
+    """
     by_point: dict[int, list[tuple[tuple[str, ...], float]]] = {}
     for trial in demos.trials:
-        if trial.point and trial.labels is not None:
+        if _why_left_out(trial) is None and trial.labels is not None:
             kept, _ = sequence(trial.labels)
             by_point.setdefault(trial.point, []).append(
                 (tuple(kept), float(trial.times[-1]))

@@ -14,7 +14,9 @@ tracker (``services.decide.path``) and prints, per run of one primitive, its
 times and points (``--json``: the ``Decision`` message, every point's
 primitive, matrix and every g). ``--plot`` draws it like the paper's Fig. 7.
 ``--grid`` prints the Table-4-like sequences of primitives on the paper's 16
-grid points (and with ``--demos`` the demonstrations' own sequences).
+grid points (and with ``--demos`` the demonstrations' own sequences, with a
+count of the reaches left out and why: recorded reaches have no grid point;
+a file none of whose reaches can enter the table is refused).
 """
 
 from __future__ import annotations
@@ -22,15 +24,18 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_arm, add_json, finite
-from shared.errors import InvalidInputError
+from shared.errors import DemoFileError, InvalidInputError
 from shared.messages.base import unit_direction
 from shared.output_paths import check_output_file
+
+if TYPE_CHECKING:
+    from services.decide.grid_table import DemoRow, LeftOut
 
 ORDER = 25
 HELP = "motion decision: which movement primitive drives each path point"
@@ -215,19 +220,18 @@ def _print_runs(decision: Any, tracked: Any, positions: np.ndarray) -> None:
 
 
 def _grid(args: argparse.Namespace, model: Any) -> int:
-    from services.decide.grid_table import MIN_POINTS, demo_rows, grid_rows
+    from services.decide.grid_table import MIN_POINTS, grid_rows
 
+    demo, left = _demo_table(args.demos)
     rows = grid_rows(model, args.arm)
-    demo = []
-    if args.demos:
-        from shared.demos import read_demos
-
-        demo = demo_rows(read_demos(args.demos))
     if args.json:
         print_json(
             {
                 "nao": [r._asdict() for r in rows],
                 "demonstrations": [r._asdict() for r in demo],
+                "left_out": None
+                if left is None
+                else {"count": left.count, **left._asdict()},
             }
         )
         return 0
@@ -263,4 +267,35 @@ def _grid(args: argparse.Namespace, model: Any) -> int:
                 for r in demo
             ],
         )
+    if left is not None and left.count:
+        sys.stdout.write(
+            f"\n{left.count} of {left.of} demonstrated reaches left out of the "
+            f"table: {left.describe()}\n"
+        )
     return 0
+
+
+def _demo_table(path: str | None) -> tuple[list[DemoRow], LeftOut | None]:
+    """(rows, reaches left out) of the demonstrations in ``path``, if given.
+
+    Raises:
+        DemoFileError: if every reach in the file is left out (recorded
+            reaches have no grid point): the table asked for would be empty.
+    """
+    if path is None:
+        return [], None
+    from services.decide.grid_table import demo_rows, left_out
+    from shared.demos import read_demos
+
+    demos = read_demos(path)
+    left = left_out(demos)
+    if left.count == left.of:
+        raise DemoFileError(
+            path,
+            f"none of its {left.of} reaches can enter the grid table: "
+            f"{left.describe()}; --demos needs labelled reaches on the 16 grid "
+            "points (as armplan demos synth writes)",
+            no_point=left.no_point,
+            no_labels=left.no_labels,
+        )
+    return demo_rows(demos), left
