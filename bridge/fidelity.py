@@ -60,15 +60,18 @@ def check_follows(
         frames: The trajectory's command frames (``frames_from_trajectory``).
         trajectory: The trajectory [s, rad].
         tolerance: Largest allowed gap [rad], per joint (shape (n,)) or one.
-        within: The ranges the frames were held in, if any (the frame rates
-            a refusal tries are made the same way).
+        within: The ranges the frames were held in, if any: the lines are
+            compared with the curve held in them, the one the frames are
+            sampled from (where the cubic between sparse samples overshoots
+            a limit, the frames cannot follow it out of range at any rate),
+            and the frame rates a refusal tries are made the same way.
 
     Raises:
         TrajectoryRefusedError: quantity ``"frame_rate"``, naming the joint
             and the time of the largest gap [rad] and a rate that would do.
     """
     limit = np.broadcast_to(np.asarray(tolerance, float), (len(frames.joint_names),))
-    ratio, joint, time, gap = _worst(frames, trajectory, limit)
+    ratio, joint, time, gap = _worst(frames, trajectory, limit, within)
     if ratio <= 1.0:
         return
     frame = int(np.searchsorted(frames.times, time)) + 1
@@ -89,35 +92,49 @@ def check_follows(
 
 
 def largest_gap(
-    frames: CommandFrames, trajectory: Trajectory
+    frames: CommandFrames,
+    trajectory: Trajectory,
+    within: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[float, int, float]:
     """The largest gap between the lines through ``frames`` and ``trajectory``.
+
+    Args:
+        frames: The trajectory's command frames.
+        trajectory: The trajectory [s, rad].
+        within: The ranges the frames were held in, if any (lower, upper)
+            [rad], each shape (n,): the trajectory's curve is held in them too.
 
     Returns:
         The gap [rad], the index of its joint, and its time from the start [s].
     """
-    t, gap = _gaps(frames, trajectory)
+    t, gap = _gaps(frames, trajectory, within)
     i, j = np.unravel_index(int(np.argmax(gap)), gap.shape)
     return float(gap[i, j]), int(j), float(t[i])
 
 
 def _worst(
-    frames: CommandFrames, trajectory: Trajectory, limit: np.ndarray
+    frames: CommandFrames,
+    trajectory: Trajectory,
+    limit: np.ndarray,
+    within: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[float, int, float, float]:
     """The gap largest against its joint's limit: (gap / limit, joint, time, gap)."""
-    t, gap = _gaps(frames, trajectory)
+    t, gap = _gaps(frames, trajectory, within)
     ratio = gap / limit
     i, j = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
     return float(ratio[i, j]), int(j), float(t[i]), float(gap[i, j])
 
 
 def _gaps(
-    frames: CommandFrames, trajectory: Trajectory
+    frames: CommandFrames,
+    trajectory: Trajectory,
+    within: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Times [s] (k,) and gaps [rad] (k, n) of the lines through the frames.
 
     At the trajectory's samples and at the midpoints between frames, where
-    the lines are farthest from a smooth curve.
+    the lines are farthest from a smooth curve; the curve is held in
+    ``within`` as the frames are.
     """
     t_keys = np.concatenate([[0.0], frames.times])
     q_keys = np.vstack([np.asarray(frames.start)[None, :], frames.positions])
@@ -126,7 +143,7 @@ def _gaps(
     lines = np.column_stack(
         [np.interp(t, t_keys, q_keys[:, j]) for j in range(q_keys.shape[1])]
     )
-    return t, np.abs(lines - positions_at(trajectory, t))
+    return t, np.abs(lines - positions_at(trajectory, t, within))
 
 
 def _advice(
@@ -147,7 +164,7 @@ def _advice(
             frames = frames_from_trajectory(trajectory, rate, within)
         except InvalidInputError:
             break  # too many frames at this rate
-        ratio = _worst(frames, trajectory, limit)[0]
+        ratio = _worst(frames, trajectory, limit, within)[0]
         if ratio <= 1.0:
             return f"at {rate:g} Hz it would not"
         if rate >= MAX_RATE:

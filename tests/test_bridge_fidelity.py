@@ -13,6 +13,7 @@ import re
 
 import numpy as np
 import pytest
+from test_bridge_checks import sparse_near_a_limit
 
 from bridge.checked_frames import checked_frames
 from bridge.fidelity import (
@@ -22,6 +23,7 @@ from bridge.fidelity import (
     largest_gap,
 )
 from bridge.frames import frames_from_trajectory
+from bridge.interpolation import positions_at
 from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from shared.errors import TrajectoryRefusedError
@@ -125,3 +127,19 @@ def test_a_joint_within_its_acceleration_limit_passes_at_25_fps() -> None:
     checked_frames(trajectory, 25.0, LIMITS)
     with pytest.raises(TrajectoryRefusedError, match="RWristYaw would pass"):
         checked_frames(trajectory, 12.5, LIMITS)
+
+
+def test_a_curve_over_a_limit_is_followed_as_the_frames_hold_it() -> None:
+    """Between samples 1 s apart the cubic dips 1.1 degree below
+    RShoulderRoll's lower limit, where the frames are held in the range: no
+    frame rate follows that dip. It was refused at 5 and 25 Hz ("raise the
+    frame rate") while 4 Hz passed; the lines are now compared with the
+    curve held in the range, the one the frames come from."""
+    trajectory = sparse_near_a_limit(speed=0.2)
+    t = np.linspace(0.0, 2.0, 2001)
+    dip = LIMITS.lower[1] - positions_at(trajectory, t)[:, 1].min()
+    assert dip > FOLLOW_TOLERANCE
+    passed = [checked_frames(trajectory, rate, LIMITS) for rate in (4.0, 5.0, 25.0)]
+    inside = (LIMITS.lower, LIMITS.upper)
+    for frames in passed:
+        assert largest_gap(frames, trajectory, inside)[0] < FOLLOW_TOLERANCE
