@@ -9,18 +9,21 @@ therefore compares the straight lines between the frames with the
 trajectory, at each of its samples and halfway between frames, and refuses
 frames that stray from it by more than a degree (or, for a joint as fast as
 WristYaw, the gap its acceleration limit makes at 25 fps:
-:func:`follow_tolerance`), naming the joint, the time and a frame rate that
-would do.
+:func:`follow_tolerance`), naming the joint and the time. :func:`offer_rate`
+finds a frame rate to offer with the refusal, trying each with the function
+that makes and checks the frames to send, so that a rate offered passes every
+check (``bridge.checked_frames``).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import numpy.typing as npt
 
-from bridge.frames import DEFAULT_RATE, frames_from_trajectory
+from bridge.frames import DEFAULT_RATE
 from bridge.interpolation import positions_at
 from bridge.limits import FrameLimits
 from shared.errors import InvalidInputError, TrajectoryRefusedError
@@ -64,11 +67,11 @@ def check_follows(
             compared with the curve held in them, the one the frames are
             sampled from (where the cubic between sparse samples overshoots
             a limit, the frames cannot follow it out of range at any rate),
-            and the frame rates a refusal tries are made the same way.
 
     Raises:
         TrajectoryRefusedError: quantity ``"frame_rate"``, naming the joint
-            and the time of the largest gap [rad] and a rate that would do.
+            and the time of the largest gap [rad] (``value``, against its
+            ``limit``); ``offer_rate`` finds a rate to add to it.
     """
     limit = np.broadcast_to(np.asarray(tolerance, float), (len(frames.joint_names),))
     ratio, joint, time, gap = _worst(frames, trajectory, limit, within)
@@ -85,8 +88,7 @@ def check_follows(
         detail=(
             f"would pass {math.degrees(gap):.1f} deg from the trajectory at "
             f"t = {time:.3f} s between frames at {frames.rate:g} Hz (at most "
-            f"{math.degrees(limit[joint]):.3g} deg): "
-            + _advice(trajectory, frames.rate, ratio, limit, within)
+            f"{math.degrees(limit[joint]):.3g} deg)"
         ),
     )
 
@@ -146,26 +148,44 @@ def _gaps(
     return t, np.abs(lines - positions_at(trajectory, t, within))
 
 
-def _advice(
-    trajectory: Trajectory,
-    rate: float,
-    ratio: float,
-    limit: np.ndarray,
-    within: tuple[np.ndarray, np.ndarray] | None = None,
+def offer_rate(
+    make: Callable[[float], CommandFrames], rate: float, ratio: float
 ) -> str:
-    """A frame rate that passes, found by trying, or why none is offered.
+    """A frame rate whose frames pass every check, or why none is offered.
 
     The gap of straight lines falls about with the square of the frame
     period; starting from that estimate, rates a quarter apart are tried.
+    Each is tried with ``make``, the function that makes and checks the
+    frames to send, so the rate offered is one whose frames passed: not
+    only the gap but every limit, on the frames held in the ranges (above
+    the rate refused, a fast movement or a bend where the curve is held at
+    a limit can break a speed, acceleration or jerk limit that frames
+    further apart keep).
+
+    Args:
+        make: Checked frames of the trajectory at a frame rate [Hz]; raises
+            ``TrajectoryRefusedError``, or ``InvalidInputError`` for too
+            many frames.
+        rate: The frame rate refused [Hz].
+        ratio: Its largest gap over the gap allowed (> 1).
+
+    Returns:
+        "at R Hz it would not", or why no rate is offered.
     """
     for _ in range(ATTEMPTS):
         rate = min(math.ceil(1.25 * rate * math.sqrt(ratio)), MAX_RATE)
         try:
-            frames = frames_from_trajectory(trajectory, rate, within)
+            make(rate)
         except InvalidInputError:
             break  # too many frames at this rate
-        ratio = _worst(frames, trajectory, limit, within)[0]
-        if ratio <= 1.0:
+        except TrajectoryRefusedError as refusal:
+            if refusal.quantity != "frame_rate":
+                return (
+                    f"no frame rate is offered: at {rate:g} Hz {refusal.joint} "
+                    f"{refusal.detail}"
+                )
+            ratio = refusal.value / refusal.limit
+        else:
             return f"at {rate:g} Hz it would not"
         if rate >= MAX_RATE:
             break

@@ -595,9 +595,17 @@ class TrajectoryRefusedError(ArmplanError):
         self.frame = int(frame)
         self.time = float(time)
         self.detail = detail
+        self.outcome = outcome
 
     def instead(self, outcome: str) -> TrajectoryRefusedError:
         """The same refusal, saying ``outcome`` (e.g. "nothing was written")."""
+        return self._with(self.detail, outcome)
+
+    def adding(self, words: str) -> TrajectoryRefusedError:
+        """The same refusal with ``words`` after its detail (e.g. a rate to try)."""
+        return self._with(self.detail + words, self.outcome)
+
+    def _with(self, detail: str, outcome: str) -> TrajectoryRefusedError:
         return TrajectoryRefusedError(
             self.joint,
             self.quantity,
@@ -605,7 +613,7 @@ class TrajectoryRefusedError(ArmplanError):
             self.limit,
             frame=self.frame,
             time=self.time,
-            detail=self.detail,
+            detail=detail,
             outcome=outcome,
         )
 

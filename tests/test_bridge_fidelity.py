@@ -3,7 +3,7 @@
 The straight lines between frames stray from a smooth curve by at most an
 eighth of its largest acceleration times the frame period squared, and by a
 quarter as much at twice the rate; a rate too low for a movement is refused
-naming the joint, and the rate the refusal suggests passes.
+naming the joint, and the rate the refusal suggests passes every check.
 """
 
 from __future__ import annotations
@@ -18,7 +18,6 @@ from test_bridge_checks import sparse_near_a_limit
 from bridge.checked_frames import checked_frames
 from bridge.fidelity import (
     FOLLOW_TOLERANCE,
-    check_follows,
     follow_tolerance,
     largest_gap,
 )
@@ -40,11 +39,14 @@ def reach(seconds: float = 1.0) -> Trajectory:
     )
 
 
-def wave(rng: np.random.Generator, swings: int = 4) -> Trajectory:
-    """From rest, RElbowYaw swings 0.4 rad back and forth, 0.3 s a swing."""
+def wave(
+    rng: np.random.Generator, swings: int = 4, amplitude: float = 0.4
+) -> Trajectory:
+    """From rest, RElbowYaw swings ``amplitude`` [rad] back and forth, 0.3 s a
+    swing (over 1.32 rad it is faster than RElbowYaw's speed limit)."""
     start = rest("right")
     out = start.copy()
-    out[2] += 0.4
+    out[2] += amplitude
     postures = [start, *([out, start] * (swings // 2))]
     jitter = rng.uniform(-0.02, 0.02, (len(postures), 5))
     jitter[0] = 0.0
@@ -84,11 +86,11 @@ def test_a_wave_at_2_hz_is_refused_and_the_suggested_rate_passes(
     rng: np.random.Generator,
 ) -> None:
     """At 2 Hz the swings fall between frames: refused (every limit check
-    passes), naming RElbowYaw; the rate the message offers passes."""
+    passes: they run first), naming RElbowYaw; the rate the message offers
+    passes."""
     trajectory = wave(rng)
-    frames = frames_from_trajectory(trajectory, 2.0)
     with pytest.raises(TrajectoryRefusedError) as caught:
-        check_follows(frames, trajectory, follow_tolerance(LIMITS))
+        checked_frames(trajectory, 2.0, LIMITS)
     error = caught.value
     print("\n" + error.message)
     assert error.quantity == "frame_rate" and error.joint == "RElbowYaw"
@@ -143,3 +145,46 @@ def test_a_curve_over_a_limit_is_followed_as_the_frames_hold_it() -> None:
     inside = (LIMITS.lower, LIMITS.upper)
     for frames in passed:
         assert largest_gap(frames, trajectory, inside)[0] < FOLLOW_TOLERANCE
+
+
+def test_a_rate_is_offered_only_if_its_frames_pass_every_check(
+    rng: np.random.Generator,
+) -> None:
+    """Swings of 1.4 rad in 0.3 s (8.75 rad/s, over RElbowYaw's 8.27) keep
+    every limit in frames 0.5 s apart, which cut them short: refused at 2 Hz.
+    The rate once offered there was refused in turn for that speed; now no
+    rate is offered and the refusal says what breaks at the rate tried."""
+    trajectory = wave(rng, amplitude=-1.4)
+    with pytest.raises(TrajectoryRefusedError) as caught:
+        checked_frames(trajectory, 2.0, LIMITS)
+    error = caught.value
+    print("\n" + error.message)
+    assert error.quantity == "frame_rate" and "it would not" not in error.message
+    tried = re.search(
+        r"no frame rate is offered: at (\d+) Hz RElbowYaw speed", error.message
+    )
+    assert tried is not None
+    with pytest.raises(TrajectoryRefusedError, match="RElbowYaw speed"):
+        checked_frames(trajectory, float(tried[1]), LIMITS)
+
+
+@pytest.mark.parametrize("rate", [1.0, 2.0, 4.0])
+def test_every_rate_offered_passes_every_check(
+    rng: np.random.Generator, rate: float
+) -> None:
+    """Waves of 0.2 to 1.6 rad and sparse samples dipping past a limit, at
+    rates too low for them: whenever a refusal offers a rate, frames at that
+    rate pass every check the bridge makes."""
+    trajectories = [wave(rng, amplitude=a) for a in np.linspace(-1.6, -0.2, 8)]
+    trajectories += [sparse_near_a_limit(speed) for speed in (0.05, 0.2, 0.5, 1.0)]
+    offered = 0
+    for trajectory in trajectories:
+        try:
+            checked_frames(trajectory, rate, LIMITS)
+            continue
+        except TrajectoryRefusedError as error:
+            found = re.search(r"at (\d+) Hz it would not", error.message)
+        if found is not None:
+            checked_frames(trajectory, float(found[1]), LIMITS)
+            offered += 1
+    assert offered >= 4
