@@ -114,7 +114,7 @@ def test_grid_says_which_demonstrated_reaches_it_leaves_out(
     assert main(["decide", "--grid", "--demos", path, "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert sum(row["trials"] for row in data["demonstrations"]) == 16
-    assert data["left_out"] == {"count": 2, "no_point": 2, "no_labels": 0, "of": 18}
+    assert data["left_out"] == {"total": 2, "no_point": 2, "no_labels": 0, "of": 18}
     assert main(["decide", "--grid", "--demos", path]) == 0
     assert (
         "2 of 18 demonstrated reaches left out of the table: 2 have no grid point "

@@ -81,7 +81,7 @@ def test_reaches_the_table_cannot_use_are_counted_by_reason() -> None:
     )
     assert left_out(mixed) == LeftOut(no_point=1, no_labels=1, of=16)
     assert sum(row.trials for row in demo_rows(mixed)) == 14
-    assert left_out(demos) == LeftOut(0, 0, 16) and left_out(demos).count == 0
+    assert left_out(demos) == LeftOut(0, 0, 16) and left_out(demos).total == 0
     assert left_out(mixed).describe() == (
         "1 has no grid point (point 0, as recorded reaches are imported) "
         "and 1 has no primitive labels"

@@ -89,7 +89,7 @@ class LeftOut(NamedTuple):
     of: int
 
     @property
-    def count(self) -> int:
+    def total(self) -> int:
         """Reaches left out, for any reason."""
         return self.no_point + self.no_labels
 

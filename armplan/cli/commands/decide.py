@@ -231,7 +231,7 @@ def _grid(args: argparse.Namespace, model: Any) -> int:
                 "demonstrations": [r._asdict() for r in demo],
                 "left_out": None
                 if left is None
-                else {"count": left.count, **left._asdict()},
+                else {"total": left.total, **left._asdict()},
             }
         )
         return 0
@@ -267,9 +267,9 @@ def _grid(args: argparse.Namespace, model: Any) -> int:
                 for r in demo
             ],
         )
-    if left is not None and left.count:
+    if left is not None and left.total:
         sys.stdout.write(
-            f"\n{left.count} of {left.of} demonstrated reaches left out of the "
+            f"\n{left.total} of {left.of} demonstrated reaches left out of the "
             f"table: {left.describe()}\n"
         )
     return 0
@@ -289,7 +289,7 @@ def _demo_table(path: str | None) -> tuple[list[DemoRow], LeftOut | None]:
 
     demos = read_demos(path)
     left = left_out(demos)
-    if left.count == left.of:
+    if left.total == left.of:
         raise DemoFileError(
             path,
             f"none of its {left.of} reaches can enter the grid table: "
