@@ -5,6 +5,7 @@
                    [--json] [--plot decision.png]
     armplan decide --wrist-path FILE.csv [...]
     armplan decide --grid [--demos DEMOS.mcap] [--json]
+    armplan decide --target X Y Z | --wrist-path FILE.csv --remote [...]
 
 With ``--target`` the wrist path is the planner's human-like reach from the
 start posture (default: the arm hanging at rest) to the target, ``--duration``
@@ -30,6 +31,7 @@ import numpy as np
 
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_arm, add_json, finite
+from armplan.cli.remote import add_remote, is_remote
 from shared.errors import DemoFileError, InvalidInputError
 from shared.messages.base import unit_direction
 from shared.output_paths import check_output_file
@@ -76,6 +78,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--demos", metavar="FILE.mcap", help="with --grid: also the demos' sequences"
     )
     add_json(parser)
+    add_remote(parser)
     parser.set_defaults(run=run)
 
 
@@ -84,7 +87,10 @@ def run(args: argparse.Namespace) -> int:
     from services.fit import default_model, load_model
 
     _check_options(args)
-    model = load_model(args.model) if args.model else default_model()
+    remote = is_remote(args)  # the service's model, not one loaded here
+    model = (
+        None if remote else load_model(args.model) if args.model else default_model()
+    )
     if args.grid:
         return _grid(args, model)
     from services.decide.path import decide_path
@@ -99,9 +105,13 @@ def run(args: argparse.Namespace) -> int:
     palm = _palm(args.palm)
     plot = _plot_file(args.plot)
     times, positions, start = _path(args, arm, start, palm)
-    decision, tracked = decide_path(
-        model, arm, positions, start, palm=palm, times=times
-    )
+    if remote:
+        decision, wrist_end = _decide_remote(args, arm, times, positions, start, palm)
+    else:
+        decision, tracked = decide_path(
+            model, arm, positions, start, palm=palm, times=times
+        )
+        wrist_end = tracked.wrist[-1]
     if plot is not None:
         from services.decide.plot import plot_decision
 
@@ -109,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(decision.model_dump(mode="json"))
         return 0
-    _print_runs(decision, tracked, positions)
+    _print_runs(decision, wrist_end, positions)
     if plot is not None:
         sys.stdout.write(f"wrote {plot}\n")
     return 0
@@ -121,6 +131,15 @@ ONE_DECISION = ("start", "palm", "duration", "plot")
 
 def _check_options(args: argparse.Namespace) -> None:
     """Refuse options the chosen form would ignore, naming them."""
+    if is_remote(args):
+        for name, why in (
+            ("grid", "--grid runs in this process"),
+            ("model", "the decide service decides with the model it serves"),
+        ):
+            if getattr(args, name):
+                raise InvalidInputError(
+                    f"--{name} does not go with --remote: {why}", field=name
+                )
     if args.grid:
         for name in ONE_DECISION:
             if getattr(args, name) is not None:
@@ -204,7 +223,40 @@ def _title(args: argparse.Namespace, positions: np.ndarray) -> str:
     return f"{args.arm} arm to ({goal}) m"
 
 
-def _print_runs(decision: Any, tracked: Any, positions: np.ndarray) -> None:
+def _decide_remote(
+    args: argparse.Namespace,
+    arm: Any,
+    times: np.ndarray,
+    positions: np.ndarray,
+    start: np.ndarray,
+    palm: np.ndarray | None,
+) -> tuple[Any, np.ndarray]:
+    """(decision, the wrist's last position [m]) from the decide and ik services.
+
+    The ik service tracks the path with the decided primitives, as the
+    decision's own tracking did, to give the wrist's end.
+    """
+    from armplan.cli.remote import connect
+    from shared.bus.routes import DECIDE, IK_PATH
+    from shared.messages import DecideRequest, Method, PathIKRequest, WristPath
+
+    path = WristPath(
+        arm=arm.side,
+        times=[float(t) for t in times],
+        positions=[tuple(float(v) for v in p) for p in positions],
+        palm=None if palm is None else tuple(float(v) for v in palm),
+    )
+    begin = tuple(float(v) for v in start)
+    with connect(args) as bus:
+        decision = bus.call(DECIDE, DecideRequest(path=path, start=begin))
+        tracked = bus.call(
+            IK_PATH,
+            PathIKRequest(path=path, start=begin, method=Method.MP, decision=decision),
+        )
+    return decision, np.array(tracked.wrist[-1])
+
+
+def _print_runs(decision: Any, wrist_end: np.ndarray, positions: np.ndarray) -> None:
     from services.decide.grid_table import runs
 
     rows, at = [], 0
@@ -212,7 +264,7 @@ def _print_runs(decision: Any, tracked: Any, positions: np.ndarray) -> None:
         rows.append((name, decision.times[at], decision.times[at + count - 1], count))
         at += count
     print_table(("primitive", "from [s]", "to [s]", "points"), rows)
-    error = float(np.linalg.norm(tracked.wrist[-1] - positions[-1]))
+    error = float(np.linalg.norm(wrist_end - positions[-1]))
     sys.stdout.write(
         f"{len(decision.times)} points; wrist {error * 1000:.3f} mm from the goal "
         "at the end\n"
