@@ -66,7 +66,7 @@ def check_follows(
         within: The ranges the frames were held in, if any: the lines are
             compared with the curve held in them, the one the frames are
             sampled from (where the cubic between sparse samples overshoots
-            a limit, the frames cannot follow it out of range at any rate),
+            a limit, the frames cannot follow it out of range at any rate).
 
     Raises:
         TrajectoryRefusedError: quantity ``"frame_rate"``, naming the joint
