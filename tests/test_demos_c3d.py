@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import pathlib
+import re
 import subprocess
 import sys
 from typing import NamedTuple
@@ -65,9 +66,11 @@ def _to_lab(points: np.ndarray) -> np.ndarray:
     return LAB_SHOULDER + 1000.0 * np.stack((-left, up, -forward), axis=1)
 
 
-def _write_c3d(path: pathlib.Path, markers: dict[str, np.ndarray]) -> None:
+def _write_c3d(
+    path: pathlib.Path, markers: dict[str, np.ndarray], rate: float = 100.0
+) -> None:
     c3d = ezc3d.c3d()
-    c3d["parameters"]["POINT"]["RATE"]["value"] = [100.0]
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [rate]
     c3d["parameters"]["POINT"]["LABELS"]["value"] = tuple(markers)
     c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
     frames = len(next(iter(markers.values())))
@@ -163,6 +166,27 @@ def test_a_truncated_c3d_file_is_refused(
     frames = len(read_c3d(c3d_file, MarkerMap.model_validate(MAP))[0].times)
     with pytest.raises(DemoFileError, match=rf"truncated: its header says {frames} "):
         read_c3d(cut, MarkerMap.model_validate(MAP))
+
+
+@pytest.mark.parametrize("rate", [0.5, 1e6])
+def test_a_point_rate_no_capture_uses_is_refused(
+    tmp_path: pathlib.Path, recorded: Recorded, rate: float
+) -> None:
+    """At 0.5 Hz the one-second reach read as 198 s long, at 1 MHz as 0.1 ms;
+    both were imported, and only the fit refused them."""
+    path = tmp_path / "rate.c3d"
+    zeros = np.zeros_like(recorded.wrist)
+    markers = {
+        "Sub:RSHO": _to_lab(zeros),
+        "Sub:RELB": _to_lab(recorded.elbow),
+        "Sub:RWRB": _to_lab(recorded.wrist),
+        "Sub:RWRA": _to_lab(recorded.thumb),
+    }
+    _write_c3d(path, markers, rate)
+    with pytest.raises(
+        DemoFileError, match=re.escape(f"its point rate is {rate:g} Hz")
+    ):
+        read_c3d(path, MarkerMap.model_validate(MAP))
 
 
 def test_two_people_under_one_subject_name_are_refused(

@@ -8,6 +8,7 @@ a ``Subject:`` prefix (``Sub1:RSHO`` matches ``RSHO``).
 
 from __future__ import annotations
 
+import math
 import struct
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,7 @@ from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.trial import Trial
 from shared.errors import DemoFileError
+from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
 
 
 def read_c3d(
@@ -41,8 +43,9 @@ def read_c3d(
     Raises:
         DemoFileError: if the file cannot be read as C3D, lacks a mapped marker
             (the error names the missing ones and lists those present), has
-            unknown units, too few complete frames, or an implausible arm
-            (``importing.check_segments``).
+            unknown units, a point rate outside ``MIN_SAMPLE_RATE`` to
+            ``MAX_SAMPLE_RATE``, too few complete frames, or an implausible
+            arm (``importing.check_segments``).
     """
     path = Path(path)
     try:
@@ -52,7 +55,7 @@ def read_c3d(
     point = data["parameters"]["POINT"]
     labels = [str(label).strip() for label in point["LABELS"]["value"]]
     index = _marker_indices(labels, markers, str(path))
-    rate = float(data["header"]["points"]["frame_rate"])
+    rate = _rate(path, data)
     cloud = np.asarray(data["data"]["points"], dtype=float)  # (4, markers, frames)
     _check_whole(path, cloud.shape[2])
     times = np.arange(cloud.shape[2]) / rate
@@ -67,6 +70,25 @@ def read_c3d(
         str(path),
         report=report,
     )
+
+
+def _rate(path: Path, data: Any) -> float:
+    """The file's point rate [Hz], refused outside the demonstrations' range.
+
+    The frames' times are counted at this rate, so a rate no capture of a
+    reach uses (a corrupt header, or a field meant for another unit) would
+    stretch or squeeze the whole trial; ``armplan fit`` would refuse it
+    later, the import names the file now.
+    """
+    rate = float(data["header"]["points"]["frame_rate"])
+    if not (math.isfinite(rate) and MIN_SAMPLE_RATE <= rate <= MAX_SAMPLE_RATE):
+        raise DemoFileError(
+            str(path),
+            f"its point rate is {rate:g} Hz; demonstrations are sampled at "
+            f"{MIN_SAMPLE_RATE:g} to {MAX_SAMPLE_RATE:g} Hz",
+            rate=rate,
+        )
+    return rate
 
 
 #: The header's last frame when the file holds more than a 16-bit count.
