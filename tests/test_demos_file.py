@@ -188,6 +188,33 @@ def test_a_one_sample_trial_is_refused(tmp_path: pathlib.Path, small: DemoSet) -
     assert caught.value.evidence["trial"] == second[0].trial
 
 
+def test_what_would_not_read_back_is_not_written(
+    tmp_path: pathlib.Path, small: DemoSet
+) -> None:
+    """write_demos refuses, and writes no file for, a subject without trials
+    and a one-sample trial: the reading refuses both, so a file of them could
+    not be read back."""
+    first = small.trials[0]
+    idle = small.subjects[first.subject]._replace(name="S99")
+    cases = {
+        "idle.mcap": (
+            DemoSet(small.subjects | {"S99": idle}, small.trials),
+            "subject 'S99' has a 'demo/subject' record but no samples",
+        ),
+        "short.mcap": (
+            DemoSet(
+                {first.subject: small.subjects[first.subject]},
+                [first._replace(times=first.times[:1])],
+            ),
+            f"trial {first.trial} of subject {first.subject!r} has a single sample",
+        ),
+    }
+    for name, (demos, words) in cases.items():
+        with pytest.raises(DemoFileError, match=words):
+            write_demos(tmp_path / name, demos)
+        assert not (tmp_path / name).exists()
+
+
 def test_cli_reports_a_bad_file_without_traceback(tmp_path: pathlib.Path) -> None:
     """armplan demos info on a broken file: exit 1, one clear line, no traceback."""
     path = tmp_path / "broken.mcap"

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -51,10 +51,14 @@ def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
         InvalidInputError: if ``path`` is no file name, a directory, or in a
             folder that does not exist (``shared.output_paths.check_output_file``).
         DemoFileError: if a subject is not a valid ``DemoSubject`` (e.g. a
-            zero-length segment).
+            zero-length segment), or the file would not read back: a subject
+            without samples, or a trial of a single sample.
         RecordingError: if the file cannot be written.
     """
     path = check_output_file(path)
+    _check_every_subject_moves(demos.subjects, {t.subject for t in demos.trials}, path)
+    for trial in demos.trials:
+        _check_moves(trial.subject, trial.trial, trial.times, path)
     people = [_subject_message(s, source, path) for s in demos.subjects.values()]
     try:
         with replaced_when_done(path) as partial:
@@ -286,18 +290,28 @@ def _check_every_subject_moves(
             )
 
 
+def _check_moves(subject: str, trial: int, times: Any, path: Path) -> None:
+    """Refuse a trial of fewer than ``MIN_SAMPLES`` samples (times [s], (n,))."""
+    if len(times) < MIN_SAMPLES:
+        has = (
+            f"a single sample (t = {float(times[0]):g} s)"
+            if len(times)
+            else "no samples"
+        )
+        raise DemoFileError(
+            str(path),
+            f"trial {trial} of subject {subject!r} has {has}; a trial needs at "
+            f"least {MIN_SAMPLES} samples, from its start to its goal",
+            subject=subject,
+            trial=trial,
+        )
+
+
 def _trial(group: list[DemoSample], path: Path) -> Trial:
     first = group[0]
     name = f"trial {first.trial} of subject {first.subject!r}"
-    if len(group) < MIN_SAMPLES:
-        raise DemoFileError(
-            str(path),
-            f"{name} has a single sample (t = {first.time:g} s); a trial needs at "
-            f"least {MIN_SAMPLES} samples, from its start to its goal",
-            subject=first.subject,
-            trial=first.trial,
-        )
     times = np.array([s.time for s in group])
+    _check_moves(first.subject, first.trial, times, path)
     if len(times) > 1 and not np.all(np.diff(times) > 0):
         bad = int(np.argmin(np.diff(times) > 0)) + 1
         raise DemoFileError(
