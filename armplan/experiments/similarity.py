@@ -1,8 +1,9 @@
 """The similarity experiment (paper Section V.A, Fig. 14-15) on NAO.
 
-For every subject and grid point of a demonstration set: the subject's mean
-retargeted reach (``subject_reach``), NAO's reach from the same start to the
-same goal with each method (``nao_reach``), and the elbow error
+For every subject and grid point of a demonstration set (and every reach
+off the grid, alone): the subject's mean retargeted reach
+(``subject_reach``), NAO's reach from the same start to the same goal with
+each method (``nao_reach``), and the elbow error
 
     e = mean over tau of | elbow_NAO(tau) - elbow_subject(tau) |   [m],
 
@@ -31,7 +32,11 @@ import numpy as np
 from armplan.experiments.nao_reach import PalmTurn, PathSource, nao_reach
 from armplan.experiments.normalised_time import SAMPLES, tau_grid
 from armplan.experiments.posture_similarity import posture_similarity
-from armplan.experiments.subject_reach import SubjectReach, subject_reaches
+from armplan.experiments.subject_reach import (
+    SubjectReach,
+    point_label,
+    subject_reaches,
+)
 from services.decide.grid_table import MIN_POINTS, sequence
 from services.planner.stages import LocalStages, Stages
 from shared.demos.posture_from_points import joint_path_from_palms
@@ -51,7 +56,7 @@ class ReachError(NamedTuple):
 
     Attributes:
         subject: The subject's name.
-        point: Grid point 1..16.
+        point: Grid point 1..16, or 0 off the grid.
         method: The planning method.
         elbow_error: Mean elbow distance over normalised time [m].
         wrist_error: Mean wrist distance over normalised time [m].
@@ -60,6 +65,8 @@ class ReachError(NamedTuple):
         human_primitives: Primitives of the subject's most common sequence.
         posture_similarity: Mean S against the subject's postures (eq. 22-23)
             for a reach with a palm; ``None`` without.
+        arm: The arm.
+        trial: The trial of a reach off the grid; ``None`` on the grid.
     """
 
     subject: str
@@ -70,6 +77,18 @@ class ReachError(NamedTuple):
     primitives: list[str]
     human_primitives: list[str]
     posture_similarity: float | None = None
+    arm: str = "right"
+    trial: int | None = None
+
+    @property
+    def reach(self) -> tuple[str, int, str, int]:
+        """Which reach this row is of: (subject, point, arm, trial or -1)."""
+        return (
+            self.subject,
+            self.point,
+            self.arm,
+            -1 if self.trial is None else self.trial,
+        )
 
 
 class Skipped(NamedTuple):
@@ -77,13 +96,17 @@ class Skipped(NamedTuple):
 
     Attributes:
         subject: The subject's name.
-        point: Grid point 1..16.
+        point: Grid point 1..16, or 0 off the grid.
         reason: The planner's error message.
+        arm: The arm.
+        trial: The trial of a reach off the grid; ``None`` on the grid.
     """
 
     subject: str
     point: int
     reason: str
+    arm: str = "right"
+    trial: int | None = None
 
 
 def run_similarity(
@@ -97,7 +120,7 @@ def run_similarity(
     palm: bool = False,
     skipped: list[Skipped] | None = None,
 ) -> list[ReachError]:
-    """The experiment on ``demos`` (right-arm reaches on the grid).
+    """The experiment on ``demos`` (see the module docstring).
 
     Args:
         demos: Demonstrations retargeted to NAO.
@@ -118,14 +141,22 @@ def run_similarity(
     out: list[ReachError] = []
     reaches = subject_reaches(demos, tau)
     for done, reach in enumerate(reaches, start=1):
-        arm = load_arm(_arm_of(demos, reach))
+        arm = load_arm(reach.arm)
         try:
             out += _rows(arm, stages, reach, methods, source, tau, measures, palm)
         except UnreachableTargetError as exc:
             if not palm:
                 raise
             if skipped is not None:
-                skipped.append(Skipped(reach.subject, reach.point, str(exc)))
+                skipped.append(
+                    Skipped(
+                        reach.subject,
+                        reach.point,
+                        str(exc),
+                        reach.arm.value,
+                        reach.trial,
+                    )
+                )
         if progress is not None:
             progress(done, len(reaches))
     return out
@@ -160,6 +191,8 @@ def _rows(
                 sequence(nao.primitives, MIN_POINTS)[0],
                 _human_sequence(reach),
                 similarity,
+                reach.arm.value,
+                reach.trial,
             )
         )
     return rows
@@ -173,8 +206,8 @@ def subject_postures(arm: ArmModel, reach: SubjectReach) -> np.ndarray:
     """
     if reach.hand_y is None:
         raise InvalidInputError(
-            f"subject {reach.subject}'s trials at P{reach.point} have no wrist "
-            "frames, so their palm is unknown: run without --palm",
+            f"subject {reach.subject}'s trials at {point_label(reach.point)} have "
+            "no wrist frames, so their palm is unknown: run without --palm",
             field="palm",
         )
     return joint_path_from_palms(arm, reach.elbow, reach.wrist, reach.hand_y)
@@ -184,14 +217,6 @@ def palm_turn(arm: ArmModel, subject: np.ndarray) -> PalmTurn:
     """Start in the subject's first posture and face the palm of its last."""
     rotation = arm.kinematics(subject[-1]).wrist_rotation
     return PalmTurn(subject[0], palm_normal(rotation, arm.side.sign))
-
-
-def _arm_of(demos: DemoSet, reach: SubjectReach) -> str:
-    """The arm of the subject's trials at the point."""
-    for trial in demos.trials:
-        if trial.subject == reach.subject and trial.point == reach.point:
-            return trial.arm.value
-    return "right"
 
 
 def mean_distance(a: np.ndarray, b: np.ndarray) -> float:

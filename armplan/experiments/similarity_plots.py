@@ -20,6 +20,7 @@ from matplotlib.axes import Axes
 from armplan.experiments.figure_file import COLOURS, new_figure, save_png
 from armplan.experiments.similarity import ReachError
 from armplan.experiments.similarity_summary import ELBOW_BAR, errors_by_point
+from armplan.experiments.subject_reach import point_label
 from shared.messages import Method
 
 CM = 100.0
@@ -83,7 +84,7 @@ def plot_point_means(rows: Sequence[ReachError], path: str | Path, title: str) -
 
 
 def _point_axis(ax: Axes, points: list[int], label: str, title: str) -> None:
-    ax.set_xticks(np.arange(len(points)), [f"P{p}" for p in points])
+    ax.set_xticks(np.arange(len(points)), [point_label(p) for p in points])
     ax.set_xlabel("grid point")
     ax.set_ylabel(label)
     ax.set_ylim(bottom=0.0)

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from armplan.experiments.similarity import ReachError
+from armplan.experiments.subject_reach import point_label
 from shared.messages import Method
 
 #: The SPEC's bar: mean elbow error on NAO below this [m].
@@ -48,7 +49,8 @@ def method_summary(rows: Sequence[ReachError], method: Method) -> dict[str, Any]
         "max_elbow_error_m": float(elbow.max()),
         "mean_wrist_error_m": float(np.mean([r.wrist_error for r in mine])),
         "per_point_mean_elbow_error_m": {
-            f"P{p}": float(np.mean(e)) for p, e in errors_by_point(rows, method).items()
+            point_label(p): float(np.mean(e))
+            for p, e in errors_by_point(rows, method).items()
         },
     }
 
@@ -64,29 +66,40 @@ def _posture(rows: Sequence[ReachError]) -> dict[str, float]:
     }
 
 
+#: The group of reaches whose count is not known (unlabelled demonstrations).
+UNKNOWN = "unknown"
+
+
 def by_count(
-    rows: Sequence[ReachError], count: Callable[[ReachError], int]
+    rows: Sequence[ReachError], count: Callable[[ReachError], int | None]
 ) -> dict[str, dict[str, float]]:
     """Mean elbow error per method, grouped by ``count`` of the mp reach.
 
-    Each (subject, point) falls in the group of ``count`` of its ``mp`` row;
+    Each reach falls in the group of ``count`` of its ``mp`` row;
     every method's error there is averaged, so the groups compare methods on
-    the same reaches. Keys: the count as text; values: ``{"reaches": n,
-    method: mean error [m], ...}``.
+    the same reaches. Keys: the count as text, ``UNKNOWN`` (last) where
+    ``count`` is None; values: ``{"reaches": n, method: mean error [m], ...}``.
     """
-    group = {(r.subject, r.point): count(r) for r in rows if r.method is Method.MP}
-    sums: dict[int, dict[str, list[float]]] = defaultdict(lambda: defaultdict(list))
+    group = {r.reach: count(r) for r in rows if r.method is Method.MP}
+    sums: dict[int | None, dict[str, list[float]]] = defaultdict(
+        lambda: defaultdict(list)
+    )
     for row in rows:
-        key = group.get((row.subject, row.point))
-        if key is not None:
-            sums[key][row.method.value].append(row.elbow_error)
+        if row.reach in group:
+            sums[group[row.reach]][row.method.value].append(row.elbow_error)
+    order = sorted(sums, key=lambda k: (k is None, k or 0))
     return {
-        str(k): {
-            "reaches": len(v["mp"]),
-            **{m: float(np.mean(e)) for m, e in v.items()},
+        UNKNOWN if k is None else str(k): {
+            "reaches": len(sums[k]["mp"]),
+            **{m: float(np.mean(e)) for m, e in sums[k].items()},
         }
-        for k, v in sorted(sums.items())
+        for k in order
     }
+
+
+def _human_count(row: ReachError) -> int | None:
+    """How many primitives the subject's reach used; None if unlabelled."""
+    return len(row.human_primitives) if row.human_primitives else None
 
 
 def summary(rows: Sequence[ReachError], protocol: dict[str, Any]) -> dict[str, Any]:
@@ -96,7 +109,7 @@ def summary(rows: Sequence[ReachError], protocol: dict[str, Any]) -> dict[str, A
     for method in methods:
         out[method.value] = method_summary(rows, method)
     out["by_mp_primitive_count"] = by_count(rows, lambda r: len(r.primitives))
-    out["by_human_primitive_count"] = by_count(rows, lambda r: len(r.human_primitives))
+    out["by_human_primitive_count"] = by_count(rows, _human_count)
     out["bars"] = bars(out, methods)
     return out
 

@@ -4,6 +4,9 @@ The paper averages each subject's five trials at a point (Section V.A:
 "the average elbow position of each subject"). Here the trials, already
 retargeted to NAO, are read at the same normalised times (``normalised_time``)
 and averaged sample by sample: the subject's elbow and wrist path over tau.
+Trials of the two arms are kept apart. A trial off the grid (point 0, as
+recorded reaches are imported) has a goal of its own: it is a reach alone,
+not averaged with any other.
 """
 
 from __future__ import annotations
@@ -16,6 +19,15 @@ import numpy as np
 from armplan.experiments.normalised_time import at_tau
 from shared.demos.trial import DemoSet, Trial
 from shared.errors import InvalidInputError
+from shared.robot.side import Side
+
+#: The point of a reach off the grid.
+OFF_GRID = 0
+
+
+def point_label(point: int) -> str:
+    """``"P<n>"`` for grid point n, ``"off-grid"`` for reaches off it."""
+    return "off-grid" if point == OFF_GRID else f"P{point}"
 
 
 class SubjectReach(NamedTuple):
@@ -23,7 +35,7 @@ class SubjectReach(NamedTuple):
 
     Attributes:
         subject: The subject's name.
-        point: Grid point 1..16.
+        point: Grid point 1..16, or ``OFF_GRID``.
         trials: How many trials were averaged.
         elbow: Mean elbow path at the tau grid [m], shape (m, 3).
         wrist: Mean wrist path at the tau grid [m], shape (m, 3).
@@ -32,6 +44,9 @@ class SubjectReach(NamedTuple):
         hand_y: Mean direction of the wrist frame's y axis (a right hand's
             palm normal) at the tau grid, unit, shape (m, 3); ``None`` if a
             trial has no wrist frames.
+        arm: The arm of the trials.
+        trial: The trial's number for a reach off the grid (a trial alone);
+            ``None`` for a grid point's average.
     """
 
     subject: str
@@ -42,38 +57,47 @@ class SubjectReach(NamedTuple):
     duration: float
     labels: list[list[str]]
     hand_y: np.ndarray | None = None
+    arm: Side = Side.RIGHT
+    trial: int | None = None
+
+
+#: A reach's key: (subject, point, arm, trial or -1).
+ReachKey = tuple[str, int, str, int]
+
+
+def _trial_key(trial: int | None) -> int:
+    return -1 if trial is None else trial
 
 
 def subject_reaches(demos: DemoSet, tau: np.ndarray) -> list[SubjectReach]:
-    """Every (subject, grid point)'s mean reach, sorted by subject then point.
+    """The reaches of ``demos``, sorted by subject, point, arm and trial.
 
-    Trials off the grid (point 0) are left out.
+    Each (subject, grid point, arm)'s mean reach, and every trial off the
+    grid alone.
 
     Raises:
-        InvalidInputError: if no trial is on the grid.
+        InvalidInputError: if the demonstrations hold no trial.
     """
-    groups: dict[tuple[str, int], list[Trial]] = defaultdict(list)
+    groups: dict[ReachKey, list[Trial]] = defaultdict(list)
     for trial in demos.trials:
-        if trial.point:
-            groups[(trial.subject, trial.point)].append(trial)
+        alone = trial.trial if trial.point == OFF_GRID else None
+        key = (trial.subject, trial.point, trial.arm.value, _trial_key(alone))
+        groups[key].append(trial)
     if not groups:
-        raise InvalidInputError(
-            "the demonstrations hold no trial on the 16-point grid (every "
-            "trial has point 0)",
-            field="demos",
-        )
+        raise InvalidInputError("the demonstrations hold no trial", field="demos")
     return [_mean(key, groups[key], tau) for key in sorted(groups)]
 
 
-def _mean(key: tuple[str, int], trials: list[Trial], tau: np.ndarray) -> SubjectReach:
+def _mean(key: ReachKey, trials: list[Trial], tau: np.ndarray) -> SubjectReach:
     """The trials' mean reach."""
     elbow = np.mean([at_tau(t.times, t.elbow, tau) for t in trials], axis=0)
     wrist = np.mean([at_tau(t.times, t.wrist, tau) for t in trials], axis=0)
     duration = float(np.mean([t.times[-1] - t.times[0] for t in trials]))
     labels = [list(t.labels) for t in trials if t.labels is not None]
+    subject, point, arm, trial = key
     return SubjectReach(
-        key[0], key[1], len(trials), elbow, wrist, duration, labels,
-        _mean_hand_y(trials, tau),
+        subject, point, len(trials), elbow, wrist, duration, labels,
+        _mean_hand_y(trials, tau), Side(arm), None if trial < 0 else trial,
     )  # fmt: skip
 
 
