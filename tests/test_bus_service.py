@@ -391,3 +391,38 @@ def test_a_day_long_timeout_is_told_as_a_day() -> None:
         return CallerBudget.model_validate_json(budget_attachment(seconds)).timeout
 
     assert told(1e9) == MAX_BUDGET and told(-1.0) == 1e-3 and told(2.5) == 2.5
+
+
+def test_a_request_held_up_on_its_way_is_counted_from_its_sending(
+    config: BusConfig,
+) -> None:
+    """The budget ran from the query's arrival: a planner paused for longer
+    than its caller's wait still served (and published, and a following
+    robot played) the plan its caller had given up on. A query sent 10 s ago
+    by the caller's clock with 5 s to wait is now dropped unserved; one sent
+    now is served."""
+    from shared.bus.deadline import budget_attachment
+
+    handler = Recorded()
+    with (
+        Bus.connect(config) as service_bus,
+        ServiceHost(service_bus, "gated", [Endpoint(GATED, handler)]),
+        Bus.connect(config) as client,
+    ):
+        assert client.wait_alive(["gated"], 5.0) == []
+        key = GATED.key(config.namespace)
+
+        def ask(text: str, sent: float) -> list[zenoh.Reply]:
+            replies = client.session.get(
+                key,
+                payload=Text(text=text).to_json(),
+                attachment=budget_attachment(5.0, sent=sent),
+                timeout=5.0,
+            )
+            return list(replies)
+
+        assert ask("held up", time.time() - 10.0) == []
+        fresh = ask("fresh", time.time())
+        assert len(fresh) == 1 and fresh[0].ok is not None
+    assert handler.ran == ["fresh"]
+    assert handler.late == [False]

@@ -1,13 +1,15 @@
 """The caller's deadline inside a service: skip or stop work no one awaits.
 
 Every query carries a :class:`~shared.messages.CallerBudget` (the caller's
-time left, [s]) as its attachment. The service host turns it into a
-deadline on its own monotonic clock when the query arrives
-(:func:`deadline_of`). A query still queued past its deadline is dropped
-unserved; a handler runs inside :func:`serving_until`, so that it can ask
-:func:`current_due` before doing what only a waiting caller wants (the
-planner publishes a trajectory, which a following robot plays, only if its
-caller still waits).
+time left [s], and when it was sent by the caller's wall clock) as its
+attachment. The service host turns it into a deadline on its own monotonic
+clock when the query arrives, less the time the query spent on its way
+(:func:`deadline_of`): a query held up before it arrived (a paused process,
+a congested link) has its caller's wait counted from the sending. A query
+still queued past its deadline is dropped unserved; a handler runs inside
+:func:`serving_until`, so that it can ask :func:`current_due` before doing
+what only a waiting caller wants (the planner publishes a trajectory, which
+a following robot plays, only if its caller still waits).
 """
 
 from __future__ import annotations
@@ -41,10 +43,13 @@ class Due(NamedTuple):
     Attributes:
         at: The deadline [s, this process's monotonic clock].
         budget: The caller's time left when it sent the query [s].
+        transit: Time from its sending to its arrival, by the two wall
+            clocks [s], at least 0.
     """
 
     at: float
     budget: float
+    transit: float = 0.0
 
     @property
     def passed(self) -> bool:
@@ -60,26 +65,33 @@ class Due(NamedTuple):
         return time.monotonic() > self.at - REPLY_MARGIN
 
 
-def budget_attachment(seconds: float) -> bytes:
+def budget_attachment(seconds: float, sent: float | None = None) -> bytes:
     """The attachment of a query whose caller waits ``seconds`` [s] more.
 
     Clamped to a millisecond .. a day (``MAX_BUDGET``): a longer wait is
-    told as a day.
+    told as a day. ``sent``: the sending's wall-clock time [s since the
+    epoch], default now.
     """
     budget = min(max(seconds, 1e-3), MAX_BUDGET)
-    return CallerBudget(timeout=budget).to_json().encode()
+    when = time.time() if sent is None else sent
+    return CallerBudget(timeout=budget, sent=when).to_json().encode()
 
 
-def deadline_of(query: zenoh.Query, received: float) -> Due | None:
+def deadline_of(
+    query: zenoh.Query, received: float, arrived: float | None = None
+) -> Due | None:
     """When the caller of ``query`` stops waiting, if it said.
 
     Args:
         query: The query.
         received: When it arrived [s, monotonic clock].
+        arrived: The same moment by the wall clock [s since the epoch];
+            default now.
 
     Returns:
-        ``received`` plus the caller's budget, or ``None`` for a query
-        without a (valid) budget: it is served whenever its turn comes.
+        ``received`` plus the caller's budget less the query's transit, or
+        ``None`` for a query without a (valid) budget: it is served
+        whenever its turn comes.
     """
     attachment = query.attachment
     if attachment is None:
@@ -91,7 +103,11 @@ def deadline_of(query: zenoh.Query, received: float) -> Due | None:
         budget = CallerBudget.model_validate_json(data)
     except ValidationError:
         return None
-    return Due(received + budget.timeout, budget.timeout)
+    transit = 0.0
+    if budget.sent is not None:
+        now = time.time() if arrived is None else arrived
+        transit = max(now - budget.sent, 0.0)
+    return Due(received + budget.timeout - transit, budget.timeout, transit)
 
 
 @contextmanager

@@ -107,7 +107,13 @@ class ServiceHost(StartStop):
         with query:
             if due is not None and due.passed:
                 late = time.monotonic() - due.at
-                log.info("%s: dropped a request its caller left %.2f s ago", key, late)
+                log.info(
+                    "%s: dropped a request its caller left %.2f s ago (it was "
+                    "%.2f s on its way, by the two wall clocks)",
+                    key,
+                    late,
+                    due.transit,
+                )
                 return  # finished unanswered: no one waits for it
             payload = query.payload if query.payload is not None else b""
             with serving_until(due):

@@ -15,12 +15,20 @@ class CallerBudget(Message):
 
     A caller sends it as the Zenoh attachment of each query (JSON), never in
     the payload, so the request's JSON stays the same. The service counts
-    from the moment it receives the query (clocks of two machines are never
-    compared), so a request that waited in its queue past the budget is not
-    worked on: no one is waiting for it.
+    from the moment it receives the query, less the time the query took to
+    get there by the two wall clocks (``sent``; a negative transit, a caller
+    whose clock is ahead, counts as none), so a request that waited on its
+    way or in its queue past the budget is not worked on: no one is waiting
+    for it. Across machines this needs clocks kept in step (NTP): a service
+    whose clock runs ahead of its callers' by more than their budgets drops
+    every request, and says so in its log.
 
     Attributes:
         timeout: Time left for the answer when the query was sent [s].
+        sent: When it was sent, by the caller's wall clock [s since the Unix
+            epoch]; ``None`` (a caller that does not say): counted from
+            receipt alone.
     """
 
     timeout: float = Field(gt=0.0, le=MAX_BUDGET)
+    sent: float | None = Field(default=None, gt=0.0)
