@@ -150,7 +150,7 @@ class RobotBridge:
         if self.client.stiffen(names):  # another client may have moved it meanwhile
             current = angles_at_rest(self.client, names)
             move_first = needs_approach(frames, current, limits, approach)
-        approach_time = self._approach(frames, current) if move_first else 0.0
+        approach_time = self._approach(frames, current, on_state) if move_first else 0.0
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)
@@ -165,8 +165,17 @@ class RobotBridge:
             approach_duration=approach_time,
         )
 
-    def _approach(self, frames: CommandFrames, current: np.ndarray) -> float:
+    def _approach(
+        self,
+        frames: CommandFrames,
+        current: np.ndarray,
+        on_state: StateCallback | None = None,
+    ) -> float:
         """Bring the arm from ``current`` [rad] to the frames' start.
+
+        ``on_state`` gets each state measured on the way (20 Hz), its time
+        counted to the trajectory's start, so negative [s]: a recording then
+        holds every measured state while the arm moves, the approach too.
 
         Returns:
             The approach move's length [s].
@@ -176,5 +185,16 @@ class RobotBridge:
             frames.arm, current, start, self.limits(frames.arm), frames.rate
         )
         check_frames(move, self.limits(frames.arm))
-        play_and_sample(self.client, angle_interpolation_call(move), period=0.05)
+        on_sample = None if on_state is None else _shifted(on_state, -move.duration)
+        play_and_sample(
+            self.client,
+            angle_interpolation_call(move),
+            period=0.05,
+            on_sample=on_sample,
+        )
         return move.duration
+
+
+def _shifted(report: StateCallback, by: float) -> StateCallback:
+    """``report`` for states whose times are moved by ``by`` [s]."""
+    return lambda state: report(state.model_copy(update={"time": state.time + by}))

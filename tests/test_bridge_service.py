@@ -246,6 +246,33 @@ def test_a_trajectory_is_played_reported_and_published(
     assert not [e for e in read_log(sim.log_path or "") if e["event"] == "refused"]
 
 
+def test_the_approach_states_are_published_before_the_trajectorys(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """A trajectory starting with the arm stretched forward, the arm at rest:
+    the approach's measured states were not published, so a recording missed
+    the arm's first movement. They now come first, their times negative
+    (counted to the trajectory's start) and over the approach's length, the
+    first at the rest posture, the last at the trajectory's start."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [1.0]
+    )
+    reply = stack.execute(trajectory)
+    assert reply.approach_duration >= 0.5
+    time.sleep(0.3)  # let the last publications arrive
+    states = [
+        JointState.model_validate_json(m)
+        for m in published.on(stack.bus.key("bridge/state"))
+    ]
+    before = [s for s in states if s.time < 0.0]
+    assert len(before) >= 0.5 * reply.approach_duration / 0.05
+    assert states[: len(before)] == before  # all of them first, in order
+    assert before[0].time >= -reply.approach_duration - 0.1
+    np.testing.assert_allclose(before[0].positions, rest("right"), atol=0.05)
+    np.testing.assert_allclose(before[-1].positions, forward("right"), atol=0.05)
+    assert len(states) - len(before) >= reply.report.samples
+
+
 def test_a_published_trajectory_is_followed(
     stack: Stack, sim: SimProcess, published: Published
 ) -> None:
