@@ -2,7 +2,7 @@
 
 Keys (namespace ``armplan`` by default):
     ``armplan/plan``             PlanRequest -> Trajectory (``routes.PLAN``)
-    ``armplan/plan/request``     publication: each request it accepted
+    ``armplan/plan/request``     publication: each valid request, before planning
     ``armplan/plan/decision``    publication: each reach's Decision (method mp)
     ``armplan/plan/joint_path``  publication: each reach's JointPath
     ``armplan/plan/trajectory``  publication: each finished Trajectory
