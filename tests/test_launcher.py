@@ -148,6 +148,13 @@ def test_up_starts_everything_status_lists_it_sigterm_stops_it(
             "state": "alive",
             "keys": "armplan/plan",
         } in services
+        # a service required but not alive: one JSON document, with the error
+        # (it was the table, then the error: two documents, unreadable)
+        short = armplan("status", "--connect", endpoint, "--json", "--require", "sim")
+        assert short.returncode == 1
+        document = json.loads(short.stdout)
+        assert document["error"]["kind"] == "service_unavailable"
+        assert len(document["services"]) == len(SERVICES)
         assert_every_route_answers(endpoint)
         up.process.send_signal(signal.SIGTERM)
         assert up.process.wait(EXIT_TIMEOUT) == 0

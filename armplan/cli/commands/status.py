@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
@@ -45,27 +46,32 @@ def run(args: argparse.Namespace) -> int:
     with Bus.connect(config) as bus:
         alive = bus.alive()
     rows = _rows(alive, config.namespace)
-    if args.json:
-        print_json(
-            {
-                "router": config.endpoint,
-                "namespace": config.namespace,
-                "services": [
-                    dict(zip(("service", "state", "keys"), r, strict=True))
-                    for r in rows
-                ],
-            }
-        )
-    else:
-        sys.stdout.write(f"router {config.endpoint}, namespace {config.namespace}\n")
-        print_table(("service", "state", "keys"), rows)
     missing = [name for name in args.require if name not in alive]
+    error = None
     if missing:
-        raise ServiceUnavailableError(
+        error = ServiceUnavailableError(
             ", ".join(missing),
             reason=f"not alive on {config.endpoint}{unknown_hint(missing)}",
         )
-    return 0
+    if not args.json:
+        sys.stdout.write(f"router {config.endpoint}, namespace {config.namespace}\n")
+        print_table(("service", "state", "keys"), rows)
+        if error is not None:
+            raise error
+        return 0
+    document: dict[str, Any] = {
+        "router": config.endpoint,
+        "namespace": config.namespace,
+        "services": [
+            dict(zip(("service", "state", "keys"), r, strict=True)) for r in rows
+        ],
+    }
+    if error is None:
+        print_json(document)
+        return 0
+    print_json(document | {"error": error.to_wire()})  # one JSON document
+    sys.stderr.write(f"armplan: error: {error.message}\n")
+    return 1
 
 
 def _rows(alive: list[str], namespace: str) -> list[tuple[str, str, str]]:
