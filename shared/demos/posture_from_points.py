@@ -79,11 +79,13 @@ def wrist_yaw_for_palm(arm: ArmModel, q: np.ndarray, palm: np.ndarray) -> float:
 
     WristYaw turns the wrist frame about its x axis, so with y0, z0 the
     frame's axes at yaw 0 the palm normal is cos(t) y0 + sin(t) z0, closest
-    to ``palm`` at t* = atan2(palm . z0, palm . y0). With t* outside the
-    range, the limit nearer the present yaw: the wrist waits at the limit it
-    reached until the palm comes back into range, rather than swinging over
-    its whole range to the other limit (a palm half a turn from the range's
-    middle is about as near to either).
+    to ``palm`` at t* = atan2(palm . z0, palm . y0), an angle known only up
+    to whole turns. With t* outside the range, its turn nearest the present
+    yaw is clipped to the range: from the range's middle that is the limit
+    on the side the palm is beyond (the nearer palm), and from a limit the
+    wrist waits there until the palm comes back into range, rather than
+    swinging over its whole range to the other limit. The rule is the same
+    for both arms turned mirror-wise (yaw and palm angle change sign).
 
     Args:
         arm: The NAO arm.
@@ -97,7 +99,8 @@ def wrist_yaw_for_palm(arm: ArmModel, q: np.ndarray, palm: np.ndarray) -> float:
     if low <= best <= high:
         return best
     present = float(q[WRIST_YAW])
-    return low if abs(present - low) <= abs(present - high) else high
+    turns = round((present - best) / math.tau)  # half a turn: to even, +- alike
+    return min(max(best + turns * math.tau, low), high)
 
 
 def joint_path_from_points(
