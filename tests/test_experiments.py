@@ -419,6 +419,31 @@ def test_a_left_arm_task_is_a_clear_error() -> None:
         human_reference(load_arm("left"), task)
 
 
+def test_a_task_with_palms_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """NAO's palm is the person's: a task's palm was silently not used; now the
+    experiment refuses it, naming the target, before anything is written."""
+    task = tmp_path / "palm-task.json"
+    wave = [{"position": [0.06, -0.16, 0.22]}, {"position": [0.06, -0.11, 0.23]}]
+    wave[1]["palm"] = [0.0, 0.0, -1.0]
+    phases = [{"name": "take", "targets": [{"position": [0.14, -0.10, 0.06]}]}]
+    phases.append({"name": "wave", "targets": wave})
+    task.write_text(json.dumps({"arm": "right", "phases": phases}))
+    out = tmp_path / "out"
+    argv = ["experiment", "handover", "--task", str(task), "--out", str(out)]
+    assert main([*argv, "--json"]) == 1
+    error = json.loads(capsys.readouterr().out)["error"]
+    assert error["kind"] == "invalid_input"
+    assert error["message"] == (
+        "the task's target 'wave 2' gives a palm direction; the handover "
+        "experiment takes NAO's palm from the human reference (the person's "
+        "palm at each movement's end), so leave the task's palms out"
+    )
+    assert error["evidence"]["target"] == "wave 2"
+    assert not list(out.glob("*"))
+
+
 def test_reference_starts_in_the_tasks_start_and_ends_on_its_targets() -> None:
     """The person starts in NAO's start posture; NAO's targets are the person's.
 

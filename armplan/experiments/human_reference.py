@@ -19,6 +19,8 @@ palm included).
 The retargeted wrist and palm at the end of each movement are NAO's target
 posture there (the paper: "some postures in the movement are regarded as
 the target postures"): NAO is asked to do what the person did, its own way.
+So a task whose targets give palm directions is refused: the person's palm,
+not the task's, would be NAO's.
 """
 
 from __future__ import annotations
@@ -82,7 +84,8 @@ def person_targets(arm: ArmModel, task: Task, person: Subject) -> list[PersonTar
     """The task's NAO targets as the person's (see the module docstring).
 
     Raises:
-        InvalidInputError: for a left-arm task (the reach model is a right arm's).
+        InvalidInputError: for a left-arm task (the reach model is a right arm's),
+            or a target with a palm direction (NAO's palm is the person's).
     """
     if task.arm is not Side.RIGHT:
         raise InvalidInputError(
@@ -96,9 +99,27 @@ def person_targets(arm: ArmModel, task: Task, person: Subject) -> list[PersonTar
     for phase in task.phases:
         for k, target in enumerate(phase.targets):
             name = phase.name if len(phase.targets) == 1 else f"{phase.name} {k + 1}"
+            _refuse_palm(name, target)
             offset = np.array(target.position) - size.shoulder
             out.append(PersonTarget(name, scale * offset))
     return out
+
+
+def _refuse_palm(name: str, target: ReachTarget) -> None:
+    """Refuse a palm direction, which the experiment would not use.
+
+    Raises:
+        InvalidInputError: naming the target, if it gives a palm.
+    """
+    if target.palm is not None:
+        raise InvalidInputError(
+            f"the task's target {name!r} gives a palm direction; the handover "
+            "experiment takes NAO's palm from the human reference (the person's "
+            "palm at each movement's end), so leave the task's palms out",
+            field="task",
+            target=name,
+            palm=list(target.palm),
+        )
 
 
 def start_pose(arm: ArmModel, q: np.ndarray) -> ArmPose:

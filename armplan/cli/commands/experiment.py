@@ -123,7 +123,9 @@ def _handover_parser(which: argparse._SubParsersAction) -> None:  # type: ignore
     parser = which.add_parser("handover", help=help_, description=help_)
     _common(parser)
     parser.add_argument(
-        "--task", metavar="FILE.json", help="task (default: the demo's)"
+        "--task",
+        metavar="FILE.json",
+        help="task, without palms: NAO's are the person's (default: the demo's)",
     )
     parser.add_argument("--movements", type=int, help="only the first N movements")
     parser.add_argument(
