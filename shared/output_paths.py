@@ -120,6 +120,48 @@ def replaced_when_done(path: Path) -> Iterator[Path]:
             partial.unlink()
 
 
+@contextlib.contextmanager
+def replaced_together(
+    paths: Sequence[Path], field: str = "out"
+) -> Iterator[list[Path]]:
+    """``<name>.partial`` files to write, renamed to ``paths`` when the block ends.
+
+    For files that belong together (an experiment's JSON, tables and
+    figures): the block writes each under its partial name, and only then
+    are they all renamed. If the block raises (a failed write, Ctrl-C), or
+    a path cannot be replaced by a file (a folder stands there), no path is
+    touched: an older set of these files stays whole, not half new. The
+    partial files are removed in every case.
+
+    Args:
+        paths: The files to write, in one folder.
+        field: The option naming the folder, for the error's evidence.
+
+    Raises:
+        InvalidInputError: naming the file that cannot be replaced, and the
+            operating system's reason.
+    """
+    partials = [path.with_name(path.name + ".partial") for path in paths]
+    try:
+        yield partials
+        for path in paths:
+            if path.is_dir():
+                raise InvalidInputError(
+                    f"cannot write {path}: {os.strerror(errno.EISDIR)}", field=field
+                )
+        for partial, path in zip(partials, paths, strict=True):
+            try:
+                os.replace(partial, path)
+            except OSError as exc:
+                raise InvalidInputError(
+                    f"cannot write {path}: {exc.strerror}", field=field
+                ) from None
+    finally:
+        for partial in partials:
+            with contextlib.suppress(OSError):
+                partial.unlink()
+
+
 def _file_problem(path: Path) -> str:
     """Why no file can be written at ``path`` (the OS's words), or ``""``."""
     folder = path.parent

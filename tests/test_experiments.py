@@ -520,6 +520,42 @@ def test_an_output_folder_that_is_a_file_is_refused_before_the_work(
     assert out.read_text() == "keep me"
 
 
+@pytest.mark.parametrize(
+    ("experiment", "files"),
+    [(["similarity", "--subjects", "1", "--trials", "1", "--points", "1"],
+      ["similarity-human.json", "similarity-human.md",
+       "similarity-human-distribution.png", "similarity-human-point-means.png"]),
+     (["handover", "--movements", "1"],
+      ["handover-chained.json", "handover-chained.md",
+       "handover-chained-similarity.png"]),
+     (["pace", "--reaches", "1", "--chains", "0"],
+      ["pace.json", "pace.md", "pace-ratios.png"])],
+    ids=["similarity", "handover", "pace"],
+)  # fmt: skip
+def test_a_failed_last_file_leaves_the_older_results_whole(
+    experiment: list[str],
+    files: list[str],
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A folder where the last figure goes: exit 1 naming it; the older JSON,
+    tables and figures stay as they were (the new JSON and tables used to
+    replace them, leaving a mix) and no partial file is left."""
+    *older, last = (tmp_path / name for name in files)
+    for path in older:
+        path.write_text(f"older {path.name}")
+    last.mkdir()
+    assert_invalid_input(
+        ["experiment", *experiment, "--out", str(tmp_path)],
+        f"cannot write {last}: Is a directory",
+        capsys,
+    )
+    assert [path.read_text() for path in older] == [
+        f"older {path.name}" for path in older
+    ]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(files)
+
+
 def test_the_models_fitted_weights_are_every_methods(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

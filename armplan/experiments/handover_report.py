@@ -16,8 +16,9 @@ from armplan.experiments.handover import SimilaritySeries
 from armplan.experiments.handover_plots import plot_similarity
 from armplan.experiments.handover_summary import movement_table
 from armplan.experiments.human_reference import ReferenceMovement
-from armplan.experiments.markdown_table import markdown_table
+from armplan.experiments.markdown_table import markdown_tables
 from armplan.experiments.similarity_report import Table, make_dir, write_text
+from shared.output_paths import replaced_together
 
 
 def tables(
@@ -55,18 +56,18 @@ def write_report(
 ) -> list[Path]:
     """Write the JSON, the tables and the figure; returns the paths.
 
+    All three replace older files of their names together, or none does
+    (``shared.output_paths.replaced_together``).
+
     Raises:
         InvalidInputError: if the directory cannot be made or written.
     """
     out = make_dir(out)
-    written = [write_text(out / f"{name}.json", json.dumps(summary, indent=2) + "\n")]
-    text = "".join(
-        f"**{title}**\n\n" + markdown_table(*table) + "\n"
-        for title, table in tables(reference, series, summary).items()
-    )
-    written.append(write_text(out / f"{name}.md", text))
+    paths = [out / f"{name}{end}" for end in (".json", ".md", "-similarity.png")]
     starts = summary["protocol"]["starts"]
     title = f"posture similarity to the human reference, handover task ({starts})"
-    figure = out / f"{name}-similarity.png"
-    written.append(plot_similarity(reference, series, figure, title))
-    return written
+    with replaced_together(paths) as (data, table, figure):
+        write_text(data, json.dumps(summary, indent=2) + "\n")
+        write_text(table, markdown_tables(tables(reference, series, summary)))
+        plot_similarity(reference, series, figure, title)
+    return paths

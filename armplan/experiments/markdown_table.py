@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 
@@ -18,3 +18,13 @@ def _cell(value: Any) -> str:
     if isinstance(value, float):
         return f"{value:.3f}"
     return str(value)
+
+
+def markdown_tables(
+    tables: Mapping[str, tuple[Sequence[str], Sequence[Sequence[Any]]]],
+) -> str:
+    """Titled tables one after another: a bold title line, then the table."""
+    return "".join(
+        f"**{title}**\n\n" + markdown_table(*table) + "\n"
+        for title, table in tables.items()
+    )

@@ -17,9 +17,10 @@ import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from armplan.experiments.figure_file import COLOURS, new_figure, save_png
-from armplan.experiments.markdown_table import markdown_table
+from armplan.experiments.markdown_table import markdown_tables
 from armplan.experiments.pace_summary import KINDS, SHORT, SLOW
 from armplan.experiments.similarity_report import Table, make_dir, write_text
+from shared.output_paths import replaced_together
 
 #: The table's columns after method and kind, with the summary's keys.
 _COLUMNS = {
@@ -57,18 +58,19 @@ def _cell(value: Any) -> Any:
 def write_report(summary: dict[str, Any], out: str | Path) -> list[Path]:
     """Write the JSON, the table and the figure; returns the paths.
 
+    All three replace older files of their names together, or none does
+    (``shared.output_paths.replaced_together``).
+
     Raises:
         InvalidInputError: if the directory cannot be made or written.
     """
     out = make_dir(out)
-    written = [write_text(out / "pace.json", json.dumps(summary, indent=2) + "\n")]
-    text = "".join(
-        f"**{title}**\n\n" + markdown_table(*table) + "\n"
-        for title, table in tables(summary).items()
-    )
-    written.append(write_text(out / "pace.md", text))
-    written.append(plot_ratios(summary, out / "pace-ratios.png"))
-    return written
+    paths = [out / name for name in ("pace.json", "pace.md", "pace-ratios.png")]
+    with replaced_together(paths) as (data, table, figure):
+        write_text(data, json.dumps(summary, indent=2) + "\n")
+        write_text(table, markdown_tables(tables(summary)))
+        plot_ratios(summary, figure)
+    return paths
 
 
 def plot_ratios(summary: dict[str, Any], path: Path) -> Path:

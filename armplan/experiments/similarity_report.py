@@ -15,11 +15,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from armplan.experiments.markdown_table import markdown_table
+from armplan.experiments.markdown_table import markdown_tables
 from armplan.experiments.similarity import ReachError
 from armplan.experiments.similarity_plots import plot_distribution, plot_point_means
 from armplan.experiments.similarity_summary import POSTURE
 from shared.errors import InvalidInputError
+from shared.output_paths import replaced_together
 
 CM = 100.0
 Table = tuple[list[str], list[list[Any]]]
@@ -72,21 +73,23 @@ def write_report(
 ) -> list[Path]:
     """Write the JSON, the tables and the two figures; returns the paths.
 
+    All four replace older files of their names together, or none does
+    (``shared.output_paths.replaced_together``).
+
     Raises:
         InvalidInputError: if the directory cannot be made or written.
     """
     out = make_dir(out)
-    written = [write_text(out / f"{name}.json", json.dumps(summary, indent=2) + "\n")]
-    text = "".join(
-        f"**{title}**\n\n" + markdown_table(*table) + "\n"
-        for title, table in tables(summary).items()
-    )
-    written.append(write_text(out / f"{name}.md", text))
+    ends = (".json", ".md", "-distribution.png", "-point-means.png")
+    paths = [out / f"{name}{end}" for end in ends]
     palm = ", palm turned" if summary["protocol"].get("palm") else ""
     title = f"elbow error on NAO, {summary['protocol']['path']} wrist path{palm}"
-    written.append(plot_distribution(rows, out / f"{name}-distribution.png", title))
-    written.append(plot_point_means(rows, out / f"{name}-point-means.png", title))
-    return written
+    with replaced_together(paths) as (data, table, spread, means):
+        write_text(data, json.dumps(summary, indent=2) + "\n")
+        write_text(table, markdown_tables(tables(summary)))
+        plot_distribution(rows, spread, title)
+        plot_point_means(rows, means, title)
+    return paths
 
 
 def make_dir(path: str | Path) -> Path:
