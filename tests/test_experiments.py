@@ -556,6 +556,31 @@ def test_a_failed_last_file_leaves_the_older_results_whole(
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(files)
 
 
+@pytest.mark.parametrize(
+    ("experiment", "arm"),
+    [(["similarity", "--subjects", "1", "--trials", "1", "--points", "1"], "right"),
+     (["handover", "--movements", "1"], "right"),
+     (["pace", "--reaches", "1", "--chains", "0", "--arm", "left"], "left")],
+    ids=["similarity", "handover", "pace"],
+)  # fmt: skip
+def test_the_protocol_names_the_model_and_the_arm(
+    experiment: list[str],
+    arm: str,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Runs with another motion model or arm are told apart by their JSON: the
+    protocol names the model file given (or "shipped") and the arm."""
+    from services.fit import default_model, save_model
+
+    path = tmp_path / "model.json"
+    save_model(default_model(), path)
+    base = ["experiment", *experiment, "--out", str(tmp_path / "out"), "--json"]
+    for model, named in (([], "shipped"), (["--model", str(path)], str(path))):
+        protocol = run_json([*base, *model], capsys)["protocol"]
+        assert (protocol["model"], protocol["arm"]) == (named, arm)
+
+
 def test_the_models_fitted_weights_are_every_methods(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

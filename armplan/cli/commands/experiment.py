@@ -191,7 +191,9 @@ def run_similarity(args: argparse.Namespace) -> int:
     protocol = {
         "path": args.path,
         "demos": source,
+        "arm": _arms(demos),
         "samples": args.samples,
+        "model": _model(args),
         "measures": measures.model_dump(),
         "palm": args.palm,
         "skipped": [s._asdict() for s in skipped],
@@ -230,9 +232,11 @@ def run_handover(args: argparse.Namespace) -> int:
         )
     protocol = {
         "task": str(args.task or DEFAULT_TASK.name),
+        "arm": task.arm.value,
         "movements": len(reference),
         "starts": starts.value,
         "reference": "shared.demos.reach_model, average person, retargeted to NAO",
+        "model": _model(args),
         "measures": measures.model_dump(),
     }
     numbers = summary(reference, series, protocol)
@@ -279,6 +283,7 @@ def run_pace(args: argparse.Namespace) -> int:
         "chain_length": CHAIN_LENGTH,
         "least_move_m": LEAST_MOVE,
         "near_limit_rad": NEAR_LIMIT,
+        "model": _model(args),
         "measures": measures.model_dump(),
     }
     numbers = summary(runs, protocol)
@@ -311,6 +316,19 @@ def _demos(args: argparse.Namespace) -> tuple[Any, str]:
         demos,
         f"synthetic, seed {args.seed}, {args.subjects} subjects, {args.trials} trials",
     )
+
+
+def _arms(demos: Any) -> str:
+    """The arms the demonstrations move: ``"right"``, ``"left"`` or both."""
+    from shared.robot.side import Side
+
+    arms = {trial.arm for trial in demos.trials}
+    return ", ".join(side.value for side in Side if side in arms)
+
+
+def _model(args: argparse.Namespace) -> str:
+    """The motion model, for the protocol: the file as given, or ``"shipped"``."""
+    return str(args.model) if args.model else "shipped"
 
 
 def _weights(args: argparse.Namespace) -> str:
