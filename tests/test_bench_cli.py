@@ -14,6 +14,7 @@ import pytest
 
 from armplan.bench.machine import cpu_model
 from armplan.bench.report import print_bars
+from armplan.bench.service_latency import PER_CLIENT, plans_for
 from armplan.cli.main import main
 from shared.bus.lifeline import PARENT_ENV
 from shared.compiled import running_compiled
@@ -163,6 +164,21 @@ def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
     """--plans 0: exit 1, the option named."""
     assert main(["bench", "--plans", "0"]) == 1
     assert "--plans must be at least 1" in capsys.readouterr().err
+
+
+def test_the_help_says_how_many_plans_go_through_the_services(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """--plans is the in-process count; each row through the services plans at
+    least PER_CLIENT per client (the help said --plans was per client)."""
+    with pytest.raises(SystemExit):
+        main(["bench", "--help"])
+    words = " ".join(capsys.readouterr().out.split())
+    assert (
+        "--plans PLANS plans in-process (default 100); through the services, for "
+        f"each client count, PLANS but at least {PER_CLIENT} per client"
+    ) in words
+    assert plans_for(100, 50) == 50 * PER_CLIENT and plans_for(100, 8) == 100
 
 
 def test_the_bars_show_the_in_process_plan_both_ways(

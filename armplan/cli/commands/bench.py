@@ -54,7 +54,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--plans",
         type=int,
         default=100,
-        help="plans in-process and per client count through the services (default 100)",
+        help="plans in-process (default 100); through the services, for each "
+        "client count, PLANS but at least 10 per client",
     )
     parser.add_argument(
         "--clients",
