@@ -289,3 +289,16 @@ def test_a_misspelt_service_is_said_to_be_no_process_of_ours() -> None:
     assert unknown_hint(["sim"]) == (
         " ('sim' holds no liveliness token (it speaks NAOqi, not Zenoh))"
     )
+
+
+def test_a_robot_and_the_sim_together_are_refused_before_anything_starts() -> None:
+    """`up --with-sim --robot URL` started the router and all five services
+    (about 5 s) before refusing the pair; now nothing starts."""
+    endpoint = free_endpoint()
+    out = armplan(
+        "up", "--listen", endpoint, "--with-sim", "--robot", "tcp://127.0.0.1:9"
+    )
+    assert out.returncode == 1
+    assert "were both asked for: choose one" in out.stderr
+    assert "listening" not in out.stdout + out.stderr
+    assert "ready" not in out.stdout + out.stderr

@@ -86,8 +86,9 @@ def run(args: argparse.Namespace) -> int:
         check_listen_url(args.sim_listen)
     stop = stop_on_signals()
     launcher = Launcher(config, args.only, stop=stop)
+    robot_stack = _robot_stack(args, config, stop)  # checked before anything starts
     # starts; stops everything on the way out (the robot side first)
-    with launcher, _robot_stack(args, config, stop) as robot:
+    with launcher, robot_stack as robot:
         _print_started(launcher, config, robot)
         _watch(launcher, robot, stop)
     _say("armplan up: stopped every process")
