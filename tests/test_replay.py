@@ -19,6 +19,7 @@ the order is checked exactly.
 from __future__ import annotations
 
 import json
+import signal
 import statistics
 import subprocess
 import sys
@@ -362,3 +363,23 @@ def test_two_recordings_made_at_once_are_not_replayed_as_one(tmp_path: Path) -> 
     second.stop()
     with pytest.raises(RecordingError, match=r"y\.mcap overlaps .*x\.mcap"):
         replay_items([tmp_path / "x.mcap", tmp_path / "y.mcap"])
+
+
+def test_an_interrupted_replay_says_so_in_its_exit_code(
+    config: BusConfig, recording: tuple[Path, list[float]]
+) -> None:
+    """SIGINT a replay slowed tenfold (13 s) after a second: it said 'sent 2
+    of 7 messages' and exited 0, so a script took it for a whole one; it now
+    exits 130 and says it was interrupted."""
+    path, _ = recording
+    command = [sys.executable, "-m", "armplan", "replay", str(path), "--speed", "0.1"]
+    command += ["--connect", config.endpoint, "--namespace", TARGET]
+    process = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    time.sleep(4.0)  # start-up, then the first messages
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=30)
+    assert process.returncode == 130, err
+    assert "interrupted before the end" in err
+    assert f"of {len(OFFSETS)} messages" in out

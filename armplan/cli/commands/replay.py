@@ -101,6 +101,11 @@ def _no_key_matches(args: argparse.Namespace) -> None:
     )
 
 
+#: Exit code of a replay stopped by SIGINT or SIGTERM before its end (as a
+#: shell reports Ctrl-C), so that a script can tell it from a whole one.
+INTERRUPTED = 130
+
+
 def run(args: argparse.Namespace) -> int:
     """Read the file, then send its messages at their (scaled) times."""
     check_speed(args.speed)  # before connecting: a bad option, not a lost router
@@ -134,4 +139,7 @@ def run(args: argparse.Namespace) -> int:
         f"{stats.duration:.3f} s (speed {args.speed:g}, at most "
         f"{stats.late * 1000:.1f} ms late)\n"
     )
+    if stop.is_set() and stats.sent < len(items):
+        sys.stderr.write("armplan replay: interrupted before the end\n")
+        return INTERRUPTED
     return 0
