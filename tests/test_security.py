@@ -295,9 +295,15 @@ def refused_to_open(config: BusConfig) -> bool:
 
 
 def test_a_wrong_password_is_refused(secured: Bundle) -> None:
-    """Wrong password, unknown user, no login: no session at all."""
+    """Wrong password, unknown user, no login: no session at all. The error
+    names a refused login beside a missing router (it said only 'no Zenoh
+    router answers ... start one with armplan up', with one running)."""
     password = "transport/auth/usrpwd/password"
-    assert refused_to_open(user_config(secured, "client", **{password: "wrong"}))
+    wrong = user_config(secured, "client", **{password: "wrong"})
+    assert refused_to_open(wrong)
+    with pytest.raises(ServiceUnavailableError) as caught:
+        Bus.connect(wrong)
+    assert "refuses this client: check the user, password" in caught.value.message
     assert refused_to_open(
         user_config(secured, "client", **{"transport/auth/usrpwd/user": "intruder"})
     )

@@ -33,10 +33,27 @@ def open_client(config: BusConfig, wait: float = 0.0) -> zenoh.Session:
                 raise ServiceUnavailableError(
                     "router",
                     reason=f"no Zenoh router answers at {', '.join(config.endpoints)} "
-                    f"({_short(error)}); start one with `armplan up`, or give the "
-                    "router's address with --connect",
+                    f"({_short(error)}){_secured_hint(config)}; start one with "
+                    "`armplan up`, or give the router's address with --connect",
                 ) from None
             time.sleep(RETRY_EVERY)
+
+
+def _secured_hint(config: BusConfig) -> str:
+    """The second cause to name for a secured connection, or ``""``.
+
+    Zenoh tells a refused login or certificate no differently from no router
+    at all, so a client with TLS endpoints or a login names both.
+    """
+    secured = any(e.startswith("tls/") for e in config.endpoints) or any(
+        path.startswith("transport/auth") for path, _ in config.client_settings
+    )
+    if not secured:
+        return ""
+    return (
+        f", or one answers but refuses this client: check the user, password "
+        f"and certificate settings of {config.source}"
+    )
 
 
 def open_router(config: BusConfig, zid: str | None = None) -> zenoh.Session:
