@@ -302,3 +302,15 @@ def test_a_robot_and_the_sim_together_are_refused_before_anything_starts() -> No
     assert "were both asked for: choose one" in out.stderr
     assert "listening" not in out.stdout + out.stderr
     assert "ready" not in out.stdout + out.stderr
+
+
+def test_a_secured_configuration_is_refused_before_anything_starts() -> None:
+    """`up --config config/secure/router.json5` started its router, then its
+    services waited a minute to log in and failed as if no router answered;
+    `up` runs only the unsecured set, and now says so at once."""
+    from shared.bus.config_file import REPO_CONFIG
+
+    out = armplan("up", "--config", str(REPO_CONFIG.parent / "secure" / "router.json5"))
+    assert out.returncode == 1
+    assert "is a secured (TLS) configuration" in out.stderr
+    assert "listening" not in out.stdout + out.stderr
