@@ -314,3 +314,23 @@ def test_a_secured_configuration_is_refused_before_anything_starts() -> None:
     assert out.returncode == 1
     assert "is a secured (TLS) configuration" in out.stderr
     assert "listening" not in out.stdout + out.stderr
+
+
+def test_a_robot_side_process_that_exits_is_reported_with_its_code(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A service that exits is reported 'exited with code N'; the sim and the
+    bridge were reported without one ('bridge (pid N) exited')."""
+    log = tmp_path / "up.log"
+    sim_at = f"tcp://127.0.0.1:{free_endpoint().rsplit(':', 1)[1]}"
+    args = ("--listen", free_endpoint(), "--only", "ik", "--with-sim")
+    with armplan_up(*args, "--sim-listen", sim_at, log=log) as up:
+        up.wait_ready()
+        os.kill(up.pids["sim"], signal.SIGKILL)
+        deadline = time.monotonic() + 10.0
+        wanted = f"armplan up: sim (pid {up.pids['sim']}) exited with code -9"
+        while wanted not in log.read_text() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert wanted in log.read_text()
+        up.process.send_signal(signal.SIGTERM)
+        assert up.process.wait(EXIT_TIMEOUT) == 0

@@ -102,7 +102,7 @@ class FaultSystem(StartStop):
     def running(self) -> dict[str, bool]:
         """Whether each process runs, by name."""
         gone = {c.name for c in self.launcher.exited()}
-        gone |= {name for name, _ in self.robot.exited()}
+        gone |= {name for name, _, _ in self.robot.exited()}
         recorder = self.stack.recorder
         if recorder is not None and recorder.process.poll() is not None:
             gone.add(RECORDER)

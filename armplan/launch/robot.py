@@ -165,9 +165,11 @@ class RobotStack(StartStop):
             raise ServiceUnavailableError(
                 BRIDGE.name, reason="stopped by a signal while starting"
             )
-        for name, pid in self.exited():
+        for name, pid, code in self.exited():
             raise ServiceUnavailableError(
-                name, reason=f"its process {pid} exited while starting (see its log)"
+                name,
+                reason=f"its process {pid} exited with code {code} while starting "
+                "(see its log)",
             )
 
     def processes(self) -> dict[str, int]:
@@ -179,13 +181,13 @@ class RobotStack(StartStop):
             found[BRIDGE.name] = self.bridge.pid
         return found
 
-    def exited(self) -> list[tuple[str, int]]:
-        """``(name, pid)`` of each started process that is no longer running."""
+    def exited(self) -> list[tuple[str, int, int]]:
+        """``(name, pid, exit code)`` of each started process no longer running."""
         gone = []
-        if self.sim is not None and self.sim.pid and not self.sim.running():
-            gone.append(("sim", self.sim.pid))
-        if self.bridge is not None and self.bridge.exit_code() is not None:
-            gone.append((BRIDGE.name, self.bridge.pid))
+        if self.sim is not None and (code := self.sim.exit_code()) is not None:
+            gone.append(("sim", self.sim.pid, code))
+        if self.bridge is not None and (code := self.bridge.exit_code()) is not None:
+            gone.append((BRIDGE.name, self.bridge.pid, code))
         return gone
 
     def stop(self, grace: float = GRACE) -> None:

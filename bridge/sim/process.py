@@ -114,6 +114,10 @@ class SimProcess(StartStop):
         """True while the child runs."""
         return self._process is not None and self._process.poll() is None
 
+    def exit_code(self) -> int | None:
+        """The child's exit code once it has exited, else ``None``."""
+        return None if self._process is None else self._process.poll()
+
     def stop(self, timeout: float = 5.0) -> int | None:
         """Ask the child to stop (SIGTERM), kill it after ``timeout`` [s]."""
         if self._process is None:

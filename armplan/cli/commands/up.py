@@ -171,7 +171,11 @@ def _watch(launcher: Launcher, robot: RobotStack | None, stop: threading.Event) 
 def _exited(launcher: Launcher, robot: RobotStack | None) -> list[tuple[str, int, str]]:
     """``(name, pid, " with code N")`` of each child that has exited."""
     gone = [(c.name, c.pid, f" with code {c.exit_code()}") for c in launcher.exited()]
-    return gone + [(name, pid, "") for name, pid in robot.exited()] if robot else gone
+    if robot is None:
+        return gone
+    return gone + [
+        (name, pid, f" with code {code}") for name, pid, code in robot.exited()
+    ]
 
 
 def _say(line: str) -> None:
