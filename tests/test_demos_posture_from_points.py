@@ -91,3 +91,14 @@ def _turn_about_x(angle: float) -> np.ndarray:
     """The rotation [rad] about the x axis, shape (3, 3)."""
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def test_wrist_yaw_out_of_range_waits_at_the_nearer_limit() -> None:
+    """A palm half a turn from yaw 0 keeps the wrist at the limit it is at."""
+    arm = load_arm("right")
+    q = np.array([0.3, -0.4, 1.0, 0.8, 1.7])
+    frame = arm.rotation(np.array([0.3, -0.4, 1.0, 0.8, 0.0]), "wrist")
+    behind = -frame[:, 1]  # yaw pi, outside [-1.824, 1.824]
+    assert wrist_yaw_for_palm(arm, q, behind) == pytest.approx(arm.limits.upper[4])
+    q[4] = -1.7
+    assert wrist_yaw_for_palm(arm, q, behind) == pytest.approx(arm.limits.lower[4])

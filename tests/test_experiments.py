@@ -28,7 +28,6 @@ from armplan.experiments.subject_reach import subject_reaches
 from shared.demos import synthesize
 from shared.demos.posture_from_points import (
     joints_from_points,
-    wrist_yaw_for_palm,
 )
 from shared.errors import InvalidInputError
 from shared.messages.measure_params import MeasureParams
@@ -390,17 +389,6 @@ def test_human_points_become_the_nao_posture_that_made_them(
         assert np.linalg.norm(again.elbow - points.elbow) < 1e-6
         assert np.linalg.norm(again.wrist - points.wrist) < 1e-6
         assert found[4] == pytest.approx(q[4], abs=1e-6)  # the palm fixes WristYaw
-
-
-def test_wrist_yaw_out_of_range_waits_at_the_nearer_limit() -> None:
-    """A palm half a turn from yaw 0 keeps the wrist at the limit it is at."""
-    arm = load_arm("right")
-    q = np.array([0.3, -0.4, 1.0, 0.8, 1.7])
-    frame = arm.rotation(np.array([0.3, -0.4, 1.0, 0.8, 0.0]), "wrist")
-    behind = -frame[:, 1]  # yaw pi, outside [-1.824, 1.824]
-    assert wrist_yaw_for_palm(arm, q, behind) == pytest.approx(arm.limits.upper[4])
-    q[4] = -1.7
-    assert wrist_yaw_for_palm(arm, q, behind) == pytest.approx(arm.limits.lower[4])
 
 
 def test_bad_grid_point_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
