@@ -138,12 +138,21 @@ def replaced_together(
         field: The option naming the folder, for the error's evidence.
 
     Raises:
-        InvalidInputError: naming the file that cannot be replaced, and the
-            operating system's reason.
+        InvalidInputError: naming the file that cannot be written or
+            replaced (not its partial name), and the operating system's reason.
     """
     partials = [path.with_name(path.name + ".partial") for path in paths]
     try:
-        yield partials
+        try:
+            yield partials
+        except OSError as exc:  # name the file asked for, not its partial
+            final = dict(zip(map(str, partials), paths, strict=True))
+            path = final.get(str(exc.filename))
+            if path is None:
+                raise
+            raise InvalidInputError(
+                f"cannot write {path}: {exc.strerror}", field=field
+            ) from None
         for path in paths:
             if path.is_dir():
                 raise InvalidInputError(

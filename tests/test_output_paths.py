@@ -55,3 +55,17 @@ def test_a_folder_in_a_files_place_leaves_the_older_set(older: list[Path]) -> No
     assert caught.value.field == "out"
     older[-1].rmdir()
     assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES[:-1]}
+
+
+def test_a_failed_write_names_the_file_asked_for(older: list[Path]) -> None:
+    """A write that fails inside the block (a folder stands at a partial
+    name, as a full disk would fail it) named 'result.md.partial'; the
+    error names result.md, and the older set stays whole."""
+    partial_md = older[1].with_name(older[1].name + ".partial")
+    partial_md.mkdir()
+    with pytest.raises(InvalidInputError) as caught, replaced_together(older) as new:
+        for partial in new:
+            partial.write_text("newer")
+    assert caught.value.message == f"cannot write {older[1]}: Is a directory"
+    partial_md.rmdir()
+    assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES}
