@@ -150,9 +150,6 @@ def _frozen(values: npt.ArrayLike) -> np.ndarray:
     return array
 
 
-__all__ = ["ACCELERATION_TIME", "JERK_TIME", "MotionLimits", "motion_limits"]
-
-
 def net_limits(joints: JointLimits) -> MotionLimits:
     """The bridge's safety net [rad/s^2, rad/s^3]: the highest limits allowed.
 
@@ -194,3 +191,14 @@ def asked_limits(
                 joint=joints.names[k],
             )
     return limits
+
+
+__all__ = [
+    "ACCELERATION_TIME",
+    "JERK_TIME",
+    "NET_ACCELERATION_TIME",
+    "MotionLimits",
+    "asked_limits",
+    "motion_limits",
+    "net_limits",
+]
