@@ -33,3 +33,15 @@ def test_a_restarted_solve_is_mirrored(capsys: pytest.CaptureFixture[str]) -> No
     right = solve("right", start, target, capsys)
     left = solve("left", MIRROR * start, target * np.array([1.0, -1.0, 1.0]), capsys)
     np.testing.assert_allclose(left, MIRROR * right, atol=1e-9)
+
+
+@pytest.mark.parametrize("spelling", ["Left", "LEFT", " left "])
+def test_the_arm_is_read_in_any_case(
+    spelling: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """plan, fk and decide read --arm in any case; ik refused 'Left' ('Input
+    should be right or left'). It now solves the left arm."""
+    target = TARGET * np.array([1.0, -1.0, 1.0])
+    start = MIRROR * np.array(START)
+    spelt = solve(spelling, start, target, capsys)
+    np.testing.assert_allclose(spelt, solve("left", start, target, capsys))

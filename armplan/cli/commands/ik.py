@@ -15,7 +15,7 @@ from armplan.cli.parsing import (
 )
 from armplan.cli.remote import add_remote, is_remote
 from shared.messages import IKRequest, IKResult, Method, parse
-from shared.robot import load_arm
+from shared.robot import Side, load_arm
 
 ORDER = 20
 HELP = "inverse kinematics: joint angles that put the wrist on a target"
@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     request = parse(
         IKRequest,
         {
-            "arm": args.arm,
+            "arm": Side.parse(args.arm),  # any case, as the other commands
             "target": finite(args.target, "target"),
             "palm": finite(args.palm, "palm"),
             "primitive": args.primitive,
