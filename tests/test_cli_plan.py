@@ -123,6 +123,23 @@ def test_a_task_file_plans_what_the_options_plan(
     }
 
 
+def test_the_arm_of_a_task_file_in_any_case_or_from_the_option(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A task naming no arm (as the docs' example) was refused with --arm
+    left ('the task is for the right arm'); --arm now gives its arm. A file
+    writing "Left" was refused too; it reads as --arm reads it."""
+    left = (GOAL[0], -GOAL[1], GOAL[2])
+    file = tmp_path / "task.json"
+    file.write_text(json.dumps({"targets": [{"position": left}]}))
+    from_option = plan_json(capsys, "--task", str(file), "--arm", "left")
+    assert from_option.arm == "left"
+    file.write_text(json.dumps({"arm": "Left", "targets": [{"position": left}]}))
+    assert plan_json(capsys, "--task", str(file)) == from_option
+    assert main(["plan", "--task", str(file), "--arm", "right"]) == 1
+    assert "--arm right but the task" in capsys.readouterr().err
+
+
 def test_weights_beside_a_task_file_join_the_files_own(
     tmp_path: pathlib.Path,
 ) -> None:

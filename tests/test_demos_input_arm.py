@@ -146,6 +146,17 @@ def test_the_marker_map_reader_refuses_a_shared_thumb(tmp_path: pathlib.Path) ->
         read_marker_map(path)
 
 
+def test_the_marker_maps_arm_is_read_in_any_case(tmp_path: pathlib.Path) -> None:
+    """"Left" was refused ('Input should be right or left') while --arm takes
+    any case; a name that is no arm is still refused, saying which are."""
+    path = tmp_path / "map.json"
+    path.write_text(json.dumps({**MAP, "arm": "Left"}))
+    assert read_marker_map(path).arm == "left"
+    path.write_text(json.dumps({**MAP, "arm": "middle"}))
+    with pytest.raises(DemoFileError, match="unknown arm 'middle'"):
+        read_marker_map(path)
+
+
 def test_write_demos_leaves_no_file_when_a_subject_is_invalid(
     tmp_path: pathlib.Path,
 ) -> None:

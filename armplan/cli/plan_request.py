@@ -13,8 +13,8 @@ Three ways to say what to do, one per command line:
 - ``--task FILE.json``: a whole ``PlanRequest`` as JSON, the message the
   planner service takes. ``--method``, ``--fastest``, ``--rate``,
   ``--start``, the weights and the limits given beside it override the
-  file's; ``--arm`` must agree with it; ``--dwell`` and ``--palm`` belong in
-  the file.
+  file's; ``--arm`` must agree with the file's arm, or gives it where the
+  file names none; ``--dwell`` and ``--palm`` belong in the file.
 """
 
 from __future__ import annotations
@@ -214,12 +214,14 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
         request = parse(PlanRequest, text)
     except InvalidInputError as exc:
         raise InvalidInputError(f"{path}: {exc.message}", field=exc.field) from None
-    if args.arm is not None and Side.parse(args.arm) is not request.arm:
+    fields, how = request.model_dump(), _how(args)
+    if args.arm is not None and "arm" not in request.model_fields_set:
+        fields["arm"] = Side.parse(args.arm)  # the file names no arm: --arm does
+    elif args.arm is not None and Side.parse(args.arm) is not request.arm:
         raise InvalidInputError(
             f"--arm {args.arm} but the task {path} is for the {request.arm.value} arm",
             field="arm",
         )
-    fields, how = request.model_dump(), _how(args)
     for part in ("measures", "limits"):  # the task's others stay
         if part in how:
             how[part] = (fields[part] or {}) | how[part]

@@ -23,6 +23,7 @@ from shared.messages import PlanRequest, ReachTarget, parse
 from shared.messages.base import Message
 from shared.robot import Side, load_arm
 from shared.robot.postures import forward, rest
+from shared.robot.side import SideAnyCase
 
 #: The shipped task: the paper's handover experiment.
 DEFAULT_TASK = Path(__file__).with_name("handover_task.json")
@@ -108,7 +109,7 @@ class TaskFile(Message):
 
     name: str | None = None
     source: str = ""
-    arm: Side = Side.RIGHT
+    arm: SideAnyCase = Side.RIGHT
     frame: str = ""
     start: str | list[float] = "forward"
     start_note: str = ""
@@ -130,12 +131,6 @@ class TaskFile(Message):
             f"the start posture must be {' or '.join(map(repr, POSTURES))}, or "
             f"{ANGLES} joint angles [rad] as finite numbers"
         )
-
-    @field_validator("arm", mode="before")
-    @classmethod
-    def _arm(cls, value: object) -> object:
-        """``right`` or ``left``, in any case (as ``--arm`` takes them)."""
-        return Side.parse(value).value if isinstance(value, str) else value
 
 
 def _finite_number(value: object) -> bool:

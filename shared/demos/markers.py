@@ -34,7 +34,7 @@ from pydantic import Field, field_validator
 from shared.demos.rotations import FloatArray
 from shared.errors import DemoFileError, InvalidInputError
 from shared.messages.base import Message, parse
-from shared.robot.side import Side
+from shared.robot.side import Side, SideAnyCase
 
 #: Metres per unit.
 UNIT_SCALE = {"m": 1.0, "cm": 0.01, "mm": 0.001}
@@ -48,7 +48,7 @@ class MarkerMap(Message):
     elbow: str = Field(min_length=1)
     wrist: str = Field(min_length=1)
     thumb: str | None = None
-    arm: Side = Side.RIGHT
+    arm: SideAnyCase = Side.RIGHT
     units: Literal["m", "cm", "mm"] | None = None
     axes: tuple[str, str, str] = ("x", "y", "z")
     subject: str | None = Field(default=None, min_length=1, max_length=64)

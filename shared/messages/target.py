@@ -16,7 +16,7 @@ from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
 from shared.messages.timing_limits import TimingLimits
 from shared.messages.wrist_path import WristPath
-from shared.robot.side import Side
+from shared.robot.side import Side, SideAnyCase
 
 #: Most targets one task may hold.
 MAX_TARGETS = 64
@@ -65,7 +65,7 @@ class PlanRequest(Message):
             answer is late (``Bus.call(..., repeat=True)``).
     """
 
-    arm: Side = Side.RIGHT
+    arm: SideAnyCase = Side.RIGHT
     targets: list[ReachTarget] = Field(default_factory=list, max_length=MAX_TARGETS)
     wrist_path: WristPath | None = None
     start: JointVector | None = None

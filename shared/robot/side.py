@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 from enum import StrEnum
+from typing import Annotated
+
+from pydantic import BeforeValidator
 
 from shared.errors import UnknownArmError
 
@@ -51,3 +54,22 @@ class Side(StrEnum):
     def hand_joint(self) -> str:
         """NAO name of the gripper actuator (open fraction 0..1)."""
         return self.prefix + "Hand"
+
+
+def _any_case(value: object) -> object:
+    """A side's name in lower case, without spaces (others unchanged).
+
+    Raises:
+        ValueError: for a name that is no side, saying which are.
+    """
+    if not isinstance(value, str):
+        return value
+    try:
+        return Side.parse(value).value
+    except UnknownArmError as error:
+        raise ValueError(error.message) from None
+
+
+#: ``Side`` in a file a person writes (a task, a marker map): ``"Left"``
+#: and ``"RIGHT"`` read as the command line's ``--arm`` reads them.
+SideAnyCase = Annotated[Side, BeforeValidator(_any_case)]
