@@ -91,7 +91,12 @@ class BridgeService:
         return reply
 
     def _publish_frames(self, frames: CommandFrames) -> None:
-        """Publish and log the frames about to be sent (every check passed)."""
+        """Publish and log the frames about to be sent (every check passed).
+
+        The trajectory ends its own length from now, after any approach: the
+        estimate a refused caller is told is set again here.
+        """
+        self._ends = time.monotonic() + frames.duration
         self.bus.publish(BRIDGE_FRAMES_TOPIC, frames)
         log.info(
             "playing %d frames (%.2f s, %s arm) on %s",

@@ -319,6 +319,35 @@ def test_a_request_while_the_robot_plays_is_refused_not_queued(
     assert [m["method"] for m in motions].count("angleInterpolation") == 1
 
 
+def test_the_time_left_told_a_refused_caller_counts_from_after_the_approach(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """A 2 s trajectory from the arm stretched forward, the arm at rest: a
+    caller refused just as its frames go out was told the time left from the
+    lock, less the approach (about 1 s too little); now from the frames."""
+    outcome: dict[str, Any] = {}
+    trajectory = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [2.0]
+    )
+
+    def first() -> None:
+        outcome["reply"] = stack.execute(trajectory)
+
+    caller = threading.Thread(target=first)
+    caller.start()
+    try:
+        deadline = time.monotonic() + 20.0
+        while not published.on(stack.bus.key("bridge/frames")):
+            assert time.monotonic() < deadline, "no frames within 20 s"
+            time.sleep(0.01)
+        with pytest.raises(RobotBusyError) as caught:
+            stack.execute(reach(), timeout=5.0)
+    finally:
+        caller.join(30.0)
+    assert outcome["reply"].approach_duration >= 0.9
+    assert caught.value.evidence["remaining"] >= trajectory.duration - 0.45
+
+
 def test_a_sim_killed_mid_trajectory_errs_within_2_s_and_is_used_again(
     stack: Stack, tmp_path: Path
 ) -> None:
