@@ -127,6 +127,10 @@ def _worst(
     return float(ratio[i, j]), int(j), float(t[i]), float(gap[i, j])
 
 
+#: Where between two frames the lines are compared with the curve.
+QUARTERS = (0.25, 0.5, 0.75)
+
+
 def _gaps(
     frames: CommandFrames,
     trajectory: Trajectory,
@@ -134,14 +138,17 @@ def _gaps(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Times [s] (k,) and gaps [rad] (k, n) of the lines through the frames.
 
-    At the trajectory's samples and at the midpoints between frames, where
-    the lines are farthest from a smooth curve; the curve is held in
-    ``within`` as the frames are.
+    At the trajectory's samples and at the quarter points between frames:
+    a smooth curve is farthest from a line at its midpoint, but a curve that
+    rests at both frames (a cubic with zero end speeds) crosses the line
+    there and is farthest at the quarters (at 1 fps, 8.6 degrees passed as
+    0). The curve is held in ``within`` as the frames are.
     """
     t_keys = np.concatenate([[0.0], frames.times])
     q_keys = np.vstack([np.asarray(frames.start)[None, :], frames.positions])
     samples = np.asarray(trajectory.times) - trajectory.times[0]
-    t = np.unique(np.concatenate([samples, 0.5 * (t_keys[1:] + t_keys[:-1])]))
+    between = [(1.0 - f) * t_keys[:-1] + f * t_keys[1:] for f in QUARTERS]
+    t = np.unique(np.concatenate([samples, *between]))
     lines = np.column_stack(
         [np.interp(t, t_keys, q_keys[:, j]) for j in range(q_keys.shape[1])]
     )

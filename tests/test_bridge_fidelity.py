@@ -27,6 +27,7 @@ from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from shared.errors import TrajectoryRefusedError
 from shared.messages import Trajectory
+from shared.robot import load_arm
 from shared.robot.postures import forward, rest
 
 LIMITS = FrameLimits.for_arm("right")
@@ -188,3 +189,34 @@ def test_every_rate_offered_passes_every_check(
             checked_frames(trajectory, float(found[1]), LIMITS)
             offered += 1
     assert offered >= 4
+
+
+def test_a_curve_resting_at_every_frame_is_compared_at_the_quarters() -> None:
+    """Samples 1 s apart, the arm at rest at each (zero speeds), sent at 1 fps:
+    frames fall on the samples, and the curve between them crosses the
+    straight line at its midpoint, where alone it was compared (8.6 degrees
+    passed as 0 in a 64-target task). At the quarter points the cubic is
+    3/32 of the step off the line: 2.7 degrees for a 0.5 rad step."""
+    q0 = np.array(rest("right"))
+    q1 = q0 + np.array([-0.5, 0.0, 0.0, 0.0, 0.0])
+    zeros = [[0.0] * 5] * 3
+    trajectory = Trajectory(
+        arm="right",
+        joint_names=list(load_arm("right").joint_names),
+        times=[0.0, 1.0, 2.0],
+        positions=[q0.tolist(), q1.tolist(), q0.tolist()],
+        velocities=zeros,
+        accelerations=zeros,
+        primitives=["least-norm"] * 3,
+        wrist_path=[(0.0, 0.0, 0.0)] * 3,
+        method="least-norm",
+    )
+    quarter = positions_at(trajectory, np.array([0.25]))[0]
+    line = q0 + 0.25 * (q1 - q0)
+    assert math.degrees(abs(quarter[0] - line[0])) == pytest.approx(
+        math.degrees(0.5 * 3 / 32), rel=1e-6
+    )
+    with pytest.raises(
+        TrajectoryRefusedError, match=r"RShoulderPitch would pass 2\.7 deg"
+    ):
+        checked_frames(trajectory, 1.0, FrameLimits.for_arm("right"))
