@@ -12,7 +12,12 @@ from services.planner.pipeline import plan
 from shared.errors import InvalidInputError, LimitViolationError
 from shared.messages import PlanRequest, Trajectory, WristPath, parse
 from shared.robot import load_arm
-from shared.robot.motion_limits import motion_limits, net_limits
+from shared.robot.motion_limits import (
+    SLOWEST_ACCELERATION,
+    SLOWEST_JERK,
+    motion_limits,
+    net_limits,
+)
 from shared.robot.postures import rest
 
 GOAL = [0.12, -0.13, 0.05]
@@ -78,6 +83,40 @@ def test_limits_above_the_safety_net_are_refused(
         planned(limits=limits)
     assert error.value.field == field
     assert joint in error.value.message and "safety net" in error.value.message
+
+
+@pytest.mark.parametrize(
+    ("limits", "field", "joint"),
+    [
+        ({"acceleration": 1e-6}, "acceleration", "RShoulderPitch"),
+        ({"acceleration": 1e-300}, "acceleration", "RShoulderPitch"),
+        ({"jerk": [100.0, 100.0, 100.0, 100.0, 1.0]}, "jerk", "RWristYaw"),
+    ],
+)
+def test_limits_below_their_floor_are_refused_before_planning(
+    limits: dict[str, object], field: str, joint: str
+) -> None:
+    """1e-6 rad/s^2 made a 2.7 million-sample trajectory (2 GB) before the
+    sample cap refused it, 1e-9 took 22 GB, 1e-300 overflowed; a hundredth of
+    the default acceleration (a thousandth of the jerk) is the floor."""
+    with pytest.raises(InvalidInputError) as error:
+        planned(limits=limits)
+    assert error.value.field == field
+    assert joint in error.value.message and "below the" in error.value.message
+
+
+def test_limits_at_their_floor_plan_a_slow_reach() -> None:
+    """At the floors (per joint) a reach is planned, within them, slowly."""
+    default = motion_limits(load_arm("right").limits)
+    floors = {
+        "acceleration": list(default.acceleration / SLOWEST_ACCELERATION),
+        "jerk": list(default.jerk / SLOWEST_JERK),
+    }
+    slow = planned(fastest=True, limits=floors)
+    acc, jerk = peaks(slow)
+    assert np.all(acc <= np.array(floors["acceleration"]) * (1 + 1e-6))
+    assert np.all(jerk <= np.array(floors["jerk"]) * (1 + 1e-6))
+    assert 2.0 < slow.times[-1] < 20.0
 
 
 @pytest.mark.parametrize(

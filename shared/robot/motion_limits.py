@@ -45,6 +45,14 @@ JERK_TIME = 0.05
 #: Time from rest to full speed at the bridge's safety net [s]: NAO's arm
 #: motors reach their no-load speed in about a tenth of a second.
 NET_ACCELERATION_TIME = 0.1
+#: How many times below its default a request's acceleration limit may be
+#: (and its jerk limit, ``SLOWEST_JERK``): at both floors a joint crosses
+#: its whole range in about 10 s. Slower is a creep, and limits with no floor
+#: (1e-9 rad/s^2) made trajectories of millions of samples, gigabytes of
+#: memory, before the sample cap could refuse them.
+SLOWEST_ACCELERATION = 100.0
+#: The same for the jerk limit.
+SLOWEST_JERK = 1000.0
 
 
 class MotionLimits(NamedTuple):
@@ -173,13 +181,27 @@ def asked_limits(
         jerk: [rad/s^3], a scalar or shape (n,), or None (default).
 
     Raises:
-        InvalidInputError: a limit that is not a positive finite number, or
-            above the net (:func:`net_limits`), naming the joint and the net.
+        InvalidInputError: a limit that is not a positive finite number,
+            below its floor (``SLOWEST_ACCELERATION``, ``SLOWEST_JERK``) or
+            above the net (:func:`net_limits`), naming the joint and the bound.
     """
     limits = motion_limits(joints, acceleration=acceleration, jerk=jerk)
-    net = net_limits(joints)
+    net, default = net_limits(joints), motion_limits(joints)
+    floors = {"acceleration": SLOWEST_ACCELERATION, "jerk": SLOWEST_JERK}
     for name, unit in (("acceleration", "rad/s^2"), ("jerk", "rad/s^3")):
         asked, most = getattr(limits, name), getattr(net, name)
+        least = getattr(default, name) / floors[name]
+        under = asked < least * (1.0 - 1e-12)
+        if np.any(under):
+            k = int(np.argmax(under))
+            raise InvalidInputError(
+                f"{name} limit of {joints.names[k]} is {asked[k]:g} {unit}, below "
+                f"the {least[k]:.3g} {unit} allowed (1/{floors[name]:g} of the "
+                "default): slower is a creep, a joint taking over 10 s across "
+                "its range",
+                field=name,
+                joint=joints.names[k],
+            )
         over = asked > most * (1.0 + 1e-12)
         if np.any(over):
             k = int(np.argmax(over))
@@ -197,6 +219,8 @@ __all__ = [
     "ACCELERATION_TIME",
     "JERK_TIME",
     "NET_ACCELERATION_TIME",
+    "SLOWEST_ACCELERATION",
+    "SLOWEST_JERK",
     "MotionLimits",
     "asked_limits",
     "motion_limits",
