@@ -163,3 +163,26 @@ def test_a_wrist_path_is_checked_against_the_asked_limits() -> None:
     )
     with pytest.raises(LimitViolationError):
         plan(slow)
+
+
+#: Seven of the demo task's targets, in its order.
+SEVEN = [
+    (0.14, -0.1, 0.06), (0.1, -0.17, 0.02), (0.11, -0.07, 0.01), (0.13, -0.07, 0.09),
+    (0.12, -0.165, 0.03), (0.06, -0.16, 0.22), (0.06, -0.11, 0.23),
+]  # fmt: skip
+
+
+def test_a_trajectory_too_large_for_the_bus_is_refused_by_the_planner() -> None:
+    """46 targets at 1000 Hz and 3 rad/s^2: 58 197 samples, under the sample
+    cap, but 19.9 MB of JSON; it planned, and the bridge then refused it as
+    payload_too_large. The planner now refuses it, saying its size."""
+    targets = [{"position": SEVEN[k % len(SEVEN)]} for k in range(46)]
+    with pytest.raises(InvalidInputError) as error:
+        plan(
+            parse(
+                PlanRequest,
+                {"targets": targets, "rate": 1000, "limits": {"acceleration": 3.0}},
+            )
+        )
+    assert "MB of JSON, more than the 16 MiB" in error.value.message
+    assert error.value.evidence["size"] > error.value.evidence["limit"]

@@ -2,9 +2,15 @@
 
 from __future__ import annotations
 
+from shared.bus.config import DEFAULT_MAX_PAYLOAD
 from shared.errors import InvalidInputError
-from shared.messages import TimingRequest
+from shared.messages import TimingRequest, Trajectory
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
+
+#: Samples below which a trajectory's JSON is surely under the bus's 16 MiB
+#: (a sample of a moving arm takes about 340 bytes, at most about 400):
+#: above it, :func:`check_payload` measures it.
+SURELY_SMALL = 40_000
 
 
 def check_samples(samples: float, rate: float) -> None:
@@ -39,3 +45,28 @@ def check_asked(request: TimingRequest) -> None:
     """
     asked = sum((s.duration or 0.0) + s.dwell for s in request.segments)
     check_samples(asked * request.rate + 1.0, request.rate)
+
+
+def check_payload(trajectory: Trajectory, most: int = DEFAULT_MAX_PAYLOAD) -> None:
+    """Refuse a trajectory whose JSON is over ``most`` bytes (the bus's limit).
+
+    Under ``MAX_TRAJECTORY_SAMPLES`` a trajectory of a moving arm can still
+    be too large to send to the robot bridge (58 197 samples made 19.9 MB):
+    it planned, and the bridge then refused it as ``payload_too_large``.
+
+    Raises:
+        InvalidInputError: naming its size, the limit and what to do.
+    """
+    if len(trajectory.times) <= SURELY_SMALL:
+        return
+    size = len(trajectory.to_json().encode())
+    if size > most:
+        raise InvalidInputError(
+            f"the trajectory's {len(trajectory.times)} samples make "
+            f"{size / 1e6:.1f} MB of JSON, more than the {most / 2**20:g} MiB a "
+            "message to the robot bridge may carry: lower the rate or split the "
+            "task",
+            field="rate",
+            size=size,
+            limit=most,
+        )

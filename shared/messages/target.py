@@ -20,9 +20,10 @@ from shared.robot.side import Side, SideAnyCase
 
 #: Most targets one task may hold.
 MAX_TARGETS = 64
-#: Most samples a planned trajectory may have: 10 minutes at 100 Hz. About
-#: 230 bytes each as JSON, so the trajectory stays under the bus's default
-#: 16 MiB payload limit and can be sent to the bridge and recorded.
+#: Most samples a planned trajectory may have: 10 minutes at 100 Hz. A
+#: sample takes about 210 bytes of JSON at rest and 340 moving, so above
+#: about 49 000 moving samples a trajectory passes the bus's default 16 MiB
+#: payload limit: the planner measures those (``check_payload``).
 MAX_TRAJECTORY_SAMPLES = 60_000
 
 
