@@ -91,6 +91,25 @@ def test_the_sink_writes_in_order_and_flushes_while_running(tmp_path: Path) -> N
     assert sink.failed == 0
 
 
+def test_a_writer_still_busy_at_the_stop_is_an_error_not_a_whole_file(
+    tmp_path: Path,
+) -> None:
+    """A backlog the writer could not write out in time left the file without
+    its summary, yet the recording was reported whole (exit code 0): the
+    sink's ``error`` now says so, naming the file."""
+    out = tmp_path / "busy.mcap"
+    sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+    for i in range(5000):
+        sink.put(incoming("misc/i", b'{"i": %d}' % i, t=i))
+    sink.stop(timeout=0.0)
+    try:
+        assert sink.error is not None and sink.broken.is_set()
+        assert "still busy 0 s after the stop" in sink.error.message
+        assert sink.error.path == str(out)
+    finally:
+        sink.stop()  # the writer ends on its own; the file is then closed
+
+
 def test_without_foxglove_only_the_samples_are_written(tmp_path: Path) -> None:
     """--no-foxglove: no robot description, no derived channels."""
     out = tmp_path / "plain.mcap"

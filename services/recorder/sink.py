@@ -101,12 +101,23 @@ class RecordingSink:
         self._queue.put(sample)
 
     def stop(self, timeout: float = STOP_TIMEOUT) -> list[Path]:
-        """Write out the queue, close the file with its summary; the files written."""
+        """Write out the queue, close the file with its summary; the files written.
+
+        A writer still busy after ``timeout`` [s] (a backlog of large
+        messages) leaves the file without its summary: that is ``error``, so
+        the recording is not reported whole (it was, with exit code 0).
+        """
         if self._thread.is_alive():
             self._queue.put(None)
             self._thread.join(timeout)
-            if self._thread.is_alive():
-                log.error("recorder: writer still busy after %.0f s", timeout)
+            if self._thread.is_alive():  # the file stays open: no summary
+                self._fail(
+                    RecordingError(
+                        f"the writer was still busy {timeout:.0f} s after the stop, "
+                        f"about {self._queue.qsize()} messages unwritten",
+                        path=str(self.paths[-1]),
+                    )
+                )
         if not self._thread.is_alive():
             try:
                 self._files.close()
