@@ -147,7 +147,7 @@ def test_the_marker_map_reader_refuses_a_shared_thumb(tmp_path: pathlib.Path) ->
 
 
 def test_the_marker_maps_arm_is_read_in_any_case(tmp_path: pathlib.Path) -> None:
-    """"Left" was refused ('Input should be right or left') while --arm takes
+    """ "Left" was refused ('Input should be right or left') while --arm takes
     any case; a name that is no arm is still refused, saying which are."""
     path = tmp_path / "map.json"
     path.write_text(json.dumps({**MAP, "arm": "Left"}))
