@@ -426,3 +426,14 @@ def test_the_timing_stage_refuses_what_no_robot_could_take() -> None:
         )
         > 10
     )
+
+
+def test_dwells_over_the_cap_say_to_shorten_them() -> None:
+    """The demo, whose rate is fixed at 100 Hz, was told only 'lower the rate
+    or split the task' for eleven dwells of a minute; shortening the dwells,
+    what such a task can do, is said first."""
+    from pydantic import ValidationError
+
+    targets = [{"position": (0.14, -0.10, 0.06), "dwell": 60.0}] * 11
+    with pytest.raises(ValidationError, match="shorten the dwells, split the task"):
+        PlanRequest.model_validate({"targets": targets})

@@ -91,7 +91,7 @@ class PlanRequest(Message):
             raise ValueError(
                 f"the dwells alone ({held:g} s at {self.rate:g} Hz) make "
                 f"{held * self.rate:.0f} samples, more than "
-                f"{MAX_TRAJECTORY_SAMPLES} (MAX_TRAJECTORY_SAMPLES): lower the "
-                "rate or split the task"
+                f"{MAX_TRAJECTORY_SAMPLES} (MAX_TRAJECTORY_SAMPLES): shorten the "
+                "dwells, split the task or lower the rate"
             )
         return self
