@@ -33,8 +33,10 @@ from armplan.experiments.nao_reach import PalmTurn, PathSource, nao_reach
 from armplan.experiments.normalised_time import SAMPLES, tau_grid
 from armplan.experiments.posture_similarity import posture_similarity
 from armplan.experiments.subject_reach import (
+    ReachKey,
     SubjectReach,
     point_label,
+    reach_key,
     subject_reaches,
 )
 from services.decide.grid_table import MIN_POINTS, sequence
@@ -81,14 +83,9 @@ class ReachError(NamedTuple):
     trial: int | None = None
 
     @property
-    def reach(self) -> tuple[str, int, str, int]:
+    def reach(self) -> ReachKey:
         """Which reach this row is of: (subject, point, arm, trial or -1)."""
-        return (
-            self.subject,
-            self.point,
-            self.arm,
-            -1 if self.trial is None else self.trial,
-        )
+        return reach_key(self.subject, self.point, self.arm, self.trial)
 
 
 class Skipped(NamedTuple):

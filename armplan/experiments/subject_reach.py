@@ -65,8 +65,9 @@ class SubjectReach(NamedTuple):
 ReachKey = tuple[str, int, str, int]
 
 
-def _trial_key(trial: int | None) -> int:
-    return -1 if trial is None else trial
+def reach_key(subject: str, point: int, arm: str, trial: int | None) -> ReachKey:
+    """Which reach: its trial is -1 for a grid point's average (sortable)."""
+    return (subject, point, arm, -1 if trial is None else trial)
 
 
 def subject_reaches(demos: DemoSet, tau: np.ndarray) -> list[SubjectReach]:
@@ -81,7 +82,7 @@ def subject_reaches(demos: DemoSet, tau: np.ndarray) -> list[SubjectReach]:
     groups: dict[ReachKey, list[Trial]] = defaultdict(list)
     for trial in demos.trials:
         alone = trial.trial if trial.point == OFF_GRID else None
-        key = (trial.subject, trial.point, trial.arm.value, _trial_key(alone))
+        key = reach_key(trial.subject, trial.point, trial.arm.value, alone)
         groups[key].append(trial)
     if not groups:
         raise InvalidInputError("the demonstrations hold no trial", field="demos")
