@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import numpy as np
 import numpy.typing as npt
 
 from shared.robot import Side, load_arm
@@ -11,6 +10,7 @@ from shared.robot.motion_limits import (
     NET_ACCELERATION_TIME,
     MotionLimits,
     motion_limits,
+    net_limits,
 )
 
 #: Default acceleration limit as the time a joint takes to reach its speed
@@ -64,7 +64,7 @@ class FrameLimits(MotionLimits):
         """
         joints = load_arm(side).limits
         if acceleration is None:
-            acceleration = np.asarray(joints.velocity, dtype=float) / RAMP_TIME
+            acceleration = net_limits(joints).acceleration
         accel = motion_limits(joints, acceleration=acceleration).acceleration
         if jerk is None:
             jerk = accel / JERK_RAMP_TIME
