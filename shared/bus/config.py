@@ -158,3 +158,8 @@ class BusConfig:
     def endpoint(self) -> str:
         """The first router endpoint (for messages)."""
         return self.endpoints[0]
+
+    @property
+    def tls(self) -> bool:
+        """Whether the router is reached over TLS (the secured set)."""
+        return any(e.startswith("tls/") for e in self.endpoints)

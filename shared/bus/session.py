@@ -45,7 +45,7 @@ def _secured_hint(config: BusConfig) -> str:
     Zenoh tells a refused login or certificate no differently from no router
     at all, so a client with TLS endpoints or a login names both.
     """
-    secured = any(e.startswith("tls/") for e in config.endpoints) or any(
+    secured = config.tls or any(
         path.startswith("transport/auth") for path, _ in config.client_settings
     )
     if not secured:

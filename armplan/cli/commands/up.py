@@ -104,7 +104,7 @@ def _check_unsecured(config: BusConfig) -> None:
     each process in with its own user (docs/services.md): its services
     would wait a minute to log in, and fail as if no router answered.
     """
-    if any(e.startswith("tls/") for e in config.endpoints):
+    if config.tls:
         raise InvalidInputError(
             f"{config.source} is a secured (TLS) configuration: armplan up runs "
             "the unsecured set, each process with the one file; run the secured "
