@@ -106,3 +106,32 @@ def test_requests_are_told_apart_by_their_fingerprint() -> None:
     with pytest.raises(InvalidInputError, match="used for another request"):
         once.answer("id-1", {"x": 0.1 + 1e-15}, work)
     assert work.runs == 1
+
+
+def test_the_kept_answers_stay_within_their_weight_budget() -> None:
+    """Past the budget the oldest answers go first; the newest always stays."""
+    once: AnswerOnce[str, list[int]] = AnswerOnce(weight=len, budget=5)
+    for key, size in (("a", 2), ("b", 2), ("c", 1)):
+        once.answer(key, key, lambda size=size: [0] * size)
+    assert len(once) == 3 and once.weighed() == 5  # at the budget: all kept
+    once.answer("d", "d", lambda: [0] * 3)  # 8 > 5: a and b go
+    assert len(once) == 2 and once.weighed() == 4
+    big = once.answer("e", "e", lambda: [0] * 9)  # alone over the budget
+    assert len(once) == 1 and once.weighed() == 9
+    assert once.answer("e", "e", lambda: [1]) is big  # still answers repeats
+
+
+def test_an_answer_in_the_making_is_not_forgotten_for_the_budget() -> None:
+    """Only finished answers are dropped: a repeat of a running one still waits."""
+    once: AnswerOnce[str, list[int]] = AnswerOnce(weight=len, budget=1)
+    gate = threading.Event()
+    slow = Work(gate)
+    with ThreadPoolExecutor(2) as pool:
+        first = pool.submit(once.answer, "slow", "reach", slow)
+        while slow.runs == 0:
+            threading.Event().wait(0.01)
+        once.answer("quick", "quick", lambda: [0, 0])  # over the budget
+        repeat = pool.submit(once.answer, "slow", "reach", slow)
+        gate.set()
+        assert repeat.result(5.0) is first.result(5.0)
+    assert slow.runs == 1

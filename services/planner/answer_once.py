@@ -10,8 +10,10 @@ waiters have its error, so asking again then retries.
 What is kept per id: a SHA-256 digest of the request (to tell a repeat from
 an id reused for another request), and the answer. An id is forgotten
 ``HOLD`` seconds after it first came (a caller repeats within its own
-timeout, seconds), and at most ``KEEP`` ids are kept, so the memory held is
-bounded by the answers of the last minute, at most ``KEEP`` of them.
+timeout, seconds), at most ``KEEP`` ids are kept, and the answers kept weigh
+at most a ``budget`` (the planner: ``KEPT_SAMPLES`` trajectory samples, so a
+few long trajectories do not hold gigabytes for a minute): past it the oldest
+answers are forgotten first, the newest is always kept.
 """
 
 from __future__ import annotations
@@ -35,10 +37,16 @@ KEEP = 256
 HOLD = 60.0
 
 
+def one(_: object) -> int:
+    """Every answer weighs 1: the budget then counts answers."""
+    return 1
+
+
 class _Seen(NamedTuple, Generic[Rep]):
     digest: bytes  # SHA-256 of the request's fingerprint
     since: float  # when the id first came [s], monotonic clock
     future: Future[Rep]
+    weight: int = 0  # the answer's weight; 0 until it is answered
 
 
 class AnswerOnce(Generic[Req, Rep]):
@@ -50,6 +58,9 @@ class AnswerOnce(Generic[Req, Rep]):
         keep: How many ids to remember at most.
         hold: How long an id is remembered [s].
         clock: The time [s] (monotonic); for tests.
+        weight: What an answer weighs (the planner: its samples); 1 by default.
+        budget: The most the kept answers may weigh together; the newest
+            answer is kept whatever it weighs. No limit by default.
     """
 
     def __init__(
@@ -58,11 +69,21 @@ class AnswerOnce(Generic[Req, Rep]):
         keep: int = KEEP,
         hold: float = HOLD,
         clock: Callable[[], float] = time.monotonic,
+        weight: Callable[[Rep], int] = one,
+        budget: float = float("inf"),
     ) -> None:
         self._fingerprint = fingerprint
         self._keep, self._hold, self._clock = keep, hold, clock
+        self._weight, self._budget = weight, budget
         self._lock = threading.Lock()
         self._seen: OrderedDict[str, _Seen[Rep]] = OrderedDict()
+        self._weighed = 0  # the kept answers' weight together
+
+    def weighed(self) -> int:
+        """What the answers kept now weigh together."""
+        with self._lock:
+            self._forget(self._clock())
+            return self._weighed
 
     def __len__(self) -> int:
         """How many ids are remembered now."""
@@ -94,19 +115,41 @@ class AnswerOnce(Generic[Req, Rep]):
             result = work()
         except BaseException as error:
             with self._lock:
-                self._seen.pop(key, None)
+                self._drop(key)
             future.set_exception(error)
             raise
         future.set_result(result)
+        self._weigh(key, result)
         return result
+
+    def _weigh(self, key: str, result: Rep) -> None:
+        """Count ``key``'s answer in the budget; forget the oldest past it."""
+        weight = self._weight(result)
+        with self._lock:
+            seen = self._seen.get(key)
+            if seen is None:  # already forgotten (keep or hold)
+                return
+            self._seen[key] = seen._replace(weight=weight)
+            self._weighed += weight
+            for old in [k for k in self._seen if k != key]:
+                if self._weighed <= self._budget:
+                    break
+                if self._seen[old].future.done():  # its waiters have it
+                    self._drop(old)
 
     def _forget(self, now: float) -> None:
         """Drop the oldest ids beyond ``keep`` and those older than ``hold``."""
         while self._seen:
-            oldest = next(iter(self._seen.values()))
+            key, oldest = next(iter(self._seen.items()))
             if len(self._seen) <= self._keep and now - oldest.since <= self._hold:
                 return
-            self._seen.popitem(last=False)
+            self._drop(key)
+
+    def _drop(self, key: str) -> None:
+        """Forget ``key`` (held lock)."""
+        seen = self._seen.pop(key, None)
+        if seen is not None:
+            self._weighed -= seen.weight
 
 
 def _digest(fingerprint: str | bytes) -> bytes:

@@ -37,15 +37,23 @@ from shared.bus.routes import PLAN, TRAJECTORY_TOPIC
 from shared.bus.topics import DECISION_TOPIC, JOINT_PATH_TOPIC, PLAN_REQUEST_TOPIC
 from shared.errors import RequestTimeoutError
 from shared.messages import PlanRequest, Trajectory
+from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 
 NAME = "planner"
+#: Most trajectory samples the answers kept for repeats hold together: two
+#: trajectories of the most samples a message carries
+#: (``MAX_TRAJECTORY_SAMPLES``), about 100 MB as Python objects (a kept
+#: 40 000-sample trajectory measured 34 MB), against thousands of short reaches.
+KEPT_SAMPLES = 2 * MAX_TRAJECTORY_SAMPLES
 Planner = Callable[[PlanRequest], Trajectory]
 
 
 def remote_planner(bus: Bus) -> Planner:
     """Plan through the stage services, publishing the request and every part."""
     stages = RemoteStages(bus)
-    once: AnswerOnce[PlanRequest, Trajectory] = AnswerOnce(PlanRequest.to_json)
+    once: AnswerOnce[PlanRequest, Trajectory] = AnswerOnce(
+        PlanRequest.to_json, weight=samples, budget=KEPT_SAMPLES
+    )
     waiting = Waiting()
 
     def plan_and_publish(request: PlanRequest) -> Trajectory:
@@ -69,6 +77,11 @@ def remote_planner(bus: Bus) -> Planner:
             )
 
     return plan_remotely
+
+
+def samples(trajectory: Trajectory) -> int:
+    """A kept answer's weight: its sample count."""
+    return len(trajectory.times)
 
 
 def publish_parts(bus: Bus, result: PlanResult) -> None:
