@@ -219,11 +219,29 @@ def test_times_in_milliseconds_are_refused_on_import(
     assert capsys.readouterr().err == (
         f"armplan: error: {path}: trial 0 (lines 2-31): the times step 10 apart "
         "(median), a sample rate of 0.1 Hz if they are seconds; demonstrations "
-        "are sampled at 1 to 10000 Hz: these look like milliseconds: divide them "
-        "by 1000 (times are in seconds)\n"
+        'are sampled at 1 to 10000 Hz: these look like milliseconds: give "time_units"'
+        ': "ms" in the marker map, or divide them by 1000\n'
     )
     assert not out.exists()
     with pytest.raises(DemoFileError) as caught:
         read_csv(path, MARKERS)
     assert caught.value.evidence["trial"] == 0
     assert caught.value.evidence["rate"] == pytest.approx(0.1)
+
+
+def test_a_map_saying_milliseconds_reads_the_same_trial(tmp_path: pathlib.Path) -> None:
+    """``"time_units": "ms"``: the times in milliseconds give the trial the
+    times in seconds give, to the sample; the same map refuses seconds."""
+    rows = arm_rows(0)
+    seconds = write_csv(tmp_path / "s.csv", rows)
+    for k, row in enumerate(rows):
+        row[0] = f"{10 * k}"
+    milliseconds = write_csv(tmp_path / "ms.csv", rows)
+    in_ms = MARKERS.model_copy(update={"time_units": "ms"})
+    [want], _ = read_csv(seconds, MARKERS)
+    [got], _ = read_csv(milliseconds, in_ms)
+    np.testing.assert_allclose(got.times, want.times, rtol=0, atol=1e-12)
+    for part in ("shoulder", "elbow", "wrist"):
+        np.testing.assert_array_equal(getattr(got, part), getattr(want, part))
+    with pytest.raises(DemoFileError, match="times read as ms as the marker map says"):
+        read_csv(seconds, in_ms)

@@ -5,9 +5,10 @@ The format (one header row, then one row per frame, comma-separated)::
     time,trial,RSHO_x,RSHO_y,RSHO_z,RELB_x,RELB_y,RELB_z,RWRB_x,RWRB_y,RWRB_z
     0.00,0,12.1,-180.3,1402.0,...
 
-``time`` [s] is required and increases within a trial; a trial whose median
-step is outside 0.1 ms to 1 s (1 to 10 000 Hz) is refused, its times not
-seconds (most often milliseconds; ``sample_rate``). ``trial`` (a whole
+``time`` is required and increases within a trial, in seconds or, if the
+marker map says ``"time_units": "ms"``, milliseconds; a trial whose median
+step is outside 0.1 ms to 1 s (1 to 10 000 Hz) is refused, its times not in
+that unit (most often milliseconds read as seconds; ``sample_rate``). ``trial`` (a whole
 number) is optional and splits the rows into trials (rows of one trial
 consecutive, at least two of them); each marker of the marker map
 (``markers``) has three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` in
@@ -30,10 +31,13 @@ import numpy as np
 
 from shared.demos.anthropometry import Subject
 from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
-from shared.demos.markers import MarkerMap
+from shared.demos.markers import TIME_SCALE, MarkerMap
 from shared.demos.sample_rate import check_seconds
 from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError, InvalidInputError
+
+#: What to do with a time column in milliseconds.
+MILLISECONDS_FIX = 'give "time_units": "ms" in the marker map, or divide them by 1000'
 
 
 class Row(NamedTuple):
@@ -67,11 +71,10 @@ def read_csv(
     header, rows = _rows(path)
     columns = _columns(header, markers, str(path))
     groups = _trials(rows, header, str(path))
-    units = markers.units or "m"
     name = markers.subject or path.stem
     trials, people = [], []
     for key, group in groups.items():
-        tracks = _tracks(group, columns, header, units, str(path), key)
+        tracks = _tracks(group, columns, header, markers, str(path), key)
         trial, person = trial_from_tracks(
             tracks, markers, name, key, str(path), report=report
         )
@@ -209,11 +212,11 @@ def _tracks(
     rows: list[Row],
     columns: dict[str, list[int]],
     header: list[str],
-    units: str,
+    markers: MarkerMap,
     path: str,
     trial: int,
 ) -> MarkerTracks:
-    """The marker tracks of one trial's rows (in the file's units)."""
+    """The marker tracks of one trial's rows (in the file's units, times [s])."""
 
     def column(index: int) -> np.ndarray:
         return np.array(
@@ -223,21 +226,25 @@ def _tracks(
             ]
         )
 
-    times = column(columns["time"][0])
-    _check_times(times, rows, path, trial)
+    times = TIME_SCALE[markers.time_units] * column(columns["time"][0])
+    _check_times(times, rows, path, trial, markers.time_units)
     points = {
         role: np.stack([column(i) for i in cols], axis=1)
         for role, cols in columns.items()
         if role != "time"
     }
+    units = markers.units or "m"
     return MarkerTracks(times, points, units, [row.line for row in rows])
 
 
-def _check_times(times: np.ndarray, rows: list[Row], path: str, trial: int) -> None:
-    """Refuse a trial's times: one row, a gap, a step back, or not seconds.
+def _check_times(
+    times: np.ndarray, rows: list[Row], path: str, trial: int, unit: str
+) -> None:
+    """Refuse a trial's times [s]: one row, a gap, a step back, or a wrong unit.
 
     A missing time or one not after the row before names its line; times
-    not in seconds (``sample_rate.check_seconds``) name the trial's lines.
+    not in the map's ``unit`` (``sample_rate.check_seconds``) name the
+    trial's lines.
     """
     if len(rows) < MIN_SAMPLES:
         raise DemoFileError(
@@ -262,8 +269,10 @@ def _check_times(times: np.ndarray, rows: list[Row], path: str, trial: int) -> N
             line=rows[k].line,
         )
     span = f"trial {trial} (lines {rows[0].line}-{rows[-1].line})"
+    if unit != "s":
+        span += f", its times read as {unit} as the marker map says"
     try:
-        check_seconds([times], span)
+        check_seconds([times], span, MILLISECONDS_FIX)
     except InvalidInputError as exc:
         raise DemoFileError(
             path, exc.message, trial=trial, line=rows[0].line, **exc.evidence

@@ -11,6 +11,9 @@ A JSON file, read by ``armplan demos import ... --markers MAP.json``::
       "arm": "right",          optional: which arm (default right)
       "units": "mm",           optional: m, cm or mm; default the file's own
                                (C3D POINT:UNITS) or m for CSV
+      "time_units": "ms",      optional, CSV only: s or ms, the unit of the
+                               time column; default s (a C3D file gives its
+                               own frame rate)
       "axes": ["x", "y", "z"], optional: the file's axes pointing forward,
                                left and up, a leading "-" flips one; e.g.
                                ["-z", "-x", "y"] for a Y-up capture facing -z
@@ -38,6 +41,8 @@ from shared.robot.side import Side, SideAnyCase
 
 #: Metres per unit.
 UNIT_SCALE = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+#: Seconds per time unit.
+TIME_SCALE = {"s": 1.0, "ms": 0.001}
 _AXES = ("x", "y", "z")
 
 
@@ -50,6 +55,7 @@ class MarkerMap(Message):
     thumb: str | None = None
     arm: SideAnyCase = Side.RIGHT
     units: Literal["m", "cm", "mm"] | None = None
+    time_units: Literal["s", "ms"] = "s"
     axes: tuple[str, str, str] = ("x", "y", "z")
     subject: str | None = Field(default=None, min_length=1, max_length=64)
     stature: float | None = Field(default=None, gt=0.0, le=3.0)

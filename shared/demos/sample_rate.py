@@ -24,13 +24,21 @@ from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
 MILLISECONDS = 1000.0
 
 
-def check_seconds(times: Iterable[FloatArray], what: str) -> float:
+#: What to do with times in milliseconds, unless the caller knows better.
+DIVIDE = f"divide them by {MILLISECONDS:g} (times are in seconds)"
+
+
+def check_seconds(
+    times: Iterable[FloatArray], what: str, milliseconds_fix: str = DIVIDE
+) -> float:
     """The median sample rate [Hz] of ``times``, refused if they are not seconds.
 
     Args:
         times: Increasing times [s] of one or more trials, each shape (n,);
             together at least one step.
         what: Whose times, for the message, e.g. ``"trial 3 (lines 2-31)"``.
+        milliseconds_fix: What the message tells to do when the times look
+            like milliseconds.
 
     Returns:
         One over the median step between consecutive times [Hz].
@@ -38,8 +46,8 @@ def check_seconds(times: Iterable[FloatArray], what: str) -> float:
     Raises:
         InvalidInputError: (field ``times``) if that rate is outside
             ``MIN_SAMPLE_RATE`` to ``MAX_SAMPLE_RATE``, naming ``what``, the
-            step and the rate, and saying to divide the times by 1000 when
-            milliseconds would explain it.
+            step and the rate, and saying what to do (``milliseconds_fix``)
+            when milliseconds would explain it.
     """
     step = float(np.median(np.concatenate([np.diff(t) for t in times])))
     rate = 1.0 / step
@@ -47,10 +55,7 @@ def check_seconds(times: Iterable[FloatArray], what: str) -> float:
         return rate
     hint = "times must be in seconds"
     if MIN_SAMPLE_RATE <= MILLISECONDS * rate <= MAX_SAMPLE_RATE:
-        hint = (
-            f"these look like milliseconds: divide them by {MILLISECONDS:g} "
-            "(times are in seconds)"
-        )
+        hint = f"these look like milliseconds: {milliseconds_fix}"
     raise InvalidInputError(
         f"{what}: the times step {step:.4g} apart (median), a sample rate of "
         f"{rate:.4g} Hz if they are seconds; demonstrations are sampled at "
