@@ -47,7 +47,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         description="16 subjects x 16 grid points x 5 trials at 100 Hz, "
         "retargeted to NAO (the paper's protocol)",
     )
-    synth.add_argument("-o", "--output", required=True, metavar="FILE.mcap")
+    synth.add_argument(
+        "-o", "--output", required=True, metavar="FILE.mcap", help="file to write"
+    )
     synth.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     synth.add_argument("--subjects", type=int, default=16, help="default 16")
     synth.add_argument("--trials", type=int, default=5, help="per point, default 5")
@@ -56,14 +58,26 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "import",
         help="import C3D or CSV motion capture",
         description="read C3D (one trial per file) or CSV files (times in "
-        "seconds), retarget to NAO",
+        "seconds, or ms if the marker map says so), retarget to NAO",
     )
-    imported.add_argument("files", nargs="+", metavar="FILE.c3d|FILE.csv")
-    imported.add_argument("--markers", required=True, metavar="MAP.json")
-    imported.add_argument("-o", "--output", required=True, metavar="FILE.mcap")
+    imported.add_argument(
+        "files", nargs="+", metavar="FILE.c3d|FILE.csv", help="motion capture"
+    )
+    imported.add_argument(
+        "--markers",
+        required=True,
+        metavar="MAP.json",
+        help="which markers are shoulder, elbow, wrist (and thumb); the arm, "
+        "units, time units and axes (docs/decision.md)",
+    )
+    imported.add_argument(
+        "-o", "--output", required=True, metavar="FILE.mcap", help="file to write"
+    )
     imported.set_defaults(run=run_import)
     info = actions.add_parser("info", help="summarise demonstration files")
-    info.add_argument("files", nargs="+", metavar="FILE.mcap")
+    info.add_argument(
+        "files", nargs="+", metavar="FILE.mcap", help="demonstration files"
+    )
     add_json(info)
     info.set_defaults(run=run_info)
 

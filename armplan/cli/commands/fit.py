@@ -38,8 +38,16 @@ HELP = "fit the motion model (densities and network) to demonstrations"
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     """Register ``fit``."""
     parser = commands.add_parser("fit", help=HELP, description=HELP)
-    parser.add_argument("files", nargs="+", metavar="DEMOS.mcap")
-    parser.add_argument("-o", "--output", required=True, metavar="model.json")
+    parser.add_argument(
+        "files", nargs="+", metavar="DEMOS.mcap", help="demonstration files"
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="model.json",
+        help="the motion model to write",
+    )
     parser.add_argument(
         "--bins", type=int, default=20, help="states per variable (default 20)"
     )
