@@ -17,7 +17,7 @@ from services.timing.paper_grid import TABLE4_TIMES
 from shared.demos.nao_grid import nao_grid
 from shared.errors import UnreachableTargetError
 from shared.geometry.palm import roll_error
-from shared.messages import Method, PlanRequest, WristPath
+from shared.messages import Method, PlanRequest, TimingLimits, WristPath
 from shared.messages.measure_params import MeasureParams
 from shared.messages.motion_model import FittedWeights
 from shared.primitives import get_primitive
@@ -286,6 +286,31 @@ def test_a_wrist_path_away_from_the_arm_starts_on_it(method: Method) -> None:
     wrists = np.array([arm.fk(p).wrist for p in q])
     assert np.linalg.norm(wrists - positions, axis=1).max() < 1e-3
     check_limits(result.trajectory.times, q, motion_limits(arm.limits))
+
+
+def test_a_slow_wrist_path_gives_a_slow_smooth_joint_path(arm: ArmModel) -> None:
+    """The same reach ten times slower at the same 100 Hz passes a tenth of
+    the default acceleration and jerk limits, and its joints' second
+    differences shrink with the pace squared (80-fold here; at least 50).
+    (When the IK's self-motion ran at the sample rate, ElbowYaw swung
+    almost as fast on the slow path as on the quick one: second differences
+    0.74 times the quick path's, up to 12 rad/s^2, which such limits refuse.)"""
+    goal = GOALS[arm.side.value]
+    quick = plan(PlanRequest(arm=arm.side, wrist_path=_wrist_path(arm, goal, 2.0)))
+    limits = motion_limits(arm.limits)
+    gentle = TimingLimits(
+        acceleration=tuple(limits.acceleration / 10), jerk=tuple(limits.jerk / 10)
+    )
+    slow = plan(  # refused if a joint breaks the gentle limits
+        PlanRequest(
+            arm=arm.side, wrist_path=_wrist_path(arm, goal, 20.0), limits=gentle
+        )
+    )
+    bend = [
+        np.abs(np.diff(np.array(result.trajectory.positions), 2, axis=0)).max()
+        for result in (quick, slow)
+    ]
+    assert bend[1] < bend[0] / 50
 
 
 def test_a_wrist_path_leaving_the_workspace_names_the_sample() -> None:

@@ -26,6 +26,16 @@ start and stop with the hand):
     - The null-space gain at each point is proportional to how far the hand
       moves there, so self-motion follows the hand's bell-shaped speed and
       vanishes where the hand is at rest.
+    - Self-motion and a change of primitive are measured along the path,
+      not in its samples: a path of more than ``NOMINAL_STEPS`` steps (a
+      slow one at the same rate) spreads them over proportionally more
+      points, so a path sampled k times as densely passes through nearly
+      the same postures (the baselines' within a few mrad) and, slowed
+      down, the joints' speeds, accelerations and jerks fall with the
+      hand's. (Counted in samples, a 60 s reach at 100 Hz got sixty times
+      the self-motion of a 1 s one, at the sample rate: ElbowYaw swung
+      0.8 rad in 1.7 s while the hand crept, its largest second difference
+      8e-4 to 6e-4 rad whether the reach took 10 s or 300 s.)
     - A new primitive takes over across ``BLEND`` points (150 ms at 100 Hz):
       each step there is the old phase's and the new one's, weighted by a
       smoothstep, as a person's sub-movements overlap (Flash and Henis
@@ -92,18 +102,27 @@ from shared.robot.arm_model import ArmModel
 #: fields (origins, rot, qf) are cheaper.
 Chooser = Callable[[int, ChainState], Primitive]
 
-#: Null-space gain at a point where the hand moves its mean step [rad^2/unit of H].
+#: Null-space gain at a point where the hand moves its unit step (``_gains``)
+#: [rad^2/unit of H].
 ALPHA: Final = 1.0
 #: Largest joint change per path point by the task part [rad], and by the
-#: null-space part at a point where the hand moves its mean step [rad].
+#: null-space part at a point where the hand moves its unit step [rad].
 MAX_STEP: Final = 0.1
 MAX_NULL_STEP: Final = 0.01
 #: Joints closer than this to a limit they move towards give way [rad].
 MARGIN: Final = 0.2
 #: Distance from the path beyond which the full arm gives up the path [m].
 DETOUR_AFTER: Final = 0.02
-#: Points over which a new phase takes over from the old one.
+#: Points over which a new phase takes over from the old one (a path of
+#: over ``NOMINAL_STEPS`` steps: as large a share of its points).
 BLEND: Final = 15
+#: Steps of a path the self-motion and the blends are counted in, at most.
+#: Up to this many steps, every step is one; a path of more divides the
+#: same self-motion and blends among its points (``_gains``, ``_blend``).
+#: The planner's reaches (100 points per second of a human reach of at most
+#: 1.8 s: up to 177 points) and the paper's experiments (101) have fewer,
+#: so their joint paths are unchanged, bit for bit.
+NOMINAL_STEPS: Final = 200
 #: Largest wrist error at the goal before the full arm takes over there [m].
 ARRIVED: Final = 1e-6
 #: Wrist error at the goal, after the full arm tried, beyond which the
@@ -223,7 +242,7 @@ def track_path(
     out_q: list[list[float]] = []
     out_wrist: list[tuple[float, float, float]] = []
     labels: list[str] = []
-    phases = _Phases(run)
+    phases = _Phases(run, _blend(len(points)))
     st = run.chain.state(q)
     roll_left = _roll_left(run, points, st)
     previous = [0.0] * 5
@@ -258,13 +277,14 @@ def track_path(
 class _Phases:
     """The phase in use and the one it is taking over from.
 
-    A new phase takes over over ``BLEND`` points: each point's step is the
-    old phase's and the new one's, weighted by a smoothstep from 0 to 1, so
-    the joints change velocity smoothly at a change of primitive.
+    A new phase takes over over ``points`` points (``_blend``): each
+    point's step is the old phase's and the new one's, weighted by a
+    smoothstep from 0 to 1, so the joints change velocity smoothly at a
+    change of primitive.
     """
 
-    def __init__(self, run: _Follow) -> None:
-        self.run = run
+    def __init__(self, run: _Follow, points: int) -> None:
+        self.run, self.points = run, points
         self.phase: _Phase
         self.started = False
         self.old: _Phase | None = None
@@ -311,12 +331,12 @@ class _Phases:
         """(the phase being taken over from, the new phase's weight) at this point."""
         if not self.left:
             return None, 1.0
-        t = (BLEND - self.left + 1) / (BLEND + 1)
+        t = (self.points - self.left + 1) / (self.points + 1)
         self.left -= 1
         return self.old, t * t * (3.0 - 2.0 * t)
 
     def _switch(self, new: _Phase) -> None:
-        self.old, self.left, self.phase = self.phase, BLEND, new
+        self.old, self.left, self.phase = self.phase, self.points, new
 
 
 def _roll_left(run: _Follow, points: list[list[float]], st: ChainState) -> list[float]:
@@ -362,12 +382,29 @@ def _steps(points: list[list[float]]) -> list[float]:
 
 
 def _gains(points: list[list[float]]) -> tuple[list[float], float]:
-    """Gain factor per point (its hand step over the mean step), and the mean [m]."""
+    """Gain factor per point (its hand step over the unit step), and the mean [m].
+
+    The unit step is the mean step, or for a path of over ``NOMINAL_STEPS``
+    steps its length over ``NOMINAL_STEPS``: the gains then add up to
+    ``NOMINAL_STEPS``, not to the number of steps, so a densely sampled
+    path gets the self-motion of the same path at ``NOMINAL_STEPS`` steps,
+    in smaller steps.
+    """
     steps = _steps(points)
     if math.fsum(steps) <= STILL:  # the hand stands still: no self-motion
         return [0.0] * len(steps), 0.0
     mean = math.fsum(steps) / max(len(steps) - 1, 1)
-    return [s / mean for s in steps], mean
+    unit = max(mean, math.fsum(steps) / NOMINAL_STEPS)
+    return [s / unit for s in steps], mean
+
+
+def _blend(points: int) -> int:
+    """Points a change of phase is blended over on a path of ``points`` points.
+
+    ``BLEND``, or on a path of over ``NOMINAL_STEPS`` steps as large a share
+    of its steps as ``BLEND`` is of ``NOMINAL_STEPS``.
+    """
+    return max(BLEND, round(BLEND * (points - 1) / NOMINAL_STEPS))
 
 
 def _wanted(
