@@ -11,13 +11,35 @@ from pathlib import Path
 
 import pytest
 
+from services.planner.pipeline import plan
 from services.recorder.options import RecorderOptions
 from services.recorder.routing import Incoming, relative_path, route
 from services.recorder.sink import RecordingSink
 from shared.errors import InvalidInputError
-from shared.messages import PlanRequest, ReachTarget
+from shared.messages import (
+    Decision,
+    JointState,
+    Message,
+    PlanRequest,
+    ReachTarget,
+    Trajectory,
+)
 from shared.recording import read_records
+from shared.recording.foxglove import (
+    DECISION_TOPIC,
+    EXECUTED_TF_TOPIC,
+    PLANNED_PRIMITIVE_TOPIC,
+    PLANNED_TF_TOPIC,
+    PRIMITIVE_NAMES,
+    PrimitiveSample,
+)
+from shared.recording.foxglove.transforms import (
+    arm_angles,
+    frame_transforms,
+    side_of_state,
+)
 from shared.recording.raw_payload import RawPayload
+from shared.robot import load_arm
 
 NS = "armplan"
 REQUEST = PlanRequest(targets=[ReachTarget(position=(0.1, -0.1, 0.0))])
@@ -124,3 +146,96 @@ def test_a_bad_flush_period_is_refused(tmp_path: Path) -> None:
     """flush_every must be in (0, 10] s."""
     with pytest.raises(InvalidInputError, match="flush_every must be in"):
         RecorderOptions(output=tmp_path / "x.mcap", flush_every=0.0)
+
+
+def model_messages(
+    message: Message, start: int, planned: str, executed: str
+) -> list[tuple[str, int, bytes]]:
+    """(topic, log time [ns], JSON) of each message the recorder derived from
+    ``message`` before it streamed them: a pydantic model per message."""
+    if isinstance(message, JointState):
+        side = side_of_state(message)
+        assert side is not None
+        q = arm_angles(side, message.joint_names, message.positions)
+        pose = frame_transforms(load_arm(side), q, start, executed)
+        return [(EXECUTED_TF_TOPIC, start, pose.to_json().encode())]
+    assert isinstance(message, Decision | Trajectory)
+    stamps = [start + round((t - message.times[0]) * 10**9) for t in message.times]
+    labels = [
+        PrimitiveSample(time=t, primitive=name, index=PRIMITIVE_NAMES.index(name))
+        for t, name in zip(message.times, message.primitives, strict=True)
+    ]
+    if isinstance(message, Decision):
+        keys = [name.replace(" ", "_") for name in message.candidates]
+        labels = [
+            label.model_copy(update={"g": dict(zip(keys, row, strict=True))})
+            for label, row in zip(labels, message.g, strict=True)
+        ]
+        return [
+            (DECISION_TOPIC, stamp, label.to_json().encode())
+            for stamp, label in zip(stamps, labels, strict=True)
+        ]
+    arm = load_arm(message.arm)
+    poses = [
+        frame_transforms(
+            arm, arm_angles(arm.side, message.joint_names, row), stamp, planned
+        )
+        for stamp, row in zip(stamps, message.positions, strict=True)
+    ]
+    return [
+        (PLANNED_TF_TOPIC, stamp, pose.to_json().encode())
+        for stamp, pose in zip(stamps, poses, strict=True)
+    ] + [
+        (PLANNED_PRIMITIVE_TOPIC, stamp, label.to_json().encode())
+        for stamp, label in zip(stamps, labels, strict=True)
+    ]
+
+
+def test_derived_messages_are_recorded_as_the_models_made_them(
+    tmp_path: Path,
+) -> None:
+    """Read back from the file, the derived channels of a planned reach (its
+    decisions, trajectory and a measured state) hold, in order and byte for
+    byte, what a pydantic model per message made before they were streamed."""
+    result = plan(
+        PlanRequest(
+            arm="left",
+            targets=[
+                ReachTarget(position=(0.12, 0.12, 0.05)),
+                ReachTarget(position=(0.13, 0.08, 0.15)),
+            ],
+        )
+    )
+    traj = result.trajectory
+    state = JointState(
+        time=0.4, joint_names=traj.joint_names, positions=traj.positions[40]
+    )
+    samples: list[tuple[str, Message]] = [
+        *(("plan/decision", d) for d in result.decisions),
+        ("plan/trajectory", traj),
+        ("bridge/state", state),
+    ]
+    planned, executed = "plan/", 'ex "\u00e9"/'
+    out = tmp_path / "reach.mcap"
+    options = RecorderOptions(
+        output=out, keys=("**",), planned_prefix=planned, executed_prefix=executed
+    )
+    sink = RecordingSink(options, NS).start()
+    start = 1_700_000_000_123_456_789
+    for i, (key, message) in enumerate(samples):
+        sink.put(incoming(key, message.to_json().encode(), t=start + i))
+    sink.stop()
+    expected = [
+        m
+        for i, (_, message) in enumerate(samples)
+        for m in model_messages(message, start + i, planned, executed)
+    ]
+    derived = [
+        (r.topic, r.log_time, r.raw)
+        for r in read_records(out)
+        if r.topic.startswith("/") and r.topic != "/robot_description"
+    ]
+    assert len(expected) == 2 * len(traj.times) + 1 + sum(
+        len(d.times) for d in result.decisions
+    )
+    assert derived == expected
