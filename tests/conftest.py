@@ -1,4 +1,5 @@
-"""Shared fixtures: both arms, a seeded random generator, a port in use, a sim."""
+"""Shared fixtures: both arms, a seeded random generator, a port in use, a sim;
+and helpers: a random posture, a long moving trajectory."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pytest
 
+from shared.messages import Trajectory
+from shared.primitives import PRIMITIVES
 from shared.robot import ArmModel, Side, load_arm
 
 if TYPE_CHECKING:
@@ -29,6 +32,30 @@ def rng() -> np.random.Generator:
 def random_posture(arm: ArmModel, rng: np.random.Generator) -> np.ndarray:
     """A posture drawn uniformly within the joint limits [rad]."""
     return rng.uniform(arm.limits.lower, arm.limits.upper)
+
+
+def moving_trajectory(
+    n: int, rng: np.random.Generator, side: Side = Side.RIGHT
+) -> Trajectory:
+    """``n`` samples at 100 Hz of an arm wandering within its limits.
+
+    Every number has its full precision (about 380 bytes of JSON a sample,
+    as a planned trajectory of a moving arm); labels change every second.
+    """
+    limits = load_arm(side).limits
+    steps = rng.normal(0.0, 0.01, (n, 5))
+    q = np.clip(limits.middle + steps.cumsum(axis=0), limits.lower, limits.upper)
+    v = np.gradient(q, 0.01, axis=0)
+    return Trajectory(
+        arm=side,
+        joint_names=list(side.joint_names),
+        times=(0.01 * np.arange(n)).tolist(),
+        positions=q.tolist(),
+        velocities=v.tolist(),
+        accelerations=np.gradient(v, 0.01, axis=0).tolist(),
+        primitives=[PRIMITIVES[i // 100 % len(PRIMITIVES)].name for i in range(n)],
+        wrist_path=rng.uniform(-0.2, 0.2, (n, 3)).tolist(),
+    )
 
 
 @pytest.fixture

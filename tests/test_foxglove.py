@@ -8,11 +8,13 @@ other computations of the arm's forward kinematics: pinocchio's
 from __future__ import annotations
 
 import json
+import tracemalloc
 import xml.etree.ElementTree as ET
 from typing import Any
 
 import numpy as np
 import pytest
+from conftest import moving_trajectory
 
 from services.ik.kernel.chain import chain_for
 from shared.messages import Decision, JointState, PointDecision, Trajectory
@@ -32,8 +34,10 @@ from shared.recording.foxglove import (
     description_message,
     frame_transforms_schema,
 )
+from shared.recording.foxglove.link_poses import link_poses
 from shared.recording.foxglove.schemas import FrameTransform, Quaternion, Vector3
-from shared.recording.foxglove.transforms import frame_transforms
+from shared.recording.foxglove.transforms import frame_transforms, transforms_json
+from shared.recording.writer import MAX_TIME
 from shared.robot import ArmModel, Side, load_arm
 from shared.robot.arm_model import urdf_text
 
@@ -242,7 +246,7 @@ def trajectory(side: Side = Side.RIGHT, n: int = 5) -> Trajectory:
 def test_a_trajectory_gives_one_timed_pose_per_sample() -> None:
     """Planned transforms at arrival + (t - t0); planned primitive labels too."""
     traj = trajectory()
-    derived = FoxgloveChannels().derive(traj, T0)
+    derived = list(FoxgloveChannels().derive(traj, T0))
     poses = [d for d in derived if d.topic == PLANNED_TF_TOPIC]
     labels = [d for d in derived if d.topic == PLANNED_PRIMITIVE_TOPIC]
     assert [d.log_time for d in poses] == [T0 + i * 10_000_000 for i in range(5)]
@@ -258,6 +262,65 @@ def test_a_trajectory_gives_one_timed_pose_per_sample() -> None:
         assert np.abs(wrist - arm.fk(np.array(row)).wrist).max() < TOL
     last = PrimitiveSample.model_validate_json(labels[-1].data)
     assert (last.primitive, last.index) == ("E_R W_P", 1)
+
+
+def test_streamed_transforms_are_the_models_json_byte_for_byte(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """Made without models, each message is frame_transforms(...).to_json() to
+    the byte: signed zeros, right angles, the limits, any frame prefix."""
+    limits = arm.limits
+    postures = np.vstack(
+        [
+            np.zeros(5),
+            -np.zeros(5),
+            np.full(5, np.pi / 2),
+            np.full(5, -np.pi / 2),
+            np.full(5, 1e-300),
+            limits.lower,
+            limits.upper,
+            rng.uniform(-np.pi, np.pi, (200, 5)),
+        ]
+    )
+    stamps = [T0 + 7_777_777 * k for k in range(len(postures))]
+    for prefix in ("", "executed/", 'plan "\u00e9"\\/'):
+        streamed = transforms_json(link_poses(arm, postures), stamps, prefix)
+        models = [
+            frame_transforms(arm, q, stamp, prefix).to_json().encode()
+            for q, stamp in zip(postures, stamps, strict=True)
+        ]
+        assert list(streamed) == models, prefix
+
+
+def test_derive_refuses_before_making_a_message() -> None:
+    """A missing joint, or times past MCAP's range, raise at the call: a
+    recorder writes a message's derived messages whole or not at all."""
+    traj = trajectory()
+    names = [*traj.joint_names[:4], "RHand"]
+    lacking = Trajectory.model_validate(traj.model_dump() | {"joint_names": names})
+    with pytest.raises(KeyError, match="RWristYaw"):
+        FoxgloveChannels().derive(lacking, T0)
+    late = MAX_TIME - 25_000_000  # samples 10 ms apart: the fourth passes 2^64 ns
+    with pytest.raises(ValueError, match=r"MCAP's range .*: sample 3 falls at"):
+        FoxgloveChannels().derive(traj, late)
+
+
+def test_a_long_trajectory_is_derived_one_message_at_a_time() -> None:
+    """Deriving 5000 samples and taking all 10 000 messages peaks under three
+    times the trajectory's JSON size (the link poses, then one message at a
+    time); a list of 5000 FrameTransforms models took 43 times it."""
+    traj = moving_trajectory(5000, np.random.default_rng(7))
+    size = len(traj.to_json().encode())
+    channels = FoxgloveChannels()
+    list(channels.derive(trajectory(), T0))  # the arm model and schemas, once
+    tracemalloc.start()
+    try:
+        count = sum(1 for _ in channels.derive(traj, T0))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert count == 10_000
+    assert peak < 3 * size, f"peak {peak / size:.1f} times the trajectory's JSON"
 
 
 def test_a_joint_state_gives_the_executed_pose() -> None:
@@ -276,7 +339,7 @@ def test_a_joint_state_gives_the_executed_pose() -> None:
 def test_a_state_without_an_arm_gives_nothing() -> None:
     """Head joints only: no executed pose."""
     state = JointState(time=0.0, joint_names=["HeadYaw"], positions=[0.1])
-    assert FoxgloveChannels().derive(state, T0) == []
+    assert list(FoxgloveChannels().derive(state, T0)) == []
 
 
 def test_a_decision_gives_a_plottable_sample_per_point() -> None:
@@ -288,7 +351,7 @@ def test_a_decision_gives_a_plottable_sample_per_point() -> None:
         g={name: 0.25, "W_R": 0.125},
     )
     decision = Decision.of_points(Side.RIGHT, [0.0, 0.02], [point, point])
-    derived = FoxgloveChannels().derive(decision, T0)
+    derived = list(FoxgloveChannels().derive(decision, T0))
     assert [d.topic for d in derived] == [DECISION_TOPIC] * 2
     assert derived[1].log_time == T0 + 20_000_000
     sample = PrimitiveSample.model_validate_json(derived[1].data)

@@ -7,9 +7,12 @@ in order on the right channels, flushed while the sink is still running.
 from __future__ import annotations
 
 import time
+import tracemalloc
 from pathlib import Path
 
+import numpy as np
 import pytest
+from conftest import moving_trajectory
 
 from services.planner.pipeline import plan
 from services.recorder.options import RecorderOptions
@@ -239,3 +242,22 @@ def test_derived_messages_are_recorded_as_the_models_made_them(
         len(d.times) for d in result.decisions
     )
     assert derived == expected
+
+
+def test_a_long_trajectory_is_written_as_it_is_derived(tmp_path: Path) -> None:
+    """Recording a 5000-sample trajectory (10 000 derived messages) peaks under
+    six times its JSON size, most of it parsing the sample; its derived
+    messages made in full before the first was written took 45 times it."""
+    payload = moving_trajectory(5000, np.random.default_rng(7)).to_json().encode()
+    out = tmp_path / "long.mcap"
+    tracemalloc.start()
+    try:
+        sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+        sink.put(incoming("plan/trajectory", payload, t=1_700_000_000_000_000_000))
+        sink.stop()
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert sink.error is None and sink.written == 1
+    assert sink.derived == 1 + 10_000  # the robot description, poses, labels
+    assert peak < 6 * len(payload), f"peak {peak / len(payload):.1f} times the JSON"

@@ -29,7 +29,7 @@ from shared.errors import RecordingError
 from shared.recording.foxglove import FoxgloveChannels, description_message
 from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.rotation import RotatingWriter
-from shared.recording.writer import MAX_TIME, MessageWriter
+from shared.recording.writer import MessageWriter
 
 log = logging.getLogger("armplan.recorder")
 #: Longest wait for the writer thread to write the queue out when stopping [s].
@@ -186,6 +186,8 @@ class RecordingSink:
 
         The sample itself is written already: a message that cannot be shown
         (a missing joint, times beyond MCAP's range) only loses its poses.
+        They are written as they are made, one at a time (a trajectory of
+        40 000 samples makes 80 000): the recorder never holds them all.
         """
         if self._foxglove is None or entry.message is None:
             return
@@ -199,23 +201,21 @@ class RecordingSink:
         except (ArithmeticError, ValueError) as error:
             log.warning("recorder: no Foxglove poses for %s: %s", entry.topic, error)
             return
-        if not all(0 <= d.log_time <= MAX_TIME for d in derived):
-            log.warning(
-                "recorder: no Foxglove poses for %s: its times pass MCAP's range "
-                "(0 to 2^64 ns)",
-                entry.topic,
-            )
-            return
-        for d in derived:
-            self._files.write(
-                d.topic,
-                d.schema_name,
-                d.schema,
-                d.data,
-                d.log_time,
-                sample.publish_time,
-            )
-            self.derived += 1
+        try:
+            for d in derived:
+                self._files.write(
+                    d.topic,
+                    d.schema_name,
+                    d.schema,
+                    d.data,
+                    d.log_time,
+                    sample.publish_time,
+                )
+                self.derived += 1
+        except RecordingError:
+            raise  # the file takes no more: see _run
+        except Exception:  # a writer keeps writing: log and go on
+            log.exception("recorder: Foxglove poses of %s cut short", entry.topic)
 
     def _on_open(self, writer: MessageWriter, number: int) -> None:
         """Start a file: the recorder's metadata, then the robot description."""

@@ -14,10 +14,13 @@ never republishes them.
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Sequence
+from itertools import chain
 from typing import Any, NamedTuple
 
 from shared.messages import Decision, Message, Trajectory
 from shared.messages.frames import JointState
+from shared.recording.foxglove.link_poses import link_poses
 from shared.recording.foxglove.primitive import (
     PrimitiveSample,
     decision_samples,
@@ -32,11 +35,12 @@ from shared.recording.foxglove.schemas import (
     FRAME_TRANSFORMS_SCHEMA_NAME,
     frame_transforms_schema,
 )
+from shared.recording.foxglove.stamps import check_stamp, sample_stamps
 from shared.recording.foxglove.transforms import (
-    Stamped,
     executed_transforms,
-    planned_transforms,
     side_of_state,
+    trajectory_angles,
+    transforms_json,
 )
 from shared.robot import ArmModel, Side, load_arm
 
@@ -95,55 +99,63 @@ class FoxgloveChannels:
             self._arms[side] = load_arm(side)
         return self._arms[side]
 
-    def derive(self, message: Message, log_time: int) -> list[Derived]:
+    def derive(self, message: Message, log_time: int) -> Iterator[Derived]:
         """The derived messages of ``message`` received at ``log_time`` [ns].
+
+        Every check is made here, at the call: a message either raises now
+        or gives all of its derived messages. They are made one at a time as
+        they are taken (a trajectory of 40 000 samples gives 80 000), from
+        its link poses computed at the call: writing each as it comes keeps
+        one message in memory, not all of them.
 
         Raises:
             KeyError: a trajectory or state lacks one of its arm's joints.
+            ValueError: a derived message's time passes MCAP's range.
         """
         if isinstance(message, Trajectory):
             return self._trajectory(message, log_time)
         if isinstance(message, JointState):
             return self._state(message, log_time)
         if isinstance(message, Decision):
-            return _samples(DECISION_TOPIC, decision_samples(message, log_time))
-        return []
+            stamps = sample_stamps(message.times, log_time)
+            return _samples(DECISION_TOPIC, stamps, decision_samples(message))
+        return iter(())
 
-    def _trajectory(self, trajectory: Trajectory, log_time: int) -> list[Derived]:
+    def _trajectory(self, trajectory: Trajectory, log_time: int) -> Iterator[Derived]:
         arm = self._arm(Side.parse(trajectory.arm))
-        poses = planned_transforms(arm, trajectory, log_time, self.planned_prefix)
-        labels = trajectory_samples(trajectory, log_time)
-        return _transforms(PLANNED_TF_TOPIC, poses) + _samples(
-            PLANNED_PRIMITIVE_TOPIC, labels
+        angles = trajectory_angles(trajectory)
+        stamps = sample_stamps(trajectory.times, log_time)
+        poses = transforms_json(link_poses(arm, angles), stamps, self.planned_prefix)
+        labels = trajectory_samples(trajectory)
+        return chain(
+            _transforms(PLANNED_TF_TOPIC, stamps, poses),
+            _samples(PLANNED_PRIMITIVE_TOPIC, stamps, labels),
         )
 
-    def _state(self, state: JointState, log_time: int) -> list[Derived]:
+    def _state(self, state: JointState, log_time: int) -> Iterator[Derived]:
         side = side_of_state(state)
         if side is None:
-            return []
-        pose = executed_transforms(
-            self._arm(side), state, log_time, self.executed_prefix
-        )
-        return _transforms(EXECUTED_TF_TOPIC, [pose])
+            return iter(())
+        stamp = check_stamp(log_time, "the state")
+        pose = executed_transforms(self._arm(side), state, stamp, self.executed_prefix)
+        return _transforms(EXECUTED_TF_TOPIC, [stamp], iter([pose]))
 
 
-def _transforms(topic: str, stamped: list[Stamped]) -> list[Derived]:
+def _transforms(
+    topic: str, stamps: Sequence[int], messages: Iterator[bytes]
+) -> Iterator[Derived]:
+    """``foxglove.FrameTransforms`` on ``topic``, one per stamp [ns]."""
     schema = frame_transforms_schema()
-    return [
-        Derived(
-            topic,
-            FRAME_TRANSFORMS_SCHEMA_NAME,
-            schema,
-            s.message.to_json().encode(),
-            s.log_time,
-        )
-        for s in stamped
-    ]
+    for stamp, data in zip(stamps, messages, strict=True):
+        yield Derived(topic, FRAME_TRANSFORMS_SCHEMA_NAME, schema, data, stamp)
 
 
-def _samples(topic: str, samples: list[tuple[int, PrimitiveSample]]) -> list[Derived]:
+def _samples(
+    topic: str, stamps: Sequence[int], samples: Iterator[PrimitiveSample]
+) -> Iterator[Derived]:
+    """``PrimitiveSample`` messages on ``topic``, one per stamp [ns]."""
     schema = PrimitiveSample.json_schema()
-    return [
-        Derived(topic, PrimitiveSample.__name__, schema, s.to_json().encode(), t)
-        for t, s in samples
-    ]
+    for stamp, sample in zip(stamps, samples, strict=True):
+        yield Derived(
+            topic, PrimitiveSample.__name__, schema, sample.to_json().encode(), stamp
+        )

@@ -10,12 +10,13 @@ spaces replaced by ``_`` (``"S_R E_P W_P"`` -> ``S_R_E_P_W_P``): plot
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 from pydantic import Field
 
 from shared.messages import Decision, Message, Trajectory
 from shared.primitives import PRIMITIVES
 
-_NS_PER_S = 1_000_000_000
 #: Primitive names in Table 1's order; a sample's ``index`` points into it.
 PRIMITIVE_NAMES: tuple[str, ...] = tuple(p.name for p in PRIMITIVES)
 
@@ -47,42 +48,21 @@ def primitive_index(name: str) -> int:
     return PRIMITIVE_NAMES.index(name) if name in PRIMITIVE_NAMES else -1
 
 
-def decision_samples(
-    decision: Decision, start: int
-) -> list[tuple[int, PrimitiveSample]]:
-    """(log time [ns], sample) per path point of ``decision``.
-
-    Args:
-        decision: The motion decision.
-        start: When its first point applies [ns since the epoch].
-    """
-    t0 = decision.times[0]
+def decision_samples(decision: Decision) -> Iterator[PrimitiveSample]:
+    """One sample per path point of ``decision``, made as it is taken."""
     keys = [plot_key(name) for name in decision.candidates]
-    return [
-        (
-            start + round((t - t0) * _NS_PER_S),
-            PrimitiveSample(
-                time=t,
-                primitive=name,
-                index=primitive_index(name),
-                g=dict(zip(keys, row, strict=True)),
-            ),
+    for t, name, row in zip(
+        decision.times, decision.primitives, decision.g, strict=True
+    ):
+        yield PrimitiveSample(
+            time=t,
+            primitive=name,
+            index=primitive_index(name),
+            g=dict(zip(keys, row, strict=True)),
         )
-        for t, name, row in zip(
-            decision.times, decision.primitives, decision.g, strict=True
-        )
-    ]
 
 
-def trajectory_samples(
-    trajectory: Trajectory, start: int
-) -> list[tuple[int, PrimitiveSample]]:
-    """(log time [ns], sample) per trajectory sample, from its primitive labels."""
-    t0 = trajectory.times[0]
-    return [
-        (
-            start + round((t - t0) * _NS_PER_S),
-            PrimitiveSample(time=t, primitive=label, index=primitive_index(label)),
-        )
-        for t, label in zip(trajectory.times, trajectory.primitives, strict=True)
-    ]
+def trajectory_samples(trajectory: Trajectory) -> Iterator[PrimitiveSample]:
+    """One sample per trajectory sample, from its primitive labels, as taken."""
+    for t, label in zip(trajectory.times, trajectory.primitives, strict=True):
+        yield PrimitiveSample(time=t, primitive=label, index=primitive_index(label))

@@ -11,21 +11,29 @@ loads into Foxglove's 3D panel (they replace the URDF's joint-origin
 transforms, which Foxglove stamps at time 0); with a prefix (e.g.
 ``"executed/"``) a second arm appears beside it as a tree of axes. The root
 link ``torso`` is never prefixed, so both hang from the same torso.
+
+A trajectory's messages are made one at a time, as they are written: its
+link poses are computed first, into arrays (:func:`link_poses`), and each
+message's JSON is then made from one row of them, byte for byte the JSON of
+the pydantic model :func:`frame_transforms` builds, without building it.
+For 41 000 samples the poses take 14 MB; the models took about 700 MB.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import NamedTuple
+from collections.abc import Iterator, Sequence
 
 import numpy as np
 import numpy.typing as npt
+from pydantic_core import to_json
 
 from shared.messages import Trajectory
 from shared.messages.frames import JointState
 from shared.recording.foxglove.link_poses import (
     ROOT_LINK,
+    LinkPoses,
     LinkTransform,
+    link_poses,
     link_transforms,
 )
 from shared.recording.foxglove.schemas import (
@@ -38,18 +46,6 @@ from shared.recording.foxglove.schemas import (
 from shared.robot import JOINTS, ArmModel, Side
 
 _NS_PER_S = 1_000_000_000
-
-
-class Stamped(NamedTuple):
-    """A derived message and the time it belongs to.
-
-    Attributes:
-        log_time: When the message applies [ns since the epoch].
-        message: The message.
-    """
-
-    log_time: int
-    message: FrameTransforms
 
 
 def _frame(name: str, prefix: str) -> str:
@@ -96,33 +92,61 @@ def arm_angles(side: Side, names: Sequence[str], values: Sequence[float]) -> np.
     return np.array([float(by_name[side.prefix + joint]) for joint in JOINTS])
 
 
-def planned_transforms(
-    arm: ArmModel, trajectory: Trajectory, start: int, prefix: str = ""
-) -> list[Stamped]:
-    """One transforms message per trajectory sample.
-
-    Args:
-        arm: The model of ``trajectory.arm``.
-        trajectory: The planned trajectory.
-        start: When its first sample applies [ns since the epoch].
-        prefix: Frame name prefix (see the module docstring).
+def trajectory_angles(trajectory: Trajectory) -> np.ndarray:
+    """The five arm angles [rad] of every sample, paper order, shape (n, 5).
 
     Raises:
-        KeyError: if the trajectory lacks one of the arm's five joints.
+        KeyError: naming the arm joint missing from ``trajectory.joint_names``.
     """
     side = Side.parse(trajectory.arm)
-    t0 = trajectory.times[0]
-    out = []
-    for t, row in zip(trajectory.times, trajectory.positions, strict=True):
-        stamp = start + round((t - t0) * _NS_PER_S)
-        q = arm_angles(side, trajectory.joint_names, row)
-        out.append(Stamped(stamp, frame_transforms(arm, q, stamp, prefix)))
-    return out
+    column = {name: i for i, name in enumerate(trajectory.joint_names)}
+    columns = [column[side.prefix + joint] for joint in JOINTS]
+    return np.asarray(trajectory.positions, dtype=float)[:, columns]
+
+
+def transforms_json(
+    poses: LinkPoses, stamps: Sequence[int], prefix: str = ""
+) -> Iterator[bytes]:
+    """Each posture's ``foxglove.FrameTransforms`` JSON, one at a time.
+
+    The bytes of ``frame_transforms(...).to_json()`` (the same serializer,
+    pydantic's, on the same numbers) without a model per posture.
+
+    Args:
+        poses: The link poses of n postures.
+        stamps: Each posture's timestamp [ns since the epoch], shape (n,).
+        prefix: Prepended to every frame name but the root ``torso``.
+    """
+    frames = [
+        (_frame(parent, prefix), _frame(child, prefix))
+        for parent, child in zip(poses.parents, poses.children, strict=True)
+    ]
+    for stamp, translations, rotations in zip(
+        stamps, poses.translations, poses.rotations, strict=True
+    ):
+        sec, nsec = divmod(stamp, _NS_PER_S)
+        time = {"sec": sec, "nsec": nsec}
+        yield to_json(
+            {
+                "transforms": [
+                    {
+                        "timestamp": time,
+                        "parent_frame_id": parent,
+                        "child_frame_id": child,
+                        "translation": {"x": x, "y": y, "z": z},
+                        "rotation": {"x": qx, "y": qy, "z": qz, "w": qw},
+                    }
+                    for (parent, child), (x, y, z), (qx, qy, qz, qw) in zip(
+                        frames, translations.tolist(), rotations.tolist(), strict=True
+                    )
+                ]
+            }
+        )
 
 
 def executed_transforms(
     arm: ArmModel, state: JointState, stamp: int, prefix: str = "executed/"
-) -> Stamped:
+) -> bytes:
     """The transforms of one measured joint state.
 
     Args:
@@ -131,11 +155,14 @@ def executed_transforms(
         stamp: When they were measured (or received) [ns since the epoch].
         prefix: Frame name prefix.
 
+    Returns:
+        Its ``foxglove.FrameTransforms`` [UTF-8 JSON bytes].
+
     Raises:
         KeyError: if the state lacks one of the arm's five joints.
     """
     q = arm_angles(arm.side, state.joint_names, state.positions)
-    return Stamped(stamp, frame_transforms(arm, q, stamp, prefix))
+    return next(transforms_json(link_poses(arm, q[np.newaxis]), [stamp], prefix))
 
 
 def side_of_state(state: JointState) -> Side | None:
