@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import numpy.typing as npt
 from scipy.interpolate import CubicHermiteSpline  # type: ignore[import-untyped]
@@ -30,13 +32,28 @@ def positions_at(
             the cubic overshoots it (by 0.002 rad at 1 Hz) where the planned
             path, whose samples are within, does not. ``None``: as it comes.
     """
-    t = np.atleast_1d(np.asarray(times, dtype=float))
+    out = trajectory_curve(trajectory)(times)
+    return out if within is None else np.clip(out, within[0], within[1])
+
+
+def trajectory_curve(trajectory: Trajectory) -> Callable[[npt.ArrayLike], np.ndarray]:
+    """The curve of :func:`positions_at`, built once to be read many times.
+
+    Returns:
+        A function of times from the trajectory's start [s], shape (k,), to
+        joint angles [rad], shape (k, n) (the ranges not held).
+    """
     sample_times = np.asarray(trajectory.times) - trajectory.times[0]
     positions = np.asarray(trajectory.positions, dtype=float)
     if len(sample_times) == 1:
-        return np.repeat(positions, len(t), axis=0)
-    curve = CubicHermiteSpline(
+        return lambda times: np.repeat(positions, np.size(times), axis=0)
+    spline = CubicHermiteSpline(
         sample_times, positions, np.asarray(trajectory.velocities), axis=0
     )
-    out = curve(np.clip(t, 0.0, sample_times[-1]))
-    return out if within is None else np.clip(out, within[0], within[1])
+    end = float(sample_times[-1])
+
+    def at(times: npt.ArrayLike) -> np.ndarray:
+        t = np.atleast_1d(np.asarray(times, dtype=float))
+        return np.asarray(spline(np.clip(t, 0.0, end)))
+
+    return at
