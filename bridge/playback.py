@@ -4,11 +4,22 @@ The call runs asynchronously; while it runs, ``getAngles(names, True)`` is
 read every ``period`` seconds, on a fixed schedule from the call's start
 (``next_reading``), so a reading's round trip does not stretch the period. A
 sample's time is the middle of its request and its answer, counted from the
-moment the call left (after libqi converted its arguments), the time base of
-the call's keys; it is uncertain by half the round trip, which is kept with
-the sample. If the robot drops the connection, stops answering for
-``LOST_AFTER`` seconds, or overruns the call's duration, the robot is
-declared lost with a :class:`~shared.errors.RobotUnavailableError`.
+moment the call left (after libqi converted its arguments); it is uncertain
+by half the round trip, which is kept with the sample.
+
+The robot counts the keys from when it has received the call, which can be
+well after the call left: a long call at a high frame rate is a large
+message to carry and to parse (libqi sends 16 bytes a key, 240 kB for 1500
+frames of five joints; 44 000 frames began on the simulated NAO 0.5-0.7 s
+after they left, over loopback). ``angleInterpolation`` answers when the
+movement ends, the call's duration after the robot began it, so the
+answer's arrival less that duration is when the robot began, at the latest
+(early by the answer's own trip and up to a control cycle). How long after
+the call left that was is kept with the samples (``start_delay``).
+
+If the robot drops the connection, stops answering for ``LOST_AFTER``
+seconds, or overruns the call's duration, the robot is declared lost with a
+:class:`~shared.errors.RobotUnavailableError`.
 """
 
 from __future__ import annotations
@@ -39,11 +50,15 @@ class Samples(NamedTuple):
         positions: Measured angles [rad], shape (k, n).
         round_trips: Time from each request to its answer [s], shape (k,);
             a sample's time is uncertain by half of it. ``None``: exact times.
+        start_delay: How long after the call left the robot began it, at
+            most [s]: its answer came this much later than the call's
+            duration after it left (0 if not later).
     """
 
     times: np.ndarray
     positions: np.ndarray
     round_trips: np.ndarray | None = None
+    start_delay: float = 0.0
 
 
 class _Reader:
@@ -102,9 +117,11 @@ def play_and_sample(
     motion = client.motion()
     reader = _Reader(motion, call.names, min(period * 20, LOST_AFTER / 2))
     future = motion.angleInterpolation(*call, _async=True)
-    # The keys' clock starts when the call leaves, after libqi has converted
-    # its arguments (milliseconds for a long trajectory), not before.
+    # The samples' clock starts when the call leaves, after libqi has
+    # converted its arguments (milliseconds for a long trajectory), not before.
     start = time.monotonic()
+    answered: list[float] = []  # stamped on libqi's thread, not at the next poll
+    future.addCallback(lambda _: answered.append(time.monotonic()))
     times: list[float] = []
     rows: list[list[float]] = []
     round_trips: list[float] = []
@@ -131,13 +148,16 @@ def play_and_sample(
             )
         due = next_reading(due, period, time.monotonic())
         time.sleep(max(0.0, due - time.monotonic()))
+    seen = time.monotonic()
     if future.hasError():
         raise client.failure(
             "angleInterpolation", future.error(), time.monotonic() - start
         )
     width = len(call.names)
+    end = min([seen, *answered])  # the callback may not have run yet
     return Samples(
         np.array(times),
         np.array(rows, dtype=float).reshape(-1, width),
         np.array(round_trips),
+        max(0.0, end - start - call.duration),
     )

@@ -1,15 +1,23 @@
 """How closely the robot followed: measured against commanded angles.
 
-A robot reports its angles late: ALMotion updates them once per 20 ms
-control cycle, so a value read between cycles is up to one cycle old, and the
-request travels over the network besides. Compared sample by sample with the
-command at the same wall-clock time, even a perfect follower shows an error
-of about (joint speed) x (delay). The report therefore takes out one
-constant delay, the same for every joint: the shift in [0, ``MAX_LATENCY``]
-that minimises the squared error over the whole movement, found on a 1 ms
-grid. It reports that delay and the error before and after the shift, so a
-follower that lags (an error that grows with speed and does not vanish under
-any single shift) still shows up.
+A robot begins a call late and reports its angles late. The samples' times
+count from when the call left the bridge, but the robot counts the keys from
+when it has received the call: a long call at a high frame rate takes
+tenths of a second to carry and parse. ``angleInterpolation`` is blocking on
+a real NAO as on the simulated one, its answer comes when the movement
+ends, so ``bridge.playback`` knows when the robot began, at the latest:
+``Samples.start_delay`` after the call left (late by the answer's trip and
+up to a control cycle). And ALMotion updates the angles once per 20 ms
+control cycle, so a value read between cycles is up to one cycle old.
+Compared sample by sample with the command at the same wall-clock time,
+even a perfect follower shows an error of about (joint speed) x (delay).
+The report therefore takes out one constant delay, the same for every
+joint: the shift in [0, start delay + ``MAX_LATENCY``] that minimises the
+squared error over the whole movement, found on a 1 ms grid. It reports
+that delay, the start delay, and the error before and after the shift, so a
+follower that lags (by more than ``MAX_LATENCY`` past the robot's start, or
+by an error that grows with speed and does not vanish under any single
+shift) still shows up.
 
 A sample's time is the middle of its reading's request and answer, so it is
 uncertain by half the round trip. On a busy machine a reading can take a
@@ -24,13 +32,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from bridge.interpolation import positions_at
+from bridge.interpolation import positions_at, trajectory_curve
 from bridge.playback import Samples
 from shared.messages import ExecutedJointStates, TrackingReport, Trajectory
 
-#: Largest delay the alignment considers [s]: a network hop to a real NAO and
-#: a shared machine's scheduling included (on a loaded 2-CPU machine the call
-#: reached the simulated NAO more than 60 ms after it left the bridge).
+#: Largest delay the alignment considers past the measured start delay [s]:
+#: the control cycle, the readings' network hops to a real NAO and a shared
+#: machine's scheduling. (Before the call's start was measured it had to hold
+#: the call's own trip too: a 1500-frame call over a 500 kB/s link began
+#: 0.43 s late, and the report showed 24 degrees RMS the robot never made.)
 MAX_LATENCY = 0.25
 #: Step of the delay search [s].
 LATENCY_STEP = 0.001
@@ -56,21 +66,26 @@ def trusted(round_trips: np.ndarray | list[float] | None, count: int) -> np.ndar
     return keep
 
 
-def best_latency(trajectory: Trajectory, samples: Samples) -> float:
-    """The delay [s] in [0, MAX_LATENCY] that best aligns measured with commanded.
+def largest_latency(samples: Samples) -> float:
+    """The largest delay the alignment considers [s]: start delay + MAX_LATENCY."""
+    return samples.start_delay + MAX_LATENCY
 
-    Only the samples whose time is :func:`trusted` count.
+
+def best_latency(trajectory: Trajectory, samples: Samples) -> float:
+    """The delay [s] that best aligns measured with commanded.
+
+    It is searched in [0, :func:`largest_latency`] on a ``LATENCY_STEP`` grid;
+    only the samples whose time is :func:`trusted` count.
     """
     keep = trusted(samples.round_trips, len(samples.times))
     times = samples.times[keep]
     if len(times) < 2:
         return 0.0
     measured = samples.positions.reshape(len(samples.times), -1)[keep]
-    shifts = np.arange(0.0, MAX_LATENCY + LATENCY_STEP / 2, LATENCY_STEP)
-    costs = [
-        float(np.sum((measured - positions_at(trajectory, times - s)) ** 2))
-        for s in shifts
-    ]
+    curve = trajectory_curve(trajectory)
+    count = int(np.floor(largest_latency(samples) / LATENCY_STEP + 1e-9)) + 1
+    shifts = np.arange(count) * LATENCY_STEP
+    costs = [float(np.sum((measured - curve(times - s)) ** 2)) for s in shifts]
     return float(shifts[int(np.argmin(costs))])
 
 
@@ -86,6 +101,7 @@ def executed_states(trajectory: Trajectory, samples: Samples) -> ExecutedJointSt
         measured=samples.positions.tolist(),
         commanded=commanded.reshape(samples.positions.shape).tolist(),
         latency=latency,
+        start_delay=samples.start_delay,
         round_trips=trips,
     )
 
@@ -124,6 +140,7 @@ def tracking_report(
         tracking_rms_deg=dict(zip(names, rms.tolist(), strict=True)),
         tracking_max_deg=dict(zip(names, worst.tolist(), strict=True)),
         latency=states.latency,
+        start_delay=states.start_delay,
         unaligned_rms_deg=unaligned,
         samples=count,
         discarded=len(states.times) - count,

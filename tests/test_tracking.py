@@ -25,10 +25,13 @@ def trajectory():  # type: ignore[no-untyped-def]
     return minimum_jerk_trajectory("right", [rest("right"), forward("right")], [0.8])
 
 
-def _delayed(trajectory, delay: float, hold: float = 0.0) -> Samples:  # type: ignore[no-untyped-def]
-    """Samples every 10 ms of the trajectory delayed by ``delay`` [s], each value
-    held for ``hold`` [s] (a sensor read once per control cycle)."""
-    times = np.arange(0.0, 1.0, 0.01)
+def _delayed(
+    trajectory, delay: float, hold: float = 0.0, until: float = 1.0
+) -> Samples:  # type: ignore[no-untyped-def]
+    """Samples every 10 ms until ``until`` [s] of the trajectory delayed by
+    ``delay`` [s], each value held for ``hold`` [s] (a sensor read once per
+    control cycle)."""
+    times = np.arange(0.0, until, 0.01)
     seen = times - delay
     if hold:
         seen = np.floor(seen / hold) * hold
@@ -71,6 +74,35 @@ def test_the_search_stays_within_its_bound(trajectory) -> None:  # type: ignore[
     """A delay beyond MAX_LATENCY is not taken out entirely: it shows as error."""
     samples = _delayed(trajectory, MAX_LATENCY + 0.1)
     assert best_latency(trajectory, samples) <= MAX_LATENCY + 1e-12
+    report = tracking_report(executed_states(trajectory, samples), trajectory)
+    assert max(report.tracking_rms_deg.values()) > 1.0
+
+
+def _began_late(trajectory, start_delay: float, lag: float) -> Samples:  # type: ignore[no-untyped-def]
+    """A robot that began the call ``start_delay`` [s] after it left (and says
+    so) and reports its angles ``lag`` [s] after that, sampled to its end."""
+    samples = _delayed(trajectory, start_delay + lag, until=start_delay + lag + 1.0)
+    return samples._replace(start_delay=start_delay)
+
+
+def test_a_measured_start_delay_is_taken_out_beyond_max_latency(trajectory) -> None:  # type: ignore[no-untyped-def]
+    """A call that began 0.6 s after it left (a long call over a slow link):
+    the search reaches past MAX_LATENCY by the measured start delay and finds
+    the whole shift, and the report keeps the start delay."""
+    samples = _began_late(trajectory, 0.6, 0.015)
+    assert best_latency(trajectory, samples) == pytest.approx(0.615, abs=0.0011)
+    states = executed_states(trajectory, samples)
+    report = tracking_report(states, trajectory)
+    assert states.start_delay == report.start_delay == 0.6
+    assert max(report.tracking_rms_deg.values()) < 0.05
+    assert max(report.unaligned_rms_deg.values()) > 5.0
+
+
+def test_a_follower_lagging_past_its_start_still_shows(trajectory) -> None:  # type: ignore[no-untyped-def]
+    """The search stops MAX_LATENCY past the measured start: a robot that
+    began 0.6 s late and then lags 0.1 s more than that shows its error."""
+    samples = _began_late(trajectory, 0.6, MAX_LATENCY + 0.1)
+    assert best_latency(trajectory, samples) <= 0.6 + MAX_LATENCY + 1e-12
     report = tracking_report(executed_states(trajectory, samples), trajectory)
     assert max(report.tracking_rms_deg.values()) > 1.0
 

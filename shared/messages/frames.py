@@ -101,7 +101,10 @@ class ExecutedJointStates(Message):
             what each measured sample is compared with.
         latency: Delay between a command and the robot reporting it [s]: the
             shift that best aligns measured with commanded (see
-            ``bridge.tracking``).
+            ``bridge.tracking``), the call's ``start_delay`` included.
+        start_delay: How long after the call left the robot began it, at
+            most [s]: its answer's arrival less its duration (the latency
+            searched is at most this plus ``bridge.tracking.MAX_LATENCY``).
         round_trips: Time from each reading's request to its answer [s],
             shape (k,), or empty if the times are exact; a sample's time is
             uncertain by half its round trip.
@@ -113,6 +116,7 @@ class ExecutedJointStates(Message):
     measured: list[Row]
     commanded: list[Row]
     latency: float = Field(default=0.0, ge=0.0)
+    start_delay: float = Field(default=0.0, ge=0.0)
     round_trips: list[NonNegativeFloat] = Field(default_factory=list)
 
     @model_validator(mode="after")
@@ -137,8 +141,11 @@ class TrackingReport(Message):
         tracking_rms_deg: Root-mean-square of measured minus commanded, per
             joint [deg], once the measurement latency is taken out.
         tracking_max_deg: Largest absolute error, per joint [deg], likewise.
-        latency: The measurement latency taken out [s]: sensor cycle and
-            transport, the same for every joint.
+        latency: The delay taken out [s]: the call's trip to the robot,
+            sensor cycle and transport, the same for every joint.
+        start_delay: How long after the call left the robot began it, at
+            most [s] (see ``ExecutedJointStates``); the latency is searched
+            up to this plus ``bridge.tracking.MAX_LATENCY``.
         unaligned_rms_deg: The RMS error without taking the latency out [deg].
         samples: Number of measured samples compared.
         discarded: Samples left out because their time was uncertain (their
@@ -153,6 +160,7 @@ class TrackingReport(Message):
     tracking_rms_deg: dict[str, float]
     tracking_max_deg: dict[str, float]
     latency: float = Field(default=0.0, ge=0.0)
+    start_delay: float = Field(default=0.0, ge=0.0)
     unaligned_rms_deg: dict[str, float] = Field(default_factory=dict)
     samples: int = Field(ge=0)
     discarded: int = Field(default=0, ge=0)
