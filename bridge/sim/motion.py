@@ -25,13 +25,30 @@ from shared.libqi import qi
 MIN_MOVE_TIME = 0.02
 
 
-def _accept(log: SimLog, method: str, start: Callable[[], MotionTask]) -> MotionTask:
-    """Run ``start``; log the accepted motion, or log the refusal and re-raise."""
+def _accept(
+    log: SimLog,
+    t: float,
+    method: str,
+    arguments: dict[str, Any],
+    start: Callable[[], MotionTask],
+) -> MotionTask:
+    """Run ``start`` for a call received at ``t`` [s, sim clock], then log it.
+
+    The call is logged (with its ``arguments``, at its task's start, or at
+    ``t`` if refused) after its command is applied, not before: a call of
+    44 000 keys took 0.3 s to write, and its keys, counted from ``t``, ran
+    on while the joints still held the last command, which they then
+    caught up at their speed limit. Then the accepted motion, or the
+    refusal (re-raised), is logged.
+    """
     try:
         task = start()
-    except SimCommandError as error:
-        log.write("refused", method=method, reason=str(error))
+    except Exception as error:  # logged whatever went wrong, refused if refused
+        log.write("call", at=t, method=method, **arguments)
+        if isinstance(error, SimCommandError):
+            log.write("refused", method=method, reason=str(error))
         raise
+    log.write("call", at=task.start_time, method=method, **arguments)
     duration = round(task.end_time - task.start_time, 6)
     log.write("motion", method=method, joints=task.joints, duration=duration)
     return task
@@ -79,25 +96,31 @@ class SimulatedMotion:
     def angleInterpolation(
         self, names: Any, angleLists: Any, timeLists: Any, isAbsolute: bool
     ) -> None:
-        """Move joints through timed keys [rad, s]; blocks until done."""
-        t = self._robot.now()
-        self._log.write(
-            "call",
-            at=t,
-            method="angleInterpolation",
-            names=names,
-            angles=angleLists,
-            times=timeLists,
-            absolute=bool(isAbsolute),
-        )
+        """Move joints through timed keys [rad, s]; blocks until done.
+
+        The keys count from when the command takes effect, once they are
+        read and checked (a long call's take tenths of a second).
+        """
         task = _accept(
             self._log,
+            self._robot.now(),
             "angleInterpolation",
+            {
+                "names": names,
+                "angles": angleLists,
+                "times": timeLists,
+                "absolute": bool(isAbsolute),
+            },
             lambda: self._robot.move(
-                "angleInterpolation", t, names, angleLists, timeLists, bool(isAbsolute)
+                "angleInterpolation",
+                None,
+                names,
+                angleLists,
+                timeLists,
+                bool(isAbsolute),
             ),
         )
-        task.wait(task.end_time - t)
+        task.wait(task.end_time - task.start_time)
 
     def angleInterpolationWithSpeed(
         self, names: Any, targetAngles: Any, maxSpeedFraction: float
@@ -108,17 +131,11 @@ class SimulatedMotion:
         speed limit; the others arrive with it.
         """
         t = self._robot.now()
-        self._log.write(
-            "call",
-            at=t,
-            method="angleInterpolationWithSpeed",
-            names=names,
-            angles=targetAngles,
-            fraction=maxSpeedFraction,
-        )
         task = _accept(
             self._log,
+            t,
             "angleInterpolationWithSpeed",
+            {"names": names, "angles": targetAngles, "fraction": maxSpeedFraction},
             lambda: _speed_move(
                 self._robot, t, names, targetAngles, maxSpeedFraction, True
             ),
@@ -131,17 +148,11 @@ class SimulatedMotion:
         Each joint moves at ``fractionMaxSpeed`` of its speed limit.
         """
         t = self._robot.now()
-        self._log.write(
-            "call",
-            at=t,
-            method="setAngles",
-            names=names,
-            angles=angles,
-            fraction=fractionMaxSpeed,
-        )
         _accept(
             self._log,
+            t,
             "setAngles",
+            {"names": names, "angles": angles, "fraction": fractionMaxSpeed},
             lambda: _speed_move(self._robot, t, names, angles, fractionMaxSpeed, False),
         )
 
@@ -154,17 +165,11 @@ class SimulatedMotion:
     ) -> None:
         """Ramp stiffnesses (0..1) through timed keys [s]; blocks until done."""
         t = self._robot.now()
-        self._log.write(
-            "call",
-            at=t,
-            method="stiffnessInterpolation",
-            names=names,
-            stiffness=stiffnessLists,
-            times=timeLists,
-        )
         task = _accept(
             self._log,
+            t,
             "stiffnessInterpolation",
+            {"names": names, "stiffness": stiffnessLists, "times": timeLists},
             lambda: self._robot.stiffen(
                 "stiffnessInterpolation", t, names, stiffnessLists, timeLists
             ),
@@ -174,12 +179,11 @@ class SimulatedMotion:
     def setStiffnesses(self, names: Any, stiffnesses: Any) -> None:
         """Set stiffnesses (0..1) within one control cycle."""
         t = self._robot.now()
-        self._log.write(
-            "call", at=t, method="setStiffnesses", names=names, stiffness=stiffnesses
-        )
         _accept(
             self._log,
+            t,
             "setStiffnesses",
+            {"names": names, "stiffness": stiffnesses},
             lambda: self._robot.stiffen(
                 "setStiffnesses", t, names, stiffnesses, MIN_MOVE_TIME
             ),

@@ -65,7 +65,7 @@ class SimRobot:
     def move(
         self,
         method: str,
-        t: float,
+        t: float | None,
         names: str | list[str],
         values: object,
         times: object,
@@ -75,14 +75,18 @@ class SimRobot:
 
         Args:
             method: The ALMotion method, for the log and errors.
-            t: Reception time [s, sim clock].
+            t: Reception time [s, sim clock]; ``None``: the moment the command
+                takes effect, once its keys are read (44 000 keys took
+                0.1 s): they count from there (the task's ``start_time``),
+                as a robot's count from when its motion task starts.
             names: Joints or chains.
             values: Keys [rad] in any ALMotion form (offsets if not absolute).
             times: Key times from reception [s] in any ALMotion form.
             absolute: False: each key is an offset from the angle at reception.
         """
         commands = key_commands(expand_names(names), values, times)
-        with self._lock:
+        with self._lock:  # no cycle commits a joint between t and the command
+            t = self.now() if t is None else t
             starts = self._prepare(commands, t)
             if not absolute:
                 commands = [_offset(c, starts[c.joint]) for c in commands]

@@ -16,7 +16,8 @@ class MotionTask:
     Attributes:
         method: The ALMotion method that made it.
         joints: Joints it drives.
-        start_time: When it was received [s, sim clock].
+        start_time: When it took effect, the time its keys count from [s, sim
+            clock].
         end_time: When its last key is reached [s, sim clock].
     """
 

@@ -9,7 +9,7 @@ class KeyTimeline:
     """Setpoint of one joint, linear between keys, held after the last one.
 
     Attributes:
-        start_time: When the command was received [s, sim clock].
+        start_time: When the command took effect [s, sim clock].
         end_time: When its last key is reached [s, sim clock].
     """
 
@@ -23,7 +23,7 @@ class KeyTimeline:
         """Build from the value at reception and the keys.
 
         Args:
-            start_time: Reception time [s, sim clock].
+            start_time: When the command took effect [s, sim clock].
             start_value: Setpoint at reception [rad] (stiffness: 0..1).
             times: Key times from reception [s], increasing, first above 0.
             values: Key values, same length as ``times``.
