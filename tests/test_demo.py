@@ -31,6 +31,7 @@ from armplan.demo import DEFAULT_TASK, load_task
 from armplan.demo.folder_claim import CLAIM_FILE, claimed_folder
 from bridge import FrameLimits, check_frames, frames_from_trajectory, read_behavior
 from bridge.sim.log import read_log
+from bridge.tracking import MAX_LATENCY
 from services.ik import check_reachable
 from shared.errors import InvalidInputError
 from shared.messages import Trajectory, parse
@@ -182,6 +183,7 @@ def test_the_demo_runs_and_leaves_no_process(finished: Finished) -> None:
     text = "\n".join(finished.stdout)
     assert "planned through armplan/plan" in text
     assert "RShoulderPitch" in text and "RMS [deg]" in text
+    assert "ms after it left):" in text  # the call's measured start delay
     assert finished.stdout[-1].startswith("armplan demo: done in")
     assert finished.seen >= 9
     assert finished.leftovers == []
@@ -231,6 +233,10 @@ def test_the_report_tracks_within_one_degree(finished: Finished) -> None:
     for joint in joints:
         assert 0.0 <= report["tracking_rms_deg"][joint] < 1.0
         assert report["tracking_max_deg"][joint] >= report["tracking_rms_deg"][joint]
+    # the latency is searched from the call's measured start, a loopback call's
+    # within a second
+    assert 0.0 <= report["start_delay"] < 1.0
+    assert report["latency"] <= report["start_delay"] + MAX_LATENCY
     assert report["simulated"] is True and report["robot"].startswith(
         "tcp://127.0.0.1:"
     )

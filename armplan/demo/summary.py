@@ -65,7 +65,8 @@ def tracking_lines(run: Execution) -> list[str]:
     lines = [
         f"tracking error, measured (getAngles) against commanded, {report.samples} "
         f"samples{left_out if report.discarded else ''}, latency "
-        f"{report.latency * 1000:.0f} ms taken out:",
+        f"{report.latency * 1000:.0f} ms taken out (the call began at most "
+        f"{report.start_delay * 1000:.0f} ms after it left):",
         f"  {'joint':<16}{'RMS [deg]':>10}{'max [deg]':>11}",
     ]
     for joint in report.joint_names:
