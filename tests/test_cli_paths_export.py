@@ -151,3 +151,19 @@ def test_the_writer_names_a_path_it_cannot_write(tmp_path: Path) -> None:
         write_python(frames, tmp_path)
     assert caught.value.message == f"cannot write {tmp_path}: Is a directory"
     assert caught.value.field == "output"
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_an_output_that_is_the_input_is_refused(
+    fmt: str, source: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """-o naming the trajectory itself (it was overwritten with the export)
+    is refused, naming both, and the trajectory is left as it was."""
+    before = source.read_text()
+    code, err = export(capsys, fmt, source, str(source))
+    assert code == 1
+    assert err == (
+        f"armplan: error: output {source} is also an input ({source}): writing "
+        "it would destroy that input; choose another output name\n"
+    )
+    assert source.read_text() == before

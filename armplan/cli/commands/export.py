@@ -64,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
             f"--rate must be in [{MIN_RATE:g}, {MAX_RATE:g}] Hz, got {args.rate:g}",
             field="rate",
         )
-    check_output_file(args.output)
+    check_output_file(args.output, inputs=[args.trajectory])
     trajectory = read_trajectory(args.trajectory)
     try:
         limits = FrameLimits.for_arm(trajectory.arm)
