@@ -52,14 +52,15 @@ class TimelineKeys(NamedTuple):
     """The keys of a Choregraphe timeline.
 
     Attributes:
-        fps: Frame rate of the timeline [Hz].
+        fps: Frame rate of the timeline [Hz], a whole number as the runtime
+            reads it.
         names: Actuators in file order, shape (n,).
         frames: Frame numbers of each actuator's keys, n arrays of shape (m_i,).
         values: Values of those keys as written (degrees, or fraction for a
             hand), n arrays of shape (m_i,).
     """
 
-    fps: float
+    fps: int
     names: list[str]
     frames: list[np.ndarray]
     values: list[np.ndarray]
@@ -135,9 +136,42 @@ def _curve(name: str, frame_numbers: list[int], values: np.ndarray, ind: str) ->
     )
 
 
+def timeline_fps(rate: float, what: str = "the frame rate") -> int:
+    """``rate`` [Hz] as a Choregraphe timeline's ``fps``: a whole number.
+
+    Choregraphe's runtime holds a timeline's fps as an ``int``
+    (libqicore-compat ``AnimationModel``: ``int _fps`` read by
+    ``getAttribute("fps", _fps)``; ``Timeline::setFPS(int)``; a frame every
+    ``1000 / fps`` ms): ``fps="12.5"`` would not play at the times checked
+    (read as 12, or not at all and the default used). The Python export
+    keeps any rate.
+
+    Args:
+        rate: The frame rate asked for [Hz].
+        what: How the message names it (``--rate`` for the command line).
+
+    Raises:
+        InvalidInputError: ``rate`` is not a whole number, shown as given.
+    """
+    rate = float(rate)
+    if rate.is_integer():
+        return int(rate)
+    near = (
+        f": use {max(1, math.floor(rate))} or {math.ceil(rate)} fps"
+        if math.isfinite(rate)
+        else ""
+    )
+    raise InvalidInputError(
+        f"{what} of a Choregraphe behavior must be a whole number of frames "
+        f"per second (its runtime holds fps as an int), got {rate!r}{near}, "
+        "or export python, which keeps any rate",
+        field="rate",
+        rate=rate,
+    )
+
+
 def _timeline_box(frames: CommandFrames, name: str, indent: str) -> str:
-    rate = frames.rate
-    fps = int(rate) if float(rate).is_integer() else rate
+    fps = timeline_fps(frames.rate)
     numbers = frames.frame_numbers
     positions = np.asarray(frames.positions)
     inner = indent + "    "
@@ -170,9 +204,15 @@ def behavior_xml(frames: CommandFrames, name: str = "armplan trajectory") -> str
     """The Choregraphe behavior (``behavior.xar`` text) that replays ``frames``.
 
     Args:
-        frames: Command frames on whole frames of their timeline [s, rad].
+        frames: Command frames on whole frames of their timeline [s, rad],
+            at a whole number of frames per second.
         name: Name of the timeline box shown in Choregraphe.
+
+    Raises:
+        InvalidInputError: the rate is not a whole number (``timeline_fps``),
+            or a frame is not on a frame of the timeline.
     """
+    timeline_fps(frames.rate)
     _check_frame_numbers(frames)
     d = "    "
     return (
@@ -229,6 +269,18 @@ def _keyed_timeline(root: ET.Element) -> ET.Element:
     )
 
 
+def _whole_fps(text: str) -> int:
+    """A timeline's ``fps`` attribute, read as the runtime reads it: an int."""
+    try:
+        return int(text)
+    except ValueError:
+        raise InvalidInputError(
+            f"timeline fps {text!r} is not a whole number: Choregraphe's "
+            "runtime reads it as an int",
+            field="fps",
+        ) from None
+
+
 def timeline_from_xml(text: str) -> TimelineKeys:
     """The keys of the first keyed timeline in a behavior's XML text."""
     try:
@@ -236,7 +288,7 @@ def timeline_from_xml(text: str) -> TimelineKeys:
     except ET.ParseError as exc:
         raise InvalidInputError(f"not a Choregraphe behavior: {exc}") from None
     timeline = _keyed_timeline(root)
-    fps = float(timeline.attrib.get("fps", "25"))
+    fps = _whole_fps(timeline.attrib.get("fps", "25"))
     names, numbers, values = [], [], []
     for curve in timeline.iter():
         if _local(curve.tag) == "ActuatorCurve":

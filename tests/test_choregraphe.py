@@ -12,6 +12,7 @@ from bridge.choregraphe import (
     NAMESPACE,
     behavior_xml,
     read_behavior,
+    timeline_fps,
     timeline_from_xml,
     write_behavior,
 )
@@ -95,3 +96,33 @@ def test_reading_something_else_is_a_clear_error() -> None:
         timeline_from_xml("<ChoregrapheProject")
     with pytest.raises(InvalidInputError, match="no Timeline with an ActuatorList"):
         timeline_from_xml("<ChoregrapheProject xar_version='3'/>")
+
+
+def test_a_fractional_frame_rate_is_refused_naming_it() -> None:
+    """Choregraphe's runtime holds fps as an int: frames at 12.5 fps were
+    written as fps="12.5" (read as 12 or not at all); now refused, the rate
+    shown as given, with the whole rates on either side."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), rest("right") + 0.1], [0.8]
+    )
+    frames = frames_from_trajectory(trajectory, 12.5)
+    with pytest.raises(InvalidInputError) as caught:
+        behavior_xml(frames)
+    assert caught.value.field == "rate"
+    assert "got 12.5: use 12 or 13 fps" in caught.value.message
+    with pytest.raises(InvalidInputError, match="whole number"):
+        timeline_fps(29.97)
+    assert timeline_fps(30.0) == 30
+
+
+def test_the_reader_reads_fps_as_the_runtime_does() -> None:
+    """A file with fps="12.5" is refused by the reader, not read as 12.5."""
+    text = behavior_xml(
+        frames_from_trajectory(
+            minimum_jerk_trajectory(
+                "right", [rest("right"), rest("right") + 0.1], [0.8]
+            )
+        )
+    ).replace('fps="25"', 'fps="12.5"')
+    with pytest.raises(InvalidInputError, match=r"fps '12\.5' is not a whole number"):
+        timeline_from_xml(text)

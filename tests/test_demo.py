@@ -27,12 +27,13 @@ from typing import Any, NamedTuple
 import numpy as np
 import pytest
 
-from armplan.demo import DEFAULT_TASK, load_task
+from armplan.demo import DEFAULT_TASK, DemoOptions, load_task, run_demo
 from armplan.demo.folder_claim import CLAIM_FILE, claimed_folder
 from bridge import FrameLimits, check_frames, frames_from_trajectory, read_behavior
 from bridge.sim.log import read_log
 from bridge.tracking import MAX_LATENCY
 from services.ik import check_reachable
+from shared.bus import BusConfig
 from shared.errors import InvalidInputError
 from shared.messages import Trajectory, parse
 from shared.recording.reader import summarize
@@ -421,3 +422,16 @@ def test_a_claim_won_on_a_removed_file_is_tried_again(
     c_done.set()
     b.join(10)
     assert results == {"B": "claimed"}
+
+
+def test_a_fractional_frame_rate_is_refused_before_anything_starts(
+    tmp_path: Path,
+) -> None:
+    """behavior.xar needs a whole frame rate: 12.5 fps is refused naming it
+    before any folder or process is made (it failed after the arm moved)."""
+    out = tmp_path / "results"
+    said: list[str] = []
+    options = DemoOptions(BusConfig(), out=out, rate=12.5)
+    with pytest.raises(InvalidInputError, match="frame rate of a Choregraphe"):
+        run_demo(options, said.append)
+    assert said == [] and not out.exists()

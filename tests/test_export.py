@@ -222,3 +222,30 @@ def test_a_behavior_holds_the_frames_as_rounded() -> None:
     for j, name in enumerate(frames.joint_names):
         np.testing.assert_array_equal(np.array(held.positions)[:, j], keys.angles(name))
     assert 0 < np.abs(np.subtract(held.positions, frames.positions)).max() < 1e-7
+
+
+def test_cli_refuses_a_fractional_rate_for_choregraphe_only(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--rate 12.5: refused for a behavior (its timeline's fps is an int),
+    naming the rate as given, before anything is written; the Python export
+    keeps it. An out-of-range rate is shown as given too (1000.0001 read as
+    "got 1000")."""
+    source = tmp_path / "trajectory.json"
+    source.write_text(trajectory().to_json())
+    out = tmp_path / "b.xar"
+    args = ["export", "choregraphe", str(source), "-o", str(out), "--rate", "12.5"]
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert "--rate of a Choregraphe behavior must be a whole number" in err
+    assert "got 12.5: use 12 or 13 fps" in err
+    assert not out.exists()
+    script = tmp_path / "p.py"
+    assert (
+        main(["export", "python", str(source), "-o", str(script), "--rate", "12.5"])
+        == 0
+    )
+    assert "at 12.5 fps" in capsys.readouterr().out
+    args[-1] = "1000.0001"
+    assert main(args) == 1
+    assert "got 1000.0001" in capsys.readouterr().err

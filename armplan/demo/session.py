@@ -31,6 +31,7 @@ from armplan.demo.outputs import (
 )
 from armplan.demo.stack import LOGS_DIR, RECORDING_FILE, SIM_LOG_FILE, DemoStack
 from armplan.demo.task import DEFAULT_TASK, Task, load_task
+from bridge.choregraphe import timeline_fps
 from bridge.frames import DEFAULT_RATE
 from shared.bus import Bus, BusConfig
 from shared.bus.robot_routes import EXECUTE
@@ -68,7 +69,8 @@ class DemoOptions:
         task: The task file.
         robot: A real NAO's address; ``None``: the simulated NAO.
         record: Record the session to MCAP.
-        rate: Frame rate of the command frames [Hz].
+        rate: Frame rate of the command frames [Hz], a whole number (the
+            timeline of ``behavior.xar`` has no other).
     """
 
     config: BusConfig
@@ -115,10 +117,12 @@ def run_demo(
 
     Raises:
         InvalidInputError: ``options.out`` cannot be a folder, another
-            demo is writing into it, or the task file is bad (before
-            anything starts).
+            demo is writing into it, the task file is bad, or the frame
+            rate is no whole number (``behavior.xar`` needs one), all before
+            anything starts.
         ArmplanError: a step failed (everything started is stopped first).
     """
+    timeline_fps(options.rate, "the demo's frame rate")
     check_output_folder(options.out)
     task = load_task(options.task)
     with claimed_folder(options.out):

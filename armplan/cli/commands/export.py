@@ -58,12 +58,15 @@ def run(args: argparse.Namespace) -> int:
         write_behavior,
         write_python,
     )
+    from bridge.choregraphe import timeline_fps
 
     if not MIN_RATE <= args.rate <= MAX_RATE:
         raise InvalidInputError(
-            f"--rate must be in [{MIN_RATE:g}, {MAX_RATE:g}] Hz, got {args.rate:g}",
+            f"--rate must be in [{MIN_RATE:g}, {MAX_RATE:g}] Hz, got {args.rate!r}",
             field="rate",
         )
+    if args.format == "choregraphe":
+        timeline_fps(args.rate, "--rate")
     check_output_file(args.output, inputs=[args.trajectory])
     trajectory = read_trajectory(args.trajectory)
     try:
