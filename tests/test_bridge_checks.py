@@ -77,8 +77,11 @@ def test_a_frame_out_of_range_is_named() -> None:
     """An angle beyond its range names the joint, the frame and the range."""
     start = rest("right")
     target = start.copy()
-    target[3] = 1.6  # RElbowRoll's range ends at 1.54462 rad
-    trajectory = minimum_jerk_trajectory("right", [start, target], [1.0])
+    target[3] = 1.5
+    reach = minimum_jerk_trajectory("right", [start, target], [1.0])
+    positions = np.asarray(reach.positions)
+    positions[:, 3] += 0.1  # to 1.6: RElbowRoll's range ends at 1.54462 rad
+    trajectory = reach.model_copy(update={"positions": positions.tolist()})
     with pytest.raises(
         TrajectoryRefusedError, match=r"RElbowRoll angle 1\.\d+ rad at frame \d+"
     ) as caught:

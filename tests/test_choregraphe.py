@@ -54,7 +54,7 @@ def test_the_file_is_a_choregraphe_timeline_box(rng: np.random.Generator) -> Non
     """A xar_version 3 project whose root diagram holds one keyed Timeline box:
     fps 25, size = last frame, one degree-unit curve per joint, keys 1..m."""
     trajectory = minimum_jerk_trajectory(
-        "right", [rest("right"), rest("right") - 0.3], [0.5]
+        "right", [rest("right"), rest("right") - [0.3, 0.3, 0.3, -0.3, 0.3]], [0.5]
     )
     frames = frames_from_trajectory(trajectory)
     root = ET.fromstring(behavior_xml(frames))

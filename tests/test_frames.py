@@ -46,12 +46,13 @@ def test_frames_between_samples_follow_the_hermite_curve(
 ) -> None:
     """At 30 fps frames fall between samples; they agree with a minimum-jerk
     curve evaluated exactly to 1e-6 rad."""
+    delta = np.array([0.5, -0.5, 0.5, 0.5, 0.5])  # within every range
     trajectory = minimum_jerk_trajectory(
-        "right", [rest("right"), rest("right") + 0.5], [1.0]
+        "right", [rest("right"), rest("right") + delta], [1.0]
     )
     frames = frames_from_trajectory(trajectory, 30.0)
     s = np.minimum(np.asarray(frames.times), 1.0)
-    exact = rest("right") + 0.5 * (10 * s**3 - 15 * s**4 + 6 * s**5)[:, None]
+    exact = rest("right") + delta * (10 * s**3 - 15 * s**4 + 6 * s**5)[:, None]
     assert np.max(np.abs(np.asarray(frames.positions) - exact)) < 1e-6
     assert frames.frame_numbers == list(range(1, 31))
 
