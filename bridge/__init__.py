@@ -2,8 +2,10 @@
 
 - :mod:`bridge.frames`: a trajectory as command frames at a timeline's rate.
 - :mod:`bridge.choregraphe`, :mod:`bridge.python_export`,
-  :mod:`bridge.almotion`: the frames as a Choregraphe behavior, a
-  Choregraphe-style Python script, and an ALMotion ``angleInterpolation`` call.
+  :mod:`bridge.almotion`: the frames as a Choregraphe behavior (its
+  timeline's keys: :mod:`bridge.timeline_keys`; its box to the start:
+  :mod:`bridge.start_box`), a Choregraphe-style Python script, and an
+  ALMotion ``angleInterpolation`` call.
 - :mod:`bridge.checks`, :mod:`bridge.fidelity`: every frame against the
   joints' limits, and the lines between frames against the trajectory,
   before anything is sent (both: :mod:`bridge.checked_frames`).

@@ -57,9 +57,11 @@ def _frames_at(
 
 
 def check_behavior(frames: CommandFrames, limits: FrameLimits) -> None:
-    """Refuse ``frames`` if they break a limit as a Choregraphe behavior holds them.
+    """Refuse ``frames`` if they break a limit as a Choregraphe behavior plays them.
 
-    Each angle is rounded to ``bridge.choregraphe.DECIMALS`` in degrees.
+    The keys the behavior's timeline holds (``bridge.timeline_keys``): the
+    start posture at 0 s, frame ``k`` at ``k / rate``, the last posture
+    held; each angle rounded to ``DECIMALS`` in degrees.
 
     Raises:
         TrajectoryRefusedError: naming the first frame that breaks a limit.

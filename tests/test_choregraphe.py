@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -19,17 +20,23 @@ from bridge.choregraphe import (
 from bridge.frames import frames_from_trajectory
 from bridge.interpolation import positions_at
 from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.sim import SimProcess
+from bridge.sim.log import read_log
+from bridge.timeline_keys import END_MARGIN
 from shared.errors import InvalidInputError
+from shared.libqi import qi
 from shared.robot import load_arm
-from shared.robot.postures import rest
+from shared.robot.postures import forward, rest
 
 
 @pytest.mark.parametrize("side", ["right", "left"])
 def test_keys_round_trip_within_0_05_degree(
     side: str, rng: np.random.Generator, tmp_path: Path
 ) -> None:
-    """Reading the file's keys back gives the trajectory's angles at the frame
-    times within 0.05 degrees (in fact within the 1e-4 degree written)."""
+    """Reading the file's keys back gives the trajectory's angles at the times
+    the runtime plays them within 0.05 degrees (in fact within the 1e-6
+    degree written): the start at 0 s, frame k at k / 25 s, then the last
+    posture held."""
     limits = load_arm(side).limits
     targets = rng.uniform(
         limits.lower + 0.1 * limits.span, limits.upper - 0.1 * limits.span, (2, 5)
@@ -39,20 +46,25 @@ def test_keys_round_trip_within_0_05_degree(
     )
     frames = frames_from_trajectory(trajectory)
     keys = read_behavior(write_behavior(frames, tmp_path / "behavior.xar"))
-    assert keys.fps == 25.0
+    assert keys.fps == 25 and keys.start_frame == 1
     assert keys.names == list(trajectory.joint_names)
+    m = len(frames.times)
     for j, name in enumerate(keys.names):
         times = keys.times(name)
         expected = np.degrees(positions_at(trajectory, times)[:, j])
         error = np.abs(np.degrees(keys.angles(name)) - expected)
         assert error.max() < 0.05
-        assert error.max() <= 0.5e-4 + 1e-9
-        assert np.allclose(times, frames.times)
+        assert error.max() <= 0.5e-6 + 1e-9
+        assert times[0] == 0.0
+        np.testing.assert_allclose(times[1 : m + 1], frames.times, rtol=0, atol=1e-12)
+        assert times[m + 1 :].min() > frames.duration
 
 
-def test_the_file_is_a_choregraphe_timeline_box(rng: np.random.Generator) -> None:
-    """A xar_version 3 project whose root diagram holds one keyed Timeline box:
-    fps 25, size = last frame, one degree-unit curve per joint, keys 1..m."""
+def test_the_file_is_a_start_box_then_a_timeline_box() -> None:
+    """A xar_version 3 project whose root diagram runs a Python script box
+    (moving the arm to the start at 20 % of its speed limits), then a keyed
+    Timeline box: fps 25, start_frame 1, one degree-unit curve per joint,
+    keys 1 (the start), 2..14 (frames 1..13), 15..17 (the last posture held)."""
     trajectory = minimum_jerk_trajectory(
         "right", [rest("right"), rest("right") - [0.3, 0.3, 0.3, -0.3, 0.3]], [0.5]
     )
@@ -61,20 +73,38 @@ def test_the_file_is_a_choregraphe_timeline_box(rng: np.random.Generator) -> Non
     ns = {"c": NAMESPACE}
     assert root.tag == f"{{{NAMESPACE}}}ChoregrapheProject"
     assert root.attrib["xar_version"] == "3"
-    boxes = root.findall(
-        "c:Box/c:Timeline/c:BehaviorLayer/c:BehaviorKeyframe/c:Diagram/c:Box", ns
+    diagram = root.find(
+        "c:Box/c:Timeline/c:BehaviorLayer/c:BehaviorKeyframe/c:Diagram", ns
     )
-    assert len(boxes) == 1
-    timeline = boxes[0].find("c:Timeline", ns)
+    assert diagram is not None
+    start_box, timeline_box = diagram.findall("c:Box", ns)
+    script = (start_box.findtext("c:script/c:content", namespaces=ns) or "").strip()
+    assert script.startswith("class MyClass(GeneratedClass):")
+    compile(script, "start box", "exec")  # valid Python
+    assert "angleInterpolationWithSpeed(names, start, 0.2)" in script
+    assert start_box.find("c:Timeline", ns) is None
+    timeline = timeline_box.find("c:Timeline", ns)
     assert timeline is not None
-    assert timeline.attrib["fps"] == "25" and timeline.attrib["size"] == "13"
+    assert timeline.attrib["fps"] == "25" and timeline.attrib["start_frame"] == "1"
+    assert timeline.attrib["size"] == "17"
     curves = timeline.findall("c:ActuatorList/c:ActuatorCurve", ns)
     assert [c.attrib["actuator"] for c in curves] == list(trajectory.joint_names)
     assert {c.attrib["unit"] for c in curves} == {"0"}
     frames_written = [int(k.attrib["frame"]) for k in curves[0].findall("c:Key", ns)]
-    assert frames_written == list(range(1, 14))
-    links = root.findall(".//c:Link", ns)
-    assert len(links) == 2
+    assert frames_written == list(range(1, 18))
+    chain = {
+        (link.attrib["outputowner"], link.attrib["indexofoutput"]): (
+            link.attrib["inputowner"],
+            link.attrib["indexofinput"],
+        )
+        for link in diagram.findall("c:Link", ns)
+    }
+    start_id, timeline_id = start_box.attrib["id"], timeline_box.attrib["id"]
+    assert chain == {
+        ("0", "2"): (start_id, "2"),  # the behavior's onStart -> the script
+        (start_id, "4"): (timeline_id, "2"),  # at the start -> the timeline
+        (timeline_id, "4"): ("0", "4"),  # the timeline's end -> onStopped
+    }
 
 
 def test_frames_off_the_timeline_grid_are_refused() -> None:
@@ -126,3 +156,88 @@ def test_the_reader_reads_fps_as_the_runtime_does() -> None:
     ).replace('fps="25"', 'fps="12.5"')
     with pytest.raises(InvalidInputError, match=r"fps '12\.5' is not a whole number"):
         timeline_from_xml(text)
+
+
+def script_of(xml: str, box: int = 0) -> str:
+    """The Python of the ``box``-th box of a behavior's root diagram."""
+    ns = {"c": NAMESPACE}
+    diagram = ET.fromstring(xml).find(
+        "c:Box/c:Timeline/c:BehaviorLayer/c:BehaviorKeyframe/c:Diagram", ns
+    )
+    assert diagram is not None
+    boxes = diagram.findall("c:Box", ns)
+    return (boxes[box].findtext("c:script/c:content", namespaces=ns) or "").strip()
+
+
+def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
+    tmp_path: Path,
+) -> None:
+    """The behavior played from NAO's rest posture: its script box, run as
+    Choregraphe runs a box (``MyClass`` on the runtime's ``GeneratedClass``,
+    ``ALProxy``) against the simulated NAO over libqi, moves the arm to the
+    timeline's first key at 20 % of the speed limits, and only then fires
+    ``onStopped`` (which starts the timeline)."""
+    start = forward("right")
+    trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
+    xml = behavior_xml(frames_from_trajectory(trajectory))
+    first_key = [
+        timeline_from_xml(xml).angles(name)[0] for name in trajectory.joint_names
+    ]
+    log = tmp_path / "sim.jsonl"
+    with SimProcess(log_path=log) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        at_rest = motion.getAngles(trajectory.joint_names, False)
+        stopped: list[list[float]] = []
+
+        class GeneratedClass:  # what Choregraphe's runtime gives a box
+            def __init__(self) -> None:
+                pass
+
+            def onStopped(self) -> None:
+                stopped.append(motion.getAngles(trajectory.joint_names, False))
+
+        runtime: dict[str, Any] = {
+            "GeneratedClass": GeneratedClass,
+            "ALProxy": lambda name: session.service(name),
+        }
+        exec(script_of(xml), runtime)
+        box = runtime["MyClass"]()
+        box.onLoad()
+        box.onInput_onStart()
+        session.close()
+    assert np.abs(np.subtract(at_rest, start)).max() > 0.5  # it had to move
+    assert len(stopped) == 1
+    np.testing.assert_allclose(stopped[0], first_key, atol=1e-6)
+    calls = [e for e in read_log(log) if e["event"] == "call"]
+    assert [c["method"] for c in calls] == [
+        "setStiffnesses",
+        "angleInterpolationWithSpeed",
+    ]
+    assert calls[1]["fraction"] == 0.2
+    assert [e["event"] for e in read_log(log)].count("refused") == 0
+
+
+@pytest.mark.parametrize("fps", [25, 30, 900])
+def test_the_timeline_ends_after_its_last_frame_is_played(fps: int) -> None:
+    """The runtime steps a timeline every 1000 // fps whole milliseconds and
+    stops the motion at its last key's frame: at 30 fps (33 ms steps) a
+    timeline ending on the last frame stopped the arm 0.1 s early in a 10 s
+    movement, at 900 fps (1 ms steps) a tenth of the way before its end. The
+    last posture is held until that stop comes END_MARGIN after the last
+    frame or later."""
+    start = forward("right")
+    trajectory = minimum_jerk_trajectory(
+        "right", [start, start + 0.3, start], [5.0, 5.0]
+    )
+    frames = frames_from_trajectory(trajectory, fps)
+    keys = timeline_from_xml(behavior_xml(frames))
+    steps = int(keys.frames[0][-1]) - keys.start_frame
+    stop = steps * (1000 // fps) / 1000.0  # [s] after the keys were sent
+    assert stop >= frames.duration + END_MARGIN - 1e-9
+    assert stop < frames.duration + END_MARGIN + 2.0 / fps + 0.002
+    held = np.column_stack([keys.angles(n) for n in keys.names])
+    played = keys.times(keys.names[0])
+    after = played > frames.duration + 1e-9
+    np.testing.assert_allclose(held[after], held[~after][-1:].repeat(after.sum(), 0))

@@ -210,15 +210,21 @@ def test_the_trajectory_file_is_the_task_within_the_limits(finished: Finished) -
 
 
 def test_the_exports_hold_the_trajectory(finished: Finished) -> None:
-    """behavior.xar's keys are the trajectory's frames (within 0.05 deg);
+    """behavior.xar's keys are the trajectory's start (at 0 s) and frames
+    (at k / 25 s, within 0.05 deg), its script box goes to that start;
     play.py is Python with Choregraphe's names/times/keys lists."""
     trajectory = parse(Trajectory, (finished.out / "trajectory.json").read_text())
     frames = frames_from_trajectory(trajectory)
+    text = (finished.out / "behavior.xar").read_text()
     keys = read_behavior(finished.out / "behavior.xar")
+    m = len(frames.times)
     for j, name in enumerate(trajectory.joint_names):
-        np.testing.assert_allclose(keys.times(name), frames.times, atol=1e-9)
-        error = np.degrees(np.abs(keys.angles(name) - np.array(frames.positions)[:, j]))
+        times, angles = keys.times(name), keys.angles(name)
+        np.testing.assert_allclose(times[1 : m + 1], frames.times, atol=1e-9)
+        assert times[0] == 0.0 and abs(angles[0] - frames.start[j]) < 1e-7
+        error = np.degrees(np.abs(angles[1 : m + 1] - np.array(frames.positions)[:, j]))
         assert error.max() < 0.05
+    assert "angleInterpolationWithSpeed(names, start, 0.2)" in text
     script = (finished.out / "play.py").read_text()
     ast.parse(script)
     assert "names = list()" in script and "keys.append(" in script

@@ -174,18 +174,22 @@ def test_cli_refuses_a_frame_rate_out_of_range(
 
 def written_frames(path: Path, tmp_path: Path) -> CommandFrames:
     """What an export file holds, as frames: the behavior's keys read back
-    (frame numbers over fps, degrees), or the script's lists."""
+    (played at (frame - start_frame) / fps, degrees; the first key the
+    start), or the script's lists."""
+    start = json.loads((tmp_path / "plan.json").read_text())["positions"][0]
     if path.suffix == ".xar":
         keys = read_behavior(path)
         times = keys.times(keys.names[0])
-        positions = np.column_stack([keys.angles(name) for name in keys.names])
+        angles = np.column_stack([keys.angles(name) for name in keys.names])
+        assert times[0] == 0.0
+        np.testing.assert_allclose(angles[0], start, atol=1e-7)
+        start, times, positions = angles[0].tolist(), times[1:], angles[1:]
         names, rate = keys.names, keys.fps
     else:
         lists = script_lists(path.read_text())
         names, times = lists["names"], np.array(lists["times"][0])
         positions = np.array(lists["keys"]).T
         rate = 1.0 / times[0]
-    start = json.loads((tmp_path / "plan.json").read_text())["positions"][0]
     return CommandFrames(
         arm="right",
         rate=rate,
@@ -215,37 +219,18 @@ def test_what_a_fast_export_holds_keeps_the_limits(
 
 
 def test_a_behavior_holds_the_frames_as_rounded() -> None:
-    """behavior_frames (what the checks see) is what the file reads back as."""
+    """behavior_frames (what the checks see) is what the file reads back as:
+    the start, the frames at k / fps, the last posture held, each rounded."""
     frames = frames_from_trajectory(trajectory(), 100.0)
     keys = timeline_from_xml(behavior_xml(frames))
     held = behavior_frames(frames)
+    m = len(frames.times)
     for j, name in enumerate(frames.joint_names):
-        np.testing.assert_array_equal(np.array(held.positions)[:, j], keys.angles(name))
-    assert 0 < np.abs(np.subtract(held.positions, frames.positions)).max() < 1e-7
-
-
-def test_cli_refuses_a_fractional_rate_for_choregraphe_only(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    """--rate 12.5: refused for a behavior (its timeline's fps is an int),
-    naming the rate as given, before anything is written; the Python export
-    keeps it. An out-of-range rate is shown as given too (1000.0001 read as
-    "got 1000")."""
-    source = tmp_path / "trajectory.json"
-    source.write_text(trajectory().to_json())
-    out = tmp_path / "b.xar"
-    args = ["export", "choregraphe", str(source), "-o", str(out), "--rate", "12.5"]
-    assert main(args) == 1
-    err = capsys.readouterr().err
-    assert "--rate of a Choregraphe behavior must be a whole number" in err
-    assert "got 12.5: use 12 or 13 fps" in err
-    assert not out.exists()
-    script = tmp_path / "p.py"
-    assert (
-        main(["export", "python", str(source), "-o", str(script), "--rate", "12.5"])
-        == 0
-    )
-    assert "at 12.5 fps" in capsys.readouterr().out
-    args[-1] = "1000.0001"
-    assert main(args) == 1
-    assert "got 1000.0001" in capsys.readouterr().err
+        angles = keys.angles(name)
+        assert held.start[j] == angles[0]
+        np.testing.assert_array_equal(np.array(held.positions)[:, j], angles[1:])
+    np.testing.assert_array_equal(held.times, keys.times(keys.names[0])[1:])
+    np.testing.assert_allclose(held.times[:m], frames.times, rtol=0, atol=1e-12)
+    rounding = np.subtract(np.array(held.positions)[:m], frames.positions)
+    assert 0 < np.abs(rounding).max() < 1e-8
+    assert np.abs(np.subtract(held.start, frames.start)).max() < 1e-8

@@ -3,8 +3,9 @@
 - ``trajectory.json``: the planned trajectory in the SPEC's form (``arm``,
   ``joint_names``, ``times`` [s], ``positions`` [rad], ``velocities``,
   ``accelerations``, ``primitives``);
-- ``behavior.xar``: the trajectory as a Choregraphe behavior (a timeline of
-  keys per actuator, degrees, 25 fps; ``bridge.choregraphe``);
+- ``behavior.xar``: the trajectory as a Choregraphe behavior (a script box
+  moving the arm to the start slowly, then a timeline of keys per actuator,
+  degrees, 25 fps; ``bridge.choregraphe``);
 - ``play.py``: Choregraphe's "export to Python" form of the same frames,
   runnable against a NAO (``python play.py tcp://IP:9559``);
 - ``report.json``: the tracking report (``tracking_rms_deg``,
