@@ -2,19 +2,29 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import partial
 
+from bridge.bezier_auto import check_played_curve
 from bridge.checks import check_frames, check_sample_range
-from bridge.choregraphe import QUANTUM, behavior_frames
-from bridge.fidelity import check_follows, follow_tolerance, offer_rate
+from bridge.fidelity import ATTEMPTS, check_follows, follow_tolerance, offer_rate
 from bridge.frames import frames_from_trajectory
 from bridge.limits import FrameLimits
-from shared.errors import TrajectoryRefusedError
+from bridge.timeline_keys import QUANTUM, behavior_frames
+from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import CommandFrames, Trajectory
+
+#: Frame rates tried, nearest the one refused first, when a behavior's
+#: curve breaks a limit [Hz]: whole rates, Choregraphe's 25 among them.
+BEHAVIOR_RATES = (10, 15, 20, 25, 30, 40, 50, 100)
 
 
 def checked_frames(
-    trajectory: Trajectory, rate: float, limits: FrameLimits
+    trajectory: Trajectory,
+    rate: float,
+    limits: FrameLimits,
+    *,
+    behavior: bool = False,
 ) -> CommandFrames:
     """``trajectory`` as frames at ``rate`` [Hz], checked; nothing is sent.
 
@@ -28,32 +38,74 @@ def checked_frames(
     frame rate too low offers one whose frames, made and checked here in the
     same way, pass (``bridge.fidelity.offer_rate``).
 
+    Args:
+        trajectory: The trajectory [s, rad].
+        rate: Frame rate [Hz].
+        limits: The joints' limits.
+        behavior: Also check the frames as a Choregraphe behavior plays
+            them (:func:`check_behavior`), for a behavior file; a rate
+            offered then passes that check too, and a refusal of the
+            behavior's curve offers a whole rate whose behavior passes.
+
     Raises:
         InvalidInputError: more frames than the bridge sends in one call,
-            or joints other than the limits'.
+            joints other than the limits', or (``behavior``) a rate that is
+            no whole number.
         TrajectoryRefusedError: naming the first frame that breaks a limit,
             or the joint that strays furthest between frames.
     """
     check_sample_range(trajectory, limits)
+    make = partial(_frames_at, trajectory, limits=limits, behavior=behavior)
     try:
-        return _frames_at(trajectory, rate, limits)
+        frames = _frames_at(trajectory, rate, limits)
     except TrajectoryRefusedError as refusal:
         if refusal.quantity != "frame_rate":
             raise
-        make = partial(_frames_at, trajectory, limits=limits)
         advice = offer_rate(make, rate, refusal.value / refusal.limit)
         raise refusal.adding(f": {advice}") from None
+    if behavior:
+        try:
+            check_behavior(frames, limits)
+        except TrajectoryRefusedError as refusal:
+            raise refusal.adding(f": {_behavior_advice(make, rate)}") from None
+    return frames
 
 
 def _frames_at(
-    trajectory: Trajectory, rate: float, limits: FrameLimits
+    trajectory: Trajectory, rate: float, limits: FrameLimits, behavior: bool = False
 ) -> CommandFrames:
     """Frames at ``rate`` [Hz] held in the ranges, checked (see above)."""
     inside = (limits.lower + QUANTUM, limits.upper - QUANTUM)
     frames = frames_from_trajectory(trajectory, rate, inside)
     check_frames(frames, limits)
     check_follows(frames, trajectory, follow_tolerance(limits), inside)
+    if behavior:
+        check_behavior(frames, limits)
     return frames
+
+
+def _behavior_advice(make: Callable[[float], CommandFrames], rate: float) -> str:
+    """A whole frame rate whose behavior passes every check, or what to do.
+
+    The curve Choregraphe plays bends at every key, so another rate gives
+    another curve (not always a gentler one): the rates of
+    ``BEHAVIOR_RATES`` nearest ``rate`` are tried, each made and checked by
+    ``make`` as the frames written would be.
+    """
+    tried = sorted(
+        (r for r in BEHAVIOR_RATES if r != rate), key=lambda r: abs(r - rate)
+    )
+    for candidate in tried[:ATTEMPTS]:
+        try:
+            make(candidate)
+        except (TrajectoryRefusedError, InvalidInputError):
+            continue
+        return f"at {candidate} fps it would not"
+    return (
+        "no frame rate is offered: plan the movement slower (lower "
+        "accelerations and jerks), or export it as Python (angleInterpolation, "
+        "as the bridge plays it)"
+    )
 
 
 def check_behavior(frames: CommandFrames, limits: FrameLimits) -> None:
@@ -61,9 +113,15 @@ def check_behavior(frames: CommandFrames, limits: FrameLimits) -> None:
 
     The keys the behavior's timeline holds (``bridge.timeline_keys``): the
     start posture at 0 s, frame ``k`` at ``k / rate``, the last posture
-    held; each angle rounded to ``DECIMALS`` in degrees.
+    held; each angle rounded to ``DECIMALS`` in degrees. They must pass
+    :func:`bridge.checks.check_frames`, and the curve the runtime plays
+    through them (BezierAuto, :mod:`bridge.bezier_auto`) every speed,
+    acceleration and jerk limit.
 
     Raises:
+        InvalidInputError: the rate is not a whole number.
         TrajectoryRefusedError: naming the first frame that breaks a limit.
     """
-    check_frames(behavior_frames(frames), limits)
+    played = behavior_frames(frames)
+    check_frames(played, limits)
+    check_played_curve(played, limits)

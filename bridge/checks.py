@@ -7,12 +7,16 @@ the joint's speed limit, and the second difference of the frames under its
 acceleration limit, and the third difference under its jerk limit. Each
 difference is a divided difference: k! times it is the k-th derivative of
 any smooth curve through the frames somewhere in its window, so a value over
-a limit proves the robot cannot pass through those keys within it, however
-it interpolates between them. The arm is at rest before frame 0 and after
-the last frame (the robot holds its last key), so the acceleration and jerk
-of starting from rest and of coming to rest are checked too
-(:func:`check_rest_ends`): a trajectory that sets off at speed is a step
-the robot cannot make. One bad frame refuses the whole trajectory, with a
+a limit proves that no curve through those keys keeps it. The converse does
+not hold: keys that pass can still be joined by a curve that breaks a limit
+between them (Choregraphe's BezierAuto curve asked 1.2 times the
+acceleration limit of a reach whose keys passed), so a behavior is checked
+on the curve its runtime plays too (``bridge.bezier_auto``); how ALMotion's
+``angleInterpolation`` joins keys is its own. The arm is at rest before
+frame 0 and after the last frame (the robot holds its last key), so the
+acceleration and jerk of starting from rest and of coming to rest are
+checked too (:func:`check_rest_ends`): a trajectory that sets off at speed
+is a step the robot cannot make. One bad frame refuses the whole trajectory, with a
 :class:`~shared.errors.TrajectoryRefusedError` naming the joint, the frame,
 its time and the limit.
 """

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -12,6 +13,7 @@ import pytest
 
 from armplan.cli.main import main
 from bridge.almotion import angle_interpolation_call
+from bridge.bezier_auto import check_played_curve
 from bridge.checks import check_frames
 from bridge.choregraphe import (
     behavior_frames,
@@ -200,22 +202,74 @@ def written_frames(path: Path, tmp_path: Path) -> CommandFrames:
     )
 
 
-@pytest.mark.parametrize(("kind", "rate"), [("choregraphe", 1000), ("python", 900)])
-def test_what_a_fast_export_holds_keeps_the_limits(
-    kind: str, rate: int, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+def test_what_a_fast_python_export_holds_keeps_the_limits(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """The fastest reach at 900-1000 fps: the file's own numbers, read back,
-    keep every limit (keys rounded to 1e-4 degree, or times to 1e-6 s, made
-    jerks of 3.6 and 2.8 times the limit)."""
+    """The fastest reach at 900 fps: the script's own numbers, read back,
+    keep every limit (times rounded to 1e-6 s made a jerk of 2.8 times the
+    limit)."""
     plan = tmp_path / "plan.json"
     target = ["--target", "0.12", "-0.13", "0.05", "--fastest"]
-    assert main(["plan", *target, "--rate", str(rate), "--json"]) == 0
+    assert main(["plan", *target, "--rate", "900", "--json"]) == 0
     plan.write_text(capsys.readouterr().out)
-    out = tmp_path / ("b.xar" if kind == "choregraphe" else "p.py")
-    assert main(["export", kind, str(plan), "-o", str(out), "--rate", str(rate)]) == 0
+    out = tmp_path / "p.py"
+    assert main(["export", "python", str(plan), "-o", str(out), "--rate", "900"]) == 0
     written = written_frames(out, tmp_path)
     assert len(written.times) > 300
     check_frames(written, FrameLimits.for_arm("right"))
+
+
+def test_a_fast_behavior_is_refused_with_a_rate_whose_file_keeps_the_limits(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The fastest reach at 1000 fps: its keys keep every limit, but the curve
+    Choregraphe plays through keys a millisecond apart bends far over the
+    jerk limit. Refused, offering a whole rate; at that rate the file's own
+    numbers, read back, keep every limit, on the keys and on the curve."""
+    plan = tmp_path / "plan.json"
+    target = ["--target", "0.12", "-0.13", "0.05", "--fastest"]
+    assert main(["plan", *target, "--rate", "1000", "--json"]) == 0
+    plan.write_text(capsys.readouterr().out)
+    out = tmp_path / "b.xar"
+    export = ["export", "choregraphe", str(plan), "-o", str(out), "--rate"]
+    assert main([*export, "1000"]) == 1
+    err = capsys.readouterr().err
+    assert "on the curve Choregraphe plays through the keys (BezierAuto)" in err
+    offered = re.search(r"at (\d+) fps it would not", err)
+    assert offered is not None, err
+    assert not out.exists()
+    assert main([*export, offered.group(1)]) == 0
+    written = written_frames(out, tmp_path)
+    limits = FrameLimits.for_arm("right")
+    check_frames(written, limits)
+    check_played_curve(written, limits)
+
+
+def test_a_behavior_whose_curve_bends_over_a_limit_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A reach planned at the bridge's own acceleration and jerk limits, at
+    25 fps: the frames keep every limit (the Python export is written), but
+    the curve Choregraphe plays through them (BezierAuto) asks RShoulderRoll
+    for 1.2 times its acceleration limit: the behavior is refused (it was
+    written, the docs saying the check held however the robot interpolates)."""
+    limits = FrameLimits.for_arm("right")
+    nets = [
+        ["--max-acceleration", *(f"{0.9999 * a:.4f}" for a in limits.acceleration)],
+        ["--max-jerk", *(f"{0.9999 * j:.3f}" for j in limits.jerk)],
+    ]
+    plan = tmp_path / "plan.json"
+    target = ["--target", "0.02", "-0.10", "0.25", "--fastest", *nets[0], *nets[1]]
+    assert main(["plan", *target, "--json"]) == 0
+    plan.write_text(capsys.readouterr().out)
+    assert main(["export", "python", str(plan), "-o", str(tmp_path / "p.py")]) == 0
+    capsys.readouterr()
+    out = tmp_path / "b.xar"
+    assert main(["export", "choregraphe", str(plan), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "RShoulderRoll acceleration" in err
+    assert "on the curve Choregraphe plays through the keys (BezierAuto)" in err
+    assert not out.exists()
 
 
 def test_a_behavior_holds_the_frames_as_rounded() -> None:

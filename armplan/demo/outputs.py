@@ -23,13 +23,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from armplan.demo.task import Task
-from bridge import (
-    FrameLimits,
-    check_behavior,
-    checked_frames,
-    write_behavior,
-    write_python,
-)
+from bridge import FrameLimits, checked_frames, write_behavior, write_python
 from shared.messages import ExecuteReply, Trajectory
 
 TRAJECTORY_FILE = "trajectory.json"
@@ -61,8 +55,7 @@ class Execution(NamedTuple):
 def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
     """Write the trajectory, its exports and the report; returns them by name."""
     limits = FrameLimits.for_arm(run.trajectory.arm)
-    frames = checked_frames(run.trajectory, run.rate, limits)
-    check_behavior(frames, limits)
+    frames = checked_frames(run.trajectory, run.rate, limits, behavior=True)
     files = {
         "trajectory": out / TRAJECTORY_FILE,
         "choregraphe": write_behavior(frames, out / BEHAVIOR_FILE),

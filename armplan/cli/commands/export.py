@@ -51,13 +51,7 @@ def read_trajectory(path: str) -> Trajectory:
 
 def run(args: argparse.Namespace) -> int:
     """Check the frames against the limits, then write them."""
-    from bridge import (
-        FrameLimits,
-        check_behavior,
-        checked_frames,
-        write_behavior,
-        write_python,
-    )
+    from bridge import FrameLimits, checked_frames, write_behavior, write_python
     from bridge.choregraphe import timeline_fps
 
     if not MIN_RATE <= args.rate <= MAX_RATE:
@@ -71,9 +65,8 @@ def run(args: argparse.Namespace) -> int:
     trajectory = read_trajectory(args.trajectory)
     try:
         limits = FrameLimits.for_arm(trajectory.arm)
-        frames = checked_frames(trajectory, args.rate, limits)
-        if args.format == "choregraphe":
-            check_behavior(frames, limits)
+        behavior = args.format == "choregraphe"
+        frames = checked_frames(trajectory, args.rate, limits, behavior=behavior)
     except TrajectoryRefusedError as error:  # the bridge's words are "sent"
         raise error.instead("nothing was written") from None
     writer = write_behavior if args.format == "choregraphe" else write_python
