@@ -8,6 +8,7 @@ from functools import partial
 from bridge.bezier_auto import check_played_curve
 from bridge.checks import check_frames, check_sample_range
 from bridge.fidelity import ATTEMPTS, check_follows, follow_tolerance, offer_rate
+from bridge.float32 import RANGE_INSET
 from bridge.frames import frames_from_trajectory
 from bridge.limits import FrameLimits
 from bridge.timeline_keys import QUANTUM, behavior_frames
@@ -31,7 +32,9 @@ def checked_frames(
     The trajectory's own samples must lie in the joints' ranges; the curve
     between them is held in the ranges (a cubic through samples seconds
     apart overshoots a limit the planned path only touches), by a written
-    angle's last digit (``QUANTUM``) so no rounding takes it out. The frames
+    angle's last digit (``QUANTUM``) or the rounding to 32 bits on the way
+    to the robot (``RANGE_INSET``), whichever is more, so no rounding takes
+    it out. The frames
     must keep every limit of ``limits`` (:mod:`bridge.checks`)
     and follow the trajectory between keys within a degree, or a fast
     joint's chord gap at 25 fps (:mod:`bridge.fidelity`). A refusal for a
@@ -75,7 +78,8 @@ def _frames_at(
     trajectory: Trajectory, rate: float, limits: FrameLimits, behavior: bool = False
 ) -> CommandFrames:
     """Frames at ``rate`` [Hz] held in the ranges, checked (see above)."""
-    inside = (limits.lower + QUANTUM, limits.upper - QUANTUM)
+    inset = max(QUANTUM, RANGE_INSET)
+    inside = (limits.lower + inset, limits.upper - inset)
     frames = frames_from_trajectory(trajectory, rate, inside)
     check_frames(frames, limits)
     check_follows(frames, trajectory, follow_tolerance(limits), inside)

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from bridge.float32 import held
 from bridge.limits import FrameLimits
 from shared.errors import InvalidInputError, TrajectoryRefusedError, fixed
 from shared.messages import CommandFrames, Trajectory
@@ -36,8 +37,15 @@ SLACK = 1e-9
 REST = 2
 
 
-def check_frames(frames: CommandFrames, limits: FrameLimits) -> None:
+def check_frames(
+    frames: CommandFrames, limits: FrameLimits, *, as_held: bool = True
+) -> None:
     """Refuse ``frames`` if any of them breaks a limit of ``limits``.
+
+    The frames are checked as given, and (``as_held``, what the robot is
+    sent) as NAOqi holds them: every angle and time rounded to 32 bits
+    (``bridge.float32``), which at 900 fps made a jerk over the limit that
+    the 64-bit frames kept.
 
     Raises:
         InvalidInputError: if the frames' joints are not the limits' joints.
@@ -52,11 +60,35 @@ def check_frames(frames: CommandFrames, limits: FrameLimits) -> None:
         )
     q = np.vstack([np.asarray(frames.start)[None, :], np.asarray(frames.positions)])
     t = np.concatenate([[0.0], frames.times])
+    _check_rows(q, t, 1.0 / frames.rate, limits)
+    q32, t32 = held(q), held(t)
+    if not as_held or (np.array_equal(q32, q) and np.array_equal(t32, t)):
+        return
+    try:
+        _check_rows(q32, t32, 1.0 / frames.rate, limits)
+    except TrajectoryRefusedError as refusal:
+        raise refusal.adding(
+            " (with the angles and times rounded to 32-bit floats, as NAOqi "
+            "holds them; frames further apart suffer less from it)"
+        ) from None
+
+
+def _check_rows(
+    q: np.ndarray, t: np.ndarray, period: float, limits: FrameLimits
+) -> None:
+    """Every check of :func:`check_frames` on frames 0..m.
+
+    Args:
+        q: Angles of frames 0..m [rad], shape (m + 1, n).
+        t: Their times [s], shape (m + 1,).
+        period: Time between frames of rest before and after [s].
+        limits: The joints' limits.
+    """
     check_positions(q, t, limits)
     velocity = check_speeds(q, t, limits)
     acceleration = check_accelerations(velocity, t, limits)
     check_jerks(acceleration, t, limits)
-    check_rest_ends(q, t, 1.0 / frames.rate, limits)
+    check_rest_ends(q, t, period, limits)
 
 
 def _names(names: list[str], shown: int = 6) -> str:

@@ -61,14 +61,18 @@ def frames_from_trajectory(
 
     Returns:
         Frames 1..m at ``k / rate`` [s] with the trajectory's angles there
-        [rad], and its first posture as the start (frame 0).
+        [rad], and its first posture as the start (frame 0), held in
+        ``within`` as the frames are.
     """
     times = frame_times(trajectory.duration, rate)
+    start = np.asarray(trajectory.positions[0], dtype=float)
+    if within is not None:
+        start = np.clip(start, within[0], within[1])
     return CommandFrames(
         arm=trajectory.arm,
         rate=rate,
         joint_names=list(trajectory.joint_names),
-        start=[float(v) for v in trajectory.positions[0]],
+        start=start.tolist(),
         times=times.tolist(),
         positions=positions_at(trajectory, times, within).tolist(),
     )

@@ -33,6 +33,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bridge.float32 import degrees_as_radians, frame_times, held
 from shared.errors import InvalidInputError
 from shared.messages import CommandFrames
 
@@ -178,7 +179,8 @@ def played_frames(keys: TimelineKeys, frames: CommandFrames) -> CommandFrames:
     """``keys`` as command frames, as the runtime plays them.
 
     The start posture is the key at ``start_frame``, frame ``k`` the key
-    played ``k / fps`` after it (the hold included).
+    played ``k / fps`` after it (the hold included), every angle and time
+    computed in 32-bit floats as the runtime does (``bridge.float32``).
 
     Args:
         keys: A timeline whose curves all have keys on the same frames, the
@@ -201,14 +203,20 @@ def played_frames(keys: TimelineKeys, frames: CommandFrames) -> CommandFrames:
             f"the timeline has no key at its start frame {keys.start_frame}",
             field="keys",
         )
-    angles = np.column_stack([keys.angles(name) for name in keys.names])
+    angles = np.column_stack(
+        [
+            values if is_hand(name) else degrees_as_radians(values)
+            for name, values in zip(keys.names, keys.values, strict=True)
+        ]
+    )
+    played = frame_times(numbers - keys.start_frame, keys.fps)
     return CommandFrames(
         arm=frames.arm,
         rate=keys.fps,
         joint_names=keys.names,
-        start=angles[0].tolist(),
-        times=keys.times(keys.names[0])[1:].tolist(),
-        positions=angles[1:].tolist(),
+        start=held(angles[0]).tolist(),
+        times=played[1:].tolist(),
+        positions=held(angles[1:]).tolist(),
     )
 
 

@@ -283,7 +283,9 @@ def test_the_approach_move_stays_within_a_quarter_of_the_limits(
     included, also seen with the arm at rest before and after it, at
     Choregraphe's 25 fps and at 1000 fps, where the frames show the motion
     itself: it starts and ends without a step in acceleration. (A half
-    cosine's step passes at 25 fps but not at 1000.)"""
+    cosine's step passes at 25 fps but not at 1000.) Rounded to 32 bits as
+    NAOqi holds them, the 1000 fps frames are a little rougher (a jerk of
+    0.28 of the limit): within the limits, as the bridge checks them."""
     limits = FrameLimits.for_arm("right")
     current = rest("right")
     move = approach_frames(Side.RIGHT, current, np.array(target), limits, rate)
@@ -292,7 +294,8 @@ def test_the_approach_move_stays_within_a_quarter_of_the_limits(
         acceleration=0.25 * limits.acceleration,
         jerk=0.25 * limits.jerk,
     )
-    check_frames(at_rest_around(move), quarter)
+    check_frames(at_rest_around(move), quarter, as_held=False)
+    check_frames(at_rest_around(move), limits)
     assert np.allclose(move.positions[-1], target)
     assert move.duration >= 0.5
 
