@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from services.decide.decider import CANDIDATES, Choice
+from services.decide.decider import CANDIDATES, KEPT_STEPS, Choice, Decider
 from services.decide.path import (
     HOLD,
     SETTLE,
@@ -153,3 +153,24 @@ def test_settling_keeps_the_primitive_near_the_goal() -> None:
     n = 50
     left = TAIL * 0.9  # the whole path is shorter than TAIL
     assert _settled([0] * 10 + [1] * (n - 10), left) == [0] * n
+
+
+def test_deciders_for_other_steps_share_tables_and_few_are_kept(
+    model: MotionModel,
+) -> None:
+    """Paths at ever new intervals (jittery clocks) keep memory bounded: each
+    step's decider shares the step-free tables and only the last
+    ``KEPT_STEPS`` are kept; a kept one decides as one built afresh."""
+    base = Decider(model)
+    steps = [0.01 + 1e-5 * k for k in range(1, 3 * KEPT_STEPS)]
+    made = [base.with_step(step) for step in steps]
+    assert len(base._steps) == KEPT_STEPS
+    assert all(d.wrist is base.wrist and d.elbow is base.elbow for d in made)
+    assert base.with_step(steps[-1]) is made[-1]  # kept: the same one
+    fresh = Decider(model, steps[-1])
+    values = (0.3, 0.05, 0.2, 0.08, 0.1)
+    for previous in (None, 0):
+        assert made[-1].decide(values, True, previous) == fresh.decide(
+            values, True, previous
+        )
+    assert made[-1].log_next == fresh.log_next != base.log_next

@@ -33,6 +33,8 @@ import numpy as np
 from services.fit.model import MotionModel
 from shared.primitives import MOTION_PRIMITIVES
 
+#: Deciders for other steps than the model's kept by ``Decider.with_step``.
+KEPT_STEPS = 8
 #: The candidates of eq. 10, in the paper's order.
 CANDIDATES: tuple[str, ...] = tuple(p.name for p in MOTION_PRIMITIVES)
 
@@ -82,9 +84,16 @@ class Decider:
         model: The fitted motion model.
         step: Time between two decisions [s]; the transition table is scaled
             to it. Default: the demonstrations' sample interval.
+        like: A decider of the same model whose step-free tables (all but
+            the transition table) this one shares instead of building its own.
     """
 
-    def __init__(self, model: MotionModel, step: float | None = None) -> None:
+    def __init__(
+        self,
+        model: MotionModel,
+        step: float | None = None,
+        like: Decider | None = None,
+    ) -> None:
         self.model = model
         self.primitives = tuple(model.primitives)
         self.candidate: list[int] = [CANDIDATES.index(n) for n in self.primitives]
@@ -92,23 +101,41 @@ class Decider:
         self.edges: list[list[float]] = model.edges()
         self.step = 1.0 / model.sample_rate if step is None else float(step)
         moved = transition_for(tables.transition, self.step * model.sample_rate)
+        self.log_next: list[list[float]] = np.log(moved).tolist()
+        self._steps: dict[float, Decider] = {}
+        if like is not None:  # the same tables: share them (about 100 000 floats)
+            self.log_start: list[float] = like.log_start
+            self.shoulder: list[list[float]] = like.shoulder
+            self.elbow: list[list[list[list[float]]]] = like.elbow
+            self.wrist: list[list[list[list[float]]]] = like.wrist
+            self.wrist_any: list[list[list[float]]] = like.wrist_any
+            return
         # Typed nested lists, indexed [state]...[primitive] (shoulder [s_r],
         # elbow [s_r][e_p][e_r], wrist [e_r][w_p][w_r]): compiled, their
         # entries are read and added as machine floats, not Python objects.
-        self.log_start: list[float] = np.log(tables.start).tolist()
-        self.log_next: list[list[float]] = np.log(moved).tolist()
-        self.shoulder: list[list[float]] = _log(tables.shoulder)
-        self.elbow: list[list[list[list[float]]]] = _log(tables.elbow)
-        self.wrist: list[list[list[list[float]]]] = _log(tables.wrist)
-        self.wrist_any: list[list[list[float]]] = _log(tables.wrist.sum(axis=3))
-        self._steps: dict[float, Decider] = {}
+        self.log_start = np.log(tables.start).tolist()
+        self.shoulder = _log(tables.shoulder)
+        self.elbow = _log(tables.elbow)
+        self.wrist = _log(tables.wrist)
+        self.wrist_any = _log(tables.wrist.sum(axis=3))
 
     def with_step(self, step: float) -> Decider:
-        """The same model for decisions ``step`` seconds apart [s] (compiled once)."""
+        """The same model for decisions ``step`` seconds apart [s].
+
+        Each step's decider is kept for the next path at that step, the
+        ``KEPT_STEPS`` most recently used: a path's step is its times'
+        median interval, so callers with jittery clocks ask for a new one
+        nearly every time (each kept one held 4 MB before they shared their
+        tables, and they were never dropped).
+        """
         key = round(float(step), 12)
-        if key not in self._steps:
-            self._steps[key] = Decider(self.model, step)
-        return self._steps[key]
+        found = self._steps.pop(key, None)
+        if found is None:
+            found = Decider(self.model, step, self)
+        self._steps[key] = found  # the most recently used last
+        while len(self._steps) > KEPT_STEPS:
+            del self._steps[next(iter(self._steps))]
+        return found
 
     def states(self, values: tuple[float, ...]) -> tuple[int, int, int, int, int]:
         """The states of the five variables' values."""
