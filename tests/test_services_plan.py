@@ -14,6 +14,7 @@ import pytest
 import zenoh
 
 from armplan.launch import Launcher, free_endpoint
+from services.planner import service as planner_service
 from services.planner.pipeline import plan
 from services.planner.wrist_path import reach_path
 from shared.bus import Bus, Route, load_config
@@ -181,6 +182,34 @@ def test_a_repeated_request_id_is_planned_and_published_once(bus: Bus) -> None:
     other = CASES["fastest"].model_copy(update={"request_id": request.request_id})
     with pytest.raises(InvalidInputError, match="request_id"):
         bus.call(PLAN, other)
+
+
+def test_a_repeat_whose_answer_went_is_answered_not_published(
+    bus: Bus, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The planner's own code, in this process, on the running stage services,
+    keeping one sample's worth of answers: a second plan pushes the first
+    answer out, yet a repeat of the first gets the same trajectory, and only
+    the two plans are published (a following robot moves once for each)."""
+    monkeypatch.setattr(planner_service, "KEPT_SAMPLES", 1)
+    planner = planner_service.remote_planner(bus)
+    published: list[bytes] = []
+
+    def keep(sample: zenoh.Sample) -> None:
+        published.append(sample.payload.to_bytes())
+
+    first_request = with_request_id(REACH)
+    subscriber = bus.session.declare_subscriber(f"{NAMESPACE}/{TRAJECTORY_TOPIC}", keep)
+    try:
+        time.sleep(0.5)  # let the router learn of the subscriber
+        first = planner(first_request)
+        second = planner(with_request_id(CASES["fastest"]))
+        again = planner(first_request)
+        time.sleep(0.5)  # a third publication would have come by now
+    finally:
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    assert again == first != second
+    assert published == [t.to_json().encode() for t in (first, second)]
 
 
 def test_a_plan_its_caller_left_is_not_published(bus: Bus) -> None:

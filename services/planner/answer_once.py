@@ -10,10 +10,15 @@ waiters have its error, so asking again then retries.
 What is kept per id: a SHA-256 digest of the request (to tell a repeat from
 an id reused for another request), and the answer. An id is forgotten
 ``HOLD`` seconds after it first came (a caller repeats within its own
-timeout, seconds), at most ``KEEP`` ids are kept, and the answers kept weigh
-at most a ``budget`` (the planner: ``KEPT_SAMPLES`` trajectory samples, so a
-few long trajectories do not hold gigabytes for a minute): past it the oldest
-answers are forgotten first, the newest is always kept.
+timeout, seconds), or when more than ``KEEP`` ids came since. The answers
+kept weigh at most a ``budget`` (the planner: ``KEPT_SAMPLES`` trajectory
+samples, so a few long trajectories do not hold gigabytes for a minute):
+past it the oldest answers go first (the newest is always kept), but their
+ids stay, so a repeat is still known as one: it gets ``again()``'s answer
+(the planner plans again without publishing: the robot moves once), or an
+error if there is no ``again``. Ids are cheap (about 200 bytes each), so
+``KEEP`` is large: at 170 plans a second, 256 ids once lasted under 3 s
+and a caller's repeat after its 5 s timeout was planned and played twice.
 """
 
 from __future__ import annotations
@@ -32,7 +37,7 @@ Req = TypeVar("Req")
 Rep = TypeVar("Rep")
 
 #: Most ids kept for repeats that arrive after the first one was answered.
-KEEP = 256
+KEEP = 65_536
 #: Time after which an id is forgotten [s].
 HOLD = 60.0
 
@@ -45,8 +50,7 @@ def one(_: object) -> int:
 class _Seen(NamedTuple, Generic[Rep]):
     digest: bytes  # SHA-256 of the request's fingerprint
     since: float  # when the id first came [s], monotonic clock
-    future: Future[Rep]
-    weight: int = 0  # the answer's weight; 0 until it is answered
+    future: Future[Rep] | None  # None: answered, the answer no longer kept
 
 
 class AnswerOnce(Generic[Req, Rep]):
@@ -77,6 +81,7 @@ class AnswerOnce(Generic[Req, Rep]):
         self._weight, self._budget = weight, budget
         self._lock = threading.Lock()
         self._seen: OrderedDict[str, _Seen[Rep]] = OrderedDict()
+        self._kept: OrderedDict[str, int] = OrderedDict()  # answered id -> weight
         self._weighed = 0  # the kept answers' weight together
 
     def weighed(self) -> int:
@@ -91,11 +96,25 @@ class AnswerOnce(Generic[Req, Rep]):
             self._forget(self._clock())
             return len(self._seen)
 
-    def answer(self, key: str | None, request: Req, work: Callable[[], Rep]) -> Rep:
+    def answer(
+        self,
+        key: str | None,
+        request: Req,
+        work: Callable[[], Rep],
+        again: Callable[[], Rep] | None = None,
+    ) -> Rep:
         """``work()``'s answer, run once per ``key`` (every time if ``key`` is None).
 
+        Args:
+            key: The request's id.
+            request: The request (its fingerprint tells repeats apart).
+            work: Makes the answer, with its effects (the planner publishes).
+            again: Makes the same answer without the effects, for a repeat
+                whose answer is no longer kept.
+
         Raises:
-            InvalidInputError: ``key`` was used before for another request.
+            InvalidInputError: ``key`` was used before for another request,
+                or (without ``again``) its answer is no longer kept.
             Whatever ``work`` raises (also to the repeats waiting for it).
         """
         if key is None:
@@ -110,7 +129,7 @@ class AnswerOnce(Generic[Req, Rep]):
                 self._seen[key] = _Seen(digest, now, future)
                 self._forget(now)
         if seen is not None:
-            return _repeat(key, digest, seen)
+            return _repeat(key, digest, seen, again)
         try:
             result = work()
         except BaseException as error:
@@ -123,19 +142,19 @@ class AnswerOnce(Generic[Req, Rep]):
         return result
 
     def _weigh(self, key: str, result: Rep) -> None:
-        """Count ``key``'s answer in the budget; forget the oldest past it."""
+        """Count ``key``'s answer in the budget; drop the oldest answers past it."""
         weight = self._weight(result)
         with self._lock:
-            seen = self._seen.get(key)
-            if seen is None:  # already forgotten (keep or hold)
+            if key not in self._seen:  # already forgotten (keep or hold)
                 return
-            self._seen[key] = seen._replace(weight=weight)
+            self._kept[key] = weight
             self._weighed += weight
-            for old in [k for k in self._seen if k != key]:
-                if self._weighed <= self._budget:
-                    break
-                if self._seen[old].future.done():  # its waiters have it
-                    self._drop(old)
+            while self._weighed > self._budget:
+                old = next(iter(self._kept))
+                if old == key:  # the newest stays
+                    return
+                self._weighed -= self._kept.pop(old)
+                self._seen[old] = self._seen[old]._replace(future=None)
 
     def _forget(self, now: float) -> None:
         """Drop the oldest ids beyond ``keep`` and those older than ``hold``."""
@@ -146,10 +165,10 @@ class AnswerOnce(Generic[Req, Rep]):
             self._drop(key)
 
     def _drop(self, key: str) -> None:
-        """Forget ``key`` (held lock)."""
-        seen = self._seen.pop(key, None)
-        if seen is not None:
-            self._weighed -= seen.weight
+        """Forget ``key`` and its answer (held lock)."""
+        self._seen.pop(key, None)
+        if key in self._kept:
+            self._weighed -= self._kept.pop(key)
 
 
 def _digest(fingerprint: str | bytes) -> bytes:
@@ -157,10 +176,20 @@ def _digest(fingerprint: str | bytes) -> bytes:
     return hashlib.sha256(data).digest()
 
 
-def _repeat(key: str, digest: bytes, seen: _Seen[Rep]) -> Rep:
+def _repeat(
+    key: str, digest: bytes, seen: _Seen[Rep], again: Callable[[], Rep] | None
+) -> Rep:
     if digest != seen.digest:
         raise InvalidInputError(
             f"request_id {key!r} was used for another request",
             field="request_id",
         )
-    return seen.future.result()
+    if seen.future is not None:
+        return seen.future.result()
+    if again is None:
+        raise InvalidInputError(
+            f"request_id {key!r} was answered already and its answer is no "
+            "longer kept: ask with a new request_id",
+            field="request_id",
+        )
+    return again()

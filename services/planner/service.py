@@ -11,7 +11,8 @@ It runs the in-process planner (``services.planner.pipeline.plan``) with
 its stages as the decide, ik and timing services (``remote.RemoteStages``),
 so a plan made here equals one made in-process. A request repeating a
 recent ``request_id`` gets the first one's answer, planned and published
-once (``answer_once.AnswerOnce``). A plan finished after its callers
+once (``answer_once.AnswerOnce``; once that answer is no longer kept, the
+repeat is planned again and answered, still not published). A plan finished after its callers
 (the first and any repeat, ``waiting.Waiting``) stopped waiting
 (``shared.bus.deadline``) is not published: a robot that
 follows the trajectories would otherwise move for no one. A service it needs that is
@@ -70,10 +71,19 @@ def remote_planner(bus: Bus) -> Planner:
         publish_parts(bus, result)
         return result.trajectory
 
+    def plan_again(request: PlanRequest) -> Trajectory:
+        """A repeat's answer once the first one's is no longer kept: the same
+        plan, not published again (the robot follows it once)."""
+        stages.require(request)
+        return plan(request, stages).trajectory
+
     def plan_remotely(request: PlanRequest) -> Trajectory:
         with waiting.caller(request.request_id, current_due()):
             return once.answer(
-                request.request_id, request, lambda: plan_and_publish(request)
+                request.request_id,
+                request,
+                lambda: plan_and_publish(request),
+                again=lambda: plan_again(request),
             )
 
     return plan_remotely
