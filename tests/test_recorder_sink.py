@@ -261,3 +261,40 @@ def test_a_long_trajectory_is_written_as_it_is_derived(tmp_path: Path) -> None:
     assert sink.error is None and sink.written == 1
     assert sink.derived == 1 + 10_000  # the robot description, poses, labels
     assert peak < 6 * len(payload), f"peak {peak / len(payload):.1f} times the JSON"
+
+
+def test_a_writer_far_behind_drops_new_samples_and_says_how_many(
+    tmp_path: Path,
+) -> None:
+    """Samples arriving while ``max_backlog`` bytes wait are dropped and
+    counted (memory stays bounded); those queued before are all written."""
+    out = tmp_path / "behind.mcap"
+    options = RecorderOptions(output=out, keys=("**",), foxglove=False)
+    sink = RecordingSink(options, NS, max_backlog=1000)
+    payloads = [b'{"i": %d, "pad": "%s"}' % (i, b"x" * 280) for i in range(10)]
+    for i, payload in enumerate(payloads):  # the writer has not started yet
+        sink.put(incoming("misc/i", payload, t=i))
+    sink.start().stop()
+    kept = [r.data["i"] for r in read_records(out)]
+    assert kept == [0, 1, 2, 3]  # queued while under 1000 bytes waited
+    assert (sink.received, sink.written, sink.dropped) == (10, 4, 6)
+    assert sink.behind_note() == "; the writer fell behind: 6 samples dropped"
+
+
+def test_a_writer_behind_writes_samples_without_their_foxglove_poses(
+    tmp_path: Path,
+) -> None:
+    """While more than ``shed_backlog`` bytes wait, trajectories are written
+    without their derived messages; once caught up, with them."""
+    out = tmp_path / "shed.mcap"
+    rng = np.random.default_rng(3)
+    trajectories = [moving_trajectory(50, rng) for _ in range(3)]
+    sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS, shed_backlog=0)
+    for k, trajectory in enumerate(trajectories):
+        sink.put(incoming("plan/trajectory", trajectory.to_json().encode(), t=k + 1))
+    sink.start().stop()
+    records = list(read_records(out))
+    assert sum(r.topic == f"{NS}/plan/trajectory" for r in records) == 3
+    assert sum(r.topic == PLANNED_TF_TOPIC for r in records) == 50  # the last one's
+    assert (sink.written, sink.shed, sink.dropped) == (3, 2, 0)
+    assert "2 written without Foxglove poses" in sink.behind_note()

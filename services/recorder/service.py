@@ -165,9 +165,10 @@ class Recorder(StartStop):
             self._subscriber = None
         paths = self.sink.stop()
         log.info(
-            "recorder stopped: %d messages in %s",
+            "recorder stopped: %d messages in %s%s",
             self.sink.written,
             ", ".join(map(str, paths)),
+            self.sink.behind_note(),
         )
         if self.sink.error is not None:
             error = self.sink.error

@@ -8,6 +8,14 @@ flushes the file to the OS at least every ``flush_every`` seconds, also
 when no message comes. :meth:`RecordingSink.stop` writes what is still
 queued, then closes the file with its summary.
 
+The queue is bounded by its bytes. A recorder that falls behind (planning
+at 90 plans a second outpaced it on a 2-CPU machine, its memory growing
+1.2 MB a second) first stops deriving Foxglove messages while more than
+``SHED_BACKLOG`` bytes wait (``shed`` counts the samples left without them:
+they are views of what is recorded, not data), and only past
+``MAX_BACKLOG`` drops new samples (``dropped``); each episode is logged as
+it starts and ends, and the counts are reported when the recording stops.
+
 A sample that cannot be written (or whose Foxglove messages cannot be
 made) is logged, counted and skipped. A file the file system refuses to
 take more of (disk full, file too large) ends the writing: ``error`` holds
@@ -34,6 +42,12 @@ from shared.recording.writer import MessageWriter
 log = logging.getLogger("armplan.recorder")
 #: Longest wait for the writer thread to write the queue out when stopping [s].
 STOP_TIMEOUT = 30.0
+#: Bytes waiting above which samples are written without their Foxglove
+#: messages (a second of a busy planner's traffic).
+SHED_BACKLOG = 16 * 2**20
+#: Bytes waiting above which new samples are dropped: the recorder's memory
+#: stays bounded, and the queue is written out within ``STOP_TIMEOUT``.
+MAX_BACKLOG = 256 * 2**20
 
 
 class RecordingSink:
@@ -49,18 +63,33 @@ class RecordingSink:
         derived: Messages armplan added for Foxglove so far (each file's robot
             description, poses derived from joint states and trajectories).
         failed: Samples that could not be written (logged).
+        shed: Samples written without their Foxglove messages because the
+            writer was behind.
+        dropped: Samples not recorded because the writer was too far behind.
         error: Why the writing ended early (the file system refused more),
             or ``None``.
         broken: Set when ``error`` is.
     """
 
-    def __init__(self, options: RecorderOptions, namespace: str) -> None:
+    def __init__(
+        self,
+        options: RecorderOptions,
+        namespace: str,
+        shed_backlog: int = SHED_BACKLOG,
+        max_backlog: int = MAX_BACKLOG,
+    ) -> None:
         self.options = options
         self.namespace = namespace
         self.received = 0
         self.written = 0
         self.derived = 0
         self.failed = 0
+        self.shed = 0
+        self.dropped = 0
+        self._shed_backlog, self._max_backlog = shed_backlog, max_backlog
+        self._backlog = 0  # payload bytes queued and not yet written
+        self._backlog_lock = threading.Lock()
+        self._dropping = self._shedding = False
         self.error: RecordingError | None = None
         self.broken = threading.Event()
         self._queue: queue.SimpleQueue[Incoming | None] = queue.SimpleQueue()
@@ -96,9 +125,59 @@ class RecordingSink:
         return self
 
     def put(self, sample: Incoming) -> None:
-        """Queue one received sample (never blocks; any thread)."""
-        self.received += 1
+        """Queue one received sample (never blocks; any thread).
+
+        Dropped, and counted, while ``max_backlog`` bytes or more wait.
+        """
+        with self._backlog_lock:
+            self.received += 1
+            if self._backlog >= self._max_backlog:
+                self.dropped += 1
+                if not self._dropping:
+                    self._dropping = True
+                    log.warning(
+                        "recorder: %d MB waiting to be written; dropping new "
+                        "samples until it catches up",
+                        self._backlog // 2**20,
+                    )
+                return
+            self._backlog += len(sample.payload)
         self._queue.put(sample)
+
+    def behind_note(self) -> str:
+        """``"; the writer fell behind: ..."`` with what it cost, or ``""``."""
+        lost = []
+        if self.dropped:
+            lost.append(f"{self.dropped} samples dropped")
+        if self.shed:
+            lost.append(f"{self.shed} written without Foxglove poses")
+        return f"; the writer fell behind: {', '.join(lost)}" if lost else ""
+
+    def _taken(self, sample: Incoming) -> bool:
+        """Count ``sample`` out of the backlog; whether the writer is behind."""
+        with self._backlog_lock:
+            self._backlog -= len(sample.payload)
+            behind = self._backlog > self._shed_backlog
+            if self._dropping and self._backlog < self._max_backlog // 2:
+                self._dropping = False
+                log.warning(
+                    "recorder: caught up; %d samples dropped so far", self.dropped
+                )
+        if behind != self._shedding:
+            self._shedding = behind
+            if behind:
+                log.warning(
+                    "recorder: over %d MB waiting to be written; writing samples "
+                    "without their Foxglove poses until it catches up",
+                    self._shed_backlog // 2**20,
+                )
+            else:
+                log.warning(
+                    "recorder: caught up; %d samples written without Foxglove "
+                    "poses so far",
+                    self.shed,
+                )
+        return behind
 
     def stop(self, timeout: float = STOP_TIMEOUT) -> list[Path]:
         """Write out the queue, close the file with its summary; the files written.
@@ -159,9 +238,9 @@ class RecordingSink:
                 continue
             if sample is None:
                 return
-            self._write(sample)
+            self._write(sample, behind=self._taken(sample))
 
-    def _write(self, sample: Incoming) -> None:
+    def _write(self, sample: Incoming, behind: bool = False) -> None:
         try:
             entry = route(sample, self.namespace)
             self._files.write(
@@ -178,6 +257,14 @@ class RecordingSink:
         except Exception:  # a writer keeps writing: log, count, go on
             self.failed += 1
             log.exception("recorder: could not write a sample of %s", sample.key)
+            return
+        if (
+            behind
+            and self._foxglove is not None
+            and entry.message is not None
+            and self._foxglove.derives(entry.message)
+        ):
+            self.shed += 1
             return
         self._derive(entry, sample)
 

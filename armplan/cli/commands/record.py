@@ -67,7 +67,8 @@ def run(args: argparse.Namespace) -> int:
     sink = recorder.sink
     files = ", ".join(map(str, sink.paths))
     extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
-    _say(f"armplan record: {sink.written} messages{extra} in {files}")
+    note = sink.behind_note()
+    _say(f"armplan record: {sink.written} messages{extra} in {files}{note}")
     return 0
 
 

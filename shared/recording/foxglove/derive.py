@@ -99,6 +99,11 @@ class FoxgloveChannels:
             self._arms[side] = load_arm(side)
         return self._arms[side]
 
+    @staticmethod
+    def derives(message: Message) -> bool:
+        """Whether ``message`` has derived messages (of a kind that has them)."""
+        return isinstance(message, (Trajectory, JointState, Decision))
+
     def derive(self, message: Message, log_time: int) -> Iterator[Derived]:
         """The derived messages of ``message`` received at ``log_time`` [ns].
 
