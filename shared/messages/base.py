@@ -12,9 +12,16 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Sequence
-from typing import Annotated, Any, TypeVar
+from typing import Annotated, Any, ClassVar, TypeVar
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, ValidationError
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    SerializerFunctionWrapHandler,
+    ValidationError,
+    model_serializer,
+)
 
 from shared.errors import InvalidInputError
 
@@ -32,6 +39,26 @@ class Message(BaseModel):
     def json_schema(cls) -> dict[str, Any]:
         """The JSON schema of this message (used for MCAP channels)."""
         return cls.model_json_schema()
+
+
+class OptionalFieldsMessage(Message):
+    """A message with fields that are left out of its JSON and dumps when None.
+
+    A field added to a message that others already read and compare (the
+    trajectory JSON of the SPEC) is optional: left out when ``None``, the
+    message's JSON stays byte for byte what it was before the field existed.
+    ``omitted_when_none`` names those fields.
+    """
+
+    omitted_when_none: ClassVar[tuple[str, ...]] = ()
+
+    @model_serializer(mode="wrap")
+    def _omit_none(self, handler: SerializerFunctionWrapHandler) -> Any:
+        data = handler(self)
+        for name in self.omitted_when_none:
+            if getattr(self, name) is None:
+                data.pop(name, None)
+        return data
 
 
 def unit_direction(v: Sequence[float]) -> tuple[float, float, float]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from shared.messages.base import Message, Vec3
+from shared.messages.base import Message, OptionalFieldsMessage, Vec3
 from shared.messages.method import Method
 from shared.messages.sample_times import check_times
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
@@ -50,7 +50,7 @@ class JointPath(Message):
         return self
 
 
-class Trajectory(Message):
+class Trajectory(OptionalFieldsMessage):
     """A timed joint trajectory (the SPEC's trajectory JSON).
 
     Attributes:
@@ -63,7 +63,13 @@ class Trajectory(Message):
         primitives: Primitive label at each time, shape (n,).
         wrist_path: Wrist position followed at each time [m], shape (n, 3).
         method: Planning method that made it.
+        hand: The hand's open fraction at each time (0 closed, 1 open),
+            shape (n,), for a task with hand actions; ``None`` (left out of
+            the JSON) when the hand is not commanded. Its range and limits
+            are the robot bridge's to check, as the joints' are.
     """
+
+    omitted_when_none = ("hand",)
 
     arm: Side
     joint_names: list[str] = Field(min_length=1)
@@ -74,6 +80,7 @@ class Trajectory(Message):
     primitives: list[str]
     wrist_path: list[Vec3]
     method: Method = Method.MP
+    hand: list[float] | None = None
 
     @model_validator(mode="after")
     def _shapes(self) -> Trajectory:
@@ -82,6 +89,10 @@ class Trajectory(Message):
             _check_rows(name, getattr(self, name), n, width)
         if len(self.primitives) != n or len(self.wrist_path) != n:
             raise ValueError("primitives and wrist_path need one entry per time")
+        if self.hand is not None and len(self.hand) != n:
+            raise ValueError(
+                f"hand has {len(self.hand)} values, expected {n} (one per time)"
+            )
         check_times(self.times)
         return self
 

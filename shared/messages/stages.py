@@ -4,8 +4,15 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from shared.messages.base import MAX_RATE, MIN_RATE, JointVector, Message
+from shared.messages.base import (
+    MAX_RATE,
+    MIN_RATE,
+    JointVector,
+    Message,
+    OptionalFieldsMessage,
+)
 from shared.messages.decision import Decision
+from shared.messages.hand import HandAction
 from shared.messages.joint_path import JointPath
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
@@ -56,7 +63,7 @@ class PathIKRequest(Message):
         return MeasureParams()
 
 
-class TimingSegment(Message):
+class TimingSegment(OptionalFieldsMessage):
     """One movement of a task and the rest after it.
 
     Attributes:
@@ -64,11 +71,15 @@ class TimingSegment(Message):
         duration: Wanted duration [s] (human pace), at most 600, or None:
             the fastest.
         dwell: Rest at the movement's end [s].
+        hand: Hand action during the rest, or None (left out of the JSON).
     """
+
+    omitted_when_none = ("hand",)
 
     joint_path: JointPath
     duration: float | None = Field(default=None, gt=0.0, le=MAX_DURATION)
     dwell: float = Field(default=0.0, ge=0.0, le=60.0)
+    hand: HandAction | None = None
 
 
 class TimingRequest(Message):

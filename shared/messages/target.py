@@ -10,8 +10,10 @@ from shared.messages.base import (
     Direction,
     JointVector,
     Message,
+    OptionalFieldsMessage,
     Vec3,
 )
+from shared.messages.hand import HandAction
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
 from shared.messages.timing_limits import TimingLimits
@@ -27,7 +29,7 @@ MAX_TARGETS = 64
 MAX_TRAJECTORY_SAMPLES = 60_000
 
 
-class ReachTarget(Message):
+class ReachTarget(OptionalFieldsMessage):
     """One wrist target of a task.
 
     Attributes:
@@ -35,11 +37,19 @@ class ReachTarget(Message):
         palm: Optional wrist orientation: the direction the palm should face,
             torso frame (unit length after validation).
         dwell: Time to hold still at the target before the next one [s].
+        hand: Optional hand action at the target (``"open"`` or ``"close"``),
+            done during the dwell, after arriving and before leaving; a dwell
+            shorter than the hand needs is lengthened to its time
+            (``services.timing.hand``). ``None`` (left out of the JSON): the
+            hand is not commanded.
     """
+
+    omitted_when_none = ("hand",)
 
     position: Vec3
     palm: Direction | None = None
     dwell: float = Field(default=0.0, ge=0.0, le=60.0)
+    hand: HandAction | None = None
 
 
 class PlanRequest(Message):
