@@ -14,7 +14,7 @@ import numpy as np
 
 from armplan.cli.output import print_json, print_table
 from shared.messages import PlanRequest, Trajectory
-from shared.robot import load_arm
+from shared.robot import Side, load_arm
 
 #: The table shows every ``EVERY``-th sample, and the last.
 EVERY = 10
@@ -63,17 +63,24 @@ def show(request: PlanRequest, trajectory: Trajectory, as_json: bool) -> None:
 
 
 def print_samples(trajectory: Trajectory, every: int = EVERY) -> None:
-    """Every ``every``-th sample and the last: time [s], joints [deg], primitive."""
+    """Every ``every``-th sample and the last: time [s], joints [deg], primitive.
+
+    With a hand channel, its open fraction too, after the joints.
+    """
     n = len(trajectory.times)
+    hand = trajectory.hand
     rows = [
         (
             f"{trajectory.times[i]:.3f}",
             *(f"{np.degrees(q):.2f}" for q in trajectory.positions[i]),
+            *([] if hand is None else [f"{hand[i]:.2f}"]),
             trajectory.primitives[i],
         )
         for i in sorted({*range(0, n, every), n - 1})
     ]
     headers = ("t [s]", *(f"{name} [deg]" for name in trajectory.joint_names))
+    if hand is not None:
+        headers += (f"{Side.parse(trajectory.arm).hand_joint} [open]",)
     print_table((*headers, "primitive"), rows)
 
 
@@ -111,4 +118,33 @@ def print_summary(
             f"final wrist error {summary.final_error * 1e3:.3f} mm from the path's "
             f"last sample; largest along the path {summary.largest_error * 1e3:.3f} mm"
         )
+    lines += hand_lines(request, trajectory)
     sys.stdout.write("\n" + "\n".join(lines) + "\n")
+
+
+def hand_lines(request: PlanRequest, trajectory: Trajectory) -> list[str]:
+    """The hand's actions, and the dwells lengthened for them (none: no lines)."""
+    if trajectory.hand is None:
+        return []
+    from services.timing.hand import hand_moves
+    from shared.robot.hand import hand_motion_limits
+
+    actions = [target.hand for target in request.targets]
+    moves = hand_moves(actions, hand_motion_limits(request.arm), 1.0 / request.rate)
+    said = []
+    for move in moves:
+        target = request.targets[move.segment]
+        longer = (
+            f", its {target.dwell:g} s dwell lengthened to {move.duration:g} s"
+            if target.dwell < move.duration
+            else ""
+        )
+        said.append(
+            f"{actions[move.segment]} at target {move.segment + 1} "
+            f"({move.duration:g} s{longer})"
+        )
+    hand = trajectory.hand
+    return [
+        f"hand (open fraction): {hand[0]:.2f} at the start, {hand[-1]:.2f} at the "
+        "end; " + ("; ".join(said) if said else "it does not move")
+    ]

@@ -2,11 +2,14 @@
 
 Three ways to say what to do, one per command line:
 
-- ``--target X Y Z``, once per target, reached in order. ``--dwell S`` and
-  ``--palm X Y Z`` belong to the ``--target`` they follow: hold S seconds
-  there [s], face the palm that way there (torso frame). So "reach, hold
+- ``--target X Y Z``, once per target, reached in order. ``--dwell S``,
+  ``--palm X Y Z`` and ``--hand open|close`` belong to the ``--target``
+  they follow: hold S seconds there [s], face the palm that way there
+  (torso frame), open or close the hand during the hold. So "reach, hold
   half a second, retreat" is
-  ``--target 0.12 -0.10 0.05 --dwell 0.5 --target 0.10 -0.14 0.0``.
+  ``--target 0.12 -0.10 0.05 --dwell 0.5 --target 0.10 -0.14 0.0``, and
+  "reach, grasp, retreat" ``--target 0.12 -0.10 0.05 --hand close --target
+  0.10 -0.14 0.0``.
 - ``--wrist-path FILE.csv``: a timed wrist path (header ``t,x,y,z``, s and
   m); ``--palm`` (once) is the palm direction held along it. Its times are
   kept, so ``--fastest``, ``--rate`` and ``--dwell`` do not apply.
@@ -14,7 +17,7 @@ Three ways to say what to do, one per command line:
   planner service takes. ``--method``, ``--fastest``, ``--rate``,
   ``--start``, the weights and the limits given beside it override the
   file's; ``--arm`` must agree with the file's arm, or gives it where the
-  file names none; ``--dwell`` and ``--palm`` belong in the file.
+  file names none; ``--dwell``, ``--palm`` and ``--hand`` belong in the file.
 """
 
 from __future__ import annotations
@@ -34,13 +37,13 @@ from shared.robot.side import Side
 #: Largest task file read [bytes] (the services' default payload limit).
 MAX_TASK_BYTES = 16 * 1024 * 1024
 #: Options that belong to the ``--target`` before them.
-PER_TARGET = ("--dwell", "--palm")
+PER_TARGET = ("--dwell", "--palm", "--hand")
 
 Step = tuple[str, Any]
 
 
 class StepAction(argparse.Action):
-    """Records ``--target``, ``--dwell`` and ``--palm`` in command-line order.
+    """Records ``--target``, ``--dwell``, ``--palm``, ``--hand`` in command-line order.
 
     Each occurrence appends ``(option, values)`` to ``namespace.<dest>``, so
     the request builder can tell which target a ``--dwell`` follows.
@@ -81,8 +84,9 @@ def targets_from_steps(steps: Sequence[Step] | None) -> list[dict[str, Any]]:
     """``ReachTarget`` fields per ``--target``, with the options that follow it.
 
     Raises:
-        InvalidInputError: a ``--dwell``/``--palm`` before any target, given
-            twice for one target, or a value that is not a finite number.
+        InvalidInputError: a ``--dwell``/``--palm``/``--hand`` before any
+            target, given twice for one target, or a value that is not a
+            finite number.
     """
     targets: list[dict[str, Any]] = []
     for option, values in steps or []:
@@ -101,7 +105,11 @@ def targets_from_steps(steps: Sequence[Step] | None) -> list[dict[str, Any]]:
             raise InvalidInputError(
                 f"--target number {number} has {option} twice", field=key
             )
-        targets[-1][key] = _finite(values, f"{option} of --target number {number}")
+        targets[-1][key] = (
+            values
+            if isinstance(values, str)
+            else _finite(values, f"{option} of --target number {number}")
+        )
     return targets
 
 
@@ -167,6 +175,13 @@ def _from_wrist_path(args: argparse.Namespace) -> PlanRequest:
         if given:
             raise _kept_times(option)
     palms = [values for option, values in args.steps or [] if option == "--palm"]
+    for option, _ in args.steps or []:
+        if option == "--hand":
+            raise InvalidInputError(
+                "--hand belongs to a --target and --wrist-path has none: the "
+                "hand acts during a target's dwell",
+                field="hand",
+            )
     if len(palms) < len(args.steps or []):
         raise InvalidInputError(
             "--dwell belongs to a --target and --wrist-path has none: hold still "
@@ -196,7 +211,7 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
     if args.steps:
         raise InvalidInputError(
             f"{args.steps[0][0]} does not combine with --task: the task file "
-            "holds its targets, dwells and palm directions",
+            "holds its targets, dwells, palm directions and hand actions",
             field=args.steps[0][0][2:],
         )
     try:

@@ -99,7 +99,12 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
         end = np.array(joint_path.positions[-1])
         pace = None if request.fastest else reach_duration(arm, q, end)
         segments.append(
-            TimingSegment(joint_path=joint_path, duration=pace, dwell=target.dwell)
+            TimingSegment(
+                joint_path=joint_path,
+                duration=pace,
+                dwell=target.dwell,
+                hand=target.hand,
+            )
         )
         q = end
     trajectory = stages.timing(

@@ -19,9 +19,17 @@ from services.fit.default import default_model
 from services.fit.model import MotionModel
 from services.ik.track import TrackedPath, track_path
 from services.planner.build import arc_length, joint_path_message, trajectory_message
-from services.timing import Segment, time_segments
+from services.timing import Segment
+from services.timing.hand import (
+    first_opening,
+    hand_channel,
+    hand_dwells,
+    hand_moves,
+)
 from services.timing.request_limits import request_limits
 from services.timing.sample_cap import check_asked, check_samples
+from services.timing.segments import time_segments_with_rests
+from services.timing.time_path import sample_period
 from shared.errors import InvalidInputError
 from shared.messages import (
     DecideRequest,
@@ -34,6 +42,7 @@ from shared.messages import (
 )
 from shared.primitives import get_primitive
 from shared.robot import load_arm
+from shared.robot.hand import hand_motion_limits
 from shared.robot.motion_limits import MotionLimits
 from shared.robot.postures import rest
 
@@ -122,15 +131,23 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     """The timing stage: the task's joint paths as one trajectory (Ruckig).
 
     Each movement is timed by the hand's arc length along its IK path, so its
-    human bell is the hand's speed profile.
+    human bell is the hand's speed profile. A segment's hand action moves
+    the gripper during its dwell, lengthened to the gripper's time if
+    shorter (``services.timing.hand``); the trajectory then carries the
+    gripper's open fraction (``Trajectory.hand``).
 
     Raises:
         InvalidInputError: a trajectory over ``MAX_TRAJECTORY_SAMPLES``
             samples (refused before timing when the asked durations and
             dwells alone pass it), or joint names other than the arm's.
     """
-    check_asked(request)
     first = request.segments[0].joint_path
+    actions = [s.hand for s in request.segments]
+    moves = hand_moves(
+        actions, hand_motion_limits(first.arm), sample_period(request.rate)
+    )
+    dwells = hand_dwells([s.dwell for s in request.segments], moves)
+    check_asked(_with_dwells(request, dwells))
     _check_joint_names(request)
     arm = load_arm(first.arm)
     limits = limits or request_limits(arm.limits, request.limits)
@@ -139,16 +156,32 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
         Segment(
             np.array(s.joint_path.positions),
             s.duration,
-            s.dwell,
+            dwell,
             _hand_parameter(s.joint_path, reach),
         )
-        for s in request.segments
+        for s, dwell in zip(request.segments, dwells, strict=True)
     ]
-    timed = time_segments(segments, limits, rate=request.rate)
+    timed, rests = time_segments_with_rests(segments, limits, rate=request.rate)
     check_samples(len(timed.times), request.rate)
-    return trajectory_message(
+    trajectory = trajectory_message(
         [s.joint_path for s in request.segments], timed, request.method
     )
+    opening = first_opening(actions)
+    if opening is None:
+        return trajectory
+    hand = hand_channel(timed.times, rests, moves, opening)
+    return trajectory.model_copy(update={"hand": hand.tolist()})
+
+
+def _with_dwells(request: TimingRequest, dwells: list[float]) -> TimingRequest:
+    """``request`` with each segment's dwell [s] replaced (lengthened for a hand)."""
+    if all(d == s.dwell for d, s in zip(dwells, request.segments, strict=True)):
+        return request
+    segments = [
+        s.model_copy(update={"dwell": d})
+        for s, d in zip(request.segments, dwells, strict=True)
+    ]
+    return request.model_copy(update={"segments": segments})
 
 
 def _hand_parameter(path: JointPath, reach: float) -> np.ndarray | None:

@@ -62,10 +62,26 @@ def time_segments(
             segment that does not start where the previous one ended (named).
         and whatever :func:`time_path` raises for a segment's path.
     """
+    return time_segments_with_rests(segments, limits, rate=rate)[0]
+
+
+def time_segments_with_rests(
+    segments: Sequence[Segment], limits: MotionLimits, *, rate: float = RATE
+) -> tuple[TimedTrajectory, list[int]]:
+    """:func:`time_segments`, and where each segment's rest begins.
+
+    Returns:
+        The trajectory, and for each segment the index of the sample at which
+        its movement has ended and its dwell begins, shape (len(segments),).
+
+    Raises:
+        as :func:`time_segments`.
+    """
     if not segments:
         raise InvalidInputError("a task needs at least one segment", field="segments")
     period = sample_period(rate)
     parts: list[TimedTrajectory] = []
+    rests: list[int] = []
     start_time, offset, previous = 0.0, 0.0, None
     for k, segment in enumerate(segments):
         path = np.asarray(segment.path, dtype=float)
@@ -84,6 +100,7 @@ def time_segments(
         )
         parts.append(part.shifted(start_time, offset))
         start_time += part.duration
+        rests.append(round(start_time / period))
         rest_at = offset if still else offset + len(path) - 1
         offset += len(path) - 1
         dwell = _dwell_periods(k, segment.dwell, period) * period
@@ -92,7 +109,7 @@ def time_segments(
             start_time += dwell
         previous = path[-1]
     joined = concatenate(parts)
-    return joined._replace(times=np.arange(len(joined.times)) * period)
+    return joined._replace(times=np.arange(len(joined.times)) * period), rests
 
 
 def _still(path: np.ndarray) -> bool:
@@ -178,4 +195,9 @@ def _dwell_periods(k: int, dwell: float, period: float) -> int:
     return int(np.ceil(dwell / period - 1e-9))
 
 
-__all__ = ["Segment", "time_path_with_stops", "time_segments"]
+__all__ = [
+    "Segment",
+    "time_path_with_stops",
+    "time_segments",
+    "time_segments_with_rests",
+]

@@ -1,6 +1,7 @@
 """``armplan plan``: a human-like arm trajectory for a task.
 
-    armplan plan --target X Y Z [--dwell S] [--palm X Y Z] [--target ...]
+    armplan plan --target X Y Z [--dwell S] [--palm X Y Z] [--hand open|close]
+                 [--target ...]
                  [--arm right|left] [--method mp|least-norm|single]
                  [--fastest] [--rate HZ] [--start Q1..Q5]
                  [--max-acceleration A [A x4]] [--max-jerk J [J x4]] [--json]
@@ -8,8 +9,8 @@
                  [--start ...] [--palm X Y Z] [--json]
     armplan plan --task FILE.json [--method ...] [--fastest] [--rate HZ] [--json]
 
-Targets are reached in order, one trajectory through all of them; ``--dwell``
-and ``--palm`` belong to the ``--target`` they follow
+Targets are reached in order, one trajectory through all of them; ``--dwell``,
+``--palm`` and ``--hand`` belong to the ``--target`` they follow
 (:mod:`armplan.cli.plan_request`). With ``--wrist-path`` the joint angles come
 at exactly the CSV's times, no retiming. ``--json`` prints the SPEC's
 trajectory JSON; otherwise a table of every tenth sample and a summary
@@ -31,6 +32,7 @@ from armplan.cli.plan_output import show
 from armplan.cli.plan_request import StepAction, request_from_args
 from armplan.cli.remote import add_remote, is_remote
 from shared.messages import Method, PlanRequest, Trajectory
+from shared.messages.hand import HandAction
 
 ORDER = 27
 HELP = "plan a human-like arm trajectory: targets, a timed wrist path, or a task"
@@ -89,6 +91,14 @@ def _add_per_target(parser: argparse.ArgumentParser) -> None:
         metavar=("X", "Y", "Z"),
         help="direction the palm faces at the target before it (or along "
         "--wrist-path), torso frame",
+    )
+    parser.add_argument(
+        "--hand",
+        dest="steps",
+        action=StepAction,
+        choices=[a.value for a in HandAction],
+        help="open or close the hand at the target before it, during its dwell "
+        "(lengthened to the hand's 0.45 s if shorter)",
     )
 
 
