@@ -33,6 +33,7 @@ import numpy as np
 
 from bridge.checks import SLACK
 from bridge.limits import FrameLimits
+from bridge.units import unit
 from shared.errors import TrajectoryRefusedError, fixed
 from shared.messages import CommandFrames
 
@@ -116,14 +117,15 @@ def check_played_curve(played: CommandFrames, limits: FrameLimits) -> None:
     times = np.concatenate([[0.0], played.times])
     values = np.vstack([np.asarray(played.start)[None, :], played.positions])
     peaks = CurvePeaks(times, values, played.rate)
-    for quantity, value, bound, unit in (
-        ("velocity", peaks.speed, limits.velocity, "rad/s"),
-        ("acceleration", peaks.acceleration, limits.acceleration, "rad/s^2"),
-        ("jerk", peaks.jerk, limits.jerk, "rad/s^3"),
+    for order, quantity, value, bound in (
+        (1, "velocity", peaks.speed, limits.velocity),
+        (2, "acceleration", peaks.acceleration, limits.acceleration),
+        (3, "jerk", peaks.jerk, limits.jerk),
     ):
         over = np.argwhere(value > bound * (1.0 + SLACK))
         if len(over):
             k, j = (int(i) for i in over[0])
+            per = unit(limits.names[j], order)
             raise TrajectoryRefusedError(
                 limits.names[j],
                 quantity,
@@ -132,9 +134,9 @@ def check_played_curve(played: CommandFrames, limits: FrameLimits) -> None:
                 frame=k,
                 time=times[k],
                 detail=(
-                    f"{quantity} {fixed(value[k, j], 2)} {unit} between frames {k} "
+                    f"{quantity} {fixed(value[k, j], 2)}{per} between frames {k} "
                     f"and {k + 1} (t = {times[k]:.3f} to {times[k + 1]:.3f} s) "
                     "on the curve Choregraphe plays through the keys (BezierAuto) "
-                    f"exceeds its limit {bound[j]:.2f} {unit}"
+                    f"exceeds its limit {bound[j]:.2f}{per}"
                 ),
             )

@@ -10,6 +10,7 @@ from bridge.checks import check_frames, check_sample_range
 from bridge.fidelity import ATTEMPTS, check_follows, follow_tolerance, offer_rate
 from bridge.float32 import RANGE_INSET
 from bridge.frames import frames_from_trajectory
+from bridge.hand import with_hand
 from bridge.limits import FrameLimits
 from bridge.timeline_keys import QUANTUM, behavior_frames
 from shared.errors import InvalidInputError, TrajectoryRefusedError
@@ -39,12 +40,15 @@ def checked_frames(
     and follow the trajectory between keys within a degree, or a fast
     joint's chord gap at 25 fps (:mod:`bridge.fidelity`). A refusal for a
     frame rate too low offers one whose frames, made and checked here in the
-    same way, pass (``bridge.fidelity.offer_rate``).
+    same way, pass (``bridge.fidelity.offer_rate``). A trajectory's hand
+    channel is one more joint of the frames, after the arm's, held to the
+    hand's range and limits (``bridge.hand``).
 
     Args:
         trajectory: The trajectory [s, rad].
         rate: Frame rate [Hz].
-        limits: The joints' limits.
+        limits: The arm's joints' limits (the hand's are added for a
+            trajectory with a hand channel).
         behavior: Also check the frames as a Choregraphe behavior plays
             them (:func:`check_behavior`), for a behavior file; a rate
             offered then passes that check too, and a refusal of the
@@ -57,6 +61,7 @@ def checked_frames(
         TrajectoryRefusedError: naming the first frame that breaks a limit,
             or the joint that strays furthest between frames.
     """
+    trajectory, limits = with_hand(trajectory, limits)
     check_sample_range(trajectory, limits)
     make = partial(_frames_at, trajectory, limits=limits, behavior=behavior)
     try:

@@ -27,6 +27,7 @@ import numpy as np
 
 from bridge.float32 import held
 from bridge.limits import FrameLimits
+from bridge.units import unit, value_name
 from shared.errors import InvalidInputError, TrajectoryRefusedError, fixed
 from shared.messages import CommandFrames, Trajectory
 
@@ -139,6 +140,7 @@ def check_positions(
     if hit is None:
         return
     k, j = hit
+    name = limits.names[j]
     bound = limits.lower[j] if q[k, j] < limits.lower[j] else limits.upper[j]
     raise TrajectoryRefusedError(
         limits.names[j],
@@ -148,8 +150,9 @@ def check_positions(
         frame=k,
         time=t[k],
         detail=(
-            f"angle {fixed(q[k, j], 4)} rad at {what} {k} (t = {t[k]:.3f} s) is "
-            f"outside its range [{limits.lower[j]:.4f}, {limits.upper[j]:.4f}] rad"
+            f"{value_name(name)} {fixed(q[k, j], 4)}{unit(name)} at {what} {k} "
+            f"(t = {t[k]:.3f} s) is outside its range "
+            f"[{limits.lower[j]:.4f}, {limits.upper[j]:.4f}]{unit(name)}"
         ),
     )
 
@@ -179,9 +182,10 @@ def check_speeds(q: np.ndarray, t: np.ndarray, limits: FrameLimits) -> np.ndarra
         frame=k,
         time=t[k],
         detail=(
-            f"speed {fixed(speed, 3)} rad/s from frame {k - 1} (t = {t[k - 1]:.3f} s) "
+            f"speed {fixed(speed, 3)}{unit(limits.names[j], 1)} from frame {k - 1} "
+            f"(t = {t[k - 1]:.3f} s) "
             f"to frame {k} (t = {t[k]:.3f} s) exceeds its limit "
-            f"{limits.velocity[j]:.3f} rad/s"
+            f"{limits.velocity[j]:.3f}{unit(limits.names[j], 1)}"
         ),
     )
 
@@ -217,8 +221,9 @@ def check_accelerations(
         frame=k,
         time=t[k],
         detail=(
-            f"acceleration {fixed(value, 2)} rad/s^2 at frame {k} (t = {t[k]:.3f} s) "
-            f"exceeds its limit {limits.acceleration[j]:.2f} rad/s^2"
+            f"acceleration {fixed(value, 2)}{unit(limits.names[j], 2)} at frame {k} "
+            f"(t = {t[k]:.3f} s) exceeds its limit "
+            f"{limits.acceleration[j]:.2f}{unit(limits.names[j], 2)}"
         ),
     )
 
@@ -252,9 +257,10 @@ def check_jerks(accel: np.ndarray, t: np.ndarray, limits: FrameLimits) -> None:
         frame=k,
         time=t[k],
         detail=(
-            f"jerk {fixed(value, 1)} rad/s^3 over frames {k - 2} to {k + 1} (t = "
+            f"jerk {fixed(value, 1)}{unit(limits.names[j], 3)} over frames {k - 2} "
+            f"to {k + 1} (t = "
             f"{t[k - 2]:.3f} to {t[k + 1]:.3f} s) exceeds its limit "
-            f"{limits.jerk[j]:.1f} rad/s^3"
+            f"{limits.jerk[j]:.1f}{unit(limits.names[j], 3)}"
         ),
     )
 
@@ -308,7 +314,7 @@ def _refuse_at_rest(
     """Raise for ``values[hit]`` over ``bound`` when starting or coming to rest."""
     i, j = hit
     frame = 0 if starting else len(t) - 1
-    unit = "rad/s^2" if quantity == "acceleration" else "rad/s^3"
+    per = unit(limits.names[j], 2 if quantity == "acceleration" else 3)
     when = (
         "setting off from rest at frame 0"
         if starting
@@ -323,8 +329,8 @@ def _refuse_at_rest(
         frame=frame,
         time=t[frame],
         detail=(
-            f"{quantity} {fixed(value, 1)} {unit} {when} (t = {t[frame]:.3f} s; the "
+            f"{quantity} {fixed(value, 1)}{per} {when} (t = {t[frame]:.3f} s; the "
             "arm rests before the first frame and after the last) exceeds its limit "
-            f"{bound[j]:.1f} {unit}"
+            f"{bound[j]:.1f}{per}"
         ),
     )

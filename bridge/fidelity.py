@@ -26,6 +26,7 @@ import numpy.typing as npt
 from bridge.frames import DEFAULT_RATE
 from bridge.interpolation import positions_at
 from bridge.limits import FrameLimits
+from bridge.timeline_keys import is_hand
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import CommandFrames, Trajectory
 from shared.messages.base import MAX_RATE
@@ -78,19 +79,27 @@ def check_follows(
     if ratio <= 1.0:
         return
     frame = int(np.searchsorted(frames.times, time)) + 1
+    name = frames.joint_names[joint]
     raise TrajectoryRefusedError(
-        frames.joint_names[joint],
+        name,
         "frame_rate",
         gap,
         limit[joint],
         frame=frame,
         time=time,
         detail=(
-            f"would pass {math.degrees(gap):.1f} deg from the trajectory at "
+            f"would pass {_shown(name, gap, '.1f')} from the trajectory at "
             f"t = {time:.3f} s between frames at {frames.rate:g} Hz (at most "
-            f"{math.degrees(limit[joint]):.3g} deg)"
+            f"{_shown(name, limit[joint], '.3g')})"
         ),
     )
+
+
+def _shown(name: str, gap: float, form: str) -> str:
+    """A gap of actuator ``name``: degrees for a joint, open fraction for a hand."""
+    if is_hand(name):
+        return f"{gap:.3f} (open fraction)"
+    return f"{math.degrees(gap):{form}} deg"
 
 
 def largest_gap(

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import numpy as np
 import numpy.typing as npt
 
 from shared.robot import Side, load_arm
+from shared.robot.hand import hand_limits
 from shared.robot.motion_limits import (
     JERK_TIME,
     NET_ACCELERATION_TIME,
@@ -69,3 +71,27 @@ class FrameLimits(MotionLimits):
         if jerk is None:
             jerk = accel / JERK_RAMP_TIME
         return cls(*motion_limits(joints, acceleration=accel, jerk=jerk))
+
+    def with_hand(self, side: Side | str) -> FrameLimits:
+        """These limits and, after them, the hand of ``side`` as one more joint.
+
+        The hand's range (open fraction 0..1) and speed limit [1/s] are the
+        robot description's; its acceleration and jerk limits the bridge's
+        safety net, by the arm joints' rule (speed limit / :data:`RAMP_TIME`,
+        that / :data:`JERK_RAMP_TIME`: 83.3 /s^2 and 1666 /s^3).
+        """
+        hand = net_limits(hand_limits(side))
+        return FrameLimits(
+            names=(*self.names, *hand.names),
+            lower=_joined(self.lower, hand.lower),
+            upper=_joined(self.upper, hand.upper),
+            velocity=_joined(self.velocity, hand.velocity),
+            acceleration=_joined(self.acceleration, hand.acceleration),
+            jerk=_joined(self.jerk, hand.jerk),
+        )
+
+def _joined(mine: np.ndarray, theirs: np.ndarray) -> np.ndarray:
+    """``mine`` then ``theirs``, as one read-only float array."""
+    values = np.concatenate([mine, theirs]).astype(float)
+    values.setflags(write=False)
+    return values

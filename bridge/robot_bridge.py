@@ -35,6 +35,7 @@ from bridge.at_rest import angles_at_rest
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.frames import DEFAULT_RATE
+from bridge.hand import with_hand
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from bridge.playback import SAMPLE_PERIOD, play_and_sample
@@ -142,15 +143,17 @@ class RobotBridge:
                 during the movement (raised within 2 s of it going).
             RobotCommandError: the robot refused a command.
         """
-        frames = self.frames(trajectory, rate)
+        trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
+        frames = checked_frames(trajectory, rate or self.rate, limits)
         names = list(frames.joint_names)
         current = angles_at_rest(self.client, names)
-        limits = self.limits(frames.arm)
         move_first = needs_approach(frames, current, limits, approach)
         if self.client.stiffen(names):  # another client may have moved it meanwhile
             current = angles_at_rest(self.client, names)
             move_first = needs_approach(frames, current, limits, approach)
-        approach_time = self._approach(frames, current, on_state) if move_first else 0.0
+        approach_time = (
+            self._approach(frames, current, limits, on_state) if move_first else 0.0
+        )
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)
@@ -169,9 +172,12 @@ class RobotBridge:
         self,
         frames: CommandFrames,
         current: np.ndarray,
+        limits: FrameLimits,
         on_state: StateCallback | None = None,
     ) -> float:
-        """Bring the arm from ``current`` [rad] to the frames' start.
+        """Bring the arm (and the hand) from ``current`` [rad] to the frames' start.
+
+        ``limits`` are the frames' joints' (the hand's too, if they move it).
 
         ``on_state`` gets each state measured on the way (20 Hz), its time
         counted to the trajectory's start, so negative [s]: a recording then
@@ -181,10 +187,8 @@ class RobotBridge:
             The approach move's length [s].
         """
         start = np.asarray(frames.start)
-        move = approach_frames(
-            frames.arm, current, start, self.limits(frames.arm), frames.rate
-        )
-        check_frames(move, self.limits(frames.arm))
+        move = approach_frames(frames.arm, current, start, limits, frames.rate)
+        check_frames(move, limits)
         on_sample = None if on_state is None else _shifted(on_state, -move.duration)
         play_and_sample(
             self.client,

@@ -16,6 +16,8 @@ import numpy as np
 
 from bridge.checks import check_frames
 from bridge.limits import FrameLimits
+from bridge.timeline_keys import is_hand
+from bridge.units import unit
 from shared.errors import TrajectoryRefusedError
 from shared.messages import CommandFrames
 
@@ -47,16 +49,17 @@ def needs_approach(
     if gap[j] > START_TOLERANCE:
         if approach:
             return True
+        name = frames.joint_names[j]
         raise TrajectoryRefusedError(
-            frames.joint_names[j],
+            name,
             "start",
             current[j],
             start[j],
             frame=0,
             time=0.0,
             detail=(
-                f"is at {current[j]:.4f} rad, {math.degrees(gap[j]):.2f} deg "
-                f"from the trajectory's start {start[j]:.4f} rad, and the "
+                f"is at {current[j]:.4f}{unit(name)}, {_apart(name, gap[j])} "
+                f"from the trajectory's start {start[j]:.4f}{unit(name)}, and the "
                 "approach move is off"
             ),
         )
@@ -74,8 +77,15 @@ def needs_approach(
             time=error.time,
             detail=(
                 f"{error.detail}, counted from where the arm is "
-                f"({math.degrees(gap[frames.joint_names.index(error.joint)]):.2f} "
-                "deg from the trajectory's start), and the approach move is off"
+                f"({_apart(error.joint, gap[frames.joint_names.index(error.joint)])} "
+                "from the trajectory's start), and the approach move is off"
             ),
         ) from None
     return False
+
+
+def _apart(name: str, gap: float) -> str:
+    """How far actuator ``name`` is from the start: degrees, or open fraction."""
+    if is_hand(name):
+        return f"{gap:.2f} (open fraction)"
+    return f"{math.degrees(gap):.2f} deg"

@@ -34,6 +34,7 @@ import numpy as np
 
 from bridge.interpolation import positions_at, trajectory_curve
 from bridge.playback import Samples
+from bridge.timeline_keys import is_hand
 from shared.messages import ExecutedJointStates, TrackingReport, Trajectory
 
 #: Largest delay the alignment considers past the measured start delay [s]:
@@ -111,34 +112,41 @@ def tracking_report(
 ) -> TrackingReport:
     """RMS and largest error per joint [deg] of measured minus commanded.
 
-    Only the samples whose time is :func:`trusted` are compared.
+    Only the samples whose time is :func:`trusted` are compared. A hand
+    among the states' joints (its value an open fraction, not an angle) is
+    reported apart, in open fraction (``hand_tracking_rms``,
+    ``hand_tracking_max``); the per-joint tables hold the arm's joints.
 
     Args:
         states: Measured and (latency-aligned) commanded angles.
-        trajectory: The commanded trajectory; if given, the report also holds
-            the RMS error without the latency alignment.
+        trajectory: The commanded trajectory (the hand as a joint, if the
+            states hold one); if given, the report also holds the RMS error
+            without the latency alignment.
     """
     names = list(states.joint_names)
+    arm = np.array([not is_hand(name) for name in names], dtype=bool)
+    joints = [name for name, kept in zip(names, arm, strict=True) if kept]
     keep = trusted(states.round_trips, len(states.times))
     times = np.asarray(states.times, dtype=float)[keep]
     measured = np.asarray(states.measured).reshape(-1, len(names))[keep]
     commanded = np.asarray(states.commanded).reshape(-1, len(names))[keep]
-    error = np.degrees(measured - commanded)
+    error = np.degrees(measured[:, arm] - commanded[:, arm])
     count = len(times)
     unaligned: dict[str, float] = {}
     if trajectory is not None and count:
-        raw = np.degrees(measured - positions_at(trajectory, times))
-        unaligned = dict(zip(names, _rms(raw).tolist(), strict=True))
-    rms = _rms(error) if count else np.zeros(len(names))
-    worst = np.max(np.abs(error), axis=0) if count else np.zeros(len(names))
+        raw = np.degrees(measured - positions_at(trajectory, times))[:, arm]
+        unaligned = dict(zip(joints, _rms(raw).tolist(), strict=True))
+    rms = _rms(error) if count else np.zeros(len(joints))
+    worst = np.max(np.abs(error), axis=0) if count else np.zeros(len(joints))
     period = float(np.mean(np.diff(times))) if count > 1 else 0.0
     trips = (
         np.asarray(states.round_trips, dtype=float)[keep] if states.round_trips else []
     )
+    hand = _hand_errors(measured[:, ~arm] - commanded[:, ~arm])
     return TrackingReport(
-        joint_names=names,
-        tracking_rms_deg=dict(zip(names, rms.tolist(), strict=True)),
-        tracking_max_deg=dict(zip(names, worst.tolist(), strict=True)),
+        joint_names=joints,
+        tracking_rms_deg=dict(zip(joints, rms.tolist(), strict=True)),
+        tracking_max_deg=dict(zip(joints, worst.tolist(), strict=True)),
         latency=states.latency,
         start_delay=states.start_delay,
         unaligned_rms_deg=unaligned,
@@ -147,7 +155,18 @@ def tracking_report(
         time_uncertainty=float(np.max(trips)) / 2 if len(trips) else 0.0,
         sample_period=period,
         duration=float(states.times[-1]) if states.times else 0.0,
+        hand_tracking_rms=hand[0],
+        hand_tracking_max=hand[1],
     )
+
+
+def _hand_errors(error: np.ndarray) -> tuple[float | None, float | None]:
+    """RMS and largest of the hand's errors [-], shape (k, 0 or 1); None: no hand."""
+    if error.shape[1] == 0:
+        return None, None
+    if len(error) == 0:
+        return 0.0, 0.0
+    return float(_rms(error)[0]), float(np.max(np.abs(error)))
 
 
 def _rms(error: np.ndarray) -> np.ndarray:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pydantic import Field, NonNegativeFloat, model_validator
 
-from shared.messages.base import MAX_RATE, MIN_RATE, Message
+from shared.messages.base import MAX_RATE, MIN_RATE, Message, OptionalFieldsMessage
 from shared.messages.joint_path import Row, Trajectory
 from shared.messages.sample_times import check_times
 from shared.robot.side import Side
@@ -133,11 +133,11 @@ class ExecutedJointStates(Message):
         return self
 
 
-class TrackingReport(Message):
+class TrackingReport(OptionalFieldsMessage):
     """How closely the robot followed the commanded trajectory.
 
     Attributes:
-        joint_names: NAO joint names, shape (n,).
+        joint_names: NAO names of the arm's joints, shape (n,).
         tracking_rms_deg: Root-mean-square of measured minus commanded, per
             joint [deg], once the measurement latency is taken out.
         tracking_max_deg: Largest absolute error, per joint [deg], likewise.
@@ -154,7 +154,13 @@ class TrackingReport(Message):
             (half its round trip).
         sample_period: Mean time between compared samples [s].
         duration: Time of the last sample from the start [s].
+        hand_tracking_rms: For a trajectory that moves the hand, the RMS of
+            its measured minus commanded open fraction, latency taken out
+            [-]; ``None`` (left out of the JSON) otherwise.
+        hand_tracking_max: Its largest absolute error [-], likewise.
     """
+
+    omitted_when_none = ("hand_tracking_rms", "hand_tracking_max")
 
     joint_names: list[str] = Field(min_length=1)
     tracking_rms_deg: dict[str, float]
@@ -167,6 +173,8 @@ class TrackingReport(Message):
     time_uncertainty: float = Field(default=0.0, ge=0.0)
     sample_period: float = Field(ge=0.0)
     duration: float = Field(ge=0.0)
+    hand_tracking_rms: float | None = Field(default=None, ge=0.0)
+    hand_tracking_max: float | None = Field(default=None, ge=0.0)
 
 
 class ExecuteRequest(Message):
