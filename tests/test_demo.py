@@ -29,7 +29,13 @@ import pytest
 
 from armplan.demo import DEFAULT_TASK, DemoOptions, load_task, run_demo
 from armplan.demo.folder_claim import CLAIM_FILE, claimed_folder
-from bridge import FrameLimits, check_frames, frames_from_trajectory, read_behavior
+from bridge import (
+    FrameLimits,
+    check_frames,
+    checked_frames,
+    frames_from_trajectory,
+    read_behavior,
+)
 from bridge.sim.log import read_log
 from bridge.tracking import MAX_LATENCY
 from services.ik import check_reachable
@@ -228,6 +234,39 @@ def test_the_exports_hold_the_trajectory(finished: Finished) -> None:
     script = (finished.out / "play.py").read_text()
     ast.parse(script)
     assert "names = list()" in script and "keys.append(" in script
+
+
+def test_the_hand_closes_at_each_grasp_and_opens_at_each_release(
+    finished: Finished,
+) -> None:
+    """trajectory.json's hand channel starts open, closes at the three grasps
+    and opens at the three releases, in the task's order, each while the
+    wrist rests within 2 mm of that target, and ends open; its frames pass
+    every check (the behavior's too); behavior.xar and play.py carry RHand;
+    the report and the summary tell how the hand followed (within 0.05)."""
+    trajectory = parse(Trajectory, (finished.out / "trajectory.json").read_text())
+    assert trajectory.hand is not None
+    hand = np.array(trajectory.hand)
+    assert hand[0] == 1.0 and hand[-1] == 1.0
+    moving = np.flatnonzero(np.diff(hand) != 0.0)
+    moves = np.split(moving, np.flatnonzero(np.diff(moving) > 1) + 1)
+    acted = [t for t in load_task().targets() if t.hand is not None]
+    assert [t.hand.value for t in acted] == ["close", "open"] * 3  # type: ignore[union-attr]
+    assert len(moves) == len(acted)
+    arm = load_arm("right")
+    for steps, target in zip(moves, acted, strict=True):
+        assert hand[steps[-1] + 1] == target.hand.goal  # type: ignore[union-attr]
+        for q in np.array(trajectory.positions)[steps[0] : steps[-1] + 2]:
+            assert np.linalg.norm(arm.fk(q).wrist - np.array(target.position)) < 0.002
+    checked_frames(trajectory, 25.0, FrameLimits.for_arm("right"), behavior=True)
+    keys = read_behavior(finished.out / "behavior.xar")
+    assert keys.names[-1] == "RHand" and keys.angles("RHand").max() <= 1.0
+    assert 'names.append("RHand")' in (finished.out / "play.py").read_text()
+    report = json.loads((finished.out / "report.json").read_text())
+    assert 0.0 <= report["hand_tracking_rms"] < 0.05
+    text = "\n".join(finished.stdout)
+    assert "hand (RHand): starts open, closes 3 and opens 3 times" in text
+    assert "hold 0.5 s, close the hand" in text
 
 
 def test_the_report_tracks_within_one_degree(finished: Finished) -> None:

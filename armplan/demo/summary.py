@@ -7,6 +7,7 @@ from pathlib import Path
 from armplan.demo.outputs import Execution
 from armplan.demo.session import DemoResult
 from armplan.demo.task import Phase
+from shared.messages.hand import HandAction
 from shared.recording.reader import summarize
 
 
@@ -36,8 +37,15 @@ def task_lines(run: Execution) -> list[str]:
 def _targets(phase: Phase) -> str:
     if len(phase.targets) > 2:
         return f"{len(phase.targets)} targets, from {_xyz(phase.targets[0].position)}"
-    shown = [f"{_xyz(t.position)} hold {t.dwell:.1f} s" for t in phase.targets]
+    shown = [
+        f"{_xyz(t.position)} hold {t.dwell:g} s{_hand(t.hand)}" for t in phase.targets
+    ]
     return ", ".join(shown)
+
+
+def _hand(action: HandAction | None) -> str:
+    """``", close the hand"`` and the like, or nothing."""
+    return "" if action is None else f", {action.value} the hand"
 
 
 def _xyz(position: tuple[float, float, float]) -> str:
@@ -52,10 +60,32 @@ def execution_lines(run: Execution) -> list[str]:
     return [
         f"trajectory: {trajectory.duration:.2f} s, {len(trajectory.times)} samples; "
         f"primitives {primitives}",
+        *hand_lines(run),
         f"played on {where} at {run.robot}: {reply.frames} frames at "
         f"{run.rate:g} fps after a {reply.approach_duration:.2f} s approach "
         "to the start posture",
     ]
+
+
+def hand_lines(run: Execution) -> list[str]:
+    """What the hand does, if the task moves it (else no line)."""
+    hand = run.trajectory.hand
+    if hand is None:
+        return []
+    actions = [t.hand for t in run.task.targets() if t.hand is not None]
+    closes = sum(a is HandAction.CLOSE for a in actions)
+    opens = len(actions) - closes
+    return [
+        f"hand ({run.task.arm.hand_joint}): starts {_state(hand[0])}, closes "
+        f"{closes} and opens {opens} times during the dwells, ends {_state(hand[-1])}"
+    ]
+
+
+def _state(opening: float) -> str:
+    """An open fraction in words: open, shut, or the fraction."""
+    if opening == 1.0:
+        return "open"
+    return "shut" if opening == 0.0 else f"{opening:.2f} open"
 
 
 def tracking_lines(run: Execution) -> list[str]:
@@ -72,6 +102,11 @@ def tracking_lines(run: Execution) -> list[str]:
     for joint in report.joint_names:
         rms, peak = report.tracking_rms_deg[joint], report.tracking_max_deg[joint]
         lines.append(f"  {joint:<16}{rms:>10.3f}{peak:>11.3f}")
+    if report.hand_tracking_rms is not None and report.hand_tracking_max is not None:
+        lines.append(
+            f"  hand {run.task.arm.hand_joint}: RMS {report.hand_tracking_rms:.3f}, "
+            f"max {report.hand_tracking_max:.3f} (open fraction, 0 shut to 1 open)"
+        )
     return lines
 
 

@@ -3,7 +3,8 @@
 The task file (``handover_task.json`` beside this module, or any file of the
 same form) names the arm, the start posture and the phases; each phase is a
 list of wrist targets (``shared.messages.ReachTarget``: torso frame [m], an
-optional palm direction, a dwell [s]). :func:`plan_request` makes the one
+optional palm direction, a dwell [s], an optional hand action, ``"open"`` or
+``"close"``, done during the dwell). :func:`plan_request` makes the one
 ``PlanRequest`` that moves through every target in order, so the planner
 returns one trajectory for the whole task. Targets are the wrist's (the
 WristYaw origin); NAO's wrist reaches 0.114-0.162 m from its shoulder.
