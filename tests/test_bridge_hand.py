@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 import time
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -19,6 +20,7 @@ import pytest
 import qi
 from test_bridge import BridgeProcess, commands_logged
 
+from armplan.cli.main import main
 from bridge import FrameLimits, behavior_xml, checked_frames, python_script
 from bridge.choregraphe import timeline_from_xml
 from bridge.hand import with_hand_joint
@@ -187,3 +189,25 @@ def test_a_hand_too_fast_never_reaches_the_robot(
     assert "RHand speed" in error["message"]
     time.sleep(0.1)
     assert commands_logged(sim) == []
+
+
+def test_armplan_export_writes_the_hand(
+    grasp: Trajectory, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``armplan export`` of a trajectory file with a hand channel: the
+    behavior has the RHand curve, the script RHand's keys; a hand out of
+    range is refused with nothing written."""
+    path = tmp_path / "trajectory.json"
+    path.write_text(grasp.to_json())
+    behavior, script = tmp_path / "behavior.xar", tmp_path / "play.py"
+    assert main(["export", "choregraphe", str(path), "-o", str(behavior)]) == 0
+    assert 'actuator="RHand"' in behavior.read_text()
+    assert main(["export", "python", str(path), "-o", str(script)]) == 0
+    assert 'names.append("RHand")' in script.read_text()
+    bad = _with_hand(grasp, np.full(len(grasp.times), -0.5))
+    path.write_text(bad.to_json())
+    capsys.readouterr()
+    assert main(["export", "python", str(path), "-o", str(tmp_path / "x.py")]) == 1
+    err = capsys.readouterr().err
+    assert "RHand open fraction -0.5000" in err and "nothing was written" in err
+    assert not (tmp_path / "x.py").exists()
