@@ -90,6 +90,7 @@ class FrameLimits(MotionLimits):
             jerk=_joined(self.jerk, hand.jerk),
         )
 
+
 def _joined(mine: np.ndarray, theirs: np.ndarray) -> np.ndarray:
     """``mine`` then ``theirs``, as one read-only float array."""
     values = np.concatenate([mine, theirs]).astype(float)
