@@ -21,9 +21,10 @@ frame 1 (0 s), command frame ``k`` at frame ``k + 1`` (``k / fps``, the
 frames' own time base), and the last posture held a little longer
 (``bridge.timeline_keys``). Sources: Aldebaran's timeline runtime
 (libqicore-compat ``timeline.cpp``, ``ActuatorCurve`` and ``Key`` models:
-``actuator``, ``unit`` 0 degrees / 1 percent, ``Key`` ``frame``/``value``,
-``fps`` an int) and behavior files saved by Choregraphe 2.1-2.8; see
-``docs/robot.md``.
+``actuator``, ``unit`` 0 degrees / 1 "percent", which the runtime sends
+unscaled, so a hand's key is its open fraction 0..1 as ALMotion takes it,
+``Key`` ``frame``/``value``, ``fps`` an int) and behavior files saved by
+Choregraphe 2.1-2.8; see ``docs/robot.md``.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ Choregraphe's timeline export writes three lists, appended to per joint::
 
     names.append("RShoulderPitch")
     times.append([0.04, 0.08, ...])   # [s], frame / fps
-    keys.append([1.2, 1.21, ...])     # [rad]
+    keys.append([1.2, 1.21, ...])     # [rad] (a hand, RHand: open fraction)
 
 and then calls ``motion.angleInterpolation(names, keys, times, True)``. The
 script written here has exactly that block, plus a runner that works on

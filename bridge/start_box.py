@@ -5,9 +5,10 @@ played from anywhere else (NAO's rest posture, the end of another
 behavior), the runtime would ask the arm to be at the start at once, and
 from rest the demo's RShoulderPitch would need almost five times its speed
 limit to reach the next key. The behavior therefore starts with a Python
-script box, as Choregraphe behaviors do, which stiffens the arm's joints and
-moves them to the start posture with ``ALMotion.angleInterpolationWithSpeed``
-at ``START_SPEED`` of their speed limits (as ``play.py`` does), then fires its
+script box, as Choregraphe behaviors do, which stiffens the arm's joints (and
+the hand, for a trajectory that moves it: ``bridge.hand``) and moves them to
+the start posture with ``ALMotion.angleInterpolationWithSpeed`` at
+``START_SPEED`` of their speed limits (as ``play.py`` does), then fires its
 ``onStopped`` output, linked to the timeline box's ``onStart``. Stopped
 before it is there, it does not start the timeline.
 
