@@ -5,7 +5,13 @@ MB/s at best), so a large call takes time to arrive. :class:`SlowLink`
 listens on a free loopback port and relays every connection to the robot's
 port, carrying the bytes toward the robot at ``bandwidth`` [B/s] and the
 answers back as they come. Small messages (readings) pass at once unless a
-large one is still on its way before them, as on a real link.
+large one is still on its way before them on the same connection, as on a
+real link (each connection is carried at ``bandwidth``; readings are too
+small to matter). It can also go silent, holding what it carries without
+closing anything, as a link out of range does: everything
+(:meth:`SlowLink.freeze`), or one connection's answers
+(:meth:`SlowLink.hold_answers`); or close one connection
+(:meth:`SlowLink.cut`).
 """
 
 from __future__ import annotations
@@ -14,9 +20,12 @@ import contextlib
 import socket
 import threading
 import time
+from collections.abc import Callable
 
 #: Bytes relayed at a time.
 CHUNK = 4096
+#: Time between two looks at a held link [s].
+HELD_POLL = 0.005
 
 
 class SlowLink:
@@ -26,6 +35,7 @@ class SlowLink:
         url: The NAOqi address to reach the robot through the link.
         bandwidth: Bytes per second carried toward the robot [B/s].
         carried: Bytes carried toward the robot so far.
+        connections: Connections relayed so far, in the order they came.
     """
 
     def __init__(self, robot_port: int, bandwidth: float) -> None:
@@ -35,6 +45,10 @@ class SlowLink:
         self._server = socket.create_server(("127.0.0.1", 0))
         self.url = f"tcp://127.0.0.1:{self._server.getsockname()[1]}"
         self._sockets: list[socket.socket] = []
+        self.connections = 0
+        self._frozen = False
+        self._held: set[int] = set()
+        self._closed = False
         threading.Thread(target=self._accept, name="slow-link", daemon=True).start()
 
     def _accept(self) -> None:
@@ -47,12 +61,30 @@ class SlowLink:
             for end in (bridge, robot):
                 end.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
                 self._sockets.append(end)
+            index = self.connections
+            self.connections += 1
             threading.Thread(
                 target=self._carry, args=(bridge, robot), daemon=True
             ).start()
             threading.Thread(
-                target=self._answer, args=(robot, bridge), daemon=True
+                target=self._answer, args=(robot, bridge, index), daemon=True
             ).start()
+
+    def freeze(self) -> None:
+        """Carry nothing more either way, on every connection, until closed."""
+        self._frozen = True
+
+    def hold_answers(self, index: int) -> None:
+        """Carry no more answers back on connection ``index`` (0: the first)."""
+        self._held.add(index)
+
+    def cut(self, index: int) -> None:
+        """Close connection ``index`` (0: the first) at both ends."""
+        _shut(*self._sockets[2 * index : 2 * index + 2])
+
+    def _wait_while(self, held: Callable[[], bool]) -> None:
+        while held() and not self._closed:
+            time.sleep(HELD_POLL)
 
     def _carry(self, source: socket.socket, sink: socket.socket) -> None:
         """Toward the robot: each chunk leaves when the link has carried the last."""
@@ -61,15 +93,17 @@ class SlowLink:
             while data := source.recv(CHUNK):
                 free = max(free, time.monotonic()) + len(data) / self.bandwidth
                 time.sleep(max(0.0, free - time.monotonic()))
+                self._wait_while(lambda: self._frozen)
                 sink.sendall(data)
                 self.carried += len(data)
         except OSError:
             pass
         _shut(source, sink)
 
-    def _answer(self, source: socket.socket, sink: socket.socket) -> None:
+    def _answer(self, source: socket.socket, sink: socket.socket, index: int) -> None:
         try:
             while data := source.recv(CHUNK):
+                self._wait_while(lambda: self._frozen or index in self._held)
                 sink.sendall(data)
         except OSError:
             pass
@@ -77,6 +111,7 @@ class SlowLink:
 
     def close(self) -> None:
         """Stop listening and cut every connection."""
+        self._closed = True
         _shut(self._server)  # wakes the accepting thread
         self._server.close()
         for end in self._sockets:
