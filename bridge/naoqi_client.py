@@ -6,49 +6,32 @@ reached or the connection drops, :class:`~shared.errors.RobotCommandError`
 when it answers but refuses. A dropped connection is closed at once; the
 next call connects again, so the client picks the robot up again when it
 comes back at the same address.
+
+The client holds two libqi sessions, each its own TCP connection: the
+*command* session carries the calls (:meth:`NaoqiClient.motion`), the
+*watch* session the readings taken while a movement plays
+(:meth:`NaoqiClient.watch`). On one connection a reading waits behind a
+long call still on its way (1500 frames take over a second over a 200 kB/s
+link), and a robot that is fine would look silent.
 """
 
 from __future__ import annotations
 
-import re
 import threading
 import time
 from typing import Any
 
 import numpy as np
 
+from bridge.naoqi_session import NaoqiSession
+from bridge.qi_future import robot_reason, wait_future
 from shared.errors import RobotCommandError, RobotUnavailableError
-from shared.libqi import qi
 
 #: A real NAO's NAOqi port.
 NAOQI_PORT = 9559
-#: Leading exception name in a libqi error text ("SimCommandError: ...").
-_ERROR_NAME = re.compile(r"^\s*[A-Za-z_][\w.]*(Error|Exception): ")
 
-
-#: Time between two looks at a pending libqi future [s].
-POLL = 0.0005
-
-
-def wait_future(future: Any, timeout: float) -> bool:
-    """Wait at most ``timeout`` [s] for a libqi future; True if it finished.
-
-    Polls ``isFinished`` instead of calling ``Future.wait``: in qi 3.1.5,
-    ``wait`` can crash the process (double free) when the connection drops
-    while it waits, which is exactly when the bridge must stay up.
-    """
-    deadline = time.monotonic() + timeout
-    while not future.isFinished():
-        if time.monotonic() >= deadline:
-            return False
-        time.sleep(POLL)
-    return True
-
-
-def robot_reason(error: BaseException | str) -> str:
-    """The robot's own explanation from a libqi error (no traceback, no type)."""
-    text = str(error).split("\n\nAt:", 1)[0].strip()
-    return _ERROR_NAME.sub("", text, count=1) or "no reason given"
+#: Longest time a session is kept open for a ``killAll`` still on its way [s].
+RETIRE_AFTER = 30.0
 
 
 class NaoqiClient:
@@ -68,64 +51,93 @@ class NaoqiClient:
         self.connect_timeout = connect_timeout
         self.call_timeout = call_timeout
         self._lock = threading.Lock()
-        self._session: Any = None
-        self._motion: Any = None
+        self._command = NaoqiSession(url, connect_timeout)
+        self._watch = NaoqiSession(url, connect_timeout)
 
     @property
     def connected(self) -> bool:
-        """True while the session to the robot is up."""
-        session = self._session
-        return session is not None and bool(session.isConnected())
+        """True while the command session to the robot is up."""
+        return self._command.connected
+
+    @property
+    def watching(self) -> bool:
+        """True while the watch session (the readings') is up."""
+        return self._watch.connected
 
     def motion(self) -> Any:
-        """The ALMotion proxy, connecting (again) first if needed.
+        """The ALMotion proxy of the command session, connecting first if needed.
 
         Raises:
             RobotUnavailableError: if the robot cannot be reached in time or
                 serves no ALMotion.
         """
         with self._lock:
-            if self._motion is None or not self.connected:
-                self._reset()
-                self._connect()
-            return self._motion
+            return self._command.motion()
 
-    def _connect(self) -> None:
-        session = qi.Session()
-        future = session.connect(self.url, _async=True)
-        finished = wait_future(future, self.connect_timeout)
-        if not finished or future.hasError():
-            reason = (
-                robot_reason(future.error())
-                if finished
-                else f"no answer within {self.connect_timeout:g} s"
-            )
-            future.cancel()
-            session.close()
-            raise RobotUnavailableError(self.url, reason)
-        try:
-            self._motion = session.service("ALMotion")
-        except RuntimeError as error:
-            session.close()
-            raise RobotUnavailableError(
-                self.url, f"no ALMotion service: {robot_reason(error)}"
-            ) from None
-        self._session = session
+    def watch(self) -> Any:
+        """The ALMotion proxy of the watch session, connecting first if needed.
 
-    def _reset(self) -> None:
-        if self._session is not None:
-            self._session.close()
-        self._session, self._motion = None, None
+        Readings on it never wait behind a call on the command session.
+
+        Raises:
+            RobotUnavailableError: if the robot cannot be reached in time or
+                serves no ALMotion.
+        """
+        with self._lock:
+            return self._watch.motion()
 
     def close(self) -> None:
-        """Close the session (the next call connects again)."""
+        """Close both sessions (the next call connects again)."""
         with self._lock:
-            self._reset()
+            self._command.close()
+            self._watch.close()
 
     def lost(self, reason: str, elapsed: float | None = None) -> RobotUnavailableError:
-        """Drop the session and return the error to raise for ``reason``."""
+        """Drop the sessions and return the error to raise for ``reason``."""
         self.close()
         return RobotUnavailableError(self.url, reason, elapsed=elapsed)
+
+    def halt(self, wait: float, on_its_way: bool = False) -> str:
+        """Ask the robot to end every motion task (``ALMotion.killAll``).
+
+        Sent on each session still up, without connecting again: on the
+        watch session it reaches the robot at once; on the command session
+        it follows any call still on its way there, so it ends that call as
+        it arrives. Waits at most ``wait`` [s] for an answer; a command
+        session whose ``killAll`` is still unanswered is then retired (closed
+        once it is answered, at most :data:`RETIRE_AFTER` later), not closed
+        at once, which would drop it but not the call before it.
+
+        Args:
+            wait: Longest wait for an answer [s].
+            on_its_way: Whether a call on the command session has not yet
+                reached the robot (for the text returned).
+
+        Returns:
+            What came of it, to add to the reason the robot is given up.
+        """
+        with self._lock:
+            watch, command = self._watch.proxy(), self._command.proxy()
+        sent = [_kill_all(watch), _kill_all(command)]
+        futures = [future for future in sent if future is not None]
+        if not futures:
+            return "no connection left to stop it (ALMotion.killAll)"
+        stopped = _any_answered(futures, wait)
+        behind = sent[1] is not None and not sent[1].isFinished()
+        if behind:
+            with self._lock:
+                self._command.retire(sent[1], RETIRE_AFTER)
+        if stopped:
+            outcome = "stopped it (ALMotion.killAll answered)"
+        elif all(future.isFinished() for future in futures):
+            outcome = f"ALMotion.killAll failed: {robot_reason(futures[0].error())}"
+        else:
+            outcome = f"ALMotion.killAll sent, not answered within {wait:g} s"
+        if behind and on_its_way:
+            outcome += (
+                "; another, behind the call still on its way, ends it if it arrives"
+            )
+        return outcome
 
     def failure(
         self, method: str, error: BaseException | str, elapsed: float | None = None
@@ -185,3 +197,23 @@ class NaoqiClient:
                 if time.monotonic() + poll > deadline:
                     return False
                 time.sleep(poll)
+
+
+def _kill_all(motion: Any) -> Any:
+    """``motion.killAll()`` sent (its libqi future), or None if it cannot be."""
+    if motion is None:
+        return None
+    try:
+        return motion.killAll(_async=True)
+    except RuntimeError:  # the session dropped meanwhile
+        return None
+
+
+def _any_answered(futures: list[Any], wait: float) -> bool:
+    """Whether any of ``futures`` is answered without error within ``wait`` [s]."""
+    deadline = time.monotonic() + wait
+    return any(
+        wait_future(future, max(0.0, deadline - time.monotonic()))
+        and not future.hasError()
+        for future in futures
+    )

@@ -1,25 +1,41 @@
 """Play an ``angleInterpolation`` call and sample the measured angles meanwhile.
 
-The call runs asynchronously; while it runs, ``getAngles(names, True)`` is
-read every ``period`` seconds, on a fixed schedule from the call's start
-(``next_reading``), so a reading's round trip does not stretch the period. A
-sample's time is the middle of its request and its answer, counted from the
-moment the call left (after libqi converted its arguments); it is uncertain
-by half the round trip, which is kept with the sample.
+The call runs asynchronously on the client's command session; while it
+runs, ``getAngles(names, True)`` is read every ``period`` seconds on the
+watch session, a connection of its own (on the call's connection a reading
+waits until the whole call has arrived: over a slow link, more than a
+second for a large call, and a robot about to move looked silent). The
+readings keep a fixed schedule from the call's start (``next_reading``),
+so a reading's round trip does not stretch the period. A sample's time is
+the middle of its request and its answer, counted from the moment the call
+left (after libqi converted its arguments); it is uncertain by half the
+round trip, which is kept with the sample.
 
 The robot counts the keys from when it has received the call, which can be
 well after the call left: a long call at a high frame rate is a large
-message to carry and to parse (libqi sends 16 bytes a key, 240 kB for 1500
-frames of five joints; 44 000 frames began on the simulated NAO 0.5-0.7 s
-after they left, over loopback). ``angleInterpolation`` answers when the
-movement ends, the call's duration after the robot began it, so the
-answer's arrival less that duration is when the robot began, at the latest
-(early by the answer's own trip and up to a control cycle). How long after
-the call left that was is kept with the samples (``start_delay``).
+message to carry and to parse (libqi sends 26 bytes a key, an angle and a
+time each as a tagged double: 130 kB for 1000 frames of five joints; 44 000
+frames began on the simulated NAO 0.5-0.7 s after they left, over
+loopback). Two measures of that moment:
 
-If the robot drops the connection, stops answering for ``LOST_AFTER``
-seconds, or overruns the call's duration, the robot is declared lost with a
-:class:`~shared.errors.RobotUnavailableError`.
+- a small call sent right behind it on the same connection (the *arrival
+  mark*, a ``getAngles``) is answered once the whole call has arrived,
+  since libqi sends and the robot reads one connection's messages in order;
+  the movement must end within its duration + ``OVERRUN`` of that answer;
+- ``angleInterpolation`` answers when the movement ends, the call's
+  duration after the robot began it, so the answer's arrival less that
+  duration is when the robot began, at the latest (early by the answer's
+  own trip and up to a control cycle). How long after the call left that
+  was is kept with the samples (``start_delay``).
+
+The robot is declared lost with a
+:class:`~shared.errors.RobotUnavailableError` if a connection drops, if no
+reading is answered for ``LOST_AFTER`` seconds, or if the movement runs
+``OVERRUN`` past its last key counted from the call's arrival. A call still
+on its way is waited for as long as the robot answers the readings, up to
+its duration + ``OVERRUN`` (``overdue``). Before giving up, the bridge asks
+the robot to stop (``ALMotion.killAll``, on every session still up), so a
+robot still there does not go on moving unwatched.
 """
 
 from __future__ import annotations
@@ -31,15 +47,21 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bridge.almotion import AngleInterpolationCall
-from bridge.naoqi_client import NaoqiClient, wait_future
+from bridge.naoqi_client import NaoqiClient
+from bridge.qi_future import POLL, robot_reason, wait_future
+from shared.errors import RobotUnavailableError
 from shared.messages import JointState
 
 #: Time between two readings of the measured angles [s] (100 Hz).
 SAMPLE_PERIOD = 0.01
 #: A robot that answers no reading for this long is lost [s].
 LOST_AFTER = 1.0
-#: Time allowed past the call's last key before the robot is declared lost [s].
+#: Time allowed past the call's last key, counted from its arrival, before
+#: the robot is declared lost [s].
 OVERRUN = 1.0
+#: Longest wait for the answer to ``ALMotion.killAll`` when the robot is
+#: given up [s].
+HALT_WAIT = 0.25
 
 
 class Samples(NamedTuple):
@@ -67,11 +89,14 @@ class _Reader:
     def __init__(self, motion: Any, names: list[str], timeout: float) -> None:
         self.motion, self.names, self.timeout = motion, names, timeout
 
-    def read(self) -> tuple[float, float, list[float] | None, str]:
-        """(time [s, monotonic], round trip [s], angles or None, error text)."""
+    def read(self, within: float) -> tuple[float, float, list[float] | None, str]:
+        """(time [s, monotonic], round trip [s], angles or None, error text).
+
+        Waits at most ``within`` [s] (and :attr:`timeout`) for the answer.
+        """
         sent = time.monotonic()
         future = self.motion.getAngles(self.names, True, _async=True)
-        finished = wait_future(future, self.timeout)
+        finished = wait_future(future, min(self.timeout, within))
         answered = time.monotonic()
         if not finished:
             future.cancel()
@@ -79,6 +104,54 @@ class _Reader:
         if future.hasError():
             return answered, answered - sent, None, future.error()
         return 0.5 * (sent + answered), answered - sent, list(future.value()), ""
+
+
+class _Arrival:
+    """When the call reached the robot: the answer to a mark sent behind it.
+
+    The mark is a ``getAngles`` on the call's own session: libqi sends one
+    connection's messages in order and the robot reads them in order, so
+    it is answered only once the whole call has arrived.
+    """
+
+    def __init__(self, motion: Any, names: list[str]) -> None:
+        self._stamps: list[float] = []  # stamped on libqi's thread
+        self._future = motion.getAngles(names, False, _async=True)
+        self._future.addCallback(lambda _: self._stamps.append(time.monotonic()))
+
+    @property
+    def time(self) -> float | None:
+        """When the mark was answered [s, monotonic]; None while on its way."""
+        return self._stamps[0] if self._stamps else None
+
+
+def overdue(
+    start: float, arrival: float | None, duration: float, now: float
+) -> str | None:
+    """Why a call is overdue at ``now``, or None if it is not.
+
+    Args:
+        start: When the call left [s, monotonic].
+        arrival: When it reached the robot [s, monotonic]; None: not yet.
+        duration: The call's last key [s].
+        now: The time [s, monotonic].
+
+    A call must reach the robot within ``duration + OVERRUN`` of leaving (a
+    link that carries it slower than it plays cannot be watched), and end
+    within ``duration + OVERRUN`` of reaching it.
+    """
+    allowed = duration + OVERRUN
+    if arrival is None and now - start > allowed:
+        return (
+            f"the call did not reach the robot within {allowed:.2f} s of leaving "
+            f"(its duration + {OVERRUN:g} s): the link is too slow for it"
+        )
+    if arrival is not None and now - arrival > allowed:
+        return (
+            f"the movement did not end {OVERRUN:g} s after its last key "
+            "(counted from when the call reached the robot)"
+        )
+    return None
 
 
 def next_reading(due: float, period: float, now: float) -> float:
@@ -111,15 +184,18 @@ def play_and_sample(
 
     Raises:
         RobotUnavailableError: the robot went away during the call (within
-            :data:`LOST_AFTER` seconds of it going).
+            :data:`LOST_AFTER` + :data:`HALT_WAIT` seconds of it going), or
+            its movement ran :data:`OVERRUN` past its end; the robot was
+            asked to stop first.
         RobotCommandError: the robot refused the call.
     """
     motion = client.motion()
-    reader = _Reader(motion, call.names, min(period * 20, LOST_AFTER / 2))
+    reader = _Reader(client.watch(), call.names, min(period * 20, LOST_AFTER / 2))
     future = motion.angleInterpolation(*call, _async=True)
     # The samples' clock starts when the call leaves, after libqi has
     # converted its arguments (milliseconds for a long trajectory), not before.
     start = time.monotonic()
+    arrival = _Arrival(motion, call.names)
     answered: list[float] = []  # stamped on libqi's thread, not at the next poll
     future.addCallback(lambda _: answered.append(time.monotonic()))
     times: list[float] = []
@@ -127,7 +203,10 @@ def play_and_sample(
     round_trips: list[float] = []
     last_answer = due = start
     while not future.isFinished():
-        stamp, round_trip, angles, problem = reader.read()
+        # a reading that cannot come in time no longer delays the verdict
+        stamp, round_trip, angles, problem = reader.read(
+            max(POLL, last_answer + LOST_AFTER - time.monotonic())
+        )
         elapsed = stamp - start
         if angles is not None:
             last_answer = stamp
@@ -138,21 +217,22 @@ def play_and_sample(
                 on_sample(
                     JointState(time=elapsed, joint_names=call.names, positions=angles)
                 )
-        elif not client.connected or stamp - last_answer > LOST_AFTER:
-            future.cancel()
-            raise client.lost(problem, elapsed)
-        if elapsed > call.duration + OVERRUN:
-            future.cancel()
-            raise client.lost(
-                f"the movement did not end {OVERRUN:g} s after its last key", elapsed
-            )
+        elif not (client.connected and client.watching) or (
+            stamp - last_answer > LOST_AFTER
+        ):
+            raise _give_up(client, future, problem, elapsed, arrival.time is None)
+        late = overdue(start, arrival.time, call.duration, time.monotonic())
+        if late is not None:
+            raise _give_up(client, future, late, elapsed, arrival.time is None)
         due = next_reading(due, period, time.monotonic())
         time.sleep(max(0.0, due - time.monotonic()))
     seen = time.monotonic()
     if future.hasError():
-        raise client.failure(
-            "angleInterpolation", future.error(), time.monotonic() - start
-        )
+        elapsed = seen - start
+        if not client.connected:  # the robot may play the call on, unwatched
+            reason = robot_reason(future.error())
+            raise _give_up(client, future, reason, elapsed, arrival.time is None)
+        raise client.failure("angleInterpolation", future.error(), elapsed)
     width = len(call.names)
     end = min([seen, *answered])  # the callback may not have run yet
     return Samples(
@@ -161,3 +241,15 @@ def play_and_sample(
         np.array(round_trips),
         max(0.0, end - start - call.duration),
     )
+
+
+def _give_up(
+    client: NaoqiClient, call: Any, problem: str, elapsed: float, on_its_way: bool
+) -> RobotUnavailableError:
+    """The error to raise when giving up ``call`` (a libqi future).
+
+    The robot is asked to stop moving first; the sessions are dropped.
+    """
+    call.cancel()
+    outcome = client.halt(HALT_WAIT, on_its_way)
+    return client.lost(f"{problem}; {outcome}", elapsed)

@@ -15,7 +15,9 @@
    breaks a limit (``bridge.start_gap``), a slow approach move (checked the
    same way) brings it there;
 3. the frames go out as one ``angleInterpolation`` call while the measured
-   angles are sampled at 100 Hz;
+   angles are sampled at 100 Hz on a connection of their own, so that they
+   never wait behind a call still on its way (``bridge.playback``); a robot
+   given up mid-movement is asked to stop (``ALMotion.killAll``) first;
 4. the answer is the executed joint states and the tracking report (RMS and
    largest error per joint, degrees).
 
@@ -140,7 +142,8 @@ class RobotBridge:
             TrajectoryRefusedError: a frame breaks a limit (nothing sent).
             RobotBusyError: the arm was still moving after a second.
             RobotUnavailableError: the robot cannot be reached, or went away
-                during the movement (raised within 2 s of it going).
+                during the movement (raised within 2 s of it going; asked to
+                stop first), or overran it.
             RobotCommandError: the robot refused a command.
         """
         trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
