@@ -30,8 +30,12 @@ from shared.errors import RobotCommandError, RobotUnavailableError
 #: A real NAO's NAOqi port.
 NAOQI_PORT = 9559
 
-#: Longest time a session is kept open for a ``killAll`` still on its way [s].
+#: Longest time a session is kept open for a stop still on its way [s].
 RETIRE_AFTER = 30.0
+#: How the bridge stops a robot it gives up on: every motion task using the
+#: arm's joints ends (the joints hold where they are); a walk or the other
+#: arm's task goes on, as ``killAll`` would not let it.
+STOP = "ALMotion.killTasksUsingResources"
 
 
 class NaoqiClient:
@@ -97,19 +101,20 @@ class NaoqiClient:
         self.close()
         return RobotUnavailableError(self.url, reason, elapsed=elapsed)
 
-    def halt(self, wait: float, on_its_way: bool = False) -> str:
-        """Ask the robot to end every motion task (``ALMotion.killAll``).
+    def halt(self, wait: float, names: list[str], on_its_way: bool = False) -> str:
+        """Ask the robot to end the motion tasks using ``names`` (:data:`STOP`).
 
         Sent on each session still up, without connecting again: on the
         watch session it reaches the robot at once; on the command session
         it follows any call still on its way there, so it ends that call as
         it arrives. Waits at most ``wait`` [s] for an answer; a command
-        session whose ``killAll`` is still unanswered is then retired (closed
+        session whose stop is still unanswered is then retired (closed
         once it is answered, at most :data:`RETIRE_AFTER` later), not closed
         at once, which would drop it but not the call before it.
 
         Args:
             wait: Longest wait for an answer [s].
+            names: The joints whose tasks end (the arm's, as played).
             on_its_way: Whether a call on the command session has not yet
                 reached the robot (for the text returned).
 
@@ -118,21 +123,21 @@ class NaoqiClient:
         """
         with self._lock:
             watch, command = self._watch.proxy(), self._command.proxy()
-        sent = [_kill_all(watch), _kill_all(command)]
+        sent = [_stop(watch, names), _stop(command, names)]
         futures = [future for future in sent if future is not None]
         if not futures:
-            return "no connection left to stop it (ALMotion.killAll)"
+            return f"no connection left to stop it ({STOP})"
         stopped = _any_answered(futures, wait)
         behind = sent[1] is not None and not sent[1].isFinished()
         if behind:
             with self._lock:
                 self._command.retire(sent[1], RETIRE_AFTER)
         if stopped:
-            outcome = "stopped it (ALMotion.killAll answered)"
+            outcome = f"stopped it ({STOP} answered)"
         elif all(future.isFinished() for future in futures):
-            outcome = f"ALMotion.killAll failed: {robot_reason(futures[0].error())}"
+            outcome = f"{STOP} failed: {robot_reason(futures[0].error())}"
         else:
-            outcome = f"ALMotion.killAll sent, not answered within {wait:g} s"
+            outcome = f"{STOP} sent, not answered within {wait:g} s"
         if behind and on_its_way:
             outcome += (
                 "; another, behind the call still on its way, ends it if it arrives"
@@ -199,12 +204,12 @@ class NaoqiClient:
                 time.sleep(poll)
 
 
-def _kill_all(motion: Any) -> Any:
-    """``motion.killAll()`` sent (its libqi future), or None if it cannot be."""
+def _stop(motion: Any, names: list[str]) -> Any:
+    """:data:`STOP` of ``names`` sent (its libqi future), or None if it cannot be."""
     if motion is None:
         return None
     try:
-        return motion.killAll(_async=True)
+        return motion.killTasksUsingResources(names, _async=True)
     except RuntimeError:  # the session dropped meanwhile
         return None
 

@@ -91,7 +91,7 @@ class NaoqiSession:
 
         ``pending`` is a libqi future of a call on this session that may
         still be on its way: closing the session at once would drop it (a
-        ``killAll`` queued behind a long call was lost so, while the call,
+        stop queued behind a long call was lost so, while the call,
         already in the kernel's buffers, arrived and played). The session is
         closed when ``pending`` finishes, or after ``limit`` [s]; the next
         :meth:`motion` opens a new one meanwhile.

@@ -34,7 +34,8 @@ reading is answered for ``LOST_AFTER`` seconds, or if the movement runs
 ``OVERRUN`` past its last key counted from the call's arrival. A call still
 on its way is waited for as long as the robot answers the readings, up to
 its duration + ``OVERRUN`` (``overdue``). Before giving up, the bridge asks
-the robot to stop (``ALMotion.killAll``, on every session still up), so a
+the robot to stop the arm's motion tasks
+(``ALMotion.killTasksUsingResources``, on every session still up), so a
 robot still there does not go on moving unwatched.
 """
 
@@ -59,8 +60,8 @@ LOST_AFTER = 1.0
 #: Time allowed past the call's last key, counted from its arrival, before
 #: the robot is declared lost [s].
 OVERRUN = 1.0
-#: Longest wait for the answer to ``ALMotion.killAll`` when the robot is
-#: given up [s].
+#: Longest wait for the answer to the stop (``naoqi_client.STOP``) when the
+#: robot is given up [s].
 HALT_WAIT = 0.25
 
 
@@ -220,10 +221,14 @@ def play_and_sample(
         elif not (client.connected and client.watching) or (
             stamp - last_answer > LOST_AFTER
         ):
-            raise _give_up(client, future, problem, elapsed, arrival.time is None)
+            raise _give_up(
+                client, future, call.names, problem, elapsed, arrival.time is None
+            )
         late = overdue(start, arrival.time, call.duration, time.monotonic())
         if late is not None:
-            raise _give_up(client, future, late, elapsed, arrival.time is None)
+            raise _give_up(
+                client, future, call.names, late, elapsed, arrival.time is None
+            )
         due = next_reading(due, period, time.monotonic())
         time.sleep(max(0.0, due - time.monotonic()))
     seen = time.monotonic()
@@ -231,7 +236,9 @@ def play_and_sample(
         elapsed = seen - start
         if not client.connected:  # the robot may play the call on, unwatched
             reason = robot_reason(future.error())
-            raise _give_up(client, future, reason, elapsed, arrival.time is None)
+            raise _give_up(
+                client, future, call.names, reason, elapsed, arrival.time is None
+            )
         raise client.failure("angleInterpolation", future.error(), elapsed)
     width = len(call.names)
     end = min([seen, *answered])  # the callback may not have run yet
@@ -244,12 +251,18 @@ def play_and_sample(
 
 
 def _give_up(
-    client: NaoqiClient, call: Any, problem: str, elapsed: float, on_its_way: bool
+    client: NaoqiClient,
+    call: Any,
+    names: list[str],
+    problem: str,
+    elapsed: float,
+    on_its_way: bool,
 ) -> RobotUnavailableError:
-    """The error to raise when giving up ``call`` (a libqi future).
+    """The error to raise when giving up ``call`` (a libqi future) on ``names``.
 
-    The robot is asked to stop moving first; the sessions are dropped.
+    The robot is asked to stop those joints' motion first; the sessions are
+    dropped.
     """
     call.cancel()
-    outcome = client.halt(HALT_WAIT, on_its_way)
+    outcome = client.halt(HALT_WAIT, names, on_its_way)
     return client.lost(f"{problem}; {outcome}", elapsed)

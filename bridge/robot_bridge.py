@@ -17,7 +17,7 @@
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz on a connection of their own, so that they
    never wait behind a call still on its way (``bridge.playback``); a robot
-   given up mid-movement is asked to stop (``ALMotion.killAll``) first;
+   given up mid-movement is asked to stop the arm (``naoqi_client.STOP``) first;
 4. the answer is the executed joint states and the tracking report (RMS and
    largest error per joint, degrees).
 

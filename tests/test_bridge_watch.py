@@ -131,7 +131,9 @@ def test_a_call_slow_to_arrive_is_watched_to_its_end(sim: SimProcess) -> None:
     assert np.diff(done.states.times).max() < LOST_AFTER / 2
     assert max(report.tracking_rms_deg.values()) < 1.0
     assert not sim_events(sim, "refused", "interrupted")
-    assert not [e for e in sim_events(sim, "call") if e["method"] == "killAll"]
+    assert not [
+        e for e in sim_events(sim, "call") if e["method"] == "killTasksUsingResources"
+    ]
 
 
 def test_a_link_gone_silent_while_the_call_is_on_its_way_is_lost_in_time(
@@ -139,7 +141,7 @@ def test_a_link_gone_silent_while_the_call_is_on_its_way_is_lost_in_time(
 ) -> None:
     """The link goes silent 0.3 s after a call that needs 1.4 s to arrive
     left: robot_unavailable within LOST_AFTER + HALT_WAIT (+ 0.2 s) of the
-    silence, naming the readings; the killAll sent does not get through (one
+    silence, naming the readings; the stop sent does not get through (one
     waits behind the call, should the link come back)."""
     link = link_to(sim, 100e3)
     frozen: list[float] = []
@@ -159,7 +161,7 @@ def test_a_link_gone_silent_while_the_call_is_on_its_way_is_lost_in_time(
         link.close()
     print(f"\nlost {delay * 1000:.0f} ms after the link went silent: {lost.value}")
     assert "no answer to getAngles" in lost.value.reason
-    assert "ALMotion.killAll sent, not answered" in lost.value.reason
+    assert "ALMotion.killTasksUsingResources sent, not answered" in lost.value.reason
     assert "behind the call still on its way" in lost.value.reason
     assert LOST_AFTER < delay < LOST_AFTER + HALT_WAIT + 0.2
 
@@ -168,7 +170,7 @@ def test_a_robot_whose_readings_go_silent_is_stopped(
     sim: SimProcess, fast_link: SlowLink
 ) -> None:
     """The readings' connection stops answering 0.3 s into a 2 s movement:
-    the robot is lost after LOST_AFTER, and the killAll sent on the call's
+    the robot is lost after LOST_AFTER, and the stop sent on the call's
     connection, which still answers, stops the arm mid-movement, so it does
     not go on moving unwatched."""
     robot = RobotBridge(NaoqiClient(fast_link.url))
@@ -184,9 +186,9 @@ def test_a_robot_whose_readings_go_silent_is_stopped(
         robot.client.close()
     print(f"\n{lost.value}")
     assert "no answer to getAngles" in lost.value.reason
-    assert "stopped it (ALMotion.killAll answered)" in lost.value.reason
+    assert "stopped it (ALMotion.killTasksUsingResources answered)" in lost.value.reason
     began = when_sim_logs(sim, "motion", "angleInterpolation")
-    kill = when_sim_logs(sim, "call", "killAll")
+    kill = when_sim_logs(sim, "call", "killTasksUsingResources")
     time.sleep(2.0 - (time.monotonic() - began))  # the movement's end, unstopped
     assert LOST_AFTER < kill - began < 2.0
     assert last_moved(sim) < kill + 0.05
@@ -210,9 +212,9 @@ def test_a_robot_whose_call_connection_drops_is_stopped(
     finally:
         robot.client.close()
     print(f"\n{lost.value}")
-    assert "stopped it (ALMotion.killAll answered)" in lost.value.reason
+    assert "stopped it (ALMotion.killTasksUsingResources answered)" in lost.value.reason
     began = when_sim_logs(sim, "motion", "angleInterpolation")
-    kill = when_sim_logs(sim, "call", "killAll")
+    kill = when_sim_logs(sim, "call", "killTasksUsingResources")
     time.sleep(2.0 - (time.monotonic() - began))  # the movement's end, unstopped
     assert kill - began < 0.6
     assert last_moved(sim) < kill + 0.05
@@ -246,9 +248,9 @@ def test_a_movement_that_overruns_is_caught_and_stopped(
         robot.client.close()
     print(f"\n{lost.value}")
     assert "did not end 1 s after its last key" in lost.value.reason
-    assert "stopped it (ALMotion.killAll answered)" in lost.value.reason
+    assert "stopped it (ALMotion.killTasksUsingResources answered)" in lost.value.reason
     began = when_sim_logs(sim, "motion", "angleInterpolation")
-    kill = when_sim_logs(sim, "call", "killAll")
+    kill = when_sim_logs(sim, "call", "killTasksUsingResources")
     assert duration + OVERRUN < kill - began < duration + OVERRUN + 0.3
     assert kill < given_up
 
@@ -258,7 +260,7 @@ def test_a_call_the_link_cannot_carry_in_time_is_ended_as_it_arrives(
 ) -> None:
     """500 frames (65 kB) over a 25 kB/s link take 2.6 s to arrive, longer
     than the call's duration + OVERRUN (1.5 s): the bridge gives up, and the
-    killAll it sent behind the call, on the same connection (kept open for
+    stop it sent behind the call, on the same connection (kept open for
     it), ends the call as soon as it arrives instead of letting the robot
     play it unwatched."""
     link = link_to(sim, 25e3)
@@ -274,7 +276,11 @@ def test_a_call_the_link_cannot_carry_in_time_is_ended_as_it_arrives(
     print(f"\n{lost.value}")
     assert "did not reach the robot within 1.50 s" in lost.value.reason
     assert "behind the call still on its way" in lost.value.reason
-    kills = [e["at"] for e in sim_events(sim, "call") if e["method"] == "killAll"]
+    kills = [
+        e["at"]
+        for e in sim_events(sim, "call")
+        if e["method"] == "killTasksUsingResources"
+    ]
     assert len(kills) == 2  # at once on the readings' connection, then behind
     assert kills[0] < began and abs(kills[1] - began) < 0.1
     assert last_moved(sim) < kills[1] + 0.05

@@ -167,3 +167,30 @@ def test_limits_are_the_robot_descriptions(motion: Any) -> None:
     got = np.array(motion.getLimits("LArm"))[:5]
     assert np.allclose(got[:, 0], limits.lower) and np.allclose(got[:, 1], limits.upper)
     assert np.allclose(got[:, 2], limits.velocity)
+
+
+def test_killing_an_arms_tasks_stops_that_arm_only(motion: Any) -> None:
+    """killTasksUsingResources("RArm") ends the right arm's move (its caller
+    gets an error, the joint holds where it was) while the left arm's goes
+    on to its last key."""
+    motion.setStiffnesses(["RArm", "LArm"], 1.0)
+    time.sleep(0.05)
+    right0 = motion.getAngles("RElbowRoll", True)[0]
+    left0 = motion.getAngles("LElbowRoll", True)[0]
+    right = motion.angleInterpolation(
+        "RElbowRoll", right0 + 0.6, 1.0, True, _async=True
+    )
+    left = motion.angleInterpolation("LElbowRoll", left0 - 0.6, 1.0, True, _async=True)
+    time.sleep(0.4)
+    motion.killTasksUsingResources(["RArm"])
+    held = motion.getAngles("RElbowRoll", True)[0]
+    assert right0 + 0.05 < held < right0 + 0.55  # stopped on its way
+    right.wait(2000)
+    assert right.hasError() and "killTasksUsingResources" in right.error()
+    left.wait(2000)
+    assert not left.hasError()
+    assert motion.getAngles("LElbowRoll", True)[0] == pytest.approx(
+        left0 - 0.6, abs=1e-3
+    )
+    time.sleep(0.1)
+    assert motion.getAngles("RElbowRoll", True)[0] == pytest.approx(held, abs=1e-3)

@@ -4,8 +4,9 @@ Methods and arguments are NAOqi's (radians, seconds, fractions 0..1):
 ``angleInterpolation``, ``angleInterpolationWithSpeed``, ``setAngles``,
 ``getAngles``, ``stiffnessInterpolation``, ``setStiffnesses``,
 ``getStiffnesses``, ``wakeUp``, ``rest``, ``robotIsWakeUp``, ``getLimits``,
-``killAll``. A refused command raises (the caller gets libqi's
-``RuntimeError`` with the reason) and is logged; nothing is clamped.
+``killTasksUsingResources``, ``killAll``. A refused command raises (the
+caller gets libqi's ``RuntimeError`` with the reason) and is logged;
+nothing is clamped.
 """
 
 from __future__ import annotations
@@ -211,6 +212,12 @@ class SimulatedMotion:
         joints = expand_names(name)
         specs = [self._robot.joints[j].spec for j in joints]
         return [[s.lower, s.upper, s.velocity, s.effort] for s in specs]
+
+    def killTasksUsingResources(self, resourceNames: Any) -> None:
+        """Stop the commands using any of these joints or chains; they hold."""
+        joints = expand_names(resourceNames)
+        self._log.write("call", method="killTasksUsingResources", joints=joints)
+        self._robot.stop_using(joints, "killTasksUsingResources")
 
     def killAll(self) -> None:
         """Stop every command; joints hold where they are."""

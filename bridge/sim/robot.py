@@ -135,6 +135,27 @@ class SimRobot:
                 task.interrupt(reason)
             self._tasks, self._owners = [], {}
 
+    def stop_using(self, names: list[str], reason: str) -> list[MotionTask]:
+        """End the commands that drive any of ``names``; their joints hold.
+
+        A command ends whole, all of its joints (as NAOqi's
+        ``killTasksUsingResources``); the others go on. Returns those ended.
+        """
+        wanted = set(names)
+        with self._lock:
+            t = self.now()
+            ended = [task for task in self._tasks if wanted & set(task.joints)]
+            for task in ended:
+                for name in task.joints:
+                    self.joints[name].commit(t)
+                    self.joints[name].command(None)
+                task.interrupt(reason)
+            self._tasks = [task for task in self._tasks if task not in ended]
+            self._owners = {
+                j: task for j, task in self._owners.items() if task not in ended
+            }
+        return ended
+
     def step(self) -> None:
         """One control cycle: advance every joint, end finished commands, log."""
         with self._lock:
