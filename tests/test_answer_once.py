@@ -164,3 +164,30 @@ def test_an_answer_in_the_making_is_not_forgotten_for_the_budget() -> None:
         gate.set()
         assert repeat.result(5.0) is first.result(5.0)
     assert slow.runs == 1
+
+
+def test_work_outlasting_the_hold_does_not_touch_a_newer_attempt() -> None:
+    """An id forgotten while its work runs and asked anew: the first work's
+    end (answer or failure) leaves the new entry and the budget alone."""
+    now = [0.0]
+    once: AnswerOnce[str, list[int]] = AnswerOnce(
+        hold=60.0, clock=lambda: now[0], weight=len, budget=100
+    )
+    gates = [threading.Event(), threading.Event()]
+    slow = [Work(gates[0]), Work(gates[1], fail=True)]
+    with ThreadPoolExecutor(2) as pool:
+        first = pool.submit(once.answer, "id", "reach", slow[0])
+        while slow[0].runs == 0:
+            threading.Event().wait(0.01)
+        now[0] = 61.0  # forgotten while it runs; the caller asks again
+        second = pool.submit(once.answer, "id", "reach", slow[1])
+        while slow[1].runs == 0:
+            threading.Event().wait(0.01)
+        gates[0].set()
+        assert first.result(5.0) == [1]
+        assert once.weighed() == 0  # the first answer's entry is gone
+        assert len(once) == 1  # the new attempt's entry stays
+        gates[1].set()
+        with pytest.raises(RuntimeError):
+            second.result(5.0)
+    assert once.weighed() == 0 and len(once) == 0

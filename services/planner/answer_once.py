@@ -134,18 +134,28 @@ class AnswerOnce(Generic[Req, Rep]):
             result = work()
         except BaseException as error:
             with self._lock:
-                self._drop(key)
+                if self._owns(key, future):
+                    self._drop(key)
             future.set_exception(error)
             raise
         future.set_result(result)
-        self._weigh(key, result)
+        self._weigh(key, future, result)
         return result
 
-    def _weigh(self, key: str, result: Rep) -> None:
+    def _owns(self, key: str, future: Future[Rep]) -> bool:
+        """Whether ``key`` is still ``future``'s entry (held lock).
+
+        Not if it was forgotten, or forgotten and asked for anew, while the
+        work ran.
+        """
+        seen = self._seen.get(key)
+        return seen is not None and seen.future is future
+
+    def _weigh(self, key: str, future: Future[Rep], result: Rep) -> None:
         """Count ``key``'s answer in the budget; drop the oldest answers past it."""
         weight = self._weight(result)
         with self._lock:
-            if key not in self._seen:  # already forgotten (keep or hold)
+            if not self._owns(key, future):
                 return
             self._kept[key] = weight
             self._weighed += weight

@@ -12,11 +12,11 @@ its stages as the decide, ik and timing services (``remote.RemoteStages``),
 so a plan made here equals one made in-process. A request repeating a
 recent ``request_id`` gets the first one's answer, planned and published
 once (``answer_once.AnswerOnce``; once that answer is no longer kept, the
-repeat is planned again and answered, still not published). A plan finished after its callers
-(the first and any repeat, ``waiting.Waiting``) stopped waiting
-(``shared.bus.deadline``) is not published: a robot that
-follows the trajectories would otherwise move for no one. A service it needs that is
-not running gives a ``service_unavailable`` error naming it at once (its
+repeat is planned again and answered, still not published). A plan
+finished after its callers (the first and any repeat, ``waiting.Waiting``)
+stopped waiting (``shared.bus.deadline``) is not published: a robot that
+follows the trajectories would otherwise move for no one. A service it
+needs that is not running gives a ``service_unavailable`` error naming it at once (its
 liveliness token is checked before any work); once it is back, the next
 plan works. The parts are published so that a recorder subscribed to the
 topics (``shared.bus.topics``) keeps the whole session. Run it with
@@ -72,8 +72,10 @@ def remote_planner(bus: Bus) -> Planner:
         return result.trajectory
 
     def plan_again(request: PlanRequest) -> Trajectory:
-        """A repeat's answer once the first one's is no longer kept: the same
-        plan, not published again (the robot follows it once)."""
+        """A repeat's answer once the first one's is no longer kept.
+
+        The same plan, not published again (the robot follows it once).
+        """
         stages.require(request)
         return plan(request, stages).trajectory
 
