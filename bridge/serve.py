@@ -27,6 +27,7 @@ from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
 from shared.bus import Bus, ServiceHost, load_config
+from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.robot_routes import BRIDGE
 from shared.errors import ArmplanError
@@ -76,6 +77,7 @@ def run(args: argparse.Namespace) -> None:
     stop = start_process(args.log_level)
     url = robot_url(args.robot)
     config = load_config(args.config, tuple(args.connect or ()))
+    check_login(config, BRIDGE)  # another user's file: cut off, yet moving the robot
     client = NaoqiClient(url)
     try:
         with Bus.connect(config, wait=args.wait) as bus:

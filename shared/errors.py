@@ -546,6 +546,33 @@ class BusConfigError(ArmplanError):
         self.setting = setting
 
 
+class WrongLoginError(BusConfigError):
+    """A process's configuration logs in as another process's user.
+
+    The secured router lets each user do its own process's part only: with
+    another user's file a process would connect, yet be cut off silently.
+
+    Attributes:
+        expected: The process's own user, e.g. ``"bridge"``.
+        given: The user the file logs in as, e.g. ``"client"``.
+    """
+
+    kind = "wrong_login"
+
+    def __init__(self, *, source: str, expected: str, given: str) -> None:
+        super().__init__(
+            f"logs in as user {given!r}, but this is the {expected} process, "
+            f"which must log in as {expected!r}: give it {expected}'s own file "
+            f"({expected}.json5 of the `armplan certs` folder); the secured "
+            "router lets each user do only its own process's part",
+            source=source,
+            setting="transport/auth/usrpwd/user",
+        )
+        self.evidence.update(expected=expected, given=given)
+        self.expected = expected
+        self.given = given
+
+
 # Errors of the robot bridge (bridge/) and the robot it talks to over NAOqi.
 
 

@@ -16,6 +16,7 @@ from shared.errors import (
     UnknownArmError,
     UnknownPrimitiveError,
     UnreachableTargetError,
+    WrongLoginError,
     error_from_wire,
 )
 from shared.messages import ErrorReply
@@ -40,6 +41,7 @@ EXAMPLES: list[ArmplanError] = [
         joint="RElbowYaw",
         limit=2.08567,
     ),
+    WrongLoginError(source="secure/client.json5", expected="bridge", given="client"),
 ]
 
 

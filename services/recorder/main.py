@@ -27,6 +27,7 @@ from services.recorder.arguments import (
 )
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
+from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process
 from shared.errors import ArmplanError
 
@@ -41,6 +42,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     stop = start_process(args.log_level)
     try:
         config = bus_config(args)
+        check_login(config, NAME)
         options = options_from_args(args)
         with Bus.connect(config, wait=args.wait) as bus, Recorder(bus, options) as rec:
             keys = " ".join(rec.keys)

@@ -3,7 +3,8 @@
 Usage: ``python -m services.ik [--config FILE] [--connect tcp/HOST:PORT]``.
 It connects to the router (waiting up to ``--wait`` seconds for it), serves
 the service's endpoints until SIGTERM or SIGINT, and exits 0; it exits 1 with
-the error on stderr if the configuration is wrong or no router answers.
+the error on stderr if the configuration is wrong (a login other than the
+service's own user included) or no router answers.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from typing import Any
 
 from shared.bus.bus import Bus
 from shared.bus.config_file import load_config
+from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.route import Endpoint
 from shared.bus.service import ServiceHost
@@ -39,6 +41,7 @@ def serve(
     stop = start_process(args.log_level)
     try:
         config = load_config(args.config, tuple(args.connect or ()))
+        check_login(config, name)
         with (
             Bus.connect(config, wait=args.wait) as bus,
             ServiceHost(bus, name, endpoints(bus)),

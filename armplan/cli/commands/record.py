@@ -19,8 +19,9 @@ from services.recorder.arguments import (
     bus_config,
     options_from_args,
 )
-from services.recorder.service import Recorder
+from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
+from shared.bus.login import check_login
 from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
 
@@ -56,6 +57,7 @@ def run(args: argparse.Namespace) -> int:
             field="duration",
         )
     config = bus_config(args)
+    check_login(config, NAME)
     options = options_from_args(args)
     stop = stop_on_signals()
     with Bus.connect(config) as bus, Recorder(bus, options) as recorder:
