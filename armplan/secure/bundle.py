@@ -22,12 +22,14 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from dataclasses import dataclass
+from datetime import UTC, datetime
 from pathlib import Path
 
 from armplan.secure.acl import AccessControl
 from armplan.secure.certificates import (
     DAYS,
     MOST_DAYS,
+    authority_warning,
     ensure_authority,
     issue_router_certificate,
     subject_alt_names,
@@ -58,12 +60,15 @@ class Bundle:
         router_config: The router's configuration file.
         clients: Each user's client configuration file.
         authority_created: Whether a new certificate authority was made.
+        warnings: What the user should know, e.g. that the kept authority
+            expires soon.
     """
 
     directory: Path
     router_config: Path
     clients: dict[str, Path]
     authority_created: bool
+    warnings: tuple[str, ...] = ()
 
 
 def write_bundle(
@@ -105,6 +110,7 @@ def write_bundle(
     make_folder(directory)
     where = paths or str(directory.resolve())
     authority = ensure_authority(directory, days)
+    warning = authority_warning(authority, datetime.now(UTC))
     issue_router_certificate(directory, authority, list(dict.fromkeys(names)), days)
     access = AccessControl.from_file(TEMPLATE)
     passwords = ensure_passwords(directory / "passwords.txt", access.usernames())
@@ -117,7 +123,8 @@ def write_bundle(
         for user, password in passwords.items()
         if user != ROUTER_USER and user in access.usernames()
     }
-    return Bundle(directory, router_config, clients, authority.created)
+    warnings = () if warning is None else (warning,)
+    return Bundle(directory, router_config, clients, authority.created, warnings)
 
 
 def make_folder(directory: Path) -> Path:

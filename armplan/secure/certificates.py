@@ -17,10 +17,12 @@ import re
 import shutil
 import subprocess
 from collections.abc import Sequence
+from datetime import datetime, timedelta
 from pathlib import Path
 from typing import NamedTuple
 
 from armplan.secure.errors import SecureSetupError
+from shared.bus.certificate_dates import NEAR_EXPIRY_DAYS, read_validity
 
 #: Validity of the certificates [days].
 DAYS = 825
@@ -83,6 +85,36 @@ def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
     )
     os.chmod(key, 0o600)
     return Authority(certificate, key, created=True)
+
+
+def authority_warning(authority: Authority, now: datetime) -> str | None:
+    """A warning if a kept authority has expired or expires soon, else ``None``.
+
+    Args:
+        authority: The authority :func:`ensure_authority` returned.
+        now: The current time (UTC).
+
+    Raises:
+        SecureSetupError: if the kept ``ca.pem`` is not a certificate.
+    """
+    if authority.created:
+        return None
+    try:
+        end = read_validity(authority.certificate).end
+    except (OSError, ValueError) as error:
+        raise SecureSetupError(
+            f"{authority.certificate} is not a readable certificate: {error}",
+            path=str(authority.certificate),
+        ) from None
+    if end > now + timedelta(days=NEAR_EXPIRY_DAYS):
+        return None
+    when = end.strftime("%Y-%m-%d %H:%M UTC")
+    state = "expired on" if end <= now else f"expires in {(end - now).days} days, on"
+    return (
+        f"the kept certificate authority {authority.certificate} {state} {when}; "
+        "for a new one, move ca.pem and ca.key out of the folder and rerun armplan "
+        "certs, then give every machine its new bundle (each needs the new ca.pem)"
+    )
 
 
 def issue_router_certificate(

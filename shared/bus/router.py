@@ -3,7 +3,8 @@
 Usage: ``python -m shared.bus.router [--config FILE] [--listen ENDPOINT] [--id HEX]``.
 A Python Zenoh session in ``mode: "router"`` listening on the configured
 endpoints only (default ``tcp/127.0.0.1:7447``), multicast scouting off. It
-runs until SIGTERM or SIGINT; it exits 1 with the reason if it cannot listen.
+runs until SIGTERM or SIGINT; it exits 1 with the reason if it cannot listen
+or its TLS certificate has expired (and warns when it expires within 30 days).
 """
 
 from __future__ import annotations
@@ -12,7 +13,9 @@ import argparse
 import logging
 import re
 from collections.abc import Sequence
+from datetime import UTC, datetime
 
+from shared.bus.certificate_dates import check_listen_certificate
 from shared.bus.config_file import load_config
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.session import open_router
@@ -27,6 +30,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     stop = start_process(args.log_level)
     try:
         config = load_config(args.config, tuple(args.listen or ()))
+        warning = check_listen_certificate(config, datetime.now(UTC))
+        if warning is not None:
+            log.warning("router: %s", warning)
         with open_router(config, args.id):
             log.info("router listening on %s", ", ".join(config.endpoints))
             wait_for(stop)

@@ -98,5 +98,9 @@ def run(args: argparse.Namespace) -> int:
         f"Service: python -m services.ik --config {bundle.clients['ik']}\n"
         f"Client:  ARMPLAN_ZENOH_CONFIG={bundle.clients['client']} armplan status\n"
         "Keep ca.key off the robot's machines; passwords and keys are owner-only.\n"
+        f"Renew: the router's certificate is valid {args.days} days; rerun this "
+        "command (same options) before it ends and restart the router.\n"
     )
+    for warning in bundle.warnings:
+        sys.stderr.write(f"armplan certs: warning: {warning}\n")
     return 0
