@@ -5,6 +5,8 @@ A Python Zenoh session in ``mode: "router"`` listening on the configured
 endpoints only (default ``tcp/127.0.0.1:7447``), multicast scouting off. It
 runs until SIGTERM or SIGINT; it exits 1 with the reason if it cannot listen
 or its TLS certificate has expired (and warns when it expires within 30 days).
+Zenoh's own log (stdout) shows its warnings and, for a secured router, every
+handshake accepted or refused, e.g. a wrong password (``zenoh_log.py``).
 """
 
 from __future__ import annotations
@@ -18,7 +20,9 @@ from datetime import UTC, datetime
 from shared.bus.certificate_dates import check_listen_certificate
 from shared.bus.config_file import load_config
 from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.secured import secured_settings
 from shared.bus.session import open_router
+from shared.bus.zenoh_log import start_zenoh_log
 from shared.errors import ArmplanError
 
 log = logging.getLogger("armplan.bus")
@@ -30,6 +34,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     stop = start_process(args.log_level)
     try:
         config = load_config(args.config, tuple(args.listen or ()))
+        start_zenoh_log(secured=bool(secured_settings(config)))
         warning = check_listen_certificate(config, datetime.now(UTC))
         if warning is not None:
             log.warning("router: %s", warning)

@@ -7,6 +7,8 @@ import time
 import zenoh
 
 from shared.bus.config import BusConfig
+from shared.bus.named_files import check_named_files
+from shared.bus.secured import secured_settings
 from shared.bus.zenoh_config import client_config, router_config
 from shared.errors import BusConfigError, ServiceUnavailableError
 
@@ -22,8 +24,11 @@ def open_client(config: BusConfig, wait: float = 0.0) -> zenoh.Session:
         wait: How long to keep trying while no router answers [s]; 0 tries once.
 
     Raises:
+        BusConfigError: if a file the configuration names (the CA certificate)
+            is missing or unreadable.
         ServiceUnavailableError: naming the router's endpoints if none answers.
     """
+    check_named_files(client_config(config), config)
     deadline = time.monotonic() + wait
     while True:
         try:
@@ -33,26 +38,29 @@ def open_client(config: BusConfig, wait: float = 0.0) -> zenoh.Session:
                 raise ServiceUnavailableError(
                     "router",
                     reason=f"no Zenoh router answers at {', '.join(config.endpoints)} "
-                    f"({_short(error)}){_secured_hint(config)}; start one with "
-                    "`armplan up`, or give the router's address with --connect",
+                    f"({_short(error)}){_what_to_do(config)}",
                 ) from None
             time.sleep(RETRY_EVERY)
 
 
-def _secured_hint(config: BusConfig) -> str:
-    """The second cause to name for a secured connection, or ``""``.
+def _what_to_do(config: BusConfig) -> str:
+    """The causes to check and the router to start, for the client's error.
 
     Zenoh tells a refused login or certificate no differently from no router
-    at all, so a client with TLS endpoints or a login names both.
+    at all, so a secured client (TLS endpoints, a login) names both; and
+    ``armplan up`` runs only the unsecured router.
     """
-    secured = config.tls or any(
-        path.startswith("transport/auth") for path, _ in config.client_settings
-    )
-    if not secured:
-        return ""
+    if not secured_settings(config):
+        return (
+            "; start one with `armplan up`, or give the router's address with --connect"
+        )
     return (
         f", or one answers but refuses this client: check the user, password "
-        f"and certificate settings of {config.source}"
+        f"and certificate settings of {config.source} (the router's certificate "
+        "must name the endpoint's host: `armplan certs --host`), and the "
+        "router's log; start the secured router with `python -m "
+        "shared.bus.router --config DIR/router.json5`, or give its address "
+        "with --connect"
     )
 
 
@@ -62,17 +70,32 @@ def open_router(config: BusConfig, zid: str | None = None) -> zenoh.Session:
     ``zid``: its Zenoh id (hex); default a random one.
 
     Raises:
-        BusConfigError: if it cannot listen there (port in use, bad address).
+        BusConfigError: if a file it names (certificate, key, passwords) is
+            missing or unreadable, or it cannot listen there (port in use, bad
+            address, a key that does not match its certificate).
     """
+    check_named_files(router_config(config, zid), config)
     try:
         return zenoh.open(router_config(config, zid))
     except zenoh.ZError as error:
         raise BusConfigError(
-            f"cannot listen on {', '.join(config.endpoints)} ({_short(error)}); "
-            "is another router using it?",
+            f"cannot listen on {', '.join(config.endpoints)} ({_short(error)})"
+            f"{_router_hint(str(error))}",
             source=config.source,
             setting="listen/endpoints",
         ) from None
+
+
+def _router_hint(error: str) -> str:
+    """What to check for Zenoh's reason not to open the router, or ``""``."""
+    if "in use" in error.lower():
+        return "; is another router using it?"
+    if "KeyMismatch" in error:
+        return (
+            "; the router's key does not belong to its certificate: rerun "
+            "`armplan certs --out DIR`, which writes both"
+        )
+    return ""
 
 
 def _short(error: Exception) -> str:
