@@ -312,7 +312,7 @@ def test_a_secured_configuration_is_refused_before_anything_starts() -> None:
 
     out = armplan("up", "--config", str(REPO_CONFIG.parent / "secure" / "router.json5"))
     assert out.returncode == 1
-    assert "is a secured (TLS) configuration" in out.stderr
+    assert "is a secured configuration (listen/endpoints, " in out.stderr
     assert "listening" not in out.stdout + out.stderr
 
 

@@ -55,17 +55,22 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Run the demo; print progress, then the summary."""
+    from armplan.cli.unsecured import check_plain_listen, check_unsecured
     from armplan.demo import DEFAULT_TASK, DemoOptions, run_demo, summary_lines
     from armplan.launch import free_endpoint
     from shared.bus import load_config
     from shared.output_paths import check_output_folder
 
+    config = load_config(args.config)
+    check_unsecured(config, "demo")  # the file's own endpoints, before --listen
+    if args.listen:
+        check_plain_listen([args.listen], "demo")
     out = check_output_folder(args.out)
     _interrupt_on_sigterm()
     started = time.monotonic()
     endpoint = args.listen or free_endpoint()
     options = DemoOptions(
-        config=load_config(args.config, (endpoint,)),
+        config=config.with_endpoints((endpoint,), "--listen"),
         out=out,
         robot=_robot(args.robot),
         record=not args.no_record,

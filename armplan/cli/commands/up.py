@@ -7,11 +7,11 @@ import contextlib
 import sys
 import threading
 
+from armplan.cli.unsecured import check_plain_listen, check_unsecured
 from armplan.launch import SERVICES, Launcher
 from armplan.launch.robot import SIM_LISTEN, RobotStack
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.robot_routes import EXECUTE
-from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
 
 ORDER = 80
@@ -76,8 +76,11 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Start everything, print where it listens, run until SIGTERM/SIGINT."""
-    config = load_config(args.config, tuple(args.listen or ()))
-    _check_unsecured(config)
+    config = load_config(args.config)
+    check_unsecured(config, "up")  # the file's own endpoints, before --listen
+    if args.listen:
+        check_plain_listen(args.listen, "up")
+        config = config.with_endpoints(tuple(args.listen), "--listen")
     if args.robot is not None:
         from bridge.address import check_robot_url
 
@@ -95,23 +98,6 @@ def run(args: argparse.Namespace) -> int:
         _watch(launcher, robot, stop)
     _say("armplan up: stopped every process")
     return 0
-
-
-def _check_unsecured(config: BusConfig) -> None:
-    """Refuse a secured router's configuration before anything starts.
-
-    ``up`` gives every process the one file, while the secured router lets
-    each process in with its own user (docs/services.md): its services
-    would wait a minute to log in, and fail as if no router answered.
-    """
-    if config.tls:
-        raise InvalidInputError(
-            f"{config.source} is a secured (TLS) configuration: armplan up runs "
-            "the unsecured set, each process with the one file; run the secured "
-            "set process by process, each with its own user's file (see "
-            "docs/services.md, 'Security')",
-            field="config",
-        )
 
 
 def _robot_stack(
