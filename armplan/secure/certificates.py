@@ -71,10 +71,17 @@ def subject_alt_names(hosts: Sequence[str]) -> str:
 
 
 def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
-    """``ca.pem`` and ``ca.key`` in ``directory``: kept if both exist, else made."""
+    """``ca.pem`` and ``ca.key`` in ``directory``: kept if both exist, else made.
+
+    Raises:
+        SecureSetupError: if only one of the two exists (a copied bundle
+            without the key): a new authority would replace the one every
+            other machine trusts.
+    """
     certificate, key = directory / "ca.pem", directory / "ca.key"
     if certificate.is_file() and key.is_file():
         return Authority(certificate, key, created=False)
+    check_no_half_authority(certificate, key)
     openssl(
         [
             *("req", "-x509", *_KEY, "-keyout", str(key), "-out", str(certificate)),
@@ -85,6 +92,33 @@ def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
     )
     os.chmod(key, 0o600)
     return Authority(certificate, key, created=True)
+
+
+def check_no_half_authority(certificate: Path, key: Path) -> None:
+    """Refuse to make a new authority over half of an existing one.
+
+    A second machine's folder holds ``ca.pem`` without ``ca.key`` (the key
+    stays where the bundles are made): rerunning ``armplan certs`` there made
+    a new authority, and that machine no longer trusted the others' routers.
+
+    Raises:
+        SecureSetupError: naming the file that is there and the one missing.
+    """
+    if certificate.exists() and not key.exists():
+        raise SecureSetupError(
+            f"{certificate} exists without {key.name}: its key is needed to sign "
+            f"the router's certificate. Copy {key.name} here (or make this "
+            "bundle on the machine that holds it and copy the bundle), or remove "
+            f"{certificate.name} to make a new authority (every machine then "
+            "needs the new one)",
+            path=str(certificate),
+        )
+    if key.exists() and not certificate.exists():
+        raise SecureSetupError(
+            f"{key} exists without {certificate.name}: copy {certificate.name} "
+            f"here, or remove {key.name} to make a new authority",
+            path=str(key),
+        )
 
 
 def authority_warning(authority: Authority, now: datetime) -> str | None:

@@ -1,0 +1,68 @@
+"""`armplan certs` keeps the certificate authority every machine trusts.
+
+Machine B's folder holds A's ca.pem and passwords.txt but not ca.key (the
+docs keep the key where bundles are made). Rerunning `armplan certs` there
+replaced ca.pem with a new authority, and B no longer trusted A's router;
+the only hint was "(new)". Now half an authority is refused, and nothing is
+written.
+"""
+
+from __future__ import annotations
+
+import pathlib
+import shutil
+
+import pytest
+
+from armplan.cli.main import main
+
+
+@pytest.fixture
+def machine_b(tmp_path: pathlib.Path) -> pathlib.Path:
+    """A's bundle in tmp/a; B's folder with A's ca.pem and passwords.txt."""
+    assert main(["certs", "--out", str(tmp_path / "a")]) == 0
+    folder = tmp_path / "b"
+    folder.mkdir()
+    for name in ("ca.pem", "passwords.txt"):
+        shutil.copy2(tmp_path / "a" / name, folder / name)
+    return folder
+
+
+def test_a_ca_without_its_key_is_not_replaced(
+    machine_b: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    capsys.readouterr()
+    before = (machine_b / "ca.pem").read_bytes()
+    argv = ["certs", "--out", str(machine_b), "--connect", "tls/192.0.2.10:7447"]
+    assert main(argv) == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {machine_b / 'ca.pem'} exists without ca.key: its key is "
+        "needed to sign the router's certificate. Copy ca.key here (or make this "
+        "bundle on the machine that holds it and copy the bundle), or remove "
+        "ca.pem to make a new authority (every machine then needs the new one)\n"
+    )
+    assert (machine_b / "ca.pem").read_bytes() == before
+    assert sorted(p.name for p in machine_b.iterdir()) == ["ca.pem", "passwords.txt"]
+
+
+def test_a_key_without_its_ca_is_not_replaced(
+    machine_b: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (machine_b / "ca.pem").rename(machine_b / "ca.key")
+    capsys.readouterr()
+    assert main(["certs", "--out", str(machine_b)]) == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {machine_b / 'ca.key'} exists without ca.pem: copy "
+        "ca.pem here, or remove ca.key to make a new authority\n"
+    )
+
+
+def test_with_its_key_the_authority_is_kept(
+    machine_b: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The documented way: A's ca.key copied too, the authority is kept."""
+    shutil.copy2(machine_b.parent / "a" / "ca.key", machine_b / "ca.key")
+    before = (machine_b / "ca.pem").read_bytes()
+    assert main(["certs", "--out", str(machine_b)]) == 0
+    assert "certificate authority (kept)" in capsys.readouterr().out
+    assert (machine_b / "ca.pem").read_bytes() == before
