@@ -20,7 +20,9 @@ import zenoh
 from armplan.launch.catalog import unknown_hint
 from services.recorder.arguments import add_bus_arguments, bus_config
 from services.recorder.replay import check_speed, replay, replay_items
+from services.recorder.replay_login import refused_by_rules, refused_warning
 from shared.bus import Bus
+from shared.bus.login import login_user
 from shared.errors import InvalidInputError, ServiceUnavailableError
 from shared.stop_signals import stop_on_signals
 
@@ -114,6 +116,11 @@ def run(args: argparse.Namespace) -> int:
     if args.keys and not items:
         _no_key_matches(args)
     config = bus_config(args)
+    user = login_user(config)
+    refused = {} if user is None else refused_by_rules(items, user)
+    if user is not None and refused:
+        warning = refused_warning(refused, user, config.source)
+        sys.stderr.write(f"armplan replay: warning: {warning}\n")
     stop = stop_on_signals()
     with Bus.connect(config, wait=args.wait) as bus:
         missing = bus.wait_alive(args.wait_for, args.wait)
@@ -134,10 +141,16 @@ def run(args: argparse.Namespace) -> int:
         stats = replay(items, publish, speed=args.speed, stop=stop)
         if stats.sent:
             time.sleep(LINGER)  # see LINGER
+    dropped = (
+        f"; a secured router drops the {sum(refused.values())} user {user!r} may "
+        "not publish"
+        if refused
+        else ""
+    )
     sys.stdout.write(
         f"armplan replay: sent {stats.sent} of {len(items)} messages in "
         f"{stats.duration:.3f} s (speed {args.speed:g}, at most "
-        f"{stats.late * 1000:.1f} ms late)\n"
+        f"{stats.late * 1000:.1f} ms late){dropped}\n"
     )
     if stop.is_set() and stats.sent < len(items):
         sys.stderr.write("armplan replay: interrupted before the end\n")
