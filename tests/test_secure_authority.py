@@ -66,3 +66,22 @@ def test_with_its_key_the_authority_is_kept(
     assert main(["certs", "--out", str(machine_b)]) == 0
     assert "certificate authority (kept)" in capsys.readouterr().out
     assert (machine_b / "ca.pem").read_bytes() == before
+
+
+def test_a_kept_ca_key_open_to_others_is_made_owner_only(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A kept ca.key of mode 0644 stayed 0644 (passwords.txt was tightened)."""
+    assert main(["certs", "--out", str(tmp_path)]) == 0
+    key = tmp_path / "ca.key"
+    key.chmod(0o644)
+    capsys.readouterr()
+    assert main(["certs", "--out", str(tmp_path)]) == 0
+    assert key.stat().st_mode & 0o777 == 0o600
+    assert capsys.readouterr().err == (
+        f"armplan certs: warning: {key} was readable by others (mode 0644): made "
+        "owner-only (0600); if others could read it, anyone with it can sign a "
+        "router certificate\n"
+    )
+    assert main(["certs", "--out", str(tmp_path)]) == 0
+    assert "warning" not in capsys.readouterr().err  # already owner-only

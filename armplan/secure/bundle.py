@@ -33,6 +33,7 @@ from armplan.secure.certificates import (
     ensure_authority,
     issue_router_certificate,
     subject_alt_names,
+    tighten_key,
 )
 from armplan.secure.errors import SecureSetupError
 from armplan.secure.passwords import ensure_passwords, write_private
@@ -110,7 +111,10 @@ def write_bundle(
     make_folder(directory)
     where = paths or str(directory.resolve())
     authority = ensure_authority(directory, days)
-    warning = authority_warning(authority, datetime.now(UTC))
+    warnings = [
+        authority_warning(authority, datetime.now(UTC)),
+        tighten_key(authority.key),
+    ]
     issue_router_certificate(directory, authority, list(dict.fromkeys(names)), days)
     access = AccessControl.from_file(TEMPLATE)
     passwords = ensure_passwords(directory / "passwords.txt", access.usernames())
@@ -123,8 +127,8 @@ def write_bundle(
         for user, password in passwords.items()
         if user != ROUTER_USER and user in access.usernames()
     }
-    warnings = () if warning is None else (warning,)
-    return Bundle(directory, router_config, clients, authority.created, warnings)
+    said = tuple(w for w in warnings if w is not None)
+    return Bundle(directory, router_config, clients, authority.created, said)
 
 
 def make_folder(directory: Path) -> Path:

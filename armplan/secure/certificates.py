@@ -94,6 +94,29 @@ def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
     return Authority(certificate, key, created=True)
 
 
+def tighten_key(key: Path) -> str | None:
+    """Make a kept key readable by its owner only; what was done, or ``None``.
+
+    Returns:
+        A warning if the key was open to others: tightened to 0600, or, if
+        this user may not change it, left as it was.
+    """
+    mode = key.stat().st_mode & 0o777
+    if not mode & 0o077:
+        return None
+    try:
+        os.chmod(key, 0o600)
+    except PermissionError:
+        return (
+            f"{key} is readable by others (mode {mode:04o}) and this user may not "
+            f"change it: make it owner-only (chmod 600 {key})"
+        )
+    return (
+        f"{key} was readable by others (mode {mode:04o}): made owner-only (0600); "
+        "if others could read it, anyone with it can sign a router certificate"
+    )
+
+
 def check_no_half_authority(certificate: Path, key: Path) -> None:
     """Refuse to make a new authority over half of an existing one.
 
