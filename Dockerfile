@@ -6,7 +6,9 @@ FROM python:3.11-slim
 
 # The user the processes run as; match it to the owner of bind-mounted files
 # (the certificates of docker-compose.secure.yml), e.g. --build-arg ARMPLAN_UID=$(id -u).
+# Never 0: a root shell's id -u would make that user root (useradd refuses it).
 ARG ARMPLAN_UID=1000
+RUN test "${ARMPLAN_UID}" != 0 || { echo "ARMPLAN_UID is 0 (id -u of a root shell): the processes do not run as root; build without --build-arg ARMPLAN_UID (uid 1000) and give the bundle to that user: chown -R 1000 secure-compose" >&2; exit 1; }
 
 ENV PYTHONDONTWRITEBYTECODE=1 \
     PYTHONUNBUFFERED=1 \

@@ -25,6 +25,8 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
 
+import zenoh
+
 from armplan.secure.acl import AccessControl
 from armplan.secure.certificates import (
     DAYS,
@@ -37,6 +39,7 @@ from armplan.secure.certificates import (
 )
 from armplan.secure.errors import SecureSetupError
 from armplan.secure.passwords import ensure_passwords, write_private
+from shared.bus.certificate_dates import LISTEN_CERTIFICATE
 from shared.bus.config import check_endpoint
 from shared.bus.config_file import REPO_CONFIG, load_config
 
@@ -110,6 +113,7 @@ def write_bundle(
     subject_alt_names(names)  # a malformed host fails here, before any file
     make_folder(directory)
     where = paths or str(directory.resolve())
+    check_same_kind(directory, where)
     authority = ensure_authority(directory, days)
     warnings = [
         authority_warning(authority, datetime.now(UTC)),
@@ -140,6 +144,49 @@ def make_folder(directory: Path) -> Path:
             f"cannot make the folder {directory}: {exc.strerror}", path=str(directory)
         ) from None
     return directory
+
+
+def bundle_kind(paths: str) -> str:
+    """``"docker-compose"`` for the containers' folder, else ``"native"``."""
+    return "docker-compose" if paths.rstrip("/") == TEMPLATE_PATHS else "native"
+
+
+def existing_paths(directory: Path) -> str | None:
+    """Where the files of the bundle already in ``directory`` are named, if any.
+
+    Read from its ``router.json5`` (the folder of its router certificate).
+    """
+    try:
+        config = zenoh.Config.from_json5((directory / "router.json5").read_text())
+        named = json.loads(config.get_json(LISTEN_CERTIFICATE))
+    except (OSError, zenoh.ZError, ValueError):
+        return None
+    return str(Path(named).parent) if isinstance(named, str) and named else None
+
+
+def check_same_kind(directory: Path, paths: str) -> None:
+    """Refuse to rewrite a native bundle as a docker-compose one, or back.
+
+    Both rewrite every configuration in the folder (a compose bundle names
+    its files in the containers' folder and the router ``tls/router:7447``),
+    and the router's certificate is issued anew for the hosts of this run:
+    README's two recipes, run into one folder, silently broke the first.
+
+    Raises:
+        SecureSetupError: naming both kinds and where to write instead.
+    """
+    before = existing_paths(directory)
+    if before is None or bundle_kind(before) == bundle_kind(paths):
+        return
+    was, new = bundle_kind(before), bundle_kind(paths)
+    raise SecureSetupError(
+        f"{directory} holds a {was} bundle (its files named in {before}): this "
+        f"run would rewrite it as a {new} bundle (files named in "
+        f"{paths.rstrip('/')}) and reissue its router certificate. Write the "
+        f"{new} bundle to a folder of its own (--out), or remove "
+        f"{directory / 'router.json5'} to turn this one over",
+        path=str(directory),
+    )
 
 
 def endpoint_host(endpoint: str) -> str:
