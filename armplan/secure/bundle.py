@@ -42,6 +42,8 @@ from armplan.secure.passwords import ensure_passwords, write_private
 from shared.bus.certificate_dates import LISTEN_CERTIFICATE
 from shared.bus.config import check_endpoint
 from shared.bus.config_file import REPO_CONFIG, load_config
+from shared.bus.keys import check_path
+from shared.errors import InvalidInputError
 
 #: The secured router's configuration in the repository.
 TEMPLATE = REPO_CONFIG.parent / "secure" / "router.json5"
@@ -53,6 +55,8 @@ TEMPLATE_ENDPOINT = "tls/router:7447"
 DEFAULT_ENDPOINT = "tls/127.0.0.1:7447"
 #: The user other machines' routers log in with; it gets no client file.
 ROUTER_USER = "router"
+#: The template's namespace: its access rules name ``armplan/...`` keys.
+TEMPLATE_NAMESPACE = "armplan"
 
 
 @dataclass(frozen=True)
@@ -83,6 +87,7 @@ def write_bundle(
     paths: str | None = None,
     connect: Sequence[str] = (),
     days: int = DAYS,
+    namespace: str = TEMPLATE_NAMESPACE,
 ) -> Bundle:
     """Write certificates, passwords and configurations into ``directory``.
 
@@ -94,12 +99,15 @@ def write_bundle(
         paths: Where the processes will find the files; default ``directory``.
         connect: Other machines' routers this router connects to.
         days: Validity of new certificates [days], 1..``MOST_DAYS``.
+        namespace: The key namespace of this deployment, e.g. ``"nao1"``: the
+            access rules and every client file use it.
 
     Raises:
-        SecureSetupError: a bad validity, endpoint or host (checked before
-            anything is written), a folder that cannot be made, or openssl
-            failing.
+        SecureSetupError: a bad validity, endpoint, host or namespace (checked
+            before anything is written), a folder that cannot be made, or
+            openssl failing.
     """
+    _check_namespace(namespace)
     if not 1 <= days <= MOST_DAYS:
         raise SecureSetupError(
             f"certificates must be valid 1..{MOST_DAYS} days, got {days}"
@@ -124,10 +132,11 @@ def write_bundle(
     passwords = ensure_passwords(directory / "passwords.txt", access.usernames())
     router_config = directory / "router.json5"
     write_private(  # with --connect it holds the router's own password
-        router_config, router_text(where, endpoint, connect, passwords[ROUTER_USER])
+        router_config,
+        router_text(where, endpoint, connect, passwords[ROUTER_USER], namespace),
     )
     clients = {
-        user: write_client(directory, where, endpoint, user, password)
+        user: write_client(directory, where, endpoint, user, password, namespace)
         for user, password in passwords.items()
         if user != ROUTER_USER and user in access.usernames()
     }
@@ -195,11 +204,33 @@ def endpoint_host(endpoint: str) -> str:
     return host.strip("[]")
 
 
+def _check_namespace(namespace: str) -> None:
+    try:
+        check_path(namespace, "namespace")
+    except InvalidInputError as error:
+        raise SecureSetupError(error.message) from None
+
+
 def router_text(
-    paths: str, endpoint: str, connect: Sequence[str], router_password: str
+    paths: str,
+    endpoint: str,
+    connect: Sequence[str],
+    router_password: str,
+    namespace: str = TEMPLATE_NAMESPACE,
 ) -> str:
-    """The template with its paths, endpoint and peer routers set."""
+    """The template with its paths, endpoint, peer routers and namespace set.
+
+    Another namespace replaces the template's in every key expression of the
+    access rules (each is a quoted ``"armplan/..."``) and in the settings.
+    """
     text = TEMPLATE.read_text()
+    if namespace != TEMPLATE_NAMESPACE:
+        text = text.replace(f'"{TEMPLATE_NAMESPACE}/', f'"{namespace}/')
+        text = _replace_once(
+            text,
+            f'namespace: "{TEMPLATE_NAMESPACE}",',
+            f"namespace: {json.dumps(namespace)},",
+        )
     text = _replace_once(text, f'["{TEMPLATE_ENDPOINT}"]', json.dumps([endpoint]))
     if connect:
         peers = f"endpoints: {json.dumps(list(connect))},"
@@ -217,7 +248,13 @@ def _replace_once(text: str, old: str, new: str) -> str:
     return text.replace(old, new)
 
 
-def client_text(paths: str, endpoint: str, user: str, password: str) -> str:
+def client_text(
+    paths: str,
+    endpoint: str,
+    user: str,
+    password: str,
+    namespace: str = TEMPLATE_NAMESPACE,
+) -> str:
     """One process's configuration: where the router is, the CA, its login."""
     client = {
         "transport/link/tls/root_ca_certificate": f"{paths.rstrip('/')}/ca.pem",
@@ -226,7 +263,7 @@ def client_text(paths: str, endpoint: str, user: str, password: str) -> str:
     }
     template = load_config(TEMPLATE)
     settings = {
-        "namespace": template.namespace,
+        "namespace": namespace,
         "max_payload": template.max_payload,
         "timeout": template.timeout,
         "workers": template.workers,
@@ -248,9 +285,14 @@ def client_text(paths: str, endpoint: str, user: str, password: str) -> str:
 
 
 def write_client(
-    directory: Path, paths: str, endpoint: str, user: str, password: str
+    directory: Path,
+    paths: str,
+    endpoint: str,
+    user: str,
+    password: str,
+    namespace: str = TEMPLATE_NAMESPACE,
 ) -> Path:
     """Write ``directory/<user>.json5`` (owner-only); returns its path."""
     path = directory / f"{user}.json5"
-    write_private(path, client_text(paths, endpoint, user, password))
+    write_private(path, client_text(paths, endpoint, user, password, namespace))
     return path

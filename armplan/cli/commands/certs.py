@@ -10,6 +10,7 @@ from armplan.secure.bundle import (
     DEFAULT_ENDPOINT,
     TEMPLATE,
     TEMPLATE_ENDPOINT,
+    TEMPLATE_NAMESPACE,
     TEMPLATE_PATHS,
 )
 from armplan.secure.certificates import DAYS
@@ -63,6 +64,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--days", type=int, default=DAYS, help="validity of new certificates [days]"
     )
+    parser.add_argument(
+        "--namespace",
+        default=TEMPLATE_NAMESPACE,
+        metavar="NS",
+        help="key namespace of this router's processes, e.g. nao1 (default "
+        f"{TEMPLATE_NAMESPACE}): the access rules and every client file use it",
+    )
     parser.set_defaults(run=run)
 
 
@@ -81,11 +89,13 @@ def run(args: argparse.Namespace) -> int:
         paths=paths,
         connect=args.connect,
         days=args.days,
+        namespace=args.namespace,
     )
     authority = "new" if bundle.authority_created else "kept"
     out = sys.stdout
     out.write(
-        f"armplan certs: wrote {bundle.directory}/ (router endpoint {endpoint})\n"
+        f"armplan certs: wrote {bundle.directory}/ (router endpoint {endpoint}, "
+        f"namespace {args.namespace})\n"
     )
     out.write(f"  ca.pem, ca.key            certificate authority ({authority})\n")
     out.write("  router.pem, router.key    the router's certificate and key\n")
