@@ -85,3 +85,17 @@ def test_a_kept_ca_key_open_to_others_is_made_owner_only(
     )
     assert main(["certs", "--out", str(tmp_path)]) == 0
     assert "warning" not in capsys.readouterr().err  # already owner-only
+
+
+def test_a_bad_password_line_is_named_before_any_file_is_written(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The error named the line, but a new CA and router certificate were
+    already written beside the broken file."""
+    passwords = tmp_path / "passwords.txt"
+    passwords.write_text("planner:abc\nno password here\n")
+    assert main(["certs", "--out", str(tmp_path)]) == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {passwords} line 2 is not user:password\n"
+    )
+    assert [p.name for p in tmp_path.iterdir()] == ["passwords.txt"]

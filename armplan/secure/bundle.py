@@ -38,7 +38,7 @@ from armplan.secure.certificates import (
     tighten_key,
 )
 from armplan.secure.errors import SecureSetupError
-from armplan.secure.passwords import ensure_passwords, write_private
+from armplan.secure.passwords import ensure_passwords, read_passwords, write_private
 from shared.bus.certificate_dates import LISTEN_CERTIFICATE
 from shared.bus.config import check_endpoint
 from shared.bus.config_file import REPO_CONFIG, load_config
@@ -122,6 +122,7 @@ def write_bundle(
     make_folder(directory)
     where = paths or str(directory.resolve())
     check_same_kind(directory, where)
+    read_passwords(directory / "passwords.txt")  # a bad line fails before any file
     authority = ensure_authority(directory, days)
     warnings = [
         authority_warning(authority, datetime.now(UTC)),
