@@ -29,6 +29,7 @@ import pytest
 
 from armplan.demo import DEFAULT_TASK, DemoOptions, load_task, run_demo
 from armplan.demo.folder_claim import CLAIM_FILE, claimed_folder
+from armplan.launch import free_endpoint
 from bridge import (
     FrameLimits,
     check_frames,
@@ -39,8 +40,8 @@ from bridge import (
 from bridge.sim.log import read_log
 from bridge.tracking import MAX_LATENCY
 from services.ik import check_reachable
-from shared.bus import BusConfig
-from shared.errors import InvalidInputError
+from shared.bus import BusConfig, load_config
+from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import Trajectory, parse
 from shared.recording.reader import summarize
 from shared.robot import Side, load_arm
@@ -480,3 +481,23 @@ def test_a_fractional_frame_rate_is_refused_before_anything_starts(
     with pytest.raises(InvalidInputError, match="frame rate of a Choregraphe"):
         run_demo(options, said.append)
     assert said == [] and not out.exists()
+
+
+def test_a_behavior_the_rate_spoils_is_refused_before_the_arm_moves(
+    tmp_path: Path,
+) -> None:
+    """At 100 fps the task's Choregraphe curve (BezierAuto) breaks a jerk
+    limit the bridge's frames keep: the demo stops after planning, with the
+    curve named, and the simulated NAO never got the trajectory (the check
+    came after the arm had played it, and the demo said nothing was sent)."""
+    out = tmp_path / "results"
+    config = load_config(None).with_endpoints((free_endpoint(),), "--listen")
+    options = DemoOptions(config, out=out, rate=100, record=False)
+    said: list[str] = []
+    with pytest.raises(TrajectoryRefusedError, match="BezierAuto") as refused:
+        run_demo(options, said.append)
+    assert "nothing was sent" in refused.value.message
+    assert not any(line.startswith("planned through") for line in said)
+    log = read_log(out / "sim.jsonl")
+    assert log[0]["event"] == "start"  # the simulated NAO ran
+    assert not [e for e in log if e.get("method") == "angleInterpolation"]

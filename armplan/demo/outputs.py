@@ -24,7 +24,7 @@ from typing import Any, NamedTuple
 
 from armplan.demo.task import Task
 from bridge import FrameLimits, checked_frames, write_behavior, write_python
-from shared.messages import ExecuteReply, Trajectory
+from shared.messages import CommandFrames, ExecuteReply, Trajectory
 
 TRAJECTORY_FILE = "trajectory.json"
 BEHAVIOR_FILE = "behavior.xar"
@@ -42,6 +42,7 @@ class Execution(NamedTuple):
         robot: The robot's NAOqi address.
         simulated: True if the robot was the simulated NAO.
         rate: Frame rate of the command frames [Hz].
+        frames: The frames the exports hold (:func:`export_frames`).
     """
 
     task: Task
@@ -50,16 +51,30 @@ class Execution(NamedTuple):
     robot: str
     simulated: bool
     rate: float
+    frames: CommandFrames
+
+
+def export_frames(trajectory: Trajectory, rate: float) -> CommandFrames:
+    """The frames of ``behavior.xar`` and ``play.py``, checked for both.
+
+    Checked before the robot moves: the behavior's curve (``BezierAuto``)
+    can break a limit the bridge's frames keep, and a demo refused after it
+    played would say nothing was sent.
+
+    Raises:
+        InvalidInputError: a frame or the behavior's curve breaks a limit,
+            with a frame rate that passes if there is one.
+    """
+    limits = FrameLimits.for_arm(trajectory.arm)
+    return checked_frames(trajectory, rate, limits, behavior=True)
 
 
 def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
     """Write the trajectory, its exports and the report; returns them by name."""
-    limits = FrameLimits.for_arm(run.trajectory.arm)
-    frames = checked_frames(run.trajectory, run.rate, limits, behavior=True)
     files = {
         "trajectory": out / TRAJECTORY_FILE,
-        "choregraphe": write_behavior(frames, out / BEHAVIOR_FILE),
-        "python": write_python(frames, out / PYTHON_FILE),
+        "choregraphe": write_behavior(run.frames, out / BEHAVIOR_FILE),
+        "python": write_python(run.frames, out / PYTHON_FILE),
         "report": out / REPORT_FILE,
     }
     files["trajectory"].write_text(run.trajectory.to_json() + "\n", encoding="utf-8")

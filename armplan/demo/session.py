@@ -5,7 +5,9 @@
 1. the task file is read (a bad one fails before anything starts);
 2. every process starts (:class:`~armplan.demo.stack.DemoStack`);
 3. the task is planned by the planner service (``<ns>/plan``), which calls
-   decide, ik and timing and publishes each part;
+   decide, ik and timing and publishes each part, and its exports' frames
+   are checked (a behavior whose curve breaks a limit stops the demo
+   here, before anything moves);
 4. the trajectory is played through the bridge (``<ns>/bridge/execute``) on
    the simulated NAO (or the NAO named), which answers with the tracking
    report;
@@ -27,6 +29,7 @@ from armplan.demo.outputs import (
     REPORT_FILE,
     TRAJECTORY_FILE,
     Execution,
+    export_frames,
     write_outputs,
 )
 from armplan.demo.stack import LOGS_DIR, RECORDING_FILE, SIM_LOG_FILE, DemoStack
@@ -155,6 +158,7 @@ def _play(stack: DemoStack, task: Task, options: DemoOptions, say: Say) -> Execu
     assert stack.robot is not None
     with Bus.connect(options.config) as bus:
         trajectory = plan_task(bus, task)
+        frames = export_frames(trajectory, options.rate)  # before anything moves
         say(
             f"planned through {PLAN.key(options.config.namespace)}: "
             f"{trajectory.duration:.2f} s, {len(trajectory.times)} samples; "
@@ -162,7 +166,9 @@ def _play(stack: DemoStack, task: Task, options: DemoOptions, say: Say) -> Execu
         )
         reply = execute(bus, trajectory, options.rate)
     robot = stack.robot.url
-    return Execution(task, trajectory, reply, robot, stack.simulated, options.rate)
+    return Execution(
+        task, trajectory, reply, robot, stack.simulated, options.rate, frames
+    )
 
 
 def _process_files(options: DemoOptions) -> dict[str, Path]:
