@@ -243,5 +243,10 @@ def test_a_map_saying_milliseconds_reads_the_same_trial(tmp_path: pathlib.Path) 
     np.testing.assert_allclose(got.times, want.times, rtol=0, atol=1e-12)
     for part in ("shoulder", "elbow", "wrist"):
         np.testing.assert_array_equal(getattr(got, part), getattr(want, part))
-    with pytest.raises(DemoFileError, match="times read as ms as the marker map says"):
+    with pytest.raises(DemoFileError) as caught:
         read_csv(seconds, in_ms)
+    assert "times read as ms as the marker map says" in caught.value.message
+    assert caught.value.message.endswith(
+        'the file\'s times look like seconds: leave "time_units": "ms" out of the '
+        "marker map"
+    )

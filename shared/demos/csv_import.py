@@ -36,6 +36,8 @@ from shared.demos.sample_rate import check_seconds
 from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError, InvalidInputError
 
+#: What to do with a time column in seconds that the marker map calls ms.
+SECONDS_FIX = 'leave "time_units": "ms" out of the marker map'
 #: What to do with a time column in milliseconds.
 MILLISECONDS_FIX = 'give "time_units": "ms" in the marker map, or divide them by 1000'
 
@@ -272,7 +274,7 @@ def _check_times(
     if unit != "s":
         span += f", its times read as {unit} as the marker map says"
     try:
-        check_seconds([times], span, MILLISECONDS_FIX)
+        check_seconds([times], span, MILLISECONDS_FIX, SECONDS_FIX)
     except InvalidInputError as exc:
         raise DemoFileError(
             path, exc.message, trial=trial, line=rows[0].line, **exc.evidence

@@ -29,7 +29,10 @@ DIVIDE = f"divide them by {MILLISECONDS:g} (times are in seconds)"
 
 
 def check_seconds(
-    times: Iterable[FloatArray], what: str, milliseconds_fix: str = DIVIDE
+    times: Iterable[FloatArray],
+    what: str,
+    milliseconds_fix: str = DIVIDE,
+    seconds_fix: str | None = None,
 ) -> float:
     """The median sample rate [Hz] of ``times``, refused if they are not seconds.
 
@@ -39,6 +42,9 @@ def check_seconds(
         what: Whose times, for the message, e.g. ``"trial 3 (lines 2-31)"``.
         milliseconds_fix: What the message tells to do when the times look
             like milliseconds.
+        seconds_fix: What it tells to do when they look like seconds taken
+            for milliseconds (a thousand times too fast); ``None``: times
+            are not converted, say nothing of it.
 
     Returns:
         One over the median step between consecutive times [Hz].
@@ -56,6 +62,8 @@ def check_seconds(
     hint = "times must be in seconds"
     if MIN_SAMPLE_RATE <= MILLISECONDS * rate <= MAX_SAMPLE_RATE:
         hint = f"these look like milliseconds: {milliseconds_fix}"
+    elif seconds_fix and MIN_SAMPLE_RATE <= rate / MILLISECONDS <= MAX_SAMPLE_RATE:
+        hint = f"the file's times look like seconds: {seconds_fix}"
     raise InvalidInputError(
         f"{what}: the times step {step:.4g} apart (median), a sample rate of "
         f"{rate:.4g} Hz if they are seconds; demonstrations are sampled at "
