@@ -30,7 +30,7 @@ from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
 from services.timing.request_limits import request_limits
-from services.timing.sample_cap import check_payload, check_samples
+from services.timing.sample_cap import FEWER_SAMPLES, check_payload, check_samples
 from shared.errors import UnreachableTargetError
 from shared.messages import (
     DecideRequest,
@@ -184,7 +184,7 @@ def _follow_given(
     limits = request_limits(arm.limits, request.limits)
     timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
     trajectory = trajectory_message([joint_path], timed, request.method)
-    check_payload(trajectory)
+    check_payload(trajectory, advice=FEWER_SAMPLES)
     return PlanResult(trajectory, [path], decisions, [joint_path])
 
 

@@ -47,15 +47,30 @@ def check_asked(request: TimingRequest) -> None:
     check_samples(asked * request.rate + 1.0, request.rate)
 
 
-def check_payload(trajectory: Trajectory, most: int = DEFAULT_MAX_PAYLOAD) -> None:
+#: What to do about a planned trajectory too large to send.
+LOWER_RATE = "lower the rate or split the task"
+#: What to do about one at a wrist path's own times (it has no rate to lower).
+FEWER_SAMPLES = (
+    "give the wrist path fewer samples (resample it at a lower rate) or split it"
+)
+
+
+def check_payload(
+    trajectory: Trajectory, most: int = DEFAULT_MAX_PAYLOAD, advice: str = LOWER_RATE
+) -> None:
     """Refuse a trajectory whose JSON is over ``most`` bytes (the bus's limit).
 
     Under ``MAX_TRAJECTORY_SAMPLES`` a trajectory of a moving arm can still
     be too large to send to the robot bridge (58 197 samples made 19.9 MB):
     it planned, and the bridge then refused it as ``payload_too_large``.
 
+    Args:
+        trajectory: The trajectory.
+        most: The largest JSON [bytes].
+        advice: What the message says to do.
+
     Raises:
-        InvalidInputError: naming its size, the limit and what to do.
+        InvalidInputError: naming its size, the limit and ``advice``.
     """
     if len(trajectory.times) <= SURELY_SMALL:
         return
@@ -64,8 +79,7 @@ def check_payload(trajectory: Trajectory, most: int = DEFAULT_MAX_PAYLOAD) -> No
         raise InvalidInputError(
             f"the trajectory's {len(trajectory.times)} samples make "
             f"{size / 1e6:.1f} MB of JSON, more than the {most / 2**20:g} MiB a "
-            "message to the robot bridge may carry: lower the rate or split the "
-            "task",
+            f"message to the robot bridge may carry: {advice}",
             field="rate",
             size=size,
             limit=most,
