@@ -169,7 +169,9 @@ def test_limits_are_the_robot_descriptions(motion: Any) -> None:
     assert np.allclose(got[:, 2], limits.velocity)
 
 
-def test_killing_an_arms_tasks_stops_that_arm_only(motion: Any) -> None:
+def test_killing_an_arms_tasks_stops_that_arm_only(
+    sim: SimProcess, motion: Any
+) -> None:
     """killTasksUsingResources("RArm") ends the right arm's move (its caller
     gets an error, the joint holds where it was) while the left arm's goes
     on to its last key."""
@@ -194,3 +196,8 @@ def test_killing_an_arms_tasks_stops_that_arm_only(motion: Any) -> None:
     )
     time.sleep(0.1)
     assert motion.getAngles("RElbowRoll", True)[0] == pytest.approx(held, abs=1e-3)
+    ended = [e for e in log_of(sim) if e["event"] in ("done", "interrupted")]
+    killed, finished = ended[-2:]  # in the log's order: the kill came first
+    assert killed["event"] == "interrupted" and killed["joints"] == ["RElbowRoll"]
+    assert "killTasksUsingResources" in killed["reason"]
+    assert finished["event"] == "done" and finished["joints"] == ["LElbowRoll"]

@@ -132,7 +132,7 @@ class SimRobot:
                 joint.commit(t)
                 joint.command(None)
             for task in self._tasks:
-                task.interrupt(reason)
+                self._interrupt(task, reason, t)
             self._tasks, self._owners = [], {}
 
     def stop_using(self, names: list[str], reason: str) -> list[MotionTask]:
@@ -149,12 +149,21 @@ class SimRobot:
                 for name in task.joints:
                     self.joints[name].commit(t)
                     self.joints[name].command(None)
-                task.interrupt(reason)
+                self._interrupt(task, reason, t)
             self._tasks = [task for task in self._tasks if task not in ended]
             self._owners = {
                 j: task for j, task in self._owners.items() if task not in ended
             }
         return ended
+
+    def _interrupt(self, task: MotionTask, reason: str, t: float) -> None:
+        """End ``task`` before its last key and log it (held lock)."""
+        if task.finished:
+            return
+        task.interrupt(reason)
+        self._log.write(
+            "interrupted", at=t, method=task.method, joints=task.joints, reason=reason
+        )
 
     def step(self) -> None:
         """One control cycle: advance every joint, end finished commands, log."""
@@ -200,13 +209,7 @@ class SimRobot:
             for joint in joints:
                 previous = self._owners.get(joint)
                 if previous is not None and not previous.finished:
-                    previous.interrupt(f"{joint} was taken by {method}")
-                    self._log.write(
-                        "interrupted",
-                        method=previous.method,
-                        joints=previous.joints,
-                        reason=f"{joint} was taken by {method}",
-                    )
+                    self._interrupt(previous, f"{joint} was taken by {method}", t)
                 self._owners[joint] = task
         self._tasks = [old for old in self._tasks if not old.finished] + [task]
         return task
