@@ -11,7 +11,8 @@
   before anything is sent (both: :mod:`bridge.checked_frames`).
 - :mod:`bridge.naoqi_client`, :mod:`bridge.playback`,
   :mod:`bridge.robot_bridge`, :mod:`bridge.tracking`: sending to a NAO,
-  reading back, and the tracking report.
+  reading back, and the tracking report; :mod:`bridge.stopper`: stopping
+  the arm of a robot given up on until its call has ended.
 - :mod:`bridge.sim`: the simulated NAO, a separate process.
 
 ``shared.libqi`` is imported first: libqi must load before pinocchio.

@@ -12,7 +12,10 @@ The client holds two libqi sessions, each its own TCP connection: the
 *watch* session the readings taken while a movement plays
 (:meth:`NaoqiClient.watch`). On one connection a reading waits behind a
 long call still on its way (1500 frames take over a second over a 200 kB/s
-link), and a robot that is fine would look silent.
+link), and a robot that is fine would look silent. When the bridge gives a
+robot up (:meth:`NaoqiClient.halt`), both sessions go to a
+:class:`~bridge.stopper.Stopper`, which stops the arm until the call given
+up has ended; the client takes no new movement meanwhile.
 """
 
 from __future__ import annotations
@@ -25,17 +28,19 @@ import numpy as np
 
 from bridge.naoqi_session import NaoqiSession
 from bridge.qi_future import robot_reason, wait_future
+from bridge.stopper import SETTLE, STOP_METHOD, Held, Stopper, send_stop
 from shared.errors import RobotCommandError, RobotUnavailableError
 
 #: A real NAO's NAOqi port.
 NAOQI_PORT = 9559
 
-#: Longest time a session is kept open for a stop still on its way [s].
+#: Longest time the bridge goes on stopping the arm of a call given up on,
+#: waiting for the call to end [s].
 RETIRE_AFTER = 30.0
 #: How the bridge stops a robot it gives up on: every motion task using the
 #: arm's joints ends (the joints hold where they are); a walk or the other
 #: arm's task goes on, as ``killAll`` would not let it.
-STOP = "ALMotion.killTasksUsingResources"
+STOP = f"ALMotion.{STOP_METHOD}"
 
 
 class NaoqiClient:
@@ -57,6 +62,7 @@ class NaoqiClient:
         self._lock = threading.Lock()
         self._command = NaoqiSession(url, connect_timeout)
         self._watch = NaoqiSession(url, connect_timeout)
+        self._stopper: Stopper | None = None
 
     @property
     def connected(self) -> bool:
@@ -101,48 +107,75 @@ class NaoqiClient:
         self.close()
         return RobotUnavailableError(self.url, reason, elapsed=elapsed)
 
-    def halt(self, wait: float, names: list[str], on_its_way: bool = False) -> str:
-        """Ask the robot to end the motion tasks using ``names`` (:data:`STOP`).
+    def halt(self, wait: float, names: list[str], call: Any, arrived: bool) -> str:
+        """Stop the motion tasks using ``names`` (:data:`STOP`) until ``call`` ends.
 
-        Sent on each session still up, without connecting again: on the
-        watch session it reaches the robot at once; on the command session
-        it follows any call still on its way there, so it ends that call as
-        it arrives. Waits at most ``wait`` [s] for an answer; a command
-        session whose stop is still unanswered is then retired (closed
-        once it is answered, at most :data:`RETIRE_AFTER` later), not closed
-        at once, which would drop it but not the call before it.
+        The stop goes at once on each session still up, without connecting
+        again: on the watch session it reaches the robot at once; on the
+        command session it follows ``call`` if that is still on its way.
+        Waits at most ``wait`` [s] for an answer (and, for a call that has
+        arrived, for the call's own answer: then it has ended). A call not
+        known to have ended may still start (a stop served while the robot
+        is still checking the call ends nothing): both sessions are handed
+        to a :class:`~bridge.stopper.Stopper`, which sends the stop every
+        control cycle once the call has arrived, until the call's future has
+        finished (at most :data:`RETIRE_AFTER`); until then the client
+        takes no new movement (:meth:`refuse_while_stopping`).
 
         Args:
             wait: Longest wait for an answer [s].
             names: The joints whose tasks end (the arm's, as played).
-            on_its_way: Whether a call on the command session has not yet
-                reached the robot (for the text returned).
+            call: The ``angleInterpolation`` call's libqi future.
+            arrived: Whether the call is known to have reached the robot.
 
         Returns:
             What came of it, to add to the reason the robot is given up.
         """
         with self._lock:
-            watch, command = self._watch.proxy(), self._command.proxy()
-        sent = [_stop(watch, names), _stop(command, names)]
+            watch, command = self._watch.hand_over(), self._command.hand_over()
+        sent = []
+        for held in (watch, command):
+            if held is not None:
+                held.pending = send_stop(held.motion, names)
+                sent.append(held.pending)
         futures = [future for future in sent if future is not None]
         if not futures:
+            _close(watch, command)
             return f"no connection left to stop it ({STOP})"
-        stopped = _any_answered(futures, wait)
-        behind = sent[1] is not None and not sent[1].isFinished()
-        if behind:
-            with self._lock:
-                self._command.retire(sent[1], RETIRE_AFTER)
-        if stopped:
-            outcome = f"stopped it ({STOP} answered)"
-        elif all(future.isFinished() for future in futures):
-            outcome = f"{STOP} failed: {robot_reason(futures[0].error())}"
-        else:
-            outcome = f"{STOP} sent, not answered within {wait:g} s"
-        if behind and on_its_way:
-            outcome += (
-                "; another, behind the call still on its way, ends it if it arrives"
+        deadline = time.monotonic() + wait
+        answered = _any_answered(futures, wait)
+        if answered and arrived and command is not None:
+            wait_future(call, max(0.0, deadline - time.monotonic()))
+        ended = call.isFinished()  # before looking at the connection
+        if ended and command is not None and command.up:
+            _close(watch, command)  # the robot answered the call: it has ended
+            if answered and call.hasError():
+                return f"stopped it ({STOP} answered, the call ended)"
+            return "its call had ended"
+        outcome = _stop_outcome(futures, answered, wait)
+        follow = _follow_up(command is not None and command.up, arrived)
+        self._stopper = Stopper(
+            call, command, watch, names, arrived=arrived, limit=RETIRE_AFTER
+        )
+        return f"{outcome}; {follow}"
+
+    def refuse_while_stopping(self) -> None:
+        """Raise if the arm is still being stopped after a call given up on.
+
+        A movement sent meanwhile would be ended by the stops (see
+        :meth:`halt`); the call given up on may still start.
+
+        Raises:
+            RobotUnavailableError: while the stops go on.
+        """
+        stopper = self._stopper
+        if stopper is not None and stopper.running:
+            left = max(0.0, stopper.limit_at - time.monotonic())
+            raise RobotUnavailableError(
+                self.url,
+                "the bridge is still stopping the arm after giving up a call, "
+                f"which has not ended (at most {left:.1f} s more); nothing was sent",
             )
-        return outcome
 
     def failure(
         self, method: str, error: BaseException | str, elapsed: float | None = None
@@ -204,14 +237,38 @@ class NaoqiClient:
                 time.sleep(poll)
 
 
-def _stop(motion: Any, names: list[str]) -> Any:
-    """:data:`STOP` of ``names`` sent (its libqi future), or None if it cannot be."""
-    if motion is None:
-        return None
-    try:
-        return motion.killTasksUsingResources(names, _async=True)
-    except RuntimeError:  # the session dropped meanwhile
-        return None
+def _stop_outcome(futures: list[Any], answered: bool, wait: float) -> str:
+    """What came of the stops ``futures`` (``answered``: one was, in time)."""
+    if answered:
+        return f"{STOP} answered"
+    if all(future.isFinished() for future in futures):
+        return f"{STOP} failed: {robot_reason(futures[0].error())}"
+    return f"{STOP} sent, not answered within {wait:g} s"
+
+
+def _follow_up(command_up: bool, arrived: bool) -> str:
+    """What the stopper goes on doing, for the reason the robot is given up."""
+    if not command_up:
+        return (
+            f"the call's connection dropped: the bridge keeps stopping the arm "
+            f"for {SETTLE:g} s on the other, should the robot hold the call"
+        )
+    if arrived:
+        return (
+            "the bridge keeps stopping the arm until the call ends "
+            f"(at most {RETIRE_AFTER:g} s)"
+        )
+    return (
+        "a stop follows the call still on its way; the bridge keeps "
+        f"stopping the arm until it ends (at most {RETIRE_AFTER:g} s)"
+    )
+
+
+def _close(*held: Held | None) -> None:
+    """Close the sessions handed over."""
+    for one in held:
+        if one is not None:
+            one.session.close()
 
 
 def _any_answered(futures: list[Any], wait: float) -> bool:

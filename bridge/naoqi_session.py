@@ -9,10 +9,10 @@ bridge reads the measured angles on a session of their own
 
 from __future__ import annotations
 
-import threading
 from typing import Any
 
 from bridge.qi_future import robot_reason, wait_future
+from bridge.stopper import Held
 from shared.errors import RobotUnavailableError
 from shared.libqi import qi
 
@@ -86,27 +86,20 @@ class NaoqiSession:
             self._session.close()
         self._session, self._motion = None, None
 
-    def retire(self, pending: Any, limit: float) -> None:
-        """Let go of the session, closing it once ``pending`` is answered.
+    def hand_over(self) -> Held | None:
+        """Let go of the session for a :class:`~bridge.stopper.Stopper` to close.
 
-        ``pending`` is a libqi future of a call on this session that may
-        still be on its way: closing the session at once would drop it (a
-        stop queued behind a long call was lost so, while the call,
-        already in the kernel's buffers, arrived and played). The session is
-        closed when ``pending`` finishes, or after ``limit`` [s]; the next
-        :meth:`motion` opens a new one meanwhile.
+        Returns the session and its proxy if it is up (else None, closing
+        it); the next :meth:`motion` opens a new one. Closing it at once
+        would drop what is still on its way on it, a stop behind a long
+        call, but not the call, already in the kernel's buffers, which then
+        arrived and played.
         """
-        session = self._session
+        session, motion = self._session, self._motion
         self._session, self._motion = None, None
-        if session is not None:
-            threading.Thread(
-                target=_close_when_done,
-                args=(session, pending, limit),
-                name="naoqi-retire",
-                daemon=True,
-            ).start()
-
-
-def _close_when_done(session: Any, pending: Any, limit: float) -> None:
-    wait_future(pending, limit)
-    session.close()
+        if session is None:
+            return None
+        if not session.isConnected():
+            session.close()
+            return None
+        return Held(session, motion)

@@ -36,7 +36,11 @@ on its way is waited for as long as the robot answers the readings, up to
 its duration + ``OVERRUN`` (``overdue``). Before giving up, the bridge asks
 the robot to stop the arm's motion tasks
 (``ALMotion.killTasksUsingResources``, on every session still up), so a
-robot still there does not go on moving unwatched.
+robot still there does not go on moving unwatched; a call not known to have
+ended may still start (a stop served while the robot is still checking the
+call ends nothing), so the client goes on stopping the arm every control
+cycle from the call's arrival until the call has ended
+(:mod:`bridge.stopper`).
 """
 
 from __future__ import annotations
@@ -187,7 +191,8 @@ def play_and_sample(
         RobotUnavailableError: the robot went away during the call (within
             :data:`LOST_AFTER` + :data:`HALT_WAIT` seconds of it going), or
             its movement ran :data:`OVERRUN` past its end; the robot was
-            asked to stop first.
+            asked to stop first, and the client goes on stopping the arm
+            until the call has ended.
         RobotCommandError: the robot refused the call.
     """
     motion = client.motion()
@@ -260,9 +265,10 @@ def _give_up(
 ) -> RobotUnavailableError:
     """The error to raise when giving up ``call`` (a libqi future) on ``names``.
 
-    The robot is asked to stop those joints' motion first; the sessions are
-    dropped.
+    The robot is asked to stop those joints' motion first, and the client
+    goes on stopping them until the call has ended
+    (:meth:`~bridge.naoqi_client.NaoqiClient.halt`). The call is not
+    cancelled: its future must finish with the robot's own answer.
     """
-    call.cancel()
-    outcome = client.halt(HALT_WAIT, names, on_its_way)
+    outcome = client.halt(HALT_WAIT, names, call, not on_its_way)
     return client.lost(f"{problem}; {outcome}", elapsed)

@@ -17,7 +17,9 @@
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz on a connection of their own, so that they
    never wait behind a call still on its way (``bridge.playback``); a robot
-   given up mid-movement is asked to stop the arm (``naoqi_client.STOP``) first;
+   given up mid-movement is asked to stop the arm (``naoqi_client.STOP``)
+   first, and is stopped every control cycle until the call has ended
+   (``bridge.stopper``), taking no new movement meanwhile;
 4. the answer is the executed joint states and the tracking report (RMS and
    largest error per joint, degrees).
 
@@ -143,12 +145,15 @@ class RobotBridge:
             RobotBusyError: the arm was still moving after a second.
             RobotUnavailableError: the robot cannot be reached, or went away
                 during the movement (raised within 2 s of it going; asked to
-                stop first), or overran it.
+                stop first), or overran it; or the bridge is still stopping
+                the arm after giving up a call that has not ended (nothing
+                sent).
             RobotCommandError: the robot refused a command.
         """
         trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
         frames = checked_frames(trajectory, rate or self.rate, limits)
         names = list(frames.joint_names)
+        self.client.refuse_while_stopping()
         current = angles_at_rest(self.client, names)
         move_first = needs_approach(frames, current, limits, approach)
         if self.client.stiffen(names):  # another client may have moved it meanwhile

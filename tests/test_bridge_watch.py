@@ -141,8 +141,8 @@ def test_a_link_gone_silent_while_the_call_is_on_its_way_is_lost_in_time(
 ) -> None:
     """The link goes silent 0.3 s after a call that needs 1.4 s to arrive
     left: robot_unavailable within LOST_AFTER + HALT_WAIT (+ 0.2 s) of the
-    silence, naming the readings; the stop sent does not get through (one
-    waits behind the call, should the link come back)."""
+    silence, naming the readings; the stop sent does not get through, and
+    the bridge says it goes on stopping the arm, should the link come back."""
     link = link_to(sim, 100e3)
     frozen: list[float] = []
 
@@ -162,7 +162,7 @@ def test_a_link_gone_silent_while_the_call_is_on_its_way_is_lost_in_time(
     print(f"\nlost {delay * 1000:.0f} ms after the link went silent: {lost.value}")
     assert "no answer to getAngles" in lost.value.reason
     assert "ALMotion.killTasksUsingResources sent, not answered" in lost.value.reason
-    assert "behind the call still on its way" in lost.value.reason
+    assert "a stop follows the call still on its way" in lost.value.reason
     assert LOST_AFTER < delay < LOST_AFTER + HALT_WAIT + 0.2
 
 
@@ -186,7 +186,10 @@ def test_a_robot_whose_readings_go_silent_is_stopped(
         robot.client.close()
     print(f"\n{lost.value}")
     assert "no answer to getAngles" in lost.value.reason
-    assert "stopped it (ALMotion.killTasksUsingResources answered)" in lost.value.reason
+    assert (
+        "stopped it (ALMotion.killTasksUsingResources answered, the call ended)"
+        in lost.value.reason
+    )
     began = when_sim_logs(sim, "motion", "angleInterpolation")
     kill = when_sim_logs(sim, "call", "killTasksUsingResources")
     time.sleep(2.0 - (time.monotonic() - began))  # the movement's end, unstopped
@@ -212,7 +215,10 @@ def test_a_robot_whose_call_connection_drops_is_stopped(
     finally:
         robot.client.close()
     print(f"\n{lost.value}")
-    assert "stopped it (ALMotion.killTasksUsingResources answered)" in lost.value.reason
+    assert (
+        "ALMotion.killTasksUsingResources answered; the call's connection dropped: "
+        "the bridge keeps stopping the arm for 1 s" in lost.value.reason
+    )
     began = when_sim_logs(sim, "motion", "angleInterpolation")
     kill = when_sim_logs(sim, "call", "killTasksUsingResources")
     time.sleep(2.0 - (time.monotonic() - began))  # the movement's end, unstopped
@@ -248,43 +254,82 @@ def test_a_movement_that_overruns_is_caught_and_stopped(
         robot.client.close()
     print(f"\n{lost.value}")
     assert "did not end 1 s after its last key" in lost.value.reason
-    assert "stopped it (ALMotion.killTasksUsingResources answered)" in lost.value.reason
+    assert (
+        "ALMotion.killTasksUsingResources answered; the bridge keeps stopping the "
+        "arm until the call ends" in lost.value.reason
+    )
     began = when_sim_logs(sim, "motion", "angleInterpolation")
     kill = when_sim_logs(sim, "call", "killTasksUsingResources")
     assert duration + OVERRUN < kill - began < duration + OVERRUN + 0.3
     assert kill < given_up
 
 
-def test_a_call_the_link_cannot_carry_in_time_is_ended_as_it_arrives(
+def test_a_call_given_up_on_its_way_is_ended_as_it_takes_effect(
     sim: SimProcess,
 ) -> None:
-    """500 frames (65 kB) over a 25 kB/s link take 2.6 s to arrive, longer
-    than the call's duration + OVERRUN (1.5 s): the bridge gives up, and the
-    stop it sent behind the call, on the same connection (kept open for
-    it), ends the call as soon as it arrives instead of letting the robot
-    play it unwatched."""
-    link = link_to(sim, 25e3)
+    """4000 frames (520 kB) over an 80 kB/s link take 6.5 s to arrive, longer
+    than the call's duration + OVERRUN (5 s): the bridge gives up. One stop
+    sent behind the call was served while the robot still checked the call,
+    which then played its whole 4 s unwatched (5 times in 5); the bridge now
+    stops the arm every control cycle from the call's arrival until the
+    call has ended: it moves a few control cycles at most. The stops end
+    with the call, and the bridge, which took no movement meanwhile, then
+    plays the next one."""
+    link = link_to(sim, 80e3)
     robot = RobotBridge(NaoqiClient(link.url))
     try:
         with pytest.raises(RobotUnavailableError) as lost:
-            robot.execute(reach(0.5), rate=RATE)
+            robot.execute(reach(4.0), rate=RATE)
+        with pytest.raises(RobotUnavailableError) as meanwhile:
+            robot.execute(reach(0.5), rate=25.0)
         began = when_sim_logs(sim, "call", "angleInterpolation")  # keys count
-        time.sleep(0.6)  # the call's duration: it would have ended by now
+        ended = _when_no_longer_stopping(robot.client, 10.0)
+        time.sleep(0.3)
+        moved, kills = last_moved(sim), _kills(sim)
+        played = finished(sim)
+        again = robot.execute(reach(0.5), rate=25.0)
     finally:
         robot.client.close()
         link.close()
-    print(f"\n{lost.value}")
-    assert "did not reach the robot within 1.50 s" in lost.value.reason
-    assert "behind the call still on its way" in lost.value.reason
-    kills = [
+    print(
+        f"\n{lost.value}\nkills after the call took effect [ms]: "
+        f"{[round((k - began) * 1000) for k in kills if k >= began]}; last moved "
+        f"{(moved - began) * 1000:.0f} ms after it; stops ended "
+        f"{(ended - began) * 1000:.0f} ms after it"
+    )
+    assert "did not reach the robot within 5.00 s" in lost.value.reason
+    assert (
+        "a stop follows the call still on its way; the bridge keeps stopping the "
+        "arm until it ends" in lost.value.reason
+    )
+    assert "still stopping the arm" in meanwhile.value.reason
+    assert [k for k in kills if began <= k < began + 0.1]
+    assert moved < began + 0.1
+    assert played == []
+    assert max(kills) < ended
+    assert again.frames == 13 and max(again.report.tracking_rms_deg.values()) < 1.0
+
+
+def _kills(sim: SimProcess) -> list[float]:
+    """When the sim served each stop [s, this process's clock]."""
+    return [
         e["at"]
         for e in sim_events(sim, "call")
         if e["method"] == "killTasksUsingResources"
     ]
-    assert len(kills) == 2  # at once on the readings' connection, then behind
-    assert kills[0] < began and abs(kills[1] - began) < 0.1
-    assert last_moved(sim) < kills[1] + 0.05
-    assert finished(sim) == []
+
+
+def _when_no_longer_stopping(client: NaoqiClient, timeout: float) -> float:
+    """Wait (at most ``timeout`` [s]) until ``client`` takes movements again."""
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            client.refuse_while_stopping()
+            return time.monotonic()
+        except RobotUnavailableError:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.005)
 
 
 @pytest.mark.parametrize(
