@@ -10,7 +10,7 @@ from bridge.checks import check_frames, check_sample_range
 from bridge.fidelity import ATTEMPTS, check_follows, follow_tolerance, offer_rate
 from bridge.float32 import RANGE_INSET
 from bridge.frames import frames_from_trajectory
-from bridge.hand import with_hand
+from bridge.hand import hand_inside, with_hand
 from bridge.limits import FrameLimits
 from bridge.timeline_keys import QUANTUM, behavior_frames
 from shared.errors import InvalidInputError, TrajectoryRefusedError
@@ -85,7 +85,7 @@ def _frames_at(
     """Frames at ``rate`` [Hz] held in the ranges, checked (see above)."""
     inset = max(QUANTUM, RANGE_INSET)
     inside = (limits.lower + inset, limits.upper - inset)
-    frames = frames_from_trajectory(trajectory, rate, inside)
+    frames = frames_from_trajectory(hand_inside(trajectory, inset), rate, inside)
     check_frames(frames, limits)
     check_follows(frames, trajectory, follow_tolerance(limits), inside)
     if behavior:

@@ -24,6 +24,7 @@ from armplan.cli.main import main
 from bridge import FrameLimits, behavior_xml, checked_frames, python_script
 from bridge.choregraphe import timeline_from_xml
 from bridge.hand import with_hand_joint
+from bridge.interpolation import positions_at
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from services.planner.pipeline import plan
@@ -50,7 +51,53 @@ def grasp() -> Trajectory:
 
 
 def _with_hand(trajectory: Trajectory, hand: np.ndarray) -> Trajectory:
-    return trajectory.model_copy(update={"hand": hand.tolist()})
+    """``trajectory`` with another hand channel, whose speeds are not known."""
+    return trajectory.model_copy(
+        update={
+            "hand": hand.tolist(),
+            "hand_velocities": None,
+            "hand_accelerations": None,
+        }
+    )
+
+
+@pytest.mark.parametrize("rate", [200.0, 500.0, 1000.0])
+def test_a_planned_hand_passes_wherever_the_arm_does(rate: float) -> None:
+    """Close at one target, open at the next (100 Hz plan, the hand within
+    its 33 /s^2 and 666 /s^3): the frames pass every check at 200, 500 and
+    1000 fps, as the arm's alone do. The hand's curve between samples went
+    through central differences, kinked at each move's ends, and was refused
+    at 500 fps (RHand jerk 1825 /s^3 > 1666) and at 1000 fps; the frames held
+    inside 0..1 by clipping kinked where the hand left a rest at 1."""
+    targets = [
+        {"position": GRASP, "hand": "close"},
+        {"position": PLACE, "hand": "open"},
+    ]
+    trajectory = plan(parse(PlanRequest, {"targets": targets})).trajectory
+    arm = trajectory.model_copy(
+        update={"hand": None, "hand_velocities": None, "hand_accelerations": None}
+    )
+    limits = FrameLimits.for_arm("right")
+    checked_frames(arm, rate, limits)
+    frames = checked_frames(trajectory, rate, limits)
+    hand = np.array([row[-1] for row in frames.positions])
+    assert hand.min() > 0.0 and hand.max() < 1.0
+
+
+def test_the_hands_curve_keeps_its_rests_and_its_range(grasp: Trajectory) -> None:
+    """Between samples, the hand's curve rests where the hand rests (exactly
+    its value) and stays within 0..1 unclipped: it goes through the planned
+    speeds, 0 at a rest."""
+    joint = with_hand_joint(grasp)
+    t = np.asarray(grasp.times)
+    fine = np.linspace(0.0, t[-1] - t[0], 20 * len(t))
+    curve = positions_at(joint, fine)[:, -1]
+    hand = np.asarray(grasp.hand)
+    assert curve.min() >= 0.0 and curve.max() <= 1.0
+    still = np.flatnonzero(np.diff(hand) == 0.0)  # sample k to k + 1 at rest
+    for k in still:
+        inside = (fine >= t[k] - t[0]) & (fine <= t[k + 1] - t[0])
+        assert np.all(curve[inside] == hand[k])
 
 
 def test_the_hand_is_one_more_joint_of_the_frames(grasp: Trajectory) -> None:

@@ -94,12 +94,45 @@ def test_without_a_hand_action_the_json_has_no_hand() -> None:
     segment's JSON (their bytes as before the hand existed); with one, the
     key is there and survives the wire."""
     trajectory = _plan({"position": GRASP})
-    assert "hand" not in json.loads(trajectory.to_json())
-    assert "hand" not in trajectory.model_dump()
+    for key in ("hand", "hand_velocities", "hand_accelerations"):
+        assert key not in json.loads(trajectory.to_json())
+        assert key not in trajectory.model_dump()
     assert "hand" not in ReachTarget(position=GRASP).to_json()
     grasp = _plan({"position": GRASP, "hand": "close"})
     assert json.loads(grasp.to_json())["hand"] == grasp.hand
     assert parse(Trajectory, grasp.to_json()) == grasp
+
+
+def test_the_hand_carries_its_planned_speed_and_acceleration() -> None:
+    """The trajectory carries the hand's rate [1/s] and its rate [1/s^2] as
+    planned (exact minimum jerk): they match the channel's central
+    differences away from the moves' ends, are 0 wherever the hand rests,
+    peak at the profile's 15/8 and 10/sqrt(3) of a full move in 0.45 s, and
+    survive the wire; given without a hand, or one per sample too few, a
+    trajectory is refused."""
+    trajectory = _plan(
+        {"position": GRASP, "hand": "close"}, {"position": PLACE, "hand": "open"}
+    )
+    t, hand = np.asarray(trajectory.times), np.asarray(trajectory.hand)
+    speed = np.asarray(trajectory.hand_velocities)
+    change = np.asarray(trajectory.hand_accelerations)
+    still = np.concatenate([[True], np.diff(hand) == 0.0, [True]])
+    resting = still[:-1] & still[1:]  # equal to both neighbours
+    assert resting.sum() > len(t) // 2
+    assert np.all(speed[resting] == 0.0) and np.all(change[resting] == 0.0)
+    inner = np.convolve(~resting, np.ones(5), "same") == 5  # 2 samples off a rest
+    assert inner.sum() > 50
+    assert np.abs(np.gradient(hand, t) - speed)[inner].max() < 0.01
+    assert np.abs(np.gradient(speed, t) - change)[inner].max() < 0.2
+    assert np.abs(speed).max() == pytest.approx(1.875 / 0.45, rel=1e-3)
+    assert np.abs(change).max() == pytest.approx(10 / np.sqrt(3) / 0.45**2, rel=2e-2)
+    assert parse(Trajectory, trajectory.to_json()) == trajectory
+    no_hand = trajectory.model_dump() | {"hand": None}
+    with pytest.raises(ValueError, match="hand_velocities is given without hand"):
+        Trajectory.model_validate(no_hand)
+    short = trajectory.model_dump() | {"hand_accelerations": change[1:].tolist()}
+    with pytest.raises(ValueError, match="hand_accelerations has"):
+        Trajectory.model_validate(short)
 
 
 def test_the_timing_stage_over_the_wire_gives_the_same_hand() -> None:

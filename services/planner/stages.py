@@ -25,6 +25,7 @@ from services.timing.hand import (
     hand_channel,
     hand_dwells,
     hand_moves,
+    hand_rates,
 )
 from services.timing.request_limits import request_limits
 from services.timing.sample_cap import check_asked, check_samples
@@ -170,7 +171,14 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     if opening is None:
         return trajectory
     hand = hand_channel(timed.times, rests, moves, opening)
-    return trajectory.model_copy(update={"hand": hand.tolist()})
+    speed, acceleration = hand_rates(timed.times, rests, moves)
+    return trajectory.model_copy(
+        update={
+            "hand": hand.tolist(),
+            "hand_velocities": speed.tolist(),
+            "hand_accelerations": acceleration.tolist(),
+        }
+    )
 
 
 def _with_dwells(request: TimingRequest, dwells: list[float]) -> TimingRequest:

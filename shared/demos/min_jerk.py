@@ -18,6 +18,18 @@ def minimum_jerk(tau: FloatArray) -> FloatArray:
     return np.asarray(tau**3 * (10.0 - 15.0 * tau + 6.0 * tau**2), dtype=float)
 
 
+def minimum_jerk_rates(tau: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """ds/dtau and d2s/dtau2 of :func:`minimum_jerk`; 0 outside [0, 1].
+
+    ds/dtau = 30 tau^2 (1 - tau)^2, d2s/dtau2 = 60 tau (1 - tau) (1 - 2 tau):
+    both 0 at tau = 0 and 1, so clipping tau gives 0 outside.
+    """
+    u = np.clip(np.asarray(tau, dtype=float), 0.0, 1.0)
+    speed = 30.0 * u**2 * (1.0 - u) ** 2
+    acceleration = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u)
+    return np.asarray(speed, dtype=float), np.asarray(acceleration, dtype=float)
+
+
 def window_progress(times: FloatArray, start: float, end: float) -> FloatArray:
     """Minimum-jerk progress of a motion running from ``start`` to ``end`` [s].
 

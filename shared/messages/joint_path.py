@@ -67,9 +67,16 @@ class Trajectory(OptionalFieldsMessage):
             shape (n,), for a task with hand actions; ``None`` (left out of
             the JSON) when the hand is not commanded. Its range and limits
             are the robot bridge's to check, as the joints' are.
+        hand_velocities: The open fraction's rate at each time [1/s], shape
+            (n,), as the planner made it (the bridge's curve between samples
+            follows it, as the joints' follows ``velocities``); ``None``
+            (left out of the JSON): not known, the bridge takes central
+            differences of ``hand``. Only with ``hand``.
+        hand_accelerations: Its rate of change [1/s^2], shape (n,); ``None``
+            as ``hand_velocities``.
     """
 
-    omitted_when_none = ("hand",)
+    omitted_when_none = ("hand", "hand_velocities", "hand_accelerations")
 
     arm: Side
     joint_names: list[str] = Field(min_length=1)
@@ -81,6 +88,8 @@ class Trajectory(OptionalFieldsMessage):
     wrist_path: list[Vec3]
     method: Method = Method.MP
     hand: list[float] | None = None
+    hand_velocities: list[float] | None = None
+    hand_accelerations: list[float] | None = None
 
     @model_validator(mode="after")
     def _shapes(self) -> Trajectory:
@@ -89,10 +98,14 @@ class Trajectory(OptionalFieldsMessage):
             _check_rows(name, getattr(self, name), n, width)
         if len(self.primitives) != n or len(self.wrist_path) != n:
             raise ValueError("primitives and wrist_path need one entry per time")
-        if self.hand is not None and len(self.hand) != n:
-            raise ValueError(
-                f"hand has {len(self.hand)} values, expected {n} (one per time)"
-            )
+        for name in ("hand", "hand_velocities", "hand_accelerations"):
+            values = getattr(self, name)
+            if values is not None and len(values) != n:
+                raise ValueError(
+                    f"{name} has {len(values)} values, expected {n} (one per time)"
+                )
+            if values is not None and self.hand is None:
+                raise ValueError(f"{name} is given without hand")
         check_times(self.times)
         return self
 
