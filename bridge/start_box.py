@@ -9,8 +9,15 @@ script box, as Choregraphe behaviors do, which stiffens the arm's joints (and
 the hand, for a trajectory that moves it: ``bridge.hand``) and moves them to
 the start posture with ``ALMotion.angleInterpolationWithSpeed`` at
 ``START_SPEED`` of their speed limits (as ``play.py`` does), then fires its
-``onStopped`` output, linked to the timeline box's ``onStart``. Stopped
-before it is there, it does not start the timeline.
+``onStopped`` output, linked to the timeline box's ``onStart``.
+
+Stopped before the arm is there (its ``onStop`` input: the behavior is
+stopped), the box ends the move with ``ALMotion.killTasksUsingResources``
+on its joints (they hold where they are) and does not fire ``onStopped``,
+so the timeline never starts. It sends that stop every ``STOP_PERIOD``
+until the move's call has returned: a stop the robot serves before the move
+has taken effect ends nothing (``bridge.stopper``). A box stopped before it
+sends the move does not send it.
 
 The box's class is what Choregraphe's Python boxes are (``MyClass``
 deriving from the runtime's ``GeneratedClass``, ``ALProxy`` given by the
@@ -23,11 +30,22 @@ from collections.abc import Sequence
 
 from bridge.python_export import START_SPEED
 
+#: Time between the stops the box sends when stopped [s]: ALMotion's cycle.
+STOP_PERIOD = 0.02
+
 _SCRIPT = '''class MyClass(GeneratedClass):
-    """Bring the arm to the timeline's first key slowly, then start the timeline."""
+    """Bring the arm to the timeline's first key slowly, then start the timeline.
+
+    Stopped on the way (onInput_onStop), it ends the move, where the arm is,
+    and does not start the timeline.
+    """
 
     def __init__(self):
         GeneratedClass.__init__(self)
+        self.joint_names = {names}
+        self.first_key = {start}  # the timeline's first key [rad]
+        self.stopping = False
+        self.moving = False
 
     def onLoad(self):
         self.motion = ALProxy("ALMotion")
@@ -36,21 +54,44 @@ _SCRIPT = '''class MyClass(GeneratedClass):
         pass
 
     def onInput_onStart(self):
-        names = {names}
-        start = {start}  # the timeline's first key [rad]
-        self.motion.setStiffnesses(names, 1.0)
-        self.motion.angleInterpolationWithSpeed(names, start, {speed})
-        self.onStopped()
+        self.stopping = False
+        self.moving = True
+        try:
+            self.motion.setStiffnesses(self.joint_names, 1.0)
+            if not self.stopping:
+                try:
+                    self.motion.angleInterpolationWithSpeed(
+                        self.joint_names, self.first_key, {speed}
+                    )
+                except Exception:  # ended by onInput_onStop
+                    if not self.stopping:
+                        raise
+        finally:
+            self.moving = False
+        if not self.stopping:
+            self.onStopped()
 
     def onInput_onStop(self):
+        # End the move until onInput_onStart has seen it end: a stop served
+        # before the move has taken effect would end nothing.
+        import time
+
+        self.stopping = True
+        while self.moving:
+            self.motion.killTasksUsingResources(self.joint_names)
+            time.sleep({period})
         self.onUnload()
 '''
 
 
 def start_script(names: Sequence[str], start: Sequence[float]) -> str:
-    """The box's Python: move ``names`` to ``start`` [rad], then ``onStopped``."""
+    """The box's Python: move ``names`` to ``start`` [rad], then ``onStopped``.
+
+    Its ``onStop`` ends the move and keeps ``onStopped`` from firing.
+    """
     return _SCRIPT.format(
         names="[" + ", ".join(f'"{name}"' for name in names) + "]",
         start="[" + ", ".join(repr(float(v)) for v in start) + "]",
         speed=START_SPEED,
+        period=STOP_PERIOD,
     )

@@ -164,7 +164,7 @@ def test_the_behavior_and_the_python_export_carry_the_hand(grasp: Trajectory) ->
     assert hand.min() >= 0.0 and hand.max() <= 1.0
     assert hand[0] == pytest.approx(1.0, abs=2e-6)  # held inside the range
     assert hand[-1] == pytest.approx(0.0, abs=2e-6)
-    assert '"RHand"]' in text and "angleInterpolationWithSpeed(names, start" in text
+    assert '"RHand"]' in text and "self.joint_names, self.first_key" in text
     script = python_script(frames)
     module = ast.parse(script)
     assert 'names.append("RHand")' in script

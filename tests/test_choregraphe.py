@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import threading
+import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
@@ -81,7 +83,8 @@ def test_the_file_is_a_start_box_then_a_timeline_box() -> None:
     script = (start_box.findtext("c:script/c:content", namespaces=ns) or "").strip()
     assert script.startswith("class MyClass(GeneratedClass):")
     compile(script, "start box", "exec")  # valid Python
-    assert "angleInterpolationWithSpeed(names, start, 0.2)" in script
+    assert "angleInterpolationWithSpeed(" in script
+    assert "self.joint_names, self.first_key, 0.2" in script
     assert start_box.find("c:Timeline", ns) is None
     timeline = timeline_box.find("c:Timeline", ns)
     assert timeline is not None
@@ -217,6 +220,72 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
     ]
     assert calls[1]["fraction"] == 0.2
     assert [e["event"] for e in read_log(log)].count("refused") == 0
+
+
+def test_the_start_box_stopped_on_the_way_ends_the_move_and_not_the_timeline(
+    tmp_path: Path,
+) -> None:
+    """The behavior stopped while its script box still moves the arm from
+    rest to the start (onInput_onStop 0.3 s after the move took effect on
+    the simulated NAO): the move ends where the arm is (killTasksUsingResources
+    on its joints), onInput_onStart returns without error, and onStopped,
+    which starts the timeline, never fires. The box's onStop used to do
+    nothing: the arm went on to the start and the timeline began."""
+    start = forward("right")
+    trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
+    xml = behavior_xml(frames_from_trajectory(trajectory))
+    names = list(trajectory.joint_names)
+    first_key = [timeline_from_xml(xml).angles(name)[0] for name in names]
+    log = tmp_path / "sim.jsonl"
+    stopped: list[bool] = []
+    failed: list[BaseException] = []
+    with SimProcess(log_path=log) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+
+        class GeneratedClass:  # what Choregraphe's runtime gives a box
+            def __init__(self) -> None:
+                pass
+
+            def onStopped(self) -> None:
+                stopped.append(True)
+
+        runtime: dict[str, Any] = {
+            "GeneratedClass": GeneratedClass,
+            "ALProxy": lambda name: session.service(name),
+        }
+        exec(script_of(xml), runtime)
+        box = runtime["MyClass"]()
+        box.onLoad()
+
+        def start_box() -> None:
+            try:
+                box.onInput_onStart()
+            except BaseException as error:  # reported below
+                failed.append(error)
+
+        runner = threading.Thread(target=start_box)
+        runner.start()
+        deadline = time.monotonic() + 5.0
+        while not [e for e in read_log(log) if e["event"] == "motion"][1:]:
+            assert time.monotonic() < deadline, "the move never took effect"
+            time.sleep(0.01)
+        time.sleep(0.3)
+        box.onInput_onStop()
+        runner.join(5.0)
+        held = motion.getAngles(names, False)
+        time.sleep(0.2)
+        still = motion.getAngles(names, False)
+        session.close()
+    assert not runner.is_alive() and failed == [] and stopped == []
+    assert np.abs(np.subtract(held, first_key)).max() > 0.3  # far from the start
+    np.testing.assert_allclose(still, held, atol=1e-9)  # and holding there
+    events = read_log(log)
+    calls = [e["method"] for e in events if e["event"] == "call"]
+    assert calls[:2] == ["setStiffnesses", "angleInterpolationWithSpeed"]
+    assert set(calls[2:]) == {"killTasksUsingResources"}
+    assert not [e for e in events if e["event"] == "done"][1:]  # only stiffness
 
 
 @pytest.mark.parametrize("fps", [25, 30, 900])
