@@ -13,7 +13,8 @@ Compared sample by sample with the command at the same wall-clock time,
 even a perfect follower shows an error of about (joint speed) x (delay).
 The report therefore takes out one constant delay, the same for every
 joint: the shift in [0, start delay + ``MAX_LATENCY``] that minimises the
-squared error over the whole movement, found on a 1 ms grid. It reports
+squared error of the arm's joints over the whole movement, found on a 1 ms
+grid (a hand, if any, is left out of the fit and aligned with the arm). It reports
 that delay, the start delay, and the error before and after the shift, so a
 follower that lags (by more than ``MAX_LATENCY`` past the robot's start, or
 by an error that grows with speed and does not vanish under any single
@@ -76,17 +77,22 @@ def best_latency(trajectory: Trajectory, samples: Samples) -> float:
     """The delay [s] that best aligns measured with commanded.
 
     It is searched in [0, :func:`largest_latency`] on a ``LATENCY_STEP`` grid;
-    only the samples whose time is :func:`trusted` count.
+    only the samples whose time is :func:`trusted` count, and only the arm's
+    joints: a hand's open fraction is no angle to add to their radians, and
+    a hand held open by what it grasps would pull the delay toward wherever
+    its command passes that opening. The hand's own figures use the arm's
+    delay.
     """
     keep = trusted(samples.round_trips, len(samples.times))
     times = samples.times[keep]
     if len(times) < 2:
         return 0.0
-    measured = samples.positions.reshape(len(samples.times), -1)[keep]
+    arm = np.array([not is_hand(name) for name in trajectory.joint_names])
+    measured = samples.positions.reshape(len(samples.times), -1)[keep][:, arm]
     curve = trajectory_curve(trajectory)
     count = int(np.floor(largest_latency(samples) / LATENCY_STEP + 1e-9)) + 1
     shifts = np.arange(count) * LATENCY_STEP
-    costs = [float(np.sum((measured - curve(times - s)) ** 2)) for s in shifts]
+    costs = [float(np.sum((measured - curve(times - s)[:, arm]) ** 2)) for s in shifts]
     return float(shifts[int(np.argmin(costs))])
 
 

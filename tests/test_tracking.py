@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
+from bridge.hand import with_hand_joint
 from bridge.interpolation import positions_at
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.playback import Samples
@@ -16,6 +17,7 @@ from bridge.tracking import (
     tracking_report,
     trusted,
 )
+from shared.demos.min_jerk import minimum_jerk
 from shared.messages import ExecutedJointStates
 from shared.robot.postures import forward, rest
 
@@ -160,6 +162,31 @@ def test_when_most_readings_are_slow_the_faster_half_is_compared(trajectory) -> 
     assert report.samples == (count + 1) // 2
     assert report.discarded == count - report.samples
     assert report.time_uncertainty >= 0.03
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.023])
+def test_the_delay_is_fitted_on_the_arm_not_the_hand(trajectory, delay: float) -> None:  # type: ignore[no-untyped-def]
+    """The hand closes while the arm reaches, and an object it grasps holds
+    it at 0.6 open: the arm's delay is still found to 1 ms, the arm's
+    aligned error vanishes, and the hand's error (its command aligned with
+    the arm's delay) is what the object held back, 0.6. With the hand's
+    open fraction in the fit, the held hand pulled the delay 36 ms too long
+    (0.036 s for none, 0.059 s for 0.023 s)."""
+    t = np.asarray(trajectory.times)
+    closing = 1.0 - minimum_jerk((t - t[0]) / (t[-1] - t[0]))
+    with_hand = with_hand_joint(
+        trajectory.model_copy(update={"hand": closing.tolist()})
+    )
+    samples = _delayed(with_hand, delay)
+    samples = samples._replace(
+        positions=np.column_stack(
+            [samples.positions[:, :-1], np.maximum(samples.positions[:, -1], 0.6)]
+        )
+    )
+    assert best_latency(with_hand, samples) == pytest.approx(delay, abs=0.0011)
+    report = tracking_report(executed_states(with_hand, samples), with_hand)
+    assert max(report.tracking_rms_deg.values()) < 0.05
+    assert report.hand_tracking_max == pytest.approx(0.6, abs=1e-3)
 
 
 def test_round_trips_must_match_the_samples(trajectory) -> None:  # type: ignore[no-untyped-def]
