@@ -1,4 +1,8 @@
-"""A trajectory as command frames: joint angles at a timeline's frame rate."""
+"""A trajectory as command frames: joint angles at a timeline's frame rate.
+
+And the trajectory's velocities at those frames (:func:`frame_velocities`),
+the slopes a Choregraphe behavior's keys are written with.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +10,8 @@ import math
 
 import numpy as np
 
-from bridge.interpolation import positions_at
+from bridge.hand import with_hand_joint
+from bridge.interpolation import positions_at, velocities_at
 from shared.errors import InvalidInputError
 from shared.messages import CommandFrames, Trajectory
 
@@ -76,3 +81,29 @@ def frames_from_trajectory(
         times=times.tolist(),
         positions=positions_at(trajectory, times, within).tolist(),
     )
+
+
+def frame_velocities(trajectory: Trajectory, frames: CommandFrames) -> np.ndarray:
+    """The trajectory's velocities at frame 0 and at each frame, shape (m + 1, n).
+
+    The derivative of the curve the frames sample (``bridge.interpolation``:
+    the trajectory's own velocities at its samples' times) [rad/s; /s for a
+    hand]; 0 after the trajectory's end, where the frames hold its last
+    posture. A trajectory with a hand channel gives its hand as the frames
+    have it, one more joint (``bridge.hand``).
+
+    Args:
+        trajectory: The trajectory the frames were made from.
+        frames: Its frames (:func:`frames_from_trajectory`).
+
+    Raises:
+        InvalidInputError: the frames move other joints than the trajectory.
+    """
+    trajectory = with_hand_joint(trajectory)
+    if list(trajectory.joint_names) != list(frames.joint_names):
+        raise InvalidInputError(
+            f"the frames move {frames.joint_names}, the trajectory "
+            f"{trajectory.joint_names}: give the trajectory they were made from",
+            field="joint_names",
+        )
+    return velocities_at(trajectory, [0.0, *frames.times])

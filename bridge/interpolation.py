@@ -57,3 +57,31 @@ def trajectory_curve(trajectory: Trajectory) -> Callable[[npt.ArrayLike], np.nda
         return np.asarray(spline(np.clip(t, 0.0, end)))
 
     return at
+
+
+def velocities_at(trajectory: Trajectory, times: npt.ArrayLike) -> np.ndarray:
+    """Joint speeds of :func:`positions_at`'s curve at ``times`` [rad/s], (k, n).
+
+    The derivative of the cubic Hermite curve: the trajectory's own
+    velocities at its samples' times. Before the start and after the end,
+    where the curve holds a sample, 0.
+
+    Args:
+        trajectory: The trajectory.
+        times: Times from the trajectory's start (``times[0]``) [s], shape (k,).
+    """
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    sample_times = np.asarray(trajectory.times) - trajectory.times[0]
+    width = len(trajectory.joint_names)
+    if len(sample_times) == 1:
+        return np.zeros((len(t), width))
+    spline = CubicHermiteSpline(
+        sample_times,
+        np.asarray(trajectory.positions, dtype=float),
+        np.asarray(trajectory.velocities, dtype=float),
+        axis=0,
+    )
+    inside = (t >= 0.0) & (t <= sample_times[-1])
+    speeds = np.zeros((len(t), width))
+    speeds[inside] = spline.derivative()(t[inside])
+    return speeds

@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bridge.frames import frame_times, frames_from_trajectory
+from bridge.frames import frame_times, frame_velocities, frames_from_trajectory
 from bridge.interpolation import positions_at
 from bridge.minimum_jerk import minimum_jerk_trajectory
+from shared.errors import InvalidInputError
 from shared.messages import CommandFrames, Trajectory
 from shared.robot import load_arm
 from shared.robot.postures import rest
@@ -62,6 +63,37 @@ def test_the_arm_holds_the_last_sample_after_the_end(rng: np.random.Generator) -
     trajectory = reach(rng)
     after = positions_at(trajectory, [trajectory.duration + 0.5])
     assert np.allclose(after[0], trajectory.positions[-1])
+
+
+def test_frame_velocities_are_the_curves_slopes(rng: np.random.Generator) -> None:
+    """At frame 0 and at each frame: the trajectory's own velocity where a
+    frame falls on a sample, the Hermite curve's derivative between samples
+    (a central difference of the frames' curve agrees), 0 after the end."""
+    trajectory = reach(rng)
+    frames = frames_from_trajectory(trajectory, 30.0)
+    velocities = frame_velocities(trajectory, frames)
+    assert velocities.shape == (len(frames.times) + 1, 5)
+    samples = np.asarray(trajectory.velocities)
+    np.testing.assert_array_equal(velocities[0], samples[0])
+    np.testing.assert_allclose(velocities[3], samples[10], atol=1e-9)  # 0.1 s
+    t = np.asarray(frames.times[:-1])
+    h = 1e-6
+    slope = (positions_at(trajectory, t + h) - positions_at(trajectory, t - h)) / (
+        2 * h
+    )
+    np.testing.assert_allclose(velocities[1:-1], slope, atol=1e-6)
+    assert frames.times[-1] > trajectory.duration
+    assert (velocities[-1] == 0.0).all()
+    assert np.abs(velocities).max() > 0.5
+
+
+def test_frame_velocities_of_other_joints_are_refused(rng: np.random.Generator) -> None:
+    """Frames of another trajectory's joints: named, not silently misread."""
+    trajectory = reach(rng)
+    frames = frames_from_trajectory(trajectory)
+    other = frames.model_copy(update={"joint_names": list(frames.joint_names)[::-1]})
+    with pytest.raises(InvalidInputError, match="give the trajectory they were made"):
+        frame_velocities(trajectory, other)
 
 
 def test_frames_are_a_message_with_checked_shapes() -> None:
