@@ -3,9 +3,10 @@
 - :mod:`bridge.frames`: a trajectory as command frames at a timeline's rate.
 - :mod:`bridge.choregraphe`, :mod:`bridge.python_export`,
   :mod:`bridge.almotion`: the frames as a Choregraphe behavior (its
-  timeline's keys: :mod:`bridge.timeline_keys`; its box to the start:
-  :mod:`bridge.start_box`), a Choregraphe-style Python script, and an
-  ALMotion ``angleInterpolation`` call.
+  timeline's keys: :mod:`bridge.timeline_keys`, their tangents:
+  :mod:`bridge.key_tangents`, the curve they play: :mod:`bridge.bezier_curve`;
+  its box to the start: :mod:`bridge.start_box`), a Choregraphe-style Python
+  script, and an ALMotion ``angleInterpolation`` call.
 - :mod:`bridge.checks`, :mod:`bridge.fidelity`: every frame against the
   joints' limits, and the lines between frames against the trajectory,
   before anything is sent (both: :mod:`bridge.checked_frames`).
@@ -23,7 +24,12 @@ from bridge.almotion import AngleInterpolationCall, angle_interpolation_call
 from bridge.checked_frames import check_behavior, checked_frames
 from bridge.checks import check_frames
 from bridge.choregraphe import behavior_xml, read_behavior, write_behavior
-from bridge.frames import DEFAULT_RATE, frame_times, frames_from_trajectory
+from bridge.frames import (
+    DEFAULT_RATE,
+    frame_times,
+    frame_velocities,
+    frames_from_trajectory,
+)
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from bridge.python_export import python_script, write_python
@@ -41,6 +47,7 @@ __all__ = [
     "check_frames",
     "checked_frames",
     "frame_times",
+    "frame_velocities",
     "frames_from_trajectory",
     "python_script",
     "read_behavior",

@@ -5,14 +5,15 @@ from __future__ import annotations
 from collections.abc import Callable
 from functools import partial
 
-from bridge.bezier_auto import check_played_curve
+import numpy.typing as npt
+
+from bridge.bezier_curve import check_played_curve, played_curve
 from bridge.checks import check_frames, check_sample_range
 from bridge.fidelity import ATTEMPTS, check_follows, follow_tolerance, offer_rate
-from bridge.float32 import RANGE_INSET
-from bridge.frames import frames_from_trajectory
+from bridge.frames import frame_velocities, frames_from_trajectory
 from bridge.hand import hand_inside, with_hand
 from bridge.limits import FrameLimits
-from bridge.timeline_keys import QUANTUM, behavior_frames
+from bridge.timeline_keys import KEY_INSET, played_frames, timeline_keys
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import CommandFrames, Trajectory
 
@@ -32,10 +33,10 @@ def checked_frames(
 
     The trajectory's own samples must lie in the joints' ranges; the curve
     between them is held in the ranges (a cubic through samples seconds
-    apart overshoots a limit the planned path only touches), by a written
-    angle's last digit (``QUANTUM``) or the rounding to 32 bits on the way
-    to the robot (``RANGE_INSET``), whichever is more, so no rounding takes
-    it out. The frames
+    apart overshoots a limit the planned path only touches), by
+    ``bridge.timeline_keys.KEY_INSET`` (a written angle's last digit or the
+    rounding to 32 bits on the way to the robot, whichever is more), so no
+    rounding takes it out. The frames
     must keep every limit of ``limits`` (:mod:`bridge.checks`)
     and follow the trajectory between keys within a degree, or a fast
     joint's chord gap at 25 fps (:mod:`bridge.fidelity`). A refusal for a
@@ -50,7 +51,9 @@ def checked_frames(
         limits: The arm's joints' limits (the hand's are added for a
             trajectory with a hand channel).
         behavior: Also check the frames as a Choregraphe behavior plays
-            them (:func:`check_behavior`), for a behavior file; a rate
+            them (:func:`check_behavior`, the keys' tangents the
+            trajectory's velocities: ``bridge.frames.frame_velocities``),
+            for a behavior file written with those velocities; a rate
             offered then passes that check too, and a refusal of the
             behavior's curve offers a whole rate whose behavior passes.
 
@@ -73,7 +76,7 @@ def checked_frames(
         raise refusal.adding(f": {advice}") from None
     if behavior:
         try:
-            check_behavior(frames, limits)
+            check_behavior(frames, limits, frame_velocities(trajectory, frames))
         except TrajectoryRefusedError as refusal:
             raise refusal.adding(f": {_behavior_advice(make, rate)}") from None
     return frames
@@ -83,21 +86,20 @@ def _frames_at(
     trajectory: Trajectory, rate: float, limits: FrameLimits, behavior: bool = False
 ) -> CommandFrames:
     """Frames at ``rate`` [Hz] held in the ranges, checked (see above)."""
-    inset = max(QUANTUM, RANGE_INSET)
-    inside = (limits.lower + inset, limits.upper - inset)
-    frames = frames_from_trajectory(hand_inside(trajectory, inset), rate, inside)
+    inside = (limits.lower + KEY_INSET, limits.upper - KEY_INSET)
+    frames = frames_from_trajectory(hand_inside(trajectory, KEY_INSET), rate, inside)
     check_frames(frames, limits)
     check_follows(frames, trajectory, follow_tolerance(limits), inside)
     if behavior:
-        check_behavior(frames, limits)
+        check_behavior(frames, limits, frame_velocities(trajectory, frames))
     return frames
 
 
 def _behavior_advice(make: Callable[[float], CommandFrames], rate: float) -> str:
     """A whole frame rate whose behavior passes every check, or what to do.
 
-    The curve Choregraphe plays bends at every key, so another rate gives
-    another curve (not always a gentler one): the rates of
+    The curve Choregraphe plays is cubic between keys, so another rate
+    gives another curve (not always a gentler one): the rates of
     ``BEHAVIOR_RATES`` nearest ``rate`` are tried, each made and checked by
     ``make`` as the frames written would be.
     """
@@ -117,20 +119,31 @@ def _behavior_advice(make: Callable[[float], CommandFrames], rate: float) -> str
     )
 
 
-def check_behavior(frames: CommandFrames, limits: FrameLimits) -> None:
+def check_behavior(
+    frames: CommandFrames, limits: FrameLimits, velocities: npt.ArrayLike
+) -> None:
     """Refuse ``frames`` if they break a limit as a Choregraphe behavior plays them.
 
     The keys the behavior's timeline holds (``bridge.timeline_keys``): the
     start posture at 0 s, frame ``k`` at ``k / rate``, the last posture
-    held; each angle rounded to ``DECIMALS`` in degrees. They must pass
+    held; each angle rounded to ``DECIMALS`` in degrees, each key's
+    tangents made from ``velocities``. The keys must pass
     :func:`bridge.checks.check_frames`, and the curve the runtime plays
-    through them (BezierAuto, :mod:`bridge.bezier_auto`) every speed,
-    acceleration and jerk limit.
+    through them and their tangents (:mod:`bridge.bezier_curve`) every
+    range, speed, acceleration and jerk limit.
+
+    Args:
+        frames: The frames.
+        limits: Their joints' limits.
+        velocities: The trajectory's velocities at frame 0 and each frame
+            [rad/s], shape (m + 1, n) (``bridge.frames.frame_velocities``),
+            as the behavior is written with them.
 
     Raises:
-        InvalidInputError: the rate is not a whole number.
+        InvalidInputError: the rate is not a whole number, or ``velocities``
+            not one row per key.
         TrajectoryRefusedError: naming the first frame that breaks a limit.
     """
-    played = behavior_frames(frames)
-    check_frames(played, limits)
-    check_played_curve(played, limits)
+    keys = timeline_keys(frames, velocities)
+    check_frames(played_frames(keys, frames), limits)
+    check_played_curve(played_curve(keys), limits)

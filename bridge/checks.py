@@ -11,7 +11,7 @@ a limit proves that no curve through those keys keeps it. The converse does
 not hold: keys that pass can still be joined by a curve that breaks a limit
 between them (Choregraphe's BezierAuto curve asked 1.2 times the
 acceleration limit of a reach whose keys passed), so a behavior is checked
-on the curve its runtime plays too (``bridge.bezier_auto``); how ALMotion's
+on the curve its runtime plays too (``bridge.bezier_curve``); how ALMotion's
 ``angleInterpolation`` joins keys is its own. The arm is at rest before
 frame 0 and after the last frame (the robot holds its last key), so the
 acceleration and jerk of starting from rest and of coming to rest are

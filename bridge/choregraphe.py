@@ -11,9 +11,13 @@ after the other:
 2. a *Timeline* box, started by it and ending the root through its
    ``onStopped``. Its ``Timeline`` element (``fps``, ``start_frame="1"``,
    ``size`` = last frame) has an ``ActuatorList`` of one ``ActuatorCurve``
-   per joint, each a list of ``<Key frame="k" value="v" />``: ``v`` in
+   per joint, each a list of ``<Key frame="k" value="v">``: ``v`` in
    degrees (``unit="0"``), or the open fraction 0..1 for a hand
-   (``unit="1"``), without tangents (the runtime computes them).
+   (``unit="1"``), holding its two ``<Tangent side="left"|"right"
+   interpType="bezier" abscissaParam="x" ordinateParam="y" />``: the
+   handles' offsets in frames and in the curve's unit, a third of the way
+   to the neighbouring keys, their slope the trajectory's velocity there
+   (``bridge.key_tangents``), so that the runtime plays the planned curve.
 
 Choregraphe's runtime plays a key at frame ``k`` ``(k - start_frame) /
 fps`` seconds after the timeline starts; the keys are the start posture at
@@ -23,8 +27,8 @@ frames' own time base), and the last posture held a little longer
 (libqicore-compat ``timeline.cpp``, ``ActuatorCurve`` and ``Key`` models:
 ``actuator``, ``unit`` 0 degrees / 1 "percent", which the runtime sends
 unscaled, so a hand's key is its open fraction 0..1 as ALMotion takes it,
-``Key`` ``frame``/``value``, ``fps`` an int) and behavior files saved by
-Choregraphe 2.1-2.8; see ``docs/robot.md``.
+``Key`` ``frame``/``value`` with 0 or 2 ``Tangent`` elements, ``fps`` an
+int) and behavior files saved by Choregraphe 2.1-2.8; see ``docs/robot.md``.
 """
 
 from __future__ import annotations
@@ -32,15 +36,19 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import NamedTuple
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
+import numpy.typing as npt
 
+from bridge.bezier_auto import auto_handles
 from bridge.start_box import start_script
 from bridge.timeline_keys import (
     DECIMALS,
     QUANTUM,
     START_FRAME,
+    TANGENT_DECIMALS,
     TimelineKeys,
     behavior_frames,
     is_hand,
@@ -117,15 +125,37 @@ def _box_head(
     )
 
 
-def _curve(name: str, numbers: np.ndarray, values: np.ndarray, ind: str) -> str:
+def _curve(name: str, keys: TimelineKeys, j: int, ind: str) -> str:
+    """Curve ``j`` of ``keys``: its ``ActuatorCurve`` and ``Key`` elements."""
     unit = FRACTION_UNIT if is_hand(name) else DEGREE_UNIT
-    keys = "".join(
-        f'{ind}    <Key frame="{k}" value="{v:.{DECIMALS}f}" />\n'
-        for k, v in zip(numbers.tolist(), values.tolist(), strict=True)
-    )
+    numbers, values = keys.frames[j].tolist(), keys.values[j].tolist()
+    if keys.left is None or keys.right is None:
+        body = "".join(
+            f'{ind}    <Key frame="{k}" value="{v:.{DECIMALS}f}" />\n'
+            for k, v in zip(numbers, values, strict=True)
+        )
+    else:
+        body = "".join(
+            f'{ind}    <Key frame="{k}" value="{v:.{DECIMALS}f}">\n'
+            f"{_tangent('left', left, ind + '        ')}"
+            f"{_tangent('right', right, ind + '        ')}"
+            f"{ind}    </Key>\n"
+            for k, v, left, right in zip(
+                numbers, values, keys.left[j], keys.right[j], strict=True
+            )
+        )
     return (
         f'{ind}<ActuatorCurve name="value" actuator={quoteattr(name)} '
-        f'recordable="1" mute="0" unit="{unit}">\n{keys}{ind}</ActuatorCurve>\n'
+        f'recordable="1" mute="0" unit="{unit}">\n{body}{ind}</ActuatorCurve>\n'
+    )
+
+
+def _tangent(side: str, handle: np.ndarray, ind: str) -> str:
+    """A key's ``Tangent``: its handle's offset in frames and in the curve's unit."""
+    x, y = (f"{float(v):.{TANGENT_DECIMALS}f}" for v in handle)
+    return (
+        f'{ind}<Tangent side="{side}" interpType="bezier" '
+        f'abscissaParam="{x}" ordinateParam="{y}" />\n'
     )
 
 
@@ -150,8 +180,7 @@ def _start_box(keys: TimelineKeys, indent: str) -> str:
 def _timeline_box(keys: TimelineKeys, tip: str, name: str, indent: str) -> str:
     inner = indent + "    "
     curves = "".join(
-        _curve(joint, keys.frames[j], keys.values[j], inner + "        ")
-        for j, joint in enumerate(keys.names)
+        _curve(joint, keys, j, inner + "        ") for j, joint in enumerate(keys.names)
     )
     return (
         _box_head(name, TIMELINE_BOX, "timeline", tip, 'x="260" y="60"', indent)
@@ -181,21 +210,30 @@ def _check_frame_numbers(frames: CommandFrames) -> None:
             )
 
 
-def behavior_xml(frames: CommandFrames, name: str = "armplan trajectory") -> str:
+def behavior_xml(
+    frames: CommandFrames,
+    *,
+    velocities: npt.ArrayLike,
+    name: str = "armplan trajectory",
+) -> str:
     """The Choregraphe behavior (``behavior.xar`` text) that replays ``frames``.
 
     Args:
         frames: Command frames on whole frames of their timeline [s, rad],
             at a whole number of frames per second.
+        velocities: The trajectory's velocities at frame 0 and each frame
+            [rad/s; /s for a hand], shape (m + 1, n)
+            (``bridge.frames.frame_velocities``): the keys' tangents.
         name: Name of the timeline box shown in Choregraphe.
 
     Raises:
         InvalidInputError: the rate is not a whole number (``timeline_fps``),
-            or a frame is not on a frame of the timeline.
+            a frame is not on a frame of the timeline, or ``velocities`` is
+            not one row per key.
     """
     timeline_fps(frames.rate)
     _check_frame_numbers(frames)
-    keys = timeline_keys(frames)
+    keys = timeline_keys(frames, velocities)
     tip = f"{frames.arm.value} arm trajectory from armplan: {len(frames.times)} frames"
     d = "    "
     return (
@@ -220,28 +258,94 @@ def behavior_xml(frames: CommandFrames, name: str = "armplan trajectory") -> str
     )
 
 
-def write_behavior(frames: CommandFrames, path: str | Path) -> Path:
+def write_behavior(
+    frames: CommandFrames, path: str | Path, *, velocities: npt.ArrayLike
+) -> Path:
     """Write ``frames`` as a Choregraphe behavior file; returns its path.
 
+    ``velocities`` as :func:`behavior_xml` takes them.
+
     Raises:
-        InvalidInputError: naming the path and the reason it cannot be written.
+        InvalidInputError: naming the path and the reason it cannot be
+            written, or what :func:`behavior_xml` refuses.
     """
-    return write_output_text(path, behavior_xml(frames))
+    return write_output_text(path, behavior_xml(frames, velocities=velocities))
 
 
 def _local(tag: str) -> str:
     return tag.rsplit("}", 1)[-1]
 
 
-def _curve_keys(curve: ET.Element) -> tuple[np.ndarray, np.ndarray]:
-    keys = [e for e in curve if _local(e.tag) == "Key"]
-    try:
-        pairs = sorted((int(k.attrib["frame"]), float(k.attrib["value"])) for k in keys)
-    except (KeyError, ValueError) as exc:
+class _CurveKeys(NamedTuple):
+    """One ``ActuatorCurve``'s keys as read, by frame (see ``TimelineKeys``)."""
+
+    numbers: np.ndarray
+    values: np.ndarray
+    left: np.ndarray
+    right: np.ndarray
+
+
+def _curve_keys(curve: ET.Element) -> _CurveKeys:
+    """A curve's keys and their tangents; keys without any get BezierAuto ones."""
+    name = curve.attrib.get("actuator", "?")
+    rows = []
+    for key in (e for e in curve if _local(e.tag) == "Key"):
+        try:
+            frame, value = int(key.attrib["frame"]), float(key.attrib["value"])
+        except (KeyError, ValueError) as exc:
+            raise InvalidInputError(
+                f"Choregraphe key of {name} without a valid frame or value: {exc}",
+                field="Key",
+            ) from None
+        rows.append((frame, value, _key_tangents(key, name, frame)))
+    rows.sort(key=lambda row: row[0])
+    numbers = np.array([r[0] for r in rows], dtype=int)
+    values = np.array([r[1] for r in rows], dtype=float)
+    auto_left, auto_right = auto_handles(numbers, values[:, None])
+    left, right = auto_left[:, 0].copy(), auto_right[:, 0].copy()
+    for i, (_, _, written) in enumerate(rows):
+        if written is not None:
+            left[i], right[i] = written
+    return _CurveKeys(numbers, values, left, right)
+
+
+def _key_tangents(
+    key: ET.Element, name: str, frame: int
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """A key's left and right handles (abscissa, ordinate) as written, or None.
+
+    As the runtime reads them (libqicore-compat ``KeyModel``,
+    ``TangentModel``): none, or two, one a side; only Bezier ones here.
+    """
+    tangents = [e for e in key if _local(e.tag) == "Tangent"]
+    if not tangents:
+        return None
+    where = f"{name}'s key at frame {frame}"
+    sides = sorted(t.attrib.get("side", "") for t in tangents)
+    if sides != ["left", "right"]:
         raise InvalidInputError(
-            f"Choregraphe key without a valid frame or value: {exc}", field="Key"
-        ) from None
-    return np.array([p[0] for p in pairs]), np.array([p[1] for p in pairs])
+            f"{where} has tangents {sides}: a key has none, or one left and one right",
+            field="Tangent",
+        )
+    handles = {}
+    for tangent in tangents:
+        kind = tangent.attrib.get("interpType")
+        if kind != "bezier":
+            raise InvalidInputError(
+                f"{where} has a {kind!r} tangent: armplan reads Bezier tangents only",
+                field="Tangent",
+            )
+        try:
+            handle = [
+                float(tangent.attrib[a]) for a in ("abscissaParam", "ordinateParam")
+            ]
+        except (KeyError, ValueError) as exc:
+            raise InvalidInputError(
+                f"{where} has a tangent without a valid abscissa or ordinate: {exc}",
+                field="Tangent",
+            ) from None
+        handles[tangent.attrib["side"]] = np.array(handle)
+    return handles["left"], handles["right"]
 
 
 def _keyed_timeline(root: ET.Element) -> ET.Element:
@@ -272,7 +376,15 @@ def timeline_from_xml(text: str) -> TimelineKeys:
     """The keys of the first keyed timeline in a behavior's XML text.
 
     ``fps`` and ``start_frame`` are read as the runtime reads them, as whole
-    numbers (``start_frame`` 1 if absent, as Choregraphe writes it).
+    numbers (``start_frame`` 1 if absent, as Choregraphe writes it); each
+    key's tangents too, as written, or for a key without any the runtime's
+    BezierAuto ones (``bridge.bezier_auto``).
+
+    Raises:
+        InvalidInputError: not XML, no keyed timeline, ``fps`` or
+            ``start_frame`` not a whole number, a key without a frame or
+            value, or a key whose tangents are not one left and one right
+            Bezier tangent with an abscissa and an ordinate.
     """
     try:
         root = ET.fromstring(text)
@@ -281,14 +393,20 @@ def timeline_from_xml(text: str) -> TimelineKeys:
     timeline = _keyed_timeline(root)
     fps = _whole(timeline, "fps", "25")
     start = _whole(timeline, "start_frame", str(START_FRAME))
-    names, numbers, values = [], [], []
+    names, curves = [], []
     for curve in timeline.iter():
         if _local(curve.tag) == "ActuatorCurve":
-            k, v = _curve_keys(curve)
+            curves.append(_curve_keys(curve))
             names.append(curve.attrib["actuator"])
-            numbers.append(k)
-            values.append(v)
-    return TimelineKeys(fps, names, numbers, values, start)
+    return TimelineKeys(
+        fps,
+        names,
+        [c.numbers for c in curves],
+        [c.values for c in curves],
+        start,
+        [c.left for c in curves],
+        [c.right for c in curves],
+    )
 
 
 def read_behavior(path: str | Path) -> TimelineKeys:

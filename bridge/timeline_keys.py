@@ -23,7 +23,13 @@ An armplan behavior's timeline (:func:`timeline_keys`) therefore holds:
   ``END_MARGIN`` after the last frame, with the arm at rest.
 
 Every value is what the file holds: degrees (a hand's open fraction) with
-``DECIMALS`` decimals.
+``DECIMALS`` decimals. Given the trajectory's velocities at the frames
+(``bridge.frames.frame_velocities``), every key also holds its tangents
+(``bridge.key_tangents``): the slope there, handles a third of the way to
+the neighbouring keys, so that the runtime plays the cubic Hermite curve
+with the planned slopes between keys; the held last posture's keys are
+level. Without velocities the keys have no tangents and the runtime gives
+them its own (BezierAuto, ``bridge.bezier_auto``).
 """
 
 from __future__ import annotations
@@ -32,8 +38,12 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 
-from bridge.float32 import degrees_as_radians, frame_times, held
+from bridge.bezier_auto import auto_handles
+from bridge.float32 import RANGE_INSET, degrees_as_radians, frame_times, held
+from bridge.key_tangents import held_slopes, tangent_handles
+from bridge.limits import FrameLimits
 from shared.errors import InvalidInputError
 from shared.messages import CommandFrames
 
@@ -45,6 +55,13 @@ DECIMALS = 6
 #: The smallest step of a written angle [rad]: frames are held this far
 #: inside the joints' ranges, so that rounding never puts one outside.
 QUANTUM = math.radians(10.0**-DECIMALS)
+#: Decimals written for a tangent's abscissa [frames] and ordinate (a third
+#: of a frame to float precision).
+TANGENT_DECIMALS = 9
+#: How far inside its joint's range a key and its tangents' handles are held
+#: [rad]: a written angle's last digit, or the rounding to 32 bits on the way
+#: to the robot (``bridge.float32.RANGE_INSET``), whichever is more.
+KEY_INSET = max(QUANTUM, RANGE_INSET)
 #: Least time the last posture is held past the last frame before the
 #: runtime's end of the timeline stops the motion [s]: five of ALMotion's
 #: 20 ms cycles, for a motion that starts a cycle after it is sent.
@@ -62,6 +79,11 @@ class TimelineKeys(NamedTuple):
         values: Values of those keys as written (degrees, or fraction for a
             hand), n arrays of shape (m_i,).
         start_frame: The timeline's first frame, played at 0 s.
+        left: Each key's left tangent as written: its handle's offset from
+            the key, n arrays of shape (m_i, 2): abscissa [frames] and
+            ordinate [the values' unit]; ``None``: keys without tangents,
+            which the runtime gives BezierAuto ones (:meth:`handles`).
+        right: Each key's right tangent, likewise.
     """
 
     fps: int
@@ -69,6 +91,8 @@ class TimelineKeys(NamedTuple):
     frames: list[np.ndarray]
     values: list[np.ndarray]
     start_frame: int = START_FRAME
+    left: list[np.ndarray] | None = None
+    right: list[np.ndarray] | None = None
 
     def times(self, name: str) -> np.ndarray:
         """When ``name``'s keys are played, from the timeline's start [s], (m,).
@@ -82,6 +106,35 @@ class TimelineKeys(NamedTuple):
         """``name``'s keys in SI: radians for a joint, fraction for a hand."""
         values = self.values[self.names.index(name)]
         return values if is_hand(name) else np.radians(values)
+
+    def handles(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """``name``'s left and right handles as the runtime plays them, each (m, 2).
+
+        Abscissa [frames] and ordinate [the values' unit], offsets from the
+        key: as written, or for keys without tangents the runtime's
+        BezierAuto ones (``bridge.bezier_auto.auto_handles``).
+        """
+        j = self.names.index(name)
+        if self.left is not None and self.right is not None:
+            return self.left[j], self.right[j]
+        left, right = auto_handles(self.frames[j], self.values[j][:, None])
+        return left[:, 0], right[:, 0]
+
+    def slopes(self, name: str) -> np.ndarray:
+        """Slopes of ``name``'s handles in SI, shape (m, 2): left, right.
+
+        Ordinate over abscissa per second [rad/s; /s for a hand]; 0 for a
+        handle of no length (the first key's left, the last key's right).
+        """
+        fps = float(self.fps)
+        per_frame = np.column_stack([_slope(handle) for handle in self.handles(name)])
+        return fps * (per_frame if is_hand(name) else np.radians(per_frame))
+
+
+def _slope(handle: np.ndarray) -> np.ndarray:
+    """Ordinate over abscissa of handles (shape (m, 2)), 0 where the abscissa is."""
+    x, y = handle[:, 0], handle[:, 1]
+    return np.where(x != 0.0, y / np.where(x != 0.0, x, 1.0), 0.0)
 
 
 def is_hand(name: str) -> bool:
@@ -141,19 +194,27 @@ def hold_frames(count: int, fps: int) -> int:
     return max(1, math.ceil(needed_ms / period_ms - 1e-9) - count)
 
 
-def timeline_keys(frames: CommandFrames) -> TimelineKeys:
+def timeline_keys(
+    frames: CommandFrames, velocities: npt.ArrayLike | None = None
+) -> TimelineKeys:
     """The keys a behavior's timeline holds for ``frames`` (see the module).
 
     Args:
         frames: Command frames on frames ``1..m`` of their timeline, at a
             whole number of frames per second.
+        velocities: Slopes at frame 0 and at each frame [rad/s; /s for a
+            hand], shape (m + 1, n): the trajectory's velocities there
+            (``bridge.frames.frame_velocities``). ``None``: keys without
+            tangents.
 
     Returns:
         One curve per joint: the start at ``START_FRAME``, frame ``k`` at
-        ``START_FRAME + k``, then the hold; values as written.
+        ``START_FRAME + k``, then the hold; values and tangents as written.
 
     Raises:
-        InvalidInputError: the rate is not a whole number (``timeline_fps``).
+        InvalidInputError: the rate is not a whole number (``timeline_fps``),
+            ``velocities`` has not one row per key of the frames, or (with
+            velocities) a joint has no known range.
     """
     fps = timeline_fps(frames.rate)
     numbers = np.asarray(frames.frame_numbers)
@@ -172,7 +233,79 @@ def timeline_keys(frames: CommandFrames) -> TimelineKeys:
         for j, name in enumerate(frames.joint_names)
     ]
     names = list(frames.joint_names)
-    return TimelineKeys(fps, names, [keyed.copy() for _ in names], values)
+    numbered = [keyed.copy() for _ in names]
+    if velocities is None:
+        return TimelineKeys(fps, names, numbered, values)
+    slopes = _key_slopes(frames, velocities, hold) / fps
+    left, right = _tangents(frames, keyed, np.column_stack(values), slopes)
+    return TimelineKeys(fps, names, numbered, values, START_FRAME, left, right)
+
+
+def _key_slopes(
+    frames: CommandFrames, velocities: npt.ArrayLike, hold: int
+) -> np.ndarray:
+    """Slopes at every key [rad/s; /s], shape (m + 1 + hold, n); the hold is level."""
+    speeds = np.asarray(velocities, dtype=float)
+    shape = (len(frames.times) + 1, len(frames.joint_names))
+    if speeds.shape != shape or not np.isfinite(speeds).all():
+        raise InvalidInputError(
+            f"velocities of shape {speeds.shape} for frames of shape {shape}: "
+            "give one finite row for the start and one per frame",
+            field="velocities",
+        )
+    return np.vstack([speeds, np.zeros((hold, shape[1]))])
+
+
+def _tangents(
+    frames: CommandFrames, keyed: np.ndarray, written: np.ndarray, slopes: np.ndarray
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Each curve's left and right tangents as written, n arrays of shape (m, 2).
+
+    Args:
+        frames: The frames (arm, joints).
+        keyed: Frame numbers of the keys, shape (m,).
+        written: The keys' values as written, shape (m, n).
+        slopes: Slopes at the keys [rad per frame; per frame], shape (m, n).
+    """
+    scale = np.array(
+        [1.0 if is_hand(n) else math.degrees(1.0) for n in frames.joint_names]
+    )
+    lower, upper = key_ranges(frames)
+    held_slope = held_slopes(
+        keyed, written, slopes * scale, lower * scale, upper * scale
+    )
+    left, right = tangent_handles(keyed, held_slope)
+    return _as_written(left), _as_written(right)
+
+
+def _as_written(handles: np.ndarray) -> list[np.ndarray]:
+    """Handles (shape (m, n, 2)) as the file writes them, one (m, 2) array a curve."""
+    text = np.char.mod(f"%.{TANGENT_DECIMALS}f", handles)
+    numbers = text.astype(float) + 0.0  # no -0.0
+    return [numbers[:, j, :] for j in range(handles.shape[1])]
+
+
+def key_ranges(frames: CommandFrames) -> tuple[np.ndarray, np.ndarray]:
+    """Where ``frames``' keys and handles are held [rad; fraction], each shape (n,).
+
+    The joints' ranges (``bridge.limits.FrameLimits`` of the frames' arm,
+    with its hand if they move it), ``KEY_INSET`` inside.
+
+    Raises:
+        InvalidInputError: a joint that is not one of the arm's or its hand.
+    """
+    limits = FrameLimits.for_arm(frames.arm)
+    if any(is_hand(name) for name in frames.joint_names):
+        limits = limits.with_hand(frames.arm)
+    unknown = [n for n in frames.joint_names if n not in limits.names]
+    if unknown:
+        raise InvalidInputError(
+            f"no range is known for {unknown}: the frames of the {frames.arm.value} "
+            f"arm move {list(limits.names)}",
+            field="joint_names",
+        )
+    index = [limits.names.index(name) for name in frames.joint_names]
+    return limits.lower[index] + KEY_INSET, limits.upper[index] - KEY_INSET
 
 
 def played_frames(keys: TimelineKeys, frames: CommandFrames) -> CommandFrames:

@@ -14,7 +14,7 @@ from bridge.checks import (
     check_speeds,
 )
 from bridge.choregraphe import QUANTUM
-from bridge.frames import frames_from_trajectory
+from bridge.frames import frame_velocities, frames_from_trajectory
 from bridge.interpolation import positions_at
 from bridge.limits import JERK_RAMP_TIME, RAMP_TIME, FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
@@ -360,7 +360,7 @@ def test_the_curve_between_sparse_samples_is_held_in_the_ranges() -> None:
     frames = checked_frames(trajectory, 25.0, limits)
     q = np.array(frames.positions)
     assert q[:, 1].min() >= limits.lower[1] + QUANTUM * (1 - 1e-9)
-    check_behavior(frames, limits)
+    check_behavior(frames, limits, frame_velocities(trajectory, frames))
 
 
 def test_a_sample_out_of_range_is_named_as_a_sample() -> None:

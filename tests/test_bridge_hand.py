@@ -21,7 +21,13 @@ import qi
 from test_bridge import BridgeProcess, commands_logged
 
 from armplan.cli.main import main
-from bridge import FrameLimits, behavior_xml, checked_frames, python_script
+from bridge import (
+    FrameLimits,
+    behavior_xml,
+    checked_frames,
+    frame_velocities,
+    python_script,
+)
 from bridge.choregraphe import timeline_from_xml
 from bridge.hand import with_hand_joint
 from bridge.interpolation import positions_at
@@ -151,10 +157,13 @@ def test_a_trajectory_naming_a_hand_twice_is_refused(grasp: Trajectory) -> None:
 def test_the_behavior_and_the_python_export_carry_the_hand(grasp: Trajectory) -> None:
     """behavior.xar has an RHand curve in open fraction (unit="1", values
     0..1 as written, as libqicore-compat's timeline sends unit 1 unscaled),
-    keyed like the joints, its script box brings RHand to its start; the
-    Python export appends RHand's keys (the open fraction) to its lists."""
+    keyed like the joints, its tangents' slopes the hand's speed in open
+    fraction per second where it moves inside its range; its script box
+    brings RHand to its start; the Python export appends RHand's keys (the
+    open fraction) to its lists."""
     frames = checked_frames(grasp, 25.0, FrameLimits.for_arm("right"), behavior=True)
-    text = behavior_xml(frames)
+    velocities = frame_velocities(grasp, frames)
+    text = behavior_xml(frames, velocities=velocities)
     assert 'actuator="RHand" recordable="1" mute="0" unit="1"' in text
     assert 'actuator="RShoulderPitch" recordable="1" mute="0" unit="0"' in text
     keys = timeline_from_xml(text)
@@ -164,6 +173,12 @@ def test_the_behavior_and_the_python_export_carry_the_hand(grasp: Trajectory) ->
     assert hand.min() >= 0.0 and hand.max() <= 1.0
     assert hand[0] == pytest.approx(1.0, abs=2e-6)  # held inside the range
     assert hand[-1] == pytest.approx(0.0, abs=2e-6)
+    speed = velocities[:, -1]
+    inside = (hand[: len(speed)] > 0.01) & (hand[: len(speed)] < 0.99)
+    assert np.abs(speed[inside]).max() > 0.5  # the hand moves, in fraction/s
+    slopes = keys.slopes("RHand")[: len(speed)]
+    np.testing.assert_allclose(slopes[inside, 0], speed[inside], atol=1e-6)
+    np.testing.assert_allclose(slopes[inside, 1], speed[inside], atol=1e-6)
     assert '"RHand"]' in text and "self.joint_names, self.first_key" in text
     script = python_script(frames)
     module = ast.parse(script)

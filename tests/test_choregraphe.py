@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import threading
 import time
 import xml.etree.ElementTree as ET
@@ -11,6 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from bridge.bezier_auto import auto_handles
 from bridge.choregraphe import (
     NAMESPACE,
     behavior_xml,
@@ -19,7 +21,7 @@ from bridge.choregraphe import (
     timeline_from_xml,
     write_behavior,
 )
-from bridge.frames import frames_from_trajectory
+from bridge.frames import frame_velocities, frames_from_trajectory
 from bridge.interpolation import positions_at
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.sim import SimProcess
@@ -27,8 +29,14 @@ from bridge.sim.log import read_log
 from bridge.timeline_keys import END_MARGIN
 from shared.errors import InvalidInputError
 from shared.libqi import qi
+from shared.messages import CommandFrames, Trajectory
 from shared.robot import load_arm
 from shared.robot.postures import forward, rest
+
+
+def xml_of(trajectory: Trajectory, frames: CommandFrames) -> str:
+    """The behavior of ``frames``, its tangents ``trajectory``'s velocities."""
+    return behavior_xml(frames, velocities=frame_velocities(trajectory, frames))
 
 
 @pytest.mark.parametrize("side", ["right", "left"])
@@ -47,7 +55,9 @@ def test_keys_round_trip_within_0_05_degree(
         side, [rest(side), *targets, rest(side)], [0.9, 0.7, 1.1]
     )
     frames = frames_from_trajectory(trajectory)
-    keys = read_behavior(write_behavior(frames, tmp_path / "behavior.xar"))
+    velocities = frame_velocities(trajectory, frames)
+    path = write_behavior(frames, tmp_path / "behavior.xar", velocities=velocities)
+    keys = read_behavior(path)
     assert keys.fps == 25 and keys.start_frame == 1
     assert keys.names == list(trajectory.joint_names)
     m = len(frames.times)
@@ -71,7 +81,7 @@ def test_the_file_is_a_start_box_then_a_timeline_box() -> None:
         "right", [rest("right"), rest("right") - [0.3, 0.3, 0.3, -0.3, 0.3]], [0.5]
     )
     frames = frames_from_trajectory(trajectory)
-    root = ET.fromstring(behavior_xml(frames))
+    root = ET.fromstring(xml_of(trajectory, frames))
     ns = {"c": NAMESPACE}
     assert root.tag == f"{{{NAMESPACE}}}ChoregrapheProject"
     assert root.attrib["xar_version"] == "3"
@@ -120,7 +130,7 @@ def test_frames_off_the_timeline_grid_are_refused() -> None:
     with pytest.raises(
         InvalidInputError, match=r"frame 1 at t = 0\.050000 s is not on a frame"
     ):
-        behavior_xml(frames)
+        xml_of(trajectory, frames)
 
 
 def test_reading_something_else_is_a_clear_error() -> None:
@@ -140,7 +150,7 @@ def test_a_fractional_frame_rate_is_refused_naming_it() -> None:
     )
     frames = frames_from_trajectory(trajectory, 12.5)
     with pytest.raises(InvalidInputError) as caught:
-        behavior_xml(frames)
+        xml_of(trajectory, frames)
     assert caught.value.field == "rate"
     assert "got 12.5: use 12 or 13 fps" in caught.value.message
     with pytest.raises(InvalidInputError, match="whole number"):
@@ -150,13 +160,11 @@ def test_a_fractional_frame_rate_is_refused_naming_it() -> None:
 
 def test_the_reader_reads_fps_as_the_runtime_does() -> None:
     """A file with fps="12.5" is refused by the reader, not read as 12.5."""
-    text = behavior_xml(
-        frames_from_trajectory(
-            minimum_jerk_trajectory(
-                "right", [rest("right"), rest("right") + 0.1], [0.8]
-            )
-        )
-    ).replace('fps="25"', 'fps="12.5"')
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), rest("right") + 0.1], [0.8]
+    )
+    frames = frames_from_trajectory(trajectory)
+    text = xml_of(trajectory, frames).replace('fps="25"', 'fps="12.5"')
     with pytest.raises(InvalidInputError, match=r"fps '12\.5' is not a whole number"):
         timeline_from_xml(text)
 
@@ -182,7 +190,7 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
     ``onStopped`` (which starts the timeline)."""
     start = forward("right")
     trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
-    xml = behavior_xml(frames_from_trajectory(trajectory))
+    xml = xml_of(trajectory, frames_from_trajectory(trajectory))
     first_key = [
         timeline_from_xml(xml).angles(name)[0] for name in trajectory.joint_names
     ]
@@ -233,7 +241,7 @@ def test_the_start_box_stopped_on_the_way_ends_the_move_and_not_the_timeline(
     nothing: the arm went on to the start and the timeline began."""
     start = forward("right")
     trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
-    xml = behavior_xml(frames_from_trajectory(trajectory))
+    xml = xml_of(trajectory, frames_from_trajectory(trajectory))
     names = list(trajectory.joint_names)
     first_key = [timeline_from_xml(xml).angles(name)[0] for name in names]
     log = tmp_path / "sim.jsonl"
@@ -301,7 +309,7 @@ def test_the_timeline_ends_after_its_last_frame_is_played(fps: int) -> None:
         "right", [start, start + 0.3, start], [5.0, 5.0]
     )
     frames = frames_from_trajectory(trajectory, fps)
-    keys = timeline_from_xml(behavior_xml(frames))
+    keys = timeline_from_xml(xml_of(trajectory, frames))
     steps = int(keys.frames[0][-1]) - keys.start_frame
     stop = steps * (1000 // fps) / 1000.0  # [s] after the keys were sent
     assert stop >= frames.duration + END_MARGIN - 1e-9
@@ -310,3 +318,117 @@ def test_the_timeline_ends_after_its_last_frame_is_played(fps: int) -> None:
     played = keys.times(keys.names[0])
     after = played > frames.duration + 1e-9
     np.testing.assert_allclose(held[after], held[~after][-1:].repeat(after.sum(), 0))
+
+
+def test_every_key_holds_a_left_and_a_right_bezier_tangent() -> None:
+    """Each Key holds two Tangent elements (the runtime takes 0 or 2), side
+    left then right, interpType bezier, a third of a frame to either side
+    (the first key's left and the last key's right, leading nowhere, (0, 0)),
+    their ordinates opposite (one slope), in the key's degrees."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), rest("right") - [0.3, 0.3, 0.3, -0.3, 0.3]], [0.5]
+    )
+    frames = frames_from_trajectory(trajectory)
+    root = ET.fromstring(xml_of(trajectory, frames))
+    ns = {"c": NAMESPACE}
+    curves = root.findall(".//c:ActuatorCurve", ns)
+    assert len(curves) == 5
+    for curve in curves:
+        keys = curve.findall("c:Key", ns)
+        last = len(keys) - 1
+        for i, key in enumerate(keys):
+            tangents = key.findall("c:Tangent", ns)
+            assert [t.attrib["side"] for t in tangents] == ["left", "right"]
+            assert {t.attrib["interpType"] for t in tangents} == {"bezier"}
+            x = [float(t.attrib["abscissaParam"]) for t in tangents]
+            y = [float(t.attrib["ordinateParam"]) for t in tangents]
+            assert x == [
+                0.0 if i == 0 else -0.333333333,
+                0.0 if i == last else 0.333333333,
+            ]
+            assert y[0] == (0.0 if i == 0 else -y[1])
+            assert i != last or y == [0.0, 0.0]  # the held posture is level
+        middle = keys[7].findall("c:Tangent", ns)[1]
+        assert abs(float(middle.attrib["ordinateParam"])) > 0.5  # degrees, moving
+
+
+@pytest.mark.parametrize("fps", [25, 50])
+def test_a_keys_tangents_are_the_trajectorys_velocity_there(fps: int) -> None:
+    """Read back, every frame's key has the slope of the planned curve on
+    both sides: the trajectory's own velocity at that time (its samples,
+    100 Hz, fall on the frames), to the 1e-9 written."""
+    away = rest("right") + np.array([-0.4, -0.3, 0.4, 0.4, 0.5])
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), away, rest("right")], [0.8, 0.6]
+    )
+    frames = frames_from_trajectory(trajectory, fps)
+    keys = timeline_from_xml(xml_of(trajectory, frames))
+    step = 100 // fps
+    planned = np.array(trajectory.velocities)[::step]  # at 0, 1 / fps, ...
+    m = len(frames.times)
+    assert len(planned) == m + 1
+    for j, name in enumerate(keys.names):
+        slopes = keys.slopes(name)
+        np.testing.assert_allclose(slopes[1 : m + 1, 0], planned[1:, j], atol=1e-6)
+        np.testing.assert_allclose(slopes[: m + 1, 1], planned[:, j], atol=1e-6)
+        assert np.abs(planned[:, j]).max() > 0.1
+
+
+def without_tangents(text: str, keep: int | None = None) -> str:
+    """``text`` with every key's tangents taken out (but the ``keep``-th's)."""
+    keys = text.split("</Key>")
+    bare = [
+        part if i == keep else re.sub(r"\s*<Tangent [^>]*/>", "", part)
+        for i, part in enumerate(keys)
+    ]
+    return "</Key>".join(bare)
+
+
+def test_keys_without_tangents_read_with_the_runtimes_bezier_auto_ones() -> None:
+    """A file whose keys have no tangents (as armplan wrote them before) reads
+    back with the handles the runtime computes for them (BezierAuto); in a
+    file where one key kept its tangents, that key's are read as written."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), rest("right") + 0.3, rest("right")], [0.4, 0.4]
+    )
+    frames = frames_from_trajectory(trajectory)
+    text = xml_of(trajectory, frames)
+    written = timeline_from_xml(text)
+    bare = timeline_from_xml(without_tangents(text))
+    for j, name in enumerate(bare.names):
+        left, right = auto_handles(bare.frames[j], bare.values[j][:, None])
+        np.testing.assert_array_equal(bare.handles(name)[0], left[:, 0])
+        np.testing.assert_array_equal(bare.handles(name)[1], right[:, 0])
+    mixed = timeline_from_xml(without_tangents(text, keep=5))  # RShoulderPitch's
+    left, right = mixed.handles("RShoulderPitch")
+    np.testing.assert_array_equal(left[5], written.handles("RShoulderPitch")[0][5])
+    np.testing.assert_array_equal(right[5], written.handles("RShoulderPitch")[1][5])
+    assert not np.array_equal(right[5], bare.handles("RShoulderPitch")[1][5])
+    np.testing.assert_array_equal(left[4], bare.handles("RShoulderPitch")[0][4])
+    np.testing.assert_array_equal(
+        mixed.handles("RElbowYaw")[1], bare.handles("RElbowYaw")[1]
+    )
+
+
+@pytest.mark.parametrize(
+    ("change", "words"),
+    [
+        (('side="left"', 'side="right"'), "a key has none, or one left and one right"),
+        (('interpType="bezier"', 'interpType="linear"'), "Bezier tangents only"),
+        (('ordinateParam="', 'ordinateParam="x'), "without a valid abscissa"),
+    ],
+)
+def test_a_key_with_tangents_the_runtime_would_not_play_so_is_refused(
+    change: tuple[str, str], words: str
+) -> None:
+    """Two right tangents, a linear one (another curve than checked) or an
+    ordinate that is no number: the reader names the key and what is wrong."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), rest("right") + 0.1], [0.2]
+    )
+    text = xml_of(trajectory, frames_from_trajectory(trajectory))
+    with pytest.raises(InvalidInputError) as caught:
+        timeline_from_xml(text.replace(*change, 1))
+    assert caught.value.field == "Tangent"
+    assert "RShoulderPitch's key at frame 1" in caught.value.message
+    assert words in caught.value.message

@@ -34,12 +34,16 @@ from bridge import (
     FrameLimits,
     check_frames,
     checked_frames,
+    frame_velocities,
     frames_from_trajectory,
     read_behavior,
 )
+from bridge.bezier_curve import CurvePeaks, played_curve
 from bridge.sim.log import read_log
+from bridge.timeline_keys import timeline_keys
 from bridge.tracking import MAX_LATENCY
 from services.ik import check_reachable
+from services.planner.pipeline import plan
 from shared.bus import BusConfig, load_config
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import Trajectory, parse
@@ -483,21 +487,82 @@ def test_a_fractional_frame_rate_is_refused_before_anything_starts(
     assert said == [] and not out.exists()
 
 
+def spoiling_rate(trajectory: Trajectory) -> int:
+    """The lowest whole rate from 100 fps at which ``trajectory``'s frames
+    pass every check and its behavior is refused.
+
+    With the planned slopes as tangents the behavior plays the plan; what
+    can still break a limit is the keys as written, a few milliseconds
+    apart: the hand's curve (its speeds central differences of 100 Hz
+    samples) and the last written digit of its open fraction.
+    """
+    limits = FrameLimits.for_arm(trajectory.arm)
+    for rate in range(100, 401, 20):
+        try:
+            checked_frames(trajectory, rate, limits)
+        except TrajectoryRefusedError:
+            continue
+        try:
+            checked_frames(trajectory, rate, limits, behavior=True)
+        except TrajectoryRefusedError:
+            return rate
+    pytest.fail("the task's behavior passes at every rate whose frames pass")
+
+
 def test_a_behavior_the_rate_spoils_is_refused_before_the_arm_moves(
     tmp_path: Path,
 ) -> None:
-    """At 100 fps the task's Choregraphe curve (BezierAuto) breaks a jerk
-    limit the bridge's frames keep: the demo stops after planning, with the
-    curve named, and the simulated NAO never got the trajectory (the check
-    came after the arm had played it, and the demo said nothing was sent)."""
+    """At a rate whose frames pass but whose behavior breaks a limit (100 fps
+    did, with BezierAuto tangents; now a rate of a few milliseconds between
+    keys, found from the task's plan): the demo stops after planning, with
+    the curve named, and the simulated NAO never got the trajectory (the
+    check came after the arm had played it, and the demo said nothing was
+    sent)."""
+    rate = spoiling_rate(plan(load_task().plan_request()).trajectory)
     out = tmp_path / "results"
     config = load_config(None).with_endpoints((free_endpoint(),), "--listen")
-    options = DemoOptions(config, out=out, rate=100, record=False)
+    options = DemoOptions(config, out=out, rate=rate, record=False)
     said: list[str] = []
-    with pytest.raises(TrajectoryRefusedError, match="BezierAuto") as refused:
+    with pytest.raises(TrajectoryRefusedError) as refused:
         run_demo(options, said.append)
     assert "nothing was sent" in refused.value.message
+    assert "Choregraphe plays through the keys" in refused.value.message
     assert not any(line.startswith("planned through") for line in said)
     log = read_log(out / "sim.jsonl")
     assert log[0]["event"] == "start"  # the simulated NAO ran
     assert not [e for e in log if e.get("method") == "angleInterpolation"]
+
+
+@pytest.mark.parametrize("rate", [25, 30, 50, 100])
+def test_the_demos_behavior_plays_its_plan_with_margin(
+    rate: int, finished: Finished
+) -> None:
+    """The demo's trajectory as a behavior, at Choregraphe's 25 fps and up to
+    100: every check passes (BezierAuto tangents asked RElbowYaw for 0.99 of
+    its jerk limit at 25 fps, 1.44 at 50 and 2.57 at 100), and the arm's
+    curve, the keys with the planned velocities as tangents, keeps within
+    0.05 of the plan's own peak speed, acceleration and jerk, each under
+    half its limit; behavior.xar's curve is that of 25 fps."""
+    trajectory = parse(Trajectory, (finished.out / "trajectory.json").read_text())
+    limits = FrameLimits.for_arm(trajectory.arm)
+    frames = checked_frames(trajectory, rate, limits, behavior=True)
+    velocities = frame_velocities(trajectory, frames)
+    curve = played_curve(timeline_keys(frames, velocities))
+    peaks = CurvePeaks(curve)
+    t = np.array(trajectory.times)
+    planned = (
+        np.abs(trajectory.velocities),
+        np.abs(trajectory.accelerations),
+        np.abs(np.diff(trajectory.accelerations, axis=0) / np.diff(t)[:, None]),
+    )
+    bounds = (limits.velocity, limits.acceleration, limits.jerk)
+    for played, plan_values, bound in zip(
+        (peaks.speed, peaks.acceleration, peaks.jerk), planned, bounds, strict=True
+    ):
+        ratio = played[:, :5].max(axis=0) / bound  # the arm's joints
+        assert (ratio <= plan_values.max(axis=0) / bound + 0.05).all()
+        assert ratio.max() < 0.5
+    if rate == 25:
+        written = played_curve(read_behavior(finished.out / "behavior.xar"))
+        np.testing.assert_allclose(written.right, curve.right, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(written.values, curve.values, rtol=0, atol=0)

@@ -13,7 +13,7 @@ import pytest
 
 from armplan.cli.main import main
 from bridge.almotion import angle_interpolation_call
-from bridge.bezier_auto import check_played_curve
+from bridge.bezier_curve import CurvePeaks, check_played_curve, played_curve
 from bridge.checks import check_frames
 from bridge.choregraphe import (
     behavior_frames,
@@ -21,7 +21,7 @@ from bridge.choregraphe import (
     read_behavior,
     timeline_from_xml,
 )
-from bridge.frames import frames_from_trajectory
+from bridge.frames import frame_velocities, frames_from_trajectory
 from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.python_export import python_script, write_python
@@ -222,10 +222,12 @@ def test_what_a_fast_python_export_holds_keeps_the_limits(
 def test_a_fast_behavior_is_refused_with_a_rate_whose_file_keeps_the_limits(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """The fastest reach at 1000 fps: its keys keep every limit, but the curve
-    Choregraphe plays through keys a millisecond apart bends far over the
-    jerk limit. Refused, offering a whole rate; at that rate the file's own
-    numbers, read back, keep every limit, on the keys and on the curve."""
+    """The fastest reach at 1000 fps: its keys keep every limit, but keys a
+    millisecond apart, held as the runtime holds them (32-bit degrees, steps
+    of 1.3e-7 rad near 80 degrees), make the curve through them jerk over
+    the limit. Refused, offering a whole rate; at that rate the file's own
+    numbers, read back, keep every limit, on the keys and on the curve
+    through them and their tangents."""
     plan = tmp_path / "plan.json"
     target = ["--target", "0.12", "-0.13", "0.05", "--fastest"]
     assert main(["plan", *target, "--rate", "1000", "--json"]) == 0
@@ -234,7 +236,7 @@ def test_a_fast_behavior_is_refused_with_a_rate_whose_file_keeps_the_limits(
     export = ["export", "choregraphe", str(plan), "-o", str(out), "--rate"]
     assert main([*export, "1000"]) == 1
     err = capsys.readouterr().err
-    assert "on the curve Choregraphe plays through the keys (BezierAuto)" in err
+    assert "jerk" in err and "on the curve Choregraphe plays through the keys" in err
     offered = re.search(r"at (\d+) fps it would not", err)
     assert offered is not None, err
     assert not out.exists()
@@ -242,17 +244,19 @@ def test_a_fast_behavior_is_refused_with_a_rate_whose_file_keeps_the_limits(
     written = written_frames(out, tmp_path)
     limits = FrameLimits.for_arm("right")
     check_frames(written, limits)
-    check_played_curve(written, limits)
+    check_played_curve(played_curve(read_behavior(out)), limits)
 
 
-def test_a_behavior_whose_curve_bends_over_a_limit_is_refused(
+def test_a_behavior_plays_the_planned_curve_at_the_bridges_own_limits(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """A reach planned at the bridge's own acceleration and jerk limits, at
-    25 fps: the frames keep every limit (the Python export is written), but
-    the curve Choregraphe plays through them (BezierAuto) asks RShoulderRoll
-    for 1.2 times its acceleration limit: the behavior is refused (it was
-    written, the docs saying the check held however the robot interpolates)."""
+    25 fps: the curve Choregraphe played through its keys without tangents
+    (BezierAuto) asked RShoulderRoll for 1.2 times its acceleration limit,
+    and the behavior was refused. With the planned velocities as the keys'
+    tangents the file, read back, plays the plan: its curve's speed and
+    acceleration are the trajectory's within 0.05 of each limit, its jerk
+    at most 0.05 over the trajectory's, and it keeps every limit."""
     limits = FrameLimits.for_arm("right")
     nets = [
         ["--max-acceleration", *(f"{0.9999 * a:.4f}" for a in limits.acceleration)],
@@ -262,13 +266,54 @@ def test_a_behavior_whose_curve_bends_over_a_limit_is_refused(
     target = ["--target", "0.02", "-0.10", "0.25", "--fastest", *nets[0], *nets[1]]
     assert main(["plan", *target, "--json"]) == 0
     plan.write_text(capsys.readouterr().out)
-    assert main(["export", "python", str(plan), "-o", str(tmp_path / "p.py")]) == 0
+    out = tmp_path / "b.xar"
+    assert main(["export", "choregraphe", str(plan), "-o", str(out)]) == 0
+    curve = played_curve(read_behavior(out))
+    check_played_curve(curve, limits)
+    peaks = CurvePeaks(curve)
+    reach = Trajectory.model_validate_json(plan.read_text())
+    t = np.array(reach.times)
+    planned = {
+        "speed": np.abs(reach.velocities),
+        "acceleration": np.abs(reach.accelerations),
+        "jerk": np.abs(np.diff(reach.accelerations, axis=0) / np.diff(t)[:, None]),
+    }
+    for quantity, bound in (
+        ("speed", limits.velocity),
+        ("acceleration", limits.acceleration),
+        ("jerk", limits.jerk),
+    ):
+        played = getattr(peaks, quantity).max(axis=0) / bound
+        plan_peak = planned[quantity].max(axis=0) / bound
+        assert (played <= plan_peak + 0.05).all(), quantity
+        if quantity != "jerk":  # keys 40 ms apart smooth the jerk's steps
+            np.testing.assert_allclose(played, plan_peak, atol=0.05)
+    assert (peaks.speed.max(axis=0) / limits.velocity).max() > 0.95  # a fast reach
+
+
+def test_a_behavior_whose_tangents_bend_its_curve_over_a_limit_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A trajectory whose velocities disagree with its positions (RShoulderPitch
+    1 rad/s faster, then slower, at alternate 100 Hz samples): its frames, on
+    the samples, keep every limit and the Python export is written; but the
+    behavior's tangents are those velocities, and the curve through the keys
+    bends over the acceleration limit: refused, naming the curve, nothing
+    written."""
+    reach = trajectory()
+    velocities = np.array(reach.velocities)
+    velocities[:, 0] += np.where(np.arange(len(velocities)) % 2 == 0, 1.0, -1.0)
+    source = tmp_path / "plan.json"
+    source.write_text(
+        reach.model_copy(update={"velocities": velocities.tolist()}).to_json()
+    )
+    assert main(["export", "python", str(source), "-o", str(tmp_path / "p.py")]) == 0
     capsys.readouterr()
     out = tmp_path / "b.xar"
-    assert main(["export", "choregraphe", str(plan), "-o", str(out)]) == 1
+    assert main(["export", "choregraphe", str(source), "-o", str(out)]) == 1
     err = capsys.readouterr().err
-    assert "RShoulderRoll acceleration" in err
-    assert "on the curve Choregraphe plays through the keys (BezierAuto)" in err
+    assert "RShoulderPitch acceleration" in err
+    assert "on the curve Choregraphe plays through the keys exceeds its limit" in err
     assert not out.exists()
 
 
@@ -276,8 +321,11 @@ def test_a_behavior_holds_the_frames_as_rounded() -> None:
     """behavior_frames (what the checks see) is what the file reads back as:
     the start, the frames at k / fps, the last posture held, each rounded
     as written, then held in 32-bit floats as the runtime holds them."""
-    frames = frames_from_trajectory(trajectory(), 100.0)
-    keys = timeline_from_xml(behavior_xml(frames))
+    reach = trajectory()
+    frames = frames_from_trajectory(reach, 100.0)
+    keys = timeline_from_xml(
+        behavior_xml(frames, velocities=frame_velocities(reach, frames))
+    )
     held = behavior_frames(frames)
     m = len(frames.times)
     for j, name in enumerate(frames.joint_names):

@@ -23,7 +23,13 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from armplan.demo.task import Task
-from bridge import FrameLimits, checked_frames, write_behavior, write_python
+from bridge import (
+    FrameLimits,
+    checked_frames,
+    frame_velocities,
+    write_behavior,
+    write_python,
+)
 from shared.messages import CommandFrames, ExecuteReply, Trajectory
 
 TRAJECTORY_FILE = "trajectory.json"
@@ -57,9 +63,10 @@ class Execution(NamedTuple):
 def export_frames(trajectory: Trajectory, rate: float) -> CommandFrames:
     """The frames of ``behavior.xar`` and ``play.py``, checked for both.
 
-    Checked before the robot moves: the behavior's curve (``BezierAuto``)
-    can break a limit the bridge's frames keep, and a demo refused after it
-    played would say nothing was sent.
+    Checked before the robot moves: the behavior's curve (the keys and
+    their tangents, ``bridge.bezier_curve``) could break a limit the
+    bridge's frames keep, and a demo refused after it played would say
+    nothing was sent.
 
     Raises:
         InvalidInputError: a frame or the behavior's curve breaks a limit,
@@ -73,7 +80,11 @@ def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
     """Write the trajectory, its exports and the report; returns them by name."""
     files = {
         "trajectory": out / TRAJECTORY_FILE,
-        "choregraphe": write_behavior(run.frames, out / BEHAVIOR_FILE),
+        "choregraphe": write_behavior(
+            run.frames,
+            out / BEHAVIOR_FILE,
+            velocities=frame_velocities(run.trajectory, run.frames),
+        ),
         "python": write_python(run.frames, out / PYTHON_FILE),
         "report": out / REPORT_FILE,
     }

@@ -51,7 +51,13 @@ def read_trajectory(path: str) -> Trajectory:
 
 def run(args: argparse.Namespace) -> int:
     """Check the frames against the limits, then write them."""
-    from bridge import FrameLimits, checked_frames, write_behavior, write_python
+    from bridge import (
+        FrameLimits,
+        checked_frames,
+        frame_velocities,
+        write_behavior,
+        write_python,
+    )
     from bridge.choregraphe import timeline_fps
 
     if not MIN_RATE <= args.rate <= MAX_RATE:
@@ -69,8 +75,11 @@ def run(args: argparse.Namespace) -> int:
         frames = checked_frames(trajectory, args.rate, limits, behavior=behavior)
     except TrajectoryRefusedError as error:  # the bridge's words are "sent"
         raise error.instead("nothing was written") from None
-    writer = write_behavior if args.format == "choregraphe" else write_python
-    path = writer(frames, args.output)
+    if args.format == "choregraphe":
+        velocities = frame_velocities(trajectory, frames)
+        path = write_behavior(frames, args.output, velocities=velocities)
+    else:
+        path = write_python(frames, args.output)
     summary = {
         "path": str(path),
         "format": args.format,
