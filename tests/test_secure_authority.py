@@ -10,6 +10,7 @@ written.
 from __future__ import annotations
 
 import pathlib
+import re
 import shutil
 
 import pytest
@@ -99,3 +100,22 @@ def test_a_bad_password_line_is_named_before_any_file_is_written(
         f"armplan: error: {passwords} line 2 is not user:password\n"
     )
     assert [p.name for p in tmp_path.iterdir()] == ["passwords.txt"]
+
+
+def test_a_host_the_rerun_leaves_out_is_warned_of(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Each run issues the router's certificate for its own --host names: the
+    same names again, in other forms, pass quietly; a rerun without one
+    warns naming it (clients reaching the router by it would be refused)."""
+    out = str(tmp_path / "bundle")
+    assert main(["certs", "--out", out, "--host", "nao-router", "--host", "::1"]) == 0
+    capsys.readouterr()
+    again = ["--host", "NAO-ROUTER", "--host", "0:0:0:0:0:0:0:1"]
+    assert main(["certs", "--out", out, *again]) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert main(["certs", "--out", out, "--host", "::1"]) == 0
+    dropped = re.search(
+        r"named (.*), which the new one does not", capsys.readouterr().err
+    )
+    assert dropped is not None and dropped.group(1) == "nao-router"

@@ -32,6 +32,7 @@ from armplan.secure.certificates import (
     DAYS,
     MOST_DAYS,
     authority_warning,
+    dropped_hosts_warning,
     ensure_authority,
     issue_router_certificate,
     subject_alt_names,
@@ -127,6 +128,7 @@ def write_bundle(
     warnings = [
         authority_warning(authority, datetime.now(UTC)),
         tighten_key(authority.key),
+        dropped_hosts_warning(directory / "router.pem", names),
     ]
     issue_router_certificate(directory, authority, list(dict.fromkeys(names)), days)
     access = AccessControl.from_file(TEMPLATE)

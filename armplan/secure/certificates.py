@@ -174,6 +174,46 @@ def authority_warning(authority: Authority, now: datetime) -> str | None:
     )
 
 
+def certificate_hosts(certificate: Path) -> list[str]:
+    """The DNS names and IP addresses a certificate names, [] if unreadable."""
+    binary = shutil.which("openssl")
+    if binary is None or not certificate.is_file():
+        return []
+    shown = subprocess.run(
+        [binary, "x509", "-in", str(certificate), "-noout", "-ext", "subjectAltName"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    found = re.findall(r"(?:DNS|IP Address):([^,\s]+)", shown.stdout)
+    return [_normal(h) for h in found]
+
+
+def _normal(host: str) -> str:
+    """An address in its short form (``::1``), a DNS name in lower case."""
+    try:
+        return str(ipaddress.ip_address(host))
+    except ValueError:
+        return host.lower()
+
+
+def dropped_hosts_warning(certificate: Path, hosts: Sequence[str]) -> str | None:
+    """A warning if the router's current certificate names hosts ``hosts`` lacks.
+
+    Each run issues the certificate for its own ``--host`` names only: a
+    machine reached by a name given before, and not again, would be refused.
+    """
+    wanted = {_normal(h) for h in hosts}
+    dropped = [h for h in certificate_hosts(certificate) if h not in wanted]
+    if not dropped:
+        return None
+    return (
+        f"{certificate} named {', '.join(dropped)}, which the new one does not: "
+        "clients reaching the router by those names will be refused; give them "
+        "again with --host to keep them"
+    )
+
+
 def issue_router_certificate(
     directory: Path, authority: Authority, hosts: Sequence[str], days: int = DAYS
 ) -> tuple[Path, Path]:
