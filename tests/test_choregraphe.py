@@ -6,6 +6,7 @@ import re
 import threading
 import time
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +33,28 @@ from shared.libqi import qi
 from shared.messages import CommandFrames, Trajectory
 from shared.robot import load_arm
 from shared.robot.postures import forward, rest
+
+
+def script_box(xml: str, session: Any, on_stopped: Callable[[], None]) -> Any:
+    """The behavior's script box, loaded as Choregraphe's runtime loads one:
+    ``MyClass`` on the runtime's ``GeneratedClass``, ``ALProxy`` from
+    ``session``; its ``onStopped`` output calls ``on_stopped``."""
+
+    class GeneratedClass:  # what Choregraphe's runtime gives a box
+        def __init__(self) -> None:
+            pass
+
+        def onStopped(self) -> None:
+            on_stopped()
+
+    runtime: dict[str, Any] = {
+        "GeneratedClass": GeneratedClass,
+        "ALProxy": lambda name: session.service(name),
+    }
+    exec(script_of(xml), runtime)
+    box = runtime["MyClass"]()
+    box.onLoad()
+    return box
 
 
 def xml_of(trajectory: Trajectory, frames: CommandFrames) -> str:
@@ -202,20 +225,11 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
         at_rest = motion.getAngles(trajectory.joint_names, False)
         stopped: list[list[float]] = []
 
-        class GeneratedClass:  # what Choregraphe's runtime gives a box
-            def __init__(self) -> None:
-                pass
-
-            def onStopped(self) -> None:
-                stopped.append(motion.getAngles(trajectory.joint_names, False))
-
-        runtime: dict[str, Any] = {
-            "GeneratedClass": GeneratedClass,
-            "ALProxy": lambda name: session.service(name),
-        }
-        exec(script_of(xml), runtime)
-        box = runtime["MyClass"]()
-        box.onLoad()
+        box = script_box(
+            xml,
+            session,
+            lambda: stopped.append(motion.getAngles(trajectory.joint_names, False)),
+        )
         box.onInput_onStart()
         session.close()
     assert np.abs(np.subtract(at_rest, start)).max() > 0.5  # it had to move
@@ -252,20 +266,7 @@ def test_the_start_box_stopped_on_the_way_ends_the_move_and_not_the_timeline(
         session.connect(sim.url)
         motion = session.service("ALMotion")
 
-        class GeneratedClass:  # what Choregraphe's runtime gives a box
-            def __init__(self) -> None:
-                pass
-
-            def onStopped(self) -> None:
-                stopped.append(True)
-
-        runtime: dict[str, Any] = {
-            "GeneratedClass": GeneratedClass,
-            "ALProxy": lambda name: session.service(name),
-        }
-        exec(script_of(xml), runtime)
-        box = runtime["MyClass"]()
-        box.onLoad()
+        box = script_box(xml, session, lambda: stopped.append(True))
 
         def start_box() -> None:
             try:
