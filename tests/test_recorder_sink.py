@@ -42,6 +42,7 @@ from shared.recording.foxglove.transforms import (
     side_of_state,
 )
 from shared.recording.raw_payload import RawPayload
+from shared.recording.rotation import RotationPolicy, numbered_parts
 from shared.robot import load_arm
 
 NS = "armplan"
@@ -298,3 +299,26 @@ def test_a_writer_behind_writes_samples_without_their_foxglove_poses(
     assert sum(r.topic == PLANNED_TF_TOPIC for r in records) == 50  # the last one's
     assert (sink.written, sink.shed, sink.dropped) == (3, 2, 0)
     assert "2 written without Foxglove poses" in sink.behind_note()
+
+
+def test_what_a_sample_derives_stays_in_its_file_when_it_rotates(
+    tmp_path: Path,
+) -> None:
+    """A trajectory bigger than the rotation size: its poses and labels are in
+    its own part, and the next sample starts the next part."""
+    out = tmp_path / "s.mcap"
+    traj = moving_trajectory(300, np.random.default_rng(3))
+    options = RecorderOptions(
+        output=out, keys=("**",), rotation=RotationPolicy(max_bytes=20_000)
+    )
+    sink = RecordingSink(options, NS).start()
+    sink.put(incoming("plan/trajectory", traj.to_json().encode(), t=10**18))
+    sink.put(incoming("unknown/key", b'{"a": 1}', t=10**18 + 1))
+    sink.stop()
+    parts = numbered_parts(out)
+    assert sink.error is None and len(parts) == 2
+    first = [r.topic for r in read_records(parts[0])]
+    assert first.count(PLANNED_TF_TOPIC) == len(traj.times)
+    assert first.count(PLANNED_PRIMITIVE_TOPIC) == len(traj.times)
+    second = [r.topic for r in read_records(parts[1])]
+    assert f"{NS}/unknown/key" in second and PLANNED_TF_TOPIC not in second

@@ -297,6 +297,7 @@ class RecordingSink:
                     d.data,
                     d.log_time,
                     sample.publish_time,
+                    may_rotate=False,  # in the sample's own file
                 )
                 self.derived += 1
         except RecordingError:

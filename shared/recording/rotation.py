@@ -186,6 +186,8 @@ class RotatingWriter(Closes):
         data: bytes,
         log_time: int,
         publish_time: int,
+        *,
+        may_rotate: bool = True,
     ) -> None:
         """Append one JSON message (rotating first if a limit was reached).
 
@@ -196,8 +198,10 @@ class RotatingWriter(Closes):
             data: The message's JSON [UTF-8 bytes].
             log_time: When the message was made [ns since the epoch].
             publish_time: When it was received [ns since the epoch].
+            may_rotate: ``False`` keeps the message in the current file even
+                past a limit (what a message derives stays beside it).
         """
-        writer = self.writer
+        writer = self.writer if may_rotate or self._writer is None else self._writer
         channel = writer.add_channel(topic, schema_name, schema)
         writer.write_raw(channel, data, log_time, publish_time)
 
