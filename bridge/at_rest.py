@@ -1,13 +1,19 @@
 """The arm's commanded angles once it is still: no move starts from a moving arm.
 
-A new ``angleInterpolation`` replaces the one running on the same joints,
-from wherever the arm is commanded to be at that moment, at rest. An arm
-still moving (a command from Choregraphe or another client, or the bridge's
-own movement that went on while the robot was out of reach) would be
-stopped dead and sent back the other way within one control cycle, far
-beyond its acceleration and jerk limits. So the commanded angles are read
-twice, more than two of ALMotion's 20 ms cycles apart, and only equal
-readings count.
+An arm still moving (a command from Choregraphe or another client, or the
+bridge's own movement that went on while the robot was out of reach) is
+not where the bridge would count the trajectory's first step from. On a
+NAO, a new ``angleInterpolation`` on joints a running motion task has
+booked is postponed until that task ends (NAOqi's "Motion task" guide:
+"the second one is postponed until the resource is freed"), so it would
+start from wherever that movement ends, not from the angles read; a
+command that books nothing (``setAngles``) is taken over at once. The
+simulated NAO goes further: a new command interrupts the one on its joints
+(its blocking call raises), and the arm is sent from its moving setpoint,
+stopped dead and turned within one control cycle, far beyond its
+acceleration and jerk limits. Either way the start is wrong, so the
+commanded angles are read twice, more than two of ALMotion's 20 ms cycles
+apart, and only equal readings count.
 """
 
 from __future__ import annotations
