@@ -53,11 +53,38 @@ def sim_origin(sim: SimProcess) -> float:
     return float(next(e["origin"] for e in log_of(sim) if e["event"] == "start"))
 
 
-def test_a_limp_joint_refuses_to_move(sim: SimProcess, motion: Any) -> None:
-    """At start every stiffness is 0; a motion command is refused, not ignored."""
-    assert motion.getStiffnesses("LArm") == [0.0] * 6
-    with pytest.raises(RuntimeError, match="LShoulderPitch has stiffness 0"):
-        motion.angleInterpolation("LShoulderPitch", 1.0, 1.0, True)
+def test_it_starts_awake_and_rest_leaves_it_not_awake(
+    sim: SimProcess, motion: Any
+) -> None:
+    """It starts as a NAO standing after wakeUp: awake, every joint stiff.
+    robotIsWakeUp is the robot's state, as on a NAO: an arm made limp leaves
+    it awake; rest() ends it, wakeUp() brings it back."""
+    assert motion.robotIsWakeUp()
+    assert motion.getStiffnesses("Body") == [1.0] * 12
+    motion.setStiffnesses("LArm", 0.0)
+    time.sleep(0.05)
+    assert motion.robotIsWakeUp()
+    motion.rest()
+    assert not motion.robotIsWakeUp()
+    motion.wakeUp()
+    assert motion.robotIsWakeUp()
+
+
+def test_a_limp_joint_takes_a_command_but_does_not_move(
+    sim: SimProcess, motion: Any
+) -> None:
+    """As NAOqi's guide says, at stiffness 0 any command is taken but the
+    motor does not move: the command changes, the measured angle does not;
+    stiffened, the joint goes to its command."""
+    motion.setStiffnesses("LArm", 0.0)
+    time.sleep(0.05)
+    before = motion.getAngles("LShoulderPitch", True)[0]
+    motion.angleInterpolation("LShoulderPitch", before - 0.3, 0.2, True)
+    assert motion.getAngles("LShoulderPitch", False)[0] == pytest.approx(before - 0.3)
+    assert motion.getAngles("LShoulderPitch", True)[0] == before
+    motion.setStiffnesses("LArm", 1.0)
+    time.sleep(0.2)
+    assert motion.getAngles("LShoulderPitch", True)[0] == pytest.approx(before - 0.3)
 
 
 def test_out_of_range_angles_are_refused_not_clamped(

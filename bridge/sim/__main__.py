@@ -30,7 +30,7 @@ def parser() -> argparse.ArgumentParser:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    """``--listen``, ``--log`` and ``--period``."""
+    """``--listen``, ``--log``, ``--period`` and ``--killed-calls-return``."""
     p.add_argument(
         "--listen",
         default=DEFAULT_LISTEN,
@@ -39,6 +39,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--log", default=None, help="JSON-lines log of commands and states")
     p.add_argument(
         "--period", type=float, default=PERIOD, help="control cycle [s] (default 0.02)"
+    )
+    p.add_argument(
+        "--killed-calls-return",
+        action="store_true",
+        help="a blocking call whose motion task is killed (killAll, "
+        "killTasksUsingResources) returns normally instead of raising, as "
+        "NAOqi's may",
     )
     p.add_argument(
         "--stop-on-stdin-eof",
@@ -56,12 +63,18 @@ def _watch_stdin(stop: threading.Event) -> None:
     stop.set()
 
 
-def run(listen: str, log: str | None, period: float, stop_on_eof: bool = False) -> int:
+def run(
+    listen: str,
+    log: str | None,
+    period: float,
+    stop_on_eof: bool = False,
+    killed_returns: bool = False,
+) -> int:
     """Serve until SIGINT or SIGTERM (or stdin's end); returns the exit code."""
     stop = stop_on_signals()
     if stop_on_eof:
         threading.Thread(target=_watch_stdin, args=(stop,), daemon=True).start()
-    serve(listen, log, period, stop)
+    serve(listen, log, period, stop, killed_returns)
     return 0
 
 
@@ -83,7 +96,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InvalidInputError as error:
         p.error(error.message)
     try:
-        return run(args.listen, args.log, args.period, args.stop_on_stdin_eof)
+        return run(
+            args.listen,
+            args.log,
+            args.period,
+            args.stop_on_stdin_eof,
+            args.killed_calls_return,
+        )
     except ArmplanError as error:  # e.g. the address is in use
         sys.stderr.write(f"{p.prog}: error: {error.message}\n")
         return 1

@@ -12,7 +12,8 @@ class SimJoint:
     The motor moves toward the setpoint at most ``velocity`` [rad/s]; the
     control cycle commits its position every 20 ms, and a reading between two
     cycles gives where the motor is at that moment (its encoder). A joint with
-    stiffness 0 does not move.
+    stiffness 0 does not move, whatever it is commanded; stiffened again, it
+    goes to its setpoint at its speed limit.
 
     Attributes:
         spec: Name and limits.
@@ -20,14 +21,16 @@ class SimJoint:
         time: Time of the last commit [s, sim clock].
     """
 
-    def __init__(self, spec: JointSpec, position: float, time: float) -> None:
+    def __init__(
+        self, spec: JointSpec, position: float, time: float, stiffness: float = 0.0
+    ) -> None:
         self.spec = spec
         self.position = position
         self.time = time
         self._hold = position
         self._timeline: KeyTimeline | None = None
         self._stiffness: KeyTimeline | None = None
-        self._stiffness_hold = 0.0
+        self._stiffness_hold = stiffness
 
     def setpoint(self, t: float) -> float:
         """The commanded angle at sim time ``t`` [rad]."""

@@ -90,9 +90,11 @@ def _speed_move(
 class SimulatedMotion:
     """ALMotion of the simulated NAO (served as the ``ALMotion`` service)."""
 
-    def __init__(self, robot: SimRobot, log: SimLog) -> None:
+    def __init__(self, robot: SimRobot, log: SimLog, awake: bool = True) -> None:
+        """ALMotion of ``robot``; ``awake``: what ``robotIsWakeUp`` says first."""
         self._robot = robot
         self._log = log
+        self._awake = awake
 
     def angleInterpolation(
         self, names: Any, angleLists: Any, timeLists: Any, isAbsolute: bool
@@ -197,15 +199,21 @@ class SimulatedMotion:
     def wakeUp(self) -> None:
         """Stiffen every joint (the simulated NAO has no posture to stand in)."""
         self.stiffnessInterpolation("Body", 1.0, 0.1)
+        self._awake = True
 
     def rest(self) -> None:
         """Stop every command and release every joint's stiffness."""
+        self._awake = False
         self.killAll()
         self.stiffnessInterpolation("Body", 0.0, 0.1)
 
     def robotIsWakeUp(self) -> bool:
-        """True if every joint is stiff."""
-        return min(self._robot.stiffnesses("Body")) > 0.0
+        """True after ``wakeUp`` (and at start), False after ``rest``.
+
+        As on a NAO, it is the robot's state, not its joints' stiffness: an
+        arm made limp by ``setStiffnesses`` leaves the robot awake.
+        """
+        return self._awake
 
     def getLimits(self, name: str) -> list[list[float]]:
         """[[lower, upper, speed limit, torque limit]] per joint [rad, rad/s, N m]."""

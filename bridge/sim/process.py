@@ -40,6 +40,7 @@ class SimProcess(StartStop):
         log_path: str | Path | None = None,
         period: float = 0.02,
         startup_timeout: float = 30.0,
+        killed_calls_return: bool = False,
     ) -> None:
         """Describe the process; nothing starts yet.
 
@@ -48,11 +49,14 @@ class SimProcess(StartStop):
             log_path: The sim's JSON-lines log file, or None.
             period: Control cycle [s].
             startup_timeout: Longest wait for the ready line [s].
+            killed_calls_return: A blocking call whose motion task is killed
+                returns normally instead of raising (``--killed-calls-return``).
         """
         self.listen = listen
         self.log_path = None if log_path is None else Path(log_path)
         self.period = period
         self.startup_timeout = startup_timeout
+        self.killed_calls_return = killed_calls_return
         self.url = ""
         self.output: deque[str] = deque(maxlen=200)
         self._process: subprocess.Popen[str] | None = None
@@ -62,6 +66,8 @@ class SimProcess(StartStop):
         """The child's command line."""
         cmd = [sys.executable, "-m", "bridge.sim", "--listen", self.listen]
         cmd += ["--period", str(self.period), "--stop-on-stdin-eof"]
+        if self.killed_calls_return:
+            cmd.append("--killed-calls-return")
         if self.log_path is not None:
             cmd += ["--log", str(self.log_path)]
         return cmd

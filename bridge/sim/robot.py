@@ -27,14 +27,22 @@ class SimRobot:
         log: SimLog,
         posture: dict[str, float],
         clock: Callable[[], float] = time.monotonic,
+        *,
+        stiffness: float = 0.0,
+        killed_returns: bool = False,
     ) -> None:
-        """Start every joint at ``posture`` [rad] (0 if absent), stiffness 0."""
+        """Start every joint at ``posture`` [rad] (0 if absent), at ``stiffness``.
+
+        ``killed_returns``: a blocking call whose command is interrupted
+        returns normally instead of raising (:class:`MotionTask`).
+        """
         self._clock = clock
         self._log = log
         self._lock = threading.Lock()
+        self.killed_returns = killed_returns
         now = clock()
         self.joints = {
-            name: SimJoint(spec, posture.get(name, 0.0), now)
+            name: SimJoint(spec, posture.get(name, 0.0), now, stiffness)
             for name, spec in joint_specs().items()
         }
         self._owners: dict[str, MotionTask] = {}
@@ -186,16 +194,16 @@ class SimRobot:
             self._log.write("done", at=t, method=task.method, joints=task.joints)
 
     def _prepare(self, commands: list[KeyCommand], t: float) -> dict[str, float]:
-        """Commit the commanded joints to ``t``; their setpoints there [rad]."""
+        """Commit the commanded joints to ``t``; their setpoints there [rad].
+
+        A joint with stiffness 0 takes the command too, as a NAO's does ("at
+        zero stiffness, you can send any commands to the motors, but he will
+        not move"): its setpoint follows the keys, its motor stays.
+        """
         starts = {}
         for c in commands:
             joint = self.joints[c.joint]
             joint.commit(t)
-            if joint.stiffness(t) <= 0.0:
-                raise SimCommandError(
-                    f"{c.joint} has stiffness 0 and cannot move: call wakeUp or "
-                    "set its stiffness first"
-                )
             starts[c.joint] = joint.setpoint(t)
         return starts
 
@@ -204,7 +212,7 @@ class SimRobot:
     ) -> MotionTask:
         joints = [c.joint for c in commands]
         end = t + max(c.times[-1] for c in commands)
-        task = MotionTask(method, joints, t, end)
+        task = MotionTask(method, joints, t, end, self.killed_returns)
         if owns:
             for joint in joints:
                 previous = self._owners.get(joint)

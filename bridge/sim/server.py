@@ -43,6 +43,7 @@ def serve(
     log_path: str | Path | None = None,
     period: float = PERIOD,
     stop: threading.Event | None = None,
+    killed_returns: bool = False,
 ) -> None:
     """Run the simulated NAO until ``stop`` is set.
 
@@ -55,6 +56,9 @@ def serve(
         log_path: JSON-lines log file (see :mod:`bridge.sim.log`), or None.
         period: Control cycle [s].
         stop: Set it to stop; None: run until the process is ended.
+        killed_returns: A blocking call whose command is interrupted
+            (``killAll``, ``killTasksUsingResources``, a new command on its
+            joints) returns normally instead of raising, as NAOqi's may.
 
     Raises:
         InvalidInputError: a malformed ``listen`` address or a ``period``
@@ -67,7 +71,8 @@ def serve(
     qi.logging.setLevel(qi.logging.WARNING)
     stop = stop or threading.Event()
     log = SimLog(log_path)
-    robot = SimRobot(log, rest_posture())
+    # awake, as a NAO standing after wakeUp: every joint stiff
+    robot = SimRobot(log, rest_posture(), stiffness=1.0, killed_returns=killed_returns)
     cycle = ControlCycle(robot, period)
     session = qi.Session()
     try:

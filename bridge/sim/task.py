@@ -22,9 +22,20 @@ class MotionTask:
     """
 
     def __init__(
-        self, method: str, joints: list[str], start_time: float, end_time: float
+        self,
+        method: str,
+        joints: list[str],
+        start_time: float,
+        end_time: float,
+        killed_returns: bool = False,
     ) -> None:
+        """A task from ``start_time`` to ``end_time`` [s, sim clock].
+
+        ``killed_returns``: a blocking call whose task is interrupted returns
+        normally instead of raising (:meth:`wait`).
+        """
         self.method = method
+        self.killed_returns = killed_returns
         self.start_time = start_time
         self.joints = joints
         self.end_time = end_time
@@ -48,10 +59,15 @@ class MotionTask:
     def wait(self, duration: float) -> None:
         """Block until done (at most ``duration`` + :data:`GRACE` [s]).
 
+        An interrupted task raises, unless made with ``killed_returns``: then
+        its call returns as if it had ended (a NAOqi call whose task is
+        killed may return normally; the caller learns it only from when).
+
         Raises:
-            SimCommandError: if it was interrupted or never finished.
+            SimCommandError: if it was interrupted (see above) or never
+                finished.
         """
         if not self._done.wait(duration + GRACE):
             raise SimCommandError(f"{self.method} did not finish in time")
-        if self._error is not None:
+        if self._error is not None and not self.killed_returns:
             raise SimCommandError(f"{self.method} was interrupted: {self._error}")
