@@ -22,6 +22,7 @@ import time
 from collections.abc import Sequence
 from typing import TextIO
 
+from bridge.awake import ALLOW_NOT_AWAKE
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from shared.errors import ArmplanError, InternalServiceError
@@ -74,11 +75,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="the robot's NAOqi address (a real NAO: tcp://IP:9559)",
     )
     parser.add_argument("--rate", type=float, default=25.0, help="frame rate [Hz]")
+    parser.add_argument(
+        ALLOW_NOT_AWAKE,
+        action="store_true",
+        help="play even on a robot that is not awake (ALMotion.robotIsWakeUp() "
+        "false: resting, crouched or fallen); only for a robot held up by other "
+        "means",
+    )
     args = parser.parse_args(argv)
     replies = replies_stream()
     client = NaoqiClient(args.robot)
     try:
-        serve(RobotBridge(client, rate=args.rate), sys.stdin, replies)
+        bridge = RobotBridge(
+            client, rate=args.rate, require_awake=not args.allow_not_awake
+        )
+        serve(bridge, sys.stdin, replies)
     finally:
         client.close()
         replies.flush()

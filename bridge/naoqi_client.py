@@ -70,6 +70,15 @@ class NaoqiClient:
         return self._command.connected
 
     @property
+    def connection(self) -> int:
+        """Which connection of the command session this is (1, 2, ...).
+
+        It changes each time the client connects again: what was learnt of
+        the robot (its limits) holds for one connection only.
+        """
+        return self._command.generation
+
+    @property
     def watching(self) -> bool:
         """True while the watch session (the readings') is up."""
         return self._watch.connected
@@ -206,14 +215,17 @@ class NaoqiClient:
         """Angles of ``names`` [rad], measured (``use_sensors``) or commanded, (n,)."""
         return np.array(self.call("getAngles", names, use_sensors), dtype=float)
 
+    def stiffnesses(self, names: list[str]) -> np.ndarray:
+        """Stiffnesses of ``names`` (0..1), shape (n,)."""
+        return np.array(self.call("getStiffnesses", names), dtype=float)
+
     def stiffen(self, names: list[str], duration: float = 0.2) -> bool:
         """Make ``names`` fully stiff, ramping over ``duration`` [s] if needed.
 
         Returns:
             Whether it ramped (False: they were stiff already).
         """
-        stiffness = np.array(self.call("getStiffnesses", names), dtype=float)
-        if np.all(stiffness >= 1.0):
+        if np.all(self.stiffnesses(names) >= 1.0):
             return False
         self.call(
             "stiffnessInterpolation",

@@ -35,6 +35,8 @@ class NaoqiSession:
         self.connect_timeout = connect_timeout
         self._session: Any = None
         self._motion: Any = None
+        #: Counts the connections made; a new one may be another robot.
+        self.generation = 0
 
     @property
     def connected(self) -> bool:
@@ -79,6 +81,7 @@ class NaoqiSession:
                 self.url, f"no ALMotion service: {robot_reason(error)}"
             ) from None
         self._session = session
+        self.generation += 1
 
     def close(self) -> None:
         """Close the session (the next :meth:`motion` connects again)."""

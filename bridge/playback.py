@@ -41,6 +41,13 @@ ended may still start (a stop served while the robot is still checking the
 call ends nothing), so the client goes on stopping the arm every control
 cycle from the call's arrival until the call has ended
 (:mod:`bridge.stopper`).
+
+A call the robot ends before its last key (its motion task killed: by
+``killAll``, ``killTasksUsingResources``, the fall manager, another client)
+may fail, or may return normally, as if it had played: an answer more than
+``EARLY_END`` before the call's duration, counted from when it left, is
+such an end, and raises a :class:`~shared.errors.RobotStateError` ("the
+robot ended the movement at t = X s of Y s").
 """
 
 from __future__ import annotations
@@ -54,7 +61,7 @@ import numpy as np
 from bridge.almotion import AngleInterpolationCall
 from bridge.naoqi_client import NaoqiClient
 from bridge.qi_future import POLL, robot_reason, wait_future
-from shared.errors import RobotUnavailableError
+from shared.errors import RobotStateError, RobotUnavailableError
 from shared.messages import JointState
 
 #: Time between two readings of the measured angles [s] (100 Hz).
@@ -67,6 +74,9 @@ OVERRUN = 1.0
 #: Longest wait for the answer to the stop (``naoqi_client.STOP``) when the
 #: robot is given up [s].
 HALT_WAIT = 0.25
+#: A call answered more than this before its duration (counted from when it
+#: left, so at the latest) was ended by the robot [s].
+EARLY_END = 0.1
 
 
 class Samples(NamedTuple):
@@ -194,6 +204,8 @@ def play_and_sample(
             asked to stop first, and the client goes on stopping the arm
             until the call has ended.
         RobotCommandError: the robot refused the call.
+        RobotStateError: the robot answered the call more than
+            :data:`EARLY_END` before its duration: it ended it early.
     """
     motion = client.motion()
     reader = _Reader(client.watch(), call.names, min(period * 20, LOST_AFTER / 2))
@@ -247,11 +259,26 @@ def play_and_sample(
         raise client.failure("angleInterpolation", future.error(), elapsed)
     width = len(call.names)
     end = min([seen, *answered])  # the callback may not have run yet
+    if end - start < call.duration - EARLY_END:
+        raise _ended_early(client, end - start, call.duration)
     return Samples(
         np.array(times),
         np.array(rows, dtype=float).reshape(-1, width),
         np.array(round_trips),
         max(0.0, end - start - call.duration),
+    )
+
+
+def _ended_early(
+    client: NaoqiClient, played: float, duration: float
+) -> RobotStateError:
+    """The error for a call the robot answered after ``played`` of ``duration`` [s]."""
+    return RobotStateError(
+        client.url,
+        f"the robot ended the movement at t = {played:.2f} s of {duration:.2f} s "
+        "(its call returned before its last key: its motion task was killed, by "
+        "killAll, killTasksUsingResources, the fall manager or another client)",
+        outcome="the arm stopped where it was then",
     )
 
 

@@ -7,19 +7,28 @@
    limits, and the lines between frames against the trajectory (within a
    degree); one bad frame refuses the whole trajectory, before the robot is
    even contacted;
-2. the robot is connected (again, if it went away) and the arm's commanded
-   angles are read once they hold still (``bridge.at_rest``: an arm still
-   moving is busy); with the approach off, an arm away from the
+2. the robot is connected (again, if it went away); it must be awake
+   (``bridge.awake``, unless the bridge was told otherwise) and allow every
+   joint at least the bridge's range and speed (``bridge.robot_limits``,
+   asked once per connection); the arm's commanded angles are read once
+   they hold still (``bridge.at_rest``: an arm still moving is busy); an
+   arm not fully stiff whose sensors say it is elsewhere (made limp, it
+   sagged or was moved) counts as where it is, and its command is moved
+   there before it is stiffened, so that stiffening holds it there
+   (``bridge.limp_arm``); with the approach off, an arm away from the
    trajectory's start refuses it here; the arm's joints are stiffened, and
    if the arm is not at the start, or the first frame from where it is
    breaks a limit (``bridge.start_gap``), a slow approach move (checked the
-   same way) brings it there;
+   same way) brings it there, and it must then be there, and still stiff
+   (``bridge.arm_state``);
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz on a connection of their own, so that they
    never wait behind a call still on its way (``bridge.playback``); a robot
    given up mid-movement is asked to stop the arm (``naoqi_client.STOP``)
    first, and is stopped every control cycle until the call has ended
-   (``bridge.stopper``), taking no new movement meanwhile;
+   (``bridge.stopper``), taking no new movement meanwhile; a call the robot
+   answered well before its duration was ended there, and an arm no longer
+   stiff after it was let go during it: both are errors, not reports;
 4. the answer is the executed joint states and the tracking report (RMS and
    largest error per joint, degrees).
 
@@ -35,14 +44,18 @@ import numpy as np
 
 from bridge.almotion import angle_interpolation_call
 from bridge.approach import approach_frames
+from bridge.arm_state import check_at_start, check_still_stiff
 from bridge.at_rest import angles_at_rest
+from bridge.awake import check_awake
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.frames import DEFAULT_RATE
 from bridge.hand import with_hand
 from bridge.limits import FrameLimits
+from bridge.limp_arm import hold_command, limp_posture
 from bridge.naoqi_client import NaoqiClient
 from bridge.playback import SAMPLE_PERIOD, play_and_sample
+from bridge.robot_limits import RobotLimitsCheck
 from bridge.start_gap import needs_approach
 from bridge.tracking import executed_states, tracking_report
 from shared.messages import (
@@ -65,6 +78,7 @@ class RobotBridge:
         client: The robot's ALMotion over NAOqi.
         rate: Default frame rate of the command frames [Hz].
         sample_period: Time between readings of the measured angles [s].
+        require_awake: Refuse a robot not awake (``robotIsWakeUp()``).
     """
 
     def __init__(
@@ -74,6 +88,7 @@ class RobotBridge:
         rate: float = DEFAULT_RATE,
         limits: dict[Side, FrameLimits] | None = None,
         sample_period: float = SAMPLE_PERIOD,
+        require_awake: bool = True,
     ) -> None:
         """Set up the bridge; nothing is sent yet.
 
@@ -83,11 +98,15 @@ class RobotBridge:
             limits: Per-arm limits; default: the robot description's, with
                 :mod:`bridge.limits`' default accelerations.
             sample_period: Time between readings [s].
+            require_awake: Refuse to play on a robot that is not awake
+                (False: ``--allow-not-awake``, a robot held up otherwise).
         """
         self.client = client
         self.rate = rate
         self.sample_period = sample_period
+        self.require_awake = require_awake
         self._limits = limits or {side: FrameLimits.for_arm(side) for side in Side}
+        self._robot_limits = RobotLimitsCheck()
 
     def limits(self, arm: Side) -> FrameLimits:
         """The limits used for ``arm``."""
@@ -149,13 +168,27 @@ class RobotBridge:
                 the arm after giving up a call that has not ended (nothing
                 sent).
             RobotCommandError: the robot refused a command.
+            RobotStateError: the robot is not awake (nothing sent); or the
+                approach did not bring the arm to the start (nothing of the
+                trajectory sent); or the robot ended a call early, or let
+                the arm go limp during it.
+            RobotLimitsError: the robot allows a joint less range or speed
+                than the bridge's limits (nothing sent).
         """
         trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
         frames = checked_frames(trajectory, rate or self.rate, limits)
         names = list(frames.joint_names)
         self.client.refuse_while_stopping()
+        if self.require_awake:
+            check_awake(self.client)
+        self._robot_limits.check(self.client, limits)
         current = angles_at_rest(self.client, names)
+        limp = limp_posture(self.client, names)
+        if limp is not None:  # stiffened, it would snap back to its command
+            current = limp
         move_first = needs_approach(frames, current, limits, approach)
+        if limp is not None:
+            hold_command(self.client, names, limp, limits)
         if self.client.stiffen(names):  # another client may have moved it meanwhile
             current = angles_at_rest(self.client, names)
             move_first = needs_approach(frames, current, limits, approach)
@@ -167,6 +200,12 @@ class RobotBridge:
         call = angle_interpolation_call(frames)
         samples = play_and_sample(
             self.client, call, period=self.sample_period, on_sample=on_state
+        )
+        check_still_stiff(
+            self.client,
+            names,
+            _chain(frames.arm),
+            "the movement was not played as sent; the arm is limp where it stopped",
         )
         states = executed_states(trajectory, samples)
         return ExecuteReply(
@@ -193,6 +232,9 @@ class RobotBridge:
 
         Returns:
             The approach move's length [s].
+
+        Raises:
+            RobotStateError: the arm went limp, or did not arrive at the start.
         """
         start = np.asarray(frames.start)
         move = approach_frames(frames.arm, current, start, limits, frames.rate)
@@ -204,7 +246,17 @@ class RobotBridge:
             period=0.05,
             on_sample=on_sample,
         )
+        names = list(frames.joint_names)
+        check_still_stiff(
+            self.client, names, _chain(frames.arm), "nothing of the trajectory was sent"
+        )
+        check_at_start(self.client, names, start)
         return move.duration
+
+
+def _chain(arm: Side | str) -> str:
+    """NAOqi's chain name of ``arm``: ``RArm`` or ``LArm``."""
+    return Side.parse(arm).prefix + "Arm"
 
 
 def _shifted(report: StateCallback, by: float) -> StateCallback:

@@ -1,7 +1,7 @@
 """``python -m bridge.serve``: the robot bridge as a Zenoh service process.
 
 Usage: ``python -m bridge.serve [--robot tcp://IP:9559] [--follow]
-[--config FILE] [--connect tcp/HOST:PORT] [--rate HZ]``.
+[--config FILE] [--connect tcp/HOST:PORT] [--rate HZ] [--allow-not-awake]``.
 
 It connects to the router (waiting up to ``--wait`` seconds), answers
 ``<ns>/bridge/execute`` (:mod:`bridge.service`), with ``--follow`` also plays
@@ -21,6 +21,7 @@ import logging
 from collections.abc import Sequence
 
 from bridge.address import ROBOT_ENV, robot_url
+from bridge.awake import ALLOW_NOT_AWAKE
 from bridge.follower import TrajectoryFollower
 from bridge.frames import DEFAULT_RATE
 from bridge.naoqi_client import NaoqiClient
@@ -69,6 +70,13 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--rate", type=float, default=DEFAULT_RATE, help="frame rate [Hz] (25)"
     )
+    p.add_argument(
+        ALLOW_NOT_AWAKE,
+        action="store_true",
+        help="play even on a robot that is not awake (ALMotion.robotIsWakeUp() "
+        "false: resting, crouched or fallen); only for a robot held up by other "
+        "means",
+    )
     return p
 
 
@@ -81,7 +89,10 @@ def run(args: argparse.Namespace) -> None:
     client = NaoqiClient(url)
     try:
         with Bus.connect(config, wait=args.wait) as bus:
-            service = BridgeService(bus, RobotBridge(client, rate=args.rate))
+            bridge = RobotBridge(
+                client, rate=args.rate, require_awake=not args.allow_not_awake
+            )
+            service = BridgeService(bus, bridge)
             follower = TrajectoryFollower(service, args.rate) if args.follow else None
             with ServiceHost(bus, BRIDGE, service.endpoints()):
                 log.info("bridge: robot at %s", url)

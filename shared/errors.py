@@ -726,6 +726,76 @@ class RobotCommandError(ArmplanError):
         self.reason = reason
 
 
+class RobotStateError(ArmplanError):
+    """The robot was not fit to play the trajectory, or stopped being so during it.
+
+    Not awake, an arm whose stiffness dropped during the movement, a motion
+    task the robot ended before its last key, an arm that did not reach the
+    trajectory's start: what the robot did is not what the bridge sent.
+
+    Attributes:
+        url: The robot's NAOqi address.
+        reason: What was found, e.g. ``"the stiffness of RArm dropped during
+            the movement"``.
+        outcome: What became of the trajectory, e.g. ``"nothing was sent"``.
+    """
+
+    kind = "robot_state"
+
+    def __init__(self, url: str, reason: str, *, outcome: str) -> None:
+        super().__init__(
+            f"the robot at {url}: {reason}; {outcome}",
+            url=url,
+            reason=reason,
+            outcome=outcome,
+        )
+        self.url = url
+        self.reason = reason
+        self.outcome = outcome
+
+
+class RobotLimitsError(ArmplanError):
+    """The robot's own limits of a joint are narrower than the bridge's.
+
+    The bridge checks every frame against its limits (the robot
+    description's, a NAO H25 V5/V6): a robot that allows less (another
+    model, a joint restricted in its settings) could be sent a frame it
+    cannot follow.
+
+    Attributes:
+        url: The robot's NAOqi address.
+        joint: NAO joint name, e.g. ``RShoulderRoll``.
+        quantity: ``"lower"``, ``"upper"`` (position [rad]) or ``"velocity"``
+            (speed [rad/s]).
+        robot: The robot's value (``ALMotion.getLimits``).
+        bridge: The bridge's value.
+    """
+
+    kind = "robot_limits"
+
+    def __init__(
+        self, url: str, joint: str, quantity: str, robot: float, bridge: float
+    ) -> None:
+        what = {"lower": "lower limit", "upper": "upper limit"}.get(
+            quantity, "speed limit"
+        )
+        super().__init__(
+            f"the robot at {url} gives {joint} the {what} {robot:.5f} "
+            f"(ALMotion.getLimits), narrower than the bridge's {bridge:.5f}: "
+            "nothing was sent (is it a NAO H25 V5/V6?)",
+            url=url,
+            joint=joint,
+            quantity=quantity,
+            robot=float(robot),
+            bridge=float(bridge),
+        )
+        self.url = url
+        self.joint = joint
+        self.quantity = quantity
+        self.robot = float(robot)
+        self.bridge = float(bridge)
+
+
 # Errors of demonstration files and motion-model files (shared/demos, services/fit).
 
 

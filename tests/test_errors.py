@@ -11,6 +11,8 @@ from shared.errors import (
     LimitViolationError,
     PrimitiveCannotReachError,
     RemoteError,
+    RobotLimitsError,
+    RobotStateError,
     SwivelNotReachedError,
     TooFewSamplesError,
     UnknownArmError,
@@ -42,6 +44,8 @@ EXAMPLES: list[ArmplanError] = [
         limit=2.08567,
     ),
     WrongLoginError(source="secure/client.json5", expected="bridge", given="client"),
+    RobotStateError("tcp://127.0.0.1:9559", "not awake", outcome="nothing was sent"),
+    RobotLimitsError("tcp://127.0.0.1:9559", "RShoulderRoll", "upper", -0.0087, 0.3),
 ]
 
 

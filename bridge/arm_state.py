@@ -1,0 +1,73 @@
+"""What the robot's arm must be after a call: still stiff, and where it was sent.
+
+A call that ran its whole length can still have moved nothing: an arm made
+limp during it (the fall manager, the chest button, another client's
+``setStiffnesses``) lets its motors go while the command plays on, and the
+call ends as if all went well (a movement reported with 64 degrees of error
+and no error). And an approach cut short leaves the arm away from the
+trajectory's start, from where the trajectory's first key is far beyond the
+speed limit. Both are checked after the call, on the robot's own word.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from bridge.naoqi_client import NaoqiClient
+from bridge.start_gap import START_TOLERANCE
+from shared.errors import RobotStateError
+
+#: Stiffer than this counts as fully stiff (the bridge stiffens to 1).
+STIFF = 1.0 - 1e-3
+#: After an approach, the measured angles must be this close to the
+#: trajectory's start [rad]: a stiff arm at rest lags its command by a
+#: degree or so under gravity on a NAO, far less than a cut-short approach.
+ARRIVED = math.radians(3.0)
+
+
+def check_still_stiff(
+    client: NaoqiClient, names: list[str], chain: str, outcome: str
+) -> None:
+    """Raise if any of ``names`` (the arm ``chain``, e.g. ``RArm``) is not stiff.
+
+    Raises:
+        RobotStateError: naming the chain and the least stiff joint.
+    """
+    stiffness = client.stiffnesses(names)
+    j = int(np.argmin(stiffness))
+    if not stiffness[j] >= STIFF:  # NaN too
+        raise RobotStateError(
+            client.url,
+            f"the stiffness of {chain} dropped during the movement ({names[j]} "
+            f"at {stiffness[j]:.2f}): the fall manager, a rest, or another "
+            "client released it",
+            outcome=outcome,
+        )
+
+
+def check_at_start(client: NaoqiClient, names: list[str], start: np.ndarray) -> None:
+    """Raise unless the arm is at ``start`` [rad], (n,), after an approach.
+
+    Its command must be within ``START_TOLERANCE`` of the start and its
+    measured angles within :data:`ARRIVED`.
+
+    Raises:
+        RobotStateError: naming the joint furthest off (nothing of the
+            trajectory was sent).
+    """
+    for use_sensors, allowed in ((False, START_TOLERANCE), (True, ARRIVED)):
+        where = client.get_angles(names, use_sensors=use_sensors)
+        gap = np.abs(where - np.asarray(start))
+        j = int(np.argmax(np.where(np.isfinite(gap), gap, np.inf)))
+        if not gap[j] <= allowed:
+            what = "measured" if use_sensors else "commanded"
+            raise RobotStateError(
+                client.url,
+                f"after the approach move, {names[j]} is {what} at "
+                f"{where[j]:.4f}, {math.degrees(gap[j]):.2f} deg from the "
+                f"trajectory's start {start[j]:.4f} (more than "
+                f"{math.degrees(allowed):.1f} deg): the approach did not arrive",
+                outcome="nothing of the trajectory was sent",
+            )

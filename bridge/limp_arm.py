@@ -1,0 +1,91 @@
+"""A limp arm is held where it is before it is stiffened: no snap back.
+
+With stiffness 0 a NAO's joints take commands but do not move ("at zero
+stiffness, you can send any commands to the motors, but he will not move",
+NAOqi's stiffness guide). An arm made limp mid-movement (the fall manager,
+the chest button's rest, another client's ``setStiffnesses("RArm", 0)``)
+sags or is moved by hand while its commanded angles stay where they were;
+stiffened again, every motor drives to its command at full power (on the
+simulated NAO, 1.17 rad at 8.8 rad/s, about four times the approach's
+speed). So before the bridge stiffens an arm that is not fully stiff, it
+reads where the arm is (its sensors); if that is more than
+:data:`HOLD_TOLERANCE` from the command, the command is first moved to the
+measured angles, a call the limp motors do not follow, so that stiffening
+holds the arm where it is and the approach starts from there.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from bridge.limits import FrameLimits
+from bridge.naoqi_client import NaoqiClient
+from shared.errors import RobotCommandError
+
+#: Measured and commanded angles further apart than this on an arm that is
+#: not fully stiff: the command is moved to the measured angles first [rad].
+HOLD_TOLERANCE = math.radians(0.5)
+#: The command moves to the measured angles at most at this share of the
+#: speed limits (the limp motors do not follow it; a motor with some
+#: stiffness left is where it goes anyway).
+HOLD_SPEED = 0.5
+#: Shortest such move [s]: one of ALMotion's 20 ms cycles.
+HOLD_SHORTEST = 0.02
+
+
+def limp_posture(client: NaoqiClient, names: list[str]) -> np.ndarray | None:
+    """Where a not fully stiff arm is [rad], (n,), if its command is elsewhere.
+
+    Reads only: nothing is sent. None if every joint of ``names`` is fully
+    stiff, or the measured angles are within :data:`HOLD_TOLERANCE` of the
+    commanded ones.
+
+    Raises:
+        RobotUnavailableError: the robot cannot be reached.
+        RobotCommandError: the robot gave angles that are not numbers.
+    """
+    if np.all(client.stiffnesses(names) >= 1.0):
+        return None
+    measured = client.get_angles(names, use_sensors=True)
+    commanded = client.get_angles(names, use_sensors=False)
+    if not np.all(np.isfinite(measured)) or not np.all(np.isfinite(commanded)):
+        raise RobotCommandError(
+            client.url,
+            "getAngles",
+            f"it gave angles that are not numbers: measured {measured}, "
+            f"commanded {commanded}",
+        )
+    if np.abs(measured - commanded).max() <= HOLD_TOLERANCE:
+        return None
+    return measured
+
+
+def hold_command(
+    client: NaoqiClient, names: list[str], where: np.ndarray, limits: FrameLimits
+) -> float:
+    """Move the command of ``names`` to ``where`` [rad], (n,), before stiffening.
+
+    ``limits`` are those of ``names``, in order. The keys' single step keeps
+    within :data:`HOLD_SPEED` of the speed limits from the present command.
+
+    Returns:
+        The move's length [s].
+
+    Raises:
+        RobotUnavailableError: the robot cannot be reached.
+        RobotCommandError: the robot refused the call.
+    """
+    commanded = client.get_angles(names, use_sensors=False)
+    gap = np.abs(np.asarray(where) - commanded)
+    duration = max(HOLD_SHORTEST, float(np.max(gap / (HOLD_SPEED * limits.velocity))))
+    client.call(
+        "angleInterpolation",
+        names,
+        [[float(angle)] for angle in where],
+        [[duration]] * len(names),
+        True,
+        timeout=duration + client.call_timeout,
+    )
+    return duration

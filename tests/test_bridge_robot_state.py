@@ -1,0 +1,230 @@
+"""What the robot did, not what the bridge sent: its state before and after a call.
+
+The bridge against the simulated NAO over real libqi, in this process, with
+another libqi session playing the other party (the fall manager, a rest,
+another Choregraphe client): an arm made limp mid-movement, a call the
+robot ended early (raising, or returning as NAOqi's may), a robot not
+awake, a robot whose own limits are narrower than the bridge's.
+"""
+
+from __future__ import annotations
+
+import itertools
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.naoqi_client import NaoqiClient
+from bridge.robot_bridge import RobotBridge
+from bridge.sim import SimProcess
+from bridge.sim.joints import joint_specs
+from bridge.sim.log import read_log
+from bridge.sim.process import READY
+from shared.errors import RobotLimitsError, RobotStateError
+from shared.libqi import qi
+from shared.robot.postures import forward, rest
+
+
+@pytest.fixture
+def other(sim: SimProcess) -> Iterator[Any]:
+    """ALMotion on a session of its own: another client of the robot."""
+    with _motion(sim.url) as motion:
+        yield motion
+
+
+@contextmanager
+def _motion(url: str) -> Iterator[Any]:
+    session = qi.Session()
+    session.connect(url)
+    try:
+        yield session.service("ALMotion")
+    finally:
+        session.close()
+
+
+def _calls(log: Path | str, method: str) -> list[dict[str, Any]]:
+    return [
+        e for e in read_log(log) if e["event"] == "call" and e.get("method") == method
+    ]
+
+
+def test_an_arm_made_limp_mid_movement_is_an_error_and_not_snapped_back(
+    sim: SimProcess, other: Any
+) -> None:
+    """Another client cuts the arm's stiffness during a reach: the reach was
+    answered as played (64 degrees off, no error), and the next request
+    stiffened the arm with its command 1.17 rad from where it hung, which
+    snapped it back at the motor's top speed. Now the reach raises naming
+    the arm, and the next request holds the arm where it is before
+    stiffening it, then approaches from there: no joint moves faster than
+    the approach's share of its limit."""
+    bridge = RobotBridge(NaoqiClient(sim.url))
+    reach = minimum_jerk_trajectory("right", [rest("right"), forward("right")], [1.5])
+    back = minimum_jerk_trajectory("right", [forward("right"), rest("right")], [1.5])
+    cut = threading.Timer(0.6, lambda: other.setStiffnesses("RArm", 0.0))
+    cut.start()
+    with pytest.raises(RobotStateError, match="stiffness of RArm dropped during"):
+        bridge.execute(reach)
+    cut.join()
+    reply = bridge.execute(back)
+    assert reply.approach_duration > 0.0
+    assert sim.log_path is not None
+    log = read_log(sim.log_path)
+    limp_at = _calls(sim.log_path, "setStiffnesses")[-1]["t"]
+    states = [e for e in log if e["event"] == "state" and e["t"] > limp_at]
+    fastest = _fastest(states)
+    limits = {j: s.velocity for j, s in joint_specs().items()}
+    ratio = {j: v / limits[j] for j, v in fastest.items()}
+    print("\nfastest share of the speed limit after the cut:", ratio)
+    assert max(ratio.values()) < 0.3  # the approach's 25 %, not the motor's 100 %
+
+
+def _fastest(states: list[dict[str, Any]]) -> dict[str, float]:
+    """Each joint's fastest speed between consecutive logged cycles [rad/s]."""
+    fastest: dict[str, float] = {}
+    for a, b in itertools.pairwise(states):
+        dt = b["t"] - a["t"]
+        for joint in set(a["positions"]) & set(b["positions"]):
+            speed = abs(b["positions"][joint] - a["positions"][joint]) / dt
+            fastest[joint] = max(fastest.get(joint, 0.0), speed)
+    return fastest
+
+
+@pytest.fixture
+def quiet_kills(tmp_path: Path) -> Iterator[SimProcess]:
+    """A simulated NAO whose killed blocking calls return, as NAOqi's may."""
+    process = SimProcess(log_path=tmp_path / "sim.jsonl", killed_calls_return=True)
+    process.start()
+    try:
+        yield process
+    finally:
+        process.stop()
+
+
+def test_a_killed_call_returns_normally_on_the_sim_so_told(
+    quiet_kills: SimProcess,
+) -> None:
+    """With ``killed_calls_return`` a killed angleInterpolation answers
+    without error (the stock sim raises "was interrupted")."""
+    with _motion(quiet_kills.url) as motion:
+        motion.wakeUp()
+        start = motion.getAngles("RShoulderPitch", False)[0]
+        future = motion.angleInterpolation(
+            "RShoulderPitch", start - 0.5, 2.0, True, _async=True
+        )
+        threading.Timer(0.3, motion.killAll).start()
+        future.wait(5000)
+        assert future.isFinished() and not future.hasError()
+
+
+def test_a_movement_the_robot_ends_early_is_an_error(
+    quiet_kills: SimProcess,
+) -> None:
+    """killAll 0.8 s into a 2 s reach, the call returning normally: it was
+    reported as a clean execution. Now it raises, saying when it ended."""
+    bridge = RobotBridge(NaoqiClient(quiet_kills.url))
+    with _motion(quiet_kills.url) as motion:
+        reach = minimum_jerk_trajectory(
+            "right", [rest("right"), forward("right")], [2.0]
+        )
+        threading.Timer(0.8, motion.killAll).start()
+        with pytest.raises(RobotStateError) as caught:
+            bridge.execute(reach)
+    assert "the robot ended the movement at t = " in caught.value.message
+    assert "of 2.00 s" in caught.value.message
+
+
+def test_an_approach_the_robot_cuts_short_sends_no_trajectory(
+    quiet_kills: SimProcess,
+) -> None:
+    """The approach's task killed half-way, its call returning normally:
+    the trajectory went out from where the arm had stopped (its first key
+    four times the speed limit away; only the sim's refusal stopped it).
+    Now the bridge raises and sends nothing after the approach."""
+    bridge = RobotBridge(NaoqiClient(quiet_kills.url))
+    trajectory = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [1.5]
+    )
+    with _motion(quiet_kills.url) as motion:
+        kill = threading.Timer(0.5, motion.killTasksUsingResources, [["RArm"]])
+        kill.start()
+        with pytest.raises(RobotStateError):
+            bridge.execute(trajectory)
+        kill.join()
+    assert quiet_kills.log_path is not None
+    assert len(_calls(quiet_kills.log_path, "angleInterpolation")) == 1
+    assert not [e for e in read_log(quiet_kills.log_path) if e["event"] == "refused"]
+
+
+def test_a_robot_not_awake_is_refused_unless_allowed(
+    sim: SimProcess, other: Any
+) -> None:
+    """After rest() the bridge stiffened the arm alone and played the reach
+    on a resting robot. Now it refuses before sending anything; a bridge
+    told it may (``--allow-not-awake``) plays."""
+    other.rest()
+    assert not other.robotIsWakeUp()
+    assert sim.log_path is not None
+    before = len(read_log(sim.log_path))
+    reach = minimum_jerk_trajectory("right", [rest("right"), forward("right")], [1.0])
+    with pytest.raises(RobotStateError, match=r"robotIsWakeUp\(\) is false"):
+        RobotBridge(NaoqiClient(sim.url)).execute(reach)
+    sent = [e for e in read_log(sim.log_path)[before:] if e["event"] == "call"]
+    assert sent == []
+    reply = RobotBridge(NaoqiClient(sim.url), require_awake=False).execute(reach)
+    assert reply.frames > 0
+
+
+NARROW_SIM = """
+import sys
+import shared
+from bridge.sim.joints import joint_specs
+specs = joint_specs()
+specs["RShoulderRoll"] = specs["RShoulderRoll"]._replace(upper=-0.0087)
+from bridge.sim.server import serve
+serve("tcp://127.0.0.1:0")
+"""
+
+
+@pytest.fixture
+def narrow_sim() -> Iterator[str]:
+    """A simulated robot whose RShoulderRoll stops at -0.0087 rad (a Pepper's)."""
+    process = subprocess.Popen(
+        [sys.executable, "-c", NARROW_SIM],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
+    try:
+        assert process.stdout is not None
+        line = next(out for out in process.stdout if out.startswith(READY))
+        yield line.split()[-1]
+    finally:
+        process.terminate()
+        process.wait(10)
+
+
+def test_a_robot_with_narrower_limits_is_refused(narrow_sim: str) -> None:
+    """A robot whose RShoulderRoll range ends at -0.0087 rad (the bridge's at
+    0.314) was sent NAO ranges unasked. Now its getLimits is read and the
+    bridge refuses, naming the joint, before sending anything."""
+    reach = minimum_jerk_trajectory("right", [rest("right"), forward("right")], [1.0])
+    with pytest.raises(RobotLimitsError) as caught:
+        RobotBridge(NaoqiClient(narrow_sim)).execute(reach)
+    error = caught.value
+    assert (error.joint, error.quantity) == ("RShoulderRoll", "upper")
+    assert error.robot == pytest.approx(-0.0087)
+    assert error.bridge == pytest.approx(0.314159)
+    with _motion(narrow_sim) as motion:
+        assert np.allclose(
+            motion.getAngles("RArm", False)[:5], rest("right"), atol=1e-9
+        )
