@@ -173,6 +173,46 @@ class UnreachableTargetError(ArmplanError):
         self.residual = residual
 
 
+class OffPathError(ArmplanError):
+    """The arm cannot follow a timed wrist path within the tolerance.
+
+    Attributes:
+        index: The sample whose wrist is farthest from the path.
+        time: Its time [s].
+        deviation: Its wrist's distance from the path's sample [m].
+        tolerance: The largest distance allowed [m].
+    """
+
+    kind = "off_path"
+
+    def __init__(
+        self,
+        *,
+        arm: str,
+        index: int,
+        time: float,
+        deviation: float,
+        tolerance: float,
+        reason: str = "",
+    ) -> None:
+        why = f" ({reason})" if reason else ""
+        super().__init__(
+            f"the {arm} arm cannot follow the wrist path: at sample {index} "
+            f"(t = {time:.3f} s) its wrist is {deviation * 1000:.2f} mm from the "
+            f"path, more than the tolerance {tolerance * 1000:.2f} mm{why}",
+            arm=arm,
+            index=int(index),
+            time=float(time),
+            deviation=float(deviation),
+            tolerance=float(tolerance),
+            reason=reason,
+        )
+        self.index = int(index)
+        self.time = float(time)
+        self.deviation = float(deviation)
+        self.tolerance = float(tolerance)
+
+
 class PrimitiveCannotReachError(ArmplanError):
     """The chosen primitive's active joints cannot put the wrist on the target.
 

@@ -141,6 +141,9 @@ def _how(args: argparse.Namespace) -> dict[str, Any]:
         fields["rate"] = _finite(args.rate, "--rate")
     if args.start is not None:
         fields["start"] = _finite(args.start, "--start")
+    tolerance = getattr(args, "path_tolerance", None)
+    if tolerance is not None:
+        fields["path_tolerance"] = _finite(tolerance, "--path-tolerance")
     for name, value in measure_fields(args).items():
         fields.setdefault("measures", {})[name] = _finite(value, f"--{name}")
     for name in ("acceleration", "jerk"):

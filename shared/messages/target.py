@@ -9,7 +9,6 @@ from shared.messages.base import (
     MIN_RATE,
     Direction,
     JointVector,
-    Message,
     OptionalFieldsMessage,
     Vec3,
 )
@@ -52,7 +51,7 @@ class ReachTarget(OptionalFieldsMessage):
     hand: HandAction | None = None
 
 
-class PlanRequest(Message):
+class PlanRequest(OptionalFieldsMessage):
     """A task for the planner: reach targets, or follow a timed wrist path.
 
     Attributes:
@@ -74,7 +73,14 @@ class PlanRequest(Message):
             repeats an id it saw recently with the first one's answer,
             planned and published once, so a caller may ask again when an
             answer is late (``Bus.call(..., repeat=True)``).
+        path_tolerance: With ``wrist_path``, the farthest the wrist may be
+            from a sample of the path at its time [m] (0 < it <= 0.1); a
+            path the arm cannot follow that closely is refused
+            (``OffPathError``). ``None`` (left out of the JSON): the
+            planner's ``PATH_TOLERANCE``, 1 mm.
     """
+
+    omitted_when_none = ("path_tolerance",)
 
     arm: SideAnyCase = Side.RIGHT
     targets: list[ReachTarget] = Field(default_factory=list, max_length=MAX_TARGETS)
@@ -86,6 +92,7 @@ class PlanRequest(Message):
     limits: TimingLimits | None = None
     measures: MeasureParams | None = None
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
+    path_tolerance: float | None = Field(default=None, gt=0.0, le=0.1)
 
     @model_validator(mode="after")
     def _one_kind(self) -> PlanRequest:
@@ -96,6 +103,8 @@ class PlanRequest(Message):
                 f"wrist_path is for the {self.wrist_path.arm.value} arm, "
                 f"the request for the {self.arm.value}"
             )
+        if self.path_tolerance is not None and self.wrist_path is None:
+            raise ValueError("path_tolerance applies to a wrist_path only")
         held = sum(t.dwell for t in self.targets)
         if held * self.rate > MAX_TRAJECTORY_SAMPLES:
             raise ValueError(

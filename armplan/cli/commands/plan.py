@@ -122,6 +122,13 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
         "rounded up to whole sample periods, so a low rate can lengthen it",
     )
     parser.add_argument(
+        "--path-tolerance",
+        type=float,
+        metavar="M",
+        help="with --wrist-path: farthest the wrist may be from a sample [m] "
+        "(default 0.001); a path the arm cannot follow that closely is refused",
+    )
+    parser.add_argument(
         "--start",
         type=float,
         nargs=5,

@@ -1,0 +1,89 @@
+"""A timed wrist path is a contract: followed within a tolerance, or refused."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from services.planner.pipeline import PATH_TOLERANCE, plan
+from shared.errors import InvalidInputError, OffPathError
+from shared.messages import Method, PlanRequest, WristPath, parse
+from shared.robot import ArmModel, load_arm
+
+
+def _minimum_jerk(u: np.ndarray) -> np.ndarray:
+    return u**3 * (10.0 - 15.0 * u + 6.0 * u * u)
+
+
+def joint_motion_path(
+    arm: ArmModel, seed: int, times: np.ndarray
+) -> tuple[WristPath, np.ndarray]:
+    """The wrist of a minimum-jerk joint motion between two random postures
+    (seeded, 0.1 rad inside the ranges) at ``times``: a path that postures
+    within the limits follow exactly. Returns the path and the start posture."""
+    rng = np.random.default_rng(seed)
+    lower, upper = arm.limits.lower + 0.1, arm.limits.upper - 0.1
+    q0, q1 = rng.uniform(lower, upper), rng.uniform(lower, upper)
+    u = (times - times[0]) / (times[-1] - times[0])
+    q = q0 + np.outer(_minimum_jerk(u), q1 - q0)
+    wrists = [tuple(arm.fk(p).wrist.tolist()) for p in q]
+    return WristPath(arm=arm.side, times=times.tolist(), positions=wrists), q0
+
+
+def _wrist_errors(arm: ArmModel, path: WristPath, q: list[list[float]]) -> np.ndarray:
+    wrists = np.array([arm.fk(np.array(p)).wrist for p in q])
+    return np.linalg.norm(wrists - np.array(path.positions), axis=1)
+
+
+def test_a_path_the_tracker_leaves_is_refused_naming_the_sample() -> None:
+    """Method single from this start leaves the path by 4 cm (it went on as
+    a joint-space detour and answered with exit 0): refused, naming the
+    sample farthest off, its time and the distance."""
+    arm = load_arm("right")
+    path, start = joint_motion_path(arm, 40, np.linspace(0.0, 4.0, 101))
+    request = PlanRequest(
+        arm=arm.side, wrist_path=path, method=Method.SINGLE, start=tuple(start)
+    )
+    with pytest.raises(OffPathError) as caught:
+        plan(request)
+    error = caught.value
+    assert error.deviation > 0.03
+    assert error.tolerance == PATH_TOLERANCE
+    assert error.time == path.times[error.index]
+    assert f"sample {error.index} (t = {error.time:.3f} s)" in error.message
+    assert f"{error.deviation * 1000:.2f} mm from the path" in error.message
+
+
+def test_a_looser_tolerance_takes_the_same_path() -> None:
+    arm = load_arm("right")
+    path, start = joint_motion_path(arm, 40, np.linspace(0.0, 4.0, 101))
+    result = plan(
+        PlanRequest(
+            arm=arm.side,
+            wrist_path=path,
+            method=Method.SINGLE,
+            start=tuple(start),
+            path_tolerance=0.1,
+        )
+    )
+    assert _wrist_errors(arm, path, result.trajectory.positions).max() <= 0.1
+
+
+@pytest.mark.parametrize("method", list(Method))
+def test_a_followed_path_stays_within_the_tolerance(method: Method) -> None:
+    arm = load_arm("left")
+    path, start = joint_motion_path(arm, 3, np.linspace(0.0, 4.0, 101))
+    result = plan(
+        PlanRequest(arm=arm.side, wrist_path=path, method=method, start=tuple(start))
+    )
+    assert _wrist_errors(arm, path, result.trajectory.positions).max() < 1e-4
+
+
+def test_a_tolerance_belongs_to_a_wrist_path() -> None:
+    with pytest.raises(InvalidInputError, match="path_tolerance"):
+        parse(
+            PlanRequest,
+            {"targets": [{"position": [0.12, -0.1, 0.05]}], "path_tolerance": 0.01},
+        )
+    plain = parse(PlanRequest, {"targets": [{"position": [0.12, -0.1, 0.05]}]})
+    assert "path_tolerance" not in plain.to_json()  # the JSON as before
