@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.interpolate import CubicHermiteSpline  # type: ignore[import-untyped]
 
 from services.timing import time_given
 from services.timing.check import check_limits
@@ -102,3 +103,24 @@ def test_a_path_at_rest_at_both_ends_is_timed_as_given() -> None:
     times = np.linspace(0.0, 1.0, 101)
     out = time_given(times, _minimum_jerk(times, np.full(5, 0.3)), LIMITS)
     assert np.abs(out.velocities[[0, -1]]).max() < 1e-3
+
+
+def test_the_velocities_are_those_of_the_curve_through_the_positions() -> None:
+    """On uneven times, the cubic Hermite curve through the positions and
+    velocities (the robot bridge's) has one acceleration at every sample,
+    coming and going (it is the C2 spline the velocities came from), and the
+    path starts and ends at rest. (Finite differences on the uneven grid
+    gave a curve whose acceleration jumped from piece to piece and first
+    and last velocities of 1e-3 rad/s.)"""
+    rng = np.random.default_rng(9)
+    times = np.sort(np.r_[0.0, rng.uniform(0.0, 4.0, 60), 4.0])
+    q = _minimum_jerk(times, np.array([0.4, -0.2, 0.3, 0.5, -0.6]))
+    out = time_given(times, q, LIMITS)
+    assert np.array_equal(out.velocities[[0, -1]], np.zeros((2, 5)))
+    curve = CubicHermiteSpline(times, q, out.velocities)
+    inner = times[1:-1]
+    coming = curve(inner - 1e-9, 2)
+    going = curve(inner + 1e-9, 2)
+    scale = np.abs(out.accelerations).max()
+    assert np.abs(going - coming).max() < 1e-5 * scale
+    assert np.allclose(curve(times, 2), out.accelerations, atol=1e-6 * scale)
