@@ -20,7 +20,10 @@ any sample's posture is more than the request's ``path_tolerance`` (default
 ``PATH_TOLERANCE``) from the path's sample, the plan is refused
 (``OffPathError``, naming the sample, its time and the distance), where
 the tracker would otherwise have left the path (its joint-space detour to
-the end posture, or its drift of up to ``DETOUR_AFTER``).
+the end posture, or its drift of up to ``DETOUR_AFTER``). A path with
+uneven times is tracked on an even grid and read back at its own times
+(:mod:`services.planner.even_path`), so the joint path depends on the
+wrist path, not on where it was sampled.
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ import numpy as np
 
 from services.ik import check_reachable, solve
 from services.planner.build import trajectory_message
+from services.planner.even_path import at_path_times, even_grid, is_even
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
@@ -192,7 +196,12 @@ def _follow_given(
     check_path_within_reach(arm, path)
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
-    joint_path = _movement(stages, request, path, start, decisions)
+    if is_even(path.times):
+        joint_path = _movement(stages, request, path, start, decisions)
+    else:  # tracked on an even grid: the joints do not depend on the sampling
+        grid = even_grid(path)
+        tracked = _movement(stages, request, grid, start, decisions)
+        joint_path = at_path_times(arm, path, tracked)
     limits = request_limits(arm.limits, request.limits)
     timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
     check_on_path(arm, path, timed.positions, request.path_tolerance)
