@@ -12,9 +12,12 @@ every sample); the tracker follows that; the joint angles at the path's own
 times are read off the cubic spline through the tracked postures and then
 moved onto the path's samples (``converge`` of the wrist position with every
 joint, no null-space motion: the residual is a fraction of a millimetre, so
-the move is as small and smooth). An evenly sampled path is tracked as given
-(:func:`is_even`), so the planner's and the experiments' joint paths are
-unchanged, bit for bit.
+the move is as small and smooth). A path sampled evenly but coarsely (steps
+wider than the planner's 10 ms) is tracked on that finer grid too: on a few
+waypoints a second the tracker's large steps left the wrist millimetres off
+its samples. A path sampled evenly at most 10 ms apart is tracked as given
+(:func:`tracked_as_given`), so the planner's and the experiments' joint
+paths are unchanged, bit for bit.
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from services.ik.iterate import converge
 from services.ik.kernel.chain import chain_for
 from services.ik.measures import NoMeasure
 from services.ik.task import WristTask
+from services.planner.reach_path import PATH_RATE
 from shared.messages import JointPath, WristPath
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 from shared.robot.arm_model import ArmModel
@@ -37,6 +41,9 @@ MAX_STEPS = MAX_TRAJECTORY_SAMPLES - 1
 #: Gaps within this share of their mean are even (written times such as
 #: 0.01 * k differ from it in the last digits only).
 EVEN = 1e-6
+#: Widest step of the grid a path is tracked on [s]: the planner's own
+#: paths' (100 points a second, ``reach_path.PATH_RATE``).
+WIDEST_STEP = 1.0 / PATH_RATE
 #: Every joint moves in the final correction onto a sample.
 ALL_JOINTS = (0, 1, 2, 3, 4)
 
@@ -49,13 +56,27 @@ def is_even(times: list[float]) -> bool:
     return bool(np.ptp(gaps) <= EVEN * float(np.mean(gaps)))
 
 
+def tracked_as_given(times: list[float]) -> bool:
+    """Whether a path at ``times`` [s] is tracked on its own samples.
+
+    It is if they are even and at most ``WIDEST_STEP`` apart; else it is
+    tracked on ``even_grid``.
+    """
+    if not is_even(times):
+        return False
+    return len(times) < 2 or times[1] - times[0] <= WIDEST_STEP * (1.0 + EVEN)
+
+
 def even_grid(path: WristPath) -> WristPath:
     """``path`` resampled evenly, as densely as its closest two samples.
 
-    The grid's step is the smallest gap between the path's times (made a
-    little smaller to end on its last time; at most ``MAX_STEPS`` steps):
-    a path with samples dropped from an even recording is tracked on that
-    recording's own grid, as the recording itself would be.
+    The grid's step is the smallest gap between the path's times, or
+    ``WIDEST_STEP`` if that is smaller (made a little smaller to end on its
+    last time; at most ``MAX_STEPS`` steps): a path with samples dropped
+    from an even recording is tracked on that recording's own grid, as the
+    recording itself would be, and a coarse path (a few waypoints a second)
+    on the planner's own 100 points a second, where the tracker's steps are
+    small enough to stay on it.
 
     The positions [m] lie on the clamped cubic spline through the path's
     samples (zero velocity at both ends); the grid starts and ends at the
@@ -63,7 +84,7 @@ def even_grid(path: WristPath) -> WristPath:
     """
     times = np.asarray(path.times, dtype=float)
     span = times[-1] - times[0]
-    gap = max(float(np.min(np.diff(times))), span / MAX_STEPS)
+    gap = max(min(float(np.min(np.diff(times))), WIDEST_STEP), span / MAX_STEPS)
     steps = max(math.ceil(span / gap * (1.0 - EVEN)), 1)
     grid = np.linspace(times[0], times[-1], steps + 1)
     grid[-1] = times[-1]

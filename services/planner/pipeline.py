@@ -21,7 +21,8 @@ any sample's posture is more than the request's ``path_tolerance`` (default
 (``OffPathError``, naming the sample, its time and the distance), where
 the tracker would otherwise have left the path (its joint-space detour to
 the end posture, or its drift of up to ``DETOUR_AFTER``). A path with
-uneven times is tracked on an even grid and read back at its own times
+uneven times, or with steps wider than 10 ms, is tracked on an even grid
+and read back at its own times
 (:mod:`services.planner.even_path`), so the joint path depends on the
 wrist path, not on where it was sampled.
 """
@@ -34,7 +35,7 @@ import numpy as np
 
 from services.ik import check_reachable, solve
 from services.planner.build import trajectory_message
-from services.planner.even_path import at_path_times, even_grid, is_even
+from services.planner.even_path import at_path_times, even_grid, tracked_as_given
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
@@ -196,7 +197,7 @@ def _follow_given(
     check_path_within_reach(arm, path)
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
-    if is_even(path.times):
+    if tracked_as_given(path.times):
         joint_path = _movement(stages, request, path, start, decisions)
     else:  # tracked on an even grid: the joints do not depend on the sampling
         grid = even_grid(path)
