@@ -117,7 +117,12 @@ class UnknownPrimitiveError(InvalidInputError):
 
 
 class UnreachableTargetError(ArmplanError):
-    """No posture within the joint limits puts the wrist on the target.
+    """The IK found no posture within the joint limits that puts the wrist there.
+
+    Out of the reach shell no posture can; within it (``residual`` given)
+    the solver, restarts included, stopped that far from the target: a
+    search it did not make may still find one (one target with a palm the
+    solver missed by 138.5 mm has a posture 5.7 mm from it, palm exact).
 
     Attributes:
         target: Target wrist position in the torso frame [m], shape (3,).
@@ -152,8 +157,8 @@ class UnreachableTargetError(ArmplanError):
             message = f"{where}; {span}"
         else:
             message = (
-                f"{where} ({span}) but no posture within the joint limits gets "
-                f"closer than {residual * 1000:.1f} mm"
+                f"{where} ({span}) but the IK solver stopped "
+                f"{residual * 1000:.1f} mm from it"
             )
             if palm is not None:
                 message += f" with the palm facing {_fmt_vec(palm)}"
