@@ -88,9 +88,9 @@ def path_ik(request: PathIKRequest) -> JointPath:
     """The ik stage: track the wrist path with the decided primitives (or a baseline).
 
     Raises:
-        InvalidInputError: method ``mp`` without a decision, a decision of
-            another length than the path, or a decision naming an unknown
-            primitive.
+        InvalidInputError: method ``mp`` without a decision. (A decision
+            of another arm or other times than the path is refused when the
+            request is read: ``PathIKRequest``.)
     """
     arm = load_arm(request.path.arm)
     path = request.path
@@ -118,14 +118,7 @@ def _decided(request: PathIKRequest) -> list[str]:
         raise InvalidInputError(
             "method mp needs the decision of every point", field="decision"
         )
-    names = request.decision.primitives
-    if len(names) != len(request.path.times):
-        raise InvalidInputError(
-            f"the decision has {len(names)} points, "
-            f"the wrist path {len(request.path.times)}",
-            field="decision",
-        )
-    return names
+    return request.decision.primitives
 
 
 def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajectory:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from pydantic import Field
+from pydantic import Field, ValidationInfo, field_validator
 
 from shared.messages.base import (
     MAX_RATE,
@@ -43,7 +43,9 @@ class PathIKRequest(Message):
         path: The wrist path (goal: its last point; ``palm`` at the goal).
         start: Posture at the first point [rad]; None: the arm at rest.
         method: ``mp`` (needs ``decision``), ``least-norm`` or ``single``.
-        decision: The primitive of each point (method ``mp``).
+        decision: The primitive of each point (method ``mp``): the decision
+            made for this path, so of the path's arm and at exactly its
+            times (checked on input).
         measures: The human performance measures' weights; ``None``: the
             decision's (method ``mp``), else the shipped ones.
     """
@@ -53,6 +55,16 @@ class PathIKRequest(Message):
     method: Method = Method.MP
     decision: Decision | None = None
     measures: MeasureParams | None = None
+
+    @field_validator("decision")
+    @classmethod
+    def _decision_fits(
+        cls, decision: Decision | None, info: ValidationInfo
+    ) -> Decision | None:
+        path = info.data.get("path")  # absent if the path itself was refused
+        if decision is not None and path is not None:
+            check_decision_fits(decision, path)
+        return decision
 
     def weights(self) -> MeasureParams:
         """The weights to track with: the request's, the decision's, or the shipped."""
@@ -97,3 +109,32 @@ class TimingRequest(Message):
     rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
     method: Method = Method.MP
     limits: TimingLimits | None = None
+
+
+def check_decision_fits(decision: Decision, path: WristPath) -> None:
+    """``decision`` was made for ``path``: the same arm, the same times.
+
+    The times must be equal exactly: a decision carries its path's times
+    as decide read them, and JSON gives floats back bit for bit.
+
+    Raises:
+        ValueError: naming the decision's and the path's arm, point count
+            or first differing time.
+    """
+    if decision.arm != path.arm:
+        raise ValueError(
+            f"the decision is for the {decision.arm.value} arm, "
+            f"the wrist path for the {path.arm.value}"
+        )
+    if len(decision.times) != len(path.times):
+        raise ValueError(
+            f"the decision has {len(decision.times)} points, "
+            f"the wrist path {len(path.times)}"
+        )
+    for k, (made, asked) in enumerate(zip(decision.times, path.times, strict=True)):
+        if made != asked:
+            raise ValueError(
+                f"the decision was made for other times than the wrist path's: "
+                f"point {k} at t = {made!r} s in the decision, "
+                f"t = {asked!r} s in the path"
+            )
