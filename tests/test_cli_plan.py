@@ -19,6 +19,7 @@ from shared.robot import load_arm, motion_limits
 from shared.robot.postures import rest
 
 GOAL = (0.12, -0.10, 0.05)
+LEFT_GOAL = (0.12, 0.10, 0.05)
 OTHER = (0.10, -0.14, 0.0)
 #: GOAL and OTHER as command-line words.
 AT_GOAL, AT_OTHER = [str(v) for v in GOAL], [str(v) for v in OTHER]
@@ -138,6 +139,30 @@ def test_the_arm_of_a_task_file_in_any_case_or_from_the_option(
     assert plan_json(capsys, "--task", str(file)) == from_option
     assert main(["plan", "--task", str(file), "--arm", "right"]) == 1
     assert "--arm right but the task" in capsys.readouterr().err
+
+
+def test_a_task_files_wrist_path_is_the_tasks_arm(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A left task whose wrist path named no arm was refused ('wrist_path is
+    for the right arm, the request for the left'): the path takes the task's
+    arm, from the file or from --arm, and reads "Left" as the task does. A
+    path that names the other arm is still refused."""
+    left = reach_path(load_arm("left"), rest("left"), np.array(LEFT_GOAL), 1.0)
+    path = {"times": left.times.tolist(), "positions": left.positions.tolist()}
+    file = tmp_path / "task.json"
+    file.write_text(json.dumps({"arm": "left", "wrist_path": path}))
+    planned = plan_json(capsys, "--task", str(file))
+    assert planned.arm == "left" and planned.times == path["times"]
+    file.write_text(json.dumps({"arm": "Left", "wrist_path": path | {"arm": "Left"}}))
+    assert plan_json(capsys, "--task", str(file)) == planned
+    file.write_text(json.dumps({"wrist_path": path}))
+    assert plan_json(capsys, "--task", str(file), "--arm", "left") == planned
+    file.write_text(json.dumps({"arm": "left", "wrist_path": path | {"arm": "right"}}))
+    assert main(["plan", "--task", str(file)]) == 1
+    assert "wrist_path is for the right arm, the request for the left" in (
+        capsys.readouterr().err
+    )
 
 
 def test_weights_beside_a_task_file_join_the_files_own(

@@ -294,3 +294,14 @@ def test_a_decision_of_points_reads_back_point_by_point() -> None:
     assert decision.candidates == ["W_R", "S_R W_P"]
     assert set(decision.matrices) == {"S_R E_P W_P", "S_R W_P"}
     assert parse(Decision, decision.to_json()) == decision
+
+
+def test_a_wrist_path_reads_its_arm_as_a_task_does() -> None:
+    """A wrist path's arm in any case, as PlanRequest's ("LEFT" was refused
+    there while the task's own arm took it); left out, the wire default
+    (right) stays for a path sent on its own."""
+    samples = {"times": [0.0, 0.01], "positions": [[0.1, 0.1, 0.0]] * 2}
+    assert parse(WristPath, {**samples, "arm": "LEFT"}).arm == "left"
+    assert parse(WristPath, samples).arm == "right"
+    with pytest.raises(InvalidInputError, match="arm"):
+        parse(WristPath, {**samples, "arm": "middle"})

@@ -235,6 +235,8 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
     fields, how = request.model_dump(), _how(args)
     if args.arm is not None and "arm" not in request.model_fields_set:
         fields["arm"] = Side.parse(args.arm)  # the file names no arm: --arm does
+        if request.wrist_path and "arm" not in request.wrist_path.model_fields_set:
+            fields["wrist_path"]["arm"] = fields["arm"]  # nor does its path
     elif args.arm is not None and Side.parse(args.arm) is not request.arm:
         raise InvalidInputError(
             f"--arm {args.arm} but the task {path} is for the {request.arm.value} arm",

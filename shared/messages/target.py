@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from pydantic import Field, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from shared.messages.base import (
     MAX_RATE,
@@ -58,7 +58,8 @@ class PlanRequest(OptionalFieldsMessage):
         arm: Which arm moves.
         targets: Wrist targets, reached in order (or empty with ``wrist_path``).
         wrist_path: A timed wrist path to follow instead: joint angles at
-            exactly its times, no retiming (its ``arm`` must match).
+            exactly its times, no retiming. It is the request's arm's: an
+            ``arm`` it names must match, and one it leaves out is ``arm``.
         start: Start posture [rad]; ``None`` means the arm hanging at rest.
         method: Planning method.
         fastest: Go as fast as the limits allow instead of at human pace.
@@ -93,6 +94,24 @@ class PlanRequest(OptionalFieldsMessage):
     measures: MeasureParams | None = None
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
     path_tolerance: float | None = Field(default=None, gt=0.0, le=0.1)
+
+    @field_validator("wrist_path")
+    @classmethod
+    def _path_of_the_arm(
+        cls, path: WristPath | None, info: ValidationInfo
+    ) -> WristPath | None:
+        """``path``, given the request's arm if it names none.
+
+        Its ``arm`` stays unset (``model_fields_set``), so a caller that
+        changes the request's arm later (``armplan plan --task --arm``)
+        knows the path follows it.
+        """
+        arm = info.data.get("arm")  # absent if the arm itself was refused
+        if path is None or arm is None or "arm" in path.model_fields_set:
+            return path
+        return WristPath.model_construct(
+            path.model_fields_set, **(dict(path) | {"arm": arm})
+        )
 
     @model_validator(mode="after")
     def _one_kind(self) -> PlanRequest:

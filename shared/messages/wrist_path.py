@@ -6,7 +6,7 @@ from pydantic import Field, model_validator
 
 from shared.messages.base import Direction, Message, Vec3
 from shared.messages.sample_times import check_times
-from shared.robot.side import Side
+from shared.robot.side import Side, SideAnyCase
 
 #: Most samples one path may hold (100 Hz for 10 minutes).
 MAX_SAMPLES = 60_000
@@ -18,13 +18,14 @@ class WristPath(Message):
     """Wrist positions at strictly increasing times.
 
     Attributes:
-        arm: Which arm's wrist.
+        arm: Which arm's wrist (any case: ``"Left"`` reads as ``"left"``);
+            left out: the right arm's, or in a ``PlanRequest`` its ``arm``.
         times: Sample times [s], shape (n,), strictly increasing.
         positions: Wrist positions in the torso frame [m], shape (n, 3).
         palm: Optional palm direction to hold along the path (unit vector).
     """
 
-    arm: Side = Side.RIGHT
+    arm: SideAnyCase = Side.RIGHT
     times: list[float] = Field(min_length=1, max_length=MAX_SAMPLES)
     positions: list[Vec3] = Field(min_length=1, max_length=MAX_SAMPLES)
     palm: Direction | None = None
