@@ -114,7 +114,13 @@ def test_grid_says_which_demonstrated_reaches_it_leaves_out(
     assert main(["decide", "--grid", "--demos", path, "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert sum(row["trials"] for row in data["demonstrations"]) == 16
-    assert data["left_out"] == {"total": 2, "no_point": 2, "no_labels": 0, "of": 18}
+    assert data["left_out"] == {
+        "total": 2,
+        "no_point": 2,
+        "no_labels": 0,
+        "of": 18,
+        "other_arm": 0,
+    }
     assert main(["decide", "--grid", "--demos", path]) == 0
     assert (
         "2 of 18 demonstrated reaches left out of the table: 2 have no grid point "
@@ -134,6 +140,22 @@ def test_grid_refuses_demos_it_can_use_none_of(
     assert (
         f"{path}: none of its 2 reaches can enter the grid table: 2 have no grid "
         "point (point 0, as recorded reaches are imported)"
+    ) in captured.err
+
+
+def test_grid_refuses_demos_of_the_other_arm(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--arm left with right-arm demonstrations filled the left arm's table
+    from the right arm's reaches without a note; refused naming the arms."""
+    path = tmp_path / "right.mcap"
+    write_demos(path, synthesize(0, subjects=1, trials=1))
+    assert main(["decide", "--grid", "--arm", "left", "--demos", str(path)]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert (
+        f"{path}: its 16 reaches are of the right arm, none of the left arm the "
+        "table is for (--arm left)"
     ) in captured.err
 
 

@@ -17,7 +17,7 @@ from services.decide.grid_table import (
 from services.fit import default_model
 from shared.demos import DemoSet, synthesize
 from shared.demos.nao_grid import nao_grid
-from shared.robot import load_arm
+from shared.robot import Side, load_arm
 
 
 @pytest.fixture(scope="module")
@@ -64,7 +64,7 @@ def test_sequences_and_runs() -> None:
 
 def test_demonstrations_give_the_same_kind_of_table() -> None:
     """The generator's labels per point: S_R E_P W_P first, three primitives."""
-    table = demo_rows(synthesize(2, subjects=2, trials=2))
+    table = demo_rows(synthesize(2, subjects=2, trials=2), "right")
     assert [r.point for r in table] == list(range(1, 17))
     for row in table:
         assert row.sequence[0] == "S_R E_P W_P" and 1 <= len(row.sequence) <= 3
@@ -79,10 +79,26 @@ def test_reaches_the_table_cannot_use_are_counted_by_reason() -> None:
     mixed = DemoSet(
         demos.subjects, [first._replace(point=0), second._replace(labels=None), *rest]
     )
-    assert left_out(mixed) == LeftOut(no_point=1, no_labels=1, of=16)
-    assert sum(row.trials for row in demo_rows(mixed)) == 14
-    assert left_out(demos) == LeftOut(0, 0, 16) and left_out(demos).total == 0
-    assert left_out(mixed).describe() == (
+    assert left_out(mixed, "right") == LeftOut(no_point=1, no_labels=1, of=16)
+    assert sum(row.trials for row in demo_rows(mixed, "right")) == 14
+    assert left_out(demos, "right") == LeftOut(0, 0, 16)
+    assert left_out(demos, "right").total == 0
+    assert left_out(mixed, "right").describe() == (
         "1 has no grid point (point 0, as recorded reaches are imported) "
         "and 1 has no primitive labels"
     )
+
+
+def test_a_table_is_of_one_arms_demonstrations() -> None:
+    """A file of both arms was pooled into either arm's table without a
+    word: each table takes its own arm's reaches and counts the others'."""
+    right = synthesize(2, subjects=1, trials=1)
+    left = [t._replace(arm=Side.LEFT, labels=["E_R W_P"] * 5) for t in right.trials]
+    both = DemoSet(right.subjects, [*right.trials, *left[:3]])
+    assert demo_rows(both, "right") == demo_rows(right, "right")
+    assert left_out(both, "right") == LeftOut(0, 0, 19, other_arm=3)
+    assert left_out(both, "right").describe() == "3 are of the other arm"
+    only_left = demo_rows(both, "left")
+    assert [r.trials for r in only_left] == [1, 1, 1]
+    assert {tuple(r.sequence) for r in only_left} == {("E_R W_P",)}
+    assert left_out(both, "left").total == 16

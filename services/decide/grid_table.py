@@ -8,11 +8,11 @@ the primitives in the order they win. Switches lasting fewer than
 ``MIN_POINTS`` path points (the IK tracker's corrections show up as one-point
 switches) are counted apart and not as primitives of the sequence.
 
-``demo_rows`` gives the same table from labelled demonstrations: per point
-the most common sequence of labels and how many trials follow it. Reaches
-without a grid point (point 0: every imported recording) or without labels
-cannot enter it; ``left_out`` counts them by reason, so that a table is never
-silently thinner than the file.
+``demo_rows`` gives the same table from labelled demonstrations of one arm:
+per point the most common sequence of labels and how many trials follow it.
+Reaches of the other arm, without a grid point (point 0: every imported
+recording) or without labels cannot enter it; ``left_out`` counts them by
+reason, so that a table is never silently thinner than the file.
 """
 
 from __future__ import annotations
@@ -82,20 +82,25 @@ class LeftOut(NamedTuple):
         no_point: Reaches not on the grid (point 0, as imported recordings are).
         no_labels: Reaches on the grid without primitive labels.
         of: Reaches in the demonstrations, left out or not.
+        other_arm: Reaches of the arm the table is not for (counted before
+            the other reasons).
     """
 
     no_point: int
     no_labels: int
     of: int
+    other_arm: int = 0
 
     @property
     def total(self) -> int:
         """Reaches left out, for any reason."""
-        return self.no_point + self.no_labels
+        return self.other_arm + self.no_point + self.no_labels
 
     def describe(self) -> str:
         """The counts in words, e.g. "2 have no grid point (point 0, ...)"."""
         parts = []
+        if self.other_arm:
+            parts.append(f"{self.other_arm} {_be(self.other_arm)} of the other arm")
         if self.no_point:
             parts.append(
                 f"{self.no_point} {_have(self.no_point)} no grid point (point 0, "
@@ -112,14 +117,35 @@ def _have(count: int) -> str:
     return "has" if count == 1 else "have"
 
 
-def left_out(demos: DemoSet) -> LeftOut:
-    """How many of ``demos``' reaches ``demo_rows`` leaves out, and why."""
-    reasons = Counter(_why_left_out(trial) for trial in demos.trials)
-    return LeftOut(reasons["no_point"], reasons["no_labels"], len(demos.trials))
+def _be(count: int) -> str:
+    return "is" if count == 1 else "are"
 
 
-def _why_left_out(trial: Trial) -> str | None:
-    """``"no_point"``, ``"no_labels"`` or ``None`` if the table can use it."""
+def arms_of(demos: DemoSet) -> list[Side]:
+    """The arms ``demos``' reaches are of, right first."""
+    return [side for side in Side if any(t.arm is side for t in demos.trials)]
+
+
+def left_out(demos: DemoSet, side: Side | str) -> LeftOut:
+    """How many of ``demos``' reaches ``demo_rows`` leaves out for ``side``, and why."""
+    arm = Side.parse(side)
+    reasons = Counter(_why_left_out(trial, arm) for trial in demos.trials)
+    return LeftOut(
+        reasons["no_point"],
+        reasons["no_labels"],
+        len(demos.trials),
+        reasons["other_arm"],
+    )
+
+
+def _why_left_out(trial: Trial, side: Side) -> str | None:
+    """Why ``side``'s table cannot use ``trial``, or ``None`` if it can.
+
+    Returns:
+        ``"other_arm"``, ``"no_point"``, ``"no_labels"`` or ``None``.
+    """
+    if trial.arm is not side:
+        return "other_arm"
     if not trial.point:
         return "no_point"
     if trial.labels is None:
@@ -166,14 +192,16 @@ def grid_rows(model: MotionModel, side: Side | str = Side.RIGHT) -> list[GridRow
     return out
 
 
-def demo_rows(demos: DemoSet) -> list[DemoRow]:
-    """Per grid point, the demonstrations' most common label sequence.
+def demo_rows(demos: DemoSet, side: Side | str) -> list[DemoRow]:
+    """Per grid point, the most common label sequence of ``side``'s demonstrations.
 
-    Reaches off the grid or unlabelled are left out (``left_out`` counts them).
+    Reaches of the other arm, off the grid or unlabelled are left out
+    (``left_out`` counts them).
     """
+    arm = Side.parse(side)
     by_point: dict[int, list[tuple[tuple[str, ...], float]]] = {}
     for trial in demos.trials:
-        if _why_left_out(trial) is None and trial.labels is not None:
+        if _why_left_out(trial, arm) is None and trial.labels is not None:
             kept, _ = sequence(trial.labels)
             by_point.setdefault(trial.point, []).append(
                 (tuple(kept), float(trial.times[-1]))

@@ -15,9 +15,10 @@ tracker (``services.decide.path``) and prints, per run of one primitive, its
 times and points (``--json``: the ``Decision`` message, every point's
 primitive, matrix and every g). ``--plot`` draws it like the paper's Fig. 7.
 ``--grid`` prints the Table-4-like sequences of primitives on the paper's 16
-grid points (and with ``--demos`` the demonstrations' own sequences, with a
-count of the reaches left out and why: recorded reaches have no grid point;
-a file none of whose reaches can enter the table is refused).
+grid points (and with ``--demos`` the ``--arm``'s demonstrations' own
+sequences, with a count of the reaches left out and why: recorded reaches
+have no grid point, the other arm's are not this table's; a file with no
+reach of the arm, or none that can enter the table, is refused).
 """
 
 from __future__ import annotations
@@ -75,7 +76,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument("--plot", metavar="FILE.png", help="draw the decision (Fig. 7)")
     parser.add_argument(
-        "--demos", metavar="FILE.mcap", help="with --grid: also the demos' sequences"
+        "--demos",
+        metavar="FILE.mcap",
+        help="with --grid: also the --arm's demos' sequences",
     )
     add_json(parser)
     add_remote(parser)
@@ -274,7 +277,7 @@ def _print_runs(decision: Any, wrist_end: np.ndarray, positions: np.ndarray) -> 
 def _grid(args: argparse.Namespace, model: Any) -> int:
     from services.decide.grid_table import MIN_POINTS, grid_rows
 
-    demo, left = _demo_table(args.demos)
+    demo, left = _demo_table(args.demos, args.arm)
     rows = grid_rows(model, args.arm)
     if args.json:
         print_json(
@@ -327,20 +330,33 @@ def _grid(args: argparse.Namespace, model: Any) -> int:
     return 0
 
 
-def _demo_table(path: str | None) -> tuple[list[DemoRow], LeftOut | None]:
-    """(rows, reaches left out) of the demonstrations in ``path``, if given.
+def _demo_table(path: str | None, arm: str) -> tuple[list[DemoRow], LeftOut | None]:
+    """(rows, reaches left out) of ``arm``'s demonstrations in ``path``, if given.
 
     Raises:
-        DemoFileError: if every reach in the file is left out (recorded
-            reaches have no grid point): the table asked for would be empty.
+        DemoFileError: if the file holds no reach of ``arm`` (naming the arms
+            it holds), or every reach of it is left out (recorded reaches
+            have no grid point): the table asked for would be empty.
     """
     if path is None:
         return [], None
-    from services.decide.grid_table import demo_rows, left_out
+    from services.decide.grid_table import arms_of, demo_rows, left_out
     from shared.demos import read_demos
+    from shared.robot import Side
 
+    side = Side.parse(arm)
     demos = read_demos(path)
-    left = left_out(demos)
+    present = arms_of(demos)
+    if present and side not in present:
+        held = " and ".join(s.value for s in present)
+        raise DemoFileError(
+            path,
+            f"its {len(demos.trials)} reaches are of the {held} arm, none of the "
+            f"{side.value} arm the table is for (--arm {side.value})",
+            arms=[s.value for s in present],
+            arm=side.value,
+        )
+    left = left_out(demos, side)
     if left.total == left.of:
         raise DemoFileError(
             path,
@@ -350,4 +366,4 @@ def _demo_table(path: str | None) -> tuple[list[DemoRow], LeftOut | None]:
             no_point=left.no_point,
             no_labels=left.no_labels,
         )
-    return demo_rows(demos), left
+    return demo_rows(demos, side), left
