@@ -8,6 +8,10 @@ import numpy as np
 import pytest
 
 from armplan.cli.main import main
+from shared.geometry.swivel import swivel_angle
+from shared.messages import IKRequest
+from shared.robot import Side, load_arm
+from shared.robot.postures import mirror
 
 #: A least-norm solve that fails its first attempt and restarts from seeds
 #: (found by a mirror sweep): right start and target [rad, m].
@@ -45,3 +49,28 @@ def test_the_arm_is_read_in_any_case(
     start = MIRROR * np.array(START)
     spelt = solve(spelling, start, target, capsys)
     np.testing.assert_allclose(spelt, solve("left", start, target, capsys))
+
+
+def test_the_left_arms_swivel_is_the_mirror_2_pi_minus_phi(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """--swivel's help and IKRequest said only "pi: elbow down"; a left-arm
+    user could not tell phi is not mirrored for them. Both now say the
+    left mirror of phi is 2 pi - phi, which is what the code measures."""
+    right, left = load_arm(Side.RIGHT), load_arm(Side.LEFT)
+    rng = np.random.default_rng(5)
+    span = right.limits.upper - right.limits.lower
+    for _ in range(50):
+        q = right.limits.lower + rng.random(5) * span
+        a, b = right.fk(q), left.fk(mirror(q))
+        phi = swivel_angle(a.shoulder, a.elbow, a.wrist)
+        mirrored = swivel_angle(b.shoulder, b.elbow, b.wrist)
+        gap = (2 * np.pi - phi - mirrored + np.pi) % (2 * np.pi) - np.pi
+        assert abs(gap) < 1e-12
+    with pytest.raises(SystemExit):
+        main(["ik", "--help"])
+    shown = " ".join(capsys.readouterr().out.split())
+    assert "left arm's mirror of a right-arm phi is 2*pi - phi" in shown
+    assert "mirror of a right-arm swivel phi is 2 pi - phi" in " ".join(
+        (IKRequest.__doc__ or "").split()
+    )

@@ -30,7 +30,9 @@ class IKRequest(Message):
         method: ``mp``, ``least-norm`` or ``single``.
         start: Start posture [rad]; ``None`` means the arm hanging at rest.
         swivel: Elbow swivel angle to move to, for the function primitive
-            S_R E_P W_R [rad] (pi: elbow straight down).
+            S_R E_P W_R [rad] (pi: elbow straight down, 0: up). Measured
+            alike for both arms (``shared.geometry.swivel``), so the left
+            arm's mirror of a right-arm swivel phi is 2 pi - phi.
         measures: Weights of the human performance measures (eq. 17-21).
     """
 

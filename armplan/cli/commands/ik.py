@@ -60,7 +60,11 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--swivel",
         type=float,
         metavar="RAD",
-        help="elbow swivel angle to move to, for S_R E_P W_R [rad] (pi: elbow down)",
+        help=(
+            "elbow swivel angle to move to, for S_R E_P W_R [rad] (pi: elbow "
+            "down, 0: up; measured alike for both arms, so the left arm's "
+            "mirror of a right-arm phi is 2*pi - phi)"
+        ),
     )
     add_measure_options(parser)
     add_json(parser)
