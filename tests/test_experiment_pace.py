@@ -27,7 +27,7 @@ from armplan.experiments.pace import (
 from shared.demos.nao_grid import nao_grid
 from shared.messages import Method
 from shared.robot import load_arm
-from shared.robot.postures import rest
+from shared.robot.postures import mirror, rest
 
 SMALL = ["--reaches", "4", "--chains", "2"]
 
@@ -91,6 +91,28 @@ def test_random_tasks_are_reachable_seeded_and_as_described() -> None:
         assert task.palms is not None and len(task.palms) == CHAIN_LENGTH
         assert np.allclose(np.linalg.norm(task.palms, axis=1), 1.0)
         assert np.array_equal(task.start, rest(arm.side))
+
+
+def test_the_left_arms_tasks_mirror_the_right_arms() -> None:
+    """With one seed the arms drew different reaches (each within its own
+    ranges), so their results could not be compared: the left arm's tasks
+    are now the right arm's, mirrored, and the right arm's are as drawn
+    before (the documented run's first reach, seed 5)."""
+    right = random_tasks(load_arm("right"), 6, 3, seed=5)
+    left = random_tasks(load_arm("left"), 6, 3, seed=5)
+    first = [0.0471186528739702, -0.08803782443303665, -0.04765645179750652]
+    assert right[0].targets[0].tolist() == first
+    flip = np.array([1.0, -1.0, 1.0])
+    for r, m in zip(right, left, strict=True):
+        assert m.kind == r.kind
+        assert np.array_equal(m.start, mirror(r.start))
+        assert np.array_equal(m.targets, r.targets * flip)
+        assert (m.palms is None) == (r.palms is None)
+        if r.palms is not None:
+            assert np.array_equal(m.palms, r.palms * flip)
+    arm = load_arm("left")
+    for task in left:
+        assert np.linalg.norm(arm.fk(task.start).wrist - task.targets[0]) >= LEAST_MOVE
 
 
 def test_a_grid_reach_is_at_human_pace() -> None:

@@ -12,6 +12,10 @@ experiment looks where they do not go, with the real in-process planner:
   ranges can meet at its target is refused with the planner's error; that
   is counted and its message kept, not hidden.
 
+The tasks are drawn for the right arm; the left arm's are their mirrors
+(``mirror_task``), so a seed gives both arms the same reaches and their
+results can be compared.
+
 For each planned task the ratio is the trajectory's duration over the sum
 of the human durations of its movements (each from the posture where it
 starts to the one where it ends), so 1 is human pace; and whether any
@@ -32,8 +36,9 @@ from services.timing import reach_duration
 from shared.errors import ArmplanError, InvalidInputError
 from shared.messages import Method, PlanRequest
 from shared.messages.measure_params import MeasureParams
-from shared.robot.arm_model import ArmModel
-from shared.robot.postures import rest
+from shared.robot.arm_model import ArmModel, load_arm
+from shared.robot.postures import mirror, rest
+from shared.robot.side import Side
 
 #: Targets per chain.
 CHAIN_LENGTH = 4
@@ -41,6 +46,8 @@ CHAIN_LENGTH = 4
 LEAST_MOVE = 0.03
 #: A joint this close to a limit counts as near it [rad].
 NEAR_LIMIT = 0.05
+#: Mirrors a point or direction in the torso frame onto the other arm's side.
+MIRROR_Y = np.array([1.0, -1.0, 1.0])
 #: Most reaches, and most chains, one run may plan (about 0.1 s per task
 #: and method on the benchmark machine: 1000 of each, about 10 minutes).
 MOST = 1000
@@ -110,11 +117,18 @@ def random_palm(rng: np.random.Generator) -> np.ndarray:
 def random_tasks(arm: ArmModel, reaches: int, chains: int, seed: int) -> list[PaceTask]:
     """``reaches`` random reaches, then ``chains`` random chains (see the module).
 
+    The left arm's tasks are the mirrors of the right arm's of the same
+    seed: drawing within each arm's own ranges gave the arms different
+    reaches, which could not be compared.
+
     Raises:
         InvalidInputError: a negative seed, a count outside 0..``MOST``, or
             no task at all; names the option.
     """
     _check_counts(reaches, chains, seed)
+    if arm.side is Side.LEFT:
+        right = random_tasks(load_arm(Side.RIGHT), reaches, chains, seed)
+        return [mirror_task(task) for task in right]
     rng = np.random.default_rng(seed)
     tasks = []
     for k in range(reaches):
@@ -130,6 +144,15 @@ def random_tasks(arm: ArmModel, reaches: int, chains: int, seed: int) -> list[Pa
         palms = np.array([random_palm(rng) for _ in targets])
         tasks.append(PaceTask("chain", start, np.array(targets), palms))
     return tasks
+
+
+def mirror_task(task: PaceTask) -> PaceTask:
+    """``task`` for the other arm: its mirror in the torso's x-z plane."""
+    return task._replace(
+        start=mirror(task.start),
+        targets=task.targets * MIRROR_Y,
+        palms=None if task.palms is None else task.palms * MIRROR_Y,
+    )
 
 
 def _check_counts(reaches: int, chains: int, seed: int) -> None:

@@ -23,7 +23,8 @@ write tables, JSON and PNG plots into ``--out`` and print the tables
 and ``--omega`` set the IK measures' weights (every method's); the files
 then carry them in their names (``handover-chained-omega-0``). ``pace``
 (not the paper's): random reaches and chains of reaches with random palms,
-planned in this process; each trajectory's duration over the human one.
+planned in this process; each trajectory's duration over the human one
+(``--arm left``: the right arm's tasks of the seed, mirrored).
 """
 
 from __future__ import annotations
@@ -156,7 +157,10 @@ def _pace_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[typ
         help="mp, least-norm, single (default all)",
     )
     parser.add_argument(
-        "--arm", choices=("right", "left"), default="right", help="default right"
+        "--arm",
+        choices=("right", "left"),
+        default="right",
+        help="default right; left plans the mirrors of the right arm's tasks",
     )
     parser.set_defaults(run=run_pace)
 
