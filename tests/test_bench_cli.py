@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from armplan.bench.machine import cpu_model
-from armplan.bench.report import print_bars
+from armplan.bench.report import print_bars, print_planning
 from armplan.bench.service_latency import PER_CLIENT, plans_for
 from armplan.cli.main import main
 from shared.bus.lifeline import PARENT_ENV
@@ -200,8 +200,8 @@ def test_the_bars_show_the_in_process_plan_both_ways(
 
 
 def test_the_peers_are_compared_on_like_work(figures: dict[str, float]) -> None:
-    """toppra beside our fastest timing (both as fast as the limits allow),
-    with both trajectories' durations; ikpy's accuracy beside ours; the
+    """toppra beside our --fastest timing (the nearest part of ours, unlike
+    work), with both trajectories' durations; ikpy's accuracy beside ours; the
     SLSQP ratio also on the targets both reached (null if none)."""
     assert 0.0 < figures["toppra_duration_s"] <= figures["timing_fastest_duration_s"]
     assert figures["timing_fastest_duration_s"] < figures["plan_duration_s"]
@@ -216,3 +216,26 @@ def test_the_peers_are_compared_on_like_work(figures: dict[str, float]) -> None:
         )
     else:
         assert ratio is None
+
+
+class _Ones(dict[str, float]):
+    """Figures where every name not set is 1.0 (the table's layout only)."""
+
+    def __missing__(self, key: str) -> float:
+        return 1.0
+
+
+def test_the_timing_row_says_it_compares_unlike_work(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Our --fastest is a jerk-limited bell at the limits' pace, toppra's is
+    time-optimal without a jerk limit: the row says they are unlike work and
+    the next one gives both durations (the row read as a like-for-like
+    "fastest vs fastest" before)."""
+    print_planning(_Ones(timing_fastest_duration_s=0.94, toppra_duration_s=0.45))
+    lines = capsys.readouterr().out.splitlines()
+    row = next(k for k, line in enumerate(lines) if "vs toppra (unlike" in line)
+    assert lines[row].startswith("Ruckig --fastest vs toppra (unlike work)")
+    durations = lines[row + 1].split()
+    assert "jerk-limited" in lines[row + 1] and "time-optimal" in lines[row + 1]
+    assert durations[-3:] == ["0.94000", "0.45000", "-"]

@@ -10,8 +10,12 @@ The parts of planning one reach with method ``mp`` in this process, as
   primitives replayed (what the ik service computes);
 - ``timing``: Ruckig's time parameterisation (``time_segments``) at the
   reach's human pace, as the plan asks for it;
-- ``timing_fastest``: the same, as fast as the limits allow: the problem
-  toppra solves (time-optimal), so the one to compare it with;
+- ``timing_fastest``: the same with ``--fastest``: the jerk-limited bell
+  stretched until it first touches a limit (a shorter time-optimal profile
+  under constant limits on u is taken if there is one). Not the problem
+  toppra solves: toppra's is time-optimal under the speed and acceleration
+  limits alone and rides them, so the two are unlike work, compared as the
+  nearest part of ours (with both trajectories' durations beside);
 - ``messages``: the ``JointPath`` and ``Trajectory`` messages.
 
 The decision's own cost is ``decide_and_track`` minus ``tracking``.

@@ -76,7 +76,11 @@ def time_path(
         q: Joint path [rad], shape (n, joints), n >= 2, within the ranges.
         limits: The joints' ranges and speed, acceleration and jerk limits.
         duration: Wanted duration [s] with a minimum-jerk-like bell profile,
-            or None for the fastest timing the limits allow. The result takes
+            or None for the fastest of two candidates (:func:`fit_profile`):
+            the bell stretched until it first touches a limit, or the
+            time-optimal profile under constant limits on u. Not the
+            time-optimal timing of the path: a bell touches a limit at one
+            instant and stays below the limits elsewhere. The result takes
             longer if the limits need it, and is rounded up to whole periods.
         rate: Sample rate [Hz].
         parameter: The path parameter at each point, shape (n,),
