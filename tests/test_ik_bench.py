@@ -24,6 +24,8 @@ def test_ours_and_both_peers_solve_the_same_targets() -> None:
         assert len(timing.samples) == 3 and timing.mean > 0.0
     f = cost.figures()
     assert f["targets"] == 3.0
+    # its own load average, as the planning part has (the docs promised it)
+    assert f["ik_load_average_start"] >= 0.0 and f["ik_load_average_end"] >= 0.0
     assert f["speedup_vs_slsqp"] == pytest.approx(
         f["slsqp_per_target_ms"] / f["ik_per_target_ms"]
     )

@@ -16,6 +16,7 @@ and the p99.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from functools import partial
 from typing import Any, NamedTuple
@@ -55,6 +56,9 @@ class IKCost(NamedTuple):
         both: Which targets ours and SLSQP both reached, shape (n,): SLSQP
             spends most of its time failing (300 iterations), so its ratio
             on these alone is the like-for-like one.
+        load_average: The machine's 1-minute load average at the start and
+            the end of this benchmark (runnable processes; compare with its
+            CPUs).
     """
 
     ours: Timing
@@ -66,12 +70,15 @@ class IKCost(NamedTuple):
     ikpy: Timing
     ikpy_reached: float
     both: np.ndarray
+    load_average: tuple[float, float] = (0.0, 0.0)
 
     def figures(self) -> dict[str, float]:
         """The JSON figures of ``armplan bench`` [ms, us, J]; ratios peer / ours."""
         ours = self.ours.mean
         return {
             "targets": float(len(self.ours.samples)),
+            "ik_load_average_start": self.load_average[0],
+            "ik_load_average_end": self.load_average[1],
             "ik_per_target_ms": ours * 1e3,
             "ik_per_target_p99_ms": self.ours.percentile(99) * 1e3,
             "slsqp_per_target_ms": self.peer.mean * 1e3,
@@ -136,6 +143,7 @@ def run(
     ``after`` runs after each of the ``steps(n)`` timed calls, untimed (progress).
     """
     require("ikpy")
+    load_start = os.getloadavg()[0]
     arm = load_arm("right")
     tpe = TotalPotentialEnergy(MeasureParams().mu)
     targets = _targets(arm, n + 1, seed)
@@ -173,6 +181,7 @@ def run(
         ikpy,
         float(ikpy_ok.mean()),
         both,
+        (load_start, os.getloadavg()[0]),
     )
 
 
