@@ -15,7 +15,9 @@ import pytest
 from armplan.bench.machine import cpu_model
 from armplan.bench.report import print_bars, print_planning
 from armplan.bench.service_latency import PER_CLIENT, plans_for
+from armplan.cli.commands.bench import _client_counts
 from armplan.cli.main import main
+from shared.bus.config import DEFAULT_QUEUE_LIMIT
 from shared.bus.lifeline import PARENT_ENV
 from shared.compiled import running_compiled
 
@@ -147,17 +149,33 @@ def test_no_services_skips_them(capsys: pytest.CaptureFixture[str]) -> None:
     assert figures["speedup_vs_ikpy"] > 0.0 and figures["toppra_over_plan"] > 0.0
 
 
-@pytest.mark.parametrize("clients", ["0", "1,x", "", "8,1001"])
+@pytest.mark.parametrize("clients", ["0", "1,x", ""])
 def test_bad_client_counts_are_refused(
     clients: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """--clients must be integers 1..1000, comma-separated: usage error."""
+    """--clients must be integers 1..256, comma-separated: usage error."""
     with pytest.raises(SystemExit) as exit_:
         main(["bench", "--clients", clients])
     assert exit_.value.code == 2
-    assert "not a comma-separated list of client counts, each 1..1000" in (
+    assert "not a comma-separated list of client counts, each 1..256" in (
         capsys.readouterr().err
     )
+
+
+@pytest.mark.parametrize("clients", ["257", "8,300", "1000"])
+def test_more_clients_than_the_planner_queues_are_refused_at_once(
+    clients: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """More clients than the planner lets wait (DEFAULT_QUEUE_LIMIT) failed
+    service_busy after the whole run (300: 27 s, exit 1): now a usage error
+    before any work, naming --clients and the limit."""
+    with pytest.raises(SystemExit) as exit_:
+        main(["bench", "--clients", clients])
+    assert exit_.value.code == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert "argument --clients:" in err
+    assert "more than the planner's queue limit (256 requests waiting)" in err
+    assert DEFAULT_QUEUE_LIMIT == 256 and _client_counts("1,256") == [1, 256]
 
 
 def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:

@@ -23,6 +23,7 @@ import os
 from armplan.bench.machine import cpu_model
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
+from shared.bus.config import DEFAULT_QUEUE_LIMIT
 from shared.compiled import running_compiled
 from shared.errors import InvalidInputError
 
@@ -74,8 +75,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.set_defaults(run=run)
 
 
-#: Most concurrent clients in one row (each is a thread with its own wait).
-MOST_CLIENTS = 1000
+#: Most concurrent clients in one row: the planner lets this many requests
+#: wait (its queue limit); more would be answered ``service_busy`` after all
+#: the other work of the run.
+MOST_CLIENTS = DEFAULT_QUEUE_LIMIT
 
 
 def _client_counts(text: str) -> list[int]:
@@ -84,10 +87,16 @@ def _client_counts(text: str) -> list[int]:
         counts = [int(part) for part in text.split(",")]
     except ValueError:
         counts = []
-    if not counts or min(counts) < 1 or max(counts) > MOST_CLIENTS:
+    if not counts or min(counts) < 1:
         raise argparse.ArgumentTypeError(
             f"{text!r} is not a comma-separated list of client counts, "
             f"each 1..{MOST_CLIENTS}"
+        )
+    if max(counts) > MOST_CLIENTS:
+        raise argparse.ArgumentTypeError(
+            f"{max(counts)} clients are more than the planner's queue limit "
+            f"({MOST_CLIENTS} requests waiting): the extra plans would be "
+            f"refused service_busy; give each count 1..{MOST_CLIENTS}"
         )
     return counts
 
