@@ -178,6 +178,15 @@ def test_more_clients_than_the_planner_queues_are_refused_at_once(
     assert DEFAULT_QUEUE_LIMIT == 256 and _client_counts("1,256") == [1, 256]
 
 
+def test_a_negative_seed_is_refused_before_any_work(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """--seed -1 ran into numpy's ValueError once the IK benchmark began:
+    now exit 1 before any work, the option named."""
+    assert main([*TINY, "--no-services", "--seed", "-1"]) == 1
+    assert "--seed must be 0 or more, got -1" in capsys.readouterr().err
+
+
 def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
     """--plans 0: exit 1, the option named."""
     assert main(["bench", "--plans", "0"]) == 1

@@ -224,6 +224,33 @@ def test_a_bad_speed_is_refused(speed: float) -> None:
         replay([], lambda k, p, e: None, speed=speed)
 
 
+def test_a_speed_whose_waits_no_timer_takes_is_refused() -> None:
+    """1e-300 turned a 1 s offset into a wait past threading.TIMEOUT_MAX:
+    OverflowError from the timer; now a typed error naming the speed."""
+    items = [ReplayItem(o, "k", b"{}", "application/json") for o in (0.0, 1.0)]
+    sent: list[str] = []
+    with pytest.raises(InvalidInputError, match="speed 1e-300 is too small"):
+        replay(items, lambda k, p, e: sent.append(k), speed=1e-300)
+    assert sent == ["k"]  # the message at 0 s waits for nothing
+    assert replay(items[:1], lambda k, p, e: None, speed=1e-300).sent == 1
+
+
+def test_a_too_small_speed_is_refused_before_connecting(
+    recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """armplan replay --speed 1e-300: refused once the file is read, before
+    any message is sent or any router is looked for."""
+    from armplan.cli.main import main
+
+    path, offsets = recording
+    assert max(offsets) > 0.0
+    argv = ["replay", str(path), "--speed", "1e-300", "--connect", free_endpoint()]
+    assert main(argv) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert "speed 1e-300 is too small: the message at" in err
+    assert "more than the longest wait" in err
+
+
 def test_a_bad_speed_is_refused_before_connecting(
     recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
 ) -> None:

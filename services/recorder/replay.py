@@ -204,11 +204,25 @@ def replay_items(
     return items
 
 
-def check_speed(speed: float) -> float:
-    """``speed`` if it is a finite positive factor; else ``InvalidInputError``."""
+def check_speed(speed: float, latest: float = 0.0) -> float:
+    """``speed`` if it is a finite positive factor; else ``InvalidInputError``.
+
+    Args:
+        speed: The time scale.
+        latest: The latest offset to send at [s]: ``latest / speed`` must be
+            a wait a timer takes (under ``threading.TIMEOUT_MAX``, about 292
+            years; a speed of 1e-300 asked for more and overflowed).
+    """
     if not (math.isfinite(speed) and speed > 0):
         raise InvalidInputError(
             f"speed must be a positive number (1 = original timing), got {speed}",
+            field="speed",
+        )
+    if latest / speed >= threading.TIMEOUT_MAX:
+        raise InvalidInputError(
+            f"speed {speed:g} is too small: the message at {latest:g} s would "
+            f"be sent after {latest / speed:.3g} s, more than the longest wait "
+            f"({threading.TIMEOUT_MAX:.3g} s)",
             field="speed",
         )
     return speed
@@ -239,6 +253,7 @@ def replay(
     start = clock()
     sent, late, last = 0, 0.0, start
     for item in items:
+        check_speed(speed, item.offset)
         due = start + item.offset / speed
         if stop.wait(max(due - clock(), 0.0)):
             break

@@ -110,6 +110,10 @@ def run(args: argparse.Namespace) -> int:
         if getattr(args, name) < 1:
             option = "--" + name.replace("_", "-")
             raise InvalidInputError(f"{option} must be at least 1", field=name)
+    if args.seed < 0:  # numpy's generators take none
+        raise InvalidInputError(
+            f"--seed must be 0 or more, got {args.seed}", field="seed"
+        )
     require("toppra", "ikpy")  # the peers, before any work
     figures = measure(args)
     processor = cpu_model()

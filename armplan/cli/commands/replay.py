@@ -115,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
     items = replay_items(args.files, keys=args.keys, recover=args.recover)
     if args.keys and not items:
         _no_key_matches(args)
+    check_speed(args.speed, max((item.offset for item in items), default=0.0))
     config = bus_config(args)
     user = login_user(config)
     refused = {} if user is None else refused_by_rules(items, user)
