@@ -169,3 +169,64 @@ def test_a_demonstration_file_validates(
     channels = json.loads(capsys.readouterr().out)["channels"]
     assert {c["schema"] for c in channels} == {"DemoSubject", "DemoSample"}
     assert all(c["invalid"] == 0 for c in channels)
+
+
+def _mcap(path: Path, encoding: str, messages: int) -> Path:
+    """A well-formed MCAP file (not armplan's writer): one channel of ``encoding``."""
+    from mcap.writer import Writer
+
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="ros2" if encoding == "cdr" else "", library="test")
+        schema = writer.register_schema(
+            name="std_msgs/String" if encoding == "cdr" else "JointState",
+            encoding="ros2msg" if encoding == "cdr" else "jsonschema",
+            data=b"string data" if encoding == "cdr" else b"{}",
+        )
+        topic = "/chatter" if encoding == "cdr" else "armplan/bridge/state"
+        channel = writer.register_channel(
+            topic=topic, message_encoding=encoding, schema_id=schema
+        )
+        for i in range(messages):
+            writer.add_message(
+                channel_id=channel,
+                log_time=1000 + i,
+                publish_time=1000 + i,
+                data=b"\x00\x01\x00\x00\x03\x00\x00\x00hi\x00",
+            )
+        writer.finish()
+    return path
+
+
+def test_a_well_formed_foreign_recording_is_not_called_damaged(
+    tmp_path: Path,
+) -> None:
+    """A ROS 2 (cdr) MCAP file is whole: the error says it is not an armplan
+    recording and why, not that it is damaged (nor that --recover helps)."""
+    path = _mcap(tmp_path / "ros.mcap", "cdr", 2)
+    for extra in ([], ["--recover"]):
+        out = armplan("inspect", str(path), *extra)
+        assert out.returncode == 1
+        assert out.stderr.startswith(
+            f"armplan: error: {path} is not an armplan recording: channel "
+            "/chatter has message encoding cdr, not json"
+        )
+        assert "damaged" not in out.stderr and "--recover" not in out.stderr
+        assert "Traceback" not in out.stderr
+
+
+def test_a_channel_without_messages_is_listed(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A file that declares a channel and holds no message: 1 channel, 0
+    messages, no times (it said 0 channels)."""
+    path = _mcap(tmp_path / "quiet.mcap", "json", 0)
+    assert main(["inspect", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert f"{path}: 0 messages on 1 channels" in out
+    row = next(line for line in out.splitlines() if "armplan/bridge/state" in line)
+    assert row.split()[2::2] == ["JointState", "0", "-", "-", "-"]
+    assert main(["inspect", str(path), "--json"]) == 0
+    (channel,) = json.loads(capsys.readouterr().out)["channels"]
+    assert channel["messages"] == 0 and channel["start_ns"] is None
+

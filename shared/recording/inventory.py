@@ -47,7 +47,8 @@ class Inventory:
 
     Attributes:
         path: The file.
-        channels: Its channels, in order of first appearance.
+        channels: Its channels, in order of first message; those the file
+            declares without a message last (count 0).
         damage: What stopped the reading early (``None``: read whole).
         metadata: Its metadata records by name.
         problems: The first few schema problems found (if checked).
@@ -67,12 +68,12 @@ class Inventory:
     @property
     def first(self) -> int | None:
         """Earliest log time [ns], ``None`` if there is no message."""
-        return min((c.first for c in self.channels), default=None)
+        return min((c.first for c in self.channels if c.count), default=None)
 
     @property
     def last(self) -> int | None:
         """Latest log time [ns], ``None`` if there is no message."""
-        return max((c.last for c in self.channels), default=None)
+        return max((c.last for c in self.channels if c.count), default=None)
 
 
 #: Schema problems kept as examples in an inventory.
@@ -113,5 +114,9 @@ def take_inventory(
             if len(inventory.problems) < MAX_PROBLEMS:
                 inventory.problems.append(problem)
     recording.check(recover)
+    for key in recording.channels:  # declared, but no message read on them
+        if key not in channels:
+            channels[key] = ChannelStats(*key)
+            inventory.channels.append(channels[key])
     inventory.damage = recording.damage
     return inventory

@@ -8,9 +8,9 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from mcap.exceptions import EndOfFile, InvalidMagic
-from mcap.reader import NonSeekingReader
-from mcap.stream_reader import CRCValidationError
+from mcap.exceptions import EndOfFile, InvalidMagic, McapError
+from mcap.records import Channel, Message, Schema
+from mcap.stream_reader import CRCValidationError, StreamReader
 
 from shared.errors import RecordingError
 from shared.recording.rotation import numbered_parts
@@ -24,6 +24,8 @@ CHANGED = "its checksum does not match: bytes were changed after it was written"
 NOT_JSON = "a message in it is not UTF-8 JSON"
 NOT_MCAP = "it holds bytes that are not MCAP records"
 NO_MAGIC = "no MCAP magic at its start"
+#: The message encoding of every armplan channel.
+JSON = "json"
 
 
 def _parts_hint(path: Path) -> str:
@@ -90,6 +92,9 @@ class Recording:
         self.topics = None if topics is None else set(topics)
         self.damage: str | None = None
         self.count = 0
+        self.foreign: str | None = None
+        self._schemas: dict[int, Schema] = {}
+        self._channels: dict[int, Channel] = {}
         try:
             self._check_file()
         except OSError as exc:  # a name too long, a folder without permission
@@ -127,8 +132,38 @@ class Recording:
                 readable=0,
             )
 
+    @property
+    def channels(self) -> list[tuple[str, str]]:
+        """Every channel read so far, messages or not, as the file declares them.
+
+        Each as (topic, schema name or "").
+        """
+        return [
+            (c.topic, self._schema_name(c.schema_id)) for c in self._channels.values()
+        ]
+
+    def _schema_name(self, schema_id: int) -> str:
+        schema = self._schemas.get(schema_id)
+        return schema.name if schema is not None else ""
+
+    def _messages(self, stream: Any) -> Iterator[tuple[Channel, Message]]:
+        """Each message with its channel, the schemas and channels kept."""
+        self._schemas, self._channels = {}, {}
+        for record in StreamReader(stream, validate_crcs=True).records:
+            if isinstance(record, Schema):
+                self._schemas[record.id] = record
+            elif isinstance(record, Channel):
+                if record.schema_id and record.schema_id not in self._schemas:
+                    raise McapError(f"no schema with id {record.schema_id}")
+                self._channels.setdefault(record.id, record)
+            elif isinstance(record, Message):
+                channel = self._channels.get(record.channel_id)
+                if channel is None:
+                    raise McapError(f"no channel with id {record.channel_id}")
+                yield channel, record
+
     def __iter__(self) -> Iterator[Record]:
-        self.damage, self.count = None, 0
+        self.damage, self.count, self.foreign = None, 0, None
         try:
             stream = open(self.path, "rb")  # noqa: SIM115 (closed below)
         except OSError as exc:
@@ -136,12 +171,17 @@ class Recording:
                 f"cannot read {self.path}: {exc.strerror}", path=str(self.path)
             ) from None
         with stream:
-            messages = NonSeekingReader(stream, validate_crcs=True).iter_messages(
-                log_time_order=False
-            )
+            messages = self._messages(stream)
             while True:
                 try:
-                    schema, channel, message = next(messages)
+                    channel, message = next(messages)
+                    if channel.message_encoding != JSON:
+                        self.foreign = (
+                            f"channel {channel.topic} has message encoding "
+                            f"{channel.message_encoding or '(none)'}, not {JSON}"
+                        )
+                        self.damage = self.foreign
+                        return
                     data = json.loads(message.data)
                 except StopIteration:
                     return
@@ -151,10 +191,9 @@ class Recording:
                 if self.topics is not None and channel.topic not in self.topics:
                     continue
                 self.count += 1
-                name = schema.name if schema is not None else ""
                 yield Record(
                     channel.topic,
-                    name,
+                    self._schema_name(channel.schema_id),
                     message.log_time,
                     message.publish_time,
                     data,
@@ -171,7 +210,7 @@ class Recording:
         """
         if self.damage is None:
             return
-        if not recover or self.not_mcap:
+        if not recover or self.not_mcap or self.foreign is not None:
             raise self.error()
 
     @property
@@ -181,6 +220,13 @@ class Recording:
 
     def error(self) -> RecordingError:
         """The error that describes this file's damage."""
+        if self.foreign is not None:  # well-formed, but not ours: not damage
+            return RecordingError(
+                f"{self.path} is not an armplan recording: {self.foreign} "
+                "(armplan records JSON messages)",
+                path=str(self.path),
+                readable=self.count,
+            )
         if self.not_mcap:
             return RecordingError(
                 f"{self.path} is not an MCAP file ({NO_MAGIC})",
@@ -220,7 +266,7 @@ def read_records(
     """
     recording = Recording(path, topics)
     yield from recording
-    if recording.damage is not None and not recover:
+    if recording.damage is not None and (not recover or recording.foreign):
         raise recording.error()
 
 
@@ -254,6 +300,6 @@ def summarize(path: str | Path, *, recover: bool = False) -> Summary:
             min(first, r.log_time),
             max(last, r.log_time),
         )
-    if recording.damage is not None and not recover:
+    if recording.damage is not None and (not recover or recording.foreign):
         raise recording.error()
     return Summary(channels, recording.damage)

@@ -91,9 +91,9 @@ def as_json(inventory: Inventory) -> dict[str, Any]:
                 "topic": c.topic,
                 "schema": c.schema,
                 "messages": c.count,
-                "start_ns": c.first,
-                "end_ns": c.last,
-                "duration": c.duration,
+                "start_ns": c.first if c.count else None,
+                "end_ns": c.last if c.count else None,
+                "duration": c.duration if c.count else None,
                 "invalid": c.invalid,
             }
             for c in inventory.channels
@@ -153,8 +153,8 @@ def _table(inventory: Inventory, validate: bool) -> Table:
             escape(c.topic),
             escape(c.schema or "-"),
             str(c.count),
-            f"{(c.first - origin) / 1e9:.3f}",
-            f"{c.duration:.3f}",
+            f"{(c.first - origin) / 1e9:.3f}" if c.count else "-",
+            f"{c.duration:.3f}" if c.count else "-",
             rate,
         ]
         table.add_row(*row, *([str(c.invalid)] if validate else []))
