@@ -230,3 +230,18 @@ def test_a_channel_without_messages_is_listed(
     (channel,) = json.loads(capsys.readouterr().out)["channels"]
     assert channel["messages"] == 0 and channel["start_ns"] is None
 
+
+def test_a_closed_pipe_ends_the_table_quietly_with_exit_0(session: Path) -> None:
+    """`armplan inspect f.mcap | head`: the reader leaves before the table is
+    written; rich made that exit 1, other tools (and armplan's own writes)
+    exit 0 without a word."""
+    process = subprocess.Popen(
+        [sys.executable, "-m", "armplan", "inspect", str(session)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    assert process.stdout is not None and process.stderr is not None
+    process.stdout.close()  # long before its first write (it starts Python)
+    assert process.wait(timeout=60) == 0
+    assert process.stderr.read() == b""
+    process.stderr.close()

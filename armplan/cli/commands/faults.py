@@ -113,6 +113,7 @@ def run(args: argparse.Namespace) -> int:
 def _run(out: Path, options: SuiteOptions, as_json: bool) -> int:
     from rich.console import Console
 
+    from armplan.cli.console import StdoutConsole
     from armplan.faults import json_report, passed, rich_table, run_suite
     from armplan.faults.tally import Tally
 
@@ -135,7 +136,7 @@ def _run(out: Path, options: SuiteOptions, as_json: bool) -> int:
             f"armplan faults ({os.cpu_count()} CPUs, load average "
             f"{load[0]:.1f} at the start, {load[1]:.1f} at the end)"
         )
-        Console(width=200).print(rich_table(tallies, title))
+        StdoutConsole(width=200).print(rich_table(tallies, title))
         verdict = "passed" if passed(tallies) else "FAILED"
         sys.stdout.write(f"armplan faults: {verdict}\n")
     return 0 if passed(tallies) else 1

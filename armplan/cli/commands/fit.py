@@ -122,12 +122,11 @@ def _split(names: list[str], hold_out: int) -> tuple[list[str], list[str]]:
 @contextmanager
 def _progress(quiet: bool) -> Iterator[tuple[Any, Any]]:
     """The progress bar on stderr, and a console for stdout."""
-    from rich.console import Console
-
+    from armplan.cli.console import StdoutConsole
     from armplan.cli.progress import progress_bar
 
     with progress_bar(quiet) as progress:
-        yield progress, Console(file=sys.stdout, soft_wrap=True)
+        yield progress, StdoutConsole(file=sys.stdout, soft_wrap=True)
 
 
 def _report(model: Any, output: str, held: list[str], agreement: Any) -> dict[str, Any]:

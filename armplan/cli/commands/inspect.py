@@ -13,10 +13,10 @@ import sys
 import time
 from typing import Any
 
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from armplan.cli.console import StdoutConsole
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import RecordingError
@@ -111,7 +111,7 @@ def _clock(ns: int | None) -> str:
 
 
 def _print(inventory: Inventory, validate: bool) -> None:
-    console = Console(width=None if sys.stdout.isatty() else 200)
+    console = StdoutConsole(width=None if sys.stdout.isatty() else 200)
     first, last = inventory.first, inventory.last
     span = 0.0 if first is None or last is None else (last - first) / 1e9
     namespace = inventory.metadata.get("armplan", {}).get("namespace", "-")
