@@ -251,6 +251,34 @@ def test_a_too_small_speed_is_refused_before_connecting(
     assert "more than the longest wait" in err
 
 
+def test_keys_before_the_file_say_where_the_file_went(
+    recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--keys takes every word up to the next option, the file too: the error
+    says so and how to write it (it said only that FILE.mcap is required);
+    ended with --, or after the file, the same keys read the file."""
+    from armplan.cli.main import main
+
+    path, _ = recording
+    connect = ["--connect", free_endpoint()]
+    assert main(["replay", "--keys", "plan/trajectory", str(path), *connect]) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert (
+        f"no FILE.mcap to replay was given; --keys took {path} as one of its "
+        "values (it takes every word up to the next option): give the files "
+        "first, or end its list with --"
+    ) in err
+    for argv in (
+        ["--keys", "bogus/key", "--", str(path)],
+        [str(path), "--keys", "bogus/key"],
+        ["--keys", "bogus/key", "--keys", "other/key", "--", str(path)],
+    ):
+        assert main(["replay", *connect, *argv]) == 1  # after --: files only
+        err = " ".join(capsys.readouterr().err.split())
+        assert "no recorded message matches --keys bogus/key" in err, argv
+    assert "--keys bogus/key other/key;" in err  # repeated --keys add up
+
+
 def test_a_bad_speed_is_refused_before_connecting(
     recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -336,6 +364,30 @@ def test_files_started_out_of_order_are_refused(tmp_path: Path) -> None:
     assert [item.payload for item in replay_items(files)] == [b'{"i": 0}', b'{"i": 1}']
     with pytest.raises(RecordingError, match=r"s0\.mcap was started before .*s1\.mcap"):
         replay_items(files[::-1])
+
+
+def test_a_copy_started_at_the_same_time_is_not_called_earlier(
+    tmp_path: Path,
+) -> None:
+    """A recording and its copy start at the same instant: the error says so
+    (it said the second 'was started before' the first)."""
+    from services.recorder.options import RecorderOptions
+    from services.recorder.routing import Incoming
+    from services.recorder.sink import RecordingSink
+    from shared.errors import RecordingError
+
+    out = tmp_path / "s.mcap"
+    sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), "ns").start()
+    t = time.time_ns()
+    sink.put(Incoming("ns/misc/x", b'{"i": 0}', "application/json", t, t))
+    sink.stop()
+    copy = tmp_path / "copy.mcap"
+    copy.write_bytes(out.read_bytes())
+    with pytest.raises(
+        RecordingError,
+        match=r"copy\.mcap was started at the same time as .*s\.mcap: give the",
+    ):
+        replay_items([out, copy])
 
 
 def test_a_file_twice_or_a_part_left_out_is_refused(tmp_path: Path) -> None:

@@ -125,8 +125,9 @@ def _check_order(files: list[Path], noted: list[dict[str, str]]) -> None:
         before, now = noted[k - 1], noted[k]
         started = [int(n.get("started_ns", "-1")) for n in (before, now)]
         if min(started) >= 0 and started[1] <= started[0]:
+            when = "at the same time as" if started[1] == started[0] else "before"
             raise RecordingError(
-                f"{files[k]} was started before {files[k - 1]}: give the "
+                f"{files[k]} was started {when} {files[k - 1]}: give the "
                 "numbered files of one recording, in order",
                 path=str(files[k]),
             )

@@ -40,7 +40,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser = commands.add_parser("replay", help=HELP, description=HELP)
     parser.add_argument(
         "files",
-        nargs="+",
+        nargs="*",  # at least one: checked in run, with a hint (_check_files)
         metavar="FILE.mcap",
         help="the recording (the numbered files of a rotating one, in order)",
     )
@@ -54,9 +54,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--keys",
         nargs="+",
+        action="extend",
         metavar="KEY",
         help="only these key expressions, relative to the namespace, e.g. "
-        "plan/trajectory (default: every recorded key)",
+        "plan/trajectory (default: every recorded key); it takes every word "
+        "up to the next option, so give the files first, or end the keys "
+        "with --, or repeat --keys",
     )
     parser.add_argument(
         "--recover",
@@ -82,6 +85,26 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     add_bus_arguments(parser)
     parser.set_defaults(run=run)
+
+
+def _check_files(args: argparse.Namespace) -> None:
+    """Raise: no FILE.mcap given; say if ``--keys`` or ``--wait-for`` took it."""
+    if args.files:
+        return
+    took = [
+        (option, value)
+        for option, values in (("--keys", args.keys), ("--wait-for", args.wait_for))
+        for value in values or ()
+        if value.endswith(".mcap")
+    ]
+    hint = (
+        f"; {took[0][0]} took {took[0][1]} as one of its values (it takes every "
+        "word up to the next option): give the files first, or end its list "
+        "with --"
+        if took
+        else ""
+    )
+    raise InvalidInputError(f"no FILE.mcap to replay was given{hint}", field="files")
 
 
 def _check_wait(wait: float) -> None:
@@ -110,6 +133,7 @@ INTERRUPTED = 130
 
 def run(args: argparse.Namespace) -> int:
     """Read the file, then send its messages at their (scaled) times."""
+    _check_files(args)
     check_speed(args.speed)  # before connecting: a bad option, not a lost router
     _check_wait(args.wait)
     items = replay_items(args.files, keys=args.keys, recover=args.recover)
