@@ -97,7 +97,8 @@ def print_summary(
     if request.wrist_path is not None:
         pace = "at the wrist path's own times"
     else:
-        speed = "as fast as the limits allow" if request.fastest else "human pace"
+        fastest = "fastest smooth profile within the limits"
+        speed = fastest if request.fastest else "human pace"
         if request.rate < COARSE_RATE:
             period = 1.0 / request.rate
             speed += f", each reach lengthened to whole {period:g} s samples"

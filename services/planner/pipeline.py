@@ -4,8 +4,9 @@ For each target of a task the planner draws a human-like wrist path from
 where the arm is (:mod:`services.planner.reach_path`), asks the decide stage
 for the primitive of every point (method ``mp``), the ik stage for the joint
 path, and then the timing stage for one trajectory through all movements,
-each at human pace (Table 4's law, scaled to NAO) or as fast as the limits
-allow, resting ``dwell`` seconds at each target. The stages are injected
+each at human pace (Table 4's law, scaled to NAO) or as fast as a smooth
+profile along the path allows (``--fastest``, not time-optimal), resting
+``dwell`` seconds at each target. The stages are injected
 (:class:`~services.planner.stages.Stages`): here, or the services over Zenoh.
 
 With a timed wrist path instead of targets, the joint angles come at exactly

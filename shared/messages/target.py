@@ -62,7 +62,9 @@ class PlanRequest(OptionalFieldsMessage):
             ``arm`` it names must match, and one it leaves out is ``arm``.
         start: Start posture [rad]; ``None`` means the arm hanging at rest.
         method: Planning method.
-        fastest: Go as fast as the limits allow instead of at human pace.
+        fastest: Go as fast as a smooth profile along the path allows within
+            the limits (not the path's time-optimal timing) instead of at
+            human pace.
         rate: Sample rate of the returned trajectory [Hz] (targets only).
         limits: Acceleration and jerk limits to time with (``TimingLimits``:
             up to the bridge's safety net); ``None``: the defaults.

@@ -112,7 +112,8 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--fastest",
         action="store_true",
-        help="as fast as the limits allow instead of at human pace",
+        help="as fast as a smooth profile along the path allows within the limits "
+        "(not time-optimal) instead of at human pace",
     )
     parser.add_argument(
         "--rate",
