@@ -15,7 +15,7 @@ from typing import Any
 
 import zenoh
 
-from shared.bus.caller import answered, read_reply, service_timing
+from shared.bus.caller import answered, join_forwarders, read_reply, service_timing
 from shared.bus.config import BusConfig
 from shared.bus.keys import service_key
 from shared.bus.liveness import AliveServices, list_alive
@@ -26,6 +26,8 @@ from shared.messages import Message, ServiceTiming
 
 #: Pause between liveliness checks while waiting for services [s].
 WAIT_POLL = 0.05
+#: Longest wait, on closing, for the reply readers of open queries [s].
+FORWARDERS_GRACE = 2.0
 
 
 class Bus(Closes):
@@ -160,6 +162,12 @@ class Bus(Closes):
             time.sleep(min(WAIT_POLL, max(deadline - time.monotonic(), 0.0)))
 
     def close(self) -> None:
-        """Close the session (after undeclaring what this bus declared)."""
+        """Close the session (after undeclaring what this bus declared).
+
+        Then wait (up to ``FORWARDERS_GRACE``) for the threads that read
+        replies of queries the session had open: see
+        :func:`shared.bus.caller.join_forwarders`.
+        """
         self._alive.close()
         self.session.close()  # type: ignore[no-untyped-call]
+        join_forwarders(FORWARDERS_GRACE)

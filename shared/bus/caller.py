@@ -47,6 +47,12 @@ from shared.messages import ErrorReply, Message, ServiceTiming, parse
 ZENOH_TIMEOUT = b"Timeout"
 #: Pause before asking again after a query ended without any reply [s].
 EMPTY_PAUSE = 0.05
+#: Name of the threads that read a query's replies (``_forward``).
+FORWARDER = "zenoh-reply-forwarder"
+
+#: Forwarders still reading a query (the caller may have its answer already).
+_forwarders: set[threading.Thread] = set()
+_forwarders_lock = threading.Lock()
 
 
 def answered(
@@ -127,7 +133,7 @@ def _ask(
             timeout=left,
             attachment=budget_attachment(left),
         )
-        threading.Thread(target=_forward, args=(replies, inbox), daemon=True).start()
+        _start_forwarder(replies, inbox)
 
     send()
     open_queries, timed_out = 1, None
@@ -162,6 +168,36 @@ def _ask(
     return timed_out
 
 
+def _start_forwarder(
+    replies: zenoh.Handler[zenoh.Reply], inbox: queue.SimpleQueue[zenoh.Reply | None]
+) -> None:
+    """Read ``replies`` into ``inbox`` on a thread of its own (``_forward``)."""
+    thread = threading.Thread(
+        target=_forward, args=(replies, inbox), name=FORWARDER, daemon=True
+    )
+    with _forwarders_lock:
+        _forwarders.add(thread)
+    thread.start()
+
+
+def join_forwarders(timeout: float) -> None:
+    """Wait up to ``timeout`` [s] in all for the reply forwarders to end.
+
+    Called once the session is closed, which ends its queries. A forwarder
+    that the first answer left reading a query still open (its queryable
+    has not finished it) must not outlive the interpreter: a daemon thread
+    still inside Zenoh's ``recv`` when Python finalises is ended by a forced
+    unwind that Zenoh's Rust code catches, and the process aborts ("FATAL:
+    exception not rethrown", exit 134) after its work is done; a client of
+    the bridge did, about once in fifteen runs.
+    """
+    end = time.monotonic() + timeout
+    with _forwarders_lock:
+        pending = list(_forwarders)
+    for thread in pending:
+        thread.join(max(end - time.monotonic(), 0.0))
+
+
 def _forward(
     replies: zenoh.Handler[zenoh.Reply], inbox: queue.SimpleQueue[zenoh.Reply | None]
 ) -> None:
@@ -171,9 +207,13 @@ def _forward(
     overtake its last reply (both run on different threads), which made a
     reply look missing.
     """
-    for reply in replies:
-        inbox.put(reply)
-    inbox.put(None)
+    try:
+        for reply in replies:
+            inbox.put(reply)
+        inbox.put(None)
+    finally:
+        with _forwarders_lock:
+            _forwarders.discard(threading.current_thread())
 
 
 def _is_timeout(reply: zenoh.Reply) -> bool:
