@@ -7,6 +7,7 @@ import pytest
 from conftest import random_posture
 
 from services.ik.kernel import chain_for
+from services.ik.wrists import wrist_positions
 from shared.robot import ArmModel
 
 FIELDS = [
@@ -32,6 +33,18 @@ def test_chain_agrees_with_pinocchio(arm: ArmModel, rng: np.random.Generator) ->
                 getattr(st, name), getattr(kin, name), atol=1e-12
             )
         assert st.gravity_energy == pytest.approx(kin.gravity_energy, abs=1e-12)
+
+
+def test_wrists_of_many_postures_agree_with_pinocchio(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """The array forward kinematics gives each posture's wrist, to 1e-12 m."""
+    q = np.array([random_posture(arm, rng) for _ in range(300)])
+    wrists = wrist_positions(chain_for(arm), q)
+    assert wrists.shape == (300, 3)
+    np.testing.assert_allclose(
+        wrists, [arm.fk(posture).wrist for posture in q], atol=1e-12
+    )
 
 
 def test_float_fields_match_the_numpy_views(

@@ -54,6 +54,25 @@ def test_a_reach_ends_on_its_target_within_every_limit(
     assert len(result.decisions) == (1 if method is Method.MP else 0)
 
 
+def test_the_wrist_path_is_the_wrist_of_each_sample() -> None:
+    """``Trajectory.wrist_path`` is the forward kinematics of each sample's
+    joint angles, not a line between the IK's path points: in this task
+    (four targets, 33.3 Hz) the path points lie up to 10 mm apart and the
+    line strayed 3.1 mm from the wrist."""
+    arm = load_arm("right")
+    targets = [
+        {"position": (0.1195, -0.1080, 0.1385), "dwell": 0.45, "hand": "open"},
+        {"position": (0.0495, -0.0935, 0.2106), "hand": "close"},
+        {"position": (0.0085, -0.2192, 0.0117), "dwell": 0.54},
+        {"position": (0.0690, -0.1557, 0.0085)},
+    ]
+    trajectory = plan(
+        _request(arm, *targets, rate=33.3, limits={"acceleration": 28.77628})
+    ).trajectory
+    fk = [arm.fk(q).wrist for q in trajectory.positions]
+    np.testing.assert_allclose(trajectory.wrist_path, fk, rtol=0, atol=1e-9)
+
+
 def test_grid_durations_are_human() -> None:
     """Default (mp, human pace) durations of the 16 grid reaches, beside the
     paper's Table 4 and the synthetic average subject: within the human

@@ -6,7 +6,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from services.ik.kernel.chain import chain_for
 from services.ik.track import TrackedPath
+from services.ik.wrists import wrist_positions
 from services.timing import TimedTrajectory
 from shared.messages import JointPath, Method, Trajectory
 from shared.robot.arm_model import ArmModel
@@ -27,27 +29,25 @@ def joint_path_message(
 
 
 def trajectory_message(
-    joint_paths: Sequence[JointPath], timed: TimedTrajectory, method: Method
+    arm: ArmModel,
+    joint_paths: Sequence[JointPath],
+    timed: TimedTrajectory,
+    method: Method,
 ) -> Trajectory:
     """The ``Trajectory`` of timed joint paths joined end to start.
 
     Each sample takes the primitive of the path point it is at (its
-    ``path_index`` rounded down) and the wrist position of the IK path there,
-    interpolated linearly between the two path points it lies between.
-    Path points are numbered along the joined paths, the point where two
-    paths meet counted once (the timing stage's numbering).
+    ``path_index`` rounded down) and the wrist position of its own joint
+    angles (forward kinematics of ``arm``), not of the IK path there: the
+    timing's curve between two path points is not the IK's. Path points are
+    numbered along the joined paths, the point where two paths meet counted
+    once (the timing stage's numbering).
     """
     labels: list[str] = []
-    wrist: list[np.ndarray] = []
     for k, path in enumerate(joint_paths):
-        skip = 1 if k else 0
-        labels.extend(path.primitives[skip:])
-        wrist.append(np.asarray(path.wrist, dtype=float)[skip:])
-    points = np.vstack(wrist)
-    index = np.clip(timed.path_index, 0.0, len(points) - 1.0)
-    low = np.minimum(np.floor(index).astype(int), len(points) - 2)
-    frac = (index - low)[:, None]
-    along = points[low] * (1.0 - frac) + points[low + 1] * frac
+        labels.extend(path.primitives[1 if k else 0 :])
+    index = np.clip(timed.path_index, 0.0, len(labels) - 1.0)
+    wrist = wrist_positions(chain_for(arm), timed.positions)
     first = joint_paths[0]
     return Trajectory(
         arm=first.arm,
@@ -57,7 +57,7 @@ def trajectory_message(
         velocities=timed.velocities.tolist(),
         accelerations=timed.accelerations.tolist(),
         primitives=[labels[i] for i in np.floor(index).astype(int)],
-        wrist_path=[tuple(w) for w in along.tolist()],
+        wrist_path=[tuple(w) for w in wrist.tolist()],
         method=method,
     )
 

@@ -207,7 +207,7 @@ def _follow_given(
     limits = request_limits(arm.limits, request.limits)
     timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
     check_on_path(arm, path, timed.positions, request.path_tolerance)
-    trajectory = trajectory_message([joint_path], timed, request.method)
+    trajectory = trajectory_message(arm, [joint_path], timed, request.method)
     check_payload(trajectory, advice=FEWER_SAMPLES)
     return PlanResult(trajectory, [path], decisions, [joint_path])
 

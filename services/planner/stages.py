@@ -158,7 +158,7 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     timed, rests = time_segments_with_rests(segments, limits, rate=request.rate)
     check_samples(len(timed.times), request.rate)
     trajectory = trajectory_message(
-        [s.joint_path for s in request.segments], timed, request.method
+        arm, [s.joint_path for s in request.segments], timed, request.method
     )
     opening = first_opening(actions)
     if opening is None:
