@@ -14,7 +14,9 @@
    profile (the better of the bell and the time-optimal profile under
    constant limits on u).
 4. The joints' speed, acceleration and jerk follow from the chain rule,
-   evaluated at four times the sample rate. A time-optimal profile under
+   evaluated at four times the sample rate, and on each side of every knot
+   and phase boundary, where the jerk steps
+   (:mod:`services.timing.judged_points`). A time-optimal profile under
    limits (V / r, A / r^2, J / r^3) is the same profile run r times slower,
    and the joints' derivatives then shrink by exactly r, r^2 and r^3, so one
    evaluation tells the smallest r that fits every limit: the profile is
@@ -36,6 +38,7 @@ import numpy.typing as npt
 from services.timing.check import check_limits, check_path
 from services.timing.corners import corner_indices, sections
 from services.timing.human_pace import bell_limits
+from services.timing.judged_points import judged
 from services.timing.parameter_limits import ParameterLimits, parameter_limits
 from services.timing.path_spline import PathSpline
 from services.timing.scalar_profile import ScalarProfile, plan_rest_to_rest, scaled
@@ -263,15 +266,17 @@ def required_stretch(
 def _stretch_on(
     spline: PathSpline, profile: ScalarProfile, limits: MotionLimits, count: int
 ) -> float:
-    """``required_stretch`` judged on ``count`` evenly spaced times."""
-    t = np.linspace(0.0, profile.duration, count)
-    u = profile.sample(t)
-    s = spline.evaluate(u.position)
-    ud, udd, uddd = u.velocity[:, None], u.acceleration[:, None], u.jerk[:, None]
-    speed = np.abs(s.first * ud) / limits.velocity
-    accel = np.abs(s.second * ud**2 + s.first * udd) / limits.acceleration
+    """``required_stretch`` judged on ``count`` evenly spaced times and more.
+
+    Also on each side of every knot and phase boundary, and inside every
+    spline piece (:mod:`services.timing.judged_points`).
+    """
+    d = judged(spline, profile, count)
+    ud, udd, uddd = d.velocity[:, None], d.acceleration[:, None], d.jerk[:, None]
+    speed = np.abs(d.first * ud) / limits.velocity
+    accel = np.abs(d.second * ud**2 + d.first * udd) / limits.acceleration
     jerk = (
-        np.abs(s.third * ud**3 + 3.0 * s.second * ud * udd + s.first * uddd)
+        np.abs(d.third * ud**3 + 3.0 * d.second * ud * udd + d.first * uddd)
         / limits.jerk
     )
     return float(max(speed.max(), math.sqrt(accel.max()), math.cbrt(jerk.max())))
