@@ -121,7 +121,7 @@ def part_calls(
 
     def messages() -> object:
         made = joint_path_message(arm, path.times, tracked)
-        return trajectory_message([made], timed, Method.MP)
+        return trajectory_message(arm, [made], timed, Method.MP)
 
     return len(points), {
         "wrist_path": lambda: reach_wrist_path(arm, start, target),
