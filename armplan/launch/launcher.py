@@ -18,7 +18,7 @@ from __future__ import annotations
 import secrets
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import IO
 
 from armplan.launch.catalog import ROUTER_MODULE, SERVICES, service_spec
@@ -59,6 +59,7 @@ class Launcher(StartStop):
         *,
         log: IO[str] | int | None = None,
         stop: threading.Event | None = None,
+        service_args: Mapping[str, Sequence[str]] | None = None,
     ) -> None:
         """Prepare (start nothing yet).
 
@@ -68,6 +69,9 @@ class Launcher(StartStop):
             log: Where the children's output goes: a file,
                 ``subprocess.DEVNULL``, or ``None`` for stderr.
             stop: Set by a signal handler to abort a start in progress.
+            service_args: More command-line arguments for a service by name,
+                e.g. ``{"fit": ["--model", "/abs/model.json"]}`` (also on a
+                restart).
         """
         self.config = config
         self.specs = SERVICES if names is None else tuple(map(service_spec, names))
@@ -76,6 +80,7 @@ class Launcher(StartStop):
         self.services: dict[str, Child] = {}
         self._log = log
         self._stop = stop or threading.Event()
+        self._service_args = dict(service_args or {})
 
     def start(self, timeout: float = START_TIMEOUT) -> Launcher:
         """Start the router and every service; return once all are alive.
@@ -107,7 +112,8 @@ class Launcher(StartStop):
     def start_service(self, name: str) -> Child:
         """Start (or restart) service ``name``; does not wait for it."""
         spec = service_spec(name)
-        child = Child.start(spec.name, spec.module, self._args("--connect"), self._log)
+        args = [*self._args("--connect"), *self._service_args.get(spec.name, ())]
+        child = Child.start(spec.name, spec.module, args, self._log)
         self.services[spec.name] = child
         return child
 

@@ -1,21 +1,23 @@
 """The fit service's current motion model: served, replaced by a fit, published.
 
-It starts as the shipped default model and is published at once, so a
-decide service that is already running follows a restarted fit service.
-Each fit replaces it and publishes the new one on ``<ns>/fit/model/update``;
-the decide service swaps it in without a restart. The model lives in memory:
-a restarted fit service serves the default again (and says so by publishing
-it).
+It starts as the model ``model_state.start_model`` picks (``--model FILE``,
+else the one served before a restart, else the shipped default) and is
+published at once, so a decide service that is already running follows a
+restarted fit service. Each fit replaces it, keeps it in the state file
+(``model_state``) and publishes it on ``<ns>/fit/model/update``; the decide
+service swaps it in without a restart.
 """
 
 from __future__ import annotations
 
 import logging
 import threading
+from pathlib import Path
 
-from services.fit.default import default_model
+from services.fit.default import default_model, default_model_path
 from services.fit.demo_dir import demo_file, demos_dir
 from services.fit.fitting import fit_model
+from services.fit.model_state import StartModel, digest, keep
 from shared.bus import Bus, NoArguments
 from shared.bus.routes import MODEL_TOPIC
 from shared.demos import read_demos
@@ -29,13 +31,30 @@ class CurrentModel:
 
     Args:
         bus: Where new models are published.
-        model: The model to start with; default: the shipped one.
+        start: The model to start with and where it came from; default: the
+            shipped one.
+        state: The state file each new model is kept in; ``None``: none.
     """
 
-    def __init__(self, bus: Bus, model: MotionModel | None = None) -> None:
+    def __init__(
+        self, bus: Bus, start: StartModel | None = None, state: Path | None = None
+    ) -> None:
+        start = start or StartModel(
+            default_model(), f"shipped default {default_model_path()}"
+        )
         self._bus = bus
-        self._model = model or default_model()
+        self._model = start.model
+        self._state = state
         self._lock = threading.Lock()
+        log.info(
+            "serving model %s (%d samples, primitives %s) from %s",
+            digest(start.model),
+            start.model.samples,
+            ", ".join(start.model.primitives),
+            start.source,
+        )
+        if start.given:
+            keep(start.model, state)  # a restart without --model serves it too
 
     def get(self, request: NoArguments) -> MotionModel:
         """The current model (the ``fit/model`` query)."""
@@ -62,8 +81,14 @@ class CurrentModel:
             smoothing=request.smoothing,
             sources=request.files,
         )
-        with self._lock:  # current and published stay in the same order
+        with self._lock:  # current, kept and published stay in the same order
             self._model = model
+            keep(model, self._state)
             self._bus.publish(MODEL_TOPIC, model)
-        log.info("new model fitted on %d samples and published", model.samples)
+        log.info(
+            "serving model %s fitted on %d samples of %s; published",
+            digest(model),
+            model.samples,
+            ", ".join(request.files),
+        )
         return model

@@ -7,25 +7,63 @@ Keys (namespace ``armplan`` by default):
                                   newly fitted one (the decide service
                                   swaps it in)
 
-Run it with ``python -m services.fit`` (``armplan up`` does). It reads
-demonstration files only inside ``$ARMPLAN_DEMOS_DIR`` (default: its
-working directory); see ``current_model.py`` and ``demo_dir.py``.
+Run it with ``python -m services.fit [--model FILE] [--state-dir DIR]``
+(``armplan up`` does, ``armplan up --model FILE`` passes ``--model``). It
+reads demonstration files only inside ``$ARMPLAN_DEMOS_DIR`` (default: its
+working directory) and keeps the model it serves in ``--state-dir``
+(default: that same directory) for a restart; see ``current_model.py``,
+``model_state.py`` and ``demo_dir.py``.
 """
 
 from __future__ import annotations
 
+import argparse
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from services.fit.current_model import CurrentModel
+from services.fit.demo_dir import demos_dir
+from services.fit.model_state import start_model, state_file
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import FIT, FIT_MODEL
+from shared.bus.runner import EndpointsFactory, Options
 
 NAME = "fit"
 
 
-def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
-    """The fit service's endpoints; publishes the model it starts with."""
-    current = CurrentModel(bus)
-    current.publish()
-    return [Endpoint(FIT_MODEL, current.get), Endpoint(FIT, current.fit)]
+def add_options(parser: argparse.ArgumentParser) -> None:
+    """The fit service's own options: ``--model`` and ``--state-dir``."""
+    parser.add_argument(
+        "--model",
+        metavar="FILE",
+        help="motion model to start with (default: the one served before a "
+        "restart, kept in --state-dir, else the shipped default)",
+    )
+    parser.add_argument(
+        "--state-dir",
+        metavar="DIR",
+        help="where the served model is kept for a restart (default: the "
+        "demonstration directory, $ARMPLAN_DEMOS_DIR or the working directory)",
+    )
+
+
+def factory(args: argparse.Namespace) -> EndpointsFactory:
+    """The endpoints factory for the parsed options; reads the start model now.
+
+    Raises:
+        ModelFileError: ``--model`` or the state file is no valid model.
+    """
+    state = state_file(Path(args.state_dir) if args.state_dir else demos_dir())
+    start = start_model(args.model, state)
+
+    def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
+        """The fit service's endpoints; publishes the model it starts with."""
+        current = CurrentModel(bus, start, state)
+        current.publish()
+        return [Endpoint(FIT_MODEL, current.get), Endpoint(FIT, current.fit)]
+
+    return endpoints
+
+
+OPTIONS = Options(add_options, factory)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import logging
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 from shared.bus.bus import Bus
 from shared.bus.config_file import load_config
@@ -27,24 +27,47 @@ log = logging.getLogger("armplan.bus")
 EndpointsFactory = Callable[[Bus], Sequence[Endpoint[Any, Any]]]
 
 
+class Options(NamedTuple):
+    """A service's own command-line options.
+
+    Attributes:
+        add: Adds them to the parser.
+        endpoints: Builds the endpoints factory from the parsed arguments,
+            before the bus connects (an ``ArmplanError`` here, say a bad
+            file, ends the process with exit code 1 and the error logged).
+    """
+
+    add: Callable[[argparse.ArgumentParser], None]
+    endpoints: Callable[[argparse.Namespace], EndpointsFactory]
+
+
 def serve(
-    name: str, endpoints: EndpointsFactory, argv: Sequence[str] | None = None
+    name: str,
+    endpoints: EndpointsFactory | Options,
+    argv: Sequence[str] | None = None,
 ) -> int:
     """Run service ``name`` until asked to stop; returns the exit code.
 
     Args:
         name: The service's name, e.g. ``"ik"``.
-        endpoints: Builds its endpoints from the bus.
+        endpoints: Builds its endpoints from the bus, or its own options
+            and how they build that.
         argv: Command-line arguments (default: ``sys.argv[1:]``).
     """
-    args = _parser(name).parse_args(argv)
+    parser = _parser(name)
+    if isinstance(endpoints, Options):
+        endpoints.add(parser)
+    args = parser.parse_args(argv)
     stop = start_process(args.log_level)
     try:
+        factory = (
+            endpoints.endpoints(args) if isinstance(endpoints, Options) else endpoints
+        )
         config = load_config(args.config, tuple(args.connect or ()))
         check_login(config, name)
         with (
             Bus.connect(config, wait=args.wait) as bus,
-            ServiceHost(bus, name, endpoints(bus)),
+            ServiceHost(bus, name, factory(bus)),
         ):
             wait_for(stop)
     except ArmplanError as error:

@@ -4,7 +4,8 @@
                  [--target ...]
                  [--arm right|left] [--method mp|least-norm|single]
                  [--fastest] [--rate HZ] [--start Q1..Q5]
-                 [--max-acceleration A [A x4]] [--max-jerk J [J x4]] [--json]
+                 [--max-acceleration A [A x4]] [--max-jerk J [J x4]]
+                 [--model FILE] [--json]
     armplan plan --wrist-path FILE.csv [--arm ...] [--method ...]
                  [--start ...] [--palm X Y Z] [--json]
     armplan plan --task FILE.json [--method ...] [--fastest] [--rate HZ] [--json]
@@ -31,7 +32,8 @@ from armplan.cli.parsing import add_arm, add_json, add_measure_options
 from armplan.cli.plan_output import show
 from armplan.cli.plan_request import StepAction, request_from_args
 from armplan.cli.remote import add_remote, is_remote
-from shared.messages import Method, PlanRequest, Trajectory
+from shared.errors import InvalidInputError
+from shared.messages import Method, MotionModel, PlanRequest, Trajectory
 from shared.messages.hand import HandAction
 
 ORDER = 27
@@ -138,6 +140,12 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
     )
     _add_limits(parser)
     add_measure_options(parser)
+    parser.add_argument(
+        "--model",
+        metavar="FILE",
+        help="motion model to decide with, from 'armplan fit -o' (default: the "
+        "shipped one; in-process only: the services use the fit service's)",
+    )
 
 
 def _add_limits(parser: argparse.ArgumentParser) -> None:
@@ -163,18 +171,43 @@ def _add_limits(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Build the request, plan it (here, or by the planner with --remote), print."""
-    request = request_from_args(args)
     remote = is_remote(args)
-    trajectory = _plan_remote(args, request) if remote else plan_trajectory(request)
+    if remote and args.model:
+        raise InvalidInputError(
+            "--model does not go with --remote: the planner decides with the "
+            "model the fit service serves (start it with 'armplan up --model')",
+            field="model",
+        )
+    model = _model(args.model)  # a bad file is refused before any planning
+    request = request_from_args(args)
+    trajectory = (
+        _plan_remote(args, request) if remote else plan_trajectory(request, model)
+    )
     show(request, trajectory, args.json)
     return 0
 
 
-def plan_trajectory(request: PlanRequest) -> Trajectory:
-    """Plan ``request`` in this process (``services.planner.pipeline.plan``)."""
-    from services.planner.pipeline import plan
+def plan_trajectory(
+    request: PlanRequest, model: MotionModel | None = None
+) -> Trajectory:
+    """Plan ``request`` in this process (``services.planner.pipeline.plan``).
 
-    return plan(request).trajectory
+    ``model``: the motion model to decide with; default the shipped one.
+    """
+    from services.planner.pipeline import plan
+    from services.planner.stages import LocalStages
+
+    stages = None if model is None else LocalStages(model)
+    return plan(request, stages).trajectory
+
+
+def _model(path: str | None) -> MotionModel | None:
+    """The ``--model`` file's model, or ``None``; ``ModelFileError`` if bad."""
+    if path is None:
+        return None
+    from services.fit import load_model
+
+    return load_model(path)
 
 
 def _plan_remote(args: argparse.Namespace, request: PlanRequest) -> Trajectory:

@@ -6,12 +6,14 @@ import argparse
 import contextlib
 import sys
 import threading
+from pathlib import Path
 
 from armplan.cli.unsecured import check_plain_listen, check_unsecured
 from armplan.launch import SERVICES, Launcher
 from armplan.launch.robot import SIM_LISTEN, RobotStack
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.robot_routes import EXECUTE
+from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
 
 ORDER = 80
@@ -38,6 +40,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="SERVICE",
         choices=[s.name for s in SERVICES],
         help="start only these services (default: all)",
+    )
+    parser.add_argument(
+        "--model",
+        metavar="FILE",
+        help="the fit service starts with this motion model (from 'armplan fit "
+        "-o'), checked first; default: the one it served before, else the shipped",
     )
     _add_robot_arguments(parser)
     parser.set_defaults(run=run)
@@ -89,8 +97,9 @@ def run(args: argparse.Namespace) -> int:
         from bridge.address import check_listen_url
 
         check_listen_url(args.sim_listen)
+    fit_args = _fit_args(args)
     stop = stop_on_signals()
-    launcher = Launcher(config, args.only, stop=stop)
+    launcher = Launcher(config, args.only, stop=stop, service_args=fit_args)
     robot_stack = _robot_stack(args, config, stop)  # checked before anything starts
     # starts; stops everything on the way out (the robot side first)
     with launcher, robot_stack as robot:
@@ -98,6 +107,26 @@ def run(args: argparse.Namespace) -> int:
         _watch(launcher, robot, stop)
     _say("armplan up: stopped every process")
     return 0
+
+
+def _fit_args(args: argparse.Namespace) -> dict[str, list[str]]:
+    """``--model`` for the fit service, the file checked here first.
+
+    Raises:
+        ModelFileError: the file is no valid motion model.
+        InvalidInputError: ``--model`` while ``--only`` leaves fit out.
+    """
+    if args.model is None:
+        return {}
+    if args.only is not None and "fit" not in args.only:
+        raise InvalidInputError(
+            "--model is the fit service's model, and --only leaves fit out",
+            field="model",
+        )
+    from services.fit import load_model
+
+    load_model(args.model)  # a bad file stops everything before it starts
+    return {"fit": ["--model", str(Path(args.model).resolve())]}
 
 
 def _robot_stack(

@@ -1,0 +1,191 @@
+"""Which model the fit service serves across restarts, and a model from a file.
+
+Real processes: the router and the fit service (``armplan.launch.Launcher``),
+``python -m services.fit`` and ``armplan up`` on their own, and the CLI's
+``plan --model`` in-process.
+"""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import signal
+import subprocess
+import sys
+from collections.abc import Iterator
+
+import pytest
+
+from armplan.cli.main import main
+from armplan.launch import Launcher, free_endpoint
+from services.fit import default_model, fit_model, save_model
+from services.fit.demo_dir import DEMOS_DIR_ENV
+from services.fit.model_state import STATE_FILE, digest
+from services.planner.pipeline import plan
+from services.planner.stages import LocalStages
+from shared.bus import Bus, NoArguments, load_config
+from shared.bus.routes import FIT, FIT_MODEL
+from shared.demos import read_demos, synthesize, write_demos
+from shared.messages import FitRequest, MotionModel, PlanRequest, Trajectory, parse
+
+DEMOS = "demos.mcap"
+TARGET = (0.12, -0.1, 0.05)
+
+
+@pytest.fixture(scope="module")
+def demos_dir(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
+    """A directory holding a small synthetic demonstration file (seed 9)."""
+    root = tmp_path_factory.mktemp("demos")
+    write_demos(root / DEMOS, synthesize(9, subjects=3, trials=1))
+    return root
+
+
+@pytest.fixture(scope="module")
+def fitted(demos_dir: pathlib.Path) -> MotionModel:
+    """The model a fit of ``demos_dir``'s file gives (bins 10)."""
+    return fit_model(read_demos(demos_dir / DEMOS), bins=10, sources=[DEMOS])
+
+
+@pytest.fixture
+def log(tmp_path: pathlib.Path) -> pathlib.Path:
+    """The children's log file."""
+    return tmp_path / "children.log"
+
+
+@pytest.fixture
+def stack(
+    demos_dir: pathlib.Path, log: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> Iterator[Launcher]:
+    """Router and fit, reading ``demos_dir`` and keeping its state there."""
+    for old in demos_dir.glob("*.json"):
+        old.unlink()
+    monkeypatch.setenv(DEMOS_DIR_ENV, str(demos_dir))
+    config = load_config(endpoints=(free_endpoint(),))
+    with log.open("w") as out, Launcher(config, ["fit"], log=out) as stack:
+        yield stack
+
+
+def restart_fit(stack: Launcher, bus: Bus) -> None:
+    stack.services["fit"].signal(signal.SIGTERM)
+    stack.services["fit"].process.wait(30.0)
+    stack.start_service("fit")
+    assert bus.wait_alive(["fit"], 60.0) == []
+
+
+def test_a_restarted_fit_service_serves_the_model_it_fitted(
+    stack: Launcher, demos_dir: pathlib.Path, fitted: MotionModel, log: pathlib.Path
+) -> None:
+    """The fitted model is kept in the state file and served after a restart,
+    not replaced by the shipped default; the log says which model and whence."""
+    with Bus.connect(stack.config) as bus:
+        assert bus.call(FIT_MODEL, NoArguments()) == default_model()
+        assert not (demos_dir / STATE_FILE).exists()  # the default is not written
+        assert bus.call(FIT, FitRequest(files=[DEMOS], bins=10), timeout=300) == fitted
+        assert (demos_dir / STATE_FILE).exists()
+        restart_fit(stack, bus)
+        assert bus.call(FIT_MODEL, NoArguments()) == fitted
+    said = log.read_text()
+    assert f"serving model {digest(default_model())} " in said
+    assert f"serving model {digest(fitted)} " in said
+    assert f"from state {demos_dir / STATE_FILE}" in said
+
+
+def test_fit_service_starts_from_a_model_file(
+    demos_dir: pathlib.Path,
+    fitted: MotionModel,
+    tmp_path: pathlib.Path,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``--model FILE`` (as ``armplan up --model`` passes it) is served from
+    the start, and kept: a restart without it serves it too."""
+    file, state = tmp_path / "lab.json", tmp_path / "state"
+    state.mkdir()
+    save_model(fitted, file)
+    monkeypatch.setenv(DEMOS_DIR_ENV, str(demos_dir))
+    config = load_config(endpoints=(free_endpoint(),))
+    with (
+        Launcher(
+            config,
+            ["fit"],
+            log=subprocess.DEVNULL,
+            service_args={"fit": ["--model", str(file), "--state-dir", str(state)]},
+        ) as stack,
+        Bus.connect(stack.config) as bus,
+    ):
+        assert bus.call(FIT_MODEL, NoArguments()) == fitted
+    with (
+        Launcher(
+            config,
+            ["fit"],
+            log=subprocess.DEVNULL,
+            service_args={"fit": ["--state-dir", str(state)]},
+        ) as stack,
+        Bus.connect(stack.config) as bus,
+    ):
+        assert bus.call(FIT_MODEL, NoArguments()) == fitted
+
+
+def run_fit_service(*args: str) -> subprocess.CompletedProcess[str]:
+    """``python -m services.fit`` against a router that is not there."""
+    return subprocess.run(
+        [sys.executable, "-m", "services.fit", "--connect", free_endpoint(), *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+
+
+def test_a_bad_model_file_stops_the_fit_service_naming_it(
+    tmp_path: pathlib.Path,
+) -> None:
+    """Exit 1 before connecting, the file and its problem logged."""
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"version": 1, "bins"')
+    out = run_fit_service("--model", str(bad), "--wait", "0.5")
+    assert out.returncode == 1
+    assert f"{bad}: the motion-model file is truncated" in out.stderr
+
+
+def test_a_bad_state_file_is_not_passed_over(tmp_path: pathlib.Path) -> None:
+    """A damaged state file stops the service: serving the shipped default
+    instead would throw the lab's model away without a word."""
+    (tmp_path / STATE_FILE).write_text("{}")
+    out = run_fit_service("--state-dir", str(tmp_path), "--wait", "0.5")
+    assert out.returncode == 1
+    assert "delete it to start from the shipped default" in out.stderr
+
+
+def test_up_refuses_a_bad_model_before_starting(tmp_path: pathlib.Path) -> None:
+    """``armplan up --model`` checks the file first: nothing starts."""
+    out = subprocess.run(
+        [
+            *(sys.executable, "-m", "armplan", "up", "--listen", free_endpoint()),
+            *("--model", str(tmp_path / "missing.json")),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert out.returncode == 1
+    assert "no such motion-model file" in out.stderr
+    assert "router" not in out.stdout
+
+
+def test_plan_model_plans_with_the_given_model(
+    capsys: pytest.CaptureFixture[str], fitted: MotionModel, tmp_path: pathlib.Path
+) -> None:
+    """``armplan plan --model FILE`` decides with that model, in-process."""
+    file = tmp_path / "lab.json"
+    save_model(fitted, file)
+    request = PlanRequest.model_validate({"targets": [{"position": TARGET}]})
+    wanted = plan(request, LocalStages(fitted)).trajectory
+    assert wanted != plan(request).trajectory  # the test can fail
+    target = [str(v) for v in TARGET]
+    assert main(["plan", "--target", *target, "--model", str(file), "--json"]) == 0
+    assert parse(Trajectory, capsys.readouterr().out) == wanted
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"version": 1}))
+    assert main(["plan", "--target", *target, "--model", str(bad)]) == 1
+    assert "malformed motion model" in capsys.readouterr().err
