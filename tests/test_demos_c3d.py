@@ -278,7 +278,9 @@ def test_cli_imports_c3d_to_mcap_and_fits(
     assert list(demos.subjects) == ["P01"] and len(demos.trials) == 1
     assert demos.trials[0].labels is None
     from services.fit import fit_model
+    from services.fit.fitting import MIN_TRIALS
+    from shared.demos import DemoSet
 
-    model = fit_model(demos)
-    assert model.samples == len(demos.trials[0].times)
+    model = fit_model(DemoSet(demos.subjects, demos.trials * MIN_TRIALS))
+    assert model.samples == MIN_TRIALS * len(demos.trials[0].times)
     assert "S_R E_P W_P" in model.primitives

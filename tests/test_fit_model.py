@@ -18,6 +18,7 @@ from services.fit import (
 )
 from services.fit.conditionals import CONDITIONED
 from services.fit.demo_variables import trial_variables
+from services.fit.fitting import MIN_TRIALS
 from shared.demos import DemoSet, Trial, nao_arm_size, synthesize
 from shared.errors import InvalidInputError, ModelFileError, TooFewSamplesError
 
@@ -212,14 +213,66 @@ def test_a_fit_on_two_samples_is_refused(demos: DemoSet) -> None:
     assert (info.value.found, info.value.needed) == (1, 2)
 
 
-def test_two_moving_samples_give_defined_cross_validation(demos: DemoSet) -> None:
-    """Start, middle and goal of one reach are enough: every leave-one-out
-    log-likelihood is an ordinary number, not a floor's."""
-    trial = demos.trials[0]
-    n = len(trial.times)
-    model = fit_model(DemoSet(demos.subjects, [_samples_of(trial, [0, n // 2, n - 1])]))
+def test_few_moving_samples_give_defined_cross_validation(demos: DemoSet) -> None:
+    """Start, middle and goal of each of ``MIN_TRIALS`` reaches are enough:
+    every leave-one-out log-likelihood is an ordinary number, not a floor's."""
+    cut = [
+        _samples_of(t, [0, len(t.times) // 2, len(t.times) - 1])
+        for t in demos.trials[:MIN_TRIALS]
+    ]
+    model = fit_model(DemoSet(demos.subjects, cut))
     for v in model.variables:
         assert v.loo_log_likelihood is None or -10.0 < v.loo_log_likelihood < 10.0
+
+
+def test_fewer_trials_than_the_floor_are_refused(demos: DemoSet) -> None:
+    """One reach short of ``MIN_TRIALS`` is refused naming both counts (a
+    one-trial, 3-sample recording once gave a model every plan used)."""
+    few = DemoSet(demos.subjects, demos.trials[: MIN_TRIALS - 1])
+    with pytest.raises(
+        TooFewSamplesError, match=r"15 trials are too few .* at least 16"
+    ) as info:
+        fit_model(few)
+    assert (info.value.found, info.value.needed) == (MIN_TRIALS - 1, MIN_TRIALS)
+    assert fit_model(DemoSet(demos.subjects, demos.trials[:MIN_TRIALS])).samples > 0
+
+
+def _frozen(trial: Trial, moving: bool) -> Trial:
+    """``trial`` with the arm held at its goal; the elbow and wrist still
+    move if ``moving`` (about the elbow only: the shoulder stays)."""
+    n = len(trial.times)
+    still = trial._replace(
+        shoulder=np.repeat(trial.shoulder[-1:], n, 0),
+        elbow=np.repeat(trial.elbow[-1:], n, 0),
+        wrist=np.repeat(trial.wrist[-1:], n, 0),
+        wrist_frame=None,
+        labels=None,
+    )
+    if not moving:
+        return still
+    # the forearm swings about the still elbow by up to 1 rad to its goal
+    angle = np.linspace(1.0, 0.0, n)[:, None]
+    forearm = trial.wrist[-1] - trial.elbow[-1]
+    side = np.cross(forearm, trial.elbow[-1] - trial.shoulder[-1])
+    side *= np.linalg.norm(forearm) / np.linalg.norm(side)
+    wrist = trial.elbow[-1] + np.cos(angle) * forearm + np.sin(angle) * side
+    return still._replace(wrist=wrist)
+
+
+@pytest.mark.parametrize("moving", [False, True], ids=["still", "elbow-only"])
+def test_a_variable_that_never_moves_is_refused(demos: DemoSet, moving: bool) -> None:
+    """A part of the arm that never moves gives its variable a rate of
+    rounding (an elbow-only recording once gave S_R 1e11 /rad): refused,
+    naming each such variable."""
+    trials = [_frozen(t, moving) for t in demos.trials[:MIN_TRIALS]]
+    with pytest.raises(TooFewSamplesError, match="do not move every part") as info:
+        fit_model(DemoSet(demos.subjects, trials))
+    message = info.value.message
+    assert message.startswith("the demonstrations do not move every part of the arm")
+    assert "E_P in 0 of" in message or "E_P in 0," in message  # the elbow stays
+    assert ("S_R in 0" in message) is not moving
+    assert ("E_R in" in message) is not moving
+    assert (info.value.found, info.value.needed) == (0, 2)
 
 
 def test_recordings_without_orientation_leave_w_r_unobserved(demos: DemoSet) -> None:

@@ -20,7 +20,7 @@ from shared.bus import Bus, NoArguments, load_config
 from shared.bus.routes import DECIDE, FIT, FIT_MODEL, MODEL_TOPIC
 from shared.bus.topics import topic_message
 from shared.demos import read_demos, synthesize, write_demos
-from shared.errors import DemoFileError, InvalidInputError
+from shared.errors import DemoFileError, InvalidInputError, TooFewSamplesError
 from shared.messages import (
     DecideRequest,
     Decision,
@@ -31,6 +31,7 @@ from shared.messages import (
 
 DEMOS = "demos.mcap"
 FIT_REQUEST = FitRequest(files=[DEMOS], bins=10)
+TINY = "three_reaches.mcap"
 
 
 @pytest.fixture(scope="module")
@@ -38,6 +39,7 @@ def demos_dir(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
     """A directory holding a small synthetic demonstration file (seed 9)."""
     root = tmp_path_factory.mktemp("demos")
     write_demos(root / DEMOS, synthesize(9, subjects=3, trials=1))
+    write_demos(root / TINY, synthesize(9, subjects=1, trials=1, points=(1, 2, 3)))
     return root
 
 
@@ -99,8 +101,9 @@ def test_fit_serves_the_default_model_and_decide_uses_it(
         (["/etc/hostname.mcap"], InvalidInputError, "outside the fit service's"),
         (["notes.txt"], InvalidInputError, "must be an .mcap file"),
         (["missing.mcap"], DemoFileError, "no such"),
+        ([TINY], TooFewSamplesError, "3 trials are too few to fit"),
     ],
-    ids=["parent", "absolute", "not-mcap", "missing"],
+    ids=["parent", "absolute", "not-mcap", "missing", "tiny"],
 )
 def test_a_bad_fit_request_is_refused_and_the_model_stays(
     bus: Bus, files: list[str], error: type[Exception], words: str

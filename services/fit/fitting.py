@@ -30,7 +30,7 @@ from services.fit.model import (
     VariableFit,
     rounded,
 )
-from services.fit.variables import VARIABLES, W_R
+from services.fit.variables import E_P, E_R, S_R, VARIABLES, W_P, W_R
 from services.fit.weights import fit_weights
 from shared.demos.retarget import nao_arm_size
 from shared.demos.sample_rate import check_seconds
@@ -53,6 +53,22 @@ SMOOTHING = 1.0
 #: the fewest for which every leave-one-out fit keeps a sample that moves: a
 #: floor for the model's numbers to be defined, not a size for a good model.
 MIN_MOVING = 2
+#: Fewest trials (reaches) fitted on: one reach to each of the paper's 16
+#: board points (Section V.A; ``armplan demos synth --subjects 1 --trials
+#: 1``), the smallest set that shows the arm's habits across the workspace.
+#: The network's transition table counts how primitives follow each other
+#: within reaches, and a handful of reaches shows a handful of sequences: a
+#: one-trial, 30 ms recording once gave a one-primitive model that every
+#: running plan then used.
+MIN_TRIALS = 16
+#: A motion variable moves in a sample when it is farther than this from
+#: its goal [rad or arm lengths]: the onset threshold of the demonstrations'
+#: labels (``shared.demos.reach_model.SETTLED``), above marker noise.
+MOVES = 0.025
+#: The variables every reach moves (W_R may be unobserved): each must move in
+#: at least ``MIN_MOVING`` samples, or its rate only measures rounding (an
+#: elbow-only recording gave S_R a rate of 1e11 /rad).
+MUST_MOVE = (S_R, E_P, E_R, W_P)
 
 #: Called with (steps done, steps in all): one step per trial for the
 #: variables, one per trial for the weights.
@@ -80,8 +96,10 @@ def fit_model(
         InvalidInputError: if there are no trials, the options are out of
             range, the times are not in seconds (``check_seconds``, before
             any fitting), or a variable cannot be fitted (e.g. all zero).
-        TooFewSamplesError: with fewer than ``MIN_MOVING`` samples before
-            their trials' ends (before any fitting).
+        TooFewSamplesError: with fewer than ``MIN_TRIALS`` trials or
+            ``MIN_MOVING`` samples before their trials' ends (before any
+            fitting), or a variable of ``MUST_MOVE`` that moves in fewer
+            than ``MIN_MOVING`` samples (naming it).
     """
     if not demos.trials:
         raise InvalidInputError("no demonstrations to fit", field="demos")
@@ -105,6 +123,7 @@ def fit_model(
         if progress is not None:
             progress(done, 2 * len(demos.trials))
     data, seen = np.vstack(values), np.array(oriented)
+    _check_moving(data)
     fits = [_fit(data, seen, i) for i in range(len(VARIABLES))]
     edges = [bin_edges(fit.rate, bins) for fit in fits]
     states = np.stack([bin_indices(data[:, i], e) for i, e in enumerate(edges)], 1)
@@ -144,7 +163,7 @@ def fit_model(
 
 
 def _check_enough(demos: DemoSet) -> None:
-    """Refuse demonstrations with fewer than ``MIN_MOVING`` samples that move.
+    """Refuse fewer than ``MIN_TRIALS`` trials or ``MIN_MOVING`` moving samples.
 
     Raises:
         TooFewSamplesError: naming the samples, the trials, how many are
@@ -152,17 +171,51 @@ def _check_enough(demos: DemoSet) -> None:
     """
     samples, trials = demos.samples, len(demos.trials)
     moving = samples - trials
-    if moving >= MIN_MOVING:
+    if moving < MIN_MOVING:
+        raise TooFewSamplesError(
+            f"{samples} sample{'' if samples == 1 else 's'} in {trials} "
+            f"trial{'' if trials == 1 else 's'} are too few to fit: a fit needs "
+            f"at least {MIN_MOVING} samples that are not their trial's last, "
+            f"{moving} here (a trial's last sample is at its goal, where every "
+            "motion variable is 0, and leave-one-out cross-validation must keep "
+            "one that moves to fit each rate on)",
+            field="demos",
+            found=moving,
+            needed=MIN_MOVING,
+        )
+    if trials < MIN_TRIALS:
+        raise TooFewSamplesError(
+            f"{trials} trial{' is' if trials == 1 else 's are'} too few to fit "
+            f"({samples} samples): a fit needs at least {MIN_TRIALS} reaches (one to "
+            "each of the paper's 16 board points), or its tables rest on a "
+            "handful of primitive sequences",
+            field="demos",
+            found=trials,
+            needed=MIN_TRIALS,
+        )
+
+
+def _check_moving(data: np.ndarray) -> None:
+    """Refuse demonstrations in which a variable of ``MUST_MOVE`` stays still.
+
+    ``data``: the samples' variables, shape (n, 5).
+
+    Raises:
+        TooFewSamplesError: naming each such variable and its moving samples.
+    """
+    counts = {i: int(np.count_nonzero(data[:, i] > MOVES)) for i in MUST_MOVE}
+    still = {i: n for i, n in counts.items() if n < MIN_MOVING}
+    if not still:
         return
+    named = ", ".join(f"{VARIABLES[i]} in {n}" for i, n in still.items())
     raise TooFewSamplesError(
-        f"{samples} sample{'' if samples == 1 else 's'} in {trials} "
-        f"trial{'' if trials == 1 else 's'} are too few to fit: a fit needs at "
-        f"least {MIN_MOVING} samples that are not their trial's last, "
-        f"{moving} here (a trial's last sample is at its goal, where every "
-        "motion variable is 0, and leave-one-out cross-validation must keep "
-        "one that moves to fit each rate on)",
+        f"the demonstrations do not move every part of the arm: {named} of "
+        f"{len(data)} samples moves by more than {MOVES:g} (rad or arm lengths) "
+        f"from its goal, and a fit needs at least {MIN_MOVING} for each of "
+        f"{', '.join(VARIABLES[i] for i in MUST_MOVE)}; a variable that never "
+        "moves gets a rate that only measures rounding",
         field="demos",
-        found=moving,
+        found=min(still.values()),
         needed=MIN_MOVING,
     )
 
