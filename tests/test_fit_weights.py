@@ -182,11 +182,11 @@ def test_model_measures_take_the_fitted_weights_over_the_shipped() -> None:
     model = default_model()
     bare = model.model_copy(update={"weights": None})
     assert bare.measures() == MeasureParams()
-    fitted = FittedWeights(mu=0.5, omega=0.25, samples=10, explained=0.5)
+    fitted = FittedWeights(mu=0.5, omega=0.25, samples=100, explained=0.5)
     assert model.model_copy(update={"weights": fitted}).measures() == MeasureParams(
         mu=0.5, omega=0.25
     )
-    no_roll = FittedWeights(mu=0.5, omega=None, samples=10, explained=0.5)
+    no_roll = FittedWeights(mu=0.5, omega=None, samples=100, explained=0.5)
     kept = model.model_copy(update={"weights": no_roll}).measures()
     assert (kept.mu, kept.omega) == (0.5, MeasureParams().omega)
 
@@ -208,3 +208,26 @@ def test_the_shipped_weights_are_the_shipped_models_fit() -> None:
     assert weights is not None and weights.omega is not None
     assert MeasureParams() == default_model().measures()
     assert 0.0 < weights.explained <= 1.0
+
+
+@pytest.mark.parametrize(
+    "samples,explained,trusted",
+    [(22, 0.0, False), (3043, 0.012, False), (29, 0.9, False), (30, 0.5, True)],
+    ids=["left-as-right", "wrong-axes", "few-equations", "at-the-floor"],
+)
+def test_weights_that_explain_too_little_keep_the_shipped_ones(
+    samples: int, explained: float, trusted: bool
+) -> None:
+    """Weights from 22 equations explaining 0 % once replaced the shipped
+    omega with 0: below the floor a model plans with the shipped weights."""
+    from services.fit import default_model
+
+    fitted = FittedWeights(mu=0.0, omega=0.0, samples=samples, explained=explained)
+    model = default_model().model_copy(update={"weights": fitted})
+    assert fitted.trusted is trusted
+    assert model.measures() == (
+        MeasureParams(mu=0.0, omega=0.0) if trusted else MeasureParams()
+    )
+    assert ("too little to plan with" in fitted.untrusted()) is not trusted
+    shipped = default_model().weights
+    assert shipped is not None and shipped.trusted  # the default model's are used

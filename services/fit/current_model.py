@@ -91,4 +91,6 @@ class CurrentModel:
             model.samples,
             ", ".join(request.files),
         )
+        if model.weights is not None and not model.weights.trusted:
+            log.warning("model %s: %s", digest(model), model.weights.untrusted())
         return model

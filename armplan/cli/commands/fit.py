@@ -214,11 +214,12 @@ def _weights_line(weights: Any) -> str:
         if weights.omega is None
         else f"omega = {weights.omega:g} J/rad^2"
     )
-    return (
+    line = (
         f"measures' weights: mu = {weights.mu:g} J/rad^2, {omega}; "
         f"{weights.samples} equations, {100 * weights.explained:.1f} % of the "
         "gravity term explained"
     )
+    return line if weights.trusted else f"{line}; {weights.untrusted()}"
 
 
 def _print_agreement(console: Any, held: list[str], agreement: Any) -> None:
