@@ -194,7 +194,7 @@ def test_two_people_under_one_subject_name_are_refused(
 ) -> None:
     """The same map's subject for two files whose arms differ by 30 %: two
     people under one name, refused naming the file; the same person in two
-    files is one subject."""
+    files is one subject; a copy of a file is one recording twice, refused."""
     bigger = tmp_path / "bigger.c3d"
     zeros = np.zeros_like(recorded.wrist)
     _write_c3d(
@@ -223,9 +223,23 @@ def test_two_people_under_one_subject_name_are_refused(
     assert refused.returncode == 1
     assert f"{bigger}: subject 'P01' measures" in refused.stderr
     assert "two people under one name?" in refused.stderr
+    back = tmp_path / "back.c3d"  # the same arm, 2 % longer, reaching back
+    _write_c3d(
+        back,
+        {
+            "RSHO": _to_lab(zeros),
+            "RELB": _to_lab(1.02 * recorded.elbow[::-1]),
+            "RWRB": _to_lab(1.02 * recorded.wrist[::-1]),
+        },
+    )
+    assert run(c3d_file, back).returncode == 0
     again = tmp_path / "again.c3d"
     again.write_bytes(c3d_file.read_bytes())
-    assert run(c3d_file, again).returncode == 0
+    copied = run(c3d_file, again)
+    assert copied.returncode == 1
+    assert f"{again}: trial 1 of subject 'P01' holds the samples of trial 0" in (
+        copied.stderr
+    )
 
 
 def test_not_a_c3d_file(tmp_path: pathlib.Path) -> None:

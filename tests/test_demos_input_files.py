@@ -136,10 +136,107 @@ def test_synth_refuses_a_directory_as_output(
 def test_two_people_under_one_name_are_refused(
     demos: pathlib.Path, tmp_path: pathlib.Path
 ) -> None:
-    """Two synthetic sets of other seeds both name their person S01: refused
-    naming both files and arms (the later arm used to replace the earlier)."""
+    """Two synthetic sets of other seeds both name their person S01, arms
+    within 10 % (one person, as far as the arm tells), both with trials 0-15:
+    refused naming both files (the later set used to replace the earlier's
+    arm, then to need the very same arm)."""
     other = tmp_path / "other.mcap"
     argv = ["demos", "synth", "-o", str(other), "--subjects", "1", "--trials", "1"]
     assert main([*argv, "--seed", "1"]) == 0
-    with pytest.raises(DemoFileError, match=rf"subject 'S01' has arms .* in {demos}"):
+    with pytest.raises(
+        DemoFileError, match=rf"trial 0 of subject 'S01' is also in {demos}"
+    ):
         read_demos([demos, other])
+
+
+def _import(
+    tmp_path: pathlib.Path, name: str, rows: list[list[str]], *more: str
+) -> pathlib.Path:
+    """Import CSV ``rows`` (subject P01) into ``name``.mcap; the output's path."""
+    csv_path = write_csv(tmp_path / f"{name}.csv", rows)
+    markers = tmp_path / "p01.json"
+    markers.write_text(
+        json.dumps(
+            {"shoulder": "RSHO", "elbow": "RELB", "wrist": "RWRB", "subject": "P01"}
+        )
+    )
+    out = tmp_path / f"{name}.mcap"
+    argv = ["demos", "import", str(csv_path), "--markers", str(markers)]
+    assert main([*argv, "-o", str(out), *more]) == 0
+    return out
+
+
+def test_one_person_imported_twice_is_one_subject(tmp_path: pathlib.Path) -> None:
+    """Two sessions of P01 whose arms measure 3 % apart (markers placed
+    again), imported apart: one person, whose trials both count; the arm
+    kept is the first file's. (An absolute 1e-9 m used to refuse them.)"""
+    first = _import(tmp_path, "monday", arm_rows(0) + arm_rows(1))
+    second = _import(tmp_path, "tuesday", arm_rows(2, scale=1.03), "--first-trial", "2")
+    demos = read_demos([first, second])
+    assert list(demos.subjects) == ["P01"]
+    assert [t.trial for t in demos.trials] == [0, 1, 2]
+    assert demos.subjects["P01"].upper_arm == pytest.approx(0.3, abs=1e-6)
+
+
+def test_two_arms_more_than_ten_percent_apart_are_two_people(
+    tmp_path: pathlib.Path,
+) -> None:
+    """12 % longer arms under one name: refused, naming both files and arms."""
+    first = _import(tmp_path, "p", arm_rows(0))
+    second = _import(tmp_path, "q", arm_rows(0, scale=1.12), "--first-trial", "1")
+    with pytest.raises(DemoFileError) as caught:
+        read_demos([first, second])
+    assert caught.value.message == (
+        f"{second}: subject 'P01' has arms of 0.336 + 0.280 m here and 0.300 + "
+        f"0.250 m in {first}, more than 10% apart: two people under one name? "
+        'Give each its own (the marker map\'s "subject")'
+    )
+
+
+def test_a_copy_of_a_demonstration_file_is_refused(tmp_path: pathlib.Path) -> None:
+    """A byte copy under another name used to count every trial twice."""
+    first = _import(tmp_path, "a", arm_rows(0) + arm_rows(1))
+    copy = tmp_path / "a2.mcap"
+    copy.write_bytes(first.read_bytes())
+    with pytest.raises(DemoFileError) as caught:
+        read_demos([first, copy])
+    assert caught.value.message == (
+        f"{copy}: trial 0 of subject 'P01' holds the samples of trial 0 of "
+        f"subject 'P01' in {first} (positions within 0.1 mm): one recording "
+        "given twice (a copy, or two exports of one session) would count twice"
+    )
+
+
+def test_one_trial_number_in_two_files_is_refused(tmp_path: pathlib.Path) -> None:
+    """Two imports of P01 each numbered from 0: trial 0 is two recordings
+    (the experiments would average them as one reach); refused naming both
+    files and the number to start the later one's from."""
+    first = _import(tmp_path, "a", arm_rows(0) + arm_rows(1))
+    second = _import(tmp_path, "b", arm_rows(2))
+    with pytest.raises(DemoFileError) as caught:
+        read_demos([first, second])
+    assert caught.value.message == (
+        f"{second}: trial 0 of subject 'P01' is also in {first}, another "
+        "recording under the same number (each `armplan demos import` numbers "
+        "its trials from 0): import the files in one `armplan demos import`, or "
+        "number this file's from 2 (`armplan demos import --first-trial 2`)"
+    )
+
+
+def test_import_refuses_a_copy_under_another_name(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """mc2.csv and a copy of it in one import: the same trial twice."""
+    csv_path, markers = _import_setup(tmp_path)
+    copy = tmp_path / "copy.csv"
+    copy.write_bytes(csv_path.read_bytes())
+    out = tmp_path / "x.mcap"
+    argv = ["demos", "import", "--markers", str(markers), "-o", str(out)]
+    assert main([*argv, str(csv_path), str(copy)]) == 1
+    assert _error(capsys) == (
+        f"armplan: error: {copy}: trial 1 of subject 'copy' holds the samples of "
+        f"trial 0 of subject 'mc2' in {csv_path} (positions within 0.1 mm): one "
+        "recording given twice (a copy, or two exports of one session) would "
+        "count twice\n"
+    )
+    assert not out.exists()

@@ -12,7 +12,6 @@ that names the file and what is wrong.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, TypeVar
@@ -21,7 +20,9 @@ import numpy as np
 
 from shared.demos.anthropometry import Subject
 from shared.demos.paths import check_distinct
+from shared.demos.repeats import Register
 from shared.demos.rotations import matrix_from_quaternion, quaternion_from_matrix
+from shared.demos.same_person import SAME_ARM, same_arm
 from shared.demos.trial import MIN_SAMPLES, DemoSet, Trial
 from shared.errors import DemoFileError, InvalidInputError, RecordingError
 from shared.messages.base import parse
@@ -137,13 +138,20 @@ def samples_of(trial: Trial) -> list[DemoSample]:
 def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
     """The demonstrations in one or more MCAP files, validated.
 
+    A subject in several files is one person if its arms agree within
+    ``SAME_ARM`` (``same_person``); each trial is the first file's that has
+    it, and the first file's arm is kept.
+
     Raises:
         DemoFileError: naming the file and the problem, if a file is given
             twice (its trials would count twice), is missing,
             empty, truncated, not MCAP, holds a malformed message or no
             samples, has a subject without samples (naming it), a trial of
             a single sample or whose samples are out of order (naming the
-            trial and its subject).
+            trial and its subject); if one subject's arms in two files
+            differ by more than ``SAME_ARM`` (two people under one name), or
+            a trial is read twice: the same samples, or one subject's trial
+            number, in two files (``repeats``, naming both).
     """
     if isinstance(paths, (str, Path)):
         paths = [paths]
@@ -152,37 +160,40 @@ def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
     subjects: dict[str, Subject] = {}
     found_in: dict[str, Path] = {}
     trials: list[Trial] = []
+    register = Register()
     for path in paths:
         more = _read_one(Path(path))
         for name, subject in more.subjects.items():
             if name in subjects:
                 _check_same(subjects[name], subject, found_in[name], Path(path))
-            subjects[name], found_in[name] = subject, Path(path)
+            else:
+                subjects[name], found_in[name] = subject, Path(path)
+        for trial in more.trials:
+            register.add(trial, str(path))
         trials.extend(more.trials)
     return DemoSet(subjects, trials)
 
 
 def _check_same(first: Subject, again: Subject, where: Path, here: Path) -> None:
-    """Raise unless ``again`` is the same person as ``first`` (same arm).
+    """Raise unless ``again`` is the same person as ``first`` (``same_arm``).
 
     Two people recorded under one name (two synthetic sets of other seeds,
     or ``reach.csv`` from two sessions without a subject in the marker map)
-    were merged, the later arm replacing the earlier one.
+    were merged, the later arm replacing the earlier one. One person's arm
+    measured in two imports differs by millimetres: the same person.
 
     Raises:
         DemoFileError: naming the subject, both files and both arms.
     """
-    if math.isclose(first.upper_arm, again.upper_arm, abs_tol=1e-9) and math.isclose(
-        first.forearm, again.forearm, abs_tol=1e-9
-    ):
+    if same_arm(first, again):
         return
     where_text = "earlier in it" if where == here else f"in {where}"
     raise DemoFileError(
         str(here),
         f"subject {first.name!r} has arms of {again.upper_arm:.3f} + "
         f"{again.forearm:.3f} m here and {first.upper_arm:.3f} + "
-        f"{first.forearm:.3f} m {where_text}: two people under one name? Give "
-        'each its own (the marker map\'s "subject")',
+        f"{first.forearm:.3f} m {where_text}, more than {SAME_ARM:.0%} apart: "
+        'two people under one name? Give each its own (the marker map\'s "subject")',
     )
 
 

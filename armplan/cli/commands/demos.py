@@ -2,6 +2,7 @@
 
     armplan demos synth -o FILE.mcap [--seed N] [--subjects N] [--trials N]
     armplan demos import FILE.c3d|FILE.csv ... --markers MAP.json -o FILE.mcap
+        [--first-trial N]
     armplan demos info FILE.mcap ... [--json]
 
 ``synth`` writes the synthetic set (the paper's protocol, ``shared.demos``);
@@ -11,8 +12,10 @@ CSV times in seconds, milliseconds refused), retargets it to NAO and writes
 the same MCAP form; ``info`` counts subjects, trials, samples and labels.
 
 Files are checked before any work: a file given twice (its trials would
-count twice) and an output that is also an input are refused. ``import``
-notes on stderr how many frames it dropped for a missing marker.
+count twice) and an output that is also an input are refused; so is a
+trial whose samples another file's trial has (a copy). ``import`` numbers
+the trials from ``--first-trial`` (default 0) across its files, and notes
+on stderr how many frames it dropped for a missing marker.
 """
 
 from __future__ import annotations
@@ -73,6 +76,14 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     imported.add_argument(
         "-o", "--output", required=True, metavar="FILE.mcap", help="file to write"
     )
+    imported.add_argument(
+        "--first-trial",
+        type=_whole,
+        default=0,
+        metavar="N",
+        help="number the trials from N (default 0): files imported apart and "
+        "fitted together need distinct numbers for one subject",
+    )
     imported.set_defaults(run=run_import)
     info = actions.add_parser("info", help="summarise demonstration files")
     info.add_argument(
@@ -104,6 +115,7 @@ def run_import(args: argparse.Namespace) -> int:
     from shared.demos.csv_import import read_csv
     from shared.demos.markers import read_marker_map
     from shared.demos.paths import check_distinct
+    from shared.demos.repeats import Register
     from shared.output_paths import check_output_file
 
     check_distinct(args.files)
@@ -116,17 +128,20 @@ def run_import(args: argparse.Namespace) -> int:
     markers = read_marker_map(args.markers)
     subjects: dict[str, Subject] = {}
     trials: list[Trial] = []
+    register = Register()
     for name in args.files:
         path = Path(name)
+        base = _next_trial(trials, args.first_trial)
         if path.suffix.lower() == ".c3d":
-            trial, subject = read_c3d(path, markers, _next_trial(trials), report=_note)
+            trial, subject = read_c3d(path, markers, base, report=_note)
             found = [trial]
         else:
             found, subject = read_csv(path, markers, report=_note)
-            base = _next_trial(trials)
             found = [t._replace(trial=base + i) for i, t in enumerate(found)]
         _check_one_person(subjects.get(subject.name), subject, name)
         subjects.setdefault(subject.name, subject)
+        for trial in found:
+            register.add(trial, name)
         trials.extend(found)
     count = write_demos(
         args.output, DemoSet(subjects, trials), source=", ".join(args.files)
@@ -143,40 +158,45 @@ def _note(text: str) -> None:
     sys.stderr.write(f"armplan: note: {text}\n")
 
 
-#: Largest difference of a segment's measured length between two files of
-#: one person, relative (marker placement moves from session to session).
-SAME_ARM = 0.1
-
-
 def _check_one_person(seen: Subject | None, subject: Subject, name: str) -> None:
     """Raise if ``subject`` (from file ``name``) is another person of that name.
 
     Two people's ``reach.csv`` from two folders, with no subject in the
-    marker map, both became subject ``reach``: one person of two arms.
+    marker map, both became subject ``reach``: one person of two arms. One
+    person's arm, measured in two files, agrees within ``SAME_ARM``
+    (``shared.demos.same_person``, which ``armplan fit`` applies too).
 
     Raises:
         DemoFileError: naming the file, the subject and both arms.
     """
-    if seen is None:
+    from shared.demos.same_person import SAME_ARM, same_arm
+
+    if seen is None or same_arm(seen, subject):
         return
-    for seen_length, length in (
-        (seen.upper_arm, subject.upper_arm),
-        (seen.forearm, subject.forearm),
-    ):
-        if abs(length - seen_length) > SAME_ARM * seen_length:
-            raise DemoFileError(
-                name,
-                f"subject {subject.name!r} measures {subject.upper_arm:.3f} + "
-                f"{subject.forearm:.3f} m here, {seen.upper_arm:.3f} + "
-                f"{seen.forearm:.3f} m in an earlier file: two people under one "
-                "name? Give each file's person a name (the marker map's "
-                '"subject")',
-            )
+    raise DemoFileError(
+        name,
+        f"subject {subject.name!r} measures {subject.upper_arm:.3f} + "
+        f"{subject.forearm:.3f} m here, {seen.upper_arm:.3f} + "
+        f"{seen.forearm:.3f} m in an earlier file, more than {SAME_ARM:.0%} "
+        "apart: two people under one name? Give each file's person a name (the "
+        'marker map\'s "subject")',
+    )
 
 
-def _next_trial(trials: list[Trial]) -> int:
-    """The next free trial number (trials are numbered across files)."""
-    return max((t.trial for t in trials), default=-1) + 1
+def _next_trial(trials: list[Trial], first: int) -> int:
+    """The next free trial number from ``first`` (numbered across files)."""
+    return max((t.trial + 1 for t in trials), default=first)
+
+
+def _whole(text: str) -> int:
+    """A trial number: a whole number >= 0."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    return value
 
 
 def run_info(args: argparse.Namespace) -> int:
