@@ -133,6 +133,40 @@ def test_missing_markers_are_named(c3d_file: pathlib.Path) -> None:
     assert "Sub:RELB" in message
 
 
+def test_two_people_in_one_capture_need_the_full_label(
+    tmp_path: pathlib.Path, recorded: Recorded
+) -> None:
+    """Sub:RSHO and Sub2:RSHO both end in the mapped RSHO: ambiguous, naming
+    both and the full label to map (which imports); it used to say the file
+    lacks RSHO, which it has twice."""
+    path = tmp_path / "two.c3d"
+    zeros = np.zeros_like(recorded.wrist)
+    arm = {
+        "RSHO": _to_lab(zeros),
+        "RELB": _to_lab(recorded.elbow),
+        "RWRB": _to_lab(recorded.wrist),
+    }
+    _write_c3d(
+        path,
+        {f"{who}:{name}": p + shift for who, shift in (("Sub", 0), ("Sub2", 900))
+         for name, p in arm.items()},
+    )  # fmt: skip
+    plain = {k: v for k, v in MAP.items() if k != "thumb"}
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d(path, MarkerMap.model_validate(plain))
+    assert caught.value.message == (
+        f"{path}: the mapped marker shoulder 'RSHO' is ambiguous: the C3D file "
+        "has Sub:RSHO, Sub2:RSHO (one per subject); map the one to import by its "
+        'full label, e.g. "shoulder": "Sub:RSHO"'
+    )
+    full = {**plain, "shoulder": "Sub:RSHO", "elbow": "Sub:RELB", "wrist": "Sub:RWRB"}
+    trial, _ = read_c3d(path, MarkerMap.model_validate(full))
+    expected = retarget(
+        ArmTrack(zeros, recorded.elbow, recorded.wrist), nao_arm_size("right")
+    )
+    np.testing.assert_allclose(trial.wrist, expected.wrist, atol=1e-6)
+
+
 def test_frames_with_a_gap_are_dropped(
     tmp_path: pathlib.Path, recorded: Recorded
 ) -> None:

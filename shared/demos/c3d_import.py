@@ -3,7 +3,8 @@
 One C3D file holds one trial. The markers named by the marker map
 (``markers``) are read with ezc3d at the file's point rate; units come from
 the map or the file's POINT:UNITS parameter. Labels match exactly, or after
-a ``Subject:`` prefix (``Sub1:RSHO`` matches ``RSHO``).
+a ``Subject:`` prefix (``Sub1:RSHO`` matches ``RSHO``) if only one does: a
+capture of two people (``Sub1:RSHO`` and ``Sub2:RSHO``) needs the full label.
 """
 
 from __future__ import annotations
@@ -127,7 +128,13 @@ def _check_whole(path: Path, frames: int) -> None:
 
 
 def _marker_indices(labels: list[str], markers: MarkerMap, path: str) -> dict[str, int]:
-    """Index of each mapped marker among the file's labels."""
+    """Index of each mapped marker among the file's labels.
+
+    Raises:
+        DemoFileError: if a mapped name matches no label, or, after a
+            ``Subject:`` prefix, several (two people in one capture): naming
+            the matches and the full label to map instead.
+    """
     bare = [label.split(":")[-1] for label in labels]
     found, missing = {}, []
     for role, name in markers.names.items():
@@ -135,6 +142,9 @@ def _marker_indices(labels: list[str], markers: MarkerMap, path: str) -> dict[st
             found[role] = labels.index(name)
         elif bare.count(name) == 1:
             found[role] = bare.index(name)
+        elif bare.count(name) > 1:
+            matches = [label for label in labels if label.split(":")[-1] == name]
+            _ambiguous(role, name, matches, path)
         else:
             missing.append(f"{role} {name!r}")
     if missing:
@@ -146,6 +156,18 @@ def _marker_indices(labels: list[str], markers: MarkerMap, path: str) -> dict[st
             labels=labels,
         )
     return found
+
+
+def _ambiguous(role: str, name: str, matches: list[str], path: str) -> None:
+    """Raise: the mapped ``name`` is the label of several people's markers."""
+    raise DemoFileError(
+        path,
+        f"the mapped marker {role} {name!r} is ambiguous: the C3D file has "
+        f"{', '.join(matches)} (one per subject); map the one to import by its "
+        f'full label, e.g. "{role}": "{matches[0]}"',
+        role=role,
+        matches=matches,
+    )
 
 
 def _units(point: dict[str, Any], path: str) -> str:
