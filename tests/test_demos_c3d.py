@@ -202,6 +202,58 @@ def test_a_truncated_c3d_file_is_refused(
         read_c3d(cut, MarkerMap.model_validate(MAP))
 
 
+@pytest.mark.parametrize(
+    ("count", "parameter", "value"),
+    [
+        ("at least 69994", None, None),  # the last block's padding not counted
+        ("70000", ("TRIAL", "ACTUAL_START_FIELD"), [1, 0]),
+        ("70000", ("POINT", "LONG_FRAMES"), [70000.0]),
+    ],
+)
+def test_a_capture_longer_than_a_c3d_header_counts_is_refused(
+    tmp_path: pathlib.Path,
+    recorded: Recorded,
+    count: str,
+    parameter: tuple[str, str] | None,
+    value: list[float] | None,
+) -> None:
+    """70 s at 1 kHz, the reach at its end: ezc3d reads the header's 65,535
+    frames, and the import used to keep them, reach lost, without a word.
+    Refused, with the count from the file's size or its long-count
+    parameters (TRIAL:ACTUAL_END_FIELD is two 16-bit words, low first)."""
+    frames = 70_000
+    zeros = np.zeros((frames, 3))
+
+    def padded(points: np.ndarray) -> np.ndarray:
+        return np.vstack([np.repeat(points[:1], frames - len(points), 0), points])
+
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [1000.0]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = ("RSHO", "RELB", "RWRB")
+    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
+    cloud = np.ones((4, 3, frames))
+    for i, points in enumerate((zeros, padded(recorded.elbow), padded(recorded.wrist))):
+        cloud[:3, i, :] = _to_lab(points).T
+    c3d["data"]["points"] = cloud
+    if parameter is not None:
+        c3d.add_parameter(*parameter, value)
+        if parameter[0] == "TRIAL":
+            c3d.add_parameter(
+                "TRIAL", "ACTUAL_END_FIELD", [frames & 0xFFFF, frames >> 16]
+            )
+    path = tmp_path / "long.c3d"
+    c3d.write(str(path))
+    plain = {k: v for k, v in MAP.items() if k != "thumb"}
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d(path, MarkerMap.model_validate(plain))
+    assert caught.value.message == (
+        f"{path}: holds {count} frames (70.0 s at 1000 Hz), more than the 65535 "
+        "a C3D header counts: only the first 65535 (65.5 s) can be read, cutting "
+        "the trial short of its end. A trial is one reach, a second or two: crop "
+        "the capture to the reach and export it again"
+    )
+
+
 @pytest.mark.parametrize("rate", [0.5, 1e6])
 def test_a_point_rate_no_capture_uses_is_refused(
     tmp_path: pathlib.Path, recorded: Recorded, rate: float

@@ -33,7 +33,7 @@ from services.fit.model import (
 from services.fit.variables import E_P, E_R, S_R, VARIABLES, W_P, W_R
 from services.fit.weights import fit_weights
 from shared.demos.retarget import nao_arm_size
-from shared.demos.sample_rate import check_seconds
+from shared.demos.sample_rate import check_one_rate, check_seconds
 from shared.demos.trial import DemoSet
 from shared.errors import InvalidInputError, TooFewSamplesError
 from shared.messages.motion_model import MAX_SMOOTHING
@@ -95,7 +95,8 @@ def fit_model(
     Raises:
         InvalidInputError: if there are no trials, the options are out of
             range, the times are not in seconds (``check_seconds``, before
-            any fitting), or a variable cannot be fitted (e.g. all zero).
+            any fitting) or at several sample rates (``check_one_rate``), or
+            a variable cannot be fitted (e.g. all zero: naming the trials).
         TooFewSamplesError: with fewer than ``MIN_TRIALS`` trials or
             ``MIN_MOVING`` samples before their trials' ends (before any
             fitting), or a variable of ``MUST_MOVE`` that moves in fewer
@@ -112,6 +113,7 @@ def fit_model(
         )
     _check_enough(demos)
     rate = check_seconds([t.times for t in demos.trials], "the demonstrations")
+    check_one_rate(demos.trials)
     size = nao_arm_size(demos.trials[0].arm)
     values, names, first, oriented = [], [], [], []
     for done, trial in enumerate(demos.trials, start=1):
@@ -123,6 +125,9 @@ def fit_model(
         if progress is not None:
             progress(done, 2 * len(demos.trials))
     data, seen = np.vstack(values), np.array(oriented)
+    for index in range(len(VARIABLES)):
+        if index != W_R:
+            _check_some_move(data[:, index], index, demos)
     _check_moving(data)
     fits = [_fit(data, seen, i) for i in range(len(VARIABLES))]
     edges = [bin_edges(fit.rate, bins) for fit in fits]
@@ -217,6 +222,49 @@ def _check_moving(data: np.ndarray) -> None:
         field="demos",
         found=min(still.values()),
         needed=MIN_MOVING,
+    )
+
+
+#: Trials named one by one in a message, at most.
+NAMED_TRIALS = 3
+
+
+def _check_some_move(values: np.ndarray, index: int, demos: DemoSet) -> None:
+    """Refuse a variable that no trial moves (every sample 0), naming the trials.
+
+    Every variable is 0 at a trial's goal, so a trial at rest at its goal
+    throughout (a capture that holds still, or was cut before the reach)
+    changes none: its density has no rate.
+
+    Args:
+        values: The variable at every sample, shape (samples,).
+        index: Which variable (``VARIABLES``).
+        demos: The demonstrations, for the message.
+
+    Raises:
+        InvalidInputError: (field: the variable) naming it, the trials (up to
+            ``NAMED_TRIALS``, else their count) and their files.
+    """
+    if np.any(values > 0):
+        return
+    trials = demos.trials
+    if len(trials) <= NAMED_TRIALS:
+        which = ", ".join(
+            f"trial {t.trial} of subject {t.subject!r}"
+            + (f" in {t.source}" if t.source else "")
+            for t in trials
+        )
+    else:
+        files = sorted({t.source for t in trials if t.source})
+        which = f"{len(trials)} trials" + (f" in {', '.join(files)}" if files else "")
+    name = VARIABLES[index]
+    raise InvalidInputError(
+        f"{name}: every sample is zero: no trial moves it ({which}). Each trial "
+        "must be one reach, from its start to its goal (its last sample); a "
+        "trial still at its goal throughout changes nothing: check that it "
+        "holds the reach",
+        field=name,
+        trials=len(trials),
     )
 
 

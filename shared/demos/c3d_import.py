@@ -59,6 +59,7 @@ def read_c3d(
     rate = _rate(path, data)
     cloud = np.asarray(data["data"]["points"], dtype=float)  # (4, markers, frames)
     _check_whole(path, cloud.shape[2])
+    _check_not_cut(path, data, cloud.shape[2], rate)
     times = np.arange(cloud.shape[2]) / rate
     points = {role: cloud[:3, i, :].T for role, i in index.items()}
     units = markers.units or _units(point, str(path))
@@ -125,6 +126,87 @@ def _check_whole(path: Path, frames: int) -> None:
         f"truncated: its header says {said} frames ({first}..{last}), only "
         f"{frames} could be read",
     )
+
+
+def _check_not_cut(path: Path, data: Any, frames: int, rate: float) -> None:
+    """Raise if the file holds more frames than the ``frames`` ezc3d read.
+
+    A C3D header counts frames in 16 bits; a longer capture says 65,535 there
+    and its true count in TRIAL:ACTUAL_END_FIELD or POINT:LONG_FRAMES (or
+    nowhere: ezc3d writes neither). ezc3d 1.7 reads the header's count, so a
+    70 s capture at 1 kHz became its first 65.5 s, and the reach at its end
+    was lost without a word. The frames on disk are counted from the file's
+    size, the data's start and a frame's size.
+
+    Args:
+        path: The C3D file.
+        data: What ezc3d read of it.
+        frames: The frames ezc3d read.
+        rate: The point rate [Hz].
+
+    Raises:
+        DemoFileError: naming the frames held and read, and what to do.
+    """
+    if frames < MANY_FRAMES:
+        return
+    said = _long_count(data["parameters"])
+    held = said or _frames_on_disk(path, data, rate)
+    if held is None or held <= frames:
+        return
+    raise DemoFileError(
+        str(path),
+        f"holds {'' if said else 'at least '}{held} frames ({held / rate:.1f} s "
+        f"at {rate:g} Hz), more than "
+        f"the {MANY_FRAMES} a C3D header counts: only the first {frames} "
+        f"({frames / rate:.1f} s) can be read, cutting the trial short of its "
+        "end. A trial is one reach, a second or two: crop the capture to the "
+        "reach and export it again",
+        frames=held,
+        read=frames,
+    )
+
+
+def _long_count(parameters: Any) -> int | None:
+    """The frame count a long capture's parameters give, or ``None``.
+
+    TRIAL:ACTUAL_END_FIELD (two 16-bit words, low first) is the last frame
+    (from 1), TRIAL:ACTUAL_START_FIELD the first; POINT:LONG_FRAMES the count.
+    """
+    trial = parameters.get("TRIAL", {})
+    if "ACTUAL_END_FIELD" in trial:
+        end = [int(v) & 0xFFFF for v in trial["ACTUAL_END_FIELD"]["value"]]
+        start = [
+            int(v) & 0xFFFF
+            for v in trial.get("ACTUAL_START_FIELD", {}).get("value", [1, 0])
+        ]
+        if len(end) == 2 and len(start) == 2:
+            return (end[0] + (end[1] << 16)) - (start[0] + (start[1] << 16)) + 1
+    values = parameters["POINT"].get("LONG_FRAMES", {}).get("value", [])
+    return int(values[0]) if len(values) else None
+
+
+def _frames_on_disk(path: Path, data: Any, rate: float) -> int | None:
+    """Whole frames between the data's start and the file's end, or ``None``.
+
+    A frame is 4 values per point and the analog samples of its period, each
+    a 4-byte float (POINT:SCALE < 0) or a 2-byte integer. The last block's
+    padding (under 512 bytes) is not counted as frames.
+    """
+    point = data["parameters"]["POINT"]
+    analogs = data["header"]["analogs"]
+    per_frame = 4 * int(data["header"]["points"]["size"])
+    if int(analogs["size"]) and rate > 0:
+        per_frame += int(analogs["size"]) * round(float(analogs["frame_rate"]) / rate)
+    width = 4 if float(point["SCALE"]["value"][0]) < 0 else 2
+    start = (int(point["DATA_START"]["value"][0]) - 1) * 512
+    body = path.stat().st_size - start
+    if per_frame == 0 or body < 0:
+        return None
+    return max(0, body - (BLOCK - 1)) // (per_frame * width) or None
+
+
+#: A C3D file's block [bytes]: the data's last block is padded to it.
+BLOCK = 512
 
 
 def _marker_indices(labels: list[str], markers: MarkerMap, path: str) -> dict[str, int]:

@@ -354,4 +354,5 @@ def _trial(group: list[DemoSample], path: Path) -> Trial:
         wrist_frame=frames,
         target=np.array(group[-1].target),
         labels=[str(s.primitive) for s in group] if all(labelled) else None,
+        source=str(path),
     )

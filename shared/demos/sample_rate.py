@@ -7,17 +7,25 @@ is sampled outside the motion model's range, ``MIN_SAMPLE_RATE`` to
 outside it means times in another unit. ``armplan demos import`` checks each
 CSV trial with ``check_seconds``, and ``armplan fit`` the whole set, so the
 two refuse the same times in the same words.
+
+``check_one_rate`` refuses demonstrations sampled at several rates: the
+network counts transitions from one sample to the next, so a step of 1 ms
+in one file and of 10 ms in another would be counted as one step.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from shared.demos.rotations import FloatArray
 from shared.errors import InvalidInputError
 from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
+
+if TYPE_CHECKING:
+    from shared.demos.trial import Trial
 
 #: Milliseconds per second: how many times too slow times in milliseconds
 #: read as seconds make the sample rate.
@@ -71,4 +79,41 @@ def check_seconds(
         field="times",
         step=step,
         rate=rate,
+    )
+
+
+#: Largest relative difference of two trials' sample rates taken as one
+#: rate (a capture's clock jitters; 100 and 120 Hz are two rates).
+SAME_RATE = 0.02
+
+
+def check_one_rate(trials: Sequence[Trial]) -> None:
+    """Refuse trials sampled at different rates (each its median step's).
+
+    Args:
+        trials: The demonstrations' trials (times [s], each shape (n,)).
+
+    Raises:
+        InvalidInputError: (field ``times``) if a trial's rate differs from
+            the first's by more than ``SAME_RATE``, naming each file (or, for
+            trials made here, subject) with its rates [Hz].
+    """
+    rates = [1.0 / float(np.median(np.diff(t.times))) for t in trials]
+    if all(abs(rate / rates[0] - 1.0) <= SAME_RATE for rate in rates):
+        return
+    found: dict[str, list[float]] = {}
+    for trial, rate in zip(trials, rates, strict=True):
+        where = found.setdefault(trial.source or f"subject {trial.subject!r}", [])
+        if all(abs(rate / seen - 1.0) > SAME_RATE for seen in where):
+            where.append(rate)
+    listed = "; ".join(
+        f"{where} at {' and '.join(f'{rate:.4g}' for rate in sorted(seen))} Hz"
+        for where, seen in found.items()
+    )
+    raise InvalidInputError(
+        f"the demonstrations mix sample rates: {listed}. The motion model "
+        "counts transitions from one sample to the next, as steps of one "
+        "rate: fit the files of each rate apart, or resample them to one rate",
+        field="times",
+        rates={where: seen for where, seen in found.items()},
     )

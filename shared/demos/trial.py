@@ -31,6 +31,8 @@ class Trial(NamedTuple):
             shape (n, 3, 3), or ``None`` if the data do not give the roll.
         target: Where the wrist is going [m], shape (3,).
         labels: The primitive moving the arm at each sample, or ``None``.
+        source: The demonstration file it was read from, for messages; ``""``
+            if it was made here (synthesised, imported).
     """
 
     subject: str
@@ -44,6 +46,7 @@ class Trial(NamedTuple):
     wrist_frame: FloatArray | None
     target: FloatArray
     labels: list[str] | None
+    source: str = ""
 
     @property
     def palm_goal(self) -> FloatArray | None:
