@@ -2,7 +2,7 @@
 
     armplan demos synth -o FILE.mcap [--seed N] [--subjects N] [--trials N]
     armplan demos import FILE.c3d|FILE.csv ... --markers MAP.json -o FILE.mcap
-        [--first-trial N]
+        [--first-trial N] [--allow-long]
     armplan demos info FILE.mcap ... [--json]
 
 ``synth`` writes the synthetic set (the paper's protocol, ``shared.demos``);
@@ -14,8 +14,10 @@ the same MCAP form; ``info`` counts subjects, trials, samples and labels.
 Files are checked before any work: a file given twice (its trials would
 count twice) and an output that is also an input are refused; so is a
 trial whose samples another file's trial has (a copy). ``import`` numbers
-the trials from ``--first-trial`` (default 0) across its files, and notes
-on stderr how many frames it dropped for a missing marker.
+the trials from ``--first-trial`` (default 0) across its files, refuses a
+trial that is not one reach (mostly still, or over 10 s;
+``shared/demos/reach_span.py``) unless ``--allow-long``, and notes on stderr
+how many frames it dropped for a missing marker.
 """
 
 from __future__ import annotations
@@ -84,6 +86,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="number the trials from N (default 0): files imported apart and "
         "fitted together need distinct numbers for one subject",
     )
+    imported.add_argument(
+        "--allow-long",
+        action="store_true",
+        help="import a trial that is mostly still or over 10 s anyway (a note "
+        "on stderr); by default it is refused: a trial must be one reach",
+    )
     imported.set_defaults(run=run_import)
     info = actions.add_parser("info", help="summarise demonstration files")
     info.add_argument(
@@ -142,6 +150,7 @@ def run_import(args: argparse.Namespace) -> int:
         subjects.setdefault(subject.name, subject)
         for trial in found:
             register.add(trial, name)
+            _check_one_reach(trial, name, args.allow_long)
         trials.extend(found)
     count = write_demos(
         args.output, DemoSet(subjects, trials), source=", ".join(args.files)
@@ -151,6 +160,28 @@ def run_import(args: argparse.Namespace) -> int:
         f"{count} samples, retargeted to NAO's {markers.arm.value} arm\n"
     )
     return 0
+
+
+def _check_one_reach(trial: Trial, name: str, allow: bool) -> None:
+    """Refuse (or with ``allow`` note) a trial that is more than one reach.
+
+    Raises:
+        DemoFileError: naming the file, trial, its length and stillness.
+    """
+    from shared.demos.reach_span import long_trial_problem
+
+    problem = long_trial_problem(trial)
+    if problem is None:
+        return
+    if allow:
+        _note(f"{name}: {problem}; imported as it is (--allow-long)")
+        return
+    raise DemoFileError(
+        name,
+        f"{problem}. Crop it to the reach, or give --allow-long to import it as it is",
+        trial=trial.trial,
+        subject=trial.subject,
+    )
 
 
 def _note(text: str) -> None:
