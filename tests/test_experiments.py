@@ -577,7 +577,7 @@ def test_the_models_fitted_weights_are_every_methods(
     from services.fit import default_model, save_model
     from shared.messages.motion_model import FittedWeights
 
-    weights = FittedWeights(mu=0.5, omega=0.2, samples=1, explained=0.5)
+    weights = FittedWeights(mu=0.5, omega=0.2, samples=100, explained=0.9)
     path = tmp_path / "model.json"
     save_model(default_model().model_copy(update={"weights": weights}), path)
     base = ["experiment", "handover", "--movements", "1", "--model", str(path)]

@@ -190,7 +190,7 @@ def test_a_models_fitted_weights_drive_mp_unless_the_request_gives_its_own() -> 
     weights win over the model's."""
     arm = load_arm("right")
     goal = {"position": (0.12, -0.10, 0.05), "palm": (0.0, 0.0, 1.0)}
-    weights = FittedWeights(mu=0.5, omega=0.2, samples=1, explained=0.5)
+    weights = FittedWeights(mu=0.5, omega=0.2, samples=100, explained=0.9)
     model = default_model().model_copy(update={"weights": weights})
     other = MeasureParams(mu=0.5, omega=0.2)
 
