@@ -13,7 +13,11 @@ simulated NAO goes further: a new command interrupts the one on its joints
 stopped dead and turned within one control cycle, far beyond its
 acceleration and jerk limits. Either way the start is wrong, so the
 commanded angles are read twice, more than two of ALMotion's 20 ms cycles
-apart, and only equal readings count.
+apart, and only equal readings count; and the arm's joints must be free of
+every motion task (``ALMotion.areResourcesAvailable``, NAOqi 2.x): a
+blocking call holds its joints until it ends, through a dwell where the
+arm holds still (two equal readings), and the bridge's command would then
+wait behind it on a NAO (the simulated NAO's would interrupt it).
 """
 
 from __future__ import annotations
@@ -48,7 +52,8 @@ def angles_at_rest(
         gap: Time between readings [s].
 
     Raises:
-        RobotBusyError: the arm still moved after ``wait``.
+        RobotBusyError: after ``wait``, the arm still moved, or a motion
+            task still held its joints.
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot gave angles that are not numbers.
     """
@@ -57,11 +62,16 @@ def angles_at_rest(
     while True:
         time.sleep(gap)
         now = _read(client, names)
-        if np.abs(now - before).max() <= STILL:
+        if np.abs(now - before).max() <= STILL and _free(client, names):
             return now
         if time.monotonic() >= deadline:
             raise RobotBusyError(client.url, None)
         before = now
+
+
+def _free(client: NaoqiClient, names: list[str]) -> bool:
+    """Whether no motion task holds any of ``names`` (``areResourcesAvailable``)."""
+    return bool(client.call("areResourcesAvailable", names))
 
 
 def _read(client: NaoqiClient, names: list[str]) -> np.ndarray:

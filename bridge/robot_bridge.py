@@ -11,7 +11,8 @@
    (``bridge.awake``, unless the bridge was told otherwise) and allow every
    joint at least the bridge's range and speed (``bridge.robot_limits``,
    asked once per connection); the arm's commanded angles are read once
-   they hold still (``bridge.at_rest``: an arm still moving is busy); an
+   they hold still and no motion task holds its joints (``bridge.at_rest``:
+   an arm still moving, or held by another task, is busy); an
    arm not fully stiff whose sensors say it is elsewhere (made limp, it
    sagged or was moved) counts as where it is, and its command is moved
    there before it is stiffened, so that stiffening holds it there

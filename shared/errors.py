@@ -726,15 +726,17 @@ class RobotBusyError(ArmplanError):
     Attributes:
         url: The robot's NAOqi address.
         remaining: About how long the playing trajectory still runs [s], or
-            ``None`` if not known (the arm was found moving).
+            ``None`` if not known (the arm was found moving, or its joints
+            held by a motion task).
     """
 
     kind = "robot_busy"
 
     def __init__(self, url: str, remaining: float | None) -> None:
         if remaining is None:
-            what = "has an arm still moving (a command not sent by this bridge, or "
-            what += "one that went on while the robot was out of reach)"
+            what = "has an arm still moving, or held by a motion task (a command "
+            what += "not sent by this bridge, or one that went on while the robot "
+            what += "was out of reach)"
         else:
             what = f"is playing another trajectory (about {remaining:.1f} s left)"
         done = "has stopped" if remaining is None else "is done"

@@ -130,3 +130,34 @@ def test_an_arm_moved_by_another_client_is_busy(
     assert not [e for e in log if e["event"] == "interrupted"]
     reply = bridge.execute(minimum_jerk_trajectory("right", [target, target], [0.5]))
     assert reply.approach_duration == 0.0
+
+
+def test_an_arm_held_still_by_another_clients_task_is_busy(
+    sim: SimProcess, bridge: RobotBridge
+) -> None:
+    """Another client's blocking call moves the arm for 1 s, then holds it
+    for 3 s (a dwell): its task still holds the joints, though two readings
+    agree. The bridge refuses with robot_busy and sends nothing, instead of
+    commanding on top of it (the sim would interrupt that task; a NAO would
+    postpone the bridge's call, then jump); once the task ends it plays."""
+    other = NaoqiClient(sim.url)
+    target = rest("right")
+    keys = [[float(v), float(v)] for v in target]
+    holding = threading.Thread(
+        target=other.call,
+        args=("angleInterpolation", NAMES, keys, [[1.0, 4.0]] * 5, True),
+        kwargs={"timeout": 8.0},
+    )
+    holding.start()
+    time.sleep(1.3)  # in the dwell: the arm holds still until 4 s
+    assert not other.call("areResourcesAvailable", ["RArm"])
+    assert other.call("areResourcesAvailable", ["LArm"])
+    with pytest.raises(RobotBusyError, match="held by a motion task") as caught:
+        bridge.execute(minimum_jerk_trajectory("right", [target, target], [0.5]))
+    assert caught.value.remaining is None
+    holding.join()
+    assert sim.log_path is not None
+    assert not [e for e in read_log(sim.log_path) if e["event"] == "interrupted"]
+    assert len(received(sim)) == 3  # the fixture's approach and hold, the other's
+    reply = bridge.execute(minimum_jerk_trajectory("right", [target, target], [0.5]))
+    assert reply.approach_duration == 0.0

@@ -4,9 +4,9 @@ Methods and arguments are NAOqi's (radians, seconds, fractions 0..1):
 ``angleInterpolation``, ``angleInterpolationWithSpeed``, ``setAngles``,
 ``getAngles``, ``stiffnessInterpolation``, ``setStiffnesses``,
 ``getStiffnesses``, ``wakeUp``, ``rest``, ``robotIsWakeUp``, ``getLimits``,
-``killTasksUsingResources``, ``killAll``. A refused command raises (the
-caller gets libqi's ``RuntimeError`` with the reason) and is logged;
-nothing is clamped.
+``areResourcesAvailable``, ``killTasksUsingResources``, ``killAll``. A
+refused command raises (the caller gets libqi's ``RuntimeError`` with the
+reason) and is logged; nothing is clamped.
 """
 
 from __future__ import annotations
@@ -220,6 +220,15 @@ class SimulatedMotion:
         joints = expand_names(name)
         specs = [self._robot.joints[j].spec for j in joints]
         return [[s.lower, s.upper, s.velocity, s.effort] for s in specs]
+
+    def areResourcesAvailable(self, resourceNames: Any) -> bool:
+        """True if no running blocking call's task uses these joints or chains.
+
+        A blocking call (``angleInterpolation``, ``angleInterpolationWithSpeed``,
+        ``stiffnessInterpolation``) holds its joints until it ends, dwells
+        included; ``setAngles`` holds none (NAOqi 2.x's semantics).
+        """
+        return self._robot.resources_available(expand_names(resourceNames))
 
     def killTasksUsingResources(self, resourceNames: Any) -> None:
         """Stop the commands using any of these joints or chains; they hold."""

@@ -70,6 +70,19 @@ class SimRobot:
         with self._lock:
             return [self.joints[j].stiffness(t) for j in joints]
 
+    def resources_available(self, names: str | list[str]) -> bool:
+        """Whether no running blocking call's task holds any of ``names``.
+
+        A task holds its joints until its last key, through any dwell
+        where they hold still, as NAOqi's ``areResourcesAvailable`` says.
+        """
+        wanted = set(expand_names(names))
+        with self._lock:
+            return not any(
+                task.books and not task.finished and wanted & set(task.joints)
+                for task in self._tasks
+            )
+
     def move(
         self,
         method: str,

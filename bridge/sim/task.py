@@ -8,6 +8,12 @@ from bridge.sim.errors import SimCommandError
 
 #: Extra time a blocking call waits past its command's end before failing [s].
 GRACE = 5.0
+#: The methods whose tasks book their joints, as a NAO's blocking calls do
+#: (NAOqi's ``areResourcesAvailable``: "Only motion API's blocking call takes
+#: resources"); ``setAngles`` and ``setStiffnesses`` book nothing.
+BOOKING = frozenset(
+    {"angleInterpolation", "angleInterpolationWithSpeed", "stiffnessInterpolation"}
+)
 
 
 class MotionTask:
@@ -50,6 +56,11 @@ class MotionTask:
         """Another command took its joints, or everything was stopped."""
         self._error = reason
         self._done.set()
+
+    @property
+    def books(self) -> bool:
+        """True if it holds its joints until it ends (a blocking call's task)."""
+        return self.method in BOOKING
 
     @property
     def finished(self) -> bool:
