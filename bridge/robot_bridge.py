@@ -21,7 +21,9 @@
    if the arm is not at the start, or the first frame from where it is
    breaks a limit (``bridge.start_gap``), a slow approach move (checked the
    same way) brings it there, and it must then be there, and still stiff
-   (``bridge.arm_state``);
+   (``bridge.arm_state``); a movement that would end after its caller stops
+   waiting is not started: checked before the robot is contacted, before
+   the approach and again just before the frames go out (``bridge.in_time``);
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz on a connection of their own, so that they
    never wait behind a call still on its way (``bridge.playback``); a robot
@@ -52,6 +54,7 @@ from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.frames import DEFAULT_RATE
 from bridge.hand import with_hand
+from bridge.in_time import check_in_time
 from bridge.limits import FrameLimits
 from bridge.limp_arm import hold_command, limp_posture
 from bridge.naoqi_client import NaoqiClient
@@ -67,6 +70,9 @@ from shared.messages import (
     Trajectory,
 )
 from shared.robot import Side
+
+#: What became of a trajectory refused once the approach brought the arm there.
+ARRIVED = "the arm is at the trajectory's start; nothing of the trajectory was sent"
 
 StateCallback = Callable[[JointState], None]
 FramesCallback = Callable[[CommandFrames], None]
@@ -130,6 +136,7 @@ class RobotBridge:
         request: ExecuteRequest,
         on_state: StateCallback | None = None,
         on_play: FramesCallback | None = None,
+        until: float | None = None,
     ) -> ExecuteReply:
         """Answer an execute request (see :meth:`execute`)."""
         return self.execute(
@@ -138,6 +145,7 @@ class RobotBridge:
             approach=request.approach,
             on_state=on_state,
             on_play=on_play,
+            until=until,
         )
 
     def execute(
@@ -148,6 +156,7 @@ class RobotBridge:
         approach: bool = True,
         on_state: StateCallback | None = None,
         on_play: FramesCallback | None = None,
+        until: float | None = None,
     ) -> ExecuteReply:
         """Play ``trajectory`` on the robot and report how well it followed.
 
@@ -159,9 +168,15 @@ class RobotBridge:
             on_state: Called with each measured state during the movement.
             on_play: Called with the frames once every check has passed and
                 the arm is at their start, just before they are sent.
+            until: When the caller stops waiting for the answer [s,
+                monotonic clock]; ``None``: no deadline. A movement that
+                would end later is not started (``bridge.in_time``).
 
         Raises:
             TrajectoryRefusedError: a frame breaks a limit (nothing sent).
+            CallerDeadlineError: the movement would end after ``until``:
+                nothing sent, or (found after the approach) nothing of the
+                trajectory.
             RobotBusyError: the arm was still moving after a second.
             RobotUnavailableError: the robot cannot be reached, or went away
                 during the movement (raised within 2 s of it going; asked to
@@ -179,6 +194,8 @@ class RobotBridge:
         trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
         frames = checked_frames(trajectory, rate or self.rate, limits)
         names = list(frames.joint_names)
+        url, duration = self.client.url, frames.duration
+        check_in_time(url, until, None, duration, "nothing was sent")
         self.client.refuse_while_stopping()
         if self.require_awake:
             check_awake(self.client)
@@ -193,9 +210,12 @@ class RobotBridge:
         if self.client.stiffen(names):  # another client may have moved it meanwhile
             current = angles_at_rest(self.client, names)
             move_first = needs_approach(frames, current, limits, approach)
-        approach_time = (
-            self._approach(frames, current, limits, on_state) if move_first else 0.0
-        )
+        move = self._approach_move(frames, current, limits) if move_first else None
+        approach_time = 0.0 if move is None else move.duration
+        check_in_time(url, until, approach_time, duration, "nothing was sent")
+        if move is not None:
+            self._approach(frames, move, on_state)
+        check_in_time(url, until, 0.0, duration, ARRIVED)
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)
@@ -216,30 +236,34 @@ class RobotBridge:
             approach_duration=approach_time,
         )
 
+    def _approach_move(
+        self, frames: CommandFrames, current: np.ndarray, limits: FrameLimits
+    ) -> CommandFrames:
+        """The checked move from ``current`` [rad] to the frames' start.
+
+        ``limits`` are the frames' joints' (the hand's too, if they move it).
+        """
+        start = np.asarray(frames.start)
+        move = approach_frames(frames.arm, current, start, limits, frames.rate)
+        check_frames(move, limits)
+        return move
+
     def _approach(
         self,
         frames: CommandFrames,
-        current: np.ndarray,
-        limits: FrameLimits,
+        move: CommandFrames,
         on_state: StateCallback | None = None,
-    ) -> float:
-        """Bring the arm (and the hand) from ``current`` [rad] to the frames' start.
-
-        ``limits`` are the frames' joints' (the hand's too, if they move it).
+    ) -> None:
+        """Play ``move``, which brings the arm to the start of ``frames``.
 
         ``on_state`` gets each state measured on the way (20 Hz), its time
         counted to the trajectory's start, so negative [s]: a recording then
         holds every measured state while the arm moves, the approach too.
 
-        Returns:
-            The approach move's length [s].
-
         Raises:
             RobotStateError: the arm went limp, or did not arrive at the start.
         """
         start = np.asarray(frames.start)
-        move = approach_frames(frames.arm, current, start, limits, frames.rate)
-        check_frames(move, limits)
         on_sample = None if on_state is None else _shifted(on_state, -move.duration)
         play_and_sample(
             self.client,
@@ -252,7 +276,6 @@ class RobotBridge:
             self.client, names, _chain(frames.arm), "nothing of the trajectory was sent"
         )
         check_at_start(self.client, names, start)
-        return move.duration
 
 
 def _chain(arm: Side | str) -> str:

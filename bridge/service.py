@@ -11,8 +11,12 @@ with one frame over a limit is refused with the bridge's typed error before
 anything is published or sent. One robot plays one trajectory at a time: a
 request that comes while one is playing is refused with ``robot_busy``
 (naming about how long is left), not queued, so the robot never starts a
-movement its caller may have given up on. The follower (``--follow``)
-waits instead: it plays the planner's trajectories in order by design.
+movement its caller may have given up on; nor one its caller will give up
+on before it ends: a query whose caller's time left cannot cover the
+approach and the trajectory is refused with ``caller_deadline``, at once,
+and again after the approach if that took longer (``bridge.in_time``).
+The follower (``--follow``) waits instead: it plays the planner's
+trajectories in order by design.
 
 Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 --with-sim`` and ``armplan demo`` do); see :mod:`bridge.serve`.
@@ -28,6 +32,7 @@ from typing import Any
 
 from bridge.robot_bridge import RobotBridge
 from shared.bus import Bus, Endpoint
+from shared.bus.deadline import REPLY_MARGIN, current_due
 from shared.bus.robot_routes import EXECUTE
 from shared.bus.topics import (
     BRIDGE_FRAMES_TOPIC,
@@ -66,6 +71,8 @@ class BridgeService:
             RobotBusyError: another trajectory is playing (``wait`` False).
             TrajectoryRefusedError: a frame breaks a limit (nothing sent,
                 nothing published).
+            CallerDeadlineError: the query's caller would stop waiting
+                before the movement ends (nothing of the trajectory sent).
             RobotUnavailableError, RobotCommandError: from the robot.
         """
         if not self._lock.acquire(blocking=wait):
@@ -82,8 +89,12 @@ class BridgeService:
             self._lock.release()
 
     def _play(self, request: ExecuteRequest) -> ExecuteReply:
+        due = current_due()  # the query's caller's; None for the follower
         reply = self.robot.handle(
-            request, on_state=self._publish_state, on_play=self._publish_frames
+            request,
+            on_state=self._publish_state,
+            on_play=self._publish_frames,
+            until=None if due is None else due.at - REPLY_MARGIN,
         )
         self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
         worst = max(reply.report.tracking_rms_deg.values(), default=0.0)

@@ -750,6 +750,59 @@ class RobotBusyError(ArmplanError):
         self.remaining = None if remaining is None else float(remaining)
 
 
+class CallerDeadlineError(ArmplanError):
+    """The caller stops waiting before the movement would end: it is not started.
+
+    A robot must not start a movement its caller has given up on, or will
+    before it ends: its reply would come to no one, and a retry would find
+    the robot busy. The bridge checks before contacting the robot (the
+    trajectory alone), before the approach (both) and again just before the
+    trajectory's frames are sent (an approach that took longer).
+
+    Attributes:
+        url: The robot's NAOqi address.
+        left: The caller's time left when checked [s] (less the time the
+            answer needs to travel back).
+        approach: The approach move's length [s]; ``None`` if not yet known
+            (the arm not yet read), 0 if none is needed or it was played.
+        duration: The trajectory's length [s].
+        outcome: What became of the movement, e.g. ``"nothing was sent"``.
+    """
+
+    kind = "caller_deadline"
+
+    def __init__(
+        self,
+        url: str,
+        left: float,
+        approach: float | None,
+        duration: float,
+        *,
+        outcome: str,
+    ) -> None:
+        if approach is None:
+            needs = f"the {duration:.2f} s trajectory alone"
+        elif approach > 0.0:
+            needs = f"{approach:.2f} s approach + {duration:.2f} s trajectory"
+        else:
+            needs = f"the {duration:.2f} s trajectory"
+        super().__init__(
+            f"the robot at {url}: the caller stops waiting in {max(left, 0.0):.2f} "
+            f"s, before the movement would end ({needs}); {outcome}: ask with a "
+            "timeout that covers the approach and the trajectory",
+            url=url,
+            left=float(left),
+            approach=None if approach is None else float(approach),
+            duration=float(duration),
+            outcome=outcome,
+        )
+        self.url = url
+        self.left = float(left)
+        self.approach = None if approach is None else float(approach)
+        self.duration = float(duration)
+        self.outcome = outcome
+
+
 class RobotCommandError(ArmplanError):
     """The robot answered, but refused or failed a command.
 

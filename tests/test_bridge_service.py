@@ -9,7 +9,9 @@ there, so the bridge also has to connect again to every new one.
 
 from __future__ import annotations
 
+import os
 import queue
+import signal
 import socket
 import threading
 import time
@@ -32,6 +34,8 @@ from shared.bus import Bus, BusConfig, load_config
 from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import TRAJECTORY_TOPIC
 from shared.errors import (
+    ArmplanError,
+    CallerDeadlineError,
     InvalidInputError,
     RobotBusyError,
     RobotUnavailableError,
@@ -346,6 +350,100 @@ def test_the_time_left_told_a_refused_caller_counts_from_after_the_approach(
         caller.join(30.0)
     assert outcome["reply"].approach_duration >= 0.9
     assert caught.value.evidence["remaining"] >= trajectory.duration - 0.45
+
+
+def test_a_caller_who_cannot_wait_for_the_trajectory_is_refused_at_once(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """A 2 s trajectory, a caller who waits 1 s: caller_deadline at once,
+    naming both times; the robot receives nothing. (The arm used to play it
+    all for no one, the caller told request_timeout.)"""
+    started = time.monotonic()
+    with pytest.raises(CallerDeadlineError) as caught:
+        stack.execute(reach(), timeout=1.0)
+    assert time.monotonic() - started < 1.0
+    error = caught.value
+    assert "the 2.00 s trajectory alone" in error.message
+    assert error.message.startswith(f"the robot at {stack.url}: the caller stops ")
+    assert error.evidence["duration"] == pytest.approx(2.0)
+    assert 0.0 < error.evidence["left"] < 1.0
+    assert error.evidence["outcome"] == "nothing was sent"
+    time.sleep(0.3)  # anything sent would have been logged by now
+    assert commands_received(sim) == []
+    assert published.on(stack.bus.key("bridge/frames")) == []
+
+
+def test_a_caller_who_cannot_wait_for_the_approach_too_is_refused_before_it(
+    stack: Stack, sim: SimProcess
+) -> None:
+    """A 1 s trajectory from the arm stretched forward, the arm at rest, a
+    caller who waits 1.5 s: the trajectory alone fits, with the approach it
+    does not; refused naming both, before the approach (no movement sent)."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [1.0]
+    )
+    with pytest.raises(CallerDeadlineError) as caught:
+        stack.execute(trajectory, timeout=1.5)
+    error = caught.value
+    assert error.evidence["approach"] >= 0.9
+    assert f"{error.evidence['approach']:.2f} s approach + 1.00 s trajectory" in (
+        error.message
+    )
+    assert error.evidence["outcome"] == "nothing was sent"
+    motions = [e for e in commands_received(sim) if e["event"] == "motion"]
+    assert motions == []
+
+
+def test_a_caller_gone_during_a_slow_approach_gets_no_trajectory(
+    stack: Stack, sim: SimProcess, published: Published
+) -> None:
+    """The caller's time covers approach and trajectory with 0.4 s to spare,
+    but the robot stalls 0.6 s (SIGSTOP) as the approach ends, and answers
+    its call that much later: the caller would be gone before the trajectory
+    ended, so its frames are neither sent nor published; caller_deadline
+    says the arm is at the start. (They used to be sent for no one.)"""
+    trajectory = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [1.0]
+    )
+    approach = stack.execute(trajectory).approach_duration  # ends at rest again
+    assert approach >= 0.9
+    time.sleep(0.3)  # the first one's last states arrive
+    seen = len(published.on(stack.bus.key("bridge/state")))
+    outcome: dict[str, Any] = {}
+
+    def call() -> None:
+        try:
+            outcome["reply"] = stack.execute(trajectory, timeout=approach + 1.45)
+        except ArmplanError as error:
+            outcome["error"] = error
+
+    def approach_ends_soon() -> bool:
+        """A state of the approach within 0.2 s of its end has come."""
+        states = published.on(stack.bus.key("bridge/state"))[seen:]
+        return any(JointState.model_validate_json(m).time > -0.2 for m in states)
+
+    caller = threading.Thread(target=call)
+    caller.start()
+    try:
+        deadline = time.monotonic() + 10.0
+        while not approach_ends_soon():
+            assert time.monotonic() < deadline, "no approach within 10 s"
+            time.sleep(0.005)
+        os.kill(sim.pid, signal.SIGSTOP)
+        time.sleep(0.6)  # under the bridge's 1 s without a reading
+    finally:
+        os.kill(sim.pid, signal.SIGCONT)
+        caller.join(10.0)
+    error = outcome["error"]
+    assert isinstance(error, CallerDeadlineError), error
+    assert error.evidence["outcome"] == (
+        "the arm is at the trajectory's start; nothing of the trajectory was sent"
+    )
+    assert error.evidence["left"] < 1.0
+    assert "the 1.00 s trajectory" in error.message
+    calls = [e for e in commands_received(sim) if e["event"] == "motion"]
+    assert [c["method"] for c in calls].count("angleInterpolation") == 3
+    assert len(published.on(stack.bus.key("bridge/frames"))) == 1  # the first's
 
 
 def test_a_sim_killed_mid_trajectory_errs_within_2_s_and_is_used_again(

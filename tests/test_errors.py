@@ -6,6 +6,7 @@ import pytest
 
 from shared.errors import (
     ArmplanError,
+    CallerDeadlineError,
     InvalidInputError,
     JointLimitError,
     LimitViolationError,
@@ -46,6 +47,9 @@ EXAMPLES: list[ArmplanError] = [
     WrongLoginError(source="secure/client.json5", expected="bridge", given="client"),
     RobotStateError("tcp://127.0.0.1:9559", "not awake", outcome="nothing was sent"),
     RobotLimitsError("tcp://127.0.0.1:9559", "RShoulderRoll", "upper", -0.0087, 0.3),
+    CallerDeadlineError(
+        "tcp://127.0.0.1:9559", 0.35, None, 6.0, outcome="nothing was sent"
+    ),
 ]
 
 
