@@ -41,6 +41,7 @@ The Zenoh wrapper (the bridge process) only feeds requests to
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 
 import numpy as np
@@ -62,6 +63,8 @@ from bridge.playback import SAMPLE_PERIOD, play_and_sample
 from bridge.robot_limits import RobotLimitsCheck
 from bridge.start_gap import needs_approach
 from bridge.tracking import executed_states, tracking_report
+from shared.bus.robot_routes import BRIDGE
+from shared.errors import ServiceUnavailableError
 from shared.messages import (
     CommandFrames,
     ExecuteReply,
@@ -114,6 +117,26 @@ class RobotBridge:
         self.require_awake = require_awake
         self._limits = limits or {side: FrameLimits.for_arm(side) for side in Side}
         self._robot_limits = RobotLimitsCheck()
+        self._stopping = threading.Event()
+
+    def stop(self) -> None:
+        """Send no new command from now on (the bridge process is stopping).
+
+        A call already sent plays on; a request being served is refused at
+        its next step (:meth:`refuse_if_stopping`).
+        """
+        self._stopping.set()
+
+    def refuse_if_stopping(self, outcome: str) -> None:
+        """Raise if :meth:`stop` was called; ``outcome``: what was sent.
+
+        Raises:
+            ServiceUnavailableError: the bridge is stopping.
+        """
+        if self._stopping.is_set():
+            raise ServiceUnavailableError(
+                BRIDGE, reason=f"the bridge is stopping; {outcome}"
+            )
 
     def limits(self, arm: Side) -> FrameLimits:
         """The limits used for ``arm``."""
@@ -177,6 +200,8 @@ class RobotBridge:
             CallerDeadlineError: the movement would end after ``until``:
                 nothing sent, or (found after the approach) nothing of the
                 trajectory.
+            ServiceUnavailableError: the bridge is stopping (:meth:`stop`):
+                nothing sent, or nothing after the approach.
             RobotBusyError: the arm was still moving after a second.
             RobotUnavailableError: the robot cannot be reached, or went away
                 during the movement (raised within 2 s of it going; asked to
@@ -196,6 +221,7 @@ class RobotBridge:
         names = list(frames.joint_names)
         url, duration = self.client.url, frames.duration
         check_in_time(url, until, None, duration, "nothing was sent")
+        self.refuse_if_stopping("nothing was sent")
         self.client.refuse_while_stopping()
         if self.require_awake:
             check_awake(self.client)
@@ -205,6 +231,7 @@ class RobotBridge:
         if limp is not None:  # stiffened, it would snap back to its command
             current = limp
         move_first = needs_approach(frames, current, limits, approach)
+        self.refuse_if_stopping("nothing was sent")
         if limp is not None:
             hold_command(self.client, names, limp, limits)
         if self.client.stiffen(names):  # another client may have moved it meanwhile
@@ -213,9 +240,11 @@ class RobotBridge:
         move = self._approach_move(frames, current, limits) if move_first else None
         approach_time = 0.0 if move is None else move.duration
         check_in_time(url, until, approach_time, duration, "nothing was sent")
+        self.refuse_if_stopping("no movement was sent")
         if move is not None:
             self._approach(frames, move, on_state)
         check_in_time(url, until, 0.0, duration, ARRIVED)
+        self.refuse_if_stopping(ARRIVED if move is not None else "no movement was sent")
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)

@@ -7,8 +7,12 @@ It connects to the router (waiting up to ``--wait`` seconds), answers
 ``<ns>/bridge/execute`` (:mod:`bridge.service`), with ``--follow`` also plays
 every trajectory published on ``<ns>/plan/trajectory``
 (:mod:`bridge.follower`), and runs until SIGTERM or SIGINT (or its launcher
-dies). The robot is reached on demand: the bridge starts without it, and a
-robot that went away is connected again at the next request. The robot's
+dies). Told to stop, it sends no new command: a request in its approach is
+answered ``service_unavailable`` ("the bridge is stopping; ...") once the
+approach ends, its trajectory not sent; a trajectory playing is watched to
+its end and answered (:meth:`~bridge.service.BridgeService.stop`). The
+robot is reached on demand: the bridge starts without it, and a robot that
+went away is connected again at the next request. The robot's
 address: ``--robot``, else ``$ARMPLAN_ROBOT``, else the simulated NAO at
 ``tcp://127.0.0.1:9559`` (:mod:`bridge.route`). Importing ``bridge`` first
 loads libqi before pinocchio (see shared/libqi.py).
@@ -101,6 +105,7 @@ def run(args: argparse.Namespace) -> None:
                 try:
                     wait_for(stop)
                 finally:
+                    service.stop()  # no new command; answer the one in flight
                     if follower is not None:
                         follower.stop()
     finally:

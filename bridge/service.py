@@ -43,6 +43,11 @@ from shared.errors import ArmplanError, RobotBusyError
 from shared.messages import CommandFrames, ExecuteReply, ExecuteRequest, JointState
 
 log = logging.getLogger("armplan.bridge")
+#: Longest wait, past the playing movement's end, for the request being
+#: served when the bridge stops [s].
+STOP_GRACE = 2.0
+#: Longest wait for the request being served when the bridge stops [s].
+STOP_LIMIT = 30.0
 
 
 class BridgeService:
@@ -73,8 +78,11 @@ class BridgeService:
                 nothing published).
             CallerDeadlineError: the query's caller would stop waiting
                 before the movement ends (nothing of the trajectory sent).
+            ServiceUnavailableError: the bridge is stopping (:meth:`stop`):
+                nothing sent, or nothing after the approach.
             RobotUnavailableError, RobotCommandError: from the robot.
         """
+        self.robot.refuse_if_stopping("nothing was sent")
         if not self._lock.acquire(blocking=wait):
             remaining = max(self._ends - time.monotonic(), 0.0)
             log.warning("execute: refused, the robot is busy (%.1f s left)", remaining)
@@ -116,6 +124,30 @@ class BridgeService:
             frames.arm.value,
             self.robot.client.url,
         )
+
+    def stop(self) -> bool:
+        """Send no new command; wait for the request being served to end.
+
+        Its approach may end, but its trajectory is not sent: it is answered
+        with "the bridge is stopping". A trajectory already playing is
+        watched to its end and answered as usual (cut short, the joints
+        would stop dead), for at most :data:`STOP_GRACE` past its expected
+        end and :data:`STOP_LIMIT` in all.
+
+        Returns:
+            Whether no request is being served any more.
+        """
+        self.robot.stop()
+        limit = time.monotonic() + STOP_LIMIT
+        while True:
+            until = min(self._ends + STOP_GRACE, limit)  # _ends moves on play
+            left = until - time.monotonic()
+            if self._lock.acquire(timeout=max(min(left, 0.1), 0.0)):
+                self._lock.release()
+                return True
+            if left <= 0.0:
+                log.warning("stop: a request is still being served; leaving it")
+                return False
 
     def _publish_state(self, state: JointState) -> None:
         self.bus.publish(BRIDGE_STATE_TOPIC, state)

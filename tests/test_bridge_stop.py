@@ -1,0 +1,147 @@
+"""A bridge told to stop (SIGTERM) sends no new command, and answers.
+
+Real parts: a Zenoh router and ``python -m bridge.serve`` as processes
+(``armplan.launch``), the simulated NAO as its own process over libqi, and a
+Zenoh client session in the test.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+import zenoh
+
+from armplan.launch import Launcher, free_endpoint
+from armplan.launch.robot import RobotStack
+from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.sim import SimProcess
+from bridge.sim.log import read_log
+from shared.bus import Bus, load_config
+from shared.bus.robot_routes import EXECUTE
+from shared.errors import ArmplanError, ServiceUnavailableError
+from shared.messages import ExecuteRequest, JointState, Trajectory
+from shared.robot.postures import forward, rest
+
+
+class Stack:
+    """A router, a bridge process, the sim and a client bus."""
+
+    def __init__(self, robot: RobotStack, sim: SimProcess, bus: Bus) -> None:
+        self.robot = robot
+        self.sim = sim
+        self.bus = bus
+        self.states: list[JointState] = []
+        self._subscriber = bus.session.declare_subscriber(
+            bus.key("bridge/state"), self._on_state
+        )
+
+    def _on_state(self, sample: zenoh.Sample) -> None:
+        self.states.append(JointState.model_validate_json(sample.payload.to_bytes()))
+
+    def execute_in_background(self, trajectory: Trajectory) -> dict[str, Any]:
+        """Send ``trajectory`` from a thread; the dict gets "reply" or "error"."""
+        outcome: dict[str, Any] = {}
+
+        def call() -> None:
+            try:
+                request = ExecuteRequest(trajectory=trajectory)
+                outcome["reply"] = self.bus.call(EXECUTE, request, timeout=30.0)
+            except ArmplanError as error:
+                outcome["error"] = error
+
+        outcome["thread"] = threading.Thread(target=call)
+        outcome["thread"].start()
+        return outcome
+
+    def wait_for_state(self, after: float) -> None:
+        """Wait until a state later than ``after`` [s, trajectory time] came."""
+        deadline = time.monotonic() + 10.0
+        while not any(s.time > after for s in list(self.states)):
+            assert time.monotonic() < deadline, f"no state after {after} s"
+            time.sleep(0.005)
+
+    def motions(self) -> list[str]:
+        """The methods of the movements the sim took, in order."""
+        assert self.sim.log_path is not None
+        log = read_log(self.sim.log_path)
+        return [e["method"] for e in log if e["event"] == "motion"]
+
+    def bridge_exit(self, timeout: float = 10.0) -> int | None:
+        assert self.robot.bridge is not None
+        deadline = time.monotonic() + timeout
+        while (code := self.robot.bridge.exit_code()) is None:
+            if time.monotonic() > deadline:
+                return None
+            time.sleep(0.05)
+        return code
+
+
+@pytest.fixture
+def stack(tmp_path: Path) -> Iterator[Stack]:
+    config = load_config(endpoints=(free_endpoint(),))
+    sim = SimProcess(log_path=tmp_path / "sim.jsonl")
+    sim.start()
+    with (
+        (tmp_path / "router.log").open("w") as router_log,
+        (tmp_path / "bridge.log").open("w") as bridge_log,
+        Launcher(config, [], log=router_log),
+        RobotStack(config, robot=sim.url, log=bridge_log) as robot,
+        Bus.connect(config) as bus,
+    ):
+        try:
+            yield Stack(robot, sim, bus)
+        finally:
+            sim.stop()
+
+
+def from_forward(seconds: float) -> Trajectory:
+    """Arm stretched forward -> rest: from rest, a 1.4 s approach first."""
+    return minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [seconds]
+    )
+
+
+def test_a_bridge_stopped_during_the_approach_sends_no_trajectory(
+    stack: Stack,
+) -> None:
+    """SIGTERM as the approach starts: the approach ends, the trajectory is
+    not sent, and the caller is told so (it used to be sent after SIGTERM,
+    then left unwatched, the caller told only that the bridge was gone)."""
+    outcome = stack.execute_in_background(from_forward(2.0))
+    stack.wait_for_state(-10.0)  # the approach's first state
+    assert stack.robot.bridge is not None
+    stack.robot.bridge.signal(signal.SIGTERM)
+    outcome["thread"].join(15.0)
+    error = outcome["error"]
+    assert isinstance(error, ServiceUnavailableError), error
+    assert error.reason == (
+        "the bridge is stopping; the arm is at the trajectory's start; nothing "
+        "of the trajectory was sent"
+    )
+    assert stack.bridge_exit() == 0
+    assert stack.motions() == ["angleInterpolation"]  # the approach alone
+
+
+def test_a_bridge_stopped_during_the_trajectory_answers_at_its_end(
+    stack: Stack,
+) -> None:
+    """SIGTERM 0.3 s into a 4 s trajectory: it plays to its end, watched, and
+    the caller gets its report (it used to get service_unavailable 2 s later,
+    while the arm played on unwatched); then the bridge exits 0."""
+    outcome = stack.execute_in_background(from_forward(4.0))
+    stack.wait_for_state(0.3)
+    assert stack.robot.bridge is not None
+    stack.robot.bridge.signal(signal.SIGTERM)
+    outcome["thread"].join(15.0)
+    assert "error" not in outcome, outcome.get("error")
+    report = outcome["reply"].report
+    assert report.duration >= 4.0 - 2.0 * report.sample_period
+    assert max(report.tracking_rms_deg.values()) < 1.0
+    assert stack.bridge_exit() == 0
+    assert stack.motions() == ["angleInterpolation", "angleInterpolation"]
