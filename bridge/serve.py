@@ -32,10 +32,11 @@ from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
 from shared.bus import Bus, ServiceHost, load_config
+from shared.bus.keys import alive_key
 from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.robot_routes import BRIDGE
-from shared.errors import ArmplanError
+from shared.errors import ArmplanError, ServiceRunningError
 
 log = logging.getLogger("armplan.bridge")
 
@@ -84,6 +85,23 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+def check_alone(bus: Bus) -> None:
+    """Refuse to start beside another bridge in the namespace.
+
+    Asked of the router (a liveliness query) before this bridge declares
+    anything. Two bridges starting at the same moment may both pass.
+
+    Raises:
+        ServiceRunningError: ``<ns>/alive/bridge`` is held already.
+    """
+    if BRIDGE in bus.alive():
+        raise ServiceRunningError(
+            BRIDGE,
+            key=alive_key(bus.config.namespace, BRIDGE),
+            why="two bridges would both play every request on the robot",
+        )
+
+
 def run(args: argparse.Namespace) -> None:
     """Serve until asked to stop (``start_process`` installed the handlers)."""
     stop = start_process(args.log_level)
@@ -93,6 +111,7 @@ def run(args: argparse.Namespace) -> None:
     client = NaoqiClient(url)
     try:
         with Bus.connect(config, wait=args.wait) as bus:
+            check_alone(bus)
             bridge = RobotBridge(
                 client, rate=args.rate, require_awake=not args.allow_not_awake
             )
@@ -113,7 +132,11 @@ def run(args: argparse.Namespace) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point; 0 after a stop request, 1 on a configuration error."""
+    """Entry point; 0 after a stop request, 1 on an error at start.
+
+    An error at start: a configuration error, or another bridge running in
+    the namespace.
+    """
     args = parser().parse_args(argv)
     try:
         run(args)

@@ -570,6 +570,31 @@ class ServiceBusyError(ArmplanError):
         self.queued = int(queued)
 
 
+class ServiceRunningError(ArmplanError):
+    """A service that must run once per namespace found itself running already.
+
+    Two bridges in one namespace would both play every request on the robot
+    (a queryable's answer fans out to all of them); the caller would get one
+    answer, perhaps the loser's error, while the arm moves.
+
+    Attributes:
+        service: The service, e.g. ``"bridge"``.
+        key: The liveliness key another process holds.
+    """
+
+    kind = "service_running"
+
+    def __init__(self, service: str, *, key: str, why: str) -> None:
+        super().__init__(
+            f"service {service!r} is already running ({key} is held by another "
+            f"process): {why}; stop the other one first, or use another namespace",
+            service=service,
+            key=key,
+        )
+        self.service = service
+        self.key = key
+
+
 class BusConfigError(ArmplanError):
     """The Zenoh configuration (file or option) is malformed or unsafe.
 

@@ -1,4 +1,5 @@
-"""A bridge told to stop (SIGTERM) sends no new command, and answers.
+"""A bridge told to stop (SIGTERM) sends no new command, and answers; a
+second bridge in the namespace does not start.
 
 Real parts: a Zenoh router and ``python -m bridge.serve`` as processes
 (``armplan.launch``), the simulated NAO as its own process over libqi, and a
@@ -8,6 +9,8 @@ Zenoh client session in the test.
 from __future__ import annotations
 
 import signal
+import subprocess
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -144,4 +147,29 @@ def test_a_bridge_stopped_during_the_trajectory_answers_at_its_end(
     assert report.duration >= 4.0 - 2.0 * report.sample_period
     assert max(report.tracking_rms_deg.values()) < 1.0
     assert stack.bridge_exit() == 0
+    assert stack.motions() == ["angleInterpolation", "angleInterpolation"]
+
+
+def test_a_second_bridge_in_the_namespace_refuses_to_start(stack: Stack) -> None:
+    """A bridge started while another serves the namespace exits 1 naming
+    the held token, before declaring anything (both used to play every
+    request, the caller getting the loser's error); the first plays on."""
+    endpoint = stack.bus.config.endpoints[0]
+    command = [sys.executable, "-m", "bridge.serve", "--connect", endpoint]
+    second = subprocess.run(
+        [*command, "--robot", stack.sim.url],
+        capture_output=True,
+        text=True,
+        timeout=30.0,  # a second bridge that starts runs until killed here
+    )
+    assert second.returncode == 1
+    assert (
+        "service 'bridge' is already running (armplan/alive/bridge is held by "
+        "another process): two bridges would both play every request on the "
+        "robot; stop the other one first, or use another namespace"
+    ) in second.stderr
+    reply = stack.bus.call(
+        EXECUTE, ExecuteRequest(trajectory=from_forward(0.5)), timeout=30.0
+    )
+    assert reply.approach_duration > 0.0
     assert stack.motions() == ["angleInterpolation", "angleInterpolation"]

@@ -14,6 +14,7 @@ from shared.errors import (
     RemoteError,
     RobotLimitsError,
     RobotStateError,
+    ServiceRunningError,
     SwivelNotReachedError,
     TooFewSamplesError,
     UnknownArmError,
@@ -50,6 +51,7 @@ EXAMPLES: list[ArmplanError] = [
     CallerDeadlineError(
         "tcp://127.0.0.1:9559", 0.35, None, 6.0, outcome="nothing was sent"
     ),
+    ServiceRunningError("bridge", key="armplan/alive/bridge", why="two bridges"),
 ]
 
 
