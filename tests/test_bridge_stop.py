@@ -173,3 +173,43 @@ def test_a_second_bridge_in_the_namespace_refuses_to_start(stack: Stack) -> None
     )
     assert reply.approach_duration > 0.0
     assert stack.motions() == ["angleInterpolation", "angleInterpolation"]
+
+
+def test_a_request_without_a_rate_plays_at_the_bridges_rate(
+    tmp_path: Path,
+) -> None:
+    """A bridge at 50 fps (``--rate 50``), a request naming no rate: 50 fps
+    frames (it used to play at the request's default 25 fps); a request
+    naming 25 fps still gets 25."""
+    from bridge.naoqi_client import NaoqiClient
+    from bridge.robot_bridge import RobotBridge
+    from bridge.service import BridgeService
+    from shared.bus import ServiceHost
+    from shared.bus.robot_routes import BRIDGE
+
+    config = load_config(endpoints=(free_endpoint(),))
+    sim = SimProcess(log_path=tmp_path / "sim.jsonl")
+    sim.start()
+    trajectory = minimum_jerk_trajectory("right", [rest("right")] * 2, [1.0])
+    try:
+        with (
+            (tmp_path / "router.log").open("w") as router_log,
+            Launcher(config, [], log=router_log),
+            Bus.connect(config) as served,
+            Bus.connect(config) as bus,
+        ):
+            robot = RobotBridge(NaoqiClient(sim.url), rate=50.0)
+            service = BridgeService(served, robot)
+            with ServiceHost(served, BRIDGE, service.endpoints()):
+                bus.wait_alive([BRIDGE], 10.0)
+                plain = ExecuteRequest(trajectory=trajectory)
+                own = bus.call(EXECUTE, plain, timeout=30.0)
+                asked = ExecuteRequest(trajectory=trajectory, rate=25.0)
+                named = bus.call(EXECUTE, asked, timeout=30.0)
+            robot.client.close()
+    finally:
+        sim.stop()
+    assert (own.frames, named.frames) == (50, 25)
+    assert ExecuteRequest.model_validate_json(
+        '{"trajectory": ' + trajectory.to_json() + ', "rate": 25.0}'
+    ).rate == pytest.approx(25.0)  # old requests' JSON stays valid

@@ -182,13 +182,14 @@ class ExecuteRequest(Message):
 
     Attributes:
         trajectory: The trajectory (the SPEC's trajectory form).
-        rate: Frame rate of the command frames [Hz].
+        rate: Frame rate of the command frames [Hz]; ``None`` (or left
+            out): the bridge's own (``python -m bridge.serve --rate``, 25).
         approach: Move the arm to the trajectory's start first, slowly, if it
             is elsewhere; if false, a robot away from the start is refused.
     """
 
     trajectory: Trajectory
-    rate: float = Field(default=25.0, ge=MIN_RATE, le=MAX_FRAME_RATE)
+    rate: float | None = Field(default=None, ge=MIN_RATE, le=MAX_FRAME_RATE)
     approach: bool = True
 
 
