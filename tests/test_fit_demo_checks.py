@@ -13,8 +13,9 @@ import pytest
 
 from armplan.cli.main import main
 from services.fit import fit_model
+from services.fit.fitting import MIN_TRIALS
 from shared.demos import DemoSet, read_demos, synthesize, write_demos
-from shared.errors import InvalidInputError
+from shared.errors import TooFewSamplesError
 
 
 @pytest.fixture(scope="module")
@@ -57,27 +58,31 @@ def test_rates_within_two_percent_are_one_rate(demos: DemoSet) -> None:
     assert 100.0 <= model.sample_rate <= 101.0 + 1e-9
 
 
-def test_a_capture_still_at_its_goal_names_its_trial_and_file(
+def test_a_capture_still_at_its_goal_names_its_file(
     demos: DemoSet, tmp_path: pathlib.Path
 ) -> None:
-    """Every sample of a trial at its goal: 'E_P: every sample is zero' used
-    to name no file and no trial."""
-    (trial, *_) = demos.trials
-    n = len(trial.times)
-    still = trial._replace(
-        shoulder=np.repeat(trial.shoulder[-1:], n, 0),
-        elbow=np.repeat(trial.elbow[-1:], n, 0),
-        wrist=np.repeat(trial.wrist[-1:], n, 0),
-        wrist_frame=None,
-        labels=None,
-    )
+    """Every sample of each trial at its goal: the refusal names the file and
+    says a trial must hold the reach ('E_P: every sample is zero' used to
+    name no file)."""
+    trials = []
+    for trial in demos.trials[:MIN_TRIALS]:
+        n = len(trial.times)
+        trials.append(
+            trial._replace(
+                shoulder=np.repeat(trial.shoulder[-1:], n, 0),
+                elbow=np.repeat(trial.elbow[-1:], n, 0),
+                wrist=np.repeat(trial.wrist[-1:], n, 0),
+                wrist_frame=None,
+                labels=None,
+            )
+        )
     path = tmp_path / "still.mcap"
-    write_demos(path, DemoSet(demos.subjects, [still]))
-    with pytest.raises(InvalidInputError) as caught:
+    write_demos(path, DemoSet(demos.subjects, trials))
+    with pytest.raises(TooFewSamplesError) as caught:
         fit_model(read_demos(path))
-    assert caught.value.message == (
-        f"E_P: every sample is zero: no trial moves it (trial {trial.trial} of "
-        f"subject 'S01' in {path}). Each trial must be one reach, from its start "
-        "to its goal (its last sample); a trial still at its goal throughout "
-        "changes nothing: check that it holds the reach"
+    assert caught.value.message.endswith(
+        f"No sample of the {MIN_TRIALS} trials in {path} moves S_R or E_P or E_R "
+        "or W_P that far: each trial must be one reach, from its "
+        "start to its goal (its last sample); a trial still at its goal "
+        "throughout changes nothing: check that it holds the reach"
     )

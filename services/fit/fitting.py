@@ -125,10 +125,7 @@ def fit_model(
         if progress is not None:
             progress(done, 2 * len(demos.trials))
     data, seen = np.vstack(values), np.array(oriented)
-    for index in range(len(VARIABLES)):
-        if index != W_R:
-            _check_some_move(data[:, index], index, demos)
-    _check_moving(data)
+    _check_moving(data, demos)
     fits = [_fit(data, seen, i) for i in range(len(VARIABLES))]
     edges = [bin_edges(fit.rate, bins) for fit in fits]
     states = np.stack([bin_indices(data[:, i], e) for i, e in enumerate(edges)], 1)
@@ -200,10 +197,13 @@ def _check_enough(demos: DemoSet) -> None:
         )
 
 
-def _check_moving(data: np.ndarray) -> None:
+def _check_moving(data: np.ndarray, demos: DemoSet) -> None:
     """Refuse demonstrations in which a variable of ``MUST_MOVE`` stays still.
 
-    ``data``: the samples' variables, shape (n, 5).
+    ``data``: the samples' variables, shape (n, 5). Every variable is 0 at a
+    trial's goal, so a trial at rest at its goal throughout (a capture that
+    holds still, or was cut before the reach) moves none: a variable no
+    sample moves that far names the demonstrations' files.
 
     Raises:
         TooFewSamplesError: naming each such variable and its moving samples.
@@ -213,58 +213,26 @@ def _check_moving(data: np.ndarray) -> None:
     if not still:
         return
     named = ", ".join(f"{VARIABLES[i]} in {n}" for i, n in still.items())
-    raise TooFewSamplesError(
+    message = (
         f"the demonstrations do not move every part of the arm: {named} of "
         f"{len(data)} samples moves by more than {MOVES:g} (rad or arm lengths) "
         f"from its goal, and a fit needs at least {MIN_MOVING} for each of "
         f"{', '.join(VARIABLES[i] for i in MUST_MOVE)}; a variable that never "
-        "moves gets a rate that only measures rounding",
-        field="demos",
-        found=min(still.values()),
-        needed=MIN_MOVING,
+        "moves gets a rate that only measures rounding"
     )
-
-
-#: Trials named one by one in a message, at most.
-NAMED_TRIALS = 3
-
-
-def _check_some_move(values: np.ndarray, index: int, demos: DemoSet) -> None:
-    """Refuse a variable that no trial moves (every sample 0), naming the trials.
-
-    Every variable is 0 at a trial's goal, so a trial at rest at its goal
-    throughout (a capture that holds still, or was cut before the reach)
-    changes none: its density has no rate.
-
-    Args:
-        values: The variable at every sample, shape (samples,).
-        index: Which variable (``VARIABLES``).
-        demos: The demonstrations, for the message.
-
-    Raises:
-        InvalidInputError: (field: the variable) naming it, the trials (up to
-            ``NAMED_TRIALS``, else their count) and their files.
-    """
-    if np.any(values > 0):
-        return
-    trials = demos.trials
-    if len(trials) <= NAMED_TRIALS:
-        which = ", ".join(
-            f"trial {t.trial} of subject {t.subject!r}"
-            + (f" in {t.source}" if t.source else "")
-            for t in trials
+    never = [VARIABLES[i] for i, n in still.items() if n == 0]
+    if never:
+        files = sorted({t.source for t in demos.trials if t.source})
+        where = f" in {', '.join(files)}" if files else ""
+        message += (
+            f". No sample of the {len(demos.trials)} trials{where} moves "
+            f"{' or '.join(never)} that far: each trial must be one "
+            "reach, from its start to its goal (its last sample); a trial "
+            "still at its goal throughout changes nothing: check that it holds "
+            "the reach"
         )
-    else:
-        files = sorted({t.source for t in trials if t.source})
-        which = f"{len(trials)} trials" + (f" in {', '.join(files)}" if files else "")
-    name = VARIABLES[index]
-    raise InvalidInputError(
-        f"{name}: every sample is zero: no trial moves it ({which}). Each trial "
-        "must be one reach, from its start to its goal (its last sample); a "
-        "trial still at its goal throughout changes nothing: check that it "
-        "holds the reach",
-        field=name,
-        trials=len(trials),
+    raise TooFewSamplesError(
+        message, field="demos", found=min(still.values()), needed=MIN_MOVING
     )
 
 
