@@ -22,6 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from armplan.demo.earlier_run import replace_earlier_run
 from armplan.demo.folder_claim import claimed_folder
 from armplan.demo.outputs import (
     BEHAVIOR_FILE,
@@ -32,7 +33,13 @@ from armplan.demo.outputs import (
     export_frames,
     write_outputs,
 )
-from armplan.demo.stack import LOGS_DIR, RECORDING_FILE, SIM_LOG_FILE, DemoStack
+from armplan.demo.stack import (
+    LOG_NAMES,
+    LOGS_DIR,
+    RECORDING_FILE,
+    SIM_LOG_FILE,
+    DemoStack,
+)
 from armplan.demo.task import DEFAULT_TASK, Task, load_task
 from bridge.choregraphe import timeline_fps
 from bridge.frames import DEFAULT_RATE
@@ -48,8 +55,9 @@ PLAN_TIMEOUT = 60.0
 #: Time allowed beyond the trajectory's duration for the approach move and
 #: the reply [s]; a robot lost on the way is reported within 2 s anyway.
 EXECUTE_MARGIN = 30.0
-#: The files a run writes (or whose processes write them), removed first so
-#: that a failed run never leaves an earlier run's results behind.
+#: The files a run writes (or whose processes write them), relative to its
+#: folder: an earlier run's are removed first, so that a failed run never
+#: leaves them behind (:mod:`armplan.demo.earlier_run`).
 OUTPUTS = (
     TRAJECTORY_FILE,
     BEHAVIOR_FILE,
@@ -57,6 +65,7 @@ OUTPUTS = (
     REPORT_FILE,
     RECORDING_FILE,
     SIM_LOG_FILE,
+    *(f"{LOGS_DIR}/{name}.log" for name in LOG_NAMES),
 )
 
 Say = Callable[[str], None]
@@ -120,7 +129,8 @@ def run_demo(
 
     Raises:
         InvalidInputError: ``options.out`` cannot be a folder, another
-            demo is writing into it, the task file is bad, or the frame
+            demo is writing into it, it holds a file of an output's name
+            that no earlier demo wrote, the task file is bad, or the frame
             rate is no whole number (``behavior.xar`` needs one), all before
             anything starts.
         ArmplanError: a step failed (everything started is stopped first).
@@ -136,7 +146,7 @@ def _run_in(
     options: DemoOptions, task: Task, say: Say, stop: threading.Event | None
 ) -> DemoResult:
     """``run_demo`` in its claimed output folder."""
-    _clear(options.out)
+    replace_earlier_run(options.out, OUTPUTS)
     stack = DemoStack(
         options.config,
         options.out,
@@ -179,15 +189,6 @@ def _process_files(options: DemoOptions) -> dict[str, Path]:
     if options.robot is None:
         files["sim_log"] = options.out / SIM_LOG_FILE
     return {**files, "logs": options.out / LOGS_DIR}
-
-
-def _clear(out: Path) -> None:
-    """Make ``out`` and remove an earlier run's files from it."""
-    out.mkdir(parents=True, exist_ok=True)
-    for name in OUTPUTS:
-        (out / name).unlink(missing_ok=True)
-    for log in (out / LOGS_DIR).glob("*.log"):
-        log.unlink()
 
 
 def _robot(options: DemoOptions) -> str:

@@ -33,6 +33,8 @@ RECORDING_FILE = "session.mcap"
 SIM_LOG_FILE = "sim.jsonl"
 #: The processes' own logs, in the demo's folder.
 LOGS_DIR = "logs"
+#: The logs the demo's processes write there (``<name>.log``).
+LOG_NAMES = ("services", "bridge", "recorder")
 #: What a process's start failure says about its output.
 SEE_LOG = "see its log"
 #: Wait for the last publications to reach the recorder before stopping it [s].

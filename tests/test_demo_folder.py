@@ -1,0 +1,80 @@
+"""``armplan demo --out DIR`` in a folder that holds other files.
+
+The demo replaces only what an earlier demo wrote: the user's files in DIR
+(``logs/nao.log``, their own ``play.py``) are left alone, or the run is
+refused before anything starts. Runs here fail fast on purpose (their
+router's port is taken), which is when the old demo had already deleted
+the user's files.
+"""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from armplan.demo.earlier_run import LIST_FILE
+
+#: Longest a demo whose router cannot start may take to fail [s].
+FAIL_TIMEOUT = 90.0
+
+
+@pytest.fixture
+def busy_endpoint() -> Iterator[str]:
+    """A loopback endpoint whose port another socket listens on."""
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        yield f"tcp/127.0.0.1:{taken.getsockname()[1]}"
+
+
+def demo(out: Path, *args: str) -> subprocess.CompletedProcess[str]:
+    """``armplan demo --out OUT ARGS``, run to its end."""
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", "demo", "--out", str(out), *args],
+        capture_output=True,
+        text=True,
+        timeout=FAIL_TIMEOUT,
+    )
+
+
+def test_a_failed_run_keeps_the_users_logs_and_replaces_an_earlier_runs(
+    tmp_path: Path, busy_endpoint: str
+) -> None:
+    """The user's logs/nao.log survives two runs; the second run removes the
+    report the first one's list names (so no stale result is left)."""
+    out = tmp_path / "here"
+    (out / "logs").mkdir(parents=True)
+    (out / "logs" / "nao.log").write_text("3 weeks of robot logs\n")
+    first = demo(out, "--listen", busy_endpoint)
+    assert first.returncode == 1, first.stderr
+    assert (out / "logs" / "nao.log").read_text() == "3 weeks of robot logs\n"
+    assert "report.json" in (out / LIST_FILE).read_text().splitlines()
+    (out / "report.json").write_text("{}")  # as a run that got that far leaves it
+    second = demo(out, "--listen", busy_endpoint)
+    assert second.returncode == 1, second.stderr
+    assert not (out / "report.json").exists()
+    assert (out / "logs" / "nao.log").read_text() == "3 weeks of robot logs\n"
+
+
+@pytest.mark.parametrize("name", ["play.py", "logs/services.log"])
+def test_a_file_no_demo_wrote_is_refused_and_kept(tmp_path: Path, name: str) -> None:
+    """A file of an output's name that no earlier demo listed: exit 1 naming
+    it, before anything starts (no log written), and the file unchanged."""
+    out = tmp_path / "here"
+    path = out / name
+    path.parent.mkdir(parents=True)
+    path.write_text("mine\n")
+    result = demo(out)
+    assert result.returncode == 1, result.stderr
+    assert (
+        f"armplan: error: cannot write into {out} (--out): {path} is not from an "
+        "earlier armplan demo" in result.stderr
+    )
+    assert path.read_text() == "mine\n"
+    files = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
+    assert files == {name}
