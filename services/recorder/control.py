@@ -102,6 +102,8 @@ class RecorderProcess(Closes):
 
         Raises:
             RecordingError: if it exits or is not ready in time (it is killed).
+            Any exception raised while waiting (``KeyboardInterrupt``): it is
+            killed first.
         """
         base = options or RecorderOptions()
         options = RecorderOptions(
@@ -124,7 +126,11 @@ class RecorderProcess(Closes):
             start_new_session=True,
         )
         recorder = cls(process, options)
-        recorder._wait_ready(timeout)
+        try:
+            recorder._wait_ready(timeout)
+        except BaseException:  # Ctrl-C, SIGTERM: no caller would ever stop it
+            recorder.kill()
+            raise
         return recorder
 
     def _wait_ready(self, timeout: float) -> None:
