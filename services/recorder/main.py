@@ -4,8 +4,9 @@ Usage: ``python -m services.recorder [-o FILE.mcap] [--keys KEY ...]
 [--rotate-size SIZE] [--rotate-duration S] [--config FILE]
 [--connect ENDPOINT] [--namespace NS] [--wait S]``. It connects to the
 router, records until SIGTERM or SIGINT, then closes its file with its
-summary and exits 0. Once recording it prints one line, ``recording <keys>
-to <file>``, on stdout (what ``services.recorder.control`` waits for). It
+summary and exits 0 (at once, also while it still waits for the router).
+Once recording it prints one line, ``recording <keys> to <file>``, on
+stdout (what ``services.recorder.control`` waits for). It
 exits 1 with the error on stderr if the configuration is wrong, no router
 answers, the file cannot be created (or exists, without ``--overwrite``),
 or the file system refuses a write (disk full): then at once, since what
@@ -29,7 +30,7 @@ from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
 from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process
-from shared.errors import ArmplanError
+from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.recorder")
 #: The line the recorder prints on stdout once it records.
@@ -44,12 +45,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         config = bus_config(args)
         check_login(config, NAME)
         options = options_from_args(args)
-        with Bus.connect(config, wait=args.wait) as bus, Recorder(bus, options) as rec:
+        with (
+            Bus.connect(config, wait=args.wait, stop=stop) as bus,
+            Recorder(bus, options) as rec,
+        ):
             keys = " ".join(rec.keys)
             sys.stdout.write(f"{READY_PREFIX}{keys} to {rec.sink.paths[0]}\n")
             sys.stdout.flush()
             rec.wait(stop)
     except ArmplanError as error:
+        if stop.is_set() and isinstance(error, ServiceUnavailableError):
+            log.info("%s: asked to stop before a router answered", NAME)
+            return 0
         log.error("%s: %s", NAME, error.message)
         return 1
     return 0

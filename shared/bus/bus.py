@@ -9,6 +9,7 @@ services it needs and to publish. Example::
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Iterable
 from typing import Any
@@ -44,17 +45,21 @@ class Bus(Closes):
         self._alive = AliveServices(session, config.namespace)
 
     @classmethod
-    def connect(cls, config: BusConfig, wait: float = 0.0) -> Bus:
+    def connect(
+        cls, config: BusConfig, wait: float = 0.0, stop: threading.Event | None = None
+    ) -> Bus:
         """Connect to the router.
 
         Args:
             config: The bus settings.
             wait: How long to keep trying while no router answers [s].
+            stop: Set when the process is asked to stop: the wait ends at once.
 
         Raises:
-            ServiceUnavailableError: naming the router's endpoints if none answers.
+            ServiceUnavailableError: naming the router's endpoints if none
+                answers, or if ``stop`` was set before one did.
         """
-        return cls(open_client(config, wait), config)
+        return cls(open_client(config, wait, stop), config)
 
     def key(self, path: str) -> str:
         """The full key of ``path``, e.g. ``armplan/plan/trajectory``."""

@@ -2,7 +2,8 @@
 
 Usage: ``python -m services.ik [--config FILE] [--connect tcp/HOST:PORT]``.
 It connects to the router (waiting up to ``--wait`` seconds for it), serves
-the service's endpoints until SIGTERM or SIGINT, and exits 0; it exits 1 with
+the service's endpoints until SIGTERM or SIGINT, and exits 0 (at once, also
+while it still waits for the router); it exits 1 with
 the error on stderr if the configuration is wrong (a login other than the
 service's own user included) or no router answers.
 """
@@ -20,7 +21,7 @@ from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.route import Endpoint
 from shared.bus.service import ServiceHost
-from shared.errors import ArmplanError
+from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.bus")
 #: Builds a service's endpoints; gets the bus to call other services with.
@@ -66,11 +67,14 @@ def serve(
         config = load_config(args.config, tuple(args.connect or ()))
         check_login(config, name)
         with (
-            Bus.connect(config, wait=args.wait) as bus,
+            Bus.connect(config, wait=args.wait, stop=stop) as bus,
             ServiceHost(bus, name, factory(bus)),
         ):
             wait_for(stop)
     except ArmplanError as error:
+        if stop.is_set() and isinstance(error, ServiceUnavailableError):
+            log.info("service %s: asked to stop before a router answered", name)
+            return 0
         log.error("service %s: %s", name, error.message)
         return 1
     return 0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 import time
 
 import zenoh
@@ -16,31 +17,42 @@ from shared.errors import BusConfigError, ServiceUnavailableError
 RETRY_EVERY = 0.1
 
 
-def open_client(config: BusConfig, wait: float = 0.0) -> zenoh.Session:
+def open_client(
+    config: BusConfig, wait: float = 0.0, stop: threading.Event | None = None
+) -> zenoh.Session:
     """A client session connected to the router.
 
     Args:
         config: The bus settings (router endpoints).
         wait: How long to keep trying while no router answers [s]; 0 tries once.
+        stop: Set when the process is asked to stop: the wait ends at once
+            (a process still waiting for its router obeys SIGTERM).
 
     Raises:
         BusConfigError: if a file the configuration names (the CA certificate)
             is missing or unreadable.
-        ServiceUnavailableError: naming the router's endpoints if none answers.
+        ServiceUnavailableError: naming the router's endpoints if none answers,
+            or if ``stop`` was set before one did.
     """
     check_named_files(client_config(config), config)
+    stop = stop or threading.Event()
     deadline = time.monotonic() + wait
     while True:
         try:
             return zenoh.open(client_config(config))
         except zenoh.ZError as error:
-            if time.monotonic() + RETRY_EVERY > deadline:
+            if time.monotonic() + RETRY_EVERY > deadline or stop.wait(RETRY_EVERY):
                 raise ServiceUnavailableError(
-                    "router",
-                    reason=f"no Zenoh router answers at {', '.join(config.endpoints)} "
-                    f"({_short(error)}){_what_to_do(config)}",
+                    "router", reason=_why_none(config, error, stop.is_set())
                 ) from None
-            time.sleep(RETRY_EVERY)
+
+
+def _why_none(config: BusConfig, error: zenoh.ZError, stopped: bool) -> str:
+    """The reason no client session opened, for ``ServiceUnavailableError``."""
+    where = ", ".join(config.endpoints)
+    if stopped:
+        return f"asked to stop while waiting for the Zenoh router at {where}"
+    return f"no Zenoh router answers at {where} ({_short(error)}){_what_to_do(config)}"
 
 
 def _what_to_do(config: BusConfig) -> str:
