@@ -14,6 +14,7 @@ from armplan import __version__
 from armplan.cli import commands as commands_package
 from armplan.cli.output import report_error
 from armplan.cli.parsing import ArgumentParser
+from armplan.cli.termination import INTERRUPTED_CODE, TERMINATED_CODE, Terminated
 from shared.errors import ArmplanError
 
 
@@ -43,15 +44,22 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run one command; returns the exit code (0 ok, 1 armplan error, 2 usage)."""
+    """Run one command; returns the exit code.
+
+    0 ok, 1 armplan error, 2 usage, 130 Ctrl-C, 143 SIGTERM (where the
+    command stops on it as on Ctrl-C).
+    """
     args = build_parser().parse_args(argv)
     try:
         return int(args.run(args))
     except ArmplanError as error:
         return report_error(error, getattr(args, "json", False))
+    except Terminated:  # SIGTERM where the command handles it (demo)
+        sys.stderr.write("armplan: terminated\n")
+        return TERMINATED_CODE
     except KeyboardInterrupt:
         sys.stderr.write("armplan: interrupted\n")
-        return 130
+        return INTERRUPTED_CODE
     except BrokenPipeError:  # e.g. `armplan ... | head`: the reader left
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # no second error at exit

@@ -11,7 +11,6 @@ and stops every process, also on Ctrl-C or SIGTERM. See ``armplan.demo``.
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 import time
 from pathlib import Path
@@ -55,6 +54,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Run the demo; print progress, then the summary."""
+    from armplan.cli.termination import terminate_on_sigterm
     from armplan.cli.unsecured import check_plain_listen, check_unsecured
     from armplan.demo import DEFAULT_TASK, DemoOptions, run_demo, summary_lines
     from armplan.launch import free_endpoint
@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     if args.listen:
         check_plain_listen([args.listen], "demo")
     out = check_output_folder(args.out)
-    _interrupt_on_sigterm()
+    terminate_on_sigterm()  # stops everything as Ctrl-C does
     started = time.monotonic()
     endpoint = args.listen or free_endpoint()
     options = DemoOptions(
@@ -91,15 +91,6 @@ def _robot(url: str | None) -> str | None:
     from bridge.address import check_robot_url
 
     return check_robot_url(url)
-
-
-def _interrupt_on_sigterm() -> None:
-    """SIGTERM stops the demo as Ctrl-C does (everything is shut down)."""
-
-    def interrupt(signum: int, frame: object) -> None:
-        raise KeyboardInterrupt
-
-    signal.signal(signal.SIGTERM, interrupt)
 
 
 def _say(line: str) -> None:
