@@ -11,6 +11,7 @@ and stops every process, also on Ctrl-C or SIGTERM. See ``armplan.demo``.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -94,5 +95,15 @@ def _robot(url: str | None) -> str | None:
 
 
 def _say(line: str) -> None:
-    sys.stdout.write(line + "\n")
-    sys.stdout.flush()
+    """Print one line; once its reader has gone (``| head -1``), print no more.
+
+    The demo still finishes its work and writes its files: a closed pipe
+    used to stop every process and end the demo with exit code 0.
+    """
+    try:
+        sys.stdout.write(line + "\n")
+        sys.stdout.flush()
+    except BrokenPipeError:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # the rest (and exit's flush) lost
+        os.close(devnull)
