@@ -86,6 +86,28 @@ def check_output_folder(out: str | Path, option: str = "--out") -> Path:
     return Path(out)
 
 
+def make_output_folder(out: str | Path, option: str = "--out") -> Path:
+    """Make folder ``out`` (and its parents) if missing; returns it.
+
+    For the file systems whose refusal :func:`check_output_folder` cannot
+    foresee (``/sys``, ``/proc``, read-only mounts).
+
+    Raises:
+        InvalidInputError: as :func:`check_output_folder` does, with the
+            operating system's reason.
+    """
+    path = Path(out)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise InvalidInputError(
+            f"cannot write into {out} ({option}): {error.strerror}",
+            field=option.lstrip("-"),
+            path=str(out),
+        ) from None
+    return path
+
+
 def write_output_text(path: str | Path, text: str, field: str = "output") -> Path:
     """Write ``text`` (UTF-8) to ``path``; returns the path.
 
@@ -189,6 +211,14 @@ def _file_problem(path: Path) -> str:
 
 def _folder_problem(path: Path) -> str:
     """Why no files can be written into folder ``path``, or ``""``."""
+    try:
+        return _folder_access_problem(path)
+    except OSError as error:  # a name too long, a loop of links
+        return str(error.strerror)
+
+
+def _folder_access_problem(path: Path) -> str:
+    """:func:`_folder_problem`; raises ``OSError`` if ``path`` cannot be looked up."""
     if path.exists() and not path.is_dir():
         return "it is a file, not a folder"
     existing = next(p for p in (path, *path.parents) if p.exists())

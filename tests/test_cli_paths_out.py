@@ -63,6 +63,39 @@ def test_an_out_under_a_file_is_refused(
 
 
 @pytest.mark.parametrize("command", COMMANDS)
+def test_a_name_too_long_is_refused(
+    command: str, here: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A folder name over 255 bytes: the OS's reason, not OSError's traceback."""
+    name = "a" * 300
+    code, err = armplan(capsys, command, "--out", name)
+    assert code == 1
+    assert err == (
+        f"armplan: error: cannot write into {name} (--out): File name too long\n"
+    )
+    assert list(here.iterdir()) == []
+
+
+@pytest.mark.parametrize("command", ["demo", "faults"])
+def test_a_folder_the_system_refuses_is_an_error(command: str) -> None:
+    """/sys takes no folder (EPERM even for root, which access() lets pass):
+    exit 1 naming the path, not a PermissionError traceback."""
+    out = "/sys/armplan-out-test"
+    result = subprocess.run(
+        [sys.executable, "-m", "armplan", command, "--out", out],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 1, result.stderr
+    assert result.stderr.startswith(
+        f"armplan: error: cannot write into {out} (--out): "
+    )
+    assert "Traceback" not in result.stderr
+    assert not Path(out).exists()
+
+
+@pytest.mark.parametrize("command", COMMANDS)
 def test_an_empty_out_is_refused(
     command: str, here: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

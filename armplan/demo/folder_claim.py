@@ -16,6 +16,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from shared.errors import InvalidInputError
+from shared.output_paths import make_output_folder
 
 #: The claim file inside the output folder.
 CLAIM_FILE = ".armplan-demo.lock"
@@ -27,9 +28,9 @@ def claimed_folder(out: Path) -> Iterator[Path]:
 
     Raises:
         InvalidInputError: another running demo holds ``out`` (naming its
-            PID), or the claim file cannot be made.
+            PID), or ``out`` or the claim file cannot be made.
     """
-    out.mkdir(parents=True, exist_ok=True)
+    make_output_folder(out)
     path = out / CLAIM_FILE
     fd = _claim(out, path)
     try:

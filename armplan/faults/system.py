@@ -24,6 +24,7 @@ from services.recorder import RecorderOptions, RecorderProcess
 from shared.bus import Bus, BusConfig, load_config
 from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import StartStop
+from shared.output_paths import make_output_folder
 
 #: The namespace of the suite's keys (``faults/plan``).
 NAMESPACE = "faults"
@@ -70,8 +71,7 @@ class FaultSystem(StartStop):
 
     def __init__(self, out: Path) -> None:
         """Prepare (start nothing yet); ``out`` is created if missing."""
-        out.mkdir(parents=True, exist_ok=True)
-        self.out = out
+        self.out = make_output_folder(out)
         self.config = write_config(out / CONFIG_FILE)
         self.stack = DemoStack(self.config, out)
         self._killed: set[int] = set()
