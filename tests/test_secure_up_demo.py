@@ -109,3 +109,34 @@ def test_a_tls_listen_with_the_plain_file_names_the_option(
         "unsecured router, which listens on tcp/"
     )
     assert "zenoh.json5" not in done.stderr
+
+
+@pytest.mark.parametrize("command", ["up", "demo"])
+@pytest.mark.parametrize("protocol", ["udp", "ws"])
+def test_a_listen_other_than_tcp_is_refused(
+    tmp_path: pathlib.Path, command: str, protocol: str
+) -> None:
+    """udp/ was taken, and the demo then lost a call and failed at random."""
+    endpoint = f"{protocol}/127.0.0.1:" + free_endpoint().rsplit(":", 1)[1]
+    done = armplan(command, "--listen", endpoint, cwd=tmp_path)
+    assert_nothing_started(done)
+    assert done.stderr.startswith(
+        f"armplan: error: --listen {endpoint}: armplan {command} runs its router "
+        f"on tcp/ only (e.g. tcp/127.0.0.1:7447): the services' calls need its "
+        f"reliable, ordered stream, which {protocol}/ is not"
+    )
+    assert not (tmp_path / "armplan-demo").exists()
+
+
+def test_up_refuses_a_file_listening_on_udp(tmp_path: pathlib.Path) -> None:
+    """The file's own endpoint counts when no --listen replaces it."""
+    endpoint = "udp/127.0.0.1:" + free_endpoint().rsplit(":", 1)[1]
+    text = (ROOT / "config" / "zenoh.json5").read_text()
+    udp = tmp_path / "udp.json5"
+    udp.write_text(text.replace("tcp/127.0.0.1:7447", endpoint))
+    assert endpoint in udp.read_text()
+    done = armplan("up", "--config", str(udp), cwd=tmp_path)
+    assert_nothing_started(done)
+    assert f"error: {udp} endpoint {endpoint}: armplan up runs its router on tcp/" in (
+        done.stderr
+    )

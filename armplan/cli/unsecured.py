@@ -7,7 +7,8 @@ router (``--listen tcp/...`` replaced the file's TLS endpoint, and the demo
 did not check at all), and the services then waited a minute to log in and
 failed as if no router answered. Both now refuse, before anything starts, a
 file secured by its own endpoints or by its login, TLS or access control
-settings, and a TLS ``--listen``.
+settings, and a TLS ``--listen``. They also refuse a router endpoint other
+than ``tcp/`` (``udp/`` was taken, and the demo then failed at random).
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ from shared.errors import InvalidInputError
 
 #: Protocols that need certificates: the secured set's.
 SECURED_PROTOCOLS = ("tls/", "quic/")
+#: The one protocol the unsecured router listens on.
+PLAIN_PROTOCOL = "tcp/"
 
 
 def check_unsecured(config: BusConfig, command: str) -> None:
@@ -40,19 +43,36 @@ def check_unsecured(config: BusConfig, command: str) -> None:
         )
 
 
-def check_plain_listen(endpoints: Sequence[str], command: str) -> None:
-    """Refuse a ``--listen`` endpoint of the secured set (TLS).
+def check_plain_listen(
+    endpoints: Sequence[str], command: str, source: str = "--listen"
+) -> None:
+    """Refuse a router endpoint other than ``tcp/``: TLS (the secured set's), UDP...
+
+    Args:
+        endpoints: The router's endpoints.
+        command: ``"up"`` or ``"demo"``, for the message.
+        source: Where they come from, for the message: ``--listen``, or the
+            configuration file (``"FILE endpoint"``).
 
     Raises:
-        InvalidInputError: naming the endpoint.
+        InvalidInputError: naming the endpoint and why only ``tcp/`` is taken.
     """
     for endpoint in endpoints:
         if endpoint.startswith(SECURED_PROTOCOLS):
             raise InvalidInputError(
-                f"--listen {endpoint}: armplan {command} runs the unsecured "
+                f"{source} {endpoint}: armplan {command} runs the unsecured "
                 "router, which listens on tcp/ (e.g. tcp/127.0.0.1:7447); a TLS "
                 "router needs certificates and a login per process: `armplan "
                 "certs --out DIR`, then the secured set process by process "
                 "(docs/services.md, 'Security')",
+                field="listen",
+            )
+        if not endpoint.startswith(PLAIN_PROTOCOL):
+            protocol = endpoint.split("/", 1)[0]
+            raise InvalidInputError(
+                f"{source} {endpoint}: armplan {command} runs its router on tcp/ "
+                f"only (e.g. tcp/127.0.0.1:7447): the services' calls need its "
+                f"reliable, ordered stream, which {protocol}/ is not (over udp/ "
+                "a demo's call to the bridge was lost and the run failed)",
                 field="listen",
             )

@@ -89,6 +89,8 @@ def run(args: argparse.Namespace) -> int:
     if args.listen:
         check_plain_listen(args.listen, "up")
         config = config.with_endpoints(tuple(args.listen), "--listen")
+    else:
+        check_plain_listen(config.endpoints, "up", f"{config.source} endpoint")
     if args.robot is not None:
         from bridge.address import check_robot_url
 
