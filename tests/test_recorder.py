@@ -203,11 +203,21 @@ def test_channels_validate_and_foxglove_channels_are_derived(
 ) -> None:
     """Each record parses as its schema's model; typed, json and raw channels."""
     out = tmp_path / "session.mcap"
-    with RecorderProcess.start(config, out, keys=[*topic_paths(), "misc/**"]):
+    log = tmp_path / "recorder.log"
+    with (
+        log.open("w") as sink,
+        RecorderProcess.start(config, out, keys=[*topic_paths(), "misc/**"], log=sink),
+    ):
         publish_all(config, session_payloads()[: len(session_payloads()) // 3])
     records = list(read_records(out))
     problems = [p for r in records if (p := check_record(r)) is not None]
     assert problems == []
+    derived = sum(1 for r in records if r.topic.startswith("/"))
+    bus = len(records) - derived  # the log says which is which (it said neither)
+    assert (
+        f"recorder stopped: {bus} messages from the bus (and {derived} derived "
+        f"for Foxglove) in {out}"
+    ) in log.read_text()
     channels = {(r.topic, r.schema) for r in records}
     key = f"{NAMESPACE}/".__add__
     assert (key("plan/trajectory"), "Trajectory") in channels

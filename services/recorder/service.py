@@ -164,9 +164,11 @@ class Recorder(StartStop):
             self._subscriber.undeclare()  # type: ignore[no-untyped-call]
             self._subscriber = None
         paths = self.sink.stop()
+        derived = self.sink.derived
         log.info(
-            "recorder stopped: %d messages in %s%s",
+            "recorder stopped: %d messages from the bus%s in %s%s",
             self.sink.written,
+            f" (and {derived} derived for Foxglove)" if derived else "",
             ", ".join(map(str, paths)),
             self.sink.behind_note(),
         )
