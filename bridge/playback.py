@@ -45,9 +45,12 @@ cycle from the call's arrival until the call has ended
 A call the robot ends before its last key (its motion task killed: by
 ``killAll``, ``killTasksUsingResources``, the fall manager, another client)
 may fail, or may return normally, as if it had played: an answer more than
-``EARLY_END`` before the call's duration, counted from when it left, is
-such an end, and raises a :class:`~shared.errors.RobotStateError` ("the
-robot ended the movement at t = X s of Y s").
+``EARLY_END`` before the call's duration, counted from its arrival mark
+(the robot counts the keys from when it received the call, not from when
+the call left: counted from leaving, a kill within the call's travel time
+of its end passed as a clean execution), is such an end, and raises a
+:class:`~shared.errors.RobotStateError` ("the robot ended the movement at
+t = X s of Y s").
 """
 
 from __future__ import annotations
@@ -74,8 +77,8 @@ OVERRUN = 1.0
 #: Longest wait for the answer to the stop (``naoqi_client.STOP``) when the
 #: robot is given up [s].
 HALT_WAIT = 0.25
-#: A call answered more than this before its duration (counted from when it
-#: left, so at the latest) was ended by the robot [s].
+#: A call answered more than this before its duration, counted from its
+#: arrival mark (when the robot had it all), was ended by the robot [s].
 EARLY_END = 0.1
 
 
@@ -259,14 +262,25 @@ def play_and_sample(
         raise client.failure("angleInterpolation", future.error(), elapsed)
     width = len(call.names)
     end = min([seen, *answered])  # the callback may not have run yet
-    if end - start < call.duration - EARLY_END:
-        raise _ended_early(client, end - start, call.duration)
+    played = end - _began(start, arrival.time, end)
+    if played < call.duration - EARLY_END:
+        raise _ended_early(client, played, call.duration)
     return Samples(
         np.array(times),
         np.array(rows, dtype=float).reshape(-1, width),
         np.array(round_trips),
         max(0.0, end - start - call.duration),
     )
+
+
+def _began(start: float, arrival: float | None, end: float) -> float:
+    """When the robot began the call, as far as the bridge can tell [s, monotonic].
+
+    The answer to its arrival mark (``arrival``), if that came before the
+    call's answer at ``end``; else when it left (``start``): a call whose
+    answer overtook its mark is judged as before, from leaving.
+    """
+    return arrival if arrival is not None and start <= arrival <= end else start
 
 
 def _ended_early(

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.minimum_jerk import minimum_jerk_blend, minimum_jerk_trajectory
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.sim import SimProcess
@@ -31,6 +31,7 @@ from bridge.sim.process import READY
 from shared.errors import RobotLimitsError, RobotStateError
 from shared.libqi import qi
 from shared.robot.postures import forward, rest
+from tests.slow_link import SlowLink
 
 
 @pytest.fixture
@@ -140,6 +141,49 @@ def test_a_movement_the_robot_ends_early_is_an_error(
             bridge.execute(reach)
     assert "the robot ended the movement at t = " in caught.value.message
     assert "of 2.00 s" in caught.value.message
+
+
+def test_a_movement_killed_near_its_end_after_a_slow_arrival_is_an_error(
+    quiet_kills: SimProcess,
+) -> None:
+    """A 3 s call at 500 fps carried at 500 kB/s reaches the robot ~0.4 s
+    after it left; killed 0.25 s before its last key (robot time: when its
+    commanded RShoulderPitch passes that point), it returned normally, and
+    counted from when it left it seemed to have played its whole length: a
+    clean execution. Counted from its arrival mark it ended early."""
+    link = SlowLink(int(quiet_kills.url.rsplit(":", 1)[1]), 500e3)
+    a, b = np.array(forward("right")), np.array(rest("right"))
+    last, before_end = 1.0, 0.25
+    threshold = a[0] + float(
+        minimum_jerk_blend(np.array([(last - before_end) / last]))[0]
+    ) * (b[0] - a[0])
+    trajectory = minimum_jerk_trajectory("right", [b, a, b], [2.0, last])
+    done = threading.Event()
+    try:
+        with _motion(quiet_kills.url) as motion:
+
+            def kill_near_the_end() -> None:
+                there = False  # at forward, on the way back next
+                while not done.wait(0.002):
+                    q = motion.getAngles("RShoulderPitch", False)[0]
+                    there = there or abs(q - a[0]) < 0.01
+                    if there and (b[0] - a[0]) * (q - threshold) >= 0:
+                        motion.killTasksUsingResources(["RArm"])
+                        return
+
+            watcher = threading.Thread(target=kill_near_the_end)
+            watcher.start()
+            try:
+                with pytest.raises(RobotStateError) as caught:
+                    RobotBridge(NaoqiClient(link.url)).execute(trajectory, rate=500.0)
+            finally:
+                done.set()
+                watcher.join()
+    finally:
+        link.close()
+    print("\n", caught.value.message, f"({link.carried} bytes carried)")
+    assert "the robot ended the movement at t = " in caught.value.message
+    assert link.carried > 150e3  # the call took ~0.3 s or more to arrive
 
 
 def test_an_approach_the_robot_cuts_short_sends_no_trajectory(
