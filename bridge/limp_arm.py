@@ -12,17 +12,26 @@ reads where the arm is (its sensors); if that is more than
 :data:`HOLD_TOLERANCE` from the command, the command is first moved to the
 measured angles, a call the limp motors do not follow, so that stiffening
 holds the arm where it is and the approach starts from there.
+
+An arm let go falls: on a NAO for about 0.3 s. Read while falling, its
+posture is one it has already fallen past by the time the command is
+moved there, and stiffening drives it back up. So the sensors are read
+until two readings :data:`SETTLE_GAP` apart agree within :data:`SETTLED`
+(a falling arm moves far more than that); an arm still moving after
+:data:`SETTLE_WAIT` is busy (:class:`~shared.errors.RobotBusyError`, "the
+arm is still moving (limp, falling?)"), perhaps moved by hand.
 """
 
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
-from shared.errors import RobotCommandError
+from shared.errors import RobotBusyError, RobotCommandError
 
 #: Measured and commanded angles further apart than this on an arm that is
 #: not fully stiff: the command is moved to the measured angles first [rad].
@@ -33,33 +42,77 @@ HOLD_TOLERANCE = math.radians(0.5)
 HOLD_SPEED = 0.5
 #: Shortest such move [s]: one of ALMotion's 20 ms cycles.
 HOLD_SHORTEST = 0.02
+#: Time between two readings of a limp arm's sensors that must agree [s].
+SETTLE_GAP = 0.05
+#: Two such readings this close count as an arm at rest [rad] (0.2 deg in
+#: 50 ms: 4 deg/s; a NAO's encoders read to about 0.1 deg, a falling arm
+#: moves tens of degrees a second).
+SETTLED = math.radians(0.2)
+#: Longest wait for a limp arm to come to rest [s] (a NAO's arm falls for
+#: about 0.3 s).
+SETTLE_WAIT = 1.0
 
 
 def limp_posture(client: NaoqiClient, names: list[str]) -> np.ndarray | None:
     """Where a not fully stiff arm is [rad], (n,), if its command is elsewhere.
 
     Reads only: nothing is sent. None if every joint of ``names`` is fully
-    stiff, or the measured angles are within :data:`HOLD_TOLERANCE` of the
-    commanded ones.
+    stiff, or the measured angles, once at rest (:func:`settled_angles`),
+    are within :data:`HOLD_TOLERANCE` of the commanded ones.
 
     Raises:
+        RobotBusyError: the arm was still moving after :data:`SETTLE_WAIT`.
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot gave angles that are not numbers.
     """
     if np.all(client.stiffnesses(names) >= 1.0):
         return None
-    measured = client.get_angles(names, use_sensors=True)
-    commanded = client.get_angles(names, use_sensors=False)
-    if not np.all(np.isfinite(measured)) or not np.all(np.isfinite(commanded)):
-        raise RobotCommandError(
-            client.url,
-            "getAngles",
-            f"it gave angles that are not numbers: measured {measured}, "
-            f"commanded {commanded}",
-        )
+    measured = settled_angles(client, names)
+    commanded = _finite(client, client.get_angles(names, use_sensors=False))
     if np.abs(measured - commanded).max() <= HOLD_TOLERANCE:
         return None
     return measured
+
+
+def settled_angles(
+    client: NaoqiClient,
+    names: list[str],
+    wait: float = SETTLE_WAIT,
+    gap: float = SETTLE_GAP,
+) -> np.ndarray:
+    """The measured angles of ``names`` [rad], (n,), once they hold still.
+
+    Read every ``gap`` [s] until two readings agree within :data:`SETTLED`.
+
+    Raises:
+        RobotBusyError: after ``wait`` [s], the arm still moved.
+        RobotUnavailableError: the robot cannot be reached.
+        RobotCommandError: the robot gave angles that are not numbers.
+    """
+    deadline = time.monotonic() + wait
+    before = _finite(client, client.get_angles(names, use_sensors=True))
+    while True:
+        time.sleep(gap)
+        now = _finite(client, client.get_angles(names, use_sensors=True))
+        if np.abs(now - before).max() <= SETTLED:
+            return now
+        if time.monotonic() >= deadline:
+            raise RobotBusyError(
+                client.url,
+                None,
+                moving="has an arm not fully stiff whose sensors still move: "
+                "the arm is still moving (limp, falling?)",
+            )
+        before = now
+
+
+def _finite(client: NaoqiClient, angles: np.ndarray) -> np.ndarray:
+    """``angles`` [rad], (n,), if every one is a number; else RobotCommandError."""
+    if not np.all(np.isfinite(angles)):
+        raise RobotCommandError(
+            client.url, "getAngles", f"it gave angles that are not numbers: {angles}"
+        )
+    return angles
 
 
 def hold_command(

@@ -757,8 +757,17 @@ class RobotBusyError(ArmplanError):
 
     kind = "robot_busy"
 
-    def __init__(self, url: str, remaining: float | None) -> None:
-        if remaining is None:
+    def __init__(
+        self, url: str, remaining: float | None, moving: str | None = None
+    ) -> None:
+        """The message names ``remaining`` [s], or ``moving``, or neither.
+
+        ``moving``: what the robot was found doing, if not the default for
+        ``remaining`` None (an arm still moving, or held by a motion task).
+        """
+        if moving is not None:
+            what = moving
+        elif remaining is None:
             what = "has an arm still moving, or held by a motion task (a command "
             what += "not sent by this bridge, or one that went on while the robot "
             what += "was out of reach)"

@@ -10,6 +10,7 @@ awake, a robot whose own limits are narrower than the bridge's.
 from __future__ import annotations
 
 import itertools
+import math
 import subprocess
 import sys
 import threading
@@ -25,10 +26,11 @@ from bridge.minimum_jerk import minimum_jerk_blend, minimum_jerk_trajectory
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.sim import SimProcess
+from bridge.sim.joint import SAG_SPEED
 from bridge.sim.joints import joint_specs
 from bridge.sim.log import read_log
 from bridge.sim.process import READY
-from shared.errors import RobotLimitsError, RobotStateError
+from shared.errors import RobotBusyError, RobotLimitsError, RobotStateError
 from shared.libqi import qi
 from shared.robot.postures import forward, rest
 from tests.slow_link import SlowLink
@@ -86,6 +88,59 @@ def test_an_arm_made_limp_mid_movement_is_an_error_and_not_snapped_back(
     ratio = {j: v / limits[j] for j, v in fastest.items()}
     print("\nfastest share of the speed limit after the cut:", ratio)
     assert max(ratio.values()) < 0.3  # the approach's 25 %, not the motor's 100 %
+
+
+@contextmanager
+def _sagging(tmp_path: Path, sag: float) -> Iterator[SimProcess]:
+    """A simulated NAO whose joints, let go, fall toward rest for ``sag`` [s]."""
+    process = SimProcess(log_path=tmp_path / "sim.jsonl", limp_sag=sag)
+    process.start()
+    try:
+        yield process
+    finally:
+        process.stop()
+
+
+def test_a_limp_arm_still_falling_is_held_where_it_comes_to_rest(
+    tmp_path: Path,
+) -> None:
+    """The arm let go at ``forward`` falls toward rest for 0.4 s at 1 rad/s
+    (a NAO's for about 0.3 s); the next request read its posture once,
+    mid-fall, and moved its command there: an angle the arm had already
+    fallen past, to which stiffening then drove it back. Now the sensors
+    are read until they hold still, and the command is held where the arm
+    came to rest."""
+    sag = 0.4
+    a, b = np.array(forward("right")), np.array(rest("right"))
+    with _sagging(tmp_path, sag) as sim, _motion(sim.url) as motion:
+        bridge = RobotBridge(NaoqiClient(sim.url))
+        bridge.execute(minimum_jerk_trajectory("right", [b, a], [1.0]))
+        motion.setStiffnesses("RArm", 0.0)
+        bridge.execute(minimum_jerk_trajectory("right", [a, b], [1.0]))
+        assert sim.log_path is not None
+        hold = _calls(sim.log_path, "angleInterpolation")[1]  # after the reach
+    held = np.array(hold["angles"])[:, 0]
+    came_to_rest = a + np.clip(b - a, -SAG_SPEED * sag, SAG_SPEED * sag)
+    print("\nheld - where it came to rest [deg]:", np.degrees(held - came_to_rest))
+    assert np.abs(held - came_to_rest).max() < math.radians(0.5)
+
+
+def test_a_limp_arm_that_keeps_moving_is_busy(tmp_path: Path) -> None:
+    """A limp arm that does not come to rest within a second (here it falls
+    from raised for 2.6 s; or it is moved by hand) is busy: nothing is
+    sent, neither a hold nor a stiffening."""
+    raised = np.array(forward("right")) + np.array([-1.0, 0.0, 0.0, 0.0, 0.0])
+    start = np.array(rest("right"))
+    with _sagging(tmp_path, 3.0) as sim, _motion(sim.url) as motion:
+        bridge = RobotBridge(NaoqiClient(sim.url))
+        bridge.execute(minimum_jerk_trajectory("right", [start, raised], [1.5]))
+        motion.setStiffnesses("RArm", 0.0)
+        assert sim.log_path is not None
+        before = len(read_log(sim.log_path))
+        with pytest.raises(RobotBusyError, match=r"still moving \(limp, falling\?\)"):
+            bridge.execute(minimum_jerk_trajectory("right", [raised, start], [1.0]))
+        sent = [e for e in read_log(sim.log_path)[before:] if e["event"] == "call"]
+    assert [e["method"] for e in sent] == []
 
 
 def _fastest(states: list[dict[str, Any]]) -> dict[str, float]:

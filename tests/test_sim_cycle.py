@@ -55,3 +55,44 @@ def test_a_control_cycle_out_of_range_is_refused(period: float) -> None:
     with pytest.raises(InvalidInputError):
         ControlCycle(SimRobot(SimLog(None), {"RShoulderPitch": 1.0}), period)
     assert check_period(0.001) == 0.001 and check_period(1.0) == 1.0
+
+
+@pytest.mark.parametrize(("sag", "fell"), [(0.3, 0.3), (0.0, 0.0)])
+def test_a_joint_let_go_with_a_sag_falls_toward_rest_for_that_long(
+    sag: float, fell: float
+) -> None:
+    """With a sag of 0.3 s a joint let go falls toward its starting angle at
+    1 rad/s for 0.3 s (readings between cycles too), then holds. Without a
+    sag it holds at once."""
+    log = SimLog()
+    now = [log.origin + 1.0]
+    robot = SimRobot(log, {"RShoulderPitch": 1.0}, clock=lambda: now[0], sag=sag)
+    robot.stiffen("setStiffnesses", now[0], "RShoulderPitch", [1.0], [0.001])
+    now[0] += 0.01
+    robot.move("angleInterpolation", now[0], "RShoulderPitch", [0.0], [0.2])
+    for _ in range(20):
+        now[0] += 0.02
+        robot.step()
+    assert robot.angles("RShoulderPitch", True)[0] == pytest.approx(0.0)
+    robot.stiffen("setStiffnesses", now[0], "RShoulderPitch", [0.0], [0.001])
+    now[0] += 0.001
+    robot.step()
+    readings = []
+    for _ in range(30):
+        now[0] += 0.01  # a reading between cycles, then a cycle
+        readings.append(robot.angles("RShoulderPitch", True)[0])
+        now[0] += 0.01
+        robot.step()
+    assert readings[-1] == pytest.approx(fell, abs=1e-6)
+    if sag:
+        assert 0.109 < readings[5] < 0.112  # mid-fall, 0.11 s after let go
+
+
+@pytest.mark.parametrize("sag", [-0.1, float("nan"), 11.0])
+def test_a_sag_out_of_range_is_refused(sag: float) -> None:
+    from bridge.sim.__main__ import check_sag
+
+    with pytest.raises(InvalidInputError, match=r"--limp-sag must be 0\.\.10 s"):
+        check_sag(sag)
+    check_sag(0.0)
+    check_sag(0.3)

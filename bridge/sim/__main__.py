@@ -30,7 +30,7 @@ def parser() -> argparse.ArgumentParser:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    """``--listen``, ``--log``, ``--period`` and ``--killed-calls-return``."""
+    """``--listen``, ``--log``, ``--period``, ``--killed-calls-return`` and more."""
     p.add_argument(
         "--listen",
         default=DEFAULT_LISTEN,
@@ -48,12 +48,28 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "NAOqi's may",
     )
     p.add_argument(
+        "--limp-sag",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="a joint let go falls toward its rest angle at 1 rad/s for this "
+        "long, as a NAO's arm falls for about 0.3 s (default 0: it holds still)",
+    )
+    p.add_argument(
         "--stop-on-stdin-eof",
         action="store_true",
         help="stop when standard input closes (its parent process ended)",
     )
     # The command a person typed, for error messages (``armplan sim`` execs this).
     p.add_argument("--prog", default=None, help=argparse.SUPPRESS)
+
+
+def check_sag(sag: float) -> None:
+    """Raise InvalidInputError unless ``sag`` [s] is 0..10."""
+    if not 0.0 <= sag <= 10.0:  # NaN too
+        raise InvalidInputError(
+            f"--limp-sag must be 0..10 s, got {sag}", field="limp_sag"
+        )
 
 
 def _watch_stdin(stop: threading.Event) -> None:
@@ -69,12 +85,13 @@ def run(
     period: float,
     stop_on_eof: bool = False,
     killed_returns: bool = False,
+    limp_sag: float = 0.0,
 ) -> int:
     """Serve until SIGINT or SIGTERM (or stdin's end); returns the exit code."""
     stop = stop_on_signals()
     if stop_on_eof:
         threading.Thread(target=_watch_stdin, args=(stop,), daemon=True).start()
-    serve(listen, log, period, stop, killed_returns)
+    serve(listen, log, period, stop, killed_returns, limp_sag)
     return 0
 
 
@@ -91,6 +108,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         check_listen_url(args.listen)
         check_period(args.period)
+        check_sag(args.limp_sag)
         if args.log is not None:
             check_log_file(args.log)
     except InvalidInputError as error:
@@ -102,6 +120,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             args.period,
             args.stop_on_stdin_eof,
             args.killed_calls_return,
+            args.limp_sag,
         )
     except ArmplanError as error:  # e.g. the address is in use
         sys.stderr.write(f"{p.prog}: error: {error.message}\n")

@@ -5,6 +5,9 @@ from __future__ import annotations
 from bridge.sim.joints import JointSpec
 from bridge.sim.timeline import KeyTimeline
 
+#: How fast a limp joint with a sag falls toward where it hangs [rad/s].
+SAG_SPEED = 1.0
+
 
 class SimJoint:
     """A joint's state: its position, stiffness and current command.
@@ -12,8 +15,11 @@ class SimJoint:
     The motor moves toward the setpoint at most ``velocity`` [rad/s]; the
     control cycle commits its position every 20 ms, and a reading between two
     cycles gives where the motor is at that moment (its encoder). A joint with
-    stiffness 0 does not move, whatever it is commanded; stiffened again, it
-    goes to its setpoint at its speed limit.
+    stiffness 0 does not move, whatever it is commanded (or, with a ``sag``
+    [s], falls toward where it hangs, its starting angle, at
+    :data:`SAG_SPEED` for that long after it is let go, as a NAO's arm falls
+    for about 0.3 s); stiffened again, it goes to its setpoint at its speed
+    limit.
 
     Attributes:
         spec: Name and limits.
@@ -22,11 +28,17 @@ class SimJoint:
     """
 
     def __init__(
-        self, spec: JointSpec, position: float, time: float, stiffness: float = 0.0
+        self,
+        spec: JointSpec,
+        position: float,
+        time: float,
+        stiffness: float = 0.0,
+        sag: float = 0.0,
     ) -> None:
         self.spec = spec
         self.position = position
         self.time = time
+        self._hang, self._sag, self._sag_left = position, sag, sag
         self._hold = position
         self._timeline: KeyTimeline | None = None
         self._stiffness: KeyTimeline | None = None
@@ -43,7 +55,9 @@ class SimJoint:
     def measured(self, t: float) -> float:
         """The motor's angle at sim time ``t`` (>= the last commit) [rad]."""
         if self.stiffness(t) <= 0.0:
-            return self.position
+            fall = SAG_SPEED * min(max(0.0, t - self.time), self._sag_left)
+            gap = self._hang - self.position
+            return self.position + min(max(gap, -fall), fall)
         step = self.spec.velocity * max(0.0, t - self.time)
         error = self.setpoint(t) - self.position
         return self.position + min(max(error, -step), step)
@@ -58,6 +72,10 @@ class SimJoint:
         if t <= self.time:
             return
         self.position = self.measured(t)
+        if self.stiffness(t) <= 0.0:
+            self._sag_left = max(0.0, self._sag_left - (t - self.time))
+        else:
+            self._sag_left = self._sag
         self.time = t
         if self._timeline and t >= self._timeline.end_time:
             self._hold, self._timeline = self._timeline.final, None

@@ -41,6 +41,7 @@ class SimProcess(StartStop):
         period: float = 0.02,
         startup_timeout: float = 30.0,
         killed_calls_return: bool = False,
+        limp_sag: float = 0.0,
     ) -> None:
         """Describe the process; nothing starts yet.
 
@@ -51,12 +52,14 @@ class SimProcess(StartStop):
             startup_timeout: Longest wait for the ready line [s].
             killed_calls_return: A blocking call whose motion task is killed
                 returns normally instead of raising (``--killed-calls-return``).
+            limp_sag: How long a joint let go falls [s] (``--limp-sag``).
         """
         self.listen = listen
         self.log_path = None if log_path is None else Path(log_path)
         self.period = period
         self.startup_timeout = startup_timeout
         self.killed_calls_return = killed_calls_return
+        self.limp_sag = limp_sag
         self.url = ""
         self.output: deque[str] = deque(maxlen=200)
         self._process: subprocess.Popen[str] | None = None
@@ -68,6 +71,8 @@ class SimProcess(StartStop):
         cmd += ["--period", str(self.period), "--stop-on-stdin-eof"]
         if self.killed_calls_return:
             cmd.append("--killed-calls-return")
+        if self.limp_sag:
+            cmd += ["--limp-sag", str(self.limp_sag)]
         if self.log_path is not None:
             cmd += ["--log", str(self.log_path)]
         return cmd

@@ -30,11 +30,14 @@ class SimRobot:
         *,
         stiffness: float = 0.0,
         killed_returns: bool = False,
+        sag: float = 0.0,
     ) -> None:
         """Start every joint at ``posture`` [rad] (0 if absent), at ``stiffness``.
 
         ``killed_returns``: a blocking call whose command is interrupted
-        returns normally instead of raising (:class:`MotionTask`).
+        returns normally instead of raising (:class:`MotionTask`). ``sag``
+        [s]: how long a joint let go falls toward its ``posture`` angle
+        (:class:`~bridge.sim.joint.SimJoint`); 0: it holds still.
         """
         self._clock = clock
         self._log = log
@@ -42,7 +45,7 @@ class SimRobot:
         self.killed_returns = killed_returns
         now = clock()
         self.joints = {
-            name: SimJoint(spec, posture.get(name, 0.0), now, stiffness)
+            name: SimJoint(spec, posture.get(name, 0.0), now, stiffness, sag)
             for name, spec in joint_specs().items()
         }
         self._owners: dict[str, MotionTask] = {}

@@ -44,6 +44,7 @@ def serve(
     period: float = PERIOD,
     stop: threading.Event | None = None,
     killed_returns: bool = False,
+    limp_sag: float = 0.0,
 ) -> None:
     """Run the simulated NAO until ``stop`` is set.
 
@@ -59,6 +60,8 @@ def serve(
         killed_returns: A blocking call whose command is interrupted
             (``killAll``, ``killTasksUsingResources``, a new command on its
             joints) returns normally instead of raising, as NAOqi's may.
+        limp_sag: How long a joint let go falls toward its rest angle [s]
+            (at ``bridge.sim.joint.SAG_SPEED``); 0: it holds still.
 
     Raises:
         InvalidInputError: a malformed ``listen`` address or a ``period``
@@ -72,7 +75,13 @@ def serve(
     stop = stop or threading.Event()
     log = SimLog(log_path)
     # awake, as a NAO standing after wakeUp: every joint stiff
-    robot = SimRobot(log, rest_posture(), stiffness=1.0, killed_returns=killed_returns)
+    robot = SimRobot(
+        log,
+        rest_posture(),
+        stiffness=1.0,
+        killed_returns=killed_returns,
+        sag=limp_sag,
+    )
     cycle = ControlCycle(robot, period)
     session = qi.Session()
     try:
