@@ -7,6 +7,14 @@ call ends as if all went well (a movement reported with 64 degrees of error
 and no error). And an approach cut short leaves the arm away from the
 trajectory's start, from where the trajectory's first key is far beyond the
 speed limit. Both are checked after the call, on the robot's own word.
+
+An arm counts as let go only below :data:`LIMP`, not below 1: the fall
+manager, ``rest`` and ``setStiffnesses(..., 0)`` set the stiffness to 0,
+while NAOqi's Smart Stiffness (on by default) lowers the stiffness a
+still, stiff arm reports without removing it, and other clients run arms
+at less than 1 on purpose (ROS's ``naoqi_dcm_driver`` at 0.9). Checked
+against 0.999, every movement on such a robot failed as "dropped", and
+every small sag counted as a limp arm (``bridge.limp_arm``).
 """
 
 from __future__ import annotations
@@ -19,8 +27,10 @@ from bridge.naoqi_client import NaoqiClient
 from bridge.start_gap import START_TOLERANCE
 from shared.errors import RobotStateError
 
-#: Stiffer than this counts as fully stiff (the bridge stiffens to 1).
-STIFF = 1.0 - 1e-3
+#: Less stiff than this, a joint counts as let go (limp): halfway between
+#: the 0 a release sets and the 1 the bridge stiffens to, well clear of
+#: what Smart Stiffness or a client holding an arm at 0.9 reads.
+LIMP = 0.5
 #: After an approach, the measured angles must be this close to the
 #: trajectory's start [rad]: a stiff arm at rest lags its command by a
 #: degree or so under gravity on a NAO, far less than a cut-short approach.
@@ -30,14 +40,16 @@ ARRIVED = math.radians(3.0)
 def check_still_stiff(
     client: NaoqiClient, names: list[str], chain: str, outcome: str
 ) -> None:
-    """Raise if any of ``names`` (the arm ``chain``, e.g. ``RArm``) is not stiff.
+    """Raise if any of ``names`` (the arm ``chain``, e.g. ``RArm``) was let go.
+
+    Let go: its stiffness below :data:`LIMP` (or not a number).
 
     Raises:
         RobotStateError: naming the chain and the least stiff joint.
     """
     stiffness = client.stiffnesses(names)
     j = int(np.argmin(stiffness))
-    if not stiffness[j] >= STIFF:  # NaN too
+    if not stiffness[j] >= LIMP:  # NaN too
         raise RobotStateError(
             client.url,
             f"the stiffness of {chain} dropped during the movement ({names[j]} "

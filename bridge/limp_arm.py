@@ -7,7 +7,9 @@ the chest button's rest, another client's ``setStiffnesses("RArm", 0)``)
 sags or is moved by hand while its commanded angles stay where they were;
 stiffened again, every motor drives to its command at full power (on the
 simulated NAO, 1.17 rad at 8.8 rad/s, about four times the approach's
-speed). So before the bridge stiffens an arm that is not fully stiff, it
+speed). So before the bridge stiffens a limp arm (a joint's stiffness
+below ``arm_state.LIMP``, 0.5: Smart Stiffness softens a held arm, a
+release sets 0), it
 reads where the arm is (its sensors); if that is more than
 :data:`HOLD_TOLERANCE` from the command, the command is first moved to the
 measured angles, a call the limp motors do not follow, so that stiffening
@@ -29,12 +31,14 @@ import time
 
 import numpy as np
 
+from bridge.arm_state import LIMP
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from shared.errors import RobotBusyError, RobotCommandError
 
 #: Measured and commanded angles further apart than this on an arm that is
-#: not fully stiff: the command is moved to the measured angles first [rad].
+#: limp (a joint's stiffness below ``arm_state.LIMP``): the command is
+#: moved to the measured angles first [rad].
 HOLD_TOLERANCE = math.radians(0.5)
 #: The command moves to the measured angles at most at this share of the
 #: speed limits (the limp motors do not follow it; a motor with some
@@ -54,10 +58,11 @@ SETTLE_WAIT = 1.0
 
 
 def limp_posture(client: NaoqiClient, names: list[str]) -> np.ndarray | None:
-    """Where a not fully stiff arm is [rad], (n,), if its command is elsewhere.
+    """Where a limp arm is [rad], (n,), if its command is elsewhere.
 
-    Reads only: nothing is sent. None if every joint of ``names`` is fully
-    stiff, or the measured angles, once at rest (:func:`settled_angles`),
+    Reads only: nothing is sent. None if no joint of ``names`` is limp (its
+    stiffness below ``arm_state.LIMP``: an arm Smart Stiffness has softened
+    is not), or the measured angles, once at rest (:func:`settled_angles`),
     are within :data:`HOLD_TOLERANCE` of the commanded ones.
 
     Raises:
@@ -65,7 +70,7 @@ def limp_posture(client: NaoqiClient, names: list[str]) -> np.ndarray | None:
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot gave angles that are not numbers.
     """
-    if np.all(client.stiffnesses(names) >= 1.0):
+    if np.all(client.stiffnesses(names) >= LIMP):
         return None
     measured = settled_angles(client, names)
     commanded = _finite(client, client.get_angles(names, use_sensors=False))
@@ -100,7 +105,7 @@ def settled_angles(
             raise RobotBusyError(
                 client.url,
                 None,
-                moving="has an arm not fully stiff whose sensors still move: "
+                moving="has a limp arm whose sensors still move: "
                 "the arm is still moving (limp, falling?)",
             )
         before = now

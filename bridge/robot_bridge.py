@@ -10,20 +10,21 @@
 2. the robot is connected (again, if it went away); it must be awake
    (``bridge.awake``, unless the bridge was told otherwise) and allow every
    joint at least the bridge's range and speed (``bridge.robot_limits``,
-   asked once per connection); the arm's commanded angles are read once
-   they hold still and no motion task holds its joints (``bridge.at_rest``:
-   an arm still moving, or held by another task, is busy); an
-   arm not fully stiff whose sensors say it is elsewhere (made limp, it
-   sagged or was moved) counts as where it is, and its command is moved
-   there before it is stiffened, so that stiffening holds it there
-   (``bridge.limp_arm``); with the approach off, an arm away from the
-   trajectory's start refuses it here; the arm's joints are stiffened, and
-   if the arm is not at the start, or the first frame from where it is
-   breaks a limit (``bridge.start_gap``), a slow approach move (checked the
-   same way) brings it there, and it must then be there, and still stiff
-   (``bridge.arm_state``); a movement that would end after its caller stops
-   waiting is not started: checked before the robot is contacted, before
-   the approach and again just before the frames go out (``bridge.in_time``);
+   asked once per connection); the arm's commanded angles are read once they
+   hold still and no motion task holds its joints (``bridge.at_rest``: an
+   arm still moving, or held by another task, is busy); a limp arm (a
+   joint's stiffness below 0.5) whose sensors say, once they hold still,
+   that it is elsewhere (it sagged or was moved) counts as where it is, and
+   its command is moved there before it is stiffened, so that stiffening
+   holds it there (``bridge.limp_arm``); with the approach off, an arm away
+   from the trajectory's start refuses it here; the arm's joints are
+   stiffened, and if the arm is not at the start, or the first frame from
+   where it is breaks a limit (``bridge.start_gap``), a slow approach move
+   (checked the same way) brings it there, and it must then be there, and
+   still stiff (``bridge.arm_state``); a movement that would end after its
+   caller stops waiting is not started: checked before the robot is
+   contacted, before the approach and again just before the frames go out
+   (``bridge.in_time``);
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz on a connection of their own, so that they
    never wait behind a call still on its way (``bridge.playback``); a robot

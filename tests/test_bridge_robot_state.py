@@ -143,6 +143,30 @@ def test_a_limp_arm_that_keeps_moving_is_busy(tmp_path: Path) -> None:
     assert [e["method"] for e in sent] == []
 
 
+def test_an_arm_softened_but_not_let_go_is_not_an_error(
+    sim: SimProcess, other: Any
+) -> None:
+    """Smart Stiffness (NAOqi's default) or a client holding the arm at 0.6
+    leaves it stiff enough to follow: the reach was refused as "dropped"
+    (checked against 0.999), as every movement on such a robot would be.
+    Below 0.5 it is let go (the drop to 0 above is still an error)."""
+    bridge = RobotBridge(NaoqiClient(sim.url))
+    reach = minimum_jerk_trajectory("right", [rest("right"), forward("right")], [1.5])
+    soften = threading.Timer(0.6, lambda: other.setStiffnesses("RArm", 0.6))
+    soften.start()
+    reply = bridge.execute(reach)
+    soften.join()
+    assert other.getStiffnesses("RArm")[:5] == pytest.approx([0.6] * 5)
+    assert max(reply.report.tracking_max_deg.values()) < 2.0
+    other.setStiffnesses("RArm", 0.4)
+    back = minimum_jerk_trajectory("right", [forward("right"), rest("right")], [1.0])
+    cut = threading.Timer(0.4, lambda: other.setStiffnesses("RArm", 0.4))
+    cut.start()
+    with pytest.raises(RobotStateError, match="stiffness of RArm dropped during"):
+        bridge.execute(back)
+    cut.join()
+
+
 def _fastest(states: list[dict[str, Any]]) -> dict[str, float]:
     """Each joint's fastest speed between consecutive logged cycles [rad/s]."""
     fastest: dict[str, float] = {}
