@@ -25,6 +25,7 @@ import numpy as np
 
 from bridge.naoqi_client import NaoqiClient
 from bridge.start_gap import START_TOLERANCE
+from bridge.timeline_keys import is_hand
 from shared.errors import RobotStateError
 
 #: Less stiff than this, a joint counts as let go (limp): halfway between
@@ -63,15 +64,21 @@ def check_at_start(client: NaoqiClient, names: list[str], start: np.ndarray) -> 
     """Raise unless the arm is at ``start`` [rad], (n,), after an approach.
 
     Its command must be within ``START_TOLERANCE`` of the start and its
-    measured angles within :data:`ARRIVED`.
+    measured angles within :data:`ARRIVED`: the arm's joints' only, not a
+    hand's (``RHand``): a hand closed on an object reads the object's
+    width, not its command, and every approach of a pick and place would
+    fail.
 
     Raises:
         RobotStateError: naming the joint furthest off (nothing of the
             trajectory was sent).
     """
+    hand = np.array([is_hand(name) for name in names], dtype=bool)
     for use_sensors, allowed in ((False, START_TOLERANCE), (True, ARRIVED)):
         where = client.get_angles(names, use_sensors=use_sensors)
         gap = np.abs(where - np.asarray(start))
+        if use_sensors:  # of a hand, its command only
+            gap[hand] = 0.0
         j = int(np.argmax(np.where(np.isfinite(gap), gap, np.inf)))
         if not gap[j] <= allowed:
             what = "measured" if use_sensors else "commanded"

@@ -13,7 +13,10 @@ release sets 0), it
 reads where the arm is (its sensors); if that is more than
 :data:`HOLD_TOLERANCE` from the command, the command is first moved to the
 measured angles, a call the limp motors do not follow, so that stiffening
-holds the arm where it is and the approach starts from there.
+holds the arm where it is and the approach starts from there. The arm's
+joints only: a hand (``RHand``) closed on an object reads the object's
+width, and its command moved there would open the grip (its command is
+kept, whatever its stiffness).
 
 An arm let go falls: on a NAO for about 0.3 s. Read while falling, its
 posture is one it has already fallen past by the time the command is
@@ -34,6 +37,7 @@ import numpy as np
 from bridge.arm_state import LIMP
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
+from bridge.timeline_keys import is_hand
 from shared.errors import RobotBusyError, RobotCommandError
 
 #: Measured and commanded angles further apart than this on an arm that is
@@ -70,13 +74,22 @@ def limp_posture(client: NaoqiClient, names: list[str]) -> np.ndarray | None:
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot gave angles that are not numbers.
     """
-    if np.all(client.stiffnesses(names) >= LIMP):
+    arm = _arm(names)
+    joints = [names[k] for k in arm]
+    if not joints or np.all(client.stiffnesses(joints) >= LIMP):
         return None
-    measured = settled_angles(client, names)
+    measured = settled_angles(client, joints)
     commanded = _finite(client, client.get_angles(names, use_sensors=False))
-    if np.abs(measured - commanded).max() <= HOLD_TOLERANCE:
+    if np.abs(measured - commanded[arm]).max() <= HOLD_TOLERANCE:
         return None
-    return measured
+    where = commanded.copy()
+    where[arm] = measured
+    return where
+
+
+def _arm(names: list[str]) -> list[int]:
+    """Indices of the arm's joints among ``names``: all but a hand."""
+    return [k for k, name in enumerate(names) if not is_hand(name)]
 
 
 def settled_angles(
@@ -127,6 +140,7 @@ def hold_command(
 
     ``limits`` are those of ``names``, in order. The keys' single step keeps
     within :data:`HOLD_SPEED` of the speed limits from the present command.
+    A hand among ``names`` is left out: its command stays.
 
     Returns:
         The move's length [s].
@@ -135,14 +149,17 @@ def hold_command(
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot refused the call.
     """
-    commanded = client.get_angles(names, use_sensors=False)
-    gap = np.abs(np.asarray(where) - commanded)
-    duration = max(HOLD_SHORTEST, float(np.max(gap / (HOLD_SPEED * limits.velocity))))
+    arm = _arm(names)
+    joints = [names[k] for k in arm]
+    commanded = client.get_angles(joints, use_sensors=False)
+    target = np.asarray(where)[arm]
+    speed = HOLD_SPEED * np.asarray(limits.velocity)[arm]
+    duration = max(HOLD_SHORTEST, float(np.max(np.abs(target - commanded) / speed)))
     client.call(
         "angleInterpolation",
-        names,
-        [[float(angle)] for angle in where],
-        [[duration]] * len(names),
+        joints,
+        [[float(angle)] for angle in target],
+        [[duration]] * len(joints),
         True,
         timeout=duration + client.call_timeout,
     )

@@ -14,6 +14,7 @@ import math
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -32,6 +33,7 @@ from bridge.sim.log import read_log
 from bridge.sim.process import READY
 from shared.errors import RobotBusyError, RobotLimitsError, RobotStateError
 from shared.libqi import qi
+from shared.messages import Trajectory
 from shared.robot.postures import forward, rest
 from tests.slow_link import SlowLink
 
@@ -165,6 +167,71 @@ def test_an_arm_softened_but_not_let_go_is_not_an_error(
     with pytest.raises(RobotStateError, match="stiffness of RArm dropped during"):
         bridge.execute(back)
     cut.join()
+
+
+#: The width of the object in the ``gripping`` sim's hands (open fraction).
+GRIP = 0.3
+
+
+@pytest.fixture
+def gripping(tmp_path: Path) -> Iterator[SimProcess]:
+    """A simulated NAO whose hands hold an object ``GRIP`` wide."""
+    process = SimProcess(log_path=tmp_path / "sim.jsonl", grip=GRIP)
+    process.start()
+    try:
+        yield process
+    finally:
+        process.stop()
+
+
+def _closed_hand(trajectory: Trajectory) -> Trajectory:
+    """``trajectory`` with its hand commanded shut (0) throughout."""
+    return trajectory.model_copy(
+        update={
+            "hand": [0.0] * len(trajectory.times),
+            "hand_velocities": None,
+            "hand_accelerations": None,
+        }
+    )
+
+
+def test_an_approach_with_a_hand_closed_on_an_object_arrives(
+    gripping: SimProcess,
+) -> None:
+    """The hand commanded shut reads the object's width (0.3, 17 "degrees"
+    from its command): every approach of a pick and place failed "did not
+    arrive" on RHand. The measured arrival is the arm's joints'."""
+    bridge = RobotBridge(NaoqiClient(gripping.url))
+    carry = _closed_hand(
+        minimum_jerk_trajectory("right", [forward("right"), rest("right")], [1.0])
+    )
+    reply = bridge.execute(carry)
+    assert reply.approach_duration > 0.0
+    with _motion(gripping.url) as motion:
+        assert motion.getAngles("RHand", True)[0] == pytest.approx(GRIP)
+        assert motion.getAngles("RHand", False)[0] == pytest.approx(0.0, abs=1e-3)
+
+
+def test_a_limp_arm_gripping_keeps_its_hand_command(gripping: SimProcess) -> None:
+    """The arm let go while its hand holds an object: the hand's command (0,
+    shut) was moved to its measured opening (0.3) before stiffening, so the
+    grip would let go. Now only the arm's joints are held; the hand's
+    command stays shut."""
+    bridge = RobotBridge(NaoqiClient(gripping.url))
+    with _motion(gripping.url) as motion:
+        motion.setStiffnesses("RArm", 0.0)
+        time.sleep(0.1)  # one control cycle's ramp
+        assert motion.getStiffnesses("RHand")[0] == 0.0
+    assert gripping.log_path is not None
+    cut = _calls(gripping.log_path, "setStiffnesses")[-1]["t"]
+    reach = _closed_hand(
+        minimum_jerk_trajectory("right", [rest("right"), forward("right")], [1.0])
+    )
+    bridge.execute(reach)
+    for call in _calls(gripping.log_path, "angleInterpolation"):
+        if call["t"] > cut and "RHand" in call["names"]:
+            hand = call["angles"][call["names"].index("RHand")]
+            assert max(hand) < 0.05, call
 
 
 def _fastest(states: list[dict[str, Any]]) -> dict[str, float]:

@@ -96,3 +96,36 @@ def test_a_sag_out_of_range_is_refused(sag: float) -> None:
         check_sag(sag)
     check_sag(0.0)
     check_sag(0.3)
+
+
+def test_a_hand_holding_an_object_closes_no_further() -> None:
+    """With ``grip`` 0.3 a hand commanded shut stops at 0.3 (the object's
+    width), read between cycles too; commanded open, it opens past it."""
+    log = SimLog()
+    now = [log.origin + 1.0]
+    robot = SimRobot(log, {"RHand": 1.0}, clock=lambda: now[0], grip=0.3)
+    robot.stiffen("setStiffnesses", now[0], "RHand", [1.0], [0.001])
+    now[0] += 0.01
+    robot.move("angleInterpolation", now[0], "RHand", [0.0], [0.5])
+    for _ in range(40):
+        now[0] += 0.02
+        robot.step()
+    now[0] += 0.01
+    assert robot.angles("RHand", True)[0] == pytest.approx(0.3)
+    assert robot.angles("RHand", False)[0] == pytest.approx(0.0)
+    robot.move("angleInterpolation", now[0], "RHand", [0.8], [0.5])
+    for _ in range(40):
+        now[0] += 0.02
+        robot.step()
+    assert robot.angles("RHand", True)[0] == pytest.approx(0.8)
+    assert robot.angles("RShoulderPitch", True)[0] == pytest.approx(0.0)  # no stop
+
+
+@pytest.mark.parametrize("grip", [-0.1, float("nan"), 1.5])
+def test_a_grip_out_of_range_is_refused(grip: float) -> None:
+    from bridge.sim.__main__ import check_grip
+
+    with pytest.raises(InvalidInputError, match=r"--grip must be an open fraction"):
+        check_grip(grip)
+    check_grip(None)
+    check_grip(0.3)

@@ -56,6 +56,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "long, as a NAO's arm falls for about 0.3 s (default 0: it holds still)",
     )
     p.add_argument(
+        "--grip",
+        type=float,
+        default=None,
+        metavar="OPEN_FRACTION",
+        help="each hand holds an object this wide (0..1), so it closes no "
+        "further (default: nothing in the hands)",
+    )
+    p.add_argument(
         "--stop-on-stdin-eof",
         action="store_true",
         help="stop when standard input closes (its parent process ended)",
@@ -69,6 +77,14 @@ def check_sag(sag: float) -> None:
     if not 0.0 <= sag <= 10.0:  # NaN too
         raise InvalidInputError(
             f"--limp-sag must be 0..10 s, got {sag}", field="limp_sag"
+        )
+
+
+def check_grip(grip: float | None) -> None:
+    """Raise InvalidInputError unless ``grip`` is None or an open fraction 0..1."""
+    if grip is not None and not 0.0 <= grip <= 1.0:  # NaN too
+        raise InvalidInputError(
+            f"--grip must be an open fraction 0..1, got {grip}", field="grip"
         )
 
 
@@ -86,12 +102,13 @@ def run(
     stop_on_eof: bool = False,
     killed_returns: bool = False,
     limp_sag: float = 0.0,
+    grip: float | None = None,
 ) -> int:
     """Serve until SIGINT or SIGTERM (or stdin's end); returns the exit code."""
     stop = stop_on_signals()
     if stop_on_eof:
         threading.Thread(target=_watch_stdin, args=(stop,), daemon=True).start()
-    serve(listen, log, period, stop, killed_returns, limp_sag)
+    serve(listen, log, period, stop, killed_returns, limp_sag, grip)
     return 0
 
 
@@ -109,6 +126,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         check_listen_url(args.listen)
         check_period(args.period)
         check_sag(args.limp_sag)
+        check_grip(args.grip)
         if args.log is not None:
             check_log_file(args.log)
     except InvalidInputError as error:
@@ -121,6 +139,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             args.stop_on_stdin_eof,
             args.killed_calls_return,
             args.limp_sag,
+            args.grip,
         )
     except ArmplanError as error:  # e.g. the address is in use
         sys.stderr.write(f"{p.prog}: error: {error.message}\n")

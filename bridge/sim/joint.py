@@ -19,7 +19,9 @@ class SimJoint:
     [s], falls toward where it hangs, its starting angle, at
     :data:`SAG_SPEED` for that long after it is let go, as a NAO's arm falls
     for about 0.3 s); stiffened again, it goes to its setpoint at its speed
-    limit.
+    limit. A ``stop`` [rad] is as far as it goes down: a hand closing on an
+    object stops at the object's width (its open fraction), whatever it is
+    commanded.
 
     Attributes:
         spec: Name and limits.
@@ -34,9 +36,11 @@ class SimJoint:
         time: float,
         stiffness: float = 0.0,
         sag: float = 0.0,
+        stop: float | None = None,
     ) -> None:
         self.spec = spec
-        self.position = position
+        self.stop = stop
+        self.position = position if stop is None else max(position, stop)
         self.time = time
         self._hang, self._sag, self._sag_left = position, sag, sag
         self._hold = position
@@ -54,6 +58,11 @@ class SimJoint:
 
     def measured(self, t: float) -> float:
         """The motor's angle at sim time ``t`` (>= the last commit) [rad]."""
+        angle = self._motor(t)
+        return angle if self.stop is None else max(angle, self.stop)
+
+    def _motor(self, t: float) -> float:
+        """Where the motor would be at ``t`` with nothing in its way [rad]."""
         if self.stiffness(t) <= 0.0:
             fall = SAG_SPEED * min(max(0.0, t - self.time), self._sag_left)
             gap = self._hang - self.position

@@ -42,6 +42,7 @@ class SimProcess(StartStop):
         startup_timeout: float = 30.0,
         killed_calls_return: bool = False,
         limp_sag: float = 0.0,
+        grip: float | None = None,
     ) -> None:
         """Describe the process; nothing starts yet.
 
@@ -53,6 +54,8 @@ class SimProcess(StartStop):
             killed_calls_return: A blocking call whose motion task is killed
                 returns normally instead of raising (``--killed-calls-return``).
             limp_sag: How long a joint let go falls [s] (``--limp-sag``).
+            grip: Each hand holds an object this wide (open fraction,
+                ``--grip``); None: nothing in the hands.
         """
         self.listen = listen
         self.log_path = None if log_path is None else Path(log_path)
@@ -60,6 +63,7 @@ class SimProcess(StartStop):
         self.startup_timeout = startup_timeout
         self.killed_calls_return = killed_calls_return
         self.limp_sag = limp_sag
+        self.grip = grip
         self.url = ""
         self.output: deque[str] = deque(maxlen=200)
         self._process: subprocess.Popen[str] | None = None
@@ -73,6 +77,8 @@ class SimProcess(StartStop):
             cmd.append("--killed-calls-return")
         if self.limp_sag:
             cmd += ["--limp-sag", str(self.limp_sag)]
+        if self.grip is not None:
+            cmd += ["--grip", str(self.grip)]
         if self.log_path is not None:
             cmd += ["--log", str(self.log_path)]
         return cmd

@@ -31,13 +31,16 @@ class SimRobot:
         stiffness: float = 0.0,
         killed_returns: bool = False,
         sag: float = 0.0,
+        grip: float | None = None,
     ) -> None:
         """Start every joint at ``posture`` [rad] (0 if absent), at ``stiffness``.
 
         ``killed_returns``: a blocking call whose command is interrupted
         returns normally instead of raising (:class:`MotionTask`). ``sag``
         [s]: how long a joint let go falls toward its ``posture`` angle
-        (:class:`~bridge.sim.joint.SimJoint`); 0: it holds still.
+        (:class:`~bridge.sim.joint.SimJoint`); 0: it holds still. ``grip``:
+        each hand holds an object this wide (open fraction 0..1), so it
+        closes no further; None: nothing in the hands.
         """
         self._clock = clock
         self._log = log
@@ -45,7 +48,14 @@ class SimRobot:
         self.killed_returns = killed_returns
         now = clock()
         self.joints = {
-            name: SimJoint(spec, posture.get(name, 0.0), now, stiffness, sag)
+            name: SimJoint(
+                spec,
+                posture.get(name, 0.0),
+                now,
+                stiffness,
+                sag,
+                grip if name.endswith("Hand") else None,
+            )
             for name, spec in joint_specs().items()
         }
         self._owners: dict[str, MotionTask] = {}

@@ -45,6 +45,7 @@ def serve(
     stop: threading.Event | None = None,
     killed_returns: bool = False,
     limp_sag: float = 0.0,
+    grip: float | None = None,
 ) -> None:
     """Run the simulated NAO until ``stop`` is set.
 
@@ -62,6 +63,8 @@ def serve(
             joints) returns normally instead of raising, as NAOqi's may.
         limp_sag: How long a joint let go falls toward its rest angle [s]
             (at ``bridge.sim.joint.SAG_SPEED``); 0: it holds still.
+        grip: Each hand holds an object this wide (open fraction), closing
+            no further; None: nothing in the hands.
 
     Raises:
         InvalidInputError: a malformed ``listen`` address or a ``period``
@@ -81,6 +84,7 @@ def serve(
         stiffness=1.0,
         killed_returns=killed_returns,
         sag=limp_sag,
+        grip=grip,
     )
     cycle = ControlCycle(robot, period)
     session = qi.Session()
