@@ -24,7 +24,9 @@
    still stiff (``bridge.arm_state``); a movement that would end after its
    caller stops waiting is not started: checked before the robot is
    contacted, before the approach and again just before the frames go out
-   (``bridge.in_time``);
+   (``bridge.in_time``); the client connects again by itself after a drop,
+   perhaps to another robot, so each command that moves the arm goes out
+   only on the connection the robot was checked on (``bridge.same_connection``);
 3. the frames go out as one ``angleInterpolation`` call while the measured
    angles are sampled at 100 Hz on a connection of their own, so that they
    never wait behind a call still on its way (``bridge.playback``); a robot
@@ -62,6 +64,7 @@ from bridge.limp_arm import hold_command, limp_posture
 from bridge.naoqi_client import NaoqiClient
 from bridge.playback import SAMPLE_PERIOD, play_and_sample
 from bridge.robot_limits import RobotLimitsCheck
+from bridge.same_connection import check_connection
 from bridge.start_gap import needs_approach
 from bridge.tracking import executed_states, tracking_report
 from shared.bus.robot_routes import BRIDGE
@@ -212,7 +215,8 @@ class RobotBridge:
             RobotCommandError: the robot refused a command.
             RobotStateError: the robot is not awake (nothing sent); or the
                 approach did not bring the arm to the start (nothing of the
-                trajectory sent); or the robot ended a call early, or let
+                trajectory sent); or the client connected again since the
+                robot was checked; or the robot ended a call early, or let
                 the arm go limp during it.
             RobotLimitsError: the robot allows a joint less range or speed
                 than the bridge's limits (nothing sent).
@@ -224,6 +228,8 @@ class RobotBridge:
         check_in_time(url, until, None, duration, "nothing was sent")
         self.refuse_if_stopping("nothing was sent")
         self.client.refuse_while_stopping()
+        self.client.motion()  # connected: the checks hold for this connection
+        checked = self.client.connection
         if self.require_awake:
             check_awake(self.client)
         self._robot_limits.check(self.client, limits)
@@ -233,6 +239,7 @@ class RobotBridge:
             current = limp
         move_first = needs_approach(frames, current, limits, approach)
         self.refuse_if_stopping("nothing was sent")
+        check_connection(self.client, checked, "nothing was sent")
         if limp is not None:
             hold_command(self.client, names, limp, limits)
         if self.client.stiffen(names):  # another client may have moved it meanwhile
@@ -243,12 +250,19 @@ class RobotBridge:
         check_in_time(url, until, approach_time, duration, "nothing was sent")
         self.refuse_if_stopping("no movement was sent")
         if move is not None:
+            check_connection(self.client, checked, "no movement was sent")
             self._approach(frames, move, on_state)
         check_in_time(url, until, 0.0, duration, ARRIVED)
         self.refuse_if_stopping(ARRIVED if move is not None else "no movement was sent")
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)
+        # last, so that nothing but the call's own sending comes after it
+        check_connection(
+            self.client,
+            checked,
+            ARRIVED if move is not None else "no movement was sent",
+        )
         samples = play_and_sample(
             self.client, call, period=self.sample_period, on_sample=on_state
         )

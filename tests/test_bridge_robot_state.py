@@ -234,6 +234,34 @@ def test_a_limp_arm_gripping_keeps_its_hand_command(gripping: SimProcess) -> Non
             assert max(hand) < 0.05, call
 
 
+def test_a_connection_made_again_after_the_checks_sends_nothing(
+    sim: SimProcess,
+) -> None:
+    """The command connection drops after the robot was checked (awake,
+    limits), just before the frames go out: the client connected again
+    silently and sent them on a connection never checked (perhaps another
+    robot). Now the bridge refuses, and nothing of the trajectory goes out."""
+    link = SlowLink(int(sim.url.rsplit(":", 1)[1]), 10e6)
+    bridge = RobotBridge(NaoqiClient(link.url))
+    hold = minimum_jerk_trajectory("right", [rest("right"), rest("right")], [0.5])
+
+    def drop(_: Any) -> None:
+        link.cut(0)  # the command connection, the first made
+        for _ in range(200):
+            if not bridge.client.connected:
+                return
+            time.sleep(0.01)
+
+    try:
+        with pytest.raises(RobotStateError, match="connection to the robot was made"):
+            bridge.execute(hold, on_play=drop)
+    finally:
+        link.close()
+    assert link.connections >= 2
+    assert sim.log_path is not None
+    assert _calls(sim.log_path, "angleInterpolation") == []
+
+
 def _fastest(states: list[dict[str, Any]]) -> dict[str, float]:
     """Each joint's fastest speed between consecutive logged cycles [rad/s]."""
     fastest: dict[str, float] = {}
