@@ -83,6 +83,8 @@ ARRIVED = "the arm is at the trajectory's start; nothing of the trajectory was s
 
 StateCallback = Callable[[JointState], None]
 FramesCallback = Callable[[CommandFrames], None]
+#: Called with the approach's length [s] as it starts.
+ApproachCallback = Callable[[float], None]
 
 
 class RobotBridge:
@@ -149,13 +151,13 @@ class RobotBridge:
     def frames(
         self, trajectory: Trajectory, rate: float | None = None
     ) -> CommandFrames:
-        """Checked command frames of ``trajectory``; nothing is sent.
+        """Checked command frames of ``trajectory`` (its hand too); nothing is sent.
 
         Raises:
             TrajectoryRefusedError: naming the first frame over a limit, or
                 the joint whose frames stray furthest from the trajectory.
         """
-        limits = self.limits(trajectory.arm)
+        trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
         return checked_frames(trajectory, rate or self.rate, limits)
 
     def handle(
@@ -164,6 +166,9 @@ class RobotBridge:
         on_state: StateCallback | None = None,
         on_play: FramesCallback | None = None,
         until: float | None = None,
+        *,
+        on_approach: ApproachCallback | None = None,
+        frames: CommandFrames | None = None,
     ) -> ExecuteReply:
         """Answer an execute request (see :meth:`execute`)."""
         return self.execute(
@@ -173,6 +178,8 @@ class RobotBridge:
             on_state=on_state,
             on_play=on_play,
             until=until,
+            on_approach=on_approach,
+            frames=frames,
         )
 
     def execute(
@@ -184,6 +191,8 @@ class RobotBridge:
         on_state: StateCallback | None = None,
         on_play: FramesCallback | None = None,
         until: float | None = None,
+        on_approach: ApproachCallback | None = None,
+        frames: CommandFrames | None = None,
     ) -> ExecuteReply:
         """Play ``trajectory`` on the robot and report how well it followed.
 
@@ -198,6 +207,11 @@ class RobotBridge:
             until: When the caller stops waiting for the answer [s,
                 monotonic clock]; ``None``: no deadline. A movement that
                 would end later is not started (``bridge.in_time``).
+            on_approach: Called with the approach's length [s] just before
+                it is sent (not called if there is none).
+            frames: The frames of ``trajectory`` at ``rate``, checked
+                already (:meth:`frames`); None: they are made and checked
+                here.
 
         Raises:
             TrajectoryRefusedError: a frame breaks a limit (nothing sent).
@@ -222,7 +236,8 @@ class RobotBridge:
                 than the bridge's limits (nothing sent).
         """
         trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
-        frames = checked_frames(trajectory, rate or self.rate, limits)
+        if frames is None:
+            frames = checked_frames(trajectory, rate or self.rate, limits)
         names = list(frames.joint_names)
         url, duration = self.client.url, frames.duration
         check_in_time(url, until, None, duration, "nothing was sent")
@@ -251,6 +266,8 @@ class RobotBridge:
         self.refuse_if_stopping("no movement was sent")
         if move is not None:
             check_connection(self.client, checked, "no movement was sent")
+            if on_approach is not None:
+                on_approach(move.duration)
             self._approach(frames, move, on_state)
         check_in_time(url, until, 0.0, duration, ARRIVED)
         self.refuse_if_stopping(ARRIVED if move is not None else "no movement was sent")

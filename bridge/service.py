@@ -8,9 +8,11 @@ publishes what crosses the robot's boundary: the checked command frames
 (``bridge/frames``), each measured joint state while the arm moves
 (``bridge/state``) and the tracking report (``bridge/report``). A trajectory
 with one frame over a limit is refused with the bridge's typed error before
-anything is published or sent. One robot plays one trajectory at a time: a
-request that comes while one is playing is refused with ``robot_busy``
-(naming about how long is left), not queued, so the robot never starts a
+anything is published or sent, even while another plays (its frames are
+checked before the robot is asked for). One robot plays one trajectory at
+a time: a request that comes while one is playing is refused with
+``robot_busy`` (naming about how long is left: the approach's rest too,
+once it has started), not queued, so the robot never starts a
 movement its caller may have given up on; nor one its caller will give up
 on before it ends: a query whose caller's time left cannot cover the
 approach and the trajectory is refused with ``caller_deadline``, at once,
@@ -83,26 +85,38 @@ class BridgeService:
             RobotUnavailableError, RobotCommandError: from the robot.
         """
         self.robot.refuse_if_stopping("nothing was sent")
+        try:  # a trajectory over a limit is refused as such, busy or not
+            frames = self.robot.frames(request.trajectory, request.rate)
+        except ArmplanError as error:
+            log.warning("execute: %s", error.message)
+            raise
         if not self._lock.acquire(blocking=wait):
             remaining = max(self._ends - time.monotonic(), 0.0)
             log.warning("execute: refused, the robot is busy (%.1f s left)", remaining)
             raise RobotBusyError(self.robot.client.url, remaining)
         try:
-            self._ends = time.monotonic() + request.trajectory.duration
-            return self._play(request)
+            self._ends = time.monotonic() + frames.duration
+            return self._play(request, frames)
         except ArmplanError as error:
             log.warning("execute: %s", error.message)
             raise
         finally:
             self._lock.release()
 
-    def _play(self, request: ExecuteRequest) -> ExecuteReply:
+    def _play(self, request: ExecuteRequest, frames: CommandFrames) -> ExecuteReply:
         due = current_due()  # the query's caller's; None for the follower
+
+        def approaching(duration: float) -> None:
+            """The approach starts: the trajectory ends after it [s]."""
+            self._ends = time.monotonic() + duration + frames.duration
+
         reply = self.robot.handle(
             request,
             on_state=self._publish_state,
             on_play=self._publish_frames,
             until=None if due is None else due.at - REPLY_MARGIN,
+            on_approach=approaching,
+            frames=frames,
         )
         self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
         worst = max(reply.report.tracking_rms_deg.values(), default=0.0)
@@ -132,7 +146,8 @@ class BridgeService:
         with "the bridge is stopping". A trajectory already playing is
         watched to its end and answered as usual (cut short, the joints
         would stop dead), for at most :data:`STOP_GRACE` past its expected
-        end and :data:`STOP_LIMIT` in all.
+        end (after its approach, once that has started) and
+        :data:`STOP_LIMIT` in all.
 
         Returns:
             Whether no request is being served any more.

@@ -352,6 +352,63 @@ def test_the_time_left_told_a_refused_caller_counts_from_after_the_approach(
     assert caught.value.evidence["remaining"] >= trajectory.duration - 0.45
 
 
+def test_while_the_robot_plays_a_trajectory_over_a_limit_is_refused_as_such(
+    stack: Stack, sim: SimProcess
+) -> None:
+    """An over-speed trajectory sent while another plays was refused with
+    robot_busy (the lock came before the check), so its caller would send
+    it again later, only to learn then that it can never play. Now it is
+    trajectory_refused, naming the frame, busy or not."""
+    outcome: dict[str, Any] = {}
+
+    def first() -> None:
+        outcome["reply"] = stack.execute(reach())
+
+    caller = threading.Thread(target=first)
+    caller.start()
+    try:
+        time.sleep(0.5)
+        with pytest.raises(TrajectoryRefusedError) as caught:
+            stack.execute(over_speed(reach()), timeout=5.0)
+    finally:
+        caller.join(30.0)
+    assert caught.value.evidence["joint"] == "RElbowYaw"
+    assert max(outcome["reply"].report.tracking_rms_deg.values()) < 1.0
+
+
+def test_the_time_left_told_a_caller_refused_during_the_approach_counts_it(
+    stack: Stack, sim: SimProcess
+) -> None:
+    """A 2 s trajectory from the arm stretched forward, the arm at rest: a
+    caller refused during the 1.4 s approach was told about 2 s left, the
+    trajectory alone; now the approach's rest too."""
+    trajectory = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [2.0]
+    )
+    states: queue.Queue[JointState] = queue.Queue()
+    subscriber = stack.bus.session.declare_subscriber(
+        stack.bus.key("bridge/state"),
+        lambda s: states.put(JointState.model_validate_json(s.payload.to_bytes())),
+    )
+    outcome: dict[str, Any] = {}
+
+    def first() -> None:
+        outcome["reply"] = stack.execute(trajectory)
+
+    caller = threading.Thread(target=first)
+    caller.start()
+    try:
+        while states.get(timeout=20.0).time >= -1.0:  # over 1 s of approach left
+            pass
+        with pytest.raises(RobotBusyError) as caught:
+            stack.execute(reach(), timeout=5.0)
+    finally:
+        caller.join(30.0)
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    assert outcome["reply"].approach_duration >= 1.0
+    assert caught.value.evidence["remaining"] >= trajectory.duration + 0.5
+
+
 def test_a_caller_who_cannot_wait_for_the_trajectory_is_refused_at_once(
     stack: Stack, sim: SimProcess, published: Published
 ) -> None:
