@@ -21,8 +21,9 @@ import pytest
 import zenoh
 
 from armplan.launch import Launcher, free_endpoint
-from armplan.launch.robot import RobotStack
+from armplan.launch.robot import BRIDGE_GRACE, RobotStack
 from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.service import STOP_LIMIT
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from shared.bus import Bus, load_config
@@ -176,6 +177,27 @@ def test_a_bridge_stopped_during_the_trajectory_answers_at_its_end(
     assert max(report.tracking_rms_deg.values()) < 1.0
     assert stack.bridge_exit() == 0
     assert stack.motions() == ["angleInterpolation", "angleInterpolation"]
+
+
+def test_the_stack_gives_the_bridge_time_to_watch_a_trajectory_to_its_end(
+    stack: Stack,
+) -> None:
+    """The robot stack stopped 0.3 s into a 7 s trajectory on a robot it did
+    not start: it SIGKILLed the bridge 5 s after SIGTERM, cutting off the
+    bridge's own wait (up to 30 s) for the trajectory, the arm left playing
+    unwatched and the caller answered by no one. Now the bridge's grace
+    covers its own bound: the caller gets its report, the bridge exits 0."""
+    assert BRIDGE_GRACE >= STOP_LIMIT + 2.0
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), forward("right"), rest("right")], [3.5, 3.5]
+    )
+    outcome = stack.execute_in_background(trajectory)
+    stack.wait_for_state(0.3)
+    stack.robot.stop()  # SIGTERM; SIGKILL after the grace
+    outcome["thread"].join(15.0)
+    assert "error" not in outcome, outcome.get("error")
+    assert outcome["reply"].report.duration >= 7.0 - 0.1
+    assert stack.bridge_exit() == 0
 
 
 def test_a_second_bridge_in_the_namespace_refuses_to_start(stack: Stack) -> None:

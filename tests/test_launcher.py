@@ -334,3 +334,45 @@ def test_a_robot_side_process_that_exits_is_reported_with_its_code(
         assert wanted in log.read_text()
         up.process.send_signal(signal.SIGTERM)
         assert up.process.wait(EXIT_TIMEOUT) == 0
+
+
+def test_up_passes_allow_not_awake_to_the_bridge(tmp_path: pathlib.Path) -> None:
+    """`up --robot URL --allow-not-awake`: the option was the bridge's alone
+    (`python -m bridge.serve`), and `up` refused it as unknown; now its
+    bridge plays on a robot at rest. Without a bridge to give it to, it is
+    refused before anything starts."""
+    from bridge.minimum_jerk import minimum_jerk_trajectory
+    from bridge.sim import SimProcess
+    from shared.bus.robot_routes import EXECUTE
+    from shared.libqi import qi
+    from shared.messages import ExecuteRequest
+    from shared.robot.postures import forward, rest
+
+    out = armplan("up", "--listen", free_endpoint(), "--allow-not-awake")
+    assert out.returncode in (1, 2) and "--allow-not-awake" in out.stderr
+    assert "ready" not in out.stdout
+    endpoint = free_endpoint()
+    with SimProcess() as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        session.service("ALMotion").rest()
+        session.close()
+        with armplan_up(
+            "--listen",
+            endpoint,
+            "--only",
+            "ik",
+            "--robot",
+            sim.url,
+            "--allow-not-awake",
+            log=tmp_path / "up.log",
+        ) as up:
+            up.wait_ready()
+            reach = minimum_jerk_trajectory(
+                "right", [rest("right"), forward("right")], [1.0]
+            )
+            with Bus.connect(load_config(endpoints=(endpoint,))) as bus:
+                reply = bus.call(EXECUTE, ExecuteRequest(trajectory=reach), timeout=30)
+            assert reply.frames > 0
+            up.process.send_signal(signal.SIGINT)
+            assert up.process.wait(EXIT_TIMEOUT) == 0

@@ -83,6 +83,8 @@ class DemoOptions:
         record: Record the session to MCAP.
         rate: Frame rate of the command frames [Hz], a whole number (the
             timeline of ``behavior.xar`` has no other).
+        allow_not_awake: The bridge plays even on a robot that is not awake
+            (its ``--allow-not-awake``).
     """
 
     config: BusConfig
@@ -91,6 +93,7 @@ class DemoOptions:
     robot: str | None = None
     record: bool = True
     rate: float = DEFAULT_RATE
+    allow_not_awake: bool = False
 
 
 @dataclass
@@ -153,6 +156,7 @@ def _run_in(
         robot=options.robot,
         record=options.record,
         stop=stop,
+        allow_not_awake=options.allow_not_awake,
     )
     say(f"starting the router, the services, the bridge and the {_robot(options)}")
     with stack:

@@ -60,6 +60,7 @@ class DemoStack:
         robot: str | None = None,
         record: bool = True,
         stop: threading.Event | None = None,
+        allow_not_awake: bool = False,
     ) -> None:
         """Prepare (start nothing yet).
 
@@ -69,6 +70,8 @@ class DemoStack:
             robot: A real NAO's address; ``None`` starts the simulated NAO.
             record: Record the session to ``out/session.mcap``.
             stop: Set by a signal handler to abort a start in progress.
+            allow_not_awake: The bridge plays even on a robot that is not
+                awake (its ``--allow-not-awake``).
         """
         self.config = config
         self.out = out
@@ -78,6 +81,7 @@ class DemoStack:
         self._robot_url = robot
         self._record = record
         self._stop = stop
+        self._allow_not_awake = allow_not_awake
         self._exits = contextlib.ExitStack()
 
     @property
@@ -111,6 +115,7 @@ class DemoStack:
             sim_log=self.out / SIM_LOG_FILE if self.simulated else None,
             log=self._log("bridge"),
             stop=self._stop,
+            allow_not_awake=self._allow_not_awake,
         )
 
     def _recorder(self) -> RecorderProcess:

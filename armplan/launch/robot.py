@@ -40,8 +40,13 @@ if TYPE_CHECKING:
 
 #: Longest wait for the sim, then for the bridge's token [s].
 START_TIMEOUT = 60.0
-#: Time the bridge gets to exit after SIGTERM before SIGKILL [s].
+#: Time the sim gets to exit after SIGTERM before SIGKILL [s].
 GRACE = 5.0
+#: Time the bridge gets to exit after SIGTERM before SIGKILL [s]: its own
+#: bound on the wait for a trajectory still playing on a robot
+#: (``bridge.service.STOP_LIMIT``, 30 s; cut short, the arm would play on
+#: unwatched and its caller get no answer) and 5 s to exit.
+BRIDGE_GRACE = 35.0
 #: Pause between liveliness checks while starting [s].
 POLL = 0.1
 #: The sim's address for ``armplan up --with-sim``: a NAO's own port.
@@ -69,6 +74,7 @@ class RobotStack(StartStop):
         follow: bool = False,
         log: IO[str] | int | None = None,
         stop: threading.Event | None = None,
+        allow_not_awake: bool = False,
     ) -> None:
         """Prepare (start nothing yet).
 
@@ -82,6 +88,8 @@ class RobotStack(StartStop):
             follow: The bridge also plays every published trajectory.
             log: Where the bridge's output goes (as for ``Launcher``).
             stop: Set by a signal handler to abort a start in progress.
+            allow_not_awake: The bridge plays even on a robot that is not
+                awake (its ``--allow-not-awake``: a robot held up otherwise).
 
         Raises:
             InvalidInputError: ``robot`` and ``sim`` both given.
@@ -100,6 +108,7 @@ class RobotStack(StartStop):
         self._sim_listen = sim_listen
         self._sim_log = sim_log
         self._follow = follow
+        self._allow_not_awake = allow_not_awake
         self._log = log
         self._stop = stop or threading.Event()
 
@@ -148,6 +157,8 @@ class RobotStack(StartStop):
         for endpoint in self.config.endpoints:
             args += ["--connect", endpoint]
         args += ["--robot", self.url]
+        if self._allow_not_awake:
+            args.append("--allow-not-awake")
         return [*args, "--follow"] if self._follow else args
 
     def _wait_bridge(self, timeout: float) -> None:
@@ -190,16 +201,18 @@ class RobotStack(StartStop):
             gone.append((BRIDGE.name, self.bridge.pid, code))
         return gone
 
-    def stop(self, grace: float = GRACE) -> None:
-        """Stop the bridge and the sim (SIGTERM, SIGKILL after ``grace`` [s]).
+    def stop(self, grace: float = GRACE, bridge_grace: float = BRIDGE_GRACE) -> None:
+        """Stop the bridge and the sim (SIGTERM, SIGKILL after a grace [s]).
 
         Both get SIGTERM at once: a bridge that is playing a trajectory on the
         sim then sees the robot go and ends its request at once, instead of
-        playing on while the stop waits for it.
+        playing on while the stop waits for it. On a real robot the bridge
+        watches a trajectory still playing to its end, so it gets
+        ``bridge_grace`` (its own bound and some), the sim ``grace``.
         """
         if self.bridge is not None:
             self.bridge.signal(signal.SIGTERM)
         if self.sim is not None:
             self.sim.stop(grace)
         if self.bridge is not None:
-            stop_all([self.bridge], grace)
+            stop_all([self.bridge], bridge_grace)

@@ -40,6 +40,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="play on a real NAO at tcp://IP:9559 instead of the simulated one",
     )
     parser.add_argument(
+        "--allow-not-awake",
+        action="store_true",
+        help="with --robot: play even on a NAO that is not awake "
+        "(robotIsWakeUp() false); only for a robot held up by other means",
+    )
+    parser.add_argument(
         "--listen",
         metavar="ENDPOINT",
         help="the router's endpoint (default: a free port on 127.0.0.1)",
@@ -76,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
         robot=_robot(args.robot),
         record=not args.no_record,
         task=Path(args.task) if args.task else DEFAULT_TASK,
+        allow_not_awake=args.allow_not_awake,
     )
     result = run_demo(options, _say)
     for line in summary_lines(result):

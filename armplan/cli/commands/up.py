@@ -80,6 +80,12 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="the bridge also plays every trajectory the planner publishes",
     )
+    parser.add_argument(
+        "--allow-not-awake",
+        action="store_true",
+        help="the bridge plays even on a robot that is not awake "
+        "(robotIsWakeUp() false); only for a robot held up by other means",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -136,6 +142,12 @@ def _robot_stack(
 ) -> RobotStack | contextlib.nullcontext[None]:
     """The sim and the bridge if asked for (not started yet), else nothing."""
     if not (args.with_sim or args.with_bridge or args.robot or args.follow):
+        if args.allow_not_awake:
+            raise InvalidInputError(
+                "--allow-not-awake is the bridge's: start one (--with-bridge, "
+                "--robot, --with-sim or --follow)",
+                field="allow_not_awake",
+            )
         return contextlib.nullcontext()
     return RobotStack(
         config,
@@ -144,6 +156,7 @@ def _robot_stack(
         sim_listen=args.sim_listen,
         follow=args.follow,
         stop=stop,
+        allow_not_awake=args.allow_not_awake,
     )
 
 
