@@ -36,7 +36,7 @@ from shared.bus.keys import alive_key
 from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.robot_routes import BRIDGE
-from shared.errors import ArmplanError, ServiceRunningError
+from shared.errors import ArmplanError, ServiceRunningError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.bridge")
 
@@ -110,7 +110,14 @@ def run(args: argparse.Namespace) -> None:
     check_login(config, BRIDGE)  # another user's file: cut off, yet moving the robot
     client = NaoqiClient(url)
     try:
-        with Bus.connect(config, wait=args.wait) as bus:
+        try:
+            bus = Bus.connect(config, wait=args.wait, stop=stop)
+        except ServiceUnavailableError:
+            if not stop.is_set():
+                raise
+            log.info("bridge: asked to stop before a router answered")
+            return
+        with bus:
             check_alone(bus)
             bridge = RobotBridge(
                 client, rate=args.rate, require_awake=not args.allow_not_awake

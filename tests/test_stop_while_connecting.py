@@ -1,7 +1,7 @@
 """A process still waiting for its router stops when asked to.
 
-A demo killed during its start-up leaves its services and recorder waiting
-for a router that is gone (``--wait`` seconds); their parent's death sends
+A demo killed during its start-up leaves its services, recorder and bridge
+waiting for a router that is gone (``--wait`` seconds); their parent's death sends
 them SIGTERM. They used to act on it only once the wait was over (~12 s of
 orphans); now the wait watches the stop request and the process exits 0
 at once.
@@ -43,7 +43,7 @@ def wait_for_handler(process: subprocess.Popen[str]) -> None:
         time.sleep(0.05)
 
 
-@pytest.mark.parametrize("module", ["services.ik", "services.recorder"])
+@pytest.mark.parametrize("module", ["services.ik", "services.recorder", "bridge.serve"])
 def test_sigterm_ends_the_wait_for_the_router(module: str, tmp_path: Path) -> None:
     """No router answers: SIGTERM ends the process with exit code 0, and it
     says it was asked to stop, not that the router is missing."""
