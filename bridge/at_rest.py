@@ -23,6 +23,7 @@ wait behind it on a NAO (the simulated NAO's would interrupt it).
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -57,15 +58,48 @@ def angles_at_rest(
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot gave angles that are not numbers.
     """
+    return until_still(
+        client,
+        names,
+        use_sensors=False,
+        tolerance=STILL,
+        wait=wait,
+        gap=gap,
+        ready=lambda: _free(client, names),
+    )
+
+
+def until_still(
+    client: NaoqiClient,
+    names: list[str],
+    *,
+    use_sensors: bool,
+    tolerance: float,
+    wait: float,
+    gap: float,
+    ready: Callable[[], bool] = lambda: True,
+    moving: str | None = None,
+) -> np.ndarray:
+    """The angles of ``names`` [rad], (n,), once two readings agree.
+
+    Read every ``gap`` [s] (commanded, or measured with ``use_sensors``)
+    until two in a row agree within ``tolerance`` [rad] and ``ready()``.
+
+    Raises:
+        RobotBusyError: after ``wait`` [s] they still did not (``moving``:
+            how the error says the arm moves; default the bridge's own).
+        RobotUnavailableError: the robot cannot be reached.
+        RobotCommandError: the robot gave angles that are not numbers.
+    """
     deadline = time.monotonic() + wait
-    before = _read(client, names)
+    before = read_angles(client, names, use_sensors)
     while True:
         time.sleep(gap)
-        now = _read(client, names)
-        if np.abs(now - before).max() <= STILL and _free(client, names):
+        now = read_angles(client, names, use_sensors)
+        if np.abs(now - before).max() <= tolerance and ready():
             return now
         if time.monotonic() >= deadline:
-            raise RobotBusyError(client.url, None)
+            raise RobotBusyError(client.url, None, moving=moving)
         before = now
 
 
@@ -74,9 +108,9 @@ def _free(client: NaoqiClient, names: list[str]) -> bool:
     return bool(client.call("areResourcesAvailable", names))
 
 
-def _read(client: NaoqiClient, names: list[str]) -> np.ndarray:
-    """The commanded angles [rad], (n,); finite, or RobotCommandError."""
-    angles = client.get_angles(names, use_sensors=False)
+def read_angles(client: NaoqiClient, names: list[str], use_sensors: bool) -> np.ndarray:
+    """The commanded (or measured) angles [rad], (n,); finite, or RobotCommandError."""
+    angles = client.get_angles(names, use_sensors=use_sensors)
     if not np.all(np.isfinite(angles)):
         raise RobotCommandError(
             client.url, "getAngles", f"it gave angles that are not numbers: {angles}"

@@ -30,15 +30,14 @@ arm is still moving (limp, falling?)"), perhaps moved by hand.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
 from bridge.arm_state import LIMP
+from bridge.at_rest import read_angles, until_still
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from bridge.timeline_keys import is_hand
-from shared.errors import RobotBusyError, RobotCommandError
 
 #: Measured and commanded angles further apart than this on an arm that is
 #: limp (a joint's stiffness below ``arm_state.LIMP``): the command is
@@ -79,7 +78,7 @@ def limp_posture(client: NaoqiClient, names: list[str]) -> np.ndarray | None:
     if not joints or np.all(client.stiffnesses(joints) >= LIMP):
         return None
     measured = settled_angles(client, joints)
-    commanded = _finite(client, client.get_angles(names, use_sensors=False))
+    commanded = read_angles(client, names, use_sensors=False)
     if np.abs(measured - commanded[arm]).max() <= HOLD_TOLERANCE:
         return None
     where = commanded.copy()
@@ -107,30 +106,16 @@ def settled_angles(
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot gave angles that are not numbers.
     """
-    deadline = time.monotonic() + wait
-    before = _finite(client, client.get_angles(names, use_sensors=True))
-    while True:
-        time.sleep(gap)
-        now = _finite(client, client.get_angles(names, use_sensors=True))
-        if np.abs(now - before).max() <= SETTLED:
-            return now
-        if time.monotonic() >= deadline:
-            raise RobotBusyError(
-                client.url,
-                None,
-                moving="has a limp arm whose sensors still move: "
-                "the arm is still moving (limp, falling?)",
-            )
-        before = now
-
-
-def _finite(client: NaoqiClient, angles: np.ndarray) -> np.ndarray:
-    """``angles`` [rad], (n,), if every one is a number; else RobotCommandError."""
-    if not np.all(np.isfinite(angles)):
-        raise RobotCommandError(
-            client.url, "getAngles", f"it gave angles that are not numbers: {angles}"
-        )
-    return angles
+    return until_still(
+        client,
+        names,
+        use_sensors=True,
+        tolerance=SETTLED,
+        wait=wait,
+        gap=gap,
+        moving="has a limp arm whose sensors still move: "
+        "the arm is still moving (limp, falling?)",
+    )
 
 
 def hold_command(
