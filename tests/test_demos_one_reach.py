@@ -21,6 +21,15 @@ def _held(seconds: float) -> list[list[str]]:
     return rows
 
 
+def _rest_swing_hold(rest: float, hold: float) -> list[list[str]]:
+    """``rest`` [s] still at the swing's start, the swing, ``hold`` [s] still."""
+    rows = _held(hold)
+    first, steps = rows[0], round(100 * rest)
+    lead = [[f"{k / 100:.2f}", *first[1:]] for k in range(steps)]
+    shifted = [[f"{float(r[0]) + rest:.2f}", *r[1:]] for r in rows]
+    return lead + shifted
+
+
 def _import(
     tmp_path: pathlib.Path, rows: list[list[str]], *more: str
 ) -> tuple[int, pathlib.Path]:
@@ -43,8 +52,9 @@ def test_a_reach_then_minutes_still_is_refused(
     assert code == 1
     assert capsys.readouterr().err == (
         f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' lasts "
-        "60.3 s, its wrist still for 60.0 s of it (100%; the wrist moves from "
-        "0.01 s to 0.29 s): a trial must be one reach, from its start to its "
+        "60.3 s, its wrist still for 60.0 s at its goal (at most 3 s; the wrist "
+        "moves from 0.01 s to 0.29 s): a trial must be one reach, from its start "
+        "to its "
         "goal, and armplan fit would count the stillness as reaching. Crop it "
         "to the reach, or give --allow-long to import it as it is\n"
     )
@@ -67,6 +77,18 @@ def test_a_reach_with_a_short_hold_is_one_reach(
     code, _ = _import(tmp_path, _held(1.5))
     assert code == 0
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize(("rest", "hold"), [(1.0, 1.0), (1.0, 2.0), (2.5, 2.5)])
+def test_a_rest_before_and_a_hold_after_are_judged_apart(
+    tmp_path: pathlib.Path, rest: float, hold: float
+) -> None:
+    """A capture's rest before the reach and its hold at the goal, each under
+    3 s, pass: judged together (with the reach's own slow ends), 1 s of each
+    was refused as 'still for most of it'."""
+    code, out = _import(tmp_path, _rest_swing_hold(rest, hold))
+    assert code == 0
+    assert len(read_demos(out).trials) == 1
 
 
 def test_a_trial_far_longer_than_a_reach_is_refused(
