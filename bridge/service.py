@@ -32,6 +32,8 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
+import zenoh
+
 from bridge.robot_bridge import RobotBridge
 from shared.bus import Bus, Endpoint
 from shared.bus.deadline import REPLY_MARGIN, current_due
@@ -161,11 +163,23 @@ class BridgeService:
                 self._lock.release()
                 return True
             if left <= 0.0:
-                log.warning("stop: a request is still being served; leaving it")
+                remaining = max(self._ends - time.monotonic(), 0.0)
+                log.warning(
+                    "stop: a request is still being served; leaving it: the robot "
+                    "plays its trajectory on, unwatched, for about %.1f s more",
+                    remaining,
+                )
                 return False
 
     def _publish_state(self, state: JointState) -> None:
-        self.bus.publish(BRIDGE_STATE_TOPIC, state)
+        """Publish a measured state; none once the bus has closed.
+
+        (A stop that left a trajectory playing: its readings go on.)
+        """
+        try:
+            self.bus.publish(BRIDGE_STATE_TOPIC, state)
+        except zenoh.ZError as error:
+            log.debug("state not published: %s", error)
 
     def endpoints(self) -> Sequence[Endpoint[Any, Any]]:
         """The bridge's endpoints: ``bridge/execute``."""

@@ -541,3 +541,21 @@ def test_a_sim_killed_mid_trajectory_errs_within_2_s_and_is_used_again(
     finally:
         first.stop()
         second.stop()
+
+
+def test_a_reading_after_the_bus_closed_is_dropped_not_raised() -> None:
+    """A stop that gave up on a long trajectory closes the bus while its
+    readings go on: each raised 'session closed' in the play's thread (an
+    untyped traceback in the bridge's log); now it is dropped."""
+    from bridge.robot_bridge import RobotBridge
+    from bridge.service import BridgeService
+    from shared.bus import open_router
+
+    config = BusConfig(endpoints=(free_endpoint(),))
+    state = JointState(time=0.5, joint_names=["RShoulderPitch"], positions=[0.1])
+    with open_router(config):
+        bus = Bus.connect(config)
+        service = BridgeService(bus, RobotBridge(client=None))  # type: ignore[arg-type]
+        service._publish_state(state)  # the bus is open: published
+        bus.close()
+        service._publish_state(state)  # closed: dropped
