@@ -42,6 +42,7 @@ from bridge.bezier_curve import CurvePeaks, played_curve
 from bridge.sim.log import read_log
 from bridge.timeline_keys import timeline_keys
 from bridge.tracking import MAX_LATENCY
+from services.fit.model_state import STATE_FILE
 from services.ik import check_reachable
 from services.planner.pipeline import plan
 from shared.bus import BusConfig, load_config
@@ -92,9 +93,10 @@ def alive(process: tuple[int, str]) -> bool:
 class Demo:
     """A running ``armplan demo`` and every process seen below it."""
 
-    def __init__(self, *args: str) -> None:
+    def __init__(self, *args: str, cwd: Path | None = None) -> None:
         self.process = subprocess.Popen(
             [sys.executable, "-m", "armplan", "demo", *args],
+            cwd=cwd,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             text=True,
@@ -177,7 +179,12 @@ class Finished(NamedTuple):
 @pytest.fixture(scope="module")
 def finished(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Finished]:
     out = tmp_path_factory.mktemp("demo") / "results"
-    demo = Demo("--out", str(out))
+    # A fit service's state file where the demo runs (a fit done there
+    # earlier), damaged: the demo's fit service must not read it (it read
+    # it, refused it and stopped the demo).
+    cwd = tmp_path_factory.mktemp("cwd")
+    (cwd / STATE_FILE).write_text("{not a model")
+    demo = Demo("--out", str(out), cwd=cwd)
     try:
         code, lines, stderr = demo.finish(RUN_TIMEOUT)
         leftovers = demo.leftovers()

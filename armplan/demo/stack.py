@@ -96,7 +96,13 @@ class DemoStack:
         with self._exits as exits:
             with _naming_log(self._log_path("services")):
                 self.launcher = exits.enter_context(
-                    Launcher(self.config, log=self._log("services"), stop=self._stop)
+                    Launcher(
+                        self.config,
+                        log=self._log("services"),
+                        stop=self._stop,
+                        # the shipped model, whatever a fit left in the cwd
+                        service_args={"fit": ["--state-dir", str(logs)]},
+                    )
                 )
             with _naming_log(self._log_path("bridge")):
                 self.robot = exits.enter_context(self._robot_stack())
