@@ -70,7 +70,7 @@ class IKCost(NamedTuple):
     ikpy: Timing
     ikpy_reached: float
     both: np.ndarray
-    load_average: tuple[float, float] = (0.0, 0.0)
+    load_average: tuple[float, float]
 
     def figures(self) -> dict[str, float]:
         """The JSON figures of ``armplan bench`` [ms, us, J]; ratios peer / ours."""
