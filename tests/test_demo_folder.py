@@ -78,3 +78,28 @@ def test_a_file_no_demo_wrote_is_refused_and_kept(tmp_path: Path, name: str) -> 
     assert path.read_text() == "mine\n"
     files = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
     assert files == {name}
+
+
+def test_a_folder_an_older_demo_wrote_is_replaced(
+    tmp_path: Path, busy_endpoint: str
+) -> None:
+    """The default ./armplan-demo of a demo from before the list: only the
+    demo's files, no list. Taken as an earlier run's (it was refused as 'not
+    from an earlier armplan demo', which broke the README's first command
+    after an upgrade); a stray file beside them keeps the refusal."""
+    out = tmp_path / "armplan-demo"
+    (out / "logs").mkdir(parents=True)
+    for name in ("trajectory.json", "report.json", "logs/services.log"):
+        (out / name).write_text("{}\\n")
+    result = demo(out, "--listen", busy_endpoint)  # fails fast, after the claim
+    assert "not from an earlier armplan demo" not in result.stderr
+    assert not (out / "report.json").exists()
+    assert (out / LIST_FILE).exists()
+
+    other = tmp_path / "mixed"
+    (other / "logs").mkdir(parents=True)
+    for name in ("trajectory.json", "report.json", "notes.txt"):
+        (other / name).write_text("{}\\n")
+    result = demo(other, "--listen", busy_endpoint)
+    assert "not from an earlier armplan demo" in result.stderr
+    assert (other / "report.json").read_text() == "{}\\n"

@@ -7,6 +7,11 @@ it writes in a hidden file, :data:`LIST_FILE`, before it writes any. A file
 of one of those names that no earlier run listed (the user's own
 ``play.py``, say) stops the run before anything starts, naming the file;
 other files (``logs/nao.log``) are never touched.
+
+A folder without that list that holds at least :data:`OLD_RUN_FILES` of
+the demo's files and nothing else is a demo's from before the list existed,
+such as the default ``./armplan-demo``: its files are replaced as an
+earlier run's. (Fewer, a file of the user's could pass for one.)
 """
 
 from __future__ import annotations
@@ -19,6 +24,12 @@ from shared.errors import InvalidInputError
 #: The list of the files the demo writes, inside the output folder.
 LIST_FILE = ".armplan-demo-files"
 _HEADER = "# files armplan demo writes here, replaced by its next run\n"
+#: Fewest of the demo's files, and nothing else, that make a folder without
+#: the list an earlier demo's (a demo that got as far as the robot wrote
+#: five or more).
+OLD_RUN_FILES = 3
+#: The demo's own hidden files (this run's claim on the folder, the list).
+OWN_PREFIX = ".armplan-demo"
 
 
 def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") -> None:
@@ -34,6 +45,8 @@ def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") 
             listed it (or it is a folder): naming that file; nothing removed.
     """
     earlier = _listed(out)
+    if not (out / LIST_FILE).exists() and _only_demo_files(out, names):
+        earlier = set(names)  # written before the demo listed its files
     present = [name for name in names if _present(out / name)]
     for name in present:
         path = out / name
@@ -57,6 +70,17 @@ def _listed(out: Path) -> set[str]:
     except (OSError, UnicodeDecodeError):
         return set()
     return {line for line in text.splitlines() if line and not line.startswith("#")}
+
+
+def _only_demo_files(out: Path, names: Sequence[str]) -> bool:
+    """Whether ``out`` holds ``OLD_RUN_FILES`` or more of ``names``, nothing else."""
+    try:
+        found = [p for p in out.rglob("*") if not p.is_dir() or p.is_symlink()]
+    except OSError:
+        return False
+    files = [p.relative_to(out).as_posix() for p in found]
+    files = [f for f in files if not f.startswith(OWN_PREFIX)]  # the run's claim
+    return all(f in names for f in files) and len(files) >= OLD_RUN_FILES
 
 
 def _present(path: Path) -> bool:
