@@ -175,4 +175,4 @@ class Bus(Closes):
         """
         self._alive.close()
         self.session.close()  # type: ignore[no-untyped-call]
-        join_forwarders(FORWARDERS_GRACE)
+        join_forwarders(self.session, FORWARDERS_GRACE)

@@ -50,8 +50,9 @@ EMPTY_PAUSE = 0.05
 #: Name of the threads that read a query's replies (``_forward``).
 FORWARDER = "zenoh-reply-forwarder"
 
-#: Forwarders still reading a query (the caller may have its answer already).
-_forwarders: set[threading.Thread] = set()
+#: Forwarders still reading a query (the caller may have its answer
+#: already), by the ``id`` of their query's session.
+_forwarders: dict[int, set[threading.Thread]] = {}
 _forwarders_lock = threading.Lock()
 
 
@@ -133,7 +134,7 @@ def _ask(
             timeout=left,
             attachment=budget_attachment(left),
         )
-        _start_forwarder(replies, inbox)
+        _start_forwarder(id(session), replies, inbox)
 
     send()
     open_queries, timed_out = 1, None
@@ -169,19 +170,24 @@ def _ask(
 
 
 def _start_forwarder(
-    replies: zenoh.Handler[zenoh.Reply], inbox: queue.SimpleQueue[zenoh.Reply | None]
+    session: int,
+    replies: zenoh.Handler[zenoh.Reply],
+    inbox: queue.SimpleQueue[zenoh.Reply | None],
 ) -> None:
-    """Read ``replies`` into ``inbox`` on a thread of its own (``_forward``)."""
+    """Read ``replies`` into ``inbox`` on a thread of its own (``_forward``).
+
+    ``session``: the ``id`` of the query's session.
+    """
     thread = threading.Thread(
-        target=_forward, args=(replies, inbox), name=FORWARDER, daemon=True
+        target=_forward, args=(session, replies, inbox), name=FORWARDER, daemon=True
     )
     with _forwarders_lock:
-        _forwarders.add(thread)
+        _forwarders.setdefault(session, set()).add(thread)
     thread.start()
 
 
-def join_forwarders(timeout: float) -> None:
-    """Wait up to ``timeout`` [s] in all for the reply forwarders to end.
+def join_forwarders(session: zenoh.Session, timeout: float) -> None:
+    """Wait up to ``timeout`` [s] in all for ``session``'s reply forwarders to end.
 
     Called once the session is closed, which ends its queries. A forwarder
     that the first answer left reading a query still open (its queryable
@@ -193,13 +199,15 @@ def join_forwarders(timeout: float) -> None:
     """
     end = time.monotonic() + timeout
     with _forwarders_lock:
-        pending = list(_forwarders)
+        pending = list(_forwarders.get(id(session), ()))
     for thread in pending:
         thread.join(max(end - time.monotonic(), 0.0))
 
 
 def _forward(
-    replies: zenoh.Handler[zenoh.Reply], inbox: queue.SimpleQueue[zenoh.Reply | None]
+    session: int,
+    replies: zenoh.Handler[zenoh.Reply],
+    inbox: queue.SimpleQueue[zenoh.Reply | None],
 ) -> None:
     """Put a query's replies into ``inbox``, then ``None`` when the query ends.
 
@@ -213,7 +221,10 @@ def _forward(
         inbox.put(None)
     finally:
         with _forwarders_lock:
-            _forwarders.discard(threading.current_thread())
+            threads = _forwarders.get(session, set())
+            threads.discard(threading.current_thread())
+            if not threads:
+                _forwarders.pop(session, None)
 
 
 def _is_timeout(reply: zenoh.Reply) -> bool:
