@@ -149,3 +149,7 @@ def test_a_failed_demo_start_names_the_log_to_read(
         f"with code 1 while starting (see its log {log})\n"
     )
     assert "Address already in use" in log.read_text()
+    # the endpoint came from --listen, not from config/zenoh.json5 (it said)
+    assert "Zenoh configuration --listen/--connect (listen/endpoints)" in (
+        log.read_text()
+    )

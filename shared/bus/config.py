@@ -98,6 +98,8 @@ class BusConfig:
         source: Where the settings came from (file path or "built-in defaults").
         router_text: The file's JSON5 text, the base of the router's config, or
             ``None`` for the built-in defaults.
+        endpoints_from: The option the endpoints came from
+            (``with_endpoints``), or ``""`` if from ``source``.
     """
 
     endpoints: tuple[str, ...] = (DEFAULT_ENDPOINT,)
@@ -110,6 +112,7 @@ class BusConfig:
     client_settings: tuple[tuple[str, str], ...] = ()
     source: str = "built-in defaults"
     router_text: str | None = None
+    endpoints_from: str = ""
 
     def __post_init__(self) -> None:
         if not self.endpoints:
@@ -147,7 +150,7 @@ class BusConfig:
         """
         for endpoint in endpoints:
             check_endpoint(endpoint, source)
-        return replace(self, endpoints=tuple(endpoints))
+        return replace(self, endpoints=tuple(endpoints), endpoints_from=source)
 
     @property
     def file(self) -> str | None:

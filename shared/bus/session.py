@@ -93,7 +93,7 @@ def open_router(config: BusConfig, zid: str | None = None) -> zenoh.Session:
         raise BusConfigError(
             f"cannot listen on {', '.join(config.endpoints)} ({_short(error)})"
             f"{_router_hint(str(error))}",
-            source=config.source,
+            source=config.endpoints_from or config.source,
             setting="listen/endpoints",
         ) from None
 
