@@ -54,8 +54,10 @@ from shared.robot.postures import forward
 
 #: Longest a demo run may take on a loaded machine [s].
 RUN_TIMEOUT = 240.0
-#: Longest a demo may take to stop everything after Ctrl-C [s].
-STOP_TIMEOUT = 40.0
+#: Longest a demo may take to stop everything after Ctrl-C [s]: the bridge
+#: alone may take 35 s (``armplan.launch``'s grace for it, to watch a
+#: trajectory playing to its end), and a loaded machine more.
+STOP_TIMEOUT = 90.0
 
 
 def _stat(pid: int) -> tuple[int, str, str] | None:
