@@ -6,15 +6,21 @@ import argparse
 import importlib
 import os
 import pkgutil
+import signal
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from types import ModuleType
 
 from armplan import __version__
 from armplan.cli import commands as commands_package
 from armplan.cli.output import report_error
 from armplan.cli.parsing import ArgumentParser
-from armplan.cli.termination import INTERRUPTED_CODE, TERMINATED_CODE, Terminated
+from armplan.cli.termination import (
+    INTERRUPTED_CODE,
+    TERMINATED_CODE,
+    Terminated,
+    stopped_by,
+)
 from shared.errors import ArmplanError
 
 
@@ -50,20 +56,46 @@ def main(argv: Sequence[str] | None = None) -> int:
     command stops on it as on Ctrl-C).
     """
     args = build_parser().parse_args(argv)
+    return run_command(args.run, args)
+
+
+def run_command(
+    run: Callable[[argparse.Namespace], int], args: argparse.Namespace
+) -> int:
+    """``run(args)``'s exit code, with errors and signals reported on stderr.
+
+    An error raised after SIGTERM or Ctrl-C arrived is reported as that
+    signal: it is how the signal's exception came out (see
+    :mod:`armplan.cli.termination`), not a failure of the command.
+    """
     try:
-        return int(args.run(args))
+        code = int(run(args))
+    except KeyboardInterrupt as stop:  # Terminated: SIGTERM (demo)
+        kind = signal.SIGTERM if isinstance(stop, Terminated) else signal.SIGINT
+        return _stopped(stopped_by() or kind)
     except ArmplanError as error:
+        if (signum := stopped_by()) is not None:
+            return _stopped(signum)
         return report_error(error, getattr(args, "json", False))
-    except Terminated:  # SIGTERM where the command handles it (demo)
-        sys.stderr.write("armplan: terminated\n")
-        return TERMINATED_CODE
-    except KeyboardInterrupt:
-        sys.stderr.write("armplan: interrupted\n")
-        return INTERRUPTED_CODE
     except BrokenPipeError:  # e.g. `armplan ... | head`: the reader left
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # no second error at exit
         return 0
+    except Exception:
+        if (signum := stopped_by()) is not None:
+            return _stopped(signum)
+        raise
+    signum = stopped_by()
+    return code if signum is None else _stopped(signum)
+
+
+def _stopped(signum: signal.Signals) -> int:
+    """Say which signal stopped the command; its exit code (143 or 130)."""
+    if signum == signal.SIGTERM:
+        sys.stderr.write("armplan: terminated\n")
+        return TERMINATED_CODE
+    sys.stderr.write("armplan: interrupted\n")
+    return INTERRUPTED_CODE
 
 
 if __name__ == "__main__":

@@ -5,15 +5,25 @@
 must do the same clean-up, so it raises :class:`Terminated`, a kind of
 ``KeyboardInterrupt``. The command then exits 143 ("terminated"), the code
 a shell gives a process ended by SIGTERM, not Ctrl-C's 130.
+
+A signal's exception is raised in whatever code runs when it lands, and
+some code turns it into another error: pydantic-core, for one, reports a
+``KeyboardInterrupt`` raised inside a serializer as a
+``PydanticSerializationError``. So the handlers also remember the signal,
+and :func:`stopped_by` tells the command's caller which one ended the run,
+whatever the exception became on its way out.
 """
 
 from __future__ import annotations
 
 import signal
+from types import FrameType
 
 #: Exit codes: 128 + the signal's number.
 INTERRUPTED_CODE = 128 + signal.SIGINT
 TERMINATED_CODE = 128 + signal.SIGTERM
+
+_received: list[signal.Signals] = []
 
 
 class Terminated(KeyboardInterrupt):
@@ -21,9 +31,28 @@ class Terminated(KeyboardInterrupt):
 
 
 def terminate_on_sigterm() -> None:
-    """From now on SIGTERM raises :class:`Terminated` in the main thread."""
+    """From now on SIGTERM raises :class:`Terminated` in the main thread.
 
-    def terminate(signum: int, frame: object) -> None:
+    Ctrl-C still raises ``KeyboardInterrupt``; both signals are remembered.
+    """
+
+    def terminate(signum: int, frame: FrameType | None) -> None:
+        _received.append(signal.SIGTERM)
         raise Terminated
 
+    def interrupt(signum: int, frame: FrameType | None) -> None:
+        _received.append(signal.SIGINT)
+        raise KeyboardInterrupt
+
     signal.signal(signal.SIGTERM, terminate)
+    signal.signal(signal.SIGINT, interrupt)
+
+
+def stopped_by() -> signal.Signals | None:
+    """The first signal that told this process to stop, if one did."""
+    return _received[0] if _received else None
+
+
+def forget_signals() -> None:
+    """Forget the signals received (for a process that runs commands again)."""
+    _received.clear()

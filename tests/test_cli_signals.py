@@ -1,0 +1,114 @@
+"""A signal is reported as itself, whatever exception it surfaced as.
+
+SIGTERM's handler raises :class:`Terminated` in whatever code runs when it
+lands. Inside a pydantic serializer, pydantic-core reports it as a
+``PydanticSerializationError``; ``armplan demo`` then exited 1 with that
+error instead of 143 ("terminated"). Here the signal is sent from inside a
+real serializer, so it lands there every time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+from collections.abc import Iterator
+from typing import Any
+
+import pydantic
+import pytest
+from pydantic_core import PydanticSerializationError
+
+from armplan.cli.main import run_command
+from armplan.cli.termination import forget_signals, terminate_on_sigterm
+from shared.errors import InvalidInputError
+
+
+@pytest.fixture
+def handlers() -> Iterator[None]:
+    """The CLI's signal handlers, then pytest's again."""
+    held = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    forget_signals()
+    terminate_on_sigterm()
+    try:
+        yield
+    finally:
+        for signum, handler in held.items():
+            signal.signal(signum, handler)
+        forget_signals()
+
+
+class Signalling(pydantic.BaseModel):
+    """A message whose serializer receives ``signum`` while it runs."""
+
+    signum: int
+
+    @pydantic.model_serializer(mode="wrap")
+    def _serialize(self, handler: Any) -> Any:
+        os.kill(os.getpid(), self.signum)
+        return handler(self)
+
+
+def _serializing(signum: signal.Signals) -> Any:
+    def run(args: argparse.Namespace) -> int:
+        Signalling(signum=signum).model_dump_json()
+        return 0
+
+    return run
+
+
+@pytest.mark.parametrize(
+    ("signum", "code", "said"),
+    [
+        (signal.SIGTERM, 143, "armplan: terminated\n"),
+        (signal.SIGINT, 130, "armplan: interrupted\n"),
+    ],
+)
+def test_a_signal_inside_a_serializer_is_reported_as_the_signal(
+    handlers: None,
+    capsys: pytest.CaptureFixture[str],
+    signum: signal.Signals,
+    code: int,
+    said: str,
+) -> None:
+    """The exception comes out as pydantic's, yet the exit code is the signal's."""
+    with pytest.raises(PydanticSerializationError):
+        _serializing(signum)(argparse.Namespace())  # what used to reach main
+    forget_signals()
+    assert run_command(_serializing(signum), argparse.Namespace()) == code
+    assert capsys.readouterr().err == said
+
+
+def test_an_armplan_error_after_sigterm_is_reported_as_terminated(
+    handlers: None, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An error raised while SIGTERM unwinds the command (a stop that fails
+    because the bus closed) does not hide that SIGTERM ended it."""
+
+    def run(args: argparse.Namespace) -> int:
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+        finally:
+            raise InvalidInputError("the bus closed meanwhile")
+
+    assert run_command(run, argparse.Namespace(json=False)) == 143
+    assert capsys.readouterr().err == "armplan: terminated\n"
+
+
+def test_without_a_signal_errors_are_reported_as_before(
+    handlers: None, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """No signal: an armplan error exits 1 naming what was wrong; another
+    error is not swallowed."""
+
+    def bad_input(args: argparse.Namespace) -> int:
+        raise InvalidInputError("the task file names no target")
+
+    assert run_command(bad_input, argparse.Namespace(json=False)) == 1
+    assert "the task file names no target" in capsys.readouterr().err
+
+    def serializing(args: argparse.Namespace) -> int:
+        raise PydanticSerializationError("not a signal")
+
+    with pytest.raises(PydanticSerializationError):
+        run_command(serializing, argparse.Namespace(json=False))
