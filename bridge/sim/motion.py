@@ -231,12 +231,17 @@ class SimulatedMotion:
         return self._robot.resources_available(expand_names(resourceNames))
 
     def killTasksUsingResources(self, resourceNames: Any) -> None:
-        """Stop the commands using any of these joints or chains; they hold."""
+        """Stop the commands using any of these joints or chains; they hold.
+
+        Logged once it has acted, not on arrival: a stop that waits while a
+        long call is being applied ends that call, and its entry then
+        follows the call's, as its effect does.
+        """
         joints = expand_names(resourceNames)
-        self._log.write("call", method="killTasksUsingResources", joints=joints)
         self._robot.stop_using(joints, "killTasksUsingResources")
+        self._log.write("call", method="killTasksUsingResources", joints=joints)
 
     def killAll(self) -> None:
-        """Stop every command; joints hold where they are."""
-        self._log.write("call", method="killAll")
+        """Stop every command; joints hold where they are (logged once done)."""
         self._robot.stop_all("killAll")
+        self._log.write("call", method="killAll")
