@@ -295,8 +295,10 @@ def test_a_killed_call_returns_normally_on_the_sim_so_told(
         future = motion.angleInterpolation(
             "RShoulderPitch", start - 0.5, 2.0, True, _async=True
         )
-        threading.Timer(0.3, motion.killAll).start()
+        kill = threading.Timer(0.3, motion.killAll)
+        kill.start()
         future.wait(5000)
+        kill.join()  # done on the open session, never after it closed
         assert future.isFinished() and not future.hasError()
 
 
@@ -310,9 +312,11 @@ def test_a_movement_the_robot_ends_early_is_an_error(
         reach = minimum_jerk_trajectory(
             "right", [rest("right"), forward("right")], [2.0]
         )
-        threading.Timer(0.8, motion.killAll).start()
+        kill = threading.Timer(0.8, motion.killAll)
+        kill.start()
         with pytest.raises(RobotStateError) as caught:
             bridge.execute(reach)
+        kill.join()
     assert "the robot ended the movement at t = " in caught.value.message
     assert "of 2.00 s" in caught.value.message
 
