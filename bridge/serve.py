@@ -26,17 +26,17 @@ from collections.abc import Sequence
 
 from bridge.address import ROBOT_ENV, robot_url
 from bridge.awake import ALLOW_NOT_AWAKE
+from bridge.claim import sole_bridge
 from bridge.follower import TrajectoryFollower
 from bridge.frames import DEFAULT_RATE
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
 from shared.bus import Bus, ServiceHost, load_config
-from shared.bus.keys import alive_key
 from shared.bus.login import check_login
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.robot_routes import BRIDGE
-from shared.errors import ArmplanError, ServiceRunningError, ServiceUnavailableError
+from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.bridge")
 
@@ -85,23 +85,6 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
-def check_alone(bus: Bus) -> None:
-    """Refuse to start beside another bridge in the namespace.
-
-    Asked of the router (a liveliness query) before this bridge declares
-    anything. Two bridges starting at the same moment may both pass.
-
-    Raises:
-        ServiceRunningError: ``<ns>/alive/bridge`` is held already.
-    """
-    if BRIDGE in bus.alive():
-        raise ServiceRunningError(
-            BRIDGE,
-            key=alive_key(bus.config.namespace, BRIDGE),
-            why="two bridges would both play every request on the robot",
-        )
-
-
 def run(args: argparse.Namespace) -> None:
     """Serve until asked to stop (``start_process`` installed the handlers)."""
     stop = start_process(args.log_level)
@@ -117,8 +100,7 @@ def run(args: argparse.Namespace) -> None:
                 raise
             log.info("bridge: asked to stop before a router answered")
             return
-        with bus:
-            check_alone(bus)
+        with bus, sole_bridge(bus, stop):
             bridge = RobotBridge(
                 client, rate=args.rate, require_awake=not args.allow_not_awake
             )

@@ -30,12 +30,14 @@ from armplan.secure import (
     SecureSetupError,
     write_bundle,
 )
+from bridge.claim import claim_key, sole_bridge
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import IK_SOLVE, PLAN, ROUTES, TRAJECTORY_TOPIC
 from shared.bus.topics import BRIDGE_FRAMES_TOPIC, TOPICS
 from shared.errors import (
     RequestTimeoutError,
+    ServiceRunningError,
     ServiceUnavailableError,
 )
 from shared.messages import IKRequest, PlanRequest, Trajectory
@@ -119,6 +121,15 @@ def test_each_process_holds_only_its_own_token() -> None:
             key = f"{NS}/alive/{other}"
             mine = user == other and user != "client"
             assert ACL.allows(user, "liveliness_token", "ingress", key) is mine
+
+
+def test_only_the_bridge_claims_the_robot() -> None:
+    """Only the bridge may hold and look up a bridge's claim (bridge/claim.py)."""
+    key = claim_key(NS, 1, "0a")
+    for user in PROCESS_USERS:
+        mine = user == "bridge"
+        assert ACL.allows(user, "liveliness_token", "ingress", key) is mine
+        assert ACL.allows(user, "liveliness_query", "ingress", key) is mine
 
 
 def test_the_evaluator_can_say_no() -> None:
@@ -418,6 +429,31 @@ def test_nobody_impersonates_the_planner(secured: Bundle) -> None:
         assert isinstance(client.call(PLAN, REACH, timeout=60.0), Trajectory)
         queryable.undeclare()  # type: ignore[no-untyped-call]
     assert impostor == []
+
+
+def test_of_two_bridges_claiming_at_once_one_gives_way(secured: Bundle) -> None:
+    """Logged in as the bridge, two sessions claim the robot at once: the
+    access rules let the claims through, so one gives way (were they
+    denied, both would see none and both would run)."""
+    outcomes: dict[int, str] = {}
+    together = threading.Barrier(2)
+
+    def claim(number: int) -> None:
+        with Bus.connect(load_config(secured.clients["bridge"])) as bus:
+            together.wait(30.0)
+            try:
+                with sole_bridge(bus, threading.Event()):
+                    outcomes[number] = "runs"
+                    time.sleep(1.0)  # held while the other looks
+            except ServiceRunningError:
+                outcomes[number] = "gave way"
+
+    threads = [threading.Thread(target=claim, args=(n,)) for n in (0, 1)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(60.0)
+    assert sorted(outcomes.values()) == ["gave way", "runs"]
 
 
 def test_a_service_holds_no_other_token(secured: Bundle) -> None:
