@@ -141,3 +141,37 @@ def test_the_sim_process_refuses_a_folder_as_log(tmp_path: Path) -> None:
         "Is a directory\n"
     )
     assert READY not in done.stdout
+
+
+def test_a_sag_out_of_range_is_refused() -> None:
+    """--limp-sag 20: armplan's one-line error, before the sim starts."""
+    assert_refused(
+        armplan_sim("--listen", "tcp://127.0.0.1:0", "--limp-sag", "20"),
+        "armplan: error: --limp-sag must be 0..10 s, got 20.0\n",
+    )
+
+
+def test_the_sim_options_reach_the_sim() -> None:
+    """``armplan sim --grip 0.3``: the hand closes on the object, 0.3 open
+    (the options docs/robot.md lists were ``python -m bridge.sim``'s only)."""
+    import qi
+
+    command = [sys.executable, "-m", "armplan", "sim", "--listen", "tcp://127.0.0.1:0"]
+    command += ["--grip", "0.3", "--limp-sag", "0.3", "--killed-calls-return"]
+    process = subprocess.Popen(
+        command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert process.stdout is not None
+        line = next(x for x in process.stdout if x.startswith(READY))
+        session = qi.Session()
+        session.connect(line.split()[-1])
+        try:
+            motion = session.service("ALMotion")
+            motion.angleInterpolation("RHand", 0.0, 0.5, True)
+            assert motion.getAngles("RHand", True)[0] == pytest.approx(0.3)
+        finally:
+            session.close()
+    finally:
+        process.terminate()
+        process.communicate(timeout=10)
