@@ -23,9 +23,10 @@ from collections.abc import Sequence
 from typing import TextIO
 
 from bridge.awake import ALLOW_NOT_AWAKE
+from bridge.frames import check_rate
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
-from shared.errors import ArmplanError, InternalServiceError
+from shared.errors import ArmplanError, InternalServiceError, InvalidInputError
 from shared.messages import ExecuteRequest, parse
 
 log = logging.getLogger("armplan.bridge")
@@ -83,6 +84,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         "means",
     )
     args = parser.parse_args(argv)
+    try:
+        check_rate(args.rate)
+    except InvalidInputError as error:
+        parser.error(error.message)
     replies = replies_stream()
     client = NaoqiClient(args.robot)
     try:

@@ -14,6 +14,7 @@ from bridge.hand import with_hand_joint
 from bridge.interpolation import positions_at, velocities_at
 from shared.errors import InvalidInputError
 from shared.messages import CommandFrames, Trajectory
+from shared.messages.base import MAX_RATE, MIN_RATE
 
 #: Choregraphe's default timeline frame rate [Hz].
 DEFAULT_RATE = 25.0
@@ -22,6 +23,20 @@ DEFAULT_RATE = 25.0
 #: call, took libqi so long to convert that the robot stopped answering
 #: getAngles (100 000 frames to the simulated NAO).
 MAX_FRAMES = 45_000
+
+
+def check_rate(rate: float, what: str = "--rate") -> float:
+    """``rate`` [Hz] if a request could name it (``MIN_RATE``..``MAX_RATE``).
+
+    Raises:
+        InvalidInputError: out of that range, or not a number, naming ``what``.
+    """
+    if not MIN_RATE <= rate <= MAX_RATE:  # NaN too
+        raise InvalidInputError(
+            f"{what} must be a frame rate of {MIN_RATE:g}..{MAX_RATE:g} Hz, got {rate}",
+            field="rate",
+        )
+    return rate
 
 
 def frame_times(duration: float, rate: float = DEFAULT_RATE) -> np.ndarray:

@@ -56,7 +56,7 @@ from bridge.at_rest import angles_at_rest
 from bridge.awake import check_awake
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
-from bridge.frames import DEFAULT_RATE
+from bridge.frames import DEFAULT_RATE, check_rate
 from bridge.hand import with_hand
 from bridge.in_time import check_in_time
 from bridge.limits import FrameLimits
@@ -116,9 +116,12 @@ class RobotBridge:
             sample_period: Time between readings [s].
             require_awake: Refuse to play on a robot that is not awake
                 (False: ``--allow-not-awake``, a robot held up otherwise).
+
+        Raises:
+            InvalidInputError: ``rate`` is no frame rate a request could name.
         """
         self.client = client
-        self.rate = rate
+        self.rate = check_rate(rate, "the bridge's frame rate")
         self.sample_period = sample_period
         self.require_awake = require_awake
         self._limits = limits or {side: FrameLimits.for_arm(side) for side in Side}

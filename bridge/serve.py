@@ -28,7 +28,7 @@ from bridge.address import ROBOT_ENV, robot_url
 from bridge.awake import ALLOW_NOT_AWAKE
 from bridge.claim import sole_bridge
 from bridge.follower import TrajectoryFollower
-from bridge.frames import DEFAULT_RATE
+from bridge.frames import DEFAULT_RATE, check_rate
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
@@ -88,6 +88,7 @@ def parser() -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> None:
     """Serve until asked to stop (``start_process`` installed the handlers)."""
     stop = start_process(args.log_level)
+    check_rate(args.rate)
     url = robot_url(args.robot)
     config = load_config(args.config, tuple(args.connect or ()))
     check_login(config, BRIDGE)  # another user's file: cut off, yet moving the robot
