@@ -72,8 +72,9 @@ def test_a_file_no_demo_wrote_is_refused_and_kept(tmp_path: Path, name: str) -> 
     result = demo(out)
     assert result.returncode == 1, result.stderr
     assert (
-        f"armplan: error: cannot write into {out} (--out): {path} is not from an "
-        "earlier armplan demo" in result.stderr
+        f"armplan: error: cannot write into {out} (--out): {path} is not known to "
+        f"be from an earlier armplan demo: the folder has no {LIST_FILE} list of "
+        "the demo's files, and 1 of them (fewer than 3) do not tell" in result.stderr
     )
     assert path.read_text() == "mine\n"
     files = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
@@ -101,5 +102,25 @@ def test_a_folder_an_older_demo_wrote_is_replaced(
     for name in ("trajectory.json", "report.json", "notes.txt"):
         (other / name).write_text("{}\\n")
     result = demo(other, "--listen", busy_endpoint)
-    assert "not from an earlier armplan demo" in result.stderr
+    assert (
+        "may be from an earlier armplan demo, but the folder has no "
+        f"{LIST_FILE} list of the demo's files and holds {other / 'notes.txt'} too, "
+        "so it cannot tell" in result.stderr
+    )
     assert (other / "report.json").read_text() == "{}\\n"
+
+
+def test_a_file_where_the_demo_keeps_its_logs_is_refused(tmp_path: Path) -> None:
+    """OUT/logs a file: one line naming it, before anything is written (it
+    was a FileExistsError traceback, after the list had been written)."""
+    out = tmp_path / "here"
+    out.mkdir()
+    (out / "logs").write_text("not a folder\n")
+    result = demo(out)
+    assert result.returncode == 1, result.stderr
+    assert result.stderr == (
+        f"armplan: error: cannot write into {out} (--out): {out / 'logs'} is not a "
+        "folder and the demo writes its logs there; move it away or give another "
+        "--out\n"
+    )
+    assert sorted(p.name for p in out.iterdir()) == ["logs"]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NamedTuple
 
 from shared.errors import InvalidInputError
 
@@ -42,25 +43,52 @@ def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") 
 
     Raises:
         InvalidInputError: one of ``names`` is in ``out`` but no earlier demo
-            listed it (or it is a folder): naming that file; nothing removed.
+            listed it (or it is a folder), or a folder of theirs (``logs``)
+            is a file: naming that path; nothing removed.
     """
-    earlier = _listed(out)
-    if not (out / LIST_FILE).exists() and _only_demo_files(out, names):
-        earlier = set(names)  # written before the demo listed its files
+    _check_folders(out, names, option)
     present = [name for name in names if _present(out / name)]
+    earlier, why = _listed(out), "is not from an earlier armplan demo"
+    if present and not (out / LIST_FILE).exists():
+        earlier, why = _unlisted(out, names)
     for name in present:
         path = out / name
         if name not in earlier or path.is_dir():
+            reason = "is a folder" if path.is_dir() else why
             raise InvalidInputError(
-                f"cannot write into {out} ({option}): {path} is not from an "
-                "earlier armplan demo and the demo would replace it; move it "
-                f"away or give another {option}",
+                f"cannot write into {out} ({option}): {path} {reason}, and the demo "
+                f"would replace it; move it away or give another {option}",
                 field=option.lstrip("-"),
                 path=str(path),
             )
     for name in present:
         (out / name).unlink()
     _write_list(out, names, option)
+
+
+def _unlisted(out: Path, names: Sequence[str]) -> tuple[set[str], str]:
+    """The names taken as an earlier run's in a folder without the list.
+
+    Returns:
+        Those names (all of the demo's, or none), and why a file of the
+        demo's names is not taken for an earlier run's (for the error).
+    """
+    try:
+        look = _look(out, names)
+    except OSError as error:
+        return set(), f"cannot be told from a file of yours ({error.strerror})"
+    if look.other is None and look.count >= OLD_RUN_FILES:
+        return set(names), ""  # written before the demo listed its files
+    if look.other is not None:
+        return set(), (
+            f"may be from an earlier armplan demo, but the folder has no {LIST_FILE} "
+            f"list of the demo's files and holds {look.other} too, so it cannot tell"
+        )
+    return set(), (
+        f"is not known to be from an earlier armplan demo: the folder has no "
+        f"{LIST_FILE} list of the demo's files, and {look.count} of them (fewer "
+        f"than {OLD_RUN_FILES}) do not tell"
+    )
 
 
 def _listed(out: Path) -> set[str]:
@@ -72,15 +100,55 @@ def _listed(out: Path) -> set[str]:
     return {line for line in text.splitlines() if line and not line.startswith("#")}
 
 
-def _only_demo_files(out: Path, names: Sequence[str]) -> bool:
-    """Whether ``out`` holds ``OLD_RUN_FILES`` or more of ``names``, nothing else."""
-    try:
-        found = [p for p in out.rglob("*") if not p.is_dir() or p.is_symlink()]
-    except OSError:
-        return False
-    files = [p.relative_to(out).as_posix() for p in found]
-    files = [f for f in files if not f.startswith(OWN_PREFIX)]  # the run's claim
-    return all(f in names for f in files) and len(files) >= OLD_RUN_FILES
+class _Look(NamedTuple):
+    """What a folder without the list holds: the demo's files, and the first other."""
+
+    count: int
+    other: Path | None
+
+
+def _look(out: Path, names: Sequence[str]) -> _Look:
+    """Count the demo's files in ``out``, up to the first other file or folder.
+
+    Only the demo's own folders (``logs``) are looked into, and the look
+    ends at the first other file or folder: ``--out`` may name a large
+    tree (``--out .`` in a home folder), which must not be walked.
+    """
+    folders = {name.split("/")[0] for name in names if "/" in name}
+    count = 0
+    pending = [out]
+    while pending:
+        for entry in pending.pop().iterdir():
+            name = entry.relative_to(out).as_posix()
+            if name.startswith(OWN_PREFIX):  # the run's claim
+                continue
+            if entry.is_dir() and not entry.is_symlink():
+                if name not in folders:
+                    return _Look(count, entry)
+                pending.append(entry)
+            elif name in names:
+                count += 1
+            else:
+                return _Look(count, entry)
+    return _Look(count, None)
+
+
+def _check_folders(out: Path, names: Sequence[str], option: str) -> None:
+    """Refuse if a folder the demo writes into (``logs``) is something else.
+
+    Raises:
+        InvalidInputError: ``out/logs`` is a file (or a broken link), naming it.
+    """
+    for folder in dict.fromkeys(n.split("/")[0] for n in names if "/" in n):
+        path = out / folder
+        if _present(path) and not path.is_dir():
+            raise InvalidInputError(
+                f"cannot write into {out} ({option}): {path} is not a folder and "
+                f"the demo writes its {folder} there; move it away or give "
+                f"another {option}",
+                field=option.lstrip("-"),
+                path=str(path),
+            )
 
 
 def _present(path: Path) -> bool:
