@@ -557,10 +557,13 @@ class ServiceBusyError(ArmplanError):
 
     kind = "service_busy"
 
-    def __init__(self, service: str, *, key: str, queued: int) -> None:
+    def __init__(
+        self, service: str, *, key: str, queued: int, why: str | None = None
+    ) -> None:
+        """``why``: what keeps it busy (default: the ``queued`` requests waiting)."""
+        busy = why or f"{queued} requests are already waiting"
         super().__init__(
-            f"service {service!r} refused {key}: {queued} requests are already "
-            "waiting; try again later",
+            f"service {service!r} refused {key}: {busy}; try again later",
             service=service,
             key=key,
             queued=int(queued),

@@ -94,7 +94,13 @@ class CurrentModel:
         """
         key = FIT.key(self._bus.config.namespace)
         if not self._fitting.acquire(blocking=False):
-            raise ServiceBusyError(FIT.service, key=key, queued=1)
+            raise ServiceBusyError(
+                FIT.service,
+                key=key,
+                queued=0,
+                why="a fit is running (one at a time); its model is served when "
+                "it ends",
+            )
         try:
             return self._fit(request, key)
         finally:
