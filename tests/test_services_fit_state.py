@@ -8,6 +8,7 @@ Real processes: the router and the fit service (``armplan.launch.Launcher``),
 from __future__ import annotations
 
 import json
+import os
 import pathlib
 import signal
 import subprocess
@@ -189,3 +190,41 @@ def test_plan_model_plans_with_the_given_model(
     bad.write_text(json.dumps({"version": 1}))
     assert main(["plan", "--target", *target, "--model", str(bad)]) == 1
     assert "malformed motion model" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("problem", ["missing", "file"])
+def test_a_state_dir_that_cannot_keep_the_model_stops_the_service(
+    tmp_path: pathlib.Path, problem: str
+) -> None:
+    """``--state-dir`` missing or a file: exit 1 naming it, before connecting
+    (it started, and each fit's model was lost at the next restart)."""
+    where = tmp_path / "state"
+    if problem == "file":
+        where.write_text("not a folder\n")
+    out = run_fit_service("--state-dir", str(where), "--wait", "0.5")
+    assert out.returncode == 1
+    said = "no such folder" if problem == "missing" else "not a folder"
+    assert f"--state-dir {where}: {said}; the fit service keeps" in out.stderr
+    assert "router" not in out.stderr.split(said)[0]
+
+
+def test_a_default_state_dir_that_cannot_keep_the_model_is_warned_of(
+    tmp_path: pathlib.Path,
+) -> None:
+    """The default folder ($ARMPLAN_DEMOS_DIR) missing: the service still
+    starts (it is not the operator's choice) but says at once that a fitted
+    model will not survive a restart."""
+    missing = tmp_path / "no-demos-here"
+    command = [sys.executable, "-m", "services.fit", "--wait", "0.5"]
+    out = subprocess.run(
+        [*command, "--connect", free_endpoint()],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+        env={**os.environ, "ARMPLAN_DEMOS_DIR": str(missing)},
+    )
+    assert (
+        f"a fitted model will be served but not kept for a restart: {missing}: "
+        "no such folder (give --state-dir DIR)" in out.stderr
+    )

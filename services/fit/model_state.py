@@ -15,12 +15,13 @@ from __future__ import annotations
 
 import hashlib
 import logging
+import tempfile
 from pathlib import Path
 from typing import NamedTuple
 
 from services.fit.default import default_model, default_model_path
 from services.fit.model_file import load_model, save_model
-from shared.errors import ModelFileError
+from shared.errors import InvalidInputError, ModelFileError
 from shared.messages import MotionModel
 
 log = logging.getLogger("armplan.fit")
@@ -53,6 +54,50 @@ def digest(model: MotionModel) -> str:
 def state_file(state_dir: Path) -> Path:
     """The state file in ``state_dir``."""
     return state_dir / STATE_FILE
+
+
+def check_state_dir(state_dir: Path, given: bool) -> None:
+    """Make sure the served model can be kept in ``state_dir``, or say so.
+
+    A folder that is missing or cannot be written in used to be found out
+    at the first fit, in a log line, and the lab's model was lost at the
+    next restart.
+
+    Args:
+        state_dir: Where the state file goes.
+        given: Whether it was named (``--state-dir``) rather than the default.
+
+    Raises:
+        InvalidInputError: ``given`` and the folder is missing, no folder, or
+            not writable. The default folder only gets a warning at start.
+    """
+    problem = _unwritable(state_dir)
+    if problem is None:
+        return
+    if given:
+        raise InvalidInputError(
+            f"--state-dir {state_dir}: {problem}; the fit service keeps the "
+            "model it serves there for a restart",
+            field="state_dir",
+            path=str(state_dir),
+        )
+    log.warning(
+        "a fitted model will be served but not kept for a restart: %s: %s "
+        "(give --state-dir DIR)",
+        state_dir,
+        problem,
+    )
+
+
+def _unwritable(folder: Path) -> str | None:
+    """Why no file can be written in ``folder``, or ``None`` if one can."""
+    if not folder.is_dir():
+        return "no such folder" if not folder.exists() else "not a folder"
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".armplan-fit-probe-"):
+            return None
+    except OSError as error:
+        return f"cannot write in it ({error.strerror})"
 
 
 def start_model(model_file: str | None, state: Path | None) -> StartModel:

@@ -24,7 +24,7 @@ from typing import Any
 
 from services.fit.current_model import CurrentModel
 from services.fit.demo_dir import demos_dir
-from services.fit.model_state import start_model, state_file
+from services.fit.model_state import check_state_dir, start_model, state_file
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import FIT, FIT_MODEL
 from shared.bus.runner import EndpointsFactory, Options
@@ -53,8 +53,11 @@ def factory(args: argparse.Namespace) -> EndpointsFactory:
 
     Raises:
         ModelFileError: ``--model`` or the state file is no valid model.
+        InvalidInputError: ``--state-dir`` is no folder it can write in.
     """
-    state = state_file(Path(args.state_dir) if args.state_dir else demos_dir())
+    state_dir = Path(args.state_dir) if args.state_dir else demos_dir()
+    check_state_dir(state_dir, given=args.state_dir is not None)
+    state = state_file(state_dir)
     start = start_model(args.model, state)
 
     def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
