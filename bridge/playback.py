@@ -51,6 +51,11 @@ the call left: counted from leaving, a kill within the call's travel time
 of its end passed as a clean execution), is such an end, and raises a
 :class:`~shared.errors.RobotStateError` ("the robot ended the movement at
 t = X s of Y s").
+
+A bridge that is stopping and can wait no longer for the movement's end
+orders it cut (``bridge.cut``): the arm is stopped the same way as when the
+robot is given up, and the caller told where (``service_unavailable``, "the
+bridge is stopping; it stopped the arm at about t = X s of Y s ...").
 """
 
 from __future__ import annotations
@@ -62,9 +67,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bridge.almotion import AngleInterpolationCall
+from bridge.cut import Cut
 from bridge.naoqi_client import NaoqiClient
 from bridge.qi_future import POLL, robot_reason, wait_future
-from shared.errors import RobotStateError, RobotUnavailableError
+from shared.errors import (
+    RobotStateError,
+    RobotUnavailableError,
+    ServiceUnavailableError,
+)
 from shared.messages import JointState
 
 #: Time between two readings of the measured angles [s] (100 Hz).
@@ -191,6 +201,8 @@ def play_and_sample(
     *,
     period: float = SAMPLE_PERIOD,
     on_sample: Callable[[JointState], None] | None = None,
+    on_arrival: Callable[[float], None] | None = None,
+    cut: Cut | None = None,
 ) -> Samples:
     """Send ``call`` and sample the measured angles until it ends.
 
@@ -199,6 +211,10 @@ def play_and_sample(
         call: The ``angleInterpolation`` arguments.
         period: Time between readings [s].
         on_sample: Called with each measured state (e.g. to publish it).
+        on_arrival: Called once with when the call reached the robot [s,
+            monotonic] (its arrival mark's answer), as soon as that is seen.
+        cut: Once ordered, the arm is stopped as when the robot is given up
+            (within a reading's wait), and the cut's error raised.
 
     Raises:
         RobotUnavailableError: the robot went away during the call (within
@@ -209,6 +225,9 @@ def play_and_sample(
         RobotCommandError: the robot refused the call.
         RobotStateError: the robot answered the call more than
             :data:`EARLY_END` before its duration: it ended it early.
+        ServiceUnavailableError: ``cut`` was ordered (the bridge is
+            stopping): the arm was stopped, the client goes on stopping it
+            until the call has ended.
     """
     motion = client.motion()
     reader = _Reader(client.watch(), call.names, min(period * 20, LOST_AFTER / 2))
@@ -223,6 +242,7 @@ def play_and_sample(
     rows: list[list[float]] = []
     round_trips: list[float] = []
     last_answer = due = start
+    told = False  # on_arrival was called
     while not future.isFinished():
         # a reading that cannot come in time no longer delays the verdict
         stamp, round_trip, angles, problem = reader.read(
@@ -244,6 +264,11 @@ def play_and_sample(
             raise _give_up(
                 client, future, call.names, problem, elapsed, arrival.time is None
             )
+        if on_arrival is not None and not told and arrival.time is not None:
+            told = True
+            on_arrival(arrival.time)
+        if cut is not None and cut.ordered:
+            raise _cut_short(client, future, call, arrival.time, cut)
         late = overdue(start, arrival.time, call.duration, time.monotonic())
         if late is not None:
             raise _give_up(
@@ -294,6 +319,24 @@ def _ended_early(
         "killAll, killTasksUsingResources, the fall manager or another client)",
         outcome="the arm stopped where it was then",
     )
+
+
+def _cut_short(
+    client: NaoqiClient,
+    future: Any,
+    call: AngleInterpolationCall,
+    arrival: float | None,
+    cut: Cut,
+) -> ServiceUnavailableError:
+    """The error to raise when ``cut`` stops ``call`` (its libqi ``future``).
+
+    The arm is stopped as when the robot is given up (:func:`_give_up`),
+    but the robot is not declared lost: it answers.
+    """
+    now = time.monotonic()
+    played = 0.0 if arrival is None else min(max(now - arrival, 0.0), call.duration)
+    outcome = client.halt(HALT_WAIT, call.names, future, arrival is not None)
+    return cut.error(played, call.duration, outcome)
 
 
 def _give_up(

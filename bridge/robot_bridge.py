@@ -34,7 +34,9 @@
    first, and is stopped every control cycle until the call has ended
    (``bridge.stopper``), taking no new movement meanwhile; a call the robot
    answered well before its duration was ended there, and an arm no longer
-   stiff after it was let go during it: both are errors, not reports;
+   stiff after it was let go during it: both are errors, not reports; a
+   bridge that is stopping and can wait no longer for the movement's end
+   stops the arm the same way (:meth:`RobotBridge.cut_short`, ``bridge.cut``);
 4. the answer is the executed joint states and the tracking report (RMS and
    largest error per joint, degrees).
 
@@ -56,6 +58,7 @@ from bridge.at_rest import angles_at_rest
 from bridge.awake import check_awake
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
+from bridge.cut import Cut
 from bridge.frames import DEFAULT_RATE, check_rate
 from bridge.hand import with_hand
 from bridge.in_time import check_in_time
@@ -85,6 +88,8 @@ StateCallback = Callable[[JointState], None]
 FramesCallback = Callable[[CommandFrames], None]
 #: Called with the approach's length [s] as it starts.
 ApproachCallback = Callable[[float], None]
+#: Called with when the trajectory's call reached the robot [s, monotonic].
+ArrivalCallback = Callable[[float], None]
 
 
 class RobotBridge:
@@ -127,14 +132,23 @@ class RobotBridge:
         self._limits = limits or {side: FrameLimits.for_arm(side) for side in Side}
         self._robot_limits = RobotLimitsCheck()
         self._stopping = threading.Event()
+        self._cut = Cut()
 
     def stop(self) -> None:
         """Send no new command from now on (the bridge process is stopping).
 
-        A call already sent plays on; a request being served is refused at
-        its next step (:meth:`refuse_if_stopping`).
+        A call already sent plays on (until :meth:`cut_short`); a request
+        being served is refused at its next step (:meth:`refuse_if_stopping`).
         """
         self._stopping.set()
+
+    def cut_short(self, why: str) -> None:
+        """Stop the arm of the movement playing, if any, and from now on.
+
+        The request playing it fails with "the bridge is stopping; it
+        stopped the arm at about t = X s of Y s (``why``): ..." (``bridge.cut``).
+        """
+        self._cut.order(why)
 
     def refuse_if_stopping(self, outcome: str) -> None:
         """Raise if :meth:`stop` was called; ``outcome``: what was sent.
@@ -171,6 +185,7 @@ class RobotBridge:
         until: float | None = None,
         *,
         on_approach: ApproachCallback | None = None,
+        on_arrival: ArrivalCallback | None = None,
         frames: CommandFrames | None = None,
     ) -> ExecuteReply:
         """Answer an execute request (see :meth:`execute`)."""
@@ -182,6 +197,7 @@ class RobotBridge:
             on_play=on_play,
             until=until,
             on_approach=on_approach,
+            on_arrival=on_arrival,
             frames=frames,
         )
 
@@ -195,6 +211,7 @@ class RobotBridge:
         on_play: FramesCallback | None = None,
         until: float | None = None,
         on_approach: ApproachCallback | None = None,
+        on_arrival: ArrivalCallback | None = None,
         frames: CommandFrames | None = None,
     ) -> ExecuteReply:
         """Play ``trajectory`` on the robot and report how well it followed.
@@ -212,6 +229,8 @@ class RobotBridge:
                 would end later is not started (``bridge.in_time``).
             on_approach: Called with the approach's length [s] just before
                 it is sent (not called if there is none).
+            on_arrival: Called with when the trajectory's call reached the
+                robot [s, monotonic], as soon as that is known.
             frames: The frames of ``trajectory`` at ``rate``, checked
                 already (:meth:`frames`); None: they are made and checked
                 here.
@@ -222,7 +241,8 @@ class RobotBridge:
                 nothing sent, or (found after the approach) nothing of the
                 trajectory.
             ServiceUnavailableError: the bridge is stopping (:meth:`stop`):
-                nothing sent, or nothing after the approach.
+                nothing sent, or nothing after the approach; or it stopped
+                the arm mid-movement (:meth:`cut_short`).
             RobotBusyError: the arm was still moving after a second.
             RobotUnavailableError: the robot cannot be reached, or went away
                 during the movement (raised within 2 s of it going; asked to
@@ -284,7 +304,12 @@ class RobotBridge:
             ARRIVED if move is not None else "no movement was sent",
         )
         samples = play_and_sample(
-            self.client, call, period=self.sample_period, on_sample=on_state
+            self.client,
+            call,
+            period=self.sample_period,
+            on_sample=on_state,
+            on_arrival=on_arrival,
+            cut=self._cut,
         )
         check_still_stiff(
             self.client,
@@ -334,6 +359,7 @@ class RobotBridge:
             angle_interpolation_call(move),
             period=0.05,
             on_sample=on_sample,
+            cut=self._cut,
         )
         names = list(frames.joint_names)
         check_still_stiff(

@@ -10,12 +10,16 @@ every trajectory published on ``<ns>/plan/trajectory``
 dies). Told to stop, it sends no new command: a request in its approach is
 answered ``service_unavailable`` ("the bridge is stopping; ...") once the
 approach ends, its trajectory not sent; a trajectory playing is watched to
-its end and answered (:meth:`~bridge.service.BridgeService.stop`). The
-robot is reached on demand: the bridge starts without it, and a robot that
-went away is connected again at the next request. The robot's
-address: ``--robot``, else ``$ARMPLAN_ROBOT``, else the simulated NAO at
-``tcp://127.0.0.1:9559`` (:mod:`bridge.route`). Importing ``bridge`` first
-loads libqi before pinocchio (see shared/libqi.py).
+its end and answered, for up to ``STOP_LIMIT`` (30 s): one that would play
+longer is stopped then (its arm's motion tasks killed, not left playing
+unwatched) and answered ``service_unavailable`` ("the bridge is stopping;
+it stopped the arm at about t = ..."; see
+:meth:`~bridge.service.BridgeService.stop`). The robot is reached on
+demand: the bridge starts without it, and a robot that went away is
+connected again at the next request. The robot's address: ``--robot``,
+else ``$ARMPLAN_ROBOT``, else the simulated NAO at ``tcp://127.0.0.1:9559``
+(:mod:`bridge.route`). Importing ``bridge`` first loads libqi before
+pinocchio (see shared/libqi.py).
 """
 
 from __future__ import annotations

@@ -27,14 +27,15 @@ Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 from __future__ import annotations
 
 import logging
-import threading
 import time
 from collections.abc import Sequence
 from typing import Any
 
 import zenoh
 
+from bridge.playback import HALT_WAIT, LOST_AFTER
 from bridge.robot_bridge import RobotBridge
+from bridge.serving import Serving, Slot
 from shared.bus import Bus, Endpoint
 from shared.bus.deadline import REPLY_MARGIN, current_due
 from shared.bus.robot_routes import EXECUTE
@@ -48,10 +49,16 @@ from shared.messages import CommandFrames, ExecuteReply, ExecuteRequest, JointSt
 
 log = logging.getLogger("armplan.bridge")
 #: Longest wait, past the playing movement's end, for the request being
-#: served when the bridge stops [s].
+#: served when the bridge stops [s] (the end counted from when its call
+#: reached the robot; longer than ``playback.OVERRUN``, after which the
+#: bridge gives the movement up itself).
 STOP_GRACE = 2.0
-#: Longest wait for the request being served when the bridge stops [s].
+#: Longest wait for the request being served when the bridge stops [s];
+#: a movement still playing then is stopped (``bridge.cut``).
 STOP_LIMIT = 30.0
+#: Longest wait for the request once its movement is ordered cut [s]: a
+#: reading's wait, then the stop's (``LOST_AFTER`` + ``HALT_WAIT``).
+CUT_WAIT = LOST_AFTER + HALT_WAIT
 
 
 class BridgeService:
@@ -65,8 +72,7 @@ class BridgeService:
     def __init__(self, bus: Bus, robot: RobotBridge) -> None:
         self.bus = bus
         self.robot = robot
-        self._lock = threading.Lock()
-        self._ends = 0.0  # monotonic time the playing trajectory ends, about
+        self._slot = Slot()  # the request being served, and what it has sent
 
     def execute(self, request: ExecuteRequest, wait: bool = False) -> ExecuteReply:
         """Check, play and report one trajectory (see ``RobotBridge.execute``).
@@ -83,7 +89,8 @@ class BridgeService:
             CallerDeadlineError: the query's caller would stop waiting
                 before the movement ends (nothing of the trajectory sent).
             ServiceUnavailableError: the bridge is stopping (:meth:`stop`):
-                nothing sent, or nothing after the approach.
+                nothing sent, or nothing after the approach; or it stopped
+                the arm mid-movement, unable to wait for its end.
             RobotUnavailableError, RobotCommandError: from the robot.
         """
         self.robot.refuse_if_stopping("nothing was sent")
@@ -92,32 +99,27 @@ class BridgeService:
         except ArmplanError as error:
             log.warning("execute: %s", error.message)
             raise
-        if not self._lock.acquire(blocking=wait):
-            remaining = max(self._ends - time.monotonic(), 0.0)
+        if not self._slot.take(frames.duration, wait):
+            remaining = self._slot.left()
             log.warning("execute: refused, the robot is busy (%.1f s left)", remaining)
             raise RobotBusyError(self.robot.client.url, remaining)
         try:
-            self._ends = time.monotonic() + frames.duration
             return self._play(request, frames)
         except ArmplanError as error:
             log.warning("execute: %s", error.message)
             raise
         finally:
-            self._lock.release()
+            self._slot.give_back()
 
     def _play(self, request: ExecuteRequest, frames: CommandFrames) -> ExecuteReply:
         due = current_due()  # the query's caller's; None for the follower
-
-        def approaching(duration: float) -> None:
-            """The approach starts: the trajectory ends after it [s]."""
-            self._ends = time.monotonic() + duration + frames.duration
-
         reply = self.robot.handle(
             request,
             on_state=self._publish_state,
             on_play=self._publish_frames,
             until=None if due is None else due.at - REPLY_MARGIN,
-            on_approach=approaching,
+            on_approach=self._slot.approaching,
+            on_arrival=self._slot.arrived,
             frames=frames,
         )
         self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
@@ -128,10 +130,11 @@ class BridgeService:
     def _publish_frames(self, frames: CommandFrames) -> None:
         """Publish and log the frames about to be sent (every check passed).
 
-        The trajectory ends its own length from now, after any approach: the
-        estimate a refused caller is told is set again here.
+        The trajectory ends its own length after its call reaches the
+        robot: the end a refused caller is told, and a stop waits for, is
+        counted from now until then (:mod:`bridge.serving`).
         """
-        self._ends = time.monotonic() + frames.duration
+        self._slot.sending()
         self.bus.publish(BRIDGE_FRAMES_TOPIC, frames)
         log.info(
             "playing %d frames (%.2f s, %s arm) on %s",
@@ -141,35 +144,60 @@ class BridgeService:
             self.robot.client.url,
         )
 
-    def stop(self) -> bool:
+    def stop(self, limit: float = STOP_LIMIT) -> bool:
         """Send no new command; wait for the request being served to end.
 
         Its approach may end, but its trajectory is not sent: it is answered
         with "the bridge is stopping". A trajectory already playing is
         watched to its end and answered as usual (cut short, the joints
         would stop dead), for at most :data:`STOP_GRACE` past its expected
-        end (after its approach, once that has started) and
-        :data:`STOP_LIMIT` in all.
+        end (its duration after its call reached the robot; after its
+        approach, once that has started) and ``limit`` [s] in all. Past
+        that, the arm is stopped (its motion tasks killed: unwatched is
+        worse than abrupt) and the request answered with "the bridge is
+        stopping; it stopped the arm at about t = X s of Y s ...", within
+        :data:`CUT_WAIT`.
 
         Returns:
             Whether no request is being served any more.
         """
         self.robot.stop()
-        limit = time.monotonic() + STOP_LIMIT
-        while True:
-            until = min(self._ends + STOP_GRACE, limit)  # _ends moves on play
-            left = until - time.monotonic()
-            if self._lock.acquire(timeout=max(min(left, 0.1), 0.0)):
-                self._lock.release()
-                return True
-            if left <= 0.0:
-                remaining = max(self._ends - time.monotonic(), 0.0)
-                log.warning(
-                    "stop: a request is still being served; leaving it: the robot "
-                    "plays its trajectory on, unwatched, for about %.1f s more",
-                    remaining,
-                )
-                return False
+        give_up = time.monotonic() + limit
+
+        def deadline(serving: Serving, now: float) -> float:
+            return min(serving.end(now) + STOP_GRACE, give_up)
+
+        serving = self._slot.wait_free(deadline)
+        if serving is None:
+            return True
+        now = time.monotonic()
+        why = (
+            f"its movement would end past the {limit:g} s a stopping bridge "
+            "waits for it"
+            if now >= give_up
+            else f"its movement did not end {STOP_GRACE:g} s past its expected end"
+        )
+        if serving.moving:
+            log.warning("stop: %s; stopping the arm", why)
+        self.robot.cut_short(why)
+        cut_at = time.monotonic()
+        serving = self._slot.wait_free(lambda _s, _now: cut_at + CUT_WAIT)
+        if serving is None:
+            return True
+        if serving.moving:
+            log.warning(
+                "stop: a request is still being served; leaving it: the arm was "
+                "ordered stopped %.1f s ago, but its request has not ended "
+                "(its movement ends in about %.1f s)",
+                CUT_WAIT,
+                max(serving.end(time.monotonic()) - time.monotonic(), 0.0),
+            )
+        else:
+            log.warning(
+                "stop: a request is still being served; leaving it: nothing was "
+                "sent for it, and nothing will be"
+            )
+        return False
 
     def _publish_state(self, state: JointState) -> None:
         """Publish a measured state; none once the bus has closed.

@@ -3,11 +3,18 @@ second bridge in the namespace does not start.
 
 Real parts: a Zenoh router and ``python -m bridge.serve`` as processes
 (``armplan.launch``), the simulated NAO as its own process over libqi, and a
-Zenoh client session in the test.
+Zenoh client session in the test; a slow link to the robot is a loopback
+relay (:class:`~tests.slow_link.SlowLink`). Where a test needs the stop's
+30 s limit shorter, the bridge service runs in the test's process
+(:class:`BridgeService` on a real bus, the real sim), its stop given the
+shorter limit.
 """
 
 from __future__ import annotations
 
+import contextlib
+import logging
+import re
 import signal
 import subprocess
 import sys
@@ -23,14 +30,18 @@ import zenoh
 from armplan.launch import Launcher, free_endpoint
 from armplan.launch.robot import BRIDGE_GRACE, RobotStack
 from bridge.minimum_jerk import minimum_jerk_trajectory
-from bridge.service import STOP_LIMIT
+from bridge.naoqi_client import NaoqiClient
+from bridge.robot_bridge import RobotBridge
+from bridge.service import CUT_WAIT, STOP_GRACE, STOP_LIMIT, BridgeService
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
-from shared.bus import Bus, load_config
-from shared.bus.robot_routes import EXECUTE
+from shared.bus import Bus, ServiceHost, load_config
+from shared.bus.robot_routes import BRIDGE, EXECUTE
 from shared.errors import ArmplanError, ServiceUnavailableError
 from shared.messages import ExecuteRequest, JointState, Trajectory
 from shared.robot.postures import forward, rest
+from tests.slow_link import SlowLink
+from tests.test_bridge_watch import finished, last_moved, when_sim_logs
 
 
 class Stack:
@@ -48,20 +59,11 @@ class Stack:
     def _on_state(self, sample: zenoh.Sample) -> None:
         self.states.append(JointState.model_validate_json(sample.payload.to_bytes()))
 
-    def execute_in_background(self, trajectory: Trajectory) -> dict[str, Any]:
+    def execute_in_background(
+        self, trajectory: Trajectory, rate: float | None = None
+    ) -> dict[str, Any]:
         """Send ``trajectory`` from a thread; the dict gets "reply" or "error"."""
-        outcome: dict[str, Any] = {}
-
-        def call() -> None:
-            try:
-                request = ExecuteRequest(trajectory=trajectory)
-                outcome["reply"] = self.bus.call(EXECUTE, request, timeout=30.0)
-            except ArmplanError as error:
-                outcome["error"] = error
-
-        outcome["thread"] = threading.Thread(target=call)
-        outcome["thread"].start()
-        return outcome
+        return execute_in_background(self.bus, trajectory, rate)
 
     def wait_for_state(self, after: float) -> None:
         """Wait until a state later than ``after`` [s, trajectory time] came."""
@@ -86,22 +88,87 @@ class Stack:
         return code
 
 
-@pytest.fixture
-def stack(tmp_path: Path) -> Iterator[Stack]:
+def execute_in_background(
+    bus: Bus, trajectory: Trajectory, rate: float | None = None
+) -> dict[str, Any]:
+    """Send ``trajectory`` from a thread; the dict gets "reply" or "error"."""
+    outcome: dict[str, Any] = {}
+
+    def call() -> None:
+        try:
+            request = ExecuteRequest(trajectory=trajectory, rate=rate)
+            outcome["reply"] = bus.call(EXECUTE, request, timeout=30.0)
+        except ArmplanError as error:
+            outcome["error"] = error
+
+    outcome["thread"] = threading.Thread(target=call)
+    outcome["thread"].start()
+    return outcome
+
+
+@contextlib.contextmanager
+def running_stack(tmp_path: Path, bandwidth: float | None = None) -> Iterator[Stack]:
+    """The stack; the bridge reaches the sim over a ``bandwidth`` [B/s] link
+    if one is given."""
     config = load_config(endpoints=(free_endpoint(),))
     sim = SimProcess(log_path=tmp_path / "sim.jsonl")
     sim.start()
-    with (
-        (tmp_path / "router.log").open("w") as router_log,
-        (tmp_path / "bridge.log").open("w") as bridge_log,
-        Launcher(config, [], log=router_log),
-        RobotStack(config, robot=sim.url, log=bridge_log) as robot,
-        Bus.connect(config) as bus,
-    ):
-        try:
+    link = None if bandwidth is None else link_to(sim, bandwidth)
+    try:
+        with (
+            (tmp_path / "router.log").open("w") as router_log,
+            (tmp_path / "bridge.log").open("w") as bridge_log,
+            Launcher(config, [], log=router_log),
+            RobotStack(
+                config, robot=sim.url if link is None else link.url, log=bridge_log
+            ) as robot,
+            Bus.connect(config) as bus,
+        ):
             yield Stack(robot, sim, bus)
-        finally:
-            sim.stop()
+    finally:
+        if link is not None:
+            link.close()
+        sim.stop()
+
+
+def link_to(sim: SimProcess, bandwidth: float) -> SlowLink:
+    """A link of ``bandwidth`` [B/s] toward the sim."""
+    return SlowLink(int(sim.url.rsplit(":", 1)[1]), bandwidth)
+
+
+@pytest.fixture
+def stack(tmp_path: Path) -> Iterator[Stack]:
+    with running_stack(tmp_path) as running:
+        yield running
+
+
+class InProcess:
+    """A router process, the sim, and the bridge service in this process."""
+
+    def __init__(self, service: BridgeService, bus: Bus, sim: SimProcess) -> None:
+        self.service = service
+        self.bus = bus
+        self.sim = sim
+
+
+@contextlib.contextmanager
+def in_process(tmp_path: Path, robot_url: str, sim: SimProcess) -> Iterator[InProcess]:
+    """A :class:`BridgeService` on a real bus, serving ``bridge/execute``."""
+    config = load_config(endpoints=(free_endpoint(),))
+    client = NaoqiClient(robot_url)
+    try:
+        with (
+            (tmp_path / "router.log").open("w") as router_log,
+            Launcher(config, [], log=router_log),
+            Bus.connect(config) as served,
+            Bus.connect(config) as bus,
+        ):
+            service = BridgeService(served, RobotBridge(client))
+            with ServiceHost(served, BRIDGE, service.endpoints()):
+                bus.wait_alive([BRIDGE], 10.0)
+                yield InProcess(service, bus, sim)
+    finally:
+        client.close()
 
 
 def from_forward(seconds: float) -> Trajectory:
@@ -187,7 +254,7 @@ def test_the_stack_gives_the_bridge_time_to_watch_a_trajectory_to_its_end(
     bridge's own wait (up to 30 s) for the trajectory, the arm left playing
     unwatched and the caller answered by no one. Now the bridge's grace
     covers its own bound: the caller gets its report, the bridge exits 0."""
-    assert BRIDGE_GRACE >= STOP_LIMIT + 2.0
+    assert BRIDGE_GRACE >= STOP_LIMIT + CUT_WAIT + 2.0
     trajectory = minimum_jerk_trajectory(
         "right", [rest("right"), forward("right"), rest("right")], [3.5, 3.5]
     )
@@ -198,6 +265,110 @@ def test_the_stack_gives_the_bridge_time_to_watch_a_trajectory_to_its_end(
     assert "error" not in outcome, outcome.get("error")
     assert outcome["reply"].report.duration >= 7.0 - 0.1
     assert stack.bridge_exit() == 0
+
+
+def test_a_trajectory_slow_to_reach_the_robot_is_watched_to_its_end(
+    tmp_path: Path,
+) -> None:
+    """SIGTERM 0.5 s after a 4 s trajectory at 500 fps (260 kB) left over an
+    80 kB/s link: the call reaches the robot over 3 s after it left, and
+    plays to its end, 7 s after it left. The stop's wait was counted from
+    when the call left (4 s + 2 s), so the bridge gave up a second before
+    the end, the arm playing on unwatched ("for about 0.0 s more") and the
+    caller answered by no one. Now it is counted from the call's arrival:
+    the caller gets its report."""
+    with running_stack(tmp_path, bandwidth=80e3) as stack:
+        sent = threading.Event()
+        frames = stack.bus.session.declare_subscriber(
+            stack.bus.key("bridge/frames"), lambda _: sent.set()
+        )
+        trajectory = minimum_jerk_trajectory(
+            "right", [rest("right"), forward("right")], [4.0]
+        )
+        outcome = stack.execute_in_background(trajectory, rate=500.0)
+        assert sent.wait(20.0)
+        time.sleep(0.5)
+        assert stack.robot.bridge is not None
+        stack.robot.bridge.signal(signal.SIGTERM)
+        outcome["thread"].join(20.0)
+        frames.undeclare()
+        assert stack.bridge_exit() == 0
+        played = finished(stack.sim)
+    assert "error" not in outcome, outcome.get("error")
+    report = outcome["reply"].report
+    print(f"\nthe call began {report.start_delay:.2f} s after it left")
+    assert report.start_delay > STOP_GRACE + 1.0  # the old bound: passed
+    assert report.duration >= 4.0 - 2.0 * report.sample_period
+    assert played == ["done"]
+    assert "unwatched" not in (tmp_path / "bridge.log").read_text()
+
+
+def test_a_stop_that_cannot_wait_for_the_end_stops_the_arm(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """A stop whose limit (1 s here; 30 s in the bridge process) passes 0.5 s
+    into a 4 s trajectory stops the arm's motion tasks (as a robot given up
+    is stopped) and answers the caller "the bridge is stopping; it stopped
+    the arm at about t = ..."; it used to leave the arm playing unwatched
+    and the caller told only that no queryable answered."""
+    with in_process(tmp_path, sim.url, sim) as bridge:
+        trajectory = minimum_jerk_trajectory(
+            "right", [rest("right"), forward("right")], [4.0]
+        )
+        outcome = execute_in_background(bridge.bus, trajectory)
+        began = when_sim_logs(sim, "motion", "angleInterpolation")
+        time.sleep(max(0.0, began + 0.5 - time.monotonic()))
+        assert bridge.service.stop(limit=1.0)
+        outcome["thread"].join(10.0)
+    error = outcome.get("error")
+    assert isinstance(error, ServiceUnavailableError), outcome
+    print(f"\n{error.reason}")
+    found = re.fullmatch(
+        r"the bridge is stopping; it stopped the arm at about t = (\d+\.\d) s of "
+        r"4\.00 s \(its movement would end past the 1 s a stopping bridge waits "
+        r"for it\): stopped it \(ALMotion\.killTasksUsingResources answered, the "
+        r"call ended\)",
+        error.reason,
+    )
+    assert found is not None, error.reason
+    assert 1.3 <= float(found.group(1)) <= 1.5 + CUT_WAIT
+    kill = when_sim_logs(sim, "call", "killTasksUsingResources")
+    time.sleep(max(0.0, began + 4.2 - time.monotonic()))  # the unstopped end
+    assert began + 1.3 < kill < began + 1.5 + CUT_WAIT
+    assert last_moved(sim) < kill + 0.05
+    assert finished(sim) == []
+
+
+def test_a_stop_that_gives_up_a_request_that_sent_nothing_says_so(
+    tmp_path: Path, sim: SimProcess, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A stop whose limit passes while the request being served is still
+    connecting to the robot (its link silent): the log says nothing was sent
+    for it. A stop could read the end time of the request before, and log
+    that the robot played its trajectory on, unwatched, when nothing had
+    been sent."""
+    link = link_to(sim, 1e6)
+    link.freeze()  # the connection is taken, nothing answers: 2 s to give up
+    try:
+        with in_process(tmp_path, link.url, sim) as bridge:
+            request = from_forward(0.5)
+            outcome = execute_in_background(bridge.bus, request)
+            deadline = time.monotonic() + 10.0
+            while link.connections == 0:  # the request holds the robot
+                assert time.monotonic() < deadline
+                time.sleep(0.005)
+            with caplog.at_level(logging.WARNING, logger="armplan.bridge"):
+                served = bridge.service.stop(limit=0.0)
+            outcome["thread"].join(10.0)
+    finally:
+        link.close()
+    assert not served
+    text = caplog.text
+    assert "leaving it: nothing was sent for it, and nothing will be" in text
+    assert "unwatched" not in text
+    assert "stopping the arm" not in text
+    assert "error" in outcome
+    assert not [e for e in read_log(sim.log_path) if e["event"] == "motion"]
 
 
 def test_a_second_bridge_in_the_namespace_refuses_to_start(stack: Stack) -> None:

@@ -44,8 +44,10 @@ START_TIMEOUT = 60.0
 GRACE = 5.0
 #: Time the bridge gets to exit after SIGTERM before SIGKILL [s]: its own
 #: bound on the wait for a trajectory still playing on a robot
-#: (``bridge.service.STOP_LIMIT``, 30 s; cut short, the arm would play on
-#: unwatched and its caller get no answer) and 5 s to exit.
+#: (``bridge.service.STOP_LIMIT``, 30 s), the time to stop the arm of one
+#: that plays longer and answer its caller (``bridge.service.CUT_WAIT``,
+#: 1.25 s), and some to exit. Cut short, the arm would play on unwatched
+#: and its caller get no answer.
 BRIDGE_GRACE = 35.0
 #: Pause between liveliness checks while starting [s].
 POLL = 0.1
