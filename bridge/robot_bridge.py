@@ -16,7 +16,10 @@
    joint's stiffness below 0.5) whose sensors say, once they hold still,
    that it is elsewhere (it sagged or was moved) counts as where it is, and
    its command is moved there before it is stiffened, so that stiffening
-   holds it there (``bridge.limp_arm``); with the approach off, an arm away
+   holds it there (``bridge.limp_arm``); where the arm is must be within
+   the bridge's range, checked before the hold and the stiffening
+   (``bridge.posture_range``), as the approach move is; a refusal after
+   either went out says so; with the approach off, an arm away
    from the trajectory's start refuses it here; the arm's joints are
    stiffened, and if the arm is not at the start, or the first frame from
    where it is breaks a limit (``bridge.start_gap``), a slow approach move
@@ -66,12 +69,13 @@ from bridge.limits import FrameLimits
 from bridge.limp_arm import hold_command, limp_posture
 from bridge.naoqi_client import NaoqiClient
 from bridge.playback import SAMPLE_PERIOD, play_and_sample
+from bridge.posture_range import check_in_range
 from bridge.robot_limits import RobotLimitsCheck
 from bridge.same_connection import check_connection
 from bridge.start_gap import needs_approach
 from bridge.tracking import executed_states, tracking_report
 from shared.bus.robot_routes import BRIDGE
-from shared.errors import ServiceUnavailableError
+from shared.errors import ServiceUnavailableError, TrajectoryRefusedError
 from shared.messages import (
     CommandFrames,
     ExecuteReply,
@@ -83,6 +87,13 @@ from shared.robot import Side
 
 #: What became of a trajectory refused once the approach brought the arm there.
 ARRIVED = "the arm is at the trajectory's start; nothing of the trajectory was sent"
+#: What was sent before a refusal after a limp arm was held and stiffened.
+HELD = (
+    "the limp arm's command was moved to where it hung and the arm stiffened "
+    "there; no movement was sent"
+)
+#: What was sent before a refusal after the arm was stiffened where it was.
+STIFFENED = "the arm was stiffened where it was; no movement was sent"
 
 StateCallback = Callable[[JointState], None]
 FramesCallback = Callable[[CommandFrames], None]
@@ -250,7 +261,8 @@ class RobotBridge:
                 the arm after giving up a call that has not ended (nothing
                 sent).
             RobotCommandError: the robot refused a command.
-            RobotStateError: the robot is not awake (nothing sent); or the
+            RobotStateError: the robot is not awake, or the arm rests
+                outside the bridge's range (nothing sent); or the
                 approach did not bring the arm to the start (nothing of the
                 trajectory sent); or the client connected again since the
                 robot was checked; or the robot ended a call early, or let
@@ -275,25 +287,27 @@ class RobotBridge:
         limp = limp_posture(self.client, names)
         if limp is not None:  # stiffened, it would snap back to its command
             current = limp
-        move_first = needs_approach(frames, current, limits, approach)
+        # all checked before the hold and the stiffening: a refusal sends nothing
+        move = self._start_move(frames, current, limits, approach, limp is not None)
         self.refuse_if_stopping("nothing was sent")
         check_connection(self.client, checked, "nothing was sent")
         if limp is not None:
             hold_command(self.client, names, limp, limits)
+        sent = "nothing was sent"
         if self.client.stiffen(names):  # another client may have moved it meanwhile
+            sent = HELD if limp is not None else STIFFENED
             current = angles_at_rest(self.client, names)
-            move_first = needs_approach(frames, current, limits, approach)
-        move = self._approach_move(frames, current, limits) if move_first else None
+            move = self._start_move(frames, current, limits, approach, False, sent)
         approach_time = 0.0 if move is None else move.duration
-        check_in_time(url, until, approach_time, duration, "nothing was sent")
-        self.refuse_if_stopping("no movement was sent")
+        check_in_time(url, until, approach_time, duration, sent)
+        self.refuse_if_stopping(sent)
         if move is not None:
-            check_connection(self.client, checked, "no movement was sent")
+            check_connection(self.client, checked, sent)
             if on_approach is not None:
                 on_approach(move.duration)
             self._approach(frames, move, on_state)
         check_in_time(url, until, 0.0, duration, ARRIVED)
-        self.refuse_if_stopping(ARRIVED if move is not None else "no movement was sent")
+        self.refuse_if_stopping(ARRIVED if move is not None else sent)
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)
@@ -301,7 +315,7 @@ class RobotBridge:
         check_connection(
             self.client,
             checked,
-            ARRIVED if move is not None else "no movement was sent",
+            ARRIVED if move is not None else sent,
         )
         samples = play_and_sample(
             self.client,
@@ -325,16 +339,54 @@ class RobotBridge:
             approach_duration=approach_time,
         )
 
+    def _start_move(
+        self,
+        frames: CommandFrames,
+        current: np.ndarray,
+        limits: FrameLimits,
+        approach: bool,
+        limp: bool,
+        sent: str = "nothing was sent",
+    ) -> CommandFrames | None:
+        """The checked approach from ``current`` [rad] (n,), or None if none is needed.
+
+        ``limits`` are the frames' joints' (the hand's too, if they move
+        it); ``limp``: ``current`` is where a limp arm hangs (measured);
+        ``sent``: what was sent so far, for the errors.
+
+        Raises:
+            RobotStateError: a joint at ``current`` is outside its range.
+            TrajectoryRefusedError: the arm is away from the start and
+                ``approach`` is off, or the approach breaks a limit.
+        """
+        url = self.client.url
+        check_in_range(url, current, limits, limp=limp, outcome=sent)
+        try:
+            if not needs_approach(frames, current, limits, approach):
+                return None
+            return self._approach_move(frames, current, limits)
+        except TrajectoryRefusedError as error:
+            raise error.instead(sent) from None
+
     def _approach_move(
         self, frames: CommandFrames, current: np.ndarray, limits: FrameLimits
     ) -> CommandFrames:
         """The checked move from ``current`` [rad] to the frames' start.
 
         ``limits`` are the frames' joints' (the hand's too, if they move it).
+
+        Raises:
+            TrajectoryRefusedError: the move breaks a limit (its frame 0 is
+                where the arm is).
         """
         start = np.asarray(frames.start)
         move = approach_frames(frames.arm, current, start, limits, frames.rate)
-        check_frames(move, limits)
+        try:
+            check_frames(move, limits)
+        except TrajectoryRefusedError as error:
+            raise error.adding(
+                " (in the approach move from where the arm is)"
+            ) from None
         return move
 
     def _approach(

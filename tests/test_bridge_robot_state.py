@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_blend, minimum_jerk_trajectory
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
@@ -31,9 +32,15 @@ from bridge.sim.joint import SAG_SPEED
 from bridge.sim.joints import joint_specs
 from bridge.sim.log import read_log
 from bridge.sim.process import READY
-from shared.errors import RobotBusyError, RobotLimitsError, RobotStateError
+from shared.errors import (
+    CallerDeadlineError,
+    RobotBusyError,
+    RobotLimitsError,
+    RobotStateError,
+)
 from shared.libqi import qi
 from shared.messages import Trajectory
+from shared.robot import Side
 from shared.robot.postures import forward, rest
 from tests.slow_link import SlowLink
 
@@ -143,6 +150,73 @@ def test_a_limp_arm_that_keeps_moving_is_busy(tmp_path: Path) -> None:
             bridge.execute(minimum_jerk_trajectory("right", [raised, start], [1.0]))
         sent = [e for e in read_log(sim.log_path)[before:] if e["event"] == "call"]
     assert [e["method"] for e in sent] == []
+
+
+def _narrow_shoulder(upper: float) -> dict[Side, FrameLimits]:
+    """The bridge's limits with RShoulderPitch's upper limit at ``upper`` [rad]."""
+    right = FrameLimits.for_arm("right")
+    top = np.array(right.upper)
+    top[0] = upper
+    narrow = FrameLimits(
+        right.names, right.lower, top, right.velocity, right.acceleration, right.jerk
+    )
+    return {Side.RIGHT: narrow, Side.LEFT: FrameLimits.for_arm("left")}
+
+
+def test_a_limp_arm_resting_outside_the_bridge_range_is_left_limp(
+    tmp_path: Path,
+) -> None:
+    """The arm let go at ``forward`` falls 0.4 rad to RShoulderPitch 0.4,
+    past a bridge whose range ends at 0.3 (on a NAO a limp elbow may hang
+    at its soft stop): the bridge held the command at 0.4, stiffened the
+    arm there, then refused the approach's "frame 0" saying "nothing was
+    sent". Now it refuses before sending anything, naming the joint, its
+    angle and the range, and the arm stays limp where it hangs."""
+    a, b = np.array(rest("right")), np.array(forward("right"))
+    with _sagging(tmp_path, 0.4) as sim, _motion(sim.url) as motion:
+        RobotBridge(NaoqiClient(sim.url)).execute(
+            minimum_jerk_trajectory("right", [a, b], [1.0])
+        )
+        motion.setStiffnesses("RArm", 0.0)
+        assert sim.log_path is not None
+        before = len(read_log(sim.log_path))
+        bridge = RobotBridge(NaoqiClient(sim.url), limits=_narrow_shoulder(0.3))
+        with pytest.raises(RobotStateError) as caught:
+            bridge.execute(minimum_jerk_trajectory("right", [b, b], [1.0]))
+        sent = [e for e in read_log(sim.log_path)[before:] if e["event"] == "call"]
+        stiffness = motion.getStiffnesses("RArm")[:5]
+    message = caught.value.message
+    print("\n", message)
+    assert "RShoulderPitch is measured at angle 0.4000 rad" in message
+    assert "outside the bridge's range [-2.0857, 0.3000] rad" in message
+    assert "nothing was sent; the arm was left as it was (limp)" in message
+    assert [e["method"] for e in sent if e["method"] != "setStiffnesses"] == []
+    assert stiffness == [0.0] * 5
+
+
+def test_a_refusal_after_a_limp_arm_was_held_says_what_was_sent(
+    tmp_path: Path,
+) -> None:
+    """A limp arm is held where it hung and stiffened, then the caller's
+    time left is found too short for the approach: the refusal said
+    "nothing was sent" after two commands had gone out. Now it says the
+    arm was held and stiffened, and that no movement was sent."""
+    a, b = np.array(rest("right")), np.array(forward("right"))
+    with _sagging(tmp_path, 0.4) as sim, _motion(sim.url) as motion:
+        bridge = RobotBridge(NaoqiClient(sim.url))
+        bridge.execute(minimum_jerk_trajectory("right", [a, b], [1.0]))
+        motion.setStiffnesses("RArm", 0.0)
+        back = minimum_jerk_trajectory("right", [a, b], [1.0])
+        with pytest.raises(CallerDeadlineError) as caught:  # approach >= 0.5 s
+            bridge.execute(back, until=time.monotonic() + 1.45)
+        assert sim.log_path is not None
+        methods = [e["method"] for e in read_log(sim.log_path) if e["event"] == "call"]
+    outcome = caught.value.outcome
+    assert caught.value.approach is not None and caught.value.approach >= 0.5
+    assert methods[-2:] == ["angleInterpolation", "stiffnessInterpolation"]
+    assert "nothing was sent" not in caught.value.message
+    assert outcome.startswith("the limp arm's command was moved to where it hung")
+    assert outcome.endswith("no movement was sent")
 
 
 def test_an_arm_softened_but_not_let_go_is_not_an_error(
