@@ -20,6 +20,7 @@ every small sag counted as a limp arm (``bridge.limp_arm``).
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -36,6 +37,14 @@ LIMP = 0.5
 #: trajectory's start [rad]: a stiff arm at rest lags its command by a
 #: degree or so under gravity on a NAO, far less than a cut-short approach.
 ARRIVED = math.radians(3.0)
+#: Time between two readings of the stiffness that must agree [s]: a
+#: release ramps (``rest`` over 0.1 s on the simulated NAO), and read at its
+#: start a released arm still looks stiff.
+STIFFNESS_GAP = 0.05
+#: Two stiffness readings this close count as holding still.
+STIFFNESS_STILL = 0.01
+#: Longest wait for the stiffness to hold still [s]; then the last reading.
+STIFFNESS_WAIT = 0.5
 
 
 def check_still_stiff(
@@ -58,6 +67,36 @@ def check_still_stiff(
             "client released it",
             outcome=outcome,
         )
+
+
+def limp_joint(
+    client: NaoqiClient,
+    names: list[str],
+    wait: float = STIFFNESS_WAIT,
+    gap: float = STIFFNESS_GAP,
+) -> str | None:
+    """The least stiff of ``names`` if limp, e.g. ``RShoulderPitch stiffness 0.00``.
+
+    For a call the robot ended early: the stiffness is read every ``gap``
+    [s] until two readings agree within :data:`STIFFNESS_STILL` (a release
+    still ramping is waited out), at most ``wait`` [s]; limp is below
+    :data:`LIMP` (or not a number). None if the arm is not limp.
+
+    Raises:
+        RobotUnavailableError: the robot cannot be reached.
+        RobotCommandError: the robot refused ``getStiffnesses``.
+    """
+    deadline = time.monotonic() + wait
+    now = client.stiffnesses(names)
+    while time.monotonic() < deadline:
+        time.sleep(gap)
+        before, now = now, client.stiffnesses(names)
+        if np.abs(now - before).max() <= STIFFNESS_STILL:
+            break
+    j = int(np.argmin(now))
+    if now[j] >= LIMP:  # NaN is limp
+        return None
+    return f"{names[j]} stiffness {now[j]:.2f}"
 
 
 def check_at_start(client: NaoqiClient, names: list[str], start: np.ndarray) -> None:

@@ -50,7 +50,12 @@ may fail, or may return normally, as if it had played: an answer more than
 the call left: counted from leaving, a kill within the call's travel time
 of its end passed as a clean execution), is such an end, and raises a
 :class:`~shared.errors.RobotStateError` ("the robot ended the movement at
-t = X s of Y s").
+t = X s of Y s"). A call that fails is such an end too if the robot had
+begun it: its joints' command moved since the arrival mark was answered
+with it (a refused call moves nothing; it is a
+:class:`~shared.errors.RobotCommandError`). Either error says whether the
+arm is limp once its stiffness holds still (``arm_state.limp_joint``: a
+rest or the fall manager releases it as it kills the call).
 
 A bridge that is stopping and can wait no longer for the movement's end
 orders it cut (``bridge.cut``): the arm is stopped the same way as when the
@@ -67,6 +72,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bridge.almotion import AngleInterpolationCall
+from bridge.arm_state import limp_joint
 from bridge.cut import Cut
 from bridge.naoqi_client import NaoqiClient
 from bridge.qi_future import POLL, robot_reason, wait_future
@@ -90,6 +96,9 @@ HALT_WAIT = 0.25
 #: A call answered more than this before its duration, counted from its
 #: arrival mark (when the robot had it all), was ended by the robot [s].
 EARLY_END = 0.1
+#: A failed call whose joints' commanded angles moved more than this since
+#: its arrival mark had begun: the robot ended it, it did not refuse it [rad].
+MOVED = 1e-6
 
 
 class Samples(NamedTuple):
@@ -139,7 +148,9 @@ class _Arrival:
 
     The mark is a ``getAngles`` on the call's own session: libqi sends one
     connection's messages in order and the robot reads them in order, so
-    it is answered only once the whole call has arrived.
+    it is answered only once the whole call has arrived. Its answer, the
+    commanded angles then, tells a call the robot refused (the command
+    never moved from it) from one it began.
     """
 
     def __init__(self, motion: Any, names: list[str]) -> None:
@@ -151,6 +162,15 @@ class _Arrival:
     def time(self) -> float | None:
         """When the mark was answered [s, monotonic]; None while on its way."""
         return self._stamps[0] if self._stamps else None
+
+    def command(self, wait: float) -> np.ndarray | None:
+        """The commanded angles [rad], (n,), the mark was answered with.
+
+        Waits at most ``wait`` [s] for the answer; None without one.
+        """
+        if not wait_future(self._future, wait) or self._future.hasError():
+            return None
+        return np.array(self._future.value(), dtype=float)
 
 
 def overdue(
@@ -222,9 +242,10 @@ def play_and_sample(
             its movement ran :data:`OVERRUN` past its end; the robot was
             asked to stop first, and the client goes on stopping the arm
             until the call has ended.
-        RobotCommandError: the robot refused the call.
+        RobotCommandError: the robot refused the call (it moved nothing).
         RobotStateError: the robot answered the call more than
-            :data:`EARLY_END` before its duration: it ended it early.
+            :data:`EARLY_END` before its duration, or failed it after
+            moving its command: it ended it early.
         ServiceUnavailableError: ``cut`` was ordered (the bridge is
             stopping): the arm was stopped, the client goes on stopping it
             until the call has ended.
@@ -284,12 +305,14 @@ def play_and_sample(
             raise _give_up(
                 client, future, call.names, reason, elapsed, arrival.time is None
             )
-        raise client.failure("angleInterpolation", future.error(), elapsed)
-    width = len(call.names)
+        if not _began_moving(client, call.names, arrival):
+            raise client.failure("angleInterpolation", future.error(), elapsed)
     end = min([seen, *answered])  # the callback may not have run yet
     played = end - _began(start, arrival.time, end)
-    if played < call.duration - EARLY_END:
-        raise _ended_early(client, played, call.duration)
+    if future.hasError() or played < call.duration - EARLY_END:
+        failed = robot_reason(future.error()) if future.hasError() else None
+        raise _ended_early(client, call.names, played, call.duration, failed)
+    width = len(call.names)
     return Samples(
         np.array(times),
         np.array(rows, dtype=float).reshape(-1, width),
@@ -308,16 +331,51 @@ def _began(start: float, arrival: float | None, end: float) -> float:
     return arrival if arrival is not None and start <= arrival <= end else start
 
 
+def _began_moving(client: NaoqiClient, names: list[str], arrival: _Arrival) -> bool:
+    """Whether the robot had begun the call that failed: it moved the command.
+
+    A call the robot refuses moves nothing: the commanded angles of
+    ``names`` are still those its arrival mark was answered with. A call
+    killed once begun (``killAll``, ``rest``, the fall manager; a robot may
+    answer it with an error) left them where it was killed. A refusal can
+    come well after the mark (a large call is checked for tenths of a
+    second after it arrived), so the time alone does not tell them apart.
+
+    Raises:
+        RobotUnavailableError: the robot cannot be reached.
+    """
+    mark = arrival.command(client.call_timeout)
+    if mark is None:
+        return False
+    now = client.get_angles(names, use_sensors=False)
+    return bool(np.abs(now - mark).max() > MOVED)
+
+
 def _ended_early(
-    client: NaoqiClient, played: float, duration: float
+    client: NaoqiClient,
+    names: list[str],
+    played: float,
+    duration: float,
+    failed: str | None,
 ) -> RobotStateError:
-    """The error for a call the robot answered after ``played`` of ``duration`` [s]."""
+    """The error for a call on ``names`` ended at ``played`` of ``duration`` [s].
+
+    ``failed``: the robot's reason if the call failed, None if it returned.
+    The words say whether the arm is limp now (``arm_state.limp_joint``):
+    a rest or the fall manager releases it as it kills the call.
+    """
+    how = "returned" if failed is None else f'failed ("{failed}")'
+    limp = limp_joint(client, names)
+    stopped = "the arm stopped where it was then"
     return RobotStateError(
         client.url,
         f"the robot ended the movement at t = {played:.2f} s of {duration:.2f} s "
-        "(its call returned before its last key: its motion task was killed, by "
+        f"(its call {how} before its last key: its motion task was killed, by "
         "killAll, killTasksUsingResources, the fall manager or another client)",
-        outcome="the arm stopped where it was then",
+        outcome=stopped
+        if limp is None
+        else f"{stopped} and is limp ({limp}): a rest, the fall manager or "
+        "another client released it",
     )
 
 

@@ -23,9 +23,11 @@ from typing import Any
 import numpy as np
 import pytest
 
+from bridge.almotion import AngleInterpolationCall
 from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_blend, minimum_jerk_trajectory
 from bridge.naoqi_client import NaoqiClient
+from bridge.playback import play_and_sample
 from bridge.robot_bridge import RobotBridge
 from bridge.sim import SimProcess
 from bridge.sim.joint import SAG_SPEED
@@ -35,6 +37,7 @@ from bridge.sim.process import READY
 from shared.errors import (
     CallerDeadlineError,
     RobotBusyError,
+    RobotCommandError,
     RobotLimitsError,
     RobotStateError,
 )
@@ -436,6 +439,61 @@ def test_a_movement_killed_near_its_end_after_a_slow_arrival_is_an_error(
     print("\n", caught.value.message, f"({link.carried} bytes carried)")
     assert "the robot ended the movement at t = " in caught.value.message
     assert link.carried > 150e3  # the call took ~0.3 s or more to arrive
+
+
+@pytest.mark.parametrize("returns", [False, True], ids=["raising", "returning"])
+@pytest.mark.parametrize("act", ["rest", "killAll"])
+def test_a_movement_another_client_ends_is_robot_state_saying_if_limp(
+    tmp_path: Path, returns: bool, act: str
+) -> None:
+    """rest() or killAll() from another client 0.8 s into a 2 s reach. A
+    killed call that raised (the stock sim) was robot_command_refused, "the
+    robot refused angleInterpolation", though it had played; one that
+    returned was robot_state "the arm stopped where it was then" after
+    rest() had left every joint at stiffness 0. Now both are robot_state,
+    saying how far the reach played and, after rest(), that the arm is
+    limp."""
+    process = SimProcess(log_path=tmp_path / "sim.jsonl", killed_calls_return=returns)
+    process.start()
+    try:
+        with _motion(process.url) as motion:
+            bridge = RobotBridge(NaoqiClient(process.url))
+            reach = minimum_jerk_trajectory(
+                "right", [rest("right"), forward("right")], [2.0]
+            )
+            cut = threading.Timer(0.8, getattr(motion, act))
+            cut.start()
+            with pytest.raises(RobotStateError) as caught:
+                bridge.execute(reach)
+            cut.join()
+    finally:
+        process.stop()
+    message = caught.value.message
+    print("\n", message)
+    played = float(message.split("ended the movement at t = ")[1].split(" s ")[0])
+    assert 0.0 < played < 1.9
+    assert "of 2.00 s" in message
+    assert ("interrupted: killAll" in message) != returns
+    limp = "and is limp (RShoulderPitch stiffness 0.00)"
+    assert (limp in message) == (act == "rest")
+
+
+def test_a_call_the_robot_refuses_is_still_refused(sim: SimProcess) -> None:
+    """A call the robot checks and refuses moves nothing: it stays
+    robot_command_refused, though a large one (5000 keys) is refused
+    0.04-0.06 s after its arrival mark is answered on the sim (a killed
+    call is told apart by its command having moved, not by the time)."""
+    client = NaoqiClient(sim.url)
+    names = list(FrameLimits.for_arm("right").names)
+    start = client.get_angles(names, use_sensors=False)
+    for keys in (50, 5000):
+        angles = [[float(a)] * keys for a in start]
+        angles[0][-1] = 5.0  # RShoulderPitch past its stop at the last key
+        times = [[0.02 * (k + 1) for k in range(keys)]] * len(names)
+        call = AngleInterpolationCall(names, angles, times)
+        with pytest.raises(RobotCommandError, match="refused angleInterpolation"):
+            play_and_sample(client, call)
+        assert client.get_angles(names, use_sensors=False) == pytest.approx(start)
 
 
 def test_an_approach_the_robot_cuts_short_sends_no_trajectory(
