@@ -51,10 +51,12 @@ def write_path(
     folder: pathlib.Path, duration: float = 1.0
 ) -> tuple[pathlib.Path, list[str]]:
     """A minimum-jerk reach to GOAL from the hanging right arm, as CSV; and
-    its lines."""
+    its lines. Positions to 1 nm: rounded to 1 um, the curve the robot
+    plays through the joints jerks at 1.3-1.4 times the limit where the
+    wrist barely moves (docs/planning.md)."""
     path = reach_path(load_arm("right"), rest("right"), np.array(GOAL), duration)
     lines = ["t,x,y,z"] + [
-        f"{t:.6f},{x:.6f},{y:.6f},{z:.6f}"
+        f"{t:.6f},{x:.9f},{y:.9f},{z:.9f}"
         for t, (x, y, z) in zip(path.times, path.positions, strict=True)
     ]
     file = folder / "path.csv"

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.interpolate import CubicHermiteSpline  # type: ignore[import-untyped]
+from scipy.interpolate import (  # type: ignore[import-untyped]
+    CubicHermiteSpline,
+    CubicSpline,
+)
 
 from services.timing import time_given
 from services.timing.check import check_limits
@@ -124,3 +127,41 @@ def test_the_velocities_are_those_of_the_curve_through_the_positions() -> None:
     scale = np.abs(out.accelerations).max()
     assert np.abs(going - coming).max() < 1e-5 * scale
     assert np.allclose(curve(times, 2), out.accelerations, atol=1e-6 * scale)
+
+
+def _bumped(size: float) -> tuple[np.ndarray, np.ndarray]:
+    """The minimum-jerk move at 100 Hz with RElbowYaw's sample 50 moved by ``size``."""
+    times = np.linspace(0.0, 1.0, 101)
+    q = _minimum_jerk(times, np.full(5, 0.3))
+    q[50, 2] += size
+    return times, q
+
+
+def test_jerk_between_samples_is_checked_on_the_curve_the_robot_plays() -> None:
+    """A 0.15 mrad bump at one sample: its divided differences read about
+    0.7 times the jerk limit, so the samples pass, but the curve through
+    them (the bridge's cubic Hermite curve, this spline) jerks at about 1.6
+    times it on the pieces beside the bump. Refused, naming the joint, the
+    value on the curve and the piece's first sample (it was accepted)."""
+    times, q = _bumped(1.5e-4)
+    check_limits(times, q, LIMITS)  # the samples alone pass
+    with pytest.raises(LimitViolationError, match=r"between samples 4[89] and") as err:
+        time_given(times, q, LIMITS)
+    error = err.value
+    assert (error.joint, error.quantity) == ("RElbowYaw", "jerk")
+    assert error.index in (48, 49, 50)
+    assert error.time == times[error.index]
+    curve = CubicSpline(times, q, bc_type="clamped")  # what plays
+    on_piece = abs(curve(times[error.index] + 0.005, 3)[2])
+    assert error.value == pytest.approx(on_piece, rel=1e-6)
+    assert error.value > 1.5 * LIMITS.jerk[2]
+
+
+def test_an_accepted_path_keeps_the_jerk_limit_everywhere_between_samples() -> None:
+    """A 0.05 mrad bump passes, and the bridge's curve through the returned
+    positions and velocities stays within the jerk limit on every piece."""
+    times, q = _bumped(5e-5)
+    out = time_given(times, q, LIMITS)
+    curve = CubicHermiteSpline(times, out.positions, out.velocities)
+    middles = 0.5 * (times[1:] + times[:-1])
+    assert (np.abs(curve(middles, 3)) <= LIMITS.jerk * (1 + 1e-9)).all()
