@@ -132,6 +132,7 @@ class UnreachableTargetError(ArmplanError):
         palm: The wanted palm direction the posture also had to meet, or
             None: with one, a target within reach may still be missed (no
             posture within the limits turns the palm that way there).
+        advice: What to change, after the message (e.g. add samples), or "".
     """
 
     kind = "unreachable_target"
@@ -146,6 +147,7 @@ class UnreachableTargetError(ArmplanError):
         residual: float | None = None,
         at: str = "",
         palm: Sequence[float] | None = None,
+        advice: str = "",
     ) -> None:
         prefix = f"{at}: " if at else ""
         where = (
@@ -162,6 +164,8 @@ class UnreachableTargetError(ArmplanError):
             )
             if palm is not None:
                 message += f" with the palm facing {_fmt_vec(palm)}"
+        if advice:
+            message += f": {advice}"
         super().__init__(
             message,
             target=[float(v) for v in target],
@@ -171,6 +175,7 @@ class UnreachableTargetError(ArmplanError):
             residual=None if residual is None else float(residual),
             at=at,
             palm=None if palm is None else [float(v) for v in palm],
+            advice=advice,
         )
         self.target = tuple(float(v) for v in target)
         self.distance = float(distance)

@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
+from scipy.interpolate import CubicSpline  # type: ignore[import-untyped]
 
+from services.ik import check_reachable
 from services.planner.pipeline import PATH_TOLERANCE, plan
 from services.planner.wrist_path import reach_path
-from shared.errors import InvalidInputError, OffPathError
+from shared.errors import (
+    InvalidInputError,
+    LimitViolationError,
+    OffPathError,
+    UnreachableTargetError,
+)
 from shared.messages import Method, PlanRequest, WristPath, parse
 from shared.robot import ArmModel, load_arm
 from shared.robot.postures import rest
@@ -159,6 +168,44 @@ def test_a_dense_path_is_tracked_on_the_planners_grid() -> None:
     assert _wrist_errors(arm, dense, part.positions).max() < 1e-4
 
 
+def _resampled(path: WristPath, step: float, slower: float) -> WristPath:
+    """``path`` slowed ``slower`` times, every ``step`` [s] on its clamped spline."""
+    times = slower * np.asarray(path.times)
+    grid = np.round(np.arange(0.0, times[-1] + 1e-9, step), 9)
+    grid[-1] = times[-1]
+    spline = CubicSpline(times, np.asarray(path.positions), bc_type="clamped")
+    positions = [tuple(p) for p in spline(grid).tolist()]
+    return WristPath(arm=path.arm, times=grid.tolist(), positions=positions)
+
+
+def test_the_jerk_check_does_not_depend_on_the_sampling() -> None:
+    """The planner's own 0.64 s reach path at its own times plays RElbowYaw
+    jerk 689 rad/s^3 between samples 42 and 43 (limit 661): refused,
+    sampled every 10 ms or every 5 ms, for the same jerk at the same time;
+    1.5 times slower, accepted at both. (The 10 ms path was accepted, its
+    samples reading the jerk averaged over three pieces; wrist curves like
+    it were refused at 5 ms and accepted at 10 ms.)"""
+    own = plan(PlanRequest(targets=[{"position": (0.12, -0.13, 0.05)}]))
+    path = own.wrist_paths[0]
+    begin = tuple(rest("right"))
+    refusals = []
+    for step in (0.01, 0.005):
+        with pytest.raises(LimitViolationError) as caught:
+            plan(PlanRequest(wrist_path=_resampled(path, step, 1.0), start=begin))
+        refusals.append(caught.value)
+    for error in refusals:
+        assert (error.joint, error.quantity) == ("RElbowYaw", "jerk")
+        assert error.value > error.limit
+        assert "on the curve between samples" in error.message
+    assert refusals[0].time == pytest.approx(refusals[1].time, abs=0.011)
+    assert refusals[0].value == pytest.approx(refusals[1].value, rel=0.05)
+    for step in (0.01, 0.005):
+        slower = _resampled(path, step, 1.5)
+        assert plan(PlanRequest(wrist_path=slower, start=begin)).trajectory.times == (
+            slower.times
+        )
+
+
 @pytest.mark.parametrize("nudge", [0.001, 0.004, 0.008])
 def test_a_start_a_little_off_the_path_starts_on_it(nudge: float) -> None:
     """A start posture whose wrist is 0.1-0.8 mm from the path's first
@@ -171,3 +218,32 @@ def test_a_start_a_little_off_the_path_starts_on_it(nudge: float) -> None:
     assert 5e-5 < off < 1e-3
     result = plan(PlanRequest(arm=arm.side, wrist_path=path, start=tuple(nudged)))
     assert _wrist_errors(arm, path, result.trajectory.positions).max() < 1e-5
+
+
+def test_a_sparse_path_whose_curve_leaves_the_reach_names_the_gap() -> None:
+    """Four samples within reach at 0, 1.0, 1.15 and 2.5 s (the hanging
+    wrist, a point at 0.97 of the reach, held 0.15 s, back): the curve
+    through them passes 0.103 m from the shoulder, nearer than the wrist
+    can come (0.114 m). Refused as unreachable, naming the two samples the
+    curve leaves the reach between and asking for more there. (It was an
+    OffPathError, the wrist 176 mm from sample 2, blaming the tracker.)"""
+    arm = load_arm("right")
+    hanging = arm.fk(rest(arm.side))
+    way = np.array([1.0, -0.3, 0.3]) / np.linalg.norm([1.0, -0.3, 0.3])
+    far = hanging.shoulder + way * arm.reach[1] * 0.97
+    samples = [hanging.wrist, far, far, hanging.wrist]
+    for point in samples:
+        check_reachable(arm, point)
+    times = [0.0, 1.0, 1.15, 2.5]
+    path = WristPath(arm=arm.side, times=times, positions=[tuple(p) for p in samples])
+    with pytest.raises(UnreachableTargetError) as caught:
+        plan(PlanRequest(arm=arm.side, wrist_path=path))
+    error = caught.value
+    assert not arm.reach[0] <= error.distance <= arm.reach[1]
+    gap = re.search(r"between samples (\d) \(t = [\d.]+ s\) and (\d) ", error.message)
+    assert gap is not None, error.message
+    before, after = int(gap[1]), int(gap[2])
+    assert after == before + 1
+    at = float(re.search(r"at t = ([\d.]+) s", error.message)[1])  # type: ignore[index]
+    assert times[before] < at < times[after]
+    assert "add samples between them" in error.message

@@ -7,8 +7,10 @@ joint accelerations and jerks where the gaps changed: a slow path with 30 %
 of its samples dropped was refused (RElbowYaw jerk 716 > 661 rad/s^3) where
 the full one used 0.04 of the limit. Here such a path is first resampled
 evenly in time (``even_grid``), on the clamped cubic spline through its
-samples (at rest at both ends, through every sample); the tracker follows
-that; the joint angles at the path's own
+samples (at rest at both ends, through every sample), and checked to stay
+within the arm's reach between the samples
+(:mod:`services.planner.grid_reach`, naming the gap to fill); the tracker
+follows that; the joint angles at the path's own
 times are read off the cubic spline through the tracked postures and then
 moved onto the path's samples (``converge`` of the wrist position with every
 joint, no null-space motion: the residual is a fraction of a millimetre, so

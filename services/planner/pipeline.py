@@ -36,6 +36,7 @@ import numpy as np
 from services.ik import check_reachable, solve
 from services.planner.build import trajectory_message
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
+from services.planner.grid_reach import check_grid_within_reach
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
@@ -203,6 +204,7 @@ def _follow_given(
         joint_path = _movement(stages, request, path, start, decisions)
     else:  # tracked on an even grid: the joints do not depend on the sampling
         grid = even_grid(path)
+        check_grid_within_reach(arm, path, grid)
         tracked = _movement(stages, request, grid, start, decisions)
         joint_path = at_path_times(arm, path, tracked)
     limits = request_limits(arm.limits, request.limits)

@@ -1,0 +1,68 @@
+"""The even grid a wrist path is tracked on stays within the arm's reach.
+
+A path not sampled every 10 ms is tracked on the planner's even grid
+(:func:`services.planner.even_path.even_grid`), the clamped cubic spline
+through its samples. Every sample may be within reach while the curve
+between two of them is not: a chord between two points near the edge of
+the reach shell cuts inside its inner sphere (the hanging wrist and a
+point at 0.97 of the reach, one second apart, passed 0.103 m from the
+shoulder, which the wrist cannot come nearer than 0.114 m), and the spline
+swings past the samples where the times are uneven. The tracker then left
+the path and the user read that the wrist was 176 mm off at a sample,
+nothing saying the planner's own curve had left the reachable space.
+Shape-preserving interpolants (PCHIP, Akima) cut the same chord, so the
+grid is checked and the gap named, to be filled with samples.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from services.ik.iterate import TOLERANCE
+from shared.errors import UnreachableTargetError
+from shared.messages import WristPath
+from shared.robot.arm_model import ArmModel
+from shared.robot.postures import rest
+
+
+def check_grid_within_reach(arm: ArmModel, path: WristPath, grid: WristPath) -> None:
+    """Raise, naming the gap between ``path``'s samples, if ``grid`` leaves reach.
+
+    Args:
+        arm: The arm.
+        path: The timed wrist path as given (its samples within reach).
+        grid: ``path`` resampled on the even grid.
+
+    Raises:
+        UnreachableTargetError: at the grid point farthest out of the reach
+            shell (distance from the shoulder [m]), saying between which of
+            the path's samples it lies and to add samples there.
+    """
+    shoulder = arm.fk(rest(arm.side)).shoulder
+    points = np.asarray(grid.positions, dtype=float)
+    distance = np.linalg.norm(points - shoulder, axis=1)
+    low, high = arm.reach
+    outside = np.maximum(low - distance, distance - high)
+    k = int(np.argmax(outside))
+    if outside[k] <= TOLERANCE:
+        return
+    times = np.asarray(path.times, dtype=float)
+    t = grid.times[k]
+    after = int(np.clip(np.searchsorted(times, t, side="right"), 1, len(times) - 1))
+    before = after - 1
+    raise UnreachableTargetError(
+        points[k],
+        arm=arm.side.value,
+        distance=float(distance[k]),
+        reach=arm.reach,
+        at=(
+            f"the wrist path between samples {before} (t = {times[before]:.3f} s) "
+            f"and {after} (t = {times[after]:.3f} s), at t = {t:.3f} s on the "
+            "curve the planner draws through the samples (a clamped cubic "
+            "spline, tracked every 10 ms)"
+        ),
+        advice="add samples between them to keep the path within reach",
+    )
+
+
+__all__ = ["check_grid_within_reach"]
