@@ -217,9 +217,11 @@ def test_one_trial_number_in_two_files_is_refused(tmp_path: pathlib.Path) -> Non
         read_demos([first, second])
     assert caught.value.message == (
         f"{second}: trial 0 of subject 'P01' is also in {first}, another "
-        "recording under the same number (each `armplan demos import` numbers "
-        "its trials from 0): import the files in one `armplan demos import`, or "
-        "number this file's from 2 (`armplan demos import --first-trial 2`)"
+        "recording under the same number (each `armplan demos import` and each "
+        "`armplan demos synth` numbers its trials from 0): import the files in "
+        "one `armplan demos import`, or number this file's from 2 (`armplan "
+        "demos import --first-trial 2`); a synthetic set is read alone (make one "
+        "with more --subjects or --trials instead)"
     )
 
 

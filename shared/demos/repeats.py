@@ -78,11 +78,12 @@ class Register:
             raise DemoFileError(
                 where,
                 f"{named} is also {self._in(there, where)}, another recording "
-                "under the same number (each `armplan demos import` numbers its "
-                "trials from 0): import the files in one `armplan demos import`, "
-                f"or number this file's from {self._next(trial.subject)} "
-                "(`armplan demos import --first-trial "
-                f"{self._next(trial.subject)}`)",
+                "under the same number (each `armplan demos import` and each "
+                "`armplan demos synth` numbers its trials from 0): import the "
+                "files in one `armplan demos import`, or number this file's from "
+                f"{self._next(trial.subject)} (`armplan demos import --first-trial "
+                f"{self._next(trial.subject)}`); a synthetic set is read alone "
+                "(make one with more --subjects or --trials instead)",
                 trial=trial.trial,
                 subject=trial.subject,
                 duplicate=there,
