@@ -7,6 +7,13 @@ bridge checks three times (``bridge.robot_bridge``): before contacting the
 robot (the trajectory's length alone, the approach not yet known), before
 the approach (approach and trajectory), and just before the trajectory's
 frames are sent (an approach that took longer than planned, a slow robot).
+
+The movement ends its length after its call has *reached* the robot, and
+the answer leaves only once the last readings, the stiffness check and the
+report are done (:data:`AFTER`). A large call over a slow link takes
+seconds to arrive; :class:`CallDelay` estimates that from the calls before
+(the bridge measures each one's ``start_delay``), so an 8 s trajectory at
+500 fps is not started for a caller who waits 8.2 s.
 """
 
 from __future__ import annotations
@@ -15,6 +22,34 @@ import time
 
 from shared.errors import CallerDeadlineError
 
+#: Time a finished movement's answer still needs: the last readings, the
+#: stiffness check, the report and its encoding [s].
+AFTER = 0.1
+#: Fewest keys in a call for its start delay to be taken as its size's:
+#: a small call's delay is the link's latency, not its bytes.
+LEARN_FROM_KEYS = 1000
+
+
+class CallDelay:
+    """How long a call takes to reach the robot, by its size, as last seen.
+
+    Learned from the last large call's ``start_delay`` (its seconds per
+    key, one key a joint's angle and time at one frame); none seen yet: no
+    delay counted, as before.
+    """
+
+    def __init__(self) -> None:
+        self._per_key = 0.0  # [s]
+
+    def estimate(self, keys: int) -> float:
+        """The expected delay of a call of ``keys`` keys [s]."""
+        return keys * self._per_key
+
+    def learn(self, keys: int, start_delay: float) -> None:
+        """Note a call of ``keys`` keys that began ``start_delay`` [s] after leaving."""
+        if keys >= LEARN_FROM_KEYS and start_delay >= 0.0:
+            self._per_key = start_delay / keys
+
 
 def check_in_time(
     url: str,
@@ -22,8 +57,9 @@ def check_in_time(
     approach: float | None,
     duration: float,
     outcome: str,
+    overhead: float = 0.0,
 ) -> None:
-    """Raise unless the movement ends by ``until``.
+    """Raise unless the movement (and its answer) ends by ``until``.
 
     Args:
         url: The robot's NAOqi address (for the error).
@@ -33,13 +69,17 @@ def check_in_time(
             (counted as none).
         duration: The trajectory's length [s].
         outcome: What became of the movement, for the error.
+        overhead: The call's expected way to the robot and the answer's
+            making [s] (:class:`CallDelay`, :data:`AFTER`).
 
     Raises:
         CallerDeadlineError: the caller's time left is shorter than the
-            approach and the trajectory.
+            approach, the trajectory and the overhead.
     """
     if until is None:
         return
     left = until - time.monotonic()
-    if left < (approach or 0.0) + duration:
-        raise CallerDeadlineError(url, left, approach, duration, outcome=outcome)
+    if left < (approach or 0.0) + duration + overhead:
+        raise CallerDeadlineError(
+            url, left, approach, duration, outcome=outcome, overhead=overhead
+        )

@@ -64,7 +64,7 @@ from bridge.checks import check_frames
 from bridge.cut import Cut
 from bridge.frames import DEFAULT_RATE, check_rate
 from bridge.hand import with_hand
-from bridge.in_time import check_in_time
+from bridge.in_time import AFTER, CallDelay, check_in_time
 from bridge.limits import FrameLimits
 from bridge.limp_arm import hold_command, limp_posture
 from bridge.naoqi_client import NaoqiClient
@@ -144,6 +144,7 @@ class RobotBridge:
         self._robot_limits = RobotLimitsCheck()
         self._stopping = threading.Event()
         self._cut = Cut()
+        self._call_delay = CallDelay()
 
     def stop(self) -> None:
         """Send no new command from now on (the bridge process is stopping).
@@ -275,7 +276,9 @@ class RobotBridge:
             frames = checked_frames(trajectory, rate or self.rate, limits)
         names = list(frames.joint_names)
         url, duration = self.client.url, frames.duration
-        check_in_time(url, until, None, duration, "nothing was sent")
+        keys = len(frames.times) * len(frames.joint_names)
+        overhead = self._call_delay.estimate(keys) + AFTER
+        check_in_time(url, until, None, duration, "nothing was sent", overhead)
         self.refuse_if_stopping("nothing was sent")
         self.client.refuse_while_stopping()
         self.client.motion()  # connected: the checks hold for this connection
@@ -299,14 +302,14 @@ class RobotBridge:
             current = angles_at_rest(self.client, names)
             move = self._start_move(frames, current, limits, approach, False, sent)
         approach_time = 0.0 if move is None else move.duration
-        check_in_time(url, until, approach_time, duration, sent)
+        check_in_time(url, until, approach_time, duration, sent, overhead)
         self.refuse_if_stopping(sent)
         if move is not None:
             check_connection(self.client, checked, sent)
             if on_approach is not None:
                 on_approach(move.duration)
             self._approach(frames, move, on_state)
-        check_in_time(url, until, 0.0, duration, ARRIVED)
+        check_in_time(url, until, 0.0, duration, ARRIVED, overhead)
         self.refuse_if_stopping(ARRIVED if move is not None else sent)
         if on_play is not None:
             on_play(frames)
@@ -325,6 +328,7 @@ class RobotBridge:
             on_arrival=on_arrival,
             cut=self._cut,
         )
+        self._call_delay.learn(keys, samples.start_delay)
         check_still_stiff(
             self.client,
             names,

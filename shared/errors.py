@@ -809,6 +809,8 @@ class CallerDeadlineError(ArmplanError):
             (the arm not yet read), 0 if none is needed or it was played.
         duration: The trajectory's length [s].
         outcome: What became of the movement, e.g. ``"nothing was sent"``.
+        overhead: The time counted for the call's way to the robot and the
+            answer's making [s].
     """
 
     kind = "caller_deadline"
@@ -821,13 +823,17 @@ class CallerDeadlineError(ArmplanError):
         duration: float,
         *,
         outcome: str,
+        overhead: float = 0.0,
     ) -> None:
+        """See the class's attributes; ``overhead`` is named when over 0."""
         if approach is None:
             needs = f"the {duration:.2f} s trajectory alone"
         elif approach > 0.0:
             needs = f"{approach:.2f} s approach + {duration:.2f} s trajectory"
         else:
             needs = f"the {duration:.2f} s trajectory"
+        if overhead > 0.0:
+            needs += f" + {overhead:.2f} s for the call's way and the answer"
         super().__init__(
             f"the robot at {url}: the caller stops waiting in {max(left, 0.0):.2f} "
             f"s, before the movement would end ({needs}); {outcome}: ask with a "
@@ -837,12 +843,14 @@ class CallerDeadlineError(ArmplanError):
             approach=None if approach is None else float(approach),
             duration=float(duration),
             outcome=outcome,
+            overhead=float(overhead),
         )
         self.url = url
         self.left = float(left)
         self.approach = None if approach is None else float(approach)
         self.duration = float(duration)
         self.outcome = outcome
+        self.overhead = float(overhead)
 
 
 class RobotCommandError(ArmplanError):
