@@ -90,7 +90,7 @@ def test_a_joint_let_go_with_a_sag_falls_toward_rest_for_that_long(
 
 @pytest.mark.parametrize("sag", [-0.1, float("nan"), 11.0])
 def test_a_sag_out_of_range_is_refused(sag: float) -> None:
-    from bridge.sim.__main__ import check_sag
+    from shared.sim_options import check_sag
 
     with pytest.raises(InvalidInputError, match=r"--limp-sag must be 0\.\.10 s"):
         check_sag(sag)
@@ -123,7 +123,7 @@ def test_a_hand_holding_an_object_closes_no_further() -> None:
 
 @pytest.mark.parametrize("grip", [-0.1, float("nan"), 1.5])
 def test_a_grip_out_of_range_is_refused(grip: float) -> None:
-    from bridge.sim.__main__ import check_grip
+    from shared.sim_options import check_grip
 
     with pytest.raises(InvalidInputError, match=r"--grip must be an open fraction"):
         check_grip(grip)

@@ -16,6 +16,7 @@ from bridge.sim.cycle import PERIOD, check_period
 from bridge.sim.log import check_log_file
 from bridge.sim.server import DEFAULT_LISTEN, serve
 from shared.errors import ArmplanError, InvalidInputError
+from shared.sim_options import add_sim_options, check_sim_options
 from shared.stop_signals import stop_on_signals
 
 
@@ -40,29 +41,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--period", type=float, default=PERIOD, help="control cycle [s] (default 0.02)"
     )
-    p.add_argument(
-        "--killed-calls-return",
-        action="store_true",
-        help="a blocking call whose motion task is killed (killAll, "
-        "killTasksUsingResources) returns normally instead of raising, as "
-        "NAOqi's may",
-    )
-    p.add_argument(
-        "--limp-sag",
-        type=float,
-        default=0.0,
-        metavar="SECONDS",
-        help="a joint let go falls toward its rest angle at 1 rad/s for this "
-        "long, as a NAO's arm falls for about 0.3 s (default 0: it holds still)",
-    )
-    p.add_argument(
-        "--grip",
-        type=float,
-        default=None,
-        metavar="OPEN_FRACTION",
-        help="each hand holds an object this wide (0..1), so it closes no "
-        "further (default: nothing in the hands)",
-    )
+    add_sim_options(p)
     p.add_argument(
         "--stop-on-stdin-eof",
         action="store_true",
@@ -70,22 +49,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     # The command a person typed, for error messages (``armplan sim`` execs this).
     p.add_argument("--prog", default=None, help=argparse.SUPPRESS)
-
-
-def check_sag(sag: float) -> None:
-    """Raise InvalidInputError unless ``sag`` [s] is 0..10."""
-    if not 0.0 <= sag <= 10.0:  # NaN too
-        raise InvalidInputError(
-            f"--limp-sag must be 0..10 s, got {sag}", field="limp_sag"
-        )
-
-
-def check_grip(grip: float | None) -> None:
-    """Raise InvalidInputError unless ``grip`` is None or an open fraction 0..1."""
-    if grip is not None and not 0.0 <= grip <= 1.0:  # NaN too
-        raise InvalidInputError(
-            f"--grip must be an open fraction 0..1, got {grip}", field="grip"
-        )
 
 
 def _watch_stdin(stop: threading.Event) -> None:
@@ -125,8 +88,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         check_listen_url(args.listen)
         check_period(args.period)
-        check_sag(args.limp_sag)
-        check_grip(args.grip)
+        check_sim_options(args)
         if args.log is not None:
             check_log_file(args.log)
     except InvalidInputError as error:

@@ -6,6 +6,8 @@ import argparse
 import os
 import sys
 
+from shared.sim_options import add_sim_options, check_sim_options, sim_argv
+
 ORDER = 70
 HELP = "run the simulated NAO, serving ALMotion over NAOqi until Ctrl-C"
 #: Same defaults as ``python -m bridge.sim``, which this command becomes.
@@ -25,28 +27,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--period", type=float, default=PERIOD, help="control cycle [s] (default 0.02)"
     )
-    parser.add_argument(
-        "--killed-calls-return",
-        action="store_true",
-        help="a blocking call whose motion task is killed returns normally "
-        "instead of raising, as NAOqi's may",
-    )
-    parser.add_argument(
-        "--limp-sag",
-        type=float,
-        default=0.0,
-        metavar="SECONDS",
-        help="a joint let go falls toward its rest angle at 1 rad/s for this "
-        "long (default 0: it holds still)",
-    )
-    parser.add_argument(
-        "--grip",
-        type=float,
-        default=None,
-        metavar="OPEN_FRACTION",
-        help="each hand holds an object this wide (0..1), so it closes no "
-        "further (default: nothing in the hands)",
-    )
+    add_sim_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -60,15 +41,13 @@ def run(args: argparse.Namespace) -> int:
     starts.
     """
     from bridge.address import check_listen_url
-    from bridge.sim.__main__ import check_grip, check_sag
     from bridge.sim.cycle import check_period
     from bridge.sim.listen import check_can_listen
     from bridge.sim.log import check_log_file
 
     check_listen_url(args.listen)
     check_period(args.period)
-    check_sag(args.limp_sag)
-    check_grip(args.grip)
+    check_sim_options(args)
     check_can_listen(args.listen)
     if args.log is not None:
         check_log_file(args.log)
@@ -76,11 +55,7 @@ def run(args: argparse.Namespace) -> int:
     argv += ["--period", str(args.period), "--prog", "armplan"]
     if args.log is not None:
         argv += ["--log", args.log]
-    if args.killed_calls_return:
-        argv.append("--killed-calls-return")
-    argv += ["--limp-sag", str(args.limp_sag)]
-    if args.grip is not None:
-        argv += ["--grip", str(args.grip)]
+    argv += sim_argv(args)
     sys.stdout.flush()
     sys.stderr.flush()
     os.execv(sys.executable, argv)
