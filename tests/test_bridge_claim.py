@@ -38,16 +38,6 @@ def config(tmp_path: Path) -> Iterator[BusConfig]:
         yield config
 
 
-@pytest.fixture
-def sim(tmp_path: Path) -> Iterator[SimProcess]:
-    process = SimProcess(log_path=tmp_path / "sim.jsonl")
-    process.start()
-    try:
-        yield process
-    finally:
-        process.stop()
-
-
 def _bridge(config: BusConfig, sim: SimProcess) -> subprocess.Popen[str]:
     command = [sys.executable, "-m", "bridge.serve", "--robot", sim.url]
     command += ["--connect", config.endpoints[0]]

@@ -29,6 +29,7 @@ import zenoh
 
 from armplan.launch import Launcher, free_endpoint
 from armplan.launch.robot import BRIDGE_GRACE, RobotStack
+from bridge.frames import DEFAULT_RATE
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
@@ -152,8 +153,11 @@ class InProcess:
 
 
 @contextlib.contextmanager
-def in_process(tmp_path: Path, robot_url: str, sim: SimProcess) -> Iterator[InProcess]:
-    """A :class:`BridgeService` on a real bus, serving ``bridge/execute``."""
+def in_process(
+    tmp_path: Path, robot_url: str, sim: SimProcess, rate: float = DEFAULT_RATE
+) -> Iterator[InProcess]:
+    """A :class:`BridgeService` on a real bus, serving ``bridge/execute``
+    (``rate``: the bridge's frame rate [Hz])."""
     config = load_config(endpoints=(free_endpoint(),))
     client = NaoqiClient(robot_url)
     try:
@@ -163,7 +167,7 @@ def in_process(tmp_path: Path, robot_url: str, sim: SimProcess) -> Iterator[InPr
             Bus.connect(config) as served,
             Bus.connect(config) as bus,
         ):
-            service = BridgeService(served, RobotBridge(client))
+            service = BridgeService(served, RobotBridge(client, rate=rate))
             with ServiceHost(served, BRIDGE, service.endpoints()):
                 bus.wait_alive([BRIDGE], 10.0)
                 yield InProcess(service, bus, sim)
@@ -402,32 +406,15 @@ def test_a_request_without_a_rate_plays_at_the_bridges_rate(
     """A bridge at 50 fps (``--rate 50``), a request naming no rate: 50 fps
     frames (it used to play at the request's default 25 fps); a request
     naming 25 fps still gets 25."""
-    from bridge.naoqi_client import NaoqiClient
-    from bridge.robot_bridge import RobotBridge
-    from bridge.service import BridgeService
-    from shared.bus import ServiceHost
-    from shared.bus.robot_routes import BRIDGE
-
-    config = load_config(endpoints=(free_endpoint(),))
     sim = SimProcess(log_path=tmp_path / "sim.jsonl")
     sim.start()
     trajectory = minimum_jerk_trajectory("right", [rest("right")] * 2, [1.0])
     try:
-        with (
-            (tmp_path / "router.log").open("w") as router_log,
-            Launcher(config, [], log=router_log),
-            Bus.connect(config) as served,
-            Bus.connect(config) as bus,
-        ):
-            robot = RobotBridge(NaoqiClient(sim.url), rate=50.0)
-            service = BridgeService(served, robot)
-            with ServiceHost(served, BRIDGE, service.endpoints()):
-                bus.wait_alive([BRIDGE], 10.0)
-                plain = ExecuteRequest(trajectory=trajectory)
-                own = bus.call(EXECUTE, plain, timeout=30.0)
-                asked = ExecuteRequest(trajectory=trajectory, rate=25.0)
-                named = bus.call(EXECUTE, asked, timeout=30.0)
-            robot.client.close()
+        with in_process(tmp_path, sim.url, sim, rate=50.0) as bridge:
+            plain = ExecuteRequest(trajectory=trajectory)
+            own = bridge.bus.call(EXECUTE, plain, timeout=30.0)
+            asked = ExecuteRequest(trajectory=trajectory, rate=25.0)
+            named = bridge.bus.call(EXECUTE, asked, timeout=30.0)
     finally:
         sim.stop()
     assert (own.frames, named.frames) == (50, 25)
