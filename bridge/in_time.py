@@ -26,29 +26,39 @@ from shared.errors import CallerDeadlineError
 #: stiffness check, the report and its encoding [s].
 AFTER = 0.1
 #: Fewest keys in a call for its start delay to be taken as its size's:
-#: a small call's delay is the link's latency, not its bytes.
-LEARN_FROM_KEYS = 1000
+#: below, a call's delay is the link's latency, not its bytes (an 8 s
+#: trajectory at 25 fps is 1000 keys: its 7 ms delay on loopback, taken as
+#: its size's, over-estimated a 500 fps call's by 1.7 times).
+LEARN_FROM_KEYS = 5000
 
 
 class CallDelay:
-    """How long a call takes to reach the robot, by its size, as last seen.
+    """How long a call takes to reach the robot: latency + size, as last seen.
 
-    Learned from the last large call's ``start_delay`` (its seconds per
-    key, one key a joint's angle and time at one frame); none seen yet: no
-    delay counted, as before.
+    The latency is the least start delay of the small calls (approaches,
+    short or slow trajectories); the time per key (one joint's angle and
+    time at one frame) is the last large call's delay less that latency.
+    None seen yet: no delay counted, as before.
     """
 
     def __init__(self) -> None:
+        self._latency = 0.0  # [s]
+        self._small_seen = False
         self._per_key = 0.0  # [s]
 
     def estimate(self, keys: int) -> float:
         """The expected delay of a call of ``keys`` keys [s]."""
-        return keys * self._per_key
+        return self._latency + keys * self._per_key
 
     def learn(self, keys: int, start_delay: float) -> None:
         """Note a call of ``keys`` keys that began ``start_delay`` [s] after leaving."""
-        if keys >= LEARN_FROM_KEYS and start_delay >= 0.0:
-            self._per_key = start_delay / keys
+        if start_delay < 0.0:
+            return
+        if keys < LEARN_FROM_KEYS:
+            if not self._small_seen or start_delay < self._latency:
+                self._latency, self._small_seen = start_delay, True
+            return
+        self._per_key = max(start_delay - self._latency, 0.0) / keys
 
 
 def check_in_time(

@@ -410,13 +410,15 @@ class RobotBridge:
         """
         start = np.asarray(frames.start)
         on_sample = None if on_state is None else _shifted(on_state, -move.duration)
-        play_and_sample(
+        samples = play_and_sample(
             self.client,
             angle_interpolation_call(move),
             period=0.05,
             on_sample=on_sample,
             cut=self._cut,
         )
+        keys = len(move.times) * len(move.joint_names)
+        self._call_delay.learn(keys, samples.start_delay)  # a small call: latency
         names = list(frames.joint_names)
         check_still_stiff(
             self.client, names, _chain(frames.arm), "nothing of the trajectory was sent"

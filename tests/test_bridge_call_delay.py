@@ -65,12 +65,16 @@ def test_a_call_slow_to_arrive_is_counted_against_the_caller(sim: SimProcess) ->
     assert again.frames == first.frames
 
 
-def test_the_delay_is_learned_from_large_calls_only() -> None:
-    """A small call's delay is the link's latency: it teaches nothing."""
+def test_the_delay_is_latency_plus_size() -> None:
+    """Small calls teach the latency, large ones the time per key beyond it:
+    an 8 s trajectory at 25 fps (1000 keys, 7 ms) taught 7 us per key, and
+    a 500 fps call's delay was over-estimated 1.7 times."""
     delay = CallDelay()
-    assert delay.estimate(10_000) == 0.0
-    delay.learn(50, 0.01)  # 200 us per key, were it learned
-    assert delay.estimate(10_000) == 0.0
-    delay.learn(LEARN_FROM_KEYS * 4, 0.2)
-    assert delay.estimate(LEARN_FROM_KEYS * 8) == pytest.approx(0.4)
+    assert delay.estimate(40_000) == 0.0  # nothing seen: nothing counted
+    delay.learn(1000, 0.007)  # latency
+    assert delay.estimate(40_000) == pytest.approx(0.007)
+    delay.learn(LEARN_FROM_KEYS * 4, 0.007 + 0.2)
+    assert delay.estimate(LEARN_FROM_KEYS * 8) == pytest.approx(0.007 + 0.4)
+    delay.learn(50, 0.003)  # a lower latency
+    assert delay.estimate(0) == pytest.approx(0.003)
     assert AFTER > 0.0
