@@ -52,3 +52,19 @@ class Cut:
                 f"{played:.1f} s of {duration:.2f} s ({self._why}): {outcome}"
             ),
         )
+
+    def error_on_its_way(
+        self, duration: float, outcome: str
+    ) -> ServiceUnavailableError:
+        """The caller's error when the ``duration`` [s] call is still on its way.
+
+        The stops follow it; the bridge exits once they have ended.
+        """
+        return ServiceUnavailableError(
+            BRIDGE,
+            reason=(
+                f"the bridge is stopping; the {duration:.2f} s trajectory's call "
+                f"had not reached the robot yet ({self._why}): {outcome}; the "
+                "bridge exits once the stops have ended"
+            ),
+        )

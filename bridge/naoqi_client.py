@@ -168,6 +168,22 @@ class NaoqiClient:
         )
         return f"{outcome}; {follow}"
 
+    def wait_stopped(self) -> bool:
+        """Wait until the arm is no longer being stopped after a call given up on.
+
+        At most the stopper's own bound (:data:`RETIRE_AFTER` from its
+        start). A process about to exit waits for it: the stopper is a
+        thread of this process, and a call still on its way would otherwise
+        reach the robot after the exit and play with no one stopping it.
+
+        Returns:
+            True if no stopper runs any more.
+        """
+        stopper = self._stopper
+        if stopper is None or not stopper.running:
+            return True
+        return stopper.wait(max(0.0, stopper.limit_at - time.monotonic()) + 0.5)
+
     def refuse_while_stopping(self) -> None:
         """Raise if the arm is still being stopped after a call given up on.
 

@@ -392,8 +392,10 @@ def _cut_short(
     but the robot is not declared lost: it answers.
     """
     now = time.monotonic()
-    played = 0.0 if arrival is None else min(max(now - arrival, 0.0), call.duration)
     outcome = client.halt(HALT_WAIT, call.names, future, arrival is not None)
+    if arrival is None:
+        return cut.error_on_its_way(call.duration, outcome)
+    played = min(max(now - arrival, 0.0), call.duration)
     return cut.error(played, call.duration, outcome)
 
 

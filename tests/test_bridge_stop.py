@@ -31,7 +31,7 @@ from armplan.launch import Launcher, free_endpoint
 from armplan.launch.robot import BRIDGE_GRACE, RobotStack
 from bridge.frames import DEFAULT_RATE
 from bridge.minimum_jerk import minimum_jerk_trajectory
-from bridge.naoqi_client import NaoqiClient
+from bridge.naoqi_client import RETIRE_AFTER, NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import CUT_WAIT, STOP_GRACE, STOP_LIMIT, BridgeService
 from bridge.sim import SimProcess
@@ -258,7 +258,7 @@ def test_the_stack_gives_the_bridge_time_to_watch_a_trajectory_to_its_end(
     bridge's own wait (up to 30 s) for the trajectory, the arm left playing
     unwatched and the caller answered by no one. Now the bridge's grace
     covers its own bound: the caller gets its report, the bridge exits 0."""
-    assert BRIDGE_GRACE >= STOP_LIMIT + CUT_WAIT + 2.0
+    assert BRIDGE_GRACE >= STOP_LIMIT + CUT_WAIT + RETIRE_AFTER + 2.0
     trajectory = minimum_jerk_trajectory(
         "right", [rest("right"), forward("right"), rest("right")], [3.5, 3.5]
     )
@@ -305,6 +305,46 @@ def test_a_trajectory_slow_to_reach_the_robot_is_watched_to_its_end(
     assert report.duration >= 4.0 - 2.0 * report.sample_period
     assert played == ["done"]
     assert "unwatched" not in (tmp_path / "bridge.log").read_text()
+
+
+def test_a_bridge_exits_only_once_a_call_given_up_on_its_way_is_stopped(
+    tmp_path: Path,
+) -> None:
+    """SIGTERM 0.3 s after a 4 s trajectory at 1000 fps (520 kB) left over an
+    80 kB/s link: the call is given up (not arrived within its duration +
+    1 s) and the stops follow it. The bridge used to exit at once, its
+    stopper thread with it: the call reached the robot after the exit and
+    played in full. Now the bridge exits once the call has ended, stopped
+    as it took effect."""
+    with running_stack(tmp_path, bandwidth=80e3) as stack:
+        sent = threading.Event()
+        frames = stack.bus.session.declare_subscriber(
+            stack.bus.key("bridge/frames"), lambda _: sent.set()
+        )
+        trajectory = minimum_jerk_trajectory(
+            "right", [rest("right"), forward("right")], [4.0]
+        )
+        outcome = stack.execute_in_background(trajectory, rate=1000.0)
+        assert sent.wait(20.0)
+        time.sleep(0.3)
+        assert stack.robot.bridge is not None
+        stack.robot.bridge.signal(signal.SIGTERM)
+        outcome["thread"].join(30.0)
+        frames.undeclare()
+        code = stack.bridge_exit(BRIDGE_GRACE)
+        exited = time.monotonic()
+        began = when_sim_logs(stack.sim, "call", "angleInterpolation")
+        time.sleep(max(0.0, began + 4.5 - time.monotonic()))  # its end, unstopped
+        played, moved = finished(stack.sim), last_moved(stack.sim)
+    print(
+        f"\n{outcome.get('error')}\nthe call took effect {exited - began:.2f} s "
+        "before the bridge exited"
+    )
+    assert code == 0
+    assert isinstance(outcome.get("error"), ArmplanError)
+    assert began < exited  # the bridge was still there when the call arrived
+    assert played == []  # stopped, not played in full
+    assert moved < began + 0.2
 
 
 def test_a_stop_that_cannot_wait_for_the_end_stops_the_arm(

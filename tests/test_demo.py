@@ -55,8 +55,9 @@ from shared.robot.postures import forward
 #: Longest a demo run may take on a loaded machine [s].
 RUN_TIMEOUT = 240.0
 #: Longest a demo may take to stop everything after Ctrl-C [s]: the bridge
-#: alone may take 35 s (``armplan.launch``'s grace for it, to watch a
-#: trajectory playing to its end), and a loaded machine more.
+#: alone may take 65 s (``armplan.launch``'s grace for it, to watch a
+#: trajectory playing to its end, and to stop a call given up on), and a
+#: loaded machine more.
 STOP_TIMEOUT = 90.0
 
 

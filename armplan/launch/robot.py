@@ -46,9 +46,11 @@ GRACE = 5.0
 #: bound on the wait for a trajectory still playing on a robot
 #: (``bridge.service.STOP_LIMIT``, 30 s), the time to stop the arm of one
 #: that plays longer and answer its caller (``bridge.service.CUT_WAIT``,
-#: 1.25 s), and some to exit. Cut short, the arm would play on unwatched
+#: 1.25 s), the stops that follow a call still on its way until it ends
+#: (``bridge.naoqi_client.RETIRE_AFTER``, 30 s, over a very slow link
+#: only), and some to exit. Cut short, the arm would play on unwatched
 #: and its caller get no answer.
-BRIDGE_GRACE = 35.0
+BRIDGE_GRACE = 65.0
 #: Pause between liveliness checks while starting [s].
 POLL = 0.1
 #: The sim's address for ``armplan up --with-sim``: a NAO's own port.
