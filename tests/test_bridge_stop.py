@@ -383,6 +383,41 @@ def test_a_stop_that_cannot_wait_for_the_end_stops_the_arm(
     assert finished(sim) == []
 
 
+def test_a_stop_that_cuts_a_call_on_its_way_says_so(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """The stop's limit (1 s here) passes while a 4 s call at 1000 fps is
+    still on its way over an 80 kB/s link: the caller was told "it stopped
+    the arm at about t = 0.0 s". It is told the call had not reached the
+    robot, and the stops follow it: it is ended as it takes effect."""
+    link = link_to(sim, 80e3)
+    try:
+        with in_process(tmp_path, link.url, sim) as bridge:
+            trajectory = minimum_jerk_trajectory(
+                "right", [rest("right"), forward("right")], [4.0]
+            )
+            outcome = execute_in_background(bridge.bus, trajectory, rate=1000.0)
+            time.sleep(1.0)  # the approach is none: the call is on its way
+            assert bridge.service.stop(limit=0.5)
+            outcome["thread"].join(10.0)
+            assert bridge.service.robot.client.wait_stopped()
+        began = when_sim_logs(sim, "call", "angleInterpolation")
+        time.sleep(max(0.0, began + 4.5 - time.monotonic()))  # its end, unstopped
+    finally:
+        link.close()
+    error = outcome.get("error")
+    assert isinstance(error, ServiceUnavailableError), outcome
+    print(f"\n{error.reason}")
+    assert error.reason.startswith(
+        "the bridge is stopping; the 4.00 s trajectory's call had not reached the "
+        "robot yet (its movement would end past the 0.5 s a stopping bridge waits "
+        "for it): "
+    )
+    assert "stopped the arm at about" not in error.reason
+    assert finished(sim) == []
+    assert last_moved(sim) < began + 0.2
+
+
 def test_a_stop_that_gives_up_a_request_that_sent_nothing_says_so(
     tmp_path: Path, sim: SimProcess, caplog: pytest.LogCaptureFixture
 ) -> None:
