@@ -112,3 +112,18 @@ def test_without_a_signal_errors_are_reported_as_before(
 
     with pytest.raises(PydanticSerializationError):
         run_command(serializing, argparse.Namespace(json=False))
+
+
+def test_a_signal_ignored_at_start_stays_ignored() -> None:
+    """``armplan demo &`` in a script starts with SIGINT ignored: the
+    handlers used to take it over, and the script's Ctrl-C ended the demo."""
+    held = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        terminate_on_sigterm()
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+        assert signal.getsignal(signal.SIGTERM) not in (signal.SIG_IGN, signal.SIG_DFL)
+    finally:
+        for signum, handler in held.items():
+            signal.signal(signum, handler)
+        forget_signals()

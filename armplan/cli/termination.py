@@ -34,6 +34,8 @@ def terminate_on_sigterm() -> None:
     """From now on SIGTERM raises :class:`Terminated` in the main thread.
 
     Ctrl-C still raises ``KeyboardInterrupt``; both signals are remembered.
+    A signal the process was started with ignored stays ignored (``cmd &``
+    in a script: the script's Ctrl-C is not meant for it).
     """
 
     def terminate(signum: int, frame: FrameType | None) -> None:
@@ -44,8 +46,9 @@ def terminate_on_sigterm() -> None:
         _received.append(signal.SIGINT)
         raise KeyboardInterrupt
 
-    signal.signal(signal.SIGTERM, terminate)
-    signal.signal(signal.SIGINT, interrupt)
+    for signum, handler in ((signal.SIGTERM, terminate), (signal.SIGINT, interrupt)):
+        if signal.getsignal(signum) is not signal.SIG_IGN:  # kept, as inherited
+            signal.signal(signum, handler)
 
 
 def stopped_by() -> signal.Signals | None:
