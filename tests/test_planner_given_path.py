@@ -9,6 +9,7 @@ import pytest
 from scipy.interpolate import CubicSpline  # type: ignore[import-untyped]
 
 from services.ik import check_reachable
+from services.planner.even_path import even_grid
 from services.planner.pipeline import PATH_TOLERANCE, plan
 from services.planner.wrist_path import reach_path
 from shared.errors import (
@@ -247,3 +248,28 @@ def test_a_sparse_path_whose_curve_leaves_the_reach_names_the_gap() -> None:
     at = float(re.search(r"at t = ([\d.]+) s", error.message)[1])  # type: ignore[index]
     assert times[before] < at < times[after]
     assert "add samples between them" in error.message
+
+
+def test_a_path_poking_a_hair_out_of_the_reach_between_samples_is_planned() -> None:
+    """Six noisy samples from the hanging wrist (0.8 mm inside the reach
+    shell), unevenly timed: the curve drawn through them pokes 0.07 mm out
+    of the shell between the first two. The grid's reach used to be checked
+    before tracking, at the IK's 0.1 mm, and the path was refused though the
+    tracker follows it exactly; it is checked only to explain a failure."""
+    arm = load_arm("right")
+    times = [0.0, 1.484776, 1.973796, 2.610256, 3.541170, 5.034065]
+    samples = [
+        (0.011115549, -0.128881909, -0.057538716),
+        (0.039103548, -0.126390845, -0.020585743),
+        (0.089306446, -0.107284251, 0.023453304),
+        (0.094191655, -0.105186115, 0.020793642),
+        (0.096762002, -0.107540872, 0.027968466),
+        (0.096762002, -0.107540872, 0.027968466),
+    ]
+    path = WristPath(arm=arm.side, times=times, positions=samples)
+    grid = even_grid(path)
+    shoulder = arm.fk(rest(arm.side)).shoulder
+    farthest = np.linalg.norm(np.asarray(grid.positions) - shoulder, axis=1).max()
+    assert farthest > arm.reach[1]  # the drawn curve leaves the shell
+    result = plan(PlanRequest(arm=arm.side, wrist_path=path))
+    assert _wrist_errors(arm, path, result.trajectory.positions).max() < 1e-5

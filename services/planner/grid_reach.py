@@ -10,8 +10,12 @@ shoulder, which the wrist cannot come nearer than 0.114 m), and the spline
 swings past the samples where the times are uneven. The tracker then left
 the path and the user read that the wrist was 176 mm off at a sample,
 nothing saying the planner's own curve had left the reachable space.
-Shape-preserving interpolants (PCHIP, Akima) cut the same chord, so the
-grid is checked and the gap named, to be filled with samples.
+Shape-preserving interpolants (PCHIP, Akima) cut the same chord, so when
+tracking the grid fails (off the path, or over a limit), the grid is
+checked and the gap named, to be filled with samples. It is not checked
+before: a path leaving its start on the reach shell (the hanging wrist is
+0.8 mm inside it) may poke a fraction of a millimetre out, and the tracker
+follows it within the path's tolerance all the same.
 """
 
 from __future__ import annotations
@@ -25,13 +29,16 @@ from shared.robot.arm_model import ArmModel
 from shared.robot.postures import rest
 
 
-def check_grid_within_reach(arm: ArmModel, path: WristPath, grid: WristPath) -> None:
+def check_grid_within_reach(
+    arm: ArmModel, path: WristPath, grid: WristPath, tolerance: float = TOLERANCE
+) -> None:
     """Raise, naming the gap between ``path``'s samples, if ``grid`` leaves reach.
 
     Args:
         arm: The arm.
         path: The timed wrist path as given (its samples within reach).
         grid: ``path`` resampled on the even grid.
+        tolerance: How far out of the reach shell a grid point may be [m].
 
     Raises:
         UnreachableTargetError: at the grid point farthest out of the reach
@@ -44,7 +51,7 @@ def check_grid_within_reach(arm: ArmModel, path: WristPath, grid: WristPath) -> 
     low, high = arm.reach
     outside = np.maximum(low - distance, distance - high)
     k = int(np.argmax(outside))
-    if outside[k] <= TOLERANCE:
+    if outside[k] <= tolerance:
         return
     times = np.asarray(path.times, dtype=float)
     t = grid.times[k]

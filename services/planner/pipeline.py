@@ -42,7 +42,7 @@ from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
 from services.timing.request_limits import request_limits
 from services.timing.sample_cap import FEWER_SAMPLES, check_payload, check_samples
-from shared.errors import OffPathError, UnreachableTargetError
+from shared.errors import LimitViolationError, OffPathError, UnreachableTargetError
 from shared.messages import (
     DecideRequest,
     Decision,
@@ -200,16 +200,23 @@ def _follow_given(
     check_path_within_reach(arm, path)
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
-    if tracked_as_given(path.times):
-        joint_path = _movement(stages, request, path, start, decisions)
-    else:  # tracked on an even grid: the joints do not depend on the sampling
-        grid = even_grid(path)
-        check_grid_within_reach(arm, path, grid)
-        tracked = _movement(stages, request, grid, start, decisions)
-        joint_path = at_path_times(arm, path, tracked)
-    limits = request_limits(arm.limits, request.limits)
-    timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
-    check_on_path(arm, path, timed.positions, request.path_tolerance)
+    grid = None if tracked_as_given(path.times) else even_grid(path)
+    try:
+        if grid is None:
+            joint_path = _movement(stages, request, path, start, decisions)
+        else:  # tracked on an even grid: the joints do not depend on the sampling
+            tracked = _movement(stages, request, grid, start, decisions)
+            joint_path = at_path_times(arm, path, tracked)
+        limits = request_limits(arm.limits, request.limits)
+        timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
+        check_on_path(arm, path, timed.positions, request.path_tolerance)
+    except (OffPathError, LimitViolationError):
+        if grid is not None:  # the curve drawn through the samples may be why
+            tolerance = request.path_tolerance
+            check_grid_within_reach(
+                arm, path, grid, PATH_TOLERANCE if tolerance is None else tolerance
+            )
+        raise
     trajectory = trajectory_message(arm, [joint_path], timed, request.method)
     check_payload(trajectory, advice=FEWER_SAMPLES)
     return PlanResult(trajectory, [path], decisions, [joint_path])
