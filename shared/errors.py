@@ -357,6 +357,7 @@ class LimitViolationError(ArmplanError):
         time: Time of the sample [s].
         context: Why the sample asks that much, if not plain (e.g. to stop
             at the end), shown in brackets after the limit.
+        advice: What to do about it, if said (after a semicolon).
     """
 
     kind = "limit_violation"
@@ -377,18 +378,22 @@ class LimitViolationError(ArmplanError):
         time: float,
         *,
         context: str = "",
+        advice: str = "",
     ) -> None:
         unit = self._units.get(quantity, "")
         why = f" ({context})" if context else ""
+        then = f"; {advice}" if advice else ""
         super().__init__(
             f"{joint} {quantity} {value:.4g} {unit} at sample {index} "
-            f"(t = {time:.3f} s) exceeds its limit {limit:.4g} {unit}{why}",
+            f"(t = {time:.3f} s) exceeds its limit {limit:.4g} {unit}{why}{then}",
             joint=joint,
             quantity=quantity,
             value=float(value),
             limit=float(limit),
             index=int(index),
             time=float(time),
+            context=context,
+            advice=advice,
         )
         self.joint = joint
         self.quantity = quantity
@@ -396,6 +401,21 @@ class LimitViolationError(ArmplanError):
         self.limit = float(limit)
         self.index = int(index)
         self.time = float(time)
+        self.context = context
+        self.advice = advice
+
+    def advised(self, advice: str) -> LimitViolationError:
+        """The same violation, saying ``advice`` (what to do about it)."""
+        return LimitViolationError(
+            self.joint,
+            self.quantity,
+            self.value,
+            self.limit,
+            self.index,
+            self.time,
+            context=self.context,
+            advice=advice,
+        )
 
 
 class RecordingError(ArmplanError):

@@ -10,7 +10,7 @@ from scipy.interpolate import CubicSpline  # type: ignore[import-untyped]
 
 from services.ik import check_reachable
 from services.planner.even_path import even_grid
-from services.planner.pipeline import PATH_TOLERANCE, plan
+from services.planner.pipeline import GIVEN_PATH_ADVICE, PATH_TOLERANCE, plan
 from services.planner.wrist_path import reach_path
 from shared.errors import (
     InvalidInputError,
@@ -198,6 +198,8 @@ def test_the_jerk_check_does_not_depend_on_the_sampling() -> None:
         assert (error.joint, error.quantity) == ("RElbowYaw", "jerk")
         assert error.value > error.limit
         assert "on the curve between samples" in error.message
+        assert error.advice == GIVEN_PATH_ADVICE  # what to do, not only what broke
+        assert error.message.endswith("raise --max-jerk / --max-acceleration")
     assert refusals[0].time == pytest.approx(refusals[1].time, abs=0.011)
     assert refusals[0].value == pytest.approx(refusals[1].value, rel=0.05)
     for step in (0.01, 0.005):

@@ -71,6 +71,12 @@ ON_PATH = 1e-6
 #: at most 0.18 mm on the planner's reach paths, 0.02 mm on the wrist of
 #: slow joint motions); paths it cannot follow leave centimetres.
 PATH_TOLERANCE = 1e-3
+#: What to do about a wrist path given with times that breaks a limit.
+GIVEN_PATH_ADVICE = (
+    "the wrist path is played at its own times: slow it down, smooth its "
+    "samples (noise as small as rounding to 1 um every 10 ms can pass the "
+    "jerk limit), give fewer samples, or raise --max-jerk / --max-acceleration"
+)
 
 
 class PlanResult(NamedTuple):
@@ -210,12 +216,14 @@ def _follow_given(
         limits = request_limits(arm.limits, request.limits)
         timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
         check_on_path(arm, path, timed.positions, request.path_tolerance)
-    except (OffPathError, LimitViolationError):
+    except (OffPathError, LimitViolationError) as error:
         if grid is not None:  # the curve drawn through the samples may be why
             tolerance = request.path_tolerance
             check_grid_within_reach(
                 arm, path, grid, PATH_TOLERANCE if tolerance is None else tolerance
             )
+        if isinstance(error, LimitViolationError):
+            raise error.advised(GIVEN_PATH_ADVICE) from None
         raise
     trajectory = trajectory_message(arm, [joint_path], timed, request.method)
     check_payload(trajectory, advice=FEWER_SAMPLES)
