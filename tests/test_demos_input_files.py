@@ -9,7 +9,8 @@ import pathlib
 import pytest
 
 from armplan.cli.main import main
-from shared.demos import read_demos
+from shared.demos import read_demos, synthesize, write_demos
+from shared.demos.demo_file import SYNTHETIC
 from shared.errors import DemoFileError
 from tests.test_demos_input_csv import arm_rows, write_csv
 
@@ -217,12 +218,28 @@ def test_one_trial_number_in_two_files_is_refused(tmp_path: pathlib.Path) -> Non
         read_demos([first, second])
     assert caught.value.message == (
         f"{second}: trial 0 of subject 'P01' is also in {first}, another "
-        "recording under the same number (each `armplan demos import` and each "
-        "`armplan demos synth` numbers its trials from 0): import the files in "
-        "one `armplan demos import`, or number this file's from 2 (`armplan "
-        "demos import --first-trial 2`); a synthetic set is read alone (make one "
-        "with more --subjects or --trials instead)"
+        "recording under the same number (each `armplan demos import` numbers "
+        "its trials from 0): import the files in one `armplan demos import`, or "
+        "number this file's from 2 (`armplan demos import --first-trial 2`)"
     )
+
+
+def test_one_trial_number_in_two_synthetic_sets_gets_their_advice(
+    tmp_path: pathlib.Path,
+) -> None:
+    """Two `armplan demos synth` sets: trial 0 of one subject twice. The
+    advice was to re-import them, which synthetic sets cannot be."""
+    first, second = tmp_path / "a.mcap", tmp_path / "b.mcap"
+    for path, seed in ((first, 1), (second, 2)):
+        demos = synthesize(seed, subjects=1, trials=2)
+        write_demos(path, demos, source=f"{SYNTHETIC}, seed {seed}")
+    with pytest.raises(DemoFileError) as caught:
+        read_demos([first, second])
+    assert caught.value.message.endswith(
+        "(each `armplan demos synth` set numbers its trials from 0): a synthetic "
+        "set is read alone; make one with more --subjects or --trials instead"
+    )
+    assert "demos import" not in caught.value.message
 
 
 def test_import_refuses_a_copy_under_another_name(

@@ -37,6 +37,10 @@ SAMPLE_TOPIC = "demo/sample"
 _TRIAL_GAP_NS = 1_000_000_000
 
 
+#: How ``armplan demos synth`` starts a file's ``source``.
+SYNTHETIC = "synthetic"
+
+
 def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
     """Write ``demos`` to an MCAP file; returns the number of samples written.
 
@@ -162,14 +166,14 @@ def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
     trials: list[Trial] = []
     register = Register()
     for path in paths:
-        more = _read_one(Path(path))
+        more, synthetic = _read_one(Path(path))
         for name, subject in more.subjects.items():
             if name in subjects:
                 _check_same(subjects[name], subject, found_in[name], Path(path))
             else:
                 subjects[name], found_in[name] = subject, Path(path)
         for trial in more.trials:
-            register.add(trial, str(path))
+            register.add(trial, str(path), synthetic=synthetic)
         trials.extend(more.trials)
     return DemoSet(subjects, trials)
 
@@ -197,8 +201,10 @@ def _check_same(first: Subject, again: Subject, where: Path, here: Path) -> None
     )
 
 
-def _read_one(path: Path) -> DemoSet:
+def _read_one(path: Path) -> tuple[DemoSet, bool]:
+    """The file's demonstrations, and whether ``armplan demos synth`` made them."""
     subjects: dict[str, Subject] = {}
+    synthetic = False
     samples: list[DemoSample] = []
     try:
         recording = Recording(path)
@@ -206,6 +212,7 @@ def _read_one(path: Path) -> DemoSet:
             if record.topic == SUBJECT_TOPIC:
                 s = _parse(DemoSubject, record.data, path, index, record.topic)
                 person = Subject(s.name, s.stature or 0.0, s.upper_arm, s.forearm)
+                synthetic = synthetic or s.source.startswith(SYNTHETIC)
                 if s.name in subjects:
                     _check_same(subjects[s.name], person, path, path)
                 subjects[s.name] = person
@@ -230,7 +237,7 @@ def _read_one(path: Path) -> DemoSet:
         raise DemoFileError(
             str(path), f"holds no demonstration samples (topic {SAMPLE_TOPIC!r})"
         )
-    return DemoSet(subjects, _trials(samples, subjects, path))
+    return DemoSet(subjects, _trials(samples, subjects, path)), synthetic
 
 
 def _why(error: RecordingError) -> str:

@@ -50,8 +50,11 @@ class Register:
         #: Trials by sample count: the candidates for ``same_samples``.
         self._by_count: dict[int, list[tuple[Trial, str]]] = {}
 
-    def add(self, trial: Trial, where: str) -> None:
+    def add(self, trial: Trial, where: str, synthetic: bool = False) -> None:
         """Note ``trial``, read from file ``where``.
+
+        ``synthetic``: the file is ``armplan demos synth``'s (the advice of a
+        refusal differs).
 
         Raises:
             DemoFileError: (of file ``where``) if the same samples
@@ -78,18 +81,28 @@ class Register:
             raise DemoFileError(
                 where,
                 f"{named} is also {self._in(there, where)}, another recording "
-                "under the same number (each `armplan demos import` and each "
-                "`armplan demos synth` numbers its trials from 0): import the "
-                "files in one `armplan demos import`, or number this file's from "
-                f"{self._next(trial.subject)} (`armplan demos import --first-trial "
-                f"{self._next(trial.subject)}`); a synthetic set is read alone "
-                "(make one with more --subjects or --trials instead)",
+                f"under the same number {self._advice(trial.subject, synthetic)}",
                 trial=trial.trial,
                 subject=trial.subject,
                 duplicate=there,
             )
         self._by_name[key] = where
         twins.append((trial, where))
+
+    def _advice(self, subject: str, synthetic: bool) -> str:
+        """What to do about a trial number used twice, by where the file came from."""
+        if synthetic:
+            return (
+                "(each `armplan demos synth` set numbers its trials from 0): a "
+                "synthetic set is read alone; make one with more --subjects or "
+                "--trials instead"
+            )
+        first = self._next(subject)
+        return (
+            "(each `armplan demos import` numbers its trials from 0): import the "
+            f"files in one `armplan demos import`, or number this file's from "
+            f"{first} (`armplan demos import --first-trial {first}`)"
+        )
 
     def _next(self, subject: str) -> int:
         """The subject's next free trial number."""

@@ -104,11 +104,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def run_synth(args: argparse.Namespace) -> int:
     """Write the synthetic set."""
     from shared.demos import synthesize, write_demos
+    from shared.demos.demo_file import SYNTHETIC
     from shared.output_paths import check_output_file
 
     check_output_file(args.output)
     demos = synthesize(args.seed, subjects=args.subjects, trials=args.trials)
-    count = write_demos(args.output, demos, source=f"synthetic, seed {args.seed}")
+    count = write_demos(args.output, demos, source=f"{SYNTHETIC}, seed {args.seed}")
     sys.stdout.write(
         f"{args.output}: {len(demos.subjects)} subjects, {len(demos.trials)} "
         f"trials, {count} samples (seed {args.seed})\n"
