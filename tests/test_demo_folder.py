@@ -124,3 +124,22 @@ def test_a_file_where_the_demo_keeps_its_logs_is_refused(tmp_path: Path) -> None
         "--out\n"
     )
     assert sorted(p.name for p in out.iterdir()) == ["logs"]
+
+
+def test_the_outputs_are_written_as_a_set(tmp_path: Path) -> None:
+    """One output that cannot be written (its partial name taken by a
+    folder) leaves none of the four: a SIGTERM while they were written left
+    a behavior.xar without the trajectory and report it came with."""
+    out = tmp_path / "here"
+    (out / "report.json.partial").mkdir(parents=True)
+    result = subprocess.run(
+        [sys.executable, "-m", "armplan", "demo", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=240.0,
+    )
+    assert result.returncode == 1, result.stderr
+    assert f"{out / 'report.json'}" in result.stderr
+    for name in ("trajectory.json", "behavior.xar", "play.py", "report.json"):
+        assert not (out / name).exists(), name
+    assert sorted(p.name for p in out.glob("*.partial")) == ["report.json.partial"]

@@ -31,6 +31,7 @@ from bridge import (
     write_python,
 )
 from shared.messages import CommandFrames, ExecuteReply, Trajectory
+from shared.output_paths import replaced_together
 
 TRAJECTORY_FILE = "trajectory.json"
 BEHAVIOR_FILE = "behavior.xar"
@@ -77,20 +78,26 @@ def export_frames(trajectory: Trajectory, rate: float) -> CommandFrames:
 
 
 def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
-    """Write the trajectory, its exports and the report; returns them by name."""
+    """Write the trajectory, its exports and the report; returns them by name.
+
+    They are written as a set (``replaced_together``): a SIGTERM or a failed
+    write in the middle leaves none of them, not a ``behavior.xar`` without
+    the trajectory and report it came with.
+    """
     files = {
         "trajectory": out / TRAJECTORY_FILE,
-        "choregraphe": write_behavior(
-            run.frames,
-            out / BEHAVIOR_FILE,
-            velocities=frame_velocities(run.trajectory, run.frames),
-        ),
-        "python": write_python(run.frames, out / PYTHON_FILE),
+        "choregraphe": out / BEHAVIOR_FILE,
+        "python": out / PYTHON_FILE,
         "report": out / REPORT_FILE,
     }
-    files["trajectory"].write_text(run.trajectory.to_json() + "\n", encoding="utf-8")
-    report = report_document(run)
-    files["report"].write_text(json.dumps(report, indent=2) + "\n", encoding="utf-8")
+    with replaced_together(list(files.values())) as partial:
+        trajectory, behavior, python, report = partial
+        velocities = frame_velocities(run.trajectory, run.frames)
+        write_behavior(run.frames, behavior, velocities=velocities)
+        write_python(run.frames, python)
+        trajectory.write_text(run.trajectory.to_json() + "\n", encoding="utf-8")
+        document = json.dumps(report_document(run), indent=2)
+        report.write_text(document + "\n", encoding="utf-8")
     return files
 
 
