@@ -275,3 +275,25 @@ def test_a_path_poking_a_hair_out_of_the_reach_between_samples_is_planned() -> N
     assert farthest > arm.reach[1]  # the drawn curve leaves the shell
     result = plan(PlanRequest(arm=arm.side, wrist_path=path))
     assert _wrist_errors(arm, path, result.trajectory.positions).max() < 1e-5
+
+
+def test_a_path_too_fast_keeps_its_limit_error_though_its_curve_pokes_out() -> None:
+    """The path above 5 times faster, with a path tolerance of 0.05 mm: its
+    curve pokes 0.1 mm out of the reach, but what stops it is RShoulderPitch
+    acceleration; it was refused as unreachable, "add samples", which would
+    not help. It keeps the limit error and its advice."""
+    arm = load_arm("right")
+    times = [0.2 * t for t in (0.0, 1.484776, 1.973796, 2.610256, 3.541170, 5.034065)]
+    samples = [
+        (0.011115549, -0.128881909, -0.057538716),
+        (0.039103548, -0.126390845, -0.020585743),
+        (0.089306446, -0.107284251, 0.023453304),
+        (0.094191655, -0.105186115, 0.020793642),
+        (0.096762002, -0.107540872, 0.027968466),
+        (0.096762002, -0.107540872, 0.027968466),
+    ]
+    path = WristPath(arm=arm.side, times=times, positions=samples)
+    with pytest.raises(LimitViolationError) as caught:
+        plan(PlanRequest(arm=arm.side, wrist_path=path, path_tolerance=5e-5))
+    assert caught.value.quantity == "acceleration"
+    assert caught.value.advice == GIVEN_PATH_ADVICE

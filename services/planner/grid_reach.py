@@ -11,10 +11,11 @@ swings past the samples where the times are uneven. The tracker then left
 the path and the user read that the wrist was 176 mm off at a sample,
 nothing saying the planner's own curve had left the reachable space.
 Shape-preserving interpolants (PCHIP, Akima) cut the same chord, so when
-tracking the grid fails (off the path, or over a limit), the grid is
-checked and the gap named, to be filled with samples. It is not checked
-before: a path leaving its start on the reach shell (the hanging wrist is
-0.8 mm inside it) may poke a fraction of a millimetre out, and the tracker
+the tracking ends off the path and the tracked wrist left the curve where
+it leaves the reach, the gap is named, to be filled with samples (a path
+over a limit keeps its own error). It is not checked before: a path
+leaving its start on the reach shell (the hanging wrist is 0.8 mm inside
+it) may poke a fraction of a millimetre out, and the tracker
 follows it within the path's tolerance all the same.
 """
 
@@ -30,7 +31,11 @@ from shared.robot.postures import rest
 
 
 def check_grid_within_reach(
-    arm: ArmModel, path: WristPath, grid: WristPath, tolerance: float = TOLERANCE
+    arm: ArmModel,
+    path: WristPath,
+    grid: WristPath,
+    tolerance: float = TOLERANCE,
+    tracked: np.ndarray | None = None,
 ) -> None:
     """Raise, naming the gap between ``path``'s samples, if ``grid`` leaves reach.
 
@@ -39,6 +44,10 @@ def check_grid_within_reach(
         path: The timed wrist path as given (its samples within reach).
         grid: ``path`` resampled on the even grid.
         tolerance: How far out of the reach shell a grid point may be [m].
+        tracked: The joint angles the tracker found on the grid [rad],
+            shape (len(grid.times), 5), if it got that far: the grid is then
+            blamed only if the tracked wrist left it where it leaves the
+            reach (a path too fast elsewhere keeps its own error).
 
     Raises:
         UnreachableTargetError: at the grid point farthest out of the reach
@@ -57,6 +66,10 @@ def check_grid_within_reach(
     t = grid.times[k]
     after = int(np.clip(np.searchsorted(times, t, side="right"), 1, len(times) - 1))
     before = after - 1
+    if tracked is not None:
+        wrist = arm.fk(np.asarray(tracked[k], dtype=float)).wrist
+        if np.linalg.norm(wrist - points[k]) <= tolerance:
+            return  # followed there: the curve's reach is not why it failed
     raise UnreachableTargetError(
         points[k],
         arm=arm.side.value,

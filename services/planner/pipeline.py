@@ -207,6 +207,7 @@ def _follow_given(
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
     grid = None if tracked_as_given(path.times) else even_grid(path)
+    tracked = None
     try:
         if grid is None:
             joint_path = _movement(stages, request, path, start, decisions)
@@ -216,14 +217,18 @@ def _follow_given(
         limits = request_limits(arm.limits, request.limits)
         timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
         check_on_path(arm, path, timed.positions, request.path_tolerance)
-    except (OffPathError, LimitViolationError) as error:
+    except LimitViolationError as error:
+        raise error.advised(GIVEN_PATH_ADVICE) from None
+    except OffPathError:
         if grid is not None:  # the curve drawn through the samples may be why
             tolerance = request.path_tolerance
             check_grid_within_reach(
-                arm, path, grid, PATH_TOLERANCE if tolerance is None else tolerance
+                arm,
+                path,
+                grid,
+                PATH_TOLERANCE if tolerance is None else tolerance,
+                None if tracked is None else np.asarray(tracked.positions),
             )
-        if isinstance(error, LimitViolationError):
-            raise error.advised(GIVEN_PATH_ADVICE) from None
         raise
     trajectory = trajectory_message(arm, [joint_path], timed, request.method)
     check_payload(trajectory, advice=FEWER_SAMPLES)
