@@ -126,20 +126,20 @@ def test_a_file_where_the_demo_keeps_its_logs_is_refused(tmp_path: Path) -> None
     assert sorted(p.name for p in out.iterdir()) == ["logs"]
 
 
-def test_the_outputs_are_written_as_a_set(tmp_path: Path) -> None:
-    """One output that cannot be written (its partial name taken by a
-    folder) leaves none of the four: a SIGTERM while they were written left
-    a behavior.xar without the trajectory and report it came with."""
+def test_a_partial_name_in_the_way_is_refused_before_anything_starts(
+    tmp_path: Path,
+) -> None:
+    """OUT/report.json.partial (the name report.json is written under first):
+    one line naming it, before anything starts. It was found only once the
+    robot had played the task, whose outputs were then lost; a user's file
+    of that name was overwritten and removed."""
     out = tmp_path / "here"
     (out / "report.json.partial").mkdir(parents=True)
-    result = subprocess.run(
-        [sys.executable, "-m", "armplan", "demo", "--out", str(out)],
-        capture_output=True,
-        text=True,
-        timeout=240.0,
-    )
+    result = demo(out)
     assert result.returncode == 1, result.stderr
-    assert f"{out / 'report.json'}" in result.stderr
-    for name in ("trajectory.json", "behavior.xar", "play.py", "report.json"):
-        assert not (out / name).exists(), name
-    assert sorted(p.name for p in out.glob("*.partial")) == ["report.json.partial"]
+    assert result.stderr == (
+        f"armplan: error: cannot write into {out} (--out): "
+        f"{out / 'report.json.partial'} stands where the demo writes report.json "
+        "first; move it away or give another --out\n"
+    )
+    assert sorted(p.name for p in out.iterdir()) == ["report.json.partial"]

@@ -47,6 +47,7 @@ def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") 
             is a file: naming that path; nothing removed.
     """
     _check_folders(out, names, option)
+    _check_partials(out, names, option)
     present = [name for name in names if _present(out / name)]
     earlier, why = _listed(out), "is not from an earlier armplan demo"
     if present and not (out / LIST_FILE).exists():
@@ -131,6 +132,27 @@ def _look(out: Path, names: Sequence[str]) -> _Look:
             else:
                 return _Look(count, entry)
     return _Look(count, None)
+
+
+def _check_partials(out: Path, names: Sequence[str], option: str) -> None:
+    """Refuse if a ``<name>.partial`` stands where the demo writes ``name`` through it.
+
+    The outputs are written under those names first, then renamed
+    (``replaced_together``): a user's file there would be overwritten and
+    removed, a folder there found only once the robot had moved.
+
+    Raises:
+        InvalidInputError: naming the first such path.
+    """
+    for name in names:
+        partial = out / f"{name}.partial"
+        if _present(partial):
+            raise InvalidInputError(
+                f"cannot write into {out} ({option}): {partial} stands where the "
+                f"demo writes {name} first; move it away or give another {option}",
+                field=option.lstrip("-"),
+                path=str(partial),
+            )
 
 
 def _check_folders(out: Path, names: Sequence[str], option: str) -> None:

@@ -25,10 +25,10 @@ from typing import Any, NamedTuple
 from armplan.demo.task import Task
 from bridge import (
     FrameLimits,
+    behavior_xml,
     checked_frames,
     frame_velocities,
-    write_behavior,
-    write_python,
+    python_script,
 )
 from shared.messages import CommandFrames, ExecuteReply, Trajectory
 from shared.output_paths import replaced_together
@@ -90,14 +90,16 @@ def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
         "python": out / PYTHON_FILE,
         "report": out / REPORT_FILE,
     }
-    with replaced_together(list(files.values())) as partial:
-        trajectory, behavior, python, report = partial
-        velocities = frame_velocities(run.trajectory, run.frames)
-        write_behavior(run.frames, behavior, velocities=velocities)
-        write_python(run.frames, python)
-        trajectory.write_text(run.trajectory.to_json() + "\n", encoding="utf-8")
-        document = json.dumps(report_document(run), indent=2)
-        report.write_text(document + "\n", encoding="utf-8")
+    velocities = frame_velocities(run.trajectory, run.frames)
+    texts = [  # in the order of ``files``
+        run.trajectory.to_json() + "\n",
+        behavior_xml(run.frames, velocities=velocities),
+        python_script(run.frames),
+        json.dumps(report_document(run), indent=2) + "\n",
+    ]
+    with replaced_together(list(files.values())) as partials:
+        for partial, text in zip(partials, texts, strict=True):
+            partial.write_text(text, encoding="utf-8")  # an OSError names the file
     return files
 
 
