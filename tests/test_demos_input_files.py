@@ -232,7 +232,7 @@ def test_one_trial_number_in_two_synthetic_sets_gets_their_advice(
     first, second = tmp_path / "a.mcap", tmp_path / "b.mcap"
     for path, seed in ((first, 1), (second, 2)):
         demos = synthesize(seed, subjects=1, trials=2)
-        write_demos(path, demos, source=f"{SYNTHETIC}, seed {seed}")
+        write_demos(path, demos, source=f"{SYNTHETIC}{seed}")
     with pytest.raises(DemoFileError) as caught:
         read_demos([first, second])
     assert caught.value.message.endswith(

@@ -37,8 +37,9 @@ SAMPLE_TOPIC = "demo/sample"
 _TRIAL_GAP_NS = 1_000_000_000
 
 
-#: How ``armplan demos synth`` starts a file's ``source``.
-SYNTHETIC = "synthetic"
+#: How ``armplan demos synth`` starts a file's ``source``: "synthetic, seed N"
+#: (an import's source is its files' names, which may hold the word).
+SYNTHETIC = "synthetic, seed "
 
 
 def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:

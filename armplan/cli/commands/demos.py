@@ -109,7 +109,7 @@ def run_synth(args: argparse.Namespace) -> int:
 
     check_output_file(args.output)
     demos = synthesize(args.seed, subjects=args.subjects, trials=args.trials)
-    count = write_demos(args.output, demos, source=f"{SYNTHETIC}, seed {args.seed}")
+    count = write_demos(args.output, demos, source=f"{SYNTHETIC}{args.seed}")
     sys.stdout.write(
         f"{args.output}: {len(demos.subjects)} subjects, {len(demos.trials)} "
         f"trials, {count} samples (seed {args.seed})\n"
