@@ -271,6 +271,28 @@ def test_the_stack_gives_the_bridge_time_to_watch_a_trajectory_to_its_end(
     assert stack.bridge_exit() == 0
 
 
+def _terminated_after_sending(
+    stack: Stack, rate: float, after: float
+) -> dict[str, Any]:
+    """A 4 s reach at ``rate`` [Hz]; SIGTERM to the bridge ``after`` [s] past its
+    frames' publication; the caller's outcome once it has one (or 30 s)."""
+    sent = threading.Event()
+    frames = stack.bus.session.declare_subscriber(
+        stack.bus.key("bridge/frames"), lambda _: sent.set()
+    )
+    trajectory = minimum_jerk_trajectory(
+        "right", [rest("right"), forward("right")], [4.0]
+    )
+    outcome = stack.execute_in_background(trajectory, rate=rate)
+    assert sent.wait(20.0)
+    time.sleep(after)
+    assert stack.robot.bridge is not None
+    stack.robot.bridge.signal(signal.SIGTERM)
+    outcome["thread"].join(30.0)
+    frames.undeclare()
+    return outcome
+
+
 def test_a_trajectory_slow_to_reach_the_robot_is_watched_to_its_end(
     tmp_path: Path,
 ) -> None:
@@ -282,20 +304,7 @@ def test_a_trajectory_slow_to_reach_the_robot_is_watched_to_its_end(
     caller answered by no one. Now it is counted from the call's arrival:
     the caller gets its report."""
     with running_stack(tmp_path, bandwidth=80e3) as stack:
-        sent = threading.Event()
-        frames = stack.bus.session.declare_subscriber(
-            stack.bus.key("bridge/frames"), lambda _: sent.set()
-        )
-        trajectory = minimum_jerk_trajectory(
-            "right", [rest("right"), forward("right")], [4.0]
-        )
-        outcome = stack.execute_in_background(trajectory, rate=500.0)
-        assert sent.wait(20.0)
-        time.sleep(0.5)
-        assert stack.robot.bridge is not None
-        stack.robot.bridge.signal(signal.SIGTERM)
-        outcome["thread"].join(20.0)
-        frames.undeclare()
+        outcome = _terminated_after_sending(stack, rate=500.0, after=0.5)
         assert stack.bridge_exit() == 0
         played = finished(stack.sim)
     assert "error" not in outcome, outcome.get("error")
@@ -317,20 +326,7 @@ def test_a_bridge_exits_only_once_a_call_given_up_on_its_way_is_stopped(
     played in full. Now the bridge exits once the call has ended, stopped
     as it took effect."""
     with running_stack(tmp_path, bandwidth=80e3) as stack:
-        sent = threading.Event()
-        frames = stack.bus.session.declare_subscriber(
-            stack.bus.key("bridge/frames"), lambda _: sent.set()
-        )
-        trajectory = minimum_jerk_trajectory(
-            "right", [rest("right"), forward("right")], [4.0]
-        )
-        outcome = stack.execute_in_background(trajectory, rate=1000.0)
-        assert sent.wait(20.0)
-        time.sleep(0.3)
-        assert stack.robot.bridge is not None
-        stack.robot.bridge.signal(signal.SIGTERM)
-        outcome["thread"].join(30.0)
-        frames.undeclare()
+        outcome = _terminated_after_sending(stack, rate=1000.0, after=0.3)
         code = stack.bridge_exit(BRIDGE_GRACE)
         exited = time.monotonic()
         began = when_sim_logs(stack.sim, "call", "angleInterpolation")

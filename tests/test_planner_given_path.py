@@ -252,6 +252,24 @@ def test_a_sparse_path_whose_curve_leaves_the_reach_names_the_gap() -> None:
     assert "add samples between them" in error.message
 
 
+#: Six noisy, unevenly timed samples of a reach from the hanging wrist [s, m].
+NOISY_TIMES = (0.0, 1.484776, 1.973796, 2.610256, 3.541170, 5.034065)
+NOISY_SAMPLES = (
+    (0.011115549, -0.128881909, -0.057538716),
+    (0.039103548, -0.126390845, -0.020585743),
+    (0.089306446, -0.107284251, 0.023453304),
+    (0.094191655, -0.105186115, 0.020793642),
+    (0.096762002, -0.107540872, 0.027968466),
+    (0.096762002, -0.107540872, 0.027968466),
+)
+
+
+def _noisy_reach(arm: ArmModel, speed: float) -> WristPath:
+    """The noisy reach, ``speed`` times as fast."""
+    times = [t / speed for t in NOISY_TIMES]
+    return WristPath(arm=arm.side, times=times, positions=list(NOISY_SAMPLES))
+
+
 def test_a_path_poking_a_hair_out_of_the_reach_between_samples_is_planned() -> None:
     """Six noisy samples from the hanging wrist (0.8 mm inside the reach
     shell), unevenly timed: the curve drawn through them pokes 0.07 mm out
@@ -259,16 +277,7 @@ def test_a_path_poking_a_hair_out_of_the_reach_between_samples_is_planned() -> N
     before tracking, at the IK's 0.1 mm, and the path was refused though the
     tracker follows it exactly; it is checked only to explain a failure."""
     arm = load_arm("right")
-    times = [0.0, 1.484776, 1.973796, 2.610256, 3.541170, 5.034065]
-    samples = [
-        (0.011115549, -0.128881909, -0.057538716),
-        (0.039103548, -0.126390845, -0.020585743),
-        (0.089306446, -0.107284251, 0.023453304),
-        (0.094191655, -0.105186115, 0.020793642),
-        (0.096762002, -0.107540872, 0.027968466),
-        (0.096762002, -0.107540872, 0.027968466),
-    ]
-    path = WristPath(arm=arm.side, times=times, positions=samples)
+    path = _noisy_reach(arm, 1.0)
     grid = even_grid(path)
     shoulder = arm.fk(rest(arm.side)).shoulder
     farthest = np.linalg.norm(np.asarray(grid.positions) - shoulder, axis=1).max()
@@ -283,16 +292,7 @@ def test_a_path_too_fast_keeps_its_limit_error_though_its_curve_pokes_out() -> N
     acceleration; it was refused as unreachable, "add samples", which would
     not help. It keeps the limit error and its advice."""
     arm = load_arm("right")
-    times = [0.2 * t for t in (0.0, 1.484776, 1.973796, 2.610256, 3.541170, 5.034065)]
-    samples = [
-        (0.011115549, -0.128881909, -0.057538716),
-        (0.039103548, -0.126390845, -0.020585743),
-        (0.089306446, -0.107284251, 0.023453304),
-        (0.094191655, -0.105186115, 0.020793642),
-        (0.096762002, -0.107540872, 0.027968466),
-        (0.096762002, -0.107540872, 0.027968466),
-    ]
-    path = WristPath(arm=arm.side, times=times, positions=samples)
+    path = _noisy_reach(arm, 5.0)
     with pytest.raises(LimitViolationError) as caught:
         plan(PlanRequest(arm=arm.side, wrist_path=path, path_tolerance=5e-5))
     assert caught.value.quantity == "acceleration"
