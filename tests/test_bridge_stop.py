@@ -182,40 +182,10 @@ def from_forward(seconds: float) -> Trajectory:
     )
 
 
-def test_a_bridge_stopped_during_the_approach_sends_no_trajectory(
-    stack: Stack,
-) -> None:
-    """SIGTERM as the approach starts: the approach ends, the trajectory is
-    not sent, and the caller is told so (it used to be sent after SIGTERM,
-    then left unwatched, the caller told only that the bridge was gone)."""
-    outcome = stack.execute_in_background(from_forward(2.0))
-    stack.wait_for_state(-10.0)  # the approach's first state
-    assert stack.robot.bridge is not None
-    stack.robot.bridge.signal(signal.SIGTERM)
-    outcome["thread"].join(15.0)
-    error = outcome["error"]
-    assert isinstance(error, ServiceUnavailableError), error
-    assert error.reason == (
-        "the bridge is stopping; the arm is at the trajectory's start; nothing "
-        "of the trajectory was sent"
-    )
-    assert stack.bridge_exit() == 0
-    assert stack.motions() == ["angleInterpolation"]  # the approach alone
-
-
-def test_a_bridge_stopped_during_a_long_approach_waits_for_it(
-    stack: Stack, tmp_path: Path
-) -> None:
-    """SIGTERM as a 3.2 s approach starts, to a 0.5 s trajectory: the stop's
-    wait was bounded from the trajectory's expected end counted from the
-    request (0.5 s + 2 s), so the bridge gave the request up mid-approach
-    ("a request is still being served; leaving it"). Now the bound counts
-    the approach: the approach ends and the caller is told nothing of the
-    trajectory was sent."""
-    far = [-2.0, -1.3, -2.0, 1.5, -1.8]  # 3.2 s from rest at the approach's pace
-    outcome = stack.execute_in_background(
-        minimum_jerk_trajectory("right", [far, far], [0.5])
-    )
+def _assert_stopped_after_the_approach(stack: Stack, trajectory: Trajectory) -> None:
+    """SIGTERM as ``trajectory``'s approach starts: the approach is played,
+    the trajectory is not, the caller is told so and the bridge exits 0."""
+    outcome = stack.execute_in_background(trajectory)
     stack.wait_for_state(-10.0)  # the approach's first state
     assert stack.robot.bridge is not None
     stack.robot.bridge.signal(signal.SIGTERM)
@@ -228,6 +198,30 @@ def test_a_bridge_stopped_during_a_long_approach_waits_for_it(
     )
     assert stack.bridge_exit() == 0
     assert stack.motions() == ["angleInterpolation"]  # the approach alone
+
+
+def test_a_bridge_stopped_during_the_approach_sends_no_trajectory(
+    stack: Stack,
+) -> None:
+    """SIGTERM as the approach starts: the approach ends, the trajectory is
+    not sent, and the caller is told so (it used to be sent after SIGTERM,
+    then left unwatched, the caller told only that the bridge was gone)."""
+    _assert_stopped_after_the_approach(stack, from_forward(2.0))
+
+
+def test_a_bridge_stopped_during_a_long_approach_waits_for_it(
+    stack: Stack, tmp_path: Path
+) -> None:
+    """SIGTERM as a 3.2 s approach starts, to a 0.5 s trajectory: the stop's
+    wait was bounded from the trajectory's expected end counted from the
+    request (0.5 s + 2 s), so the bridge gave the request up mid-approach
+    ("a request is still being served; leaving it"). Now the bound counts
+    the approach: the approach ends and the caller is told nothing of the
+    trajectory was sent."""
+    far = [-2.0, -1.3, -2.0, 1.5, -1.8]  # 3.2 s from rest at the approach's pace
+    _assert_stopped_after_the_approach(
+        stack, minimum_jerk_trajectory("right", [far, far], [0.5])
+    )
     assert "leaving it" not in (tmp_path / "bridge.log").read_text()
 
 
