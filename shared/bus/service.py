@@ -135,13 +135,16 @@ class ServiceHost(StartStop):
                 log.warning("%s: could not reply (%s)", key, error)
 
     def stop(self) -> None:
-        """Withdraw the token and queryables, finish queued requests, stop workers."""
+        """Withdraw the token; finish queued requests; then the queryables.
+
+        The queryables go last: withdrawn while a worker was still replying,
+        the reply could be lost, its caller told "no queryable answered"
+        for a request that had been served (a bridge's report of a
+        trajectory it watched to its end as it stopped).
+        """
         if self._token is not None:
             self._token.undeclare()  # type: ignore[no-untyped-call]
             self._token = None
-        for queryable in self._queryables:
-            queryable.undeclare()  # type: ignore[no-untyped-call]
-        self._queryables.clear()
         try:
             for _ in self._workers:
                 self._jobs.put(None, timeout=STOP_GRACE)
@@ -150,4 +153,7 @@ class ServiceHost(StartStop):
         for worker in self._workers:
             worker.join(STOP_GRACE)
         self._workers.clear()
+        for queryable in self._queryables:
+            queryable.undeclare()  # type: ignore[no-untyped-call]
+        self._queryables.clear()
         log.info("service %s stopped", self.name)
