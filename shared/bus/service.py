@@ -36,6 +36,11 @@ from shared.lifecycle import StartStop
 log = logging.getLogger("armplan.bus")
 #: Longest wait for a worker to finish its request when stopping [s].
 STOP_GRACE = 2.0
+#: Time a reply is given to leave before the stop goes on [s]: the session
+#: closed right after a reply could drop it unsent (a bridge's report of a
+#: trajectory it watched to its end as it stopped: its caller was told "no
+#: queryable answered", 3 times in 3 on a loaded machine).
+REPLY_FLUSH = 0.3
 
 #: An endpoint, its key, the query and when its caller stops waiting.
 _Job = tuple[Endpoint[Any, Any], str, zenoh.Query, Due | None]
@@ -60,6 +65,7 @@ class ServiceHost(StartStop):
         self._workers: list[threading.Thread] = []
         self._queryables: list[zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
+        self._last_answer = -REPLY_FLUSH  # [s, monotonic]: none yet
 
     def start(self) -> ServiceHost:
         """Declare the queryables, start the workers, then announce liveliness."""
@@ -104,6 +110,19 @@ class ServiceHost(StartStop):
         query: zenoh.Query,
         due: Due | None,
     ) -> None:
+        try:
+            self._serve_in(endpoint, key, query, due)
+        finally:
+            self._last_answer = time.monotonic()
+
+    def _serve_in(
+        self,
+        endpoint: Endpoint[Any, Any],
+        key: str,
+        query: zenoh.Query,
+        due: Due | None,
+    ) -> None:
+        """:meth:`_serve`'s work: answer ``query`` unless its caller left."""
         with query:
             if due is not None and due.passed:
                 late = time.monotonic() - due.at
@@ -153,6 +172,7 @@ class ServiceHost(StartStop):
         for worker in self._workers:
             worker.join(STOP_GRACE)
         self._workers.clear()
+        time.sleep(max(0.0, self._last_answer + REPLY_FLUSH - time.monotonic()))
         for queryable in self._queryables:
             queryable.undeclare()  # type: ignore[no-untyped-call]
         self._queryables.clear()
