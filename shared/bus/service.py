@@ -102,6 +102,8 @@ class ServiceHost(StartStop):
                 self._serve(*job)
             except Exception:  # a worker never dies: log, answer the next one
                 log.exception("%s: failed to serve a query", job[1])
+            finally:
+                self._last_answer = time.monotonic()  # see REPLY_FLUSH
 
     def _serve(
         self,
@@ -110,19 +112,6 @@ class ServiceHost(StartStop):
         query: zenoh.Query,
         due: Due | None,
     ) -> None:
-        try:
-            self._serve_in(endpoint, key, query, due)
-        finally:
-            self._last_answer = time.monotonic()
-
-    def _serve_in(
-        self,
-        endpoint: Endpoint[Any, Any],
-        key: str,
-        query: zenoh.Query,
-        due: Due | None,
-    ) -> None:
-        """:meth:`_serve`'s work: answer ``query`` unless its caller left."""
         with query:
             if due is not None and due.passed:
                 late = time.monotonic() - due.at
