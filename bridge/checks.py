@@ -124,6 +124,12 @@ def check_sample_range(trajectory: Trajectory, limits: FrameLimits) -> None:
     check_positions(q, t - t[0], limits, what="sample")
 
 
+def outside_range(q: np.ndarray, limits: FrameLimits) -> np.ndarray:
+    """Which angles of ``q`` [rad] (..., n) are out of range, with ``SLACK``."""
+    slack = SLACK * np.maximum(1.0, np.abs(limits.upper - limits.lower))
+    return (q < limits.lower - slack) | (q > limits.upper + slack)
+
+
 def check_positions(
     q: np.ndarray, t: np.ndarray, limits: FrameLimits, what: str = "frame"
 ) -> None:
@@ -135,8 +141,7 @@ def check_positions(
         limits: The joints' limits.
         what: What a row is called in the message (``frame`` or ``sample``).
     """
-    slack = SLACK * np.maximum(1.0, np.abs(limits.upper - limits.lower))
-    hit = _first((q < limits.lower - slack) | (q > limits.upper + slack))
+    hit = _first(outside_range(q, limits))
     if hit is None:
         return
     k, j = hit

@@ -9,14 +9,14 @@ there. Held and stiffened, such an arm was then refused as the
 trajectory's "frame 0 ... outside its range, nothing was sent": after a
 hold outside the range had gone out, and the arm was left stiff there.
 So the posture is checked first, with the frames' own comparison
-(``bridge.checks.SLACK``), and an arm outside the range is left as it is.
+(``bridge.checks.outside_range``), and an arm outside the range is left as it is.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from bridge.checks import SLACK
+from bridge.checks import outside_range
 from bridge.limits import FrameLimits
 from bridge.units import unit, value_name
 from shared.errors import RobotStateError, fixed
@@ -45,8 +45,7 @@ def check_in_range(
             angle and the range, and what to do.
     """
     where = np.asarray(where, dtype=float)
-    slack = SLACK * np.maximum(1.0, np.abs(limits.upper - limits.lower))
-    outside = ~((where >= limits.lower - slack) & (where <= limits.upper + slack))
+    outside = outside_range(where, limits) | ~np.isfinite(where)
     if not outside.any():
         return
     j = int(np.argmax(outside))
