@@ -26,6 +26,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 import pytest
+from frame_chain import chain_poses
 
 from armplan.demo import DEFAULT_TASK, DemoOptions, load_task, run_demo
 from armplan.demo.folder_claim import CLAIM_FILE, claimed_folder
@@ -48,7 +49,7 @@ from services.planner.pipeline import plan
 from shared.bus import BusConfig, load_config
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import Trajectory, parse
-from shared.recording.reader import summarize
+from shared.recording.reader import read_records, summarize
 from shared.robot import Side, load_arm
 from shared.robot.postures import forward
 
@@ -317,6 +318,40 @@ def test_the_session_is_recorded(finished: Finished) -> None:
     assert count["armplan/bridge/report"] == 1
     assert count["armplan/bridge/state"] >= report["samples"]
     assert count["/tf/executed"] == count["armplan/bridge/state"]
+
+
+def gripper_track(path: Path, topic: str) -> tuple[np.ndarray, np.ndarray]:
+    """A Foxglove channel's stamps [ns], shape (k,), and gripper positions [m],
+    shape (k, 3), whatever the frames' prefix."""
+    stamps, points = [], []
+    for record in read_records(path, topics=[topic]):
+        poses = chain_poses(record.data)
+        name = next(n for n in poses if n.endswith("r_gripper"))
+        stamps.append(record.log_time)
+        points.append(poses[name][1])
+    return np.array(stamps), np.array(points)
+
+
+def test_the_commanded_arm_overlays_the_executed_one(finished: Finished) -> None:
+    """In Foxglove, /tf/commanded (the bridge's frames, from when the movement
+    starts: one pose per frame and the start) and /tf/executed (the measured
+    states) are on the robot's clock: each state's gripper is a few mm from
+    the commanded one at its stamp. /tf/planned runs earlier, by the time
+    between plan and play, and is far off at the same stamps."""
+    path = finished.out / "session.mcap"
+    (frames,) = read_records(path, topics=["armplan/bridge/frames"])
+    executed_at, executed = gripper_track(path, "/tf/executed")
+    median_gap = {}
+    for topic in ("/tf/commanded", "/tf/planned"):
+        stamps, points = gripper_track(path, topic)
+        inside = (executed_at >= stamps[0]) & (executed_at <= stamps[-1])
+        assert inside.sum() > 100, topic
+        nearest = np.searchsorted(stamps, executed_at[inside])
+        gaps = np.linalg.norm(points[nearest] - executed[inside], axis=1)
+        median_gap[topic] = float(np.median(gaps))
+    assert len(gripper_track(path, "/tf/commanded")[0]) == len(frames.data["times"]) + 1
+    assert median_gap["/tf/commanded"] < 0.005, median_gap  # [m]
+    assert median_gap["/tf/planned"] > 0.05, median_gap
 
 
 def test_ctrl_c_stops_everything(tmp_path: Path) -> None:

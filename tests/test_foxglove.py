@@ -15,11 +15,14 @@ from typing import Any
 import numpy as np
 import pytest
 from conftest import moving_trajectory
+from frame_chain import chain_poses
 
 from services.ik.kernel.chain import chain_for
 from shared.messages import Decision, JointState, PointDecision, Trajectory
+from shared.messages.frames import CommandFrames
 from shared.primitives import BY_NAME
 from shared.recording.foxglove import (
+    COMMANDED_TF_TOPIC,
     DECISION_TOPIC,
     EXECUTED_TF_TOPIC,
     FRAME_TRANSFORMS_SCHEMA_NAME,
@@ -47,29 +50,6 @@ T0 = 1_700_000_000_123_456_789  # [ns]
 
 def random_posture(arm: ArmModel, rng: np.random.Generator) -> np.ndarray:
     return rng.uniform(arm.limits.lower, arm.limits.upper)
-
-
-def matrix_from_quaternion(q: Any) -> np.ndarray:
-    x, y, z, w = q["x"], q["y"], q["z"], q["w"]
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
-def chain_poses(message: dict[str, Any]) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Pose (R, p) of every frame in the root frame, from a FrameTransforms JSON."""
-    poses = {"torso": (np.eye(3), np.zeros(3))}
-    for t in message["transforms"]:
-        r_parent, p_parent = poses[t["parent_frame_id"]]
-        r = matrix_from_quaternion(t["rotation"])
-        v = t["translation"]
-        p = np.array([v["x"], v["y"], v["z"]])
-        poses[t["child_frame_id"]] = (r_parent @ r, p_parent + r_parent @ p)
-    return poses
 
 
 def rotation(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -334,6 +314,31 @@ def test_a_joint_state_gives_the_executed_pose() -> None:
     poses = chain_poses(json.loads(derived.data))
     hand = load_arm(side).fk(np.array(q)).hand
     assert np.abs(poses["executed/l_gripper"][1] - hand).max() < TOL
+
+
+def test_frames_give_the_commanded_pose_from_their_arrival() -> None:
+    """Frame 0 (the start) at arrival, frame k at arrival + k / rate; joints in
+    any order, the hand ignored, frames prefixed ``commanded/``."""
+    side = Side.LEFT
+    rng = np.random.default_rng(3)
+    arm = load_arm(side)
+    rows = [random_posture(arm, rng) for _ in range(4)]
+    order = [4, 2, 0, 3, 1]
+    names = [side.joint_names[i] for i in order] + ["LHand"]
+    frames = CommandFrames(
+        arm=side,
+        rate=25.0,
+        joint_names=names,
+        start=[*rows[0][order], 0.5],
+        times=[0.04, 0.08, 0.12],
+        positions=[[*row[order], 0.5] for row in rows[1:]],
+    )
+    derived = list(FoxgloveChannels().derive(frames, T0))
+    assert [d.topic for d in derived] == [COMMANDED_TF_TOPIC] * 4
+    assert [d.log_time for d in derived] == [T0 + k * 40_000_000 for k in range(4)]
+    for d, q in zip(derived, rows, strict=True):
+        hand = chain_poses(json.loads(d.data))["commanded/l_gripper"][1]
+        assert np.abs(hand - arm.fk(q).hand).max() < TOL
 
 
 def test_a_state_without_an_arm_gives_nothing() -> None:

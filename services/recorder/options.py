@@ -60,6 +60,7 @@ class RecorderOptions:
             ``/decision``, ``/robot_description``).
         planned_prefix: Frame prefix of the planned arm ("" moves the URDF).
         executed_prefix: Frame prefix of the executed arm.
+        commanded_prefix: Frame prefix of the arm the bridge's frames command.
         overwrite: Replace an existing recording at ``output`` (with
             rotation: its numbered files); if False, one is refused.
     """
@@ -71,6 +72,7 @@ class RecorderOptions:
     foxglove: bool = True
     planned_prefix: str = ""
     executed_prefix: str = "executed/"
+    commanded_prefix: str = "commanded/"
     overwrite: bool = False
 
     def __post_init__(self) -> None:

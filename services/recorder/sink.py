@@ -101,7 +101,11 @@ class RecordingSink:
             overwrite=options.overwrite,
         )
         self._foxglove = (
-            FoxgloveChannels(options.planned_prefix, options.executed_prefix)
+            FoxgloveChannels(
+                options.planned_prefix,
+                options.executed_prefix,
+                options.commanded_prefix,
+            )
             if options.foxglove
             else None
         )

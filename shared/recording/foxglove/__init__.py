@@ -4,6 +4,7 @@ See ``docs/recording.md`` for how to view a recording in Foxglove.
 """
 
 from shared.recording.foxglove.derive import (
+    COMMANDED_TF_TOPIC,
     DECISION_TOPIC,
     EXECUTED_TF_TOPIC,
     PLANNED_PRIMITIVE_TOPIC,
@@ -30,6 +31,7 @@ from shared.recording.foxglove.schemas import (
 )
 
 __all__ = [
+    "COMMANDED_TF_TOPIC",
     "DECISION_TOPIC",
     "EXECUTED_TF_TOPIC",
     "FRAME_TRANSFORMS_SCHEMA_NAME",

@@ -4,6 +4,7 @@
 |---|---|---|
 | ``/robot_description`` | ``RobotDescription`` | the project's URDF, once per file |
 | ``/tf/planned`` | ``foxglove.FrameTransforms`` | each ``Trajectory``, one per sample |
+| ``/tf/commanded`` | ``foxglove.FrameTransforms`` | each ``CommandFrames`` frame |
 | ``/tf/executed`` | ``foxglove.FrameTransforms`` | each measured ``JointState`` |
 | ``/decision`` | ``PrimitiveSample`` | each ``Decision``, one per path point |
 | ``/primitive/planned`` | ``PrimitiveSample`` | each ``Trajectory``'s labels |
@@ -19,7 +20,7 @@ from itertools import chain
 from typing import Any, NamedTuple
 
 from shared.messages import Decision, Message, Trajectory
-from shared.messages.frames import JointState
+from shared.messages.frames import CommandFrames, JointState
 from shared.recording.foxglove.link_poses import link_poses
 from shared.recording.foxglove.primitive import (
     PrimitiveSample,
@@ -38,6 +39,7 @@ from shared.recording.foxglove.schemas import (
 from shared.recording.foxglove.stamps import check_stamp, sample_stamps
 from shared.recording.foxglove.transforms import (
     executed_transforms,
+    frames_angles,
     side_of_state,
     trajectory_angles,
     transforms_json,
@@ -45,6 +47,7 @@ from shared.recording.foxglove.transforms import (
 from shared.robot import ArmModel, Side, load_arm
 
 PLANNED_TF_TOPIC = "/tf/planned"
+COMMANDED_TF_TOPIC = "/tf/commanded"
 EXECUTED_TF_TOPIC = "/tf/executed"
 DECISION_TOPIC = "/decision"
 PLANNED_PRIMITIVE_TOPIC = "/primitive/planned"
@@ -87,11 +90,18 @@ class FoxgloveChannels:
     Args:
         planned_prefix: Frame prefix of planned motion ("" moves the URDF).
         executed_prefix: Frame prefix of executed motion.
+        commanded_prefix: Frame prefix of the frames the bridge commands.
     """
 
-    def __init__(self, planned_prefix: str = "", executed_prefix: str = "executed/"):
+    def __init__(
+        self,
+        planned_prefix: str = "",
+        executed_prefix: str = "executed/",
+        commanded_prefix: str = "commanded/",
+    ):
         self.planned_prefix = planned_prefix
         self.executed_prefix = executed_prefix
+        self.commanded_prefix = commanded_prefix
         self._arms: dict[Side, ArmModel] = {}
 
     def _arm(self, side: Side) -> ArmModel:
@@ -102,7 +112,7 @@ class FoxgloveChannels:
     @staticmethod
     def derives(message: Message) -> bool:
         """Whether ``message`` has derived messages (of a kind that has them)."""
-        return isinstance(message, (Trajectory, JointState, Decision))
+        return isinstance(message, (Trajectory, CommandFrames, JointState, Decision))
 
     def derive(self, message: Message, log_time: int) -> Iterator[Derived]:
         """The derived messages of ``message`` received at ``log_time`` [ns].
@@ -119,6 +129,8 @@ class FoxgloveChannels:
         """
         if isinstance(message, Trajectory):
             return self._trajectory(message, log_time)
+        if isinstance(message, CommandFrames):
+            return self._frames(message, log_time)
         if isinstance(message, JointState):
             return self._state(message, log_time)
         if isinstance(message, Decision):
@@ -136,6 +148,17 @@ class FoxgloveChannels:
             _transforms(PLANNED_TF_TOPIC, stamps, poses),
             _samples(PLANNED_PRIMITIVE_TOPIC, stamps, labels),
         )
+
+    def _frames(self, frames: CommandFrames, log_time: int) -> Iterator[Derived]:
+        """The commanded arm: frame 0 (the start) at arrival, frame k later by its time.
+
+        The bridge publishes the frames as the movement starts.
+        """
+        angles = frames_angles(frames)
+        stamps = sample_stamps([0.0, *frames.times], log_time)
+        arm = self._arm(frames.arm)
+        poses = transforms_json(link_poses(arm, angles), stamps, self.commanded_prefix)
+        return _transforms(COMMANDED_TF_TOPIC, stamps, poses)
 
     def _state(self, state: JointState, log_time: int) -> Iterator[Derived]:
         side = side_of_state(state)

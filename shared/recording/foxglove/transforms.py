@@ -2,8 +2,13 @@
 
 Planned motion comes from a trajectory: one message per sample, stamped at
 the trajectory's arrival plus the sample's time from its first sample (the
-moment the plan says the arm is there). Executed motion comes from each
-measured joint state the bridge publishes, stamped when it arrived.
+moment the plan says the arm is there). Commanded motion comes from the
+frames the bridge publishes as it starts a movement (after its approach to
+the start posture): one message per frame, stamped at their arrival plus
+the frame's time. Executed motion comes from each measured joint state the
+bridge publishes, stamped when it arrived. Commanded and executed motion
+are on the robot's clock, so they overlay during playback; planned motion
+runs earlier, by the time between the plan and the play.
 
 Frame names are the robot description's link names, optionally prefixed.
 Without a prefix the transforms move the URDF that ``/robot_description``
@@ -28,7 +33,7 @@ import numpy.typing as npt
 from pydantic_core import to_json
 
 from shared.messages import Trajectory
-from shared.messages.frames import JointState
+from shared.messages.frames import CommandFrames, JointState
 from shared.recording.foxglove.link_poses import (
     ROOT_LINK,
     LinkPoses,
@@ -102,6 +107,19 @@ def trajectory_angles(trajectory: Trajectory) -> np.ndarray:
     column = {name: i for i, name in enumerate(trajectory.joint_names)}
     columns = [column[side.prefix + joint] for joint in JOINTS]
     return np.asarray(trajectory.positions, dtype=float)[:, columns]
+
+
+def frames_angles(frames: CommandFrames) -> np.ndarray:
+    """The five arm angles [rad] of frame 0 (the start) and later frames, (m + 1, 5).
+
+    Paper order.
+
+    Raises:
+        KeyError: naming the arm joint missing from ``frames.joint_names``.
+    """
+    rows = np.vstack([frames.start, frames.positions])
+    column = {name: i for i, name in enumerate(frames.joint_names)}
+    return rows[:, [column[frames.arm.prefix + joint] for joint in JOINTS]]
 
 
 def transforms_json(
