@@ -69,13 +69,22 @@ def _to_lab(points: np.ndarray) -> np.ndarray:
 def _write_c3d(
     path: pathlib.Path, markers: dict[str, np.ndarray], rate: float = 100.0
 ) -> None:
+    _write_points(path, list(markers), list(markers.values()), rate)
+
+
+def _write_points(
+    path: pathlib.Path,
+    labels: list[str],
+    tracks: list[np.ndarray],
+    rate: float = 100.0,
+) -> None:
+    """A C3D file of points ``labels`` [mm], each track of shape (frames, 3)."""
     c3d = ezc3d.c3d()
     c3d["parameters"]["POINT"]["RATE"]["value"] = [rate]
-    c3d["parameters"]["POINT"]["LABELS"]["value"] = tuple(markers)
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = tuple(labels)
     c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
-    frames = len(next(iter(markers.values())))
-    cloud = np.ones((4, len(markers), frames))
-    for i, points in enumerate(markers.values()):
+    cloud = np.ones((4, len(labels), len(tracks[0])))
+    for i, points in enumerate(tracks):
         cloud[:3, i, :] = points.T
     c3d["data"]["points"] = cloud
     c3d.write(str(path))
@@ -165,6 +174,51 @@ def test_two_people_in_one_capture_need_the_full_label(
         ArmTrack(zeros, recorded.elbow, recorded.wrist), nao_arm_size("right")
     )
     np.testing.assert_allclose(trial.wrist, expected.wrist, atol=1e-6)
+
+
+def test_labels_past_the_255th_are_read(
+    tmp_path: pathlib.Path, c3d_file: pathlib.Path
+) -> None:
+    """A capture of over 255 points continues its labels in POINT:LABELS2:
+    the arm's markers there were said to be missing. Read, they import as
+    the same markers alone do."""
+    alone = read_c3d(c3d_file, MarkerMap.model_validate(MAP))[0]
+    arm = ezc3d.c3d(str(c3d_file))
+    frames = arm["data"]["points"].shape[2]
+    labels = [f"*{i}" for i in range(260)] + list(
+        arm["parameters"]["POINT"]["LABELS"]["value"]
+    )
+    tracks = [np.full((frames, 3), 100.0 + i) for i in range(260)]
+    tracks += list(np.moveaxis(arm["data"]["points"][:3], 0, 2))
+    path = tmp_path / "many.c3d"
+    _write_points(path, labels, tracks)
+    assert "LABELS2" in ezc3d.c3d(str(path))["parameters"]["POINT"]
+    trial = read_c3d(path, MarkerMap.model_validate(MAP))[0]
+    np.testing.assert_allclose(trial.wrist, alone.wrist)
+    np.testing.assert_allclose(trial.elbow, alone.elbow)
+
+
+def test_a_mapped_label_on_two_points_is_refused(
+    tmp_path: pathlib.Path, recorded: Recorded
+) -> None:
+    """Two points labelled RSHO, the first never seen: the first was taken,
+    and the import said "0 of 100 frames have all markers". Refused, naming
+    the label and its points."""
+    zeros = np.zeros_like(recorded.wrist)
+    tracks = [_to_lab(p) for p in (zeros, recorded.elbow, recorded.wrist, zeros)]
+    tracks[0][:] = np.nan
+    path = tmp_path / "twice.c3d"
+    _write_points(path, ["Sub:RSHO", "RELB", "RWRB", "RSHO"], tracks)
+    plain = MarkerMap.model_validate({k: v for k, v in MAP.items() if k != "thumb"})
+    read_c3d(path, plain)  # an exact label is taken over a prefixed one
+    _write_points(path, ["RSHO", "RELB", "RWRB", "RSHO"], tracks)
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d(path, plain)
+    assert caught.value.message == (
+        f"{path}: the mapped marker shoulder 'RSHO' is the label of 2 points of "
+        "the C3D file (points 1, 4), so which one is the shoulder is unknown; "
+        "give the others other labels in the capture software and export again"
+    )
 
 
 def test_frames_with_a_gap_are_dropped(

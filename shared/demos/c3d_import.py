@@ -5,10 +5,13 @@ One C3D file holds one trial. The markers named by the marker map
 the map or the file's POINT:UNITS parameter. Labels match exactly, or after
 a ``Subject:`` prefix (``Sub1:RSHO`` matches ``RSHO``) if only one does: a
 capture of two people (``Sub1:RSHO`` and ``Sub2:RSHO``) needs the full label.
+Labels past the 255th continue in POINT:LABELS2, LABELS3, ...; a mapped label
+that several points carry is refused.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 import struct
 from pathlib import Path
@@ -54,10 +57,10 @@ def read_c3d(
     except (OSError, RuntimeError, ValueError) as exc:
         raise DemoFileError(str(path), f"not a readable C3D file ({exc})") from None
     point = data["parameters"]["POINT"]
-    labels = [str(label).strip() for label in point["LABELS"]["value"]]
+    cloud = np.asarray(data["data"]["points"], dtype=float)  # (4, markers, frames)
+    labels = point_labels(point, cloud.shape[1])
     index = _marker_indices(labels, markers, str(path))
     rate = _rate(path, data)
-    cloud = np.asarray(data["data"]["points"], dtype=float)  # (4, markers, frames)
     _check_whole(path, cloud.shape[2])
     _check_not_cut(path, data, cloud.shape[2], rate)
     times = np.arange(cloud.shape[2]) / rate
@@ -209,24 +212,48 @@ def _frames_on_disk(path: Path, data: Any, rate: float) -> int | None:
 BLOCK = 512
 
 
+def point_labels(point: dict[str, Any], count: int) -> list[str]:
+    """The labels of a C3D file's ``count`` points, in their order.
+
+    A C3D parameter holds at most 255 labels: a capture of more points
+    continues them in POINT:LABELS2, LABELS3 and so on. Labels past
+    ``count`` (POINT:USED) name no point and are left out.
+
+    Args:
+        point: The file's POINT parameters, as ezc3d reads them.
+        count: Its points.
+    """
+    labels: list[str] = []
+    for number in itertools.count(1):
+        key = "LABELS" if number == 1 else f"LABELS{number}"
+        if key not in point or len(labels) >= count:
+            break
+        labels.extend(str(label).strip() for label in point[key]["value"])
+    return labels[:count]
+
+
 def _marker_indices(labels: list[str], markers: MarkerMap, path: str) -> dict[str, int]:
     """Index of each mapped marker among the file's labels.
 
     Raises:
-        DemoFileError: if a mapped name matches no label, or, after a
-            ``Subject:`` prefix, several (two people in one capture): naming
-            the matches and the full label to map instead.
+        DemoFileError: if a mapped name matches no label; is the label of
+            several points (which one is the marker is unknown); or, after a
+            ``Subject:`` prefix, matches several labels (two people in one
+            capture): naming the matches and the full label to map instead.
     """
     bare = [label.split(":")[-1] for label in labels]
     found, missing = {}, []
     for role, name in markers.names.items():
-        if name in labels:
-            found[role] = labels.index(name)
-        elif bare.count(name) == 1:
-            found[role] = bare.index(name)
-        elif bare.count(name) > 1:
-            matches = [label for label in labels if label.split(":")[-1] == name]
-            _ambiguous(role, name, matches, path)
+        exact = [i for i, label in enumerate(labels) if label == name]
+        after = [i for i, label in enumerate(bare) if label == name]
+        matches = exact or after
+        distinct = list(dict.fromkeys(labels[i] for i in matches))
+        if len(distinct) > 1:
+            _ambiguous(role, name, distinct, path)
+        elif len(matches) > 1:
+            _repeated(role, labels[matches[0]], matches, path)
+        elif matches:
+            found[role] = matches[0]
         else:
             missing.append(f"{role} {name!r}")
     if missing:
@@ -249,6 +276,21 @@ def _ambiguous(role: str, name: str, matches: list[str], path: str) -> None:
         f'full label, e.g. "{role}": "{matches[0]}"',
         role=role,
         matches=matches,
+    )
+
+
+def _repeated(role: str, label: str, indices: list[int], path: str) -> None:
+    """Raise: the mapped marker's ``label`` names several points of the file."""
+    points = ", ".join(str(i + 1) for i in indices)
+    raise DemoFileError(
+        path,
+        f"the mapped marker {role} {label!r} is the label of {len(indices)} points "
+        f"of the C3D file (points {points}), so which one is the {role} is "
+        "unknown; give the others other labels in the capture software and "
+        "export again",
+        role=role,
+        label=label,
+        points=[i + 1 for i in indices],
     )
 
 
