@@ -90,6 +90,18 @@ def _write_points(
     c3d.write(str(path))
 
 
+def write_reach_c3d(path: pathlib.Path) -> None:
+    """A reach of four markers, RSHO RELB RWRB RWRA, as ``MAP`` maps them."""
+    reach = _reach()
+    zeros = np.zeros_like(reach.wrist)
+    points = (zeros, reach.elbow, reach.wrist, reach.thumb)
+    _write_c3d(path, {n: _to_lab(p) for n, p in zip(MAP_NAMES, points, strict=True)})
+
+
+#: The marker names ``MAP`` gives, shoulder to thumb.
+MAP_NAMES = ("RSHO", "RELB", "RWRB", "RWRA")
+
+
 @pytest.fixture(scope="module")
 def recorded() -> Recorded:
     return _reach()

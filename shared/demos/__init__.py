@@ -3,7 +3,9 @@
 - ``synthetic``: the paper's protocol (16 subjects, 4 x 4 grid, 5 trials,
   100 Hz) made by a human reach model (``reach_model``) with per-subject arm
   sizes from anthropometric tables (``anthropometry``).
-- ``c3d_import``, ``csv_import``: recorded markers (``markers`` maps them).
+- ``c3d_import``, ``csv_import``: recorded markers (``markers`` maps them);
+  a C3D file's structure is checked first (``c3d_layout``) and ezc3d reads it
+  in a child process (``c3d_reading``).
 - ``retarget``: human arm data to NAO, segment directions kept.
 - ``demo_file``: demonstration MCAP files (``DemoSubject``, ``DemoSample``).
 """

@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import itertools
 import math
-import struct
 from pathlib import Path
 from typing import Any
 
-import ezc3d
 import numpy as np
 
 from shared.demos.anthropometry import Subject
+from shared.demos.c3d_layout import C3DLayout, check_c3d_layout
+from shared.demos.c3d_reading import read_c3d_file
 from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.trial import Trial
@@ -45,26 +45,26 @@ def read_c3d(
             marker, if any.
 
     Raises:
-        DemoFileError: if the file cannot be read as C3D, lacks a mapped marker
+        DemoFileError: if the file cannot be read as C3D (a corrupt header
+            or parameter section, ``c3d_layout``; ezc3d failing, crashing or
+            running out of its memory, ``c3d_reading``), lacks a mapped marker
             (the error names the missing ones and lists those present), has
             unknown units, a point rate outside ``MIN_SAMPLE_RATE`` to
             ``MAX_SAMPLE_RATE``, too few complete frames, or an implausible
             arm (``importing.check_segments``).
     """
     path = Path(path)
-    try:
-        data = ezc3d.c3d(str(path))
-    except (OSError, RuntimeError, ValueError) as exc:
-        raise DemoFileError(str(path), f"not a readable C3D file ({exc})") from None
+    layout = check_c3d_layout(path)
+    data = read_c3d_file(path)
     point = data["parameters"]["POINT"]
-    cloud = np.asarray(data["data"]["points"], dtype=float)  # (4, markers, frames)
+    cloud = data["data"]["points"]  # (3, markers, frames)
     labels = point_labels(point, cloud.shape[1])
     index = _marker_indices(labels, markers, str(path))
     rate = _rate(path, data)
-    _check_whole(path, cloud.shape[2])
+    _check_whole(path, layout, cloud.shape[2])
     _check_not_cut(path, data, cloud.shape[2], rate)
     times = np.arange(cloud.shape[2]) / rate
-    points = {role: cloud[:3, i, :].T for role, i in index.items()}
+    points = {role: cloud[:, i, :].T for role, i in index.items()}
     units = markers.units or _units(point, str(path))
     name = markers.subject or path.stem
     return trial_from_tracks(
@@ -98,36 +98,26 @@ def _rate(path: Path, data: Any) -> float:
 
 #: The header's last frame when the file holds more than a 16-bit count.
 MANY_FRAMES = 65535
-#: Processor types (parameter section, byte 4) whose integers are big-endian.
-BIG_ENDIAN = {86}  # MIPS
 
 
-def _check_whole(path: Path, frames: int) -> None:
+def _check_whole(path: Path, layout: C3DLayout, frames: int) -> None:
     """Raise if the file holds fewer frames than its header says.
 
     ezc3d reads a cut file without complaint, and shortens its header and
     parameters to what it read: a file cut in half became a trial of a
     third of its frames, whose last frame (the reach's goal) was mid-reach.
-    So the header's own first and last frame are read from the file.
+    So the header's own first and last frame are compared with those read.
 
     Raises:
         DemoFileError: naming both counts.
     """
-    with path.open("rb") as file:
-        header = file.read(512)
-        if len(header) < 10 or header[0] < 2:
-            return
-        file.seek((header[0] - 1) * 512)
-        block = file.read(4)
-    order = ">" if len(block) == 4 and block[3] in BIG_ENDIAN else "<"
-    first, last = struct.unpack(order + "HH", header[6:10])
-    said = last - first + 1
-    if last == MANY_FRAMES or said <= frames:
+    said = layout.last - layout.first + 1
+    if layout.last == MANY_FRAMES or said <= frames:
         return
     raise DemoFileError(
         str(path),
-        f"truncated: its header says {said} frames ({first}..{last}), only "
-        f"{frames} could be read",
+        f"truncated: its header says {said} frames ({layout.first}..{layout.last}), "
+        f"only {frames} could be read",
     )
 
 

@@ -1,0 +1,127 @@
+"""ezc3d in a child process: a file that crashes it or makes it allocate
+without bound is a DemoFileError naming the file, and the import goes on
+being the one to say so."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import struct
+import subprocess
+import sys
+
+import ezc3d
+import numpy as np
+import pytest
+
+from shared.demos.c3d_import import read_c3d
+from shared.demos.c3d_reading import read_c3d_file
+from shared.demos.markers import MarkerMap
+from shared.errors import DemoFileError
+from tests.test_demos_c3d import MAP, MAP_NAMES, write_reach_c3d
+
+#: Where the reach's file (``write_reach_c3d``) holds these parameters' values.
+VALUES = {
+    ("ANALOG", "USED"): 692,
+    ("ANALOG", "RATE"): 802,
+    ("ROTATION", "USED"): 979,
+    ("ROTATION", "RATIO"): 1063,
+}
+
+
+@pytest.fixture(scope="module")
+def reach(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
+    """A valid C3D file of a reach, 8 kB, written by ezc3d."""
+    path = tmp_path_factory.mktemp("reach") / "reach.c3d"
+    write_reach_c3d(path)
+    return path
+
+
+def _with(reach: pathlib.Path, path: pathlib.Path, **values: float) -> pathlib.Path:
+    """A copy of ``reach`` with parameters set: ``ANALOG_USED=1``, ..."""
+    whole = bytearray(reach.read_bytes())
+    for key, value in values.items():
+        group, name = key.split("_", 1)
+        at = VALUES[group, name]
+        assert whole[at - 4 - len(name) : at - 4] == name.encode()  # its record
+        struct.pack_into("<f" if name == "RATE" else "<h", whole, at, value)
+    path.write_bytes(whole)
+    return path
+
+
+def test_a_file_that_makes_ezc3d_segfault_is_named(
+    tmp_path: pathlib.Path, reach: pathlib.Path
+) -> None:
+    """One analog channel at the point rate, and none of its labels, scale
+    or offset: ezc3d 1.7.2 segfaults. The importing process lives on."""
+    path = _with(reach, tmp_path / "analog.c3d", ANALOG_USED=1, ANALOG_RATE=100.0)
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d(path, MarkerMap.model_validate(MAP))
+    assert caught.value.message == (
+        f"{path}: not a readable C3D file: the C3D reader (ezc3d) crashed on it "
+        "(SIGSEGV), it is corrupt"
+    )
+
+
+def test_a_file_that_makes_ezc3d_abort_is_named_with_its_words(
+    tmp_path: pathlib.Path, reach: pathlib.Path
+) -> None:
+    """Two rotations, 3 per frame: ezc3d aborts on an uncaught exception;
+    the error quotes what it wrote to stderr."""
+    path = _with(reach, tmp_path / "turn.c3d", ROTATION_USED=2, ROTATION_RATIO=3)
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d_file(path)
+    assert caught.value.message.startswith(
+        f"{path}: not a readable C3D file: the C3D reader (ezc3d) crashed on it "
+        "(SIGABRT), it is corrupt; it said: terminate called after throwing an "
+        "instance of 'std::out_of_range'"
+    )
+
+
+def test_a_file_that_makes_ezc3d_allocate_without_bound_is_stopped(
+    tmp_path: pathlib.Path, reach: pathlib.Path
+) -> None:
+    """ROTATION:RATIO -20736 per frame: ezc3d grew past 6 GB over 27 s before
+    giving up (12.6 GB for another such file). The child may take 0.5 GiB."""
+    path = _with(reach, tmp_path / "ratio.c3d", ROTATION_RATIO=-20736)
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d_file(path)
+    assert caught.value.message == (
+        f"{path}: not a readable C3D file: reading it needs over 0.5 GiB, far "
+        "more than its 8192 bytes hold: its sizes are corrupt"
+    )
+
+
+def test_a_batch_names_the_file_that_crashes_ezc3d(
+    tmp_path: pathlib.Path, reach: pathlib.Path
+) -> None:
+    """`armplan demos import` of a good file and a crashing one used to die
+    of the segfault (exit 139) without naming either; it exits 1 naming the
+    crashing file."""
+    crash = _with(reach, tmp_path / "crash.c3d", ANALOG_USED=1, ANALOG_RATE=100.0)
+    markers = tmp_path / "map.json"
+    markers.write_text(json.dumps(MAP))
+    run = subprocess.run(
+        [
+            *(sys.executable, "-m", "armplan", "demos", "import", str(reach)),
+            *(str(crash), "--markers", str(markers), "-o", str(tmp_path / "o.mcap")),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert run.returncode == 1, run
+    assert f"{crash}: not a readable C3D file: the C3D reader (ezc3d) crashed" in (
+        run.stderr
+    )
+
+
+def test_a_good_file_reads_as_ezc3d_reads_it(reach: pathlib.Path) -> None:
+    """The child's answer: the points (3, points, frames), the POINT labels,
+    the header's rate, as ezc3d gives them in the importing process."""
+    direct = ezc3d.c3d(str(reach))
+    read = read_c3d_file(reach)
+    np.testing.assert_array_equal(read["data"]["points"], direct["data"]["points"][:3])
+    assert read["parameters"]["POINT"]["LABELS"]["value"] == list(MAP_NAMES)
+    assert read["header"]["points"]["frame_rate"] == 100.0
