@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import moving_trajectory
+from mcap.reader import make_reader
 
 from services.planner.pipeline import plan
 from services.recorder.options import RecorderOptions
@@ -41,7 +42,7 @@ from shared.recording.foxglove.transforms import (
     frame_transforms,
     side_of_state,
 )
-from shared.recording.raw_payload import RawPayload
+from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
 from shared.recording.rotation import RotationPolicy, numbered_parts
 from shared.robot import load_arm
 
@@ -144,6 +145,40 @@ def test_without_foxglove_only_the_samples_are_written(tmp_path: Path) -> None:
     sink.put(incoming("plan/request", REQUEST.to_json().encode()))
     sink.stop()
     assert [r.topic for r in read_records(out)] == [f"{NS}/plan/request"]
+
+
+def test_each_json_channel_notes_the_zenoh_encoding_of_its_payloads(
+    tmp_path: Path,
+) -> None:
+    """The encoding of a JSON object was lost (a replay sent every one as
+    application/json): a channel per topic, schema and encoding now, with
+    the encoding in its metadata; a RawPayload channel carries none."""
+    out = tmp_path / "s.mcap"
+    sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+    for payload, encoding in [
+        (REQUEST.to_json().encode(), "application/json"),
+        (b'{"targets": []}', "application/json"),
+        (REQUEST.to_json().encode(), "zenoh/bytes"),
+        (REQUEST.to_json().encode(), "application/json"),
+        (b"\xff", "zenoh/bytes"),
+    ]:
+        sink.put(incoming("plan/request", payload, encoding=encoding))
+    sink.stop()
+    with out.open("rb") as stream:
+        summary = make_reader(stream).get_summary()
+    assert summary is not None
+    schemas = {k: s.name for k, s in summary.schemas.items()}
+    channels = sorted(
+        (schemas[c.schema_id], c.metadata.get(ZENOH_ENCODING, "-"))
+        for c in summary.channels.values()
+        if c.topic == f"{NS}/plan/request"
+    )
+    assert channels == [
+        ("PlanRequest", "application/json"),
+        ("PlanRequest", "zenoh/bytes"),
+        ("RawPayload", "-"),
+        ("json", "application/json"),
+    ]
 
 
 def test_a_bad_flush_period_is_refused(tmp_path: Path) -> None:

@@ -3,7 +3,8 @@
 Zenoh calls the recorder from its own threads; they only time-stamp each
 sample and queue it (:meth:`RecordingSink.put` never blocks). One writer
 thread takes the samples in arrival order, gives each its channel
-(``routing.route``), writes it and its derived Foxglove messages, and
+(``routing.route``; a JSON object's channel notes the Zenoh encoding it came
+with, for a replay), writes it and its derived Foxglove messages, and
 flushes the file to the OS at least every ``flush_every`` seconds, also
 when no message comes. :meth:`RecordingSink.stop` writes what is still
 queued, then closes the file with its summary.
@@ -36,6 +37,7 @@ from services.recorder.routing import Entry, Incoming, route
 from shared.errors import RecordingError
 from shared.recording.foxglove import FoxgloveChannels, description_message
 from shared.recording.metadata import ARMPLAN_METADATA
+from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
 from shared.recording.rotation import RotatingWriter
 from shared.recording.writer import MessageWriter
 
@@ -48,6 +50,16 @@ SHED_BACKLOG = 16 * 2**20
 #: Bytes waiting above which new samples are dropped: the recorder's memory
 #: stays bounded, and the queue is written out within ``STOP_TIMEOUT``.
 MAX_BACKLOG = 256 * 2**20
+
+
+def _channel_metadata(entry: Entry, sample: Incoming) -> dict[str, str] | None:
+    """The channel metadata of ``entry``: a JSON object's Zenoh encoding.
+
+    A replay sends the object again with it; a ``RawPayload`` carries its own.
+    """
+    if entry.schema_name == RawPayload.__name__:
+        return None
+    return {ZENOH_ENCODING: sample.encoding}
 
 
 class RecordingSink:
@@ -254,6 +266,7 @@ class RecordingSink:
                 entry.data,
                 sample.log_time,
                 sample.publish_time,
+                metadata=_channel_metadata(entry, sample),
             )
             self.written += 1
         except RecordingError:

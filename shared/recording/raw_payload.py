@@ -6,6 +6,8 @@ message class, else on the topic's schemaless channel (schema ``"json"``,
 any JSON object). Any other payload (binary, text, a JSON array or number)
 becomes a :class:`RawPayload`, its bytes in base64 with the Zenoh encoding,
 so the file stays JSON throughout and a replay sends the same bytes again.
+The Zenoh encoding a JSON object came with is its channel's metadata
+(``zenoh_encoding``): a topic gets a channel per schema and encoding.
 """
 
 from __future__ import annotations
@@ -16,6 +18,9 @@ from typing import Any
 
 from shared.messages import Message
 
+#: Channel metadata key: the Zenoh encoding of the JSON objects on a channel,
+#: e.g. ``"application/json"`` (a ``RawPayload`` carries its own).
+ZENOH_ENCODING = "zenoh_encoding"
 #: Schema name of the schemaless channels (any JSON object).
 JSON_SCHEMA_NAME = "json"
 #: Their JSON schema: any JSON object.

@@ -188,6 +188,7 @@ class RotatingWriter(Closes):
         publish_time: int,
         *,
         may_rotate: bool = True,
+        metadata: dict[str, str] | None = None,
     ) -> None:
         """Append one JSON message (rotating first if a limit was reached).
 
@@ -200,9 +201,11 @@ class RotatingWriter(Closes):
             publish_time: When it was received [ns since the epoch].
             may_rotate: ``False`` keeps the message in the current file even
                 past a limit (what a message derives stays beside it).
+            metadata: The channel's metadata (a channel per topic, schema
+                and metadata), e.g. ``{"zenoh_encoding": "application/json"}``.
         """
         writer = self.writer if may_rotate or self._writer is None else self._writer
-        channel = writer.add_channel(topic, schema_name, schema)
+        channel = writer.add_channel(topic, schema_name, schema, metadata)
         writer.write_raw(channel, data, log_time, publish_time)
 
     def flush(self) -> None:

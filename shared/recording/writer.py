@@ -89,7 +89,7 @@ class MessageWriter(Closes):
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
         self._typed: dict[tuple[str, type[Message]], int] = {}
-        self._typed_channels: dict[tuple[str, str], int] = {}
+        self._typed_channels: dict[tuple[Any, ...], int] = {}
         self._chunked = chunked
         self._flush_every = flush_every
         self._last_flush = time.monotonic()
@@ -130,19 +130,27 @@ class MessageWriter(Closes):
                 )
         return self._channels[topic]
 
-    def add_channel(self, topic: str, schema_name: str, schema: dict[str, Any]) -> int:
+    def add_channel(
+        self,
+        topic: str,
+        schema_name: str,
+        schema: dict[str, Any],
+        metadata: dict[str, str] | None = None,
+    ) -> int:
         """The id of the channel for ``topic`` with schema ``schema_name``.
 
         Unlike :meth:`channel_id`, one topic may have several channels, one
-        per schema (e.g. a typed channel and a schemaless ``"json"`` one for
-        payloads that do not parse as the topic's class). Registers on first use.
+        per schema and ``metadata`` (e.g. a typed channel and a schemaless
+        ``"json"`` one for payloads that do not parse as the topic's class;
+        the recorder notes each payload's Zenoh encoding in ``metadata``).
+        Registers on first use.
         """
-        key = (topic, schema_name)
+        key = (topic, schema_name, *(metadata or {}).items())
         if key not in self._typed_channels:
             sid = self.schema_id(schema_name, schema)
             with self._writing():
                 self._typed_channels[key] = self._writer.register_channel(
-                    topic, "json", sid
+                    topic, "json", sid, dict(metadata or {})
                 )
         return self._typed_channels[key]
 
