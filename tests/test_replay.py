@@ -86,6 +86,7 @@ class Listener:
 
     def __init__(self, bus: Bus, namespace: str) -> None:
         self.got: list[tuple[str, bytes, float]] = []
+        self.encodings: list[str] = []
         self.prefix = f"{namespace}/"
         self._lock = threading.Lock()
         self._sub = bus.session.declare_subscriber(f"{namespace}/**", self._on)
@@ -94,6 +95,7 @@ class Listener:
         key = str(sample.key_expr).removeprefix(self.prefix)
         with self._lock:
             self.got.append((key, sample.payload.to_bytes(), time.monotonic()))
+            self.encodings.append(str(sample.encoding))
 
     def wait(self, n: int, timeout: float = 20.0) -> None:
         deadline = time.monotonic() + timeout
@@ -156,6 +158,24 @@ def test_replay_sends_the_same_messages_with_their_timing(
     assert max(abs(r - s) for r, s in zip(recorded, sent, strict=True)) < TOLERANCE
 
 
+def test_replayed_messages_keep_their_zenoh_encoding(
+    config: BusConfig, recording: tuple[Path, list[float]]
+) -> None:
+    """Published with Zenoh's default encoding, the JSON objects came back as
+    application/json; now each comes back with the encoding it was recorded
+    with (the raw bytes kept theirs already)."""
+    path, _ = recording
+    with Bus.connect(config) as bus:
+        listener = Listener(bus, TARGET)
+        try:
+            out = armplan_replay(config, str(path), "--speed", "10")
+            listener.wait(len(OFFSETS), timeout=5.0)
+        finally:
+            listener.close()
+    assert out.returncode == 0, out.stderr
+    assert listener.encodings == ["zenoh/bytes"] * len(OFFSETS)
+
+
 def test_replay_of_chosen_keys_only(
     config: BusConfig, recording: tuple[Path, list[float]]
 ) -> None:
@@ -188,6 +208,31 @@ def test_replay_of_a_damaged_file_fails_clearly_or_sends_its_prefix(
     out, got = replay_into_listener(config, cut, "--recover", "--speed", "10", expect=4)
     assert out.returncode == 0, out.stderr
     assert [(k, p) for k, p, _ in got] == payloads()[:4]
+
+
+def test_a_message_found_bad_while_sending_ends_the_replay_with_a_count(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """A raw payload that does not decode (another writer's, checksum right)
+    is found when read to be sent: exit 1 naming the file, after saying how
+    many messages went out before it."""
+    from shared.recording import MessageWriter
+    from shared.recording.raw_payload import JSON_SCHEMA, RawPayload
+
+    path = tmp_path / "raw.mcap"
+    with MessageWriter(path, chunked=False) as writer:
+        ok = writer.add_channel("misc/ok", "json", JSON_SCHEMA)
+        writer.write_raw(ok, b'{"i": 0}', 10**18)
+        raw = writer.add_channel("misc/raw", RawPayload.__name__, JSON_SCHEMA)
+        writer.write_raw(raw, b'{"encoding": "x", "base64": "!"}', 10**18 + 1)
+    out, got = replay_into_listener(config, path, expect=1)
+    assert out.returncode == 1
+    assert (
+        "armplan replay: sent 1 of 2 messages, then stopped at a message it "
+        "could not read"
+    ) in out.stdout
+    assert out.stderr.startswith(f"armplan: error: {path}: a raw payload cannot")
+    assert [(k, p) for k, p, _ in got] == [("misc/ok", b'{"i": 0}')]
 
 
 def test_replay_waits_for_a_missing_service_then_fails(
@@ -337,7 +382,7 @@ def test_json_payloads_and_raw_bytes_come_back_identical(
 ) -> None:
     """replay_items unwraps RawPayload and keeps JSON bytes as sent."""
     path, _ = recording
-    items = replay_items(path)
+    items = list(replay_items(path))
     assert [(i.path, i.payload) for i in items] == payloads()
     raw = [i for i in items if i.path == "misc/raw"]
     assert raw and all(i.encoding == "zenoh/bytes" for i in raw)

@@ -1,12 +1,15 @@
 """A recording's messages, sent again with their original timing, scaled.
 
-:func:`replay_items` reads the recorded Zenoh messages of a file (not the
+:func:`replay_items` gives the recorded Zenoh messages of files (not the
 derived ``/...`` Foxglove channels) in file order, which is the order the
 recorder received them, with each one's offset from the first [s] (from the
-log times) and its original bytes (a ``RawPayload`` is unwrapped). Keys are
-made relative to the recorded namespace, so a replay may publish under
-another one. :func:`replay` sends them through a ``publish`` function at
-``offset / speed`` after the start; the caller supplies the Zenoh put.
+log times), its original bytes (a ``RawPayload`` is unwrapped) and its
+Zenoh encoding. Keys are made relative to the recorded namespace, so a
+replay may publish under another one. The files are checked whole first
+(``replay_parts``), then read again message by message as they are sent:
+the messages are never all in memory. :func:`replay` sends them through a
+``publish`` function at ``offset / speed`` after the start; the caller
+supplies the Zenoh put.
 """
 
 from __future__ import annotations
@@ -14,19 +17,25 @@ from __future__ import annotations
 import math
 import threading
 import time
-from collections.abc import Callable, Iterable, Sequence
-from itertools import pairwise
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import NamedTuple
 
-import zenoh
-
+from services.recorder.replay_parts import (
+    Part,
+    check_damage,
+    check_no_overlap,
+    check_order,
+    look_through,
+    matcher,
+    to_send,
+)
 from shared.errors import InvalidInputError, RecordingError
-from shared.recording.metadata import ARMPLAN_METADATA, read_metadata
-from shared.recording.raw_payload import RawPayload
-from shared.recording.reader import Record, Recording
+from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
+from shared.recording.survey import Stamp, Survey
 
-#: Encoding of the JSON messages when sent again.
+#: Encoding of the JSON messages of a recording that did not note theirs
+#: (made before the recorder noted it in the channel's metadata).
 JSON_ENCODING = "application/json"
 _NS_PER_S = 1e9
 
@@ -63,103 +72,95 @@ class ReplayStats(NamedTuple):
     late: float
 
 
-def _matcher(keys: Sequence[str] | None) -> Callable[[str], bool]:
-    """Whether a relative key matches one of ``keys`` (all if ``None``)."""
-    if not keys:
-        return lambda path: True
+def _item(part: Part, stamp: Stamp, first: int) -> ReplayItem:
+    """The message of ``stamp`` (its bytes read) to send again.
+
+    Raises:
+        RecordingError: if it is a ``RawPayload`` that cannot be decoded.
+    """
+    path = part.topics[stamp.channel.topic]
+    offset = (stamp.log_time - first) / _NS_PER_S
+    data = stamp.data or b""
+    if stamp.schema != RawPayload.__name__:
+        encoding = stamp.channel.metadata.get(ZENOH_ENCODING, JSON_ENCODING)
+        return ReplayItem(offset, path, data, encoding)
     try:
-        exprs = [zenoh.KeyExpr(f"r/{key}") for key in keys]
-    except zenoh.ZError:
-        raise InvalidInputError(
-            f"--keys {' '.join(keys)}: not Zenoh key expressions", field="keys"
-        ) from None
-    return lambda path: any(e.intersects(f"r/{path}") for e in exprs)
-
-
-def _item(record: Record, namespace: str, first: int) -> ReplayItem:
-    path = record.topic.removeprefix(f"{namespace}/") if namespace else record.topic
-    offset = (record.log_time - first) / _NS_PER_S
-    if record.schema == RawPayload.__name__:
-        raw = RawPayload.model_validate_json(record.raw)
+        raw = RawPayload.model_validate_json(data)
         return ReplayItem(offset, path, raw.payload(), raw.encoding)
-    return ReplayItem(offset, path, record.raw, JSON_ENCODING)
+    except ValueError as exc:
+        raise RecordingError(
+            f"{part.path}: a raw payload cannot be decoded ({exc})",
+            path=str(part.path),
+        ) from None
 
 
-def _records(
-    path: str | Path, namespace: str, keys: Sequence[str] | None, recover: bool
-) -> list[Record]:
-    """The recorded Zenoh messages of one file matching ``keys``, in file order."""
-    wanted = _matcher(keys)
-    recording = Recording(path)
-    records = [
-        r
-        for r in recording
-        if not r.topic.startswith("/") and wanted(r.topic.removeprefix(f"{namespace}/"))
-    ]
-    recording.check(recover)
-    return records
-
-
-def _recorder_metadata(path: str | Path) -> dict[str, str]:
-    """What the recorder noted in ``path`` (namespace, part, start), if anything."""
-    return read_metadata(path).get(ARMPLAN_METADATA, {})
-
-
-def _check_order(files: list[Path], noted: list[dict[str, str]]) -> None:
-    """Refuse files that are not the parts of recordings, once each, in order.
-
-    Each part is stamped with the time it started (``started_ns``) and its
-    number (``part``). Parts given out of order, parts of two recordings
-    mixed, a file given twice or a part left out would play messages out of
-    their order, twice, or with a hole.
+def _read(part: Part, first: int) -> Iterator[ReplayItem]:
+    """The messages of ``part`` to send, read one at a time.
 
     Raises:
-        RecordingError: naming the files.
+        RecordingError: if a raw payload cannot be decoded, or the file no
+            longer holds what the look through it found (changed since).
     """
-    seen: dict[Path, Path] = {}
-    for path in files:
-        first = seen.setdefault(path.resolve(), path)
-        if first is not path:
-            raise RecordingError(f"{path} is given twice", path=str(path))
-    for k in range(1, len(files)):
-        before, now = noted[k - 1], noted[k]
-        started = [int(n.get("started_ns", "-1")) for n in (before, now)]
-        if min(started) >= 0 and started[1] <= started[0]:
-            when = "at the same time as" if started[1] == started[0] else "before"
-            raise RecordingError(
-                f"{files[k]} was started {when} {files[k - 1]}: give the "
-                "numbered files of one recording, in order",
-                path=str(files[k]),
-            )
-        part, previous = int(now.get("part", "1")), int(before.get("part", "0"))
-        if part > 1 and part != previous + 1:
-            raise RecordingError(
-                f"{files[k]} is part {part} of its recording but follows "
-                f"{files[k - 1]}, part {previous}: part {previous + 1} is missing",
-                path=str(files[k]),
-            )
+    if not part.count:
+        return
+    read = 0
+    for stamp in Survey(part.path, read=part.topics, only=part.topics, verify=False):
+        yield _item(part, stamp, first)
+        read += 1
+        if read == part.count:
+            return
+    if not part.damaged:  # a damaged file's prefix may read shorter here
+        raise RecordingError(
+            f"{part.path} changed while it was replayed: {read} of its "
+            f"{part.count} messages to send could be read again",
+            path=str(part.path),
+            readable=read,
+        )
 
 
-def _check_no_overlap(files: list[tuple[Path, list[Record]]]) -> None:
-    """Refuse files whose messages were received while the one before's were.
+class Replay:
+    """The messages of a recording to send again, counted, read as they go.
 
-    Consecutive parts of one recording follow each other (one writer wrote
-    them, in order); two recordings made at the same time overlap, and would
-    play their messages twice and out of order.
+    Iterate it for :class:`ReplayItem` s in file order; ``len`` is how many.
 
-    Raises:
-        RecordingError: naming the two files.
+    Args:
+        parts: Each file's messages to send, in order.
     """
-    kept = [(path, records) for path, records in files if records]
-    for (before, earlier), (path, later) in pairwise(kept):
-        if later[0].publish_time < earlier[-1].publish_time:
-            raise RecordingError(
-                f"{path} overlaps {before}: its first message was received "
-                f"{(earlier[-1].publish_time - later[0].publish_time) / 1e9:.3f} s "
-                "before that file's last; two recordings made at once cannot be "
-                "replayed as one",
-                path=str(path),
-            )
+
+    def __init__(self, parts: list[Part]) -> None:
+        self.parts = parts
+        self.count = sum(part.count for part in parts)
+        firsts = [part.first for part in parts if part.count]
+        self.first = firsts[0].first_log if firsts and firsts[0] else 0
+
+    def __len__(self) -> int:
+        return self.count
+
+    def __iter__(self) -> Iterator[ReplayItem]:
+        for part in self.parts:
+            yield from _read(part, self.first)
+
+    @property
+    def latest(self) -> float:
+        """The latest offset of a message to send [s] (0 if none)."""
+        latest = [
+            part.spans[topic].latest_log for part in self.parts for topic in part.topics
+        ]
+        return (max(latest) - self.first) / _NS_PER_S if latest else 0.0
+
+    @property
+    def counts(self) -> dict[str, int]:
+        """Messages to send per relative key, in order of first message."""
+        counts: dict[str, int] = {}
+        for part in self.parts:
+            for topic, path in part.topics.items():
+                counts[path] = counts.get(path, 0) + part.spans[topic].count
+        return counts
+
+    @property
+    def recorded(self) -> list[str]:
+        """Every relative key recorded in the files, sent or not, sorted."""
+        return sorted(set().union(*(part.recorded for part in self.parts)))
 
 
 def replay_items(
@@ -167,8 +168,13 @@ def replay_items(
     *,
     keys: Sequence[str] | None = None,
     recover: bool = False,
-) -> list[ReplayItem]:
+) -> Replay:
     """The recorded Zenoh messages to send again, in file order.
+
+    Everything that can be refused is refused here, before the first
+    message is read for sending; the messages are read as the result is
+    iterated (a malformed raw payload, which only another writer than
+    armplan's records, is found there).
 
     Args:
         paths: An MCAP file written by the recorder, or the numbered files of
@@ -180,29 +186,20 @@ def replay_items(
         recover: Replay the readable prefix of a damaged file.
 
     Raises:
+        InvalidInputError: if a key is not a Zenoh key expression.
         RecordingError: if a file cannot be read (or is damaged, without
-            ``recover``), or a raw payload in it is malformed.
+            ``recover``), or the files are not the parts of one recording
+            in order.
     """
     files = [Path(paths)] if isinstance(paths, (str, Path)) else list(map(Path, paths))
-    noted = [_recorder_metadata(path) for path in files]
-    _check_order(files, noted)
-    per_file = []
-    for path, note in zip(files, noted, strict=True):
-        namespace = note.get("namespace", "")
-        per_file.append((path, namespace, _records(path, namespace, keys, recover)))
-    _check_no_overlap([(path, records) for path, _, records in per_file])
-    firsts = [records[0].log_time for _, _, records in per_file if records]
-    if not firsts:
-        return []
-    items = []
-    for path, namespace, records in per_file:
-        try:
-            items += [_item(r, namespace, firsts[0]) for r in records]
-        except ValueError as exc:
-            raise RecordingError(
-                f"{path}: a raw payload cannot be decoded ({exc})", path=str(path)
-            ) from None
-    return items
+    wanted = matcher(keys)
+    looked = [look_through(path) for path in files]
+    check_order(looked)
+    for each in looked:
+        check_damage(each, recover)
+    parts = [to_send(each, wanted) for each in looked]
+    check_no_overlap(parts)
+    return Replay(parts)
 
 
 def check_speed(speed: float, latest: float = 0.0) -> float:

@@ -12,21 +12,20 @@ so before it sends them. Keys outside the catalogue are not judged.
 
 from __future__ import annotations
 
-from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Mapping
 
-from services.recorder.replay import ReplayItem
 from shared.bus.topics import find_topic
 
 #: The login of another machine's router: its rules relay every armplan key.
 ROUTER_USER = "router"
 
 
-def refused_by_rules(items: Iterable[ReplayItem], user: str) -> dict[str, int]:
+def refused_by_rules(counts: Mapping[str, int], user: str) -> dict[str, int]:
     """Each topic ``user`` may not publish, with its number of messages.
 
     Args:
-        items: The messages to replay.
+        counts: The messages to replay per relative key, in first-seen order
+            (``Replay.counts``).
         user: The replay's login, e.g. ``"client"``.
 
     Returns:
@@ -34,12 +33,12 @@ def refused_by_rules(items: Iterable[ReplayItem], user: str) -> dict[str, int]:
     """
     if user == ROUTER_USER:
         return {}
-    refused: Counter[str] = Counter()
-    for item in items:
-        topic = find_topic(item.path)
+    refused = {}
+    for path, count in counts.items():
+        topic = find_topic(path)
         if topic is not None and topic.publisher != user:
-            refused[item.path] += 1
-    return dict(refused)
+            refused[path] = count
+    return refused
 
 
 def refused_warning(refused: dict[str, int], user: str, source: str) -> str:

@@ -1,11 +1,13 @@
 """``armplan replay FILE.mcap``: publish a recording's messages again over Zenoh.
 
 Each recorded Zenoh message goes out again on its key, under the current
-namespace, with its original payload bytes and its original timing (from
-the log times) divided by ``--speed``. The derived Foxglove channels
-(``/tf/...``, ...) are not sent. A bridge subscribed to ``plan/trajectory``
-drives the (simulated) NAO from the replayed trajectories: ``armplan replay
-session.mcap --keys plan/trajectory --wait-for bridge``.
+namespace, with its original payload bytes and Zenoh encoding and its
+original timing (from the log times) divided by ``--speed``. The files are
+checked whole before the first message goes, then read as they are sent.
+The derived Foxglove channels (``/tf/...``, ...) are not sent. A bridge
+subscribed to ``plan/trajectory`` drives the (simulated) NAO from the
+replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
+--wait-for bridge``.
 """
 
 from __future__ import annotations
@@ -19,11 +21,11 @@ import zenoh
 
 from armplan.launch.catalog import unknown_hint
 from services.recorder.arguments import add_bus_arguments, bus_config
-from services.recorder.replay import check_speed, replay, replay_items
+from services.recorder.replay import Replay, check_speed, replay, replay_items
 from services.recorder.replay_login import refused_by_rules, refused_warning
 from shared.bus import Bus
 from shared.bus.login import login_user
-from shared.errors import InvalidInputError, ServiceUnavailableError
+from shared.errors import InvalidInputError, RecordingError, ServiceUnavailableError
 from shared.stop_signals import stop_on_signals
 
 ORDER = 91
@@ -114,11 +116,9 @@ def _check_wait(wait: float) -> None:
         )
 
 
-def _no_key_matches(args: argparse.Namespace) -> None:
+def _no_key_matches(args: argparse.Namespace, items: Replay) -> None:
     """Raise: ``--keys`` matched nothing; name the keys the recording holds."""
-    held = sorted(
-        {item.path for item in replay_items(args.files, recover=args.recover)}
-    )
+    held = items.recorded
     raise InvalidInputError(
         f"no recorded message matches --keys {' '.join(args.keys)}; the recording "
         f"holds {', '.join(held) if held else 'no messages'}",
@@ -132,17 +132,17 @@ INTERRUPTED = 130
 
 
 def run(args: argparse.Namespace) -> int:
-    """Read the file, then send its messages at their (scaled) times."""
+    """Check the files, then send their messages at their (scaled) times."""
     _check_files(args)
     check_speed(args.speed)  # before connecting: a bad option, not a lost router
     _check_wait(args.wait)
     items = replay_items(args.files, keys=args.keys, recover=args.recover)
     if args.keys and not items:
-        _no_key_matches(args)
-    check_speed(args.speed, max((item.offset for item in items), default=0.0))
+        _no_key_matches(args, items)
+    check_speed(args.speed, items.latest)
     config = bus_config(args)
     user = login_user(config)
-    refused = {} if user is None else refused_by_rules(items, user)
+    refused = {} if user is None else refused_by_rules(items.counts, user)
     if user is not None and refused:
         warning = refused_warning(refused, user, config.source)
         sys.stderr.write(f"armplan replay: warning: {warning}\n")
@@ -155,15 +155,28 @@ def run(args: argparse.Namespace) -> int:
                 reason=f"not alive after {args.wait:g} s{unknown_hint(missing)}",
             )
 
+        sent = 0
+
         def publish(path: str, payload: bytes, encoding: str) -> None:
+            nonlocal sent
             bus.session.put(
                 bus.key(path),
                 payload,
                 encoding=zenoh.Encoding(encoding),
                 congestion_control=zenoh.CongestionControl.BLOCK,
             )
+            sent += 1
 
-        stats = replay(items, publish, speed=args.speed, stop=stop)
+        try:
+            stats = replay(items, publish, speed=args.speed, stop=stop)
+        except RecordingError:  # a message found bad only when read to be sent
+            sys.stdout.write(
+                f"armplan replay: sent {sent} of {len(items)} messages, then "
+                "stopped at a message it could not read\n"
+            )
+            if sent:
+                time.sleep(LINGER)  # see LINGER
+            raise
         if stats.sent:
             time.sleep(LINGER)  # see LINGER
     dropped = (

@@ -1,0 +1,227 @@
+"""Replay reads its files as it sends: memory bounded, bad files refused first.
+
+Real MCAP files, written by the recorder's sink or by ``MessageWriter``
+(for files the recorder would not write: raw payloads that do not decode).
+The replay's memory is measured with ``tracemalloc`` on recordings of N and
+4N messages, not timed.
+"""
+
+from __future__ import annotations
+
+import time
+import tracemalloc
+from pathlib import Path
+
+import pytest
+
+from services.recorder.options import RecorderOptions
+from services.recorder.replay import replay, replay_items
+from services.recorder.routing import Incoming
+from services.recorder.sink import RecordingSink
+from shared.errors import RecordingError
+from shared.recording import MessageWriter, read_records
+from shared.recording.metadata import ARMPLAN_METADATA
+from shared.recording.raw_payload import JSON_SCHEMA, JSON_SCHEMA_NAME, RawPayload
+from shared.recording.rotation import RotationPolicy
+
+NS = "ns"
+#: One message's JSON [bytes].
+BODY = 1000
+
+
+def write_session(path: Path, n: int) -> None:
+    """``n`` messages of ``BODY`` bytes, every other one a derived ``/tf``
+    message (not replayed), in the live layout with the recorder's metadata."""
+    with MessageWriter(path, chunked=False) as writer:
+        writer.add_metadata(ARMPLAN_METADATA, {"namespace": NS, "part": "1"})
+        sent = writer.add_channel(f"{NS}/misc/x", JSON_SCHEMA_NAME, JSON_SCHEMA)
+        derived = writer.add_channel("/tf/planned", JSON_SCHEMA_NAME, JSON_SCHEMA)
+        for i in range(n):
+            data = b'{"i": %d, "pad": "%s"}' % (i, b"x" * BODY)
+            writer.write_raw(derived if i % 2 else sent, data, 10**18 + i * 10**6)
+
+
+def peak_of_replay(path: Path) -> tuple[int, int]:
+    """(messages sent, peak of memory allocated [bytes]) for a whole replay."""
+    sent = 0
+
+    def publish(path: str, payload: bytes, encoding: str) -> None:
+        nonlocal sent
+        sent += 1
+
+    tracemalloc.start()
+    try:
+        replay(replay_items(path), publish, speed=1e9)
+        return sent, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_a_replays_memory_does_not_grow_with_the_recording(tmp_path: Path) -> None:
+    """Every message was read, parsed and kept before the first was sent: a
+    200 MB recording peaked at 1.27 GB. Four times the messages now take
+    about the same memory, well under the file's size."""
+    n = 2000
+    files = {k: tmp_path / f"s{k}.mcap" for k in (1, 4)}
+    for k, path in files.items():
+        write_session(path, k * n)
+    peak_of_replay(files[1])  # imports and caches, once
+    sent_1, peak_1 = peak_of_replay(files[1])
+    sent_4, peak_4 = peak_of_replay(files[4])
+    print(f"peaks [kB]: {n} messages {peak_1 / 1e3:.0f}, {4 * n}: {peak_4 / 1e3:.0f}")
+    assert (sent_1, sent_4) == (n // 2, 2 * n)
+    assert peak_4 < 1.2 * peak_1 + 20_000
+    assert peak_4 < files[4].stat().st_size / 20
+
+
+def test_a_replay_is_counted_before_a_message_is_read(tmp_path: Path) -> None:
+    """The count, the latest offset and the keys come from the quick pass;
+    the messages are read as they are sent, so a file cut short after the
+    pass is found then (not held from the start)."""
+    path = tmp_path / "s.mcap"
+    write_session(path, 10)
+    items = replay_items(path)
+    assert len(items) == 5
+    assert items.latest == pytest.approx(8e-3)
+    assert items.counts == {"misc/x": 5}
+    data = path.read_bytes()
+    path.write_bytes(data[: data.index(b'{"i": 4,')])
+    with pytest.raises(RecordingError, match=r"s\.mcap changed while it was replayed"):
+        list(items)
+
+
+def write_keys(path: Path, topics: list[str]) -> None:
+    """One JSON message on each topic (not under a namespace)."""
+    with MessageWriter(path, chunked=False) as writer:
+        for i, topic in enumerate(topics):
+            channel = writer.add_channel(topic, JSON_SCHEMA_NAME, JSON_SCHEMA)
+            writer.write_raw(channel, b'{"i": %d}' % i, 10**18 + i * 10**8)
+
+
+def test_a_changed_byte_is_found_before_anything_is_sent(tmp_path: Path) -> None:
+    """A digit changed inside a message (still JSON): the quick pass checks
+    the file's checksum, so the replay is refused whole; --recover sends it."""
+    path = tmp_path / "s.mcap"
+    write_session(path, 6)
+    data = path.read_bytes()
+    at = data.index(b'{"i": 2,') + 6
+    path.write_bytes(data[:at] + b"7" + data[at + 1 :])
+    with pytest.raises(RecordingError, match="its checksum does not match"):
+        replay_items(path)
+    assert [i.payload[:8] for i in replay_items(path, recover=True)] == [
+        b'{"i": 0,',
+        b'{"i": 7,',
+        b'{"i": 4,',
+    ]
+
+
+@pytest.mark.parametrize("chunked", [False, True], ids=["live", "chunked"])
+def test_every_truncation_replays_the_prefix_the_reader_reads(
+    tmp_path: Path, chunked: bool
+) -> None:
+    """Cut at every byte: without recover a RecordingError or everything, with
+    it exactly the messages ``read_records`` reads (the quick pass and the
+    reader agree on where a file stops being whole)."""
+    whole = tmp_path / "whole.mcap"
+    with MessageWriter(whole, chunked=chunked) as writer:
+        writer.add_metadata(ARMPLAN_METADATA, {"namespace": NS})
+        for topic in (f"{NS}/a", "/tf/planned", f"{NS}/b") * 3:
+            channel = writer.add_channel(topic, JSON_SCHEMA_NAME, JSON_SCHEMA)
+            writer.write_raw(channel, b'{"t": "%s"}' % topic.encode(), 10**18)
+    data = whole.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    for size in range(1, len(data) + 1):
+        cut.write_bytes(data[:size])
+        expected = [
+            r.raw
+            for r in read_records(cut, recover=True)
+            if not r.topic.startswith("/")
+        ]
+        assert [i.payload for i in replay_items(cut, recover=True)] == expected
+        try:
+            got = [i.payload for i in replay_items(cut)]
+        except RecordingError:
+            continue
+        assert size == len(data), size
+        assert len(got) == 6
+
+
+def test_a_payload_keeps_the_zenoh_encoding_it_was_recorded_with(
+    tmp_path: Path,
+) -> None:
+    """JSON objects were all sent again as application/json, whatever they
+    came with; the recorder now notes each one's encoding in its channel's
+    metadata (a channel per topic, schema and encoding), and a replay uses it."""
+    out = tmp_path / "s.mcap"
+    sink = RecordingSink(RecorderOptions(output=out, keys=("**",)), NS).start()
+    sent = [
+        ("misc/x", b'{"i": 0}', "application/json"),
+        ("misc/x", b'{"i": 1}', "zenoh/bytes"),
+        ("misc/x", b'{"i": 2}', "text/plain;charset=utf-8"),
+        ("misc/x", b"\x00raw", "zenoh/bytes"),
+        ("plan/request", b'{"not": "a plan request"}', "zenoh/string"),
+        ("misc/x", b'{"i": 3}', "zenoh/bytes"),
+    ]
+    for key, payload, encoding in sent:
+        t = time.time_ns()
+        sink.put(Incoming(f"{NS}/{key}", payload, encoding, t, t))
+    sink.stop()
+    got = [(i.path, i.payload, i.encoding) for i in replay_items(out)]
+    assert got == sent
+
+
+def test_a_recording_without_encodings_sends_json(tmp_path: Path) -> None:
+    """Files recorded before the encodings were noted: application/json."""
+    path = tmp_path / "old.mcap"
+    write_keys(path, ["misc/x"])
+    assert [i.encoding for i in replay_items(path)] == ["application/json"]
+
+
+def test_a_message_that_is_not_json_is_sent_as_the_bytes_it_is(
+    tmp_path: Path,
+) -> None:
+    """The replay does not parse messages: another writer's non-JSON bytes
+    (its checksum right) go out as they are."""
+    path = tmp_path / "odd.mcap"
+    with MessageWriter(path, chunked=False) as writer:
+        channel = writer.add_channel("misc/x", JSON_SCHEMA_NAME, JSON_SCHEMA)
+        writer.write_raw(channel, b"\xffnot json", 10**18)
+    assert [i.payload for i in replay_items(path)] == [b"\xffnot json"]
+
+
+def test_a_raw_payload_that_does_not_decode_stops_the_replay_there(
+    tmp_path: Path,
+) -> None:
+    """Only another writer makes one (its checksum is right): found when it
+    is read to be sent, after the messages before it, as a RecordingError."""
+    path = tmp_path / "raw.mcap"
+    with MessageWriter(path, chunked=False) as writer:
+        ok = writer.add_channel("misc/ok", JSON_SCHEMA_NAME, JSON_SCHEMA)
+        writer.write_raw(ok, b'{"i": 0}', 10**18)
+        raw = writer.add_channel("misc/raw", RawPayload.__name__, JSON_SCHEMA)
+        bad = b'{"encoding": "zenoh/bytes", "base64": "not base64!"}'
+        writer.write_raw(raw, bad, 10**18 + 1)
+    items = replay_items(path)
+    assert len(items) == 2
+    sent = []
+    with pytest.raises(RecordingError, match=r"raw\.mcap: a raw payload cannot be"):
+        replay(items, lambda k, p, e: sent.append(k), speed=1e9)
+    assert sent == ["misc/ok"]
+
+
+def test_the_parts_of_a_rotated_recording_replay_as_one(tmp_path: Path) -> None:
+    """Parts written by the sink (a message per part): each message once, in
+    order, counted before any is read."""
+    out = tmp_path / "r.mcap"
+    options = RecorderOptions(
+        output=out, keys=("**",), rotation=RotationPolicy(max_bytes=1)
+    )
+    sink = RecordingSink(options, NS).start()
+    for i in range(3):
+        t = time.time_ns()
+        sink.put(Incoming(f"{NS}/misc/x", b'{"i": %d}' % i, "zenoh/bytes", t, t))
+        time.sleep(0.01)
+    parts = sink.stop()
+    items = replay_items(parts)
+    assert (len(items), items.counts) == (3, {"misc/x": 3})
+    assert [i.payload for i in items] == [b'{"i": 0}', b'{"i": 1}', b'{"i": 2}']
