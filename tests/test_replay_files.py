@@ -1,9 +1,9 @@
 """Replay reads its files as it sends: memory bounded, bad files refused first.
 
 Real MCAP files, written by the recorder's sink or by ``MessageWriter``
-(for files the recorder would not write: raw payloads that do not decode).
-The replay's memory is measured with ``tracemalloc`` on recordings of N and
-4N messages, not timed.
+(for files the recorder would not write: damaged metadata, keys that are
+not Zenoh keys, raw payloads that do not decode). The replay's memory is
+measured with ``tracemalloc`` on recordings of N and 4N messages, not timed.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 
+from armplan.launch import free_endpoint
 from services.recorder.options import RecorderOptions
 from services.recorder.replay import replay, replay_items
 from services.recorder.routing import Incoming
@@ -22,7 +23,7 @@ from shared.errors import RecordingError
 from shared.recording import MessageWriter, read_records
 from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.raw_payload import JSON_SCHEMA, JSON_SCHEMA_NAME, RawPayload
-from shared.recording.rotation import RotationPolicy
+from shared.recording.rotation import RotationPolicy, part_path
 
 NS = "ns"
 #: One message's JSON [bytes].
@@ -90,12 +91,84 @@ def test_a_replay_is_counted_before_a_message_is_read(tmp_path: Path) -> None:
         list(items)
 
 
+def rotated_parts(tmp_path: Path, notes: list[dict[str, str]]) -> list[Path]:
+    """A rotated recording's parts, the k-th with the recorder's note ``notes[k]``."""
+    paths = []
+    for k, note in enumerate(notes, start=1):
+        path = part_path(tmp_path / "r.mcap", k)
+        with MessageWriter(path, chunked=False) as writer:
+            writer.add_metadata(ARMPLAN_METADATA, {"namespace": NS} | note)
+            channel = writer.add_channel(f"{NS}/misc/x", JSON_SCHEMA_NAME, JSON_SCHEMA)
+            writer.write_raw(channel, b'{"k": %d}' % k, 10**18 + k)
+        paths.append(path)
+    return paths
+
+
+FIRST = {"part": "1", "started_ns": "1000"}
+
+
+@pytest.mark.parametrize(
+    ("second", "named"),
+    [({"part": "2", "started_ns": "17X4"}, "started_ns '17X4'"),
+     ({"part": "two", "started_ns": "2000"}, "part 'two'"),
+     ({"part": "2", "started_ns": "-5"}, "started_ns '-5'")],
+)  # fmt: skip
+def test_damaged_metadata_is_named_not_a_traceback(
+    tmp_path: Path, second: dict[str, str], named: str
+) -> None:
+    """A part whose start or number is not a whole number raised ValueError
+    from int(); now a RecordingError naming the file and the value."""
+    parts = rotated_parts(tmp_path, [FIRST, second])
+    with pytest.raises(
+        RecordingError, match=rf"r-0002\.mcap: its armplan metadata gives {named}, "
+    ):
+        replay_items(parts)
+
+
+def test_a_flipped_byte_in_metadata_with_recover_is_an_error_not_a_traceback(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The hunt's repro: a byte of part 2's started_ns changed, replayed with
+    --recover (the checksum no longer matches): exit 1 naming the value."""
+    from armplan.cli.main import main
+
+    parts = rotated_parts(tmp_path, [FIRST, {"part": "2", "started_ns": "2000"}])
+    data = parts[1].read_bytes()
+    at = data.index(b"started_ns") + len(b"started_ns") + 4  # past its length
+    parts[1].write_bytes(data[:at] + b"X" + data[at + 1 :])
+    argv = ["replay", *map(str, parts), "--recover", "--connect", free_endpoint()]
+    assert main(argv) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert "r-0002.mcap: its armplan metadata gives started_ns 'X000'" in err
+
+
 def write_keys(path: Path, topics: list[str]) -> None:
     """One JSON message on each topic (not under a namespace)."""
     with MessageWriter(path, chunked=False) as writer:
         for i, topic in enumerate(topics):
             channel = writer.add_channel(topic, JSON_SCHEMA_NAME, JSON_SCHEMA)
             writer.write_raw(channel, b'{"i": %d}' % i, 10**18 + i * 10**8)
+
+
+def test_a_recorded_key_that_is_not_a_zenoh_key_is_refused_first(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """ok/topic was published, then Zenoh's ZError came out as a traceback
+    on bad#topic (and from --keys' matching); now nothing is sent and the
+    error names the file and the topic. --keys leave such keys out."""
+    from armplan.cli.main import main
+
+    path = tmp_path / "craft.mcap"
+    write_keys(path, ["ok/topic", "bad#topic", "a//b"])
+    with pytest.raises(RecordingError, match=r"craft\.mcap: its channel 'bad#topic'"):
+        replay_items(path)
+    argv = ["replay", str(path), "--namespace", "rr", "--connect", free_endpoint()]
+    assert main(argv) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert "its channel 'bad#topic' is not a Zenoh key" in err
+    assert "its 1 message cannot be sent again; --keys can choose" in err
+    for keys in (["ok/topic"], ["**"]):
+        assert [i.path for i in replay_items(path, keys=keys)] == ["ok/topic"]
 
 
 def test_a_changed_byte_is_found_before_anything_is_sent(tmp_path: Path) -> None:

@@ -188,8 +188,9 @@ def replay_items(
     Raises:
         InvalidInputError: if a key is not a Zenoh key expression.
         RecordingError: if a file cannot be read (or is damaged, without
-            ``recover``), or the files are not the parts of one recording
-            in order.
+            ``recover``), its armplan metadata is malformed, a recorded key
+            is not a Zenoh key (and ``keys`` do not leave it out), or the
+            files are not the parts of one recording in order.
     """
     files = [Path(paths)] if isinstance(paths, (str, Path)) else list(map(Path, paths))
     wanted = matcher(keys)
@@ -197,7 +198,7 @@ def replay_items(
     check_order(looked)
     for each in looked:
         check_damage(each, recover)
-    parts = [to_send(each, wanted) for each in looked]
+    parts = [to_send(each, wanted, bool(keys)) for each in looked]
     check_no_overlap(parts)
     return Replay(parts)
 

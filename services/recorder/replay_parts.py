@@ -2,8 +2,8 @@
 
 A replay refuses, before sending anything, files that are damaged (unless
 ``recover``), parts of a rotated recording given out of order, twice or with
-one left out, and two recordings made at once; it counts what it will send
-and when the last message goes.
+one left out, two recordings made at once, and recorded keys that are not
+Zenoh keys; it counts what it will send and when the last message goes.
 None of that needs a message's bytes: :func:`look_through` makes one quick
 pass over each file (``shared.recording.survey``) and keeps, per topic, a
 count and where its first and last messages are, in memory that does not
@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from functools import cache
 from itertools import pairwise
 from pathlib import Path
 
@@ -118,6 +119,16 @@ def check_damage(looked: Looked, recover: bool) -> None:
     recording.check(recover)
 
 
+@cache
+def is_key(path: str) -> bool:
+    """Whether ``path`` is a Zenoh key, relative (``plan/trajectory``)."""
+    try:
+        zenoh.KeyExpr(f"r/{path}")
+    except zenoh.ZError:
+        return False
+    return True
+
+
 def matcher(keys: Sequence[str] | None) -> Matcher:
     """Whether a relative key matches one of ``keys`` (all if ``None``).
 
@@ -132,7 +143,7 @@ def matcher(keys: Sequence[str] | None) -> Matcher:
         raise InvalidInputError(
             f"--keys {' '.join(keys)}: not Zenoh key expressions", field="keys"
         ) from None
-    return lambda path: any(e.intersects(f"r/{path}") for e in exprs)
+    return lambda path: is_key(path) and any(e.intersects(f"r/{path}") for e in exprs)
 
 
 @dataclass(frozen=True)
@@ -174,14 +185,29 @@ class Part:
         )
 
 
-def to_send(looked: Looked, wanted: Matcher) -> Part:
-    """What of ``looked`` to send: its recorded keys that ``wanted`` matches."""
+def to_send(looked: Looked, wanted: Matcher, keys_given: bool) -> Part:
+    """What of ``looked`` to send: its recorded keys that ``wanted`` matches.
+
+    Raises:
+        RecordingError: if a recorded key is not a Zenoh key and no
+            ``--keys`` leave it out.
+    """
     namespace = looked.noted.get("namespace", "")
     relative = {
         topic: topic.removeprefix(f"{namespace}/") if namespace else topic
         for topic, _ in sorted(looked.spans.items(), key=lambda item: item[1].first)
         if not topic.startswith("/")  # derived for Foxglove: not sent
     }
+    bad = [topic for topic, path in relative.items() if not is_key(path)]
+    if bad and not keys_given:
+        span = looked.spans[bad[0]]
+        raise RecordingError(
+            f"{looked.path}: its channel {bad[0]!r} is not a Zenoh key (no '#' "
+            "or '?', no empty chunk, no '/' at either end), so its "
+            f"{span.count} message{'' if span.count == 1 else 's'} cannot be "
+            "sent again; --keys can choose the other keys",
+            path=str(looked.path),
+        )
     return Part(
         looked.path,
         {topic: path for topic, path in relative.items() if wanted(path)},
@@ -189,6 +215,25 @@ def to_send(looked: Looked, wanted: Matcher) -> Part:
         frozenset(relative.values()),
         looked.damaged is not None,
     )
+
+
+def _noted_number(path: Path, noted: dict[str, str], name: str) -> int | None:
+    """The whole number the recorder noted as ``name`` in ``path``, if any.
+
+    Raises:
+        RecordingError: if it is not one (a damaged or foreign file).
+    """
+    value = noted.get(name)
+    if value is None:
+        return None
+    if not (value.isascii() and value.isdigit()):
+        raise RecordingError(
+            f"{path}: its armplan metadata gives {name} {value!r}, not a whole "
+            "number (the file is damaged or was not written by armplan's "
+            "recorder)",
+            path=str(path),
+        )
+    return int(value)
 
 
 def check_order(looked: list[Looked]) -> None:
@@ -200,30 +245,32 @@ def check_order(looked: list[Looked]) -> None:
     their order, twice, or with a hole.
 
     Raises:
-        RecordingError: naming the files.
+        RecordingError: naming the files, or a file whose stamps are not
+            whole numbers.
     """
     seen: dict[Path, Path] = {}
     for each in looked:
         first = seen.setdefault(each.path.resolve(), each.path)
         if first is not each.path:
             raise RecordingError(f"{each.path} is given twice", path=str(each.path))
+    started = [_noted_number(each.path, each.noted, "started_ns") for each in looked]
+    parts = [_noted_number(each.path, each.noted, "part") for each in looked]
     for k in range(1, len(looked)):
-        before, now = looked[k - 1], looked[k]
-        started = [int(n.get("started_ns", "-1")) for n in (before.noted, now.noted)]
-        if min(started) >= 0 and started[1] <= started[0]:
-            when = "at the same time as" if started[1] == started[0] else "before"
+        before, now = looked[k - 1].path, looked[k].path
+        was, is_ = started[k - 1], started[k]
+        if was is not None and is_ is not None and is_ <= was:
+            when = "at the same time as" if is_ == was else "before"
             raise RecordingError(
-                f"{now.path} was started {when} {before.path}: give the "
+                f"{now} was started {when} {before}: give the "
                 "numbered files of one recording, in order",
-                path=str(now.path),
+                path=str(now),
             )
-        part = int(now.noted.get("part", "1"))
-        previous = int(before.noted.get("part", "0"))
+        part, previous = parts[k] or 1, parts[k - 1] or 0
         if part > 1 and part != previous + 1:
             raise RecordingError(
-                f"{now.path} is part {part} of its recording but follows "
-                f"{before.path}, part {previous}: part {previous + 1} is missing",
-                path=str(now.path),
+                f"{now} is part {part} of its recording but follows "
+                f"{before}, part {previous}: part {previous + 1} is missing",
+                path=str(now),
             )
 
 
