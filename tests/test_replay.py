@@ -311,7 +311,7 @@ def test_keys_before_the_file_say_where_the_file_went(
     assert (
         f"no FILE.mcap to replay was given; --keys took {path} as one of its "
         "values (it takes every word up to the next option): give the files "
-        "first, or end its list with --"
+        "first, or put -- between its values and the files"
     ) in err
     for argv in (
         ["--keys", "bogus/key", "--", str(path)],
@@ -322,6 +322,30 @@ def test_keys_before_the_file_say_where_the_file_went(
         err = " ".join(capsys.readouterr().err.split())
         assert "no recorded message matches --keys bogus/key" in err, argv
     assert "--keys bogus/key other/key;" in err  # repeated --keys add up
+
+
+def test_keys_that_take_a_later_part_say_so(
+    recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`replay s-0001.mcap --keys plan/trajectory s-0002.mcap` replayed the
+    first part alone, the second taken for a key matching nothing: refused,
+    saying where the file went, before any file is read."""
+    from armplan.cli.main import main
+
+    path, _ = recording
+    later = "rot-0002.mcap"  # a Zenoh key too; need not exist: not read
+    connect = ["--connect", free_endpoint()]
+    argv = ["replay", str(path), "--keys", "plan/trajectory", later, *connect]
+    assert main(argv) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert (
+        f"armplan: error: --keys took {later} as one of its values (it takes "
+        "every word up to the next option): give the files first, or put -- "
+        "between its values and the files"
+    ) in err
+    argv = ["replay", str(path), "--wait-for", "bridge", later, *connect]
+    assert main(argv) == 1
+    assert f"--wait-for took {later} as one of its values" in capsys.readouterr().err
 
 
 def test_a_bad_speed_is_refused_before_connecting(

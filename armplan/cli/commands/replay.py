@@ -60,8 +60,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="KEY",
         help="only these key expressions, relative to the namespace, e.g. "
         "plan/trajectory (default: every recorded key); it takes every word "
-        "up to the next option, so give the files first, or end the keys "
-        "with --, or repeat --keys",
+        "up to the next option, so give the files first, or put -- between "
+        "the keys and the files, or repeat --keys",
     )
     parser.add_argument(
         "--recover",
@@ -90,23 +90,31 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def _check_files(args: argparse.Namespace) -> None:
-    """Raise: no FILE.mcap given; say if ``--keys`` or ``--wait-for`` took it."""
-    if args.files:
-        return
+    """Raise: no FILE.mcap given, or ``--keys`` or ``--wait-for`` took one.
+
+    An option with several values takes every word up to the next option:
+    ``replay s-0001.mcap --keys plan/trajectory s-0002.mcap`` replayed the
+    first part alone, the second taken for a key that matches nothing.
+    """
     took = [
         (option, value)
         for option, values in (("--keys", args.keys), ("--wait-for", args.wait_for))
         for value in values or ()
         if value.endswith(".mcap")
     ]
+    if args.files and not took:
+        return
     hint = (
-        f"; {took[0][0]} took {took[0][1]} as one of its values (it takes every "
-        "word up to the next option): give the files first, or end its list "
-        "with --"
+        f"{took[0][0]} took {took[0][1]} as one of its values (it takes every "
+        "word up to the next option): give the files first, or put -- between "
+        "its values and the files"
         if took
         else ""
     )
-    raise InvalidInputError(f"no FILE.mcap to replay was given{hint}", field="files")
+    if args.files:
+        raise InvalidInputError(hint, field="files")
+    what = f"; {hint}" if hint else ""
+    raise InvalidInputError(f"no FILE.mcap to replay was given{what}", field="files")
 
 
 def _check_wait(wait: float) -> None:
