@@ -100,3 +100,47 @@ def test_a_trial_far_longer_than_a_reach_is_refused(
     assert "lasts 12.0 s, far longer than a reach (at most 10 s; the wrist moves" in (
         capsys.readouterr().err
     )
+
+
+def _still(seconds: float) -> list[list[str]]:
+    """The arm held at the swing's start for ``seconds`` (a calibration take)."""
+    first = arm_rows(0)[0]
+    return [[f"{k / 100:.2f}", *first[1:]] for k in range(round(100 * seconds))]
+
+
+@pytest.mark.parametrize("more", [(), ("--allow-long",)], ids=["plain", "allow-long"])
+def test_a_still_take_is_no_reach_and_refused(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str], more: tuple[str, ...]
+) -> None:
+    """A 2 s take with the arm held (a static calibration take) passed, being
+    under 3 s still: 8 beside 16 reaches doubled every rate of the fit.
+    ``--allow-long`` does not let it in: it is no reach at all."""
+    code, out = _import(tmp_path, _still(2.0), *more)
+    assert code == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' lasts "
+        "1.99 s, and its wrist ends 0.0 mm from where it starts (a reach goes at "
+        "least 16.2 mm, 0.1 of NAO's arm): a still take (e.g. a calibration) or "
+        "a hand shifting, not a reach. A trial must be one reach, from its start "
+        "to its goal: leave this one out\n"
+    )
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(("frames", "refused"), [(2, True), (11, True), (13, False)])
+def test_a_trial_moving_under_a_tenth_of_a_second_is_refused(
+    tmp_path: pathlib.Path,
+    capsys: pytest.CaptureFixture[str],
+    frames: int,
+    refused: bool,
+) -> None:
+    """16 two-frame (10 ms) trials passed import and fit and gave a
+    one-primitive model; a wrist moving for 0.09 s is refused, 0.11 s not."""
+    code, _ = _import(tmp_path, arm_rows(0, n=frames))
+    assert code == int(refused)
+    err = capsys.readouterr().err
+    assert ("far more briefly than a person reaches (at least 0.1 s" in err) is (
+        refused
+    )
+    if frames == 2:
+        assert "lasts 0.01 s, and its wrist moves for 0.00 s (from 0.01 s to " in err

@@ -1,7 +1,7 @@
 """armplan fit refuses demonstrations it would fit wrongly, naming the files.
 
-Mixed sample rates (the network counts one step per sample) and a variable
-no trial moves (a capture still at its goal throughout).
+Mixed sample rates (the network counts one step per sample) and trials
+that are no reach (a capture still at its goal throughout, 10 ms ones).
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ import pytest
 from armplan.cli.main import main
 from services.fit import fit_model
 from services.fit.fitting import MIN_TRIALS
-from shared.demos import DemoSet, read_demos, synthesize, write_demos
-from shared.errors import TooFewSamplesError
+from shared.demos import DemoSet, Trial, read_demos, synthesize, write_demos
+from shared.errors import InvalidInputError
 
 
 @pytest.fixture(scope="module")
@@ -61,9 +61,9 @@ def test_rates_within_two_percent_are_one_rate(demos: DemoSet) -> None:
 def test_a_capture_still_at_its_goal_names_its_file(
     demos: DemoSet, tmp_path: pathlib.Path
 ) -> None:
-    """Every sample of each trial at its goal: the refusal names the file and
-    says a trial must hold the reach ('E_P: every sample is zero' used to
-    name no file)."""
+    """Every sample of each trial at its goal: the refusal names the file,
+    the subject and the trial ('E_P: every sample is zero' once named no
+    file, and then no trial)."""
     trials = []
     for trial in demos.trials[:MIN_TRIALS]:
         n = len(trial.times)
@@ -78,11 +78,52 @@ def test_a_capture_still_at_its_goal_names_its_file(
         )
     path = tmp_path / "still.mcap"
     write_demos(path, DemoSet(demos.subjects, trials))
-    with pytest.raises(TooFewSamplesError) as caught:
+    with pytest.raises(InvalidInputError) as caught:
         fit_model(read_demos(path))
-    assert caught.value.message.endswith(
-        f"No sample of the {MIN_TRIALS} trials in {path} moves S_R or E_P or E_R "
-        "or W_P that far: each trial must be one reach, from its "
-        "start to its goal (its last sample); a trial still at its goal "
-        "throughout changes nothing: check that it holds the reach"
+    first = demos.trials[0]
+    assert caught.value.message == (
+        f"{path}: trial {first.trial} of subject 'S01' lasts "
+        f"{first.times[-1]:.2f} s, and its wrist ends 0.0 mm from where it "
+        "starts (a reach goes at least 16.2 mm, 0.1 of NAO's arm): a still take "
+        "(e.g. a calibration) or a hand shifting, not a reach. armplan fit "
+        "counts only reaches, each from its start to its goal (its last "
+        "sample), and fits every sample of a trial as reaching: leave this one "
+        "out"
     )
+    assert caught.value.evidence["source"] == str(path)
+
+
+def _two_frames(trial: Trial) -> Trial:
+    """``trial``'s start and goal only, 10 ms apart."""
+    keep = [0, -1]
+    return trial._replace(
+        times=np.array([0.0, 0.01]),
+        shoulder=trial.shoulder[keep],
+        elbow=trial.elbow[keep],
+        wrist=trial.wrist[keep],
+        wrist_frame=None,
+        labels=None,
+    )
+
+
+def test_two_frame_trials_are_no_reaches(
+    demos: DemoSet, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """16 trials of 2 frames (10 ms) passed the count of 16 reaches and gave a
+    one-primitive model that `decide` used for every path (and that a fit
+    request would have installed): refused, naming the file and trial."""
+    path = tmp_path / "two.mcap"
+    write_demos(path, DemoSet(demos.subjects, [_two_frames(t) for t in demos.trials]))
+    out = tmp_path / "m.json"
+    assert main(["fit", str(path), "-o", str(out)]) == 1
+    first = demos.trials[0]
+    assert capsys.readouterr().err.endswith(
+        f"armplan: error: {path}: trial {first.trial} of subject 'S01' lasts "
+        "0.01 s, and its wrist moves for 0.00 s (from 0.01 s to 0.01 s), far "
+        "more briefly than a person reaches (at least 0.1 s; the paper's "
+        "subjects took 0.55 to 1.01 s): a fragment of a reach, or no reach. "
+        "armplan fit counts only reaches, each from its start to its goal (its "
+        "last sample), and fits every sample of a trial as reaching: leave this "
+        "one out\n"
+    )
+    assert not out.exists()

@@ -32,6 +32,7 @@ from services.fit.model import (
 )
 from services.fit.variables import E_P, E_R, S_R, VARIABLES, W_P, W_R
 from services.fit.weights import fit_weights
+from shared.demos.reach_span import not_a_reach_problem
 from shared.demos.retarget import nao_arm_size
 from shared.demos.sample_rate import check_one_rate, check_seconds
 from shared.demos.trial import DemoSet
@@ -59,7 +60,8 @@ MIN_MOVING = 2
 #: The network's transition table counts how primitives follow each other
 #: within reaches, and a handful of reaches shows a handful of sequences: a
 #: one-trial, 30 ms recording once gave a one-primitive model that every
-#: running plan then used.
+#: running plan then used; so did 16 two-frame trials, which is why every
+#: trial counted must be a reach (``_check_reaches``).
 MIN_TRIALS = 16
 #: A motion variable moves in a sample when it is farther than this from
 #: its goal [rad or arm lengths]: the onset threshold of the demonstrations'
@@ -95,8 +97,10 @@ def fit_model(
     Raises:
         InvalidInputError: if there are no trials, the options are out of
             range, the times are not in seconds (``check_seconds``, before
-            any fitting) or at several sample rates (``check_one_rate``), or
-            a variable cannot be fitted (e.g. all zero: naming the trials).
+            any fitting) or at several sample rates (``check_one_rate``), a
+            trial is no reach (``not_a_reach_problem``: naming its file,
+            subject and trial), or a variable cannot be fitted (e.g. all
+            zero: naming the trials).
         TooFewSamplesError: with fewer than ``MIN_TRIALS`` trials or
             ``MIN_MOVING`` samples before their trials' ends (before any
             fitting), or a variable of ``MUST_MOVE`` that moves in fewer
@@ -114,6 +118,7 @@ def fit_model(
     _check_enough(demos)
     rate = check_seconds([t.times for t in demos.trials], "the demonstrations")
     check_one_rate(demos.trials)
+    _check_reaches(demos)
     size = nao_arm_size(demos.trials[0].arm)
     values, names, first, oriented = [], [], [], []
     for done, trial in enumerate(demos.trials, start=1):
@@ -197,13 +202,40 @@ def _check_enough(demos: DemoSet) -> None:
         )
 
 
+def _check_reaches(demos: DemoSet) -> None:
+    """Refuse a trial that is no reach (``not_a_reach_problem``).
+
+    Every trial counts towards ``MIN_TRIALS`` and every sample is fitted as
+    part of a reach: a still take beside reaches doubled every rate, and 16
+    two-frame trials passed the count and gave a one-primitive model.
+
+    Raises:
+        InvalidInputError: naming the file, the subject and the trial.
+    """
+    for trial in demos.trials:
+        problem = not_a_reach_problem(trial)
+        if problem is None:
+            continue
+        where = f"{trial.source}: " if trial.source else ""
+        raise InvalidInputError(
+            f"{where}{problem}. armplan fit counts only reaches, each from its "
+            "start to its goal (its last sample), and fits every sample of a "
+            "trial as reaching: leave this one out",
+            field="demos",
+            source=trial.source,
+            subject=trial.subject,
+            trial=trial.trial,
+        )
+
+
 def _check_moving(data: np.ndarray, demos: DemoSet) -> None:
     """Refuse demonstrations in which a variable of ``MUST_MOVE`` stays still.
 
     ``data``: the samples' variables, shape (n, 5). Every variable is 0 at a
-    trial's goal, so a trial at rest at its goal throughout (a capture that
-    holds still, or was cut before the reach) moves none: a variable no
-    sample moves that far names the demonstrations' files.
+    trial's goal, so a part of the arm that stays as it is at the goal (the
+    shoulder and upper arm of an elbow-only recording; a still trial is
+    refused before, by ``_check_reaches``) moves none: a variable no sample
+    moves that far names the demonstrations' files.
 
     Raises:
         TooFewSamplesError: naming each such variable and its moving samples.

@@ -1,4 +1,4 @@
-"""A trial is one reach: one mostly still, or far longer, is not.
+"""A trial is one reach: one mostly still, far longer, or far shorter, is not.
 
 ``armplan fit`` takes every sample of a trial as part of a reach from its
 start to its goal (its last sample). A recording of one reach and then
@@ -6,6 +6,14 @@ minutes of stillness, taken as one trial, gave a model of the stillness: a
 W_P rate of 13,594 and one primitive for a whole reach. ``armplan demos
 import`` refuses such a trial (``long_trial_problem``) unless told to keep
 it.
+
+A trial that is no reach at all (``not_a_reach_problem``) is refused by
+``armplan demos import`` and ``armplan fit`` alike, with no way round: a
+wrist that ends where it started (8 static calibration takes beside 16
+reaches doubled every rate, and labelled the still samples S_R E_P W_P),
+or one that moves far more briefly than a person reaches (16 two-frame,
+10 ms "reaches" passed the fit's count of 16 trials and gave a
+one-primitive model).
 
 The wrist moves from when it first leaves its start, by more than
 ``LEFT_FRACTION`` of the distance from start to goal (at least
@@ -15,10 +23,14 @@ after, it is still.
 
 from __future__ import annotations
 
+from functools import cache
+
 import numpy as np
 
+from shared.demos.retarget import nao_arm_size
 from shared.demos.rotations import FloatArray
 from shared.demos.trial import Trial
+from shared.robot.side import Side
 
 #: How far the wrist must leave its start, or be from its goal, to move,
 #: relative to the start-goal distance (a minimum-jerk reach spends 13 % of
@@ -35,6 +47,22 @@ LEFT_AT_LEAST = 0.003
 STILL_LIMIT = 3.0
 #: Longest trial [s]: a reach takes a second or two.
 LONGEST_REACH = 10.0
+#: Shortest time [s] the wrist may move (``moving_span``) in a reach. The
+#: paper's subjects took 0.55 to 1.01 s per point on average (Table 4); by
+#: ``moving_span`` a minimum-jerk reach moves for about 3/4 of its time (13 %
+#: at each end is within 2 % of the way), so the quickest of those moves for
+#: about 0.4 s. A quarter of that leaves room for a quick subject and a short
+#: reach, and still refuses a fragment of one (10 samples at the paper's
+#: 100 Hz).
+SHORTEST_MOVE = 0.1
+#: Shortest distance from a reach's start to its goal, in lengths of the arm
+#: it is retargeted to (L_u + L_f; about 16 mm of NAO's, 6 cm of an adult's).
+#: The paper's reaches go from the hanging arm to a board in front of the
+#: shoulder (the synthetic set's at least 0.67 arm lengths); less is a still
+#: take (a calibration take's retargeted wrist stays within about 1 mm: marker
+#: jitter) or a hand shifting, whose motion variables (in arm lengths, moving
+#: above 0.025) would be hardly more than their noise.
+SHORTEST_TRAVEL = 0.1
 
 
 def moving_span(times: FloatArray, wrist: FloatArray) -> tuple[float, float]:
@@ -47,6 +75,42 @@ def moving_span(times: FloatArray, wrist: FloatArray) -> tuple[float, float]:
         return float(times[0]), float(times[0])
     last = min(int(away[-1]) + 1, len(times) - 1)
     return float(times[left[0]]), float(times[last])
+
+
+def not_a_reach_problem(trial: Trial) -> str | None:
+    """What makes ``trial`` no reach at all, or ``None`` if it may be one.
+
+    Its wrist ends less than ``SHORTEST_TRAVEL`` arm lengths from where it
+    starts, or moves (``moving_span``) for less than ``SHORTEST_MOVE``.
+    Times [s] and positions [m] are the retargeted trial's.
+    """
+    duration = float(trial.times[-1] - trial.times[0])
+    named = f"trial {trial.trial} of subject {trial.subject!r} lasts {duration:.2f} s"
+    travel = float(np.linalg.norm(trial.wrist[-1] - trial.wrist[0]))
+    least = SHORTEST_TRAVEL * _arm_length(trial.arm)
+    if travel < least:
+        return (
+            f"{named}, and its wrist ends {1000 * travel:.1f} mm from where it "
+            f"starts (a reach goes at least {1000 * least:.1f} mm, "
+            f"{SHORTEST_TRAVEL:g} of NAO's arm): a still take (e.g. a "
+            "calibration) or a hand shifting, not a reach"
+        )
+    start, end = moving_span(trial.times, trial.wrist)
+    if end - start < SHORTEST_MOVE:
+        return (
+            f"{named}, and its wrist moves for {end - start:.2f} s (from "
+            f"{start:.2f} s to {end:.2f} s), far more briefly than a person "
+            f"reaches (at least {SHORTEST_MOVE:g} s; the paper's subjects took "
+            "0.55 to 1.01 s): a fragment of a reach, or no reach"
+        )
+    return None
+
+
+@cache
+def _arm_length(side: Side) -> float:
+    """L_u + L_f [m] of NAO's arm on ``side``."""
+    size = nao_arm_size(side)
+    return size.upper_arm + size.forearm
 
 
 def long_trial_problem(trial: Trial) -> str | None:

@@ -15,7 +15,8 @@ Files are checked before any work: a file given twice (its trials would
 count twice) and an output that is also an input are refused; so is a
 trial whose samples another file's trial has (a copy). ``import`` numbers
 the trials from ``--first-trial`` (default 0) across its files, refuses a
-trial that is not one reach (mostly still, or over 10 s;
+trial that is no reach (its wrist ends near its start, or moves for under
+0.1 s) and one that is more than one reach (mostly still, or over 10 s;
 ``shared/demos/reach_span.py``) unless ``--allow-long``, and notes on stderr
 how many frames it dropped for a missing marker.
 """
@@ -164,13 +165,23 @@ def run_import(args: argparse.Namespace) -> int:
 
 
 def _check_one_reach(trial: Trial, name: str, allow: bool) -> None:
-    """Refuse (or with ``allow`` note) a trial that is more than one reach.
+    """Refuse a trial that is no reach, or (unless ``allow``) more than one.
 
     Raises:
-        DemoFileError: naming the file, trial, its length and stillness.
+        DemoFileError: naming the file, subject, trial, its length and its
+            wrist's travel, moving time or stillness.
     """
-    from shared.demos.reach_span import long_trial_problem
+    from shared.demos.reach_span import long_trial_problem, not_a_reach_problem
 
+    problem = not_a_reach_problem(trial)
+    if problem is not None:
+        raise DemoFileError(
+            name,
+            f"{problem}. A trial must be one reach, from its start to its goal: "
+            "leave this one out",
+            trial=trial.trial,
+            subject=trial.subject,
+        )
     problem = long_trial_problem(trial)
     if problem is None:
         return
