@@ -233,10 +233,11 @@ def test_a_mapped_label_on_two_points_is_refused(
     )
 
 
-def test_frames_with_a_gap_are_dropped(
+def test_a_frame_with_a_gap_is_filled(
     tmp_path: pathlib.Path, recorded: Recorded
 ) -> None:
-    """A frame where a marker is missing (NaN) is left out."""
+    """A frame where a marker is missing (NaN) is filled from the frames
+    around (it was left out, and the trial joined across the gap)."""
     wrist = _to_lab(recorded.wrist)
     wrist[10] = np.nan
     path = tmp_path / "gap.c3d"
@@ -250,7 +251,12 @@ def test_frames_with_a_gap_are_dropped(
     )
     markers = MarkerMap.model_validate({k: v for k, v in MAP.items() if k != "thumb"})
     trial, _ = read_c3d(path, markers)
-    assert len(trial.times) == len(recorded.wrist) - 1
+    assert len(trial.times) == len(recorded.wrist)
+    zeros = np.zeros_like(recorded.wrist)
+    expected = retarget(
+        ArmTrack(zeros, recorded.elbow, recorded.wrist), nao_arm_size("right")
+    )
+    np.testing.assert_allclose(trial.wrist, expected.wrist, atol=1e-5)
     assert trial.wrist_frame is None
 
 

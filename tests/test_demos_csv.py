@@ -102,7 +102,7 @@ def test_empty_csv(tmp_path: pathlib.Path) -> None:
 def test_a_marker_absurdly_far_away_is_named(tmp_path: pathlib.Path) -> None:
     """A coordinate of 1e308 cm is no position (its length once overflowed in
     the retargeting): the error names the marker and the frame; an empty or
-    NaN cell stays a missing sample whose frame is dropped."""
+    NaN cell stays a missing sample, filled from the frames around."""
     path = tmp_path / "rec.csv"
     _write(path, [0])
     lines = path.read_text().splitlines()
@@ -116,4 +116,4 @@ def test_a_marker_absurdly_far_away_is_named(tmp_path: pathlib.Path) -> None:
     lines[5] = ",".join(cells)
     path.write_text("\n".join(lines) + "\n")
     trials, _ = read_csv(path, MARKERS)
-    assert len(trials[0].times) == 29
+    assert len(trials[0].times) == 30

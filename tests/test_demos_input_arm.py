@@ -107,7 +107,8 @@ def test_a_shoulder_misplaced_in_one_frame_is_refused(
         f"{path}: subject 'mocap', trial 0, frame 12 (t = 0.12 s, line 14): the "
         "upper arm ('RSHO' to 'RELB') is 0.528 m long, its median 0.3 m (a "
         "human's is 5 cm to 1 m): a marker is misplaced or mislabelled there "
-        "(empty cells would drop the frame)"
+        "(empty cells would have it filled from the frames around, for a gap of "
+        "a few frames)"
     )
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from armplan.cli.main import main
+from shared.demos import read_demos
 from shared.demos.csv_import import read_csv
 from shared.demos.markers import MarkerMap
 from shared.errors import DemoFileError
@@ -134,10 +135,11 @@ def test_an_empty_time_is_refused_naming_its_line(tmp_path: pathlib.Path) -> Non
         read_csv(path, MARKERS)
 
 
-def test_empty_marker_cells_drop_the_row_and_the_cli_says_so(
+def test_empty_marker_cells_are_filled_and_the_cli_says_so(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Gaps are documented as dropped frames; the import counts them on stderr."""
+    """A gap of a row or two is filled from the rows around (it was dropped,
+    and the trial joined across it); the import counts them on stderr."""
     rows = arm_rows(0) + arm_rows(1)
     rows[4][3] = ""
     rows[40][8] = ""
@@ -146,14 +148,19 @@ def test_empty_marker_cells_drop_the_row_and_the_cli_says_so(
     out = tmp_path / "gaps.mcap"
     assert import_cli(path, out) == 0
     captured = capsys.readouterr()
-    assert f"{out}: 1 subjects, 2 trials, 57 samples" in captured.out
+    assert f"{out}: 1 subjects, 2 trials, 60 samples" in captured.out
     notes = captured.err.splitlines()
     assert notes == [
-        f"armplan: note: {path}: trial 0: dropped 1 of 30 frames with a missing "
-        "marker, the first at frame 4 (t = 0.04 s, line 6)",
-        f"armplan: note: {path}: trial 1: dropped 2 of 30 frames with a missing "
-        "marker, the first at frame 10 (t = 0.1 s, line 42)",
+        f"armplan: note: {path}: trial 0: filled 1 of 30 frames where a marker "
+        "was missing (gaps of at most 0.1 s, by a cubic spline), the first at "
+        "frame 4 (t = 0.04 s, line 6)",
+        f"armplan: note: {path}: trial 1: filled 2 of 30 frames where a marker "
+        "was missing (gaps of at most 0.1 s, by a cubic spline), the first at "
+        "frame 10 (t = 0.1 s, line 42)",
     ]
+    filled = read_demos(out).trials[0].wrist
+    whole, _ = read_csv(write_csv(tmp_path / "whole.csv", arm_rows(0)), MARKERS)
+    np.testing.assert_allclose(filled, whole[0].wrist, atol=1e-5)
 
 
 def test_a_byte_order_mark_is_read_past(tmp_path: pathlib.Path) -> None:
@@ -199,7 +206,7 @@ def test_a_trial_left_with_one_whole_frame_names_subject_trial_and_lines(
     assert caught.value.message == (
         f"{path}: subject 'rec', trial 1 (lines 32-34): 1 of its 3 frames has "
         "all of the markers RSHO, RELB, RWRB (a frame with a missing marker is "
-        "dropped); a trial needs at least 2"
+        "filled only between frames that have it); a trial needs at least 2"
     )
     assert caught.value.evidence["trial"] == 1
 

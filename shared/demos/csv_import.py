@@ -14,7 +14,9 @@ consecutive, at least two of them); each marker of the marker map
 (``markers``) has three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` in
 the map's units (default metres). Other columns are ignored. An empty (or
 ``nan``) marker cell is a missing sample, as capture systems export gaps:
-its row is dropped and the number of dropped rows reported. A row that
+a gap of at most 0.1 s between rows that have the marker is filled, the
+number of filled rows reported; a longer one, or one at a trial's first or
+last row, is refused (``marker_gaps``). A row that
 lacks a needed cell (shorter than the header) is refused, as is an empty
 time or trial cell.
 OptiTrack's own CSV export has several header rows: flatten it to this form.
@@ -57,8 +59,8 @@ def read_csv(
     Args:
         path: The CSV file.
         markers: Which markers are shoulder, elbow, wrist (and thumb).
-        report: Gets a one-line note per trial of the rows dropped for a
-            missing marker, if any.
+        report: Gets a one-line note per trial of the rows where a missing
+            marker was filled, if any.
 
     Raises:
         DemoFileError: if the file is missing or empty, lacks a column (the

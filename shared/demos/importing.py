@@ -1,12 +1,12 @@
 """Recorded marker tracks to a retargeted demonstration trial.
 
 Shared by the C3D and CSV readers: scale to metres, turn the axes to
-forward/left/up, drop frames where a marker is missing (the documented
-gaps; their count goes to ``report``), refuse a marker more than
-``FARTHEST`` from the origin (not a position), measure the subject's
-segment lengths and refuse implausible ones (``check_segments``), retarget
-to NAO (``retarget``) and, with a thumb marker, build the wrist frame from
-the forearm and the thumb side.
+forward/left/up, refuse a marker more than ``FARTHEST`` from the origin
+(not a position), fill a marker's short gaps and refuse the others
+(``marker_gaps``; the count of filled frames goes to ``report``), measure
+the subject's segment lengths and refuse implausible ones
+(``check_segments``), retarget to NAO (``retarget``) and, with a thumb
+marker, build the wrist frame from the forearm and the thumb side.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from shared.demos.anthropometry import Subject
+from shared.demos.marker_gaps import LONGEST_GAP, fill_gaps
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, unit
@@ -38,7 +39,7 @@ COINCIDENT = 1e-6
 #: The arm's segments: name, and the roles of the markers at its ends.
 SEGMENTS = (("upper arm", "shoulder", "elbow"), ("forearm", "elbow", "wrist"))
 
-#: Where notes for the user go (e.g. dropped frames), one line each.
+#: Where notes for the user go (e.g. filled frames), one line each.
 Report = Callable[[str], None]
 
 
@@ -93,14 +94,17 @@ def trial_from_tracks(
         subject: The subject's name.
         trial: The trial's number.
         path: The file, for messages.
-        report: Gets a one-line note if frames with a missing marker were
-            dropped (their number), or ``None`` to drop them silently.
+        report: Gets one-line notes: frames where a missing marker was
+            filled (their number); ``None`` to fill them silently.
 
     Raises:
         DemoFileError: if fewer than ``MIN_SAMPLES`` frames have every marker
             (naming subject, trial and, for CSV, its lines), a marker lies
-            more than ``FARTHEST`` from the origin, or a segment is
-            degenerate or implausibly long or short (``check_segments``).
+            more than ``FARTHEST`` from the origin, a marker is missing at
+            the trial's first or last frame or for longer than
+            ``LONGEST_GAP`` (``fill_gaps``, naming marker and frames), or a
+            segment is degenerate or implausibly long or short
+            (``check_segments``).
     """
     points = {
         role: markers.to_torso_axes(p * tracks.scale)
@@ -110,11 +114,12 @@ def trial_from_tracks(
     whole = np.all([np.isfinite(p).all(axis=1) for p in points.values()], axis=0)
     named = f"subject {subject!r}, trial {trial}"
     _check_enough(whole, tracks, markers, named, path, trial=trial)
-    _report_gaps(whole, tracks, trial, path, report)
-    kept = np.flatnonzero(whole)
-    check_segments(points, kept, tracks, markers, named, path)
-    times = tracks.times[whole] - tracks.times[whole][0]
-    points = {role: p[whole] for role, p in points.items()}
+    where = f"{named}{tracks.span()}"
+    names = {role: markers.names[role] for role in points}
+    points, filled = fill_gaps(points, tracks.times, names, tracks.frame, where, path)
+    _report_gaps(whole, filled, tracks, trial, path, report)
+    check_segments(points, np.arange(len(whole)), tracks, markers, named, path)
+    times = tracks.times - tracks.times[0]
     human = ArmTrack(points["shoulder"], points["elbow"], points["wrist"])
     person = Subject(
         subject,
@@ -226,7 +231,8 @@ def _segment_problem(
     return (
         f", {tracks.frame(int(kept[k]))}: the {segment} is {_length(lengths[k])} "
         f"long, its median {_length(median)} ({span}): a marker is misplaced "
-        "or mislabelled there (empty cells would drop the frame)"
+        "or mislabelled there (empty cells would have it filled from the frames "
+        "around, for a gap of a few frames)"
     )
 
 
@@ -270,7 +276,7 @@ def _check_enough(
         found = (
             f"{count} of its {len(whole)} frames {'has' if count == 1 else 'have'} "
             f"all of the markers {', '.join(markers.names.values())} (a frame "
-            "with a missing marker is dropped)"
+            "with a missing marker is filled only between frames that have it)"
         )
     raise DemoFileError(
         path,
@@ -283,18 +289,20 @@ def _check_enough(
 
 def _report_gaps(
     whole: np.ndarray,
+    filled: int,
     tracks: MarkerTracks,
     trial: int,
     path: str,
     report: Report | None,
 ) -> None:
-    """Tell ``report`` how many frames are dropped for a missing marker."""
+    """Tell ``report`` how many frames had a missing marker filled."""
     gaps = np.flatnonzero(~whole)
     if report is None or not gaps.size:
         return
     report(
-        f"{path}: trial {trial}: dropped {gaps.size} of {len(whole)} frames with "
-        f"a missing marker, the first at {tracks.frame(int(gaps[0]))}"
+        f"{path}: trial {trial}: filled {filled} of {len(whole)} frames where a "
+        f"marker was missing (gaps of at most {LONGEST_GAP:g} s, by a cubic "
+        f"spline), the first at {tracks.frame(int(gaps[0]))}"
     )
 
 
@@ -303,8 +311,8 @@ def _check_near(
 ) -> None:
     """Raise DemoFileError naming the first marker and frame beyond ``FARTHEST``.
 
-    Non-finite values are missing samples (their frames are dropped), not
-    positions too far away.
+    Non-finite values are missing samples (filled or refused by
+    ``fill_gaps``), not positions too far away.
     """
     for role, p in points.items():
         far = np.flatnonzero(np.any(np.isfinite(p) & (np.abs(p) > FARTHEST), axis=1))

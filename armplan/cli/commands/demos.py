@@ -18,7 +18,8 @@ the trials from ``--first-trial`` (default 0) across its files, refuses a
 trial that is no reach (its wrist ends near its start, or moves for under
 0.1 s) and one that is more than one reach (mostly still, or over 10 s;
 ``shared/demos/reach_span.py``) unless ``--allow-long``, and notes on stderr
-how many frames it dropped for a missing marker.
+how many frames it filled where a marker was missing (a gap at a trial's
+end, or over 0.1 s, is refused: ``shared/demos/marker_gaps.py``).
 """
 
 from __future__ import annotations
