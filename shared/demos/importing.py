@@ -6,7 +6,8 @@ forward/left/up, refuse a marker more than ``FARTHEST`` from the origin
 (``marker_gaps``; the count of filled frames goes to ``report``), measure
 the subject's segment lengths and refuse implausible ones
 (``check_segments``), retarget to NAO (``retarget``) and, with a thumb
-marker, build the wrist frame from the forearm and the thumb side.
+marker, build the wrist frame from the forearm and the thumb side
+(``thumb_marker`` checks that marker).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from shared.demos.marker_gaps import LONGEST_GAP, fill_gaps
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, unit
+from shared.demos.thumb_marker import check_thumb, check_turns
 from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError
 
@@ -102,9 +104,11 @@ def trial_from_tracks(
             (naming subject, trial and, for CSV, its lines), a marker lies
             more than ``FARTHEST`` from the origin, a marker is missing at
             the trial's first or last frame or for longer than
-            ``LONGEST_GAP`` (``fill_gaps``, naming marker and frames), or a
+            ``LONGEST_GAP`` (``fill_gaps``, naming marker and frames), a
             segment is degenerate or implausibly long or short
-            (``check_segments``).
+            (``check_segments``), or the thumb-side marker leaves the roll
+            undefined or turns it faster than a forearm can (``check_thumb``,
+            ``check_turns``, naming the frame).
     """
     points = {
         role: markers.to_torso_axes(p * tracks.scale)
@@ -130,7 +134,10 @@ def trial_from_tracks(
     nao = retarget(human, nao_arm_size(markers.arm))
     frames = None
     if "thumb" in points:
-        frames = wrist_frames(human.elbow, human.wrist, points["thumb"])
+        thumb = points["thumb"]
+        check_thumb(human.elbow, human.wrist, thumb, tracks.frame, names, where, path)
+        frames = wrist_frames(human.elbow, human.wrist, thumb)
+        check_turns(frames, tracks.times, tracks.frame, names, where, path)
     made = Trial(
         subject=subject,
         trial=trial,
@@ -154,7 +161,8 @@ def wrist_frames(elbow: FloatArray, wrist: FloatArray, thumb: FloatArray) -> Flo
     from the wrist marker to the thumb-side marker, normal to the forearm: the
     palm normal of a right hand (in the anatomical position, palms forward,
     thumbs out, y points forward for both hands; a left hand's palm faces -y,
-    as on NAO).
+    as on NAO). ``thumb_marker`` refuses a thumb marker that leaves t
+    undefined and frames that turn faster than a forearm (swapped markers).
     """
     x = unit(wrist - elbow)
     side = thumb - wrist
