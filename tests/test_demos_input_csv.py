@@ -21,13 +21,20 @@ HEADER = ["time", "trial"] + [
 ]
 
 
+#: The elbow's bend in ``arm_rows`` [rad]: 11.5 deg, within NAO's (ElbowRoll
+#: 2 to 88.5 deg), so the retargeted goal is one NAO can reach.
+BEND = 0.2
+
+
 def arm_rows(trial: int, n: int = 30, scale: float = 1.0) -> list[list[str]]:
-    """Rows of one trial of a swinging arm (upper arm 0.3 m, forearm 0.25 m)."""
+    """Rows of one trial of a swinging arm (upper arm 0.3 m, forearm 0.25 m),
+    the elbow bent by ``BEND``."""
     angle = np.linspace(0.0, 1.2, n) + 0.1 * trial
     shoulder = np.tile([0.1, -0.2, 1.4], (n, 1))
     down = np.stack((np.sin(angle), np.zeros(n), -np.cos(angle)), axis=1)
+    fore = np.stack((np.sin(angle + BEND), np.zeros(n), -np.cos(angle + BEND)), 1)
     elbow = shoulder + 0.3 * down
-    wrist = elbow + 0.25 * down
+    wrist = elbow + 0.25 * fore
     rows = []
     for k in range(n):
         cells = [f"{k / 100:.2f}", str(trial)]

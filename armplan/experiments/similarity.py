@@ -18,7 +18,9 @@ subject's ends (as NAO's joints can face it: the subject's mean end posture
 on NAO); every reach then also gets the posture similarity S of eq. 22-23,
 NAO's five joints against the subject's, averaged over tau. A reach that a
 method cannot plan (no posture within the limits meets the palm there, as
-the planner judges it) is left out for every method and listed.
+the planner judges it) is left out for every method and listed. Without
+``palm`` a reach NAO cannot make fails the run, naming its file, subject
+and trial (or grid point).
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from armplan.experiments.subject_reach import (
     SubjectReach,
     point_label,
     reach_key,
+    reach_name,
     subject_reaches,
 )
 from services.decide.grid_table import MIN_POINTS, sequence
@@ -143,7 +146,7 @@ def run_similarity(
             out += _rows(arm, stages, reach, methods, source, tau, measures, palm)
         except UnreachableTargetError as exc:
             if not palm:
-                raise
+                raise _naming(exc, reach) from exc
             if skipped is not None:
                 skipped.append(
                     Skipped(
@@ -157,6 +160,30 @@ def run_similarity(
         if progress is not None:
             progress(done, len(reaches))
     return out
+
+
+def _naming(exc: UnreachableTargetError, reach: SubjectReach) -> UnreachableTargetError:
+    """``exc`` naming the reach (file, subject, trial or point) it came from.
+
+    A hand-to-mouth reach, its goal out of NAO's reach after retargeting,
+    failed the experiment naming only the target.
+    """
+    evidence = exc.evidence
+    at = reach_name(reach) + (f", {evidence['at']}" if evidence["at"] else "")
+    advice = evidence["advice"] or (
+        "NAO cannot make this reach (armplan demos import notes a goal out of "
+        "NAO's reach); import the demonstrations without it"
+    )
+    return UnreachableTargetError(
+        evidence["target"],
+        arm=evidence["arm"],
+        distance=evidence["distance"],
+        reach=tuple(evidence["reach"]),
+        residual=evidence["residual"],
+        at=at,
+        palm=evidence["palm"],
+        advice=advice,
+    )
 
 
 def _rows(

@@ -47,6 +47,8 @@ class SubjectReach(NamedTuple):
         arm: The arm of the trials.
         trial: The trial's number for a reach off the grid (a trial alone);
             ``None`` for a grid point's average.
+        sources: The demonstration files its trials were read from, sorted
+            (none for trials made here), for messages.
     """
 
     subject: str
@@ -59,6 +61,22 @@ class SubjectReach(NamedTuple):
     hand_y: np.ndarray | None = None
     arm: Side = Side.RIGHT
     trial: int | None = None
+    sources: tuple[str, ...] = ()
+
+
+def reach_name(reach: SubjectReach) -> str:
+    """The reach named for a message, with its files if it has any.
+
+    ``a.mcap: subject 'P01', trial 3 (off the grid)`` or ``subject 'S01' at
+    P5 (mean of 5 trials)``.
+    """
+    files = f"{', '.join(reach.sources)}: " if reach.sources else ""
+    if reach.trial is not None:
+        return f"{files}subject {reach.subject!r}, trial {reach.trial} (off the grid)"
+    return (
+        f"{files}subject {reach.subject!r} at {point_label(reach.point)} (mean of "
+        f"{reach.trials} trial{'' if reach.trials == 1 else 's'})"
+    )
 
 
 #: A reach's key: (subject, point, arm, trial or -1).
@@ -96,9 +114,11 @@ def _mean(key: ReachKey, trials: list[Trial], tau: np.ndarray) -> SubjectReach:
     duration = float(np.mean([t.times[-1] - t.times[0] for t in trials]))
     labels = [list(t.labels) for t in trials if t.labels is not None]
     subject, point, arm, trial = key
+    sources = tuple(sorted({t.source for t in trials if t.source}))
     return SubjectReach(
         subject, point, len(trials), elbow, wrist, duration, labels,
         _mean_hand_y(trials, tau), Side(arm), None if trial < 0 else trial,
+        sources,
     )  # fmt: skip
 
 

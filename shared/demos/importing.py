@@ -5,9 +5,10 @@ forward/left/up, refuse a marker more than ``FARTHEST`` from the origin
 (not a position), fill a marker's short gaps and refuse the others
 (``marker_gaps``; the count of filled frames goes to ``report``), measure
 the subject's segment lengths and refuse implausible ones
-(``check_segments``), retarget to NAO (``retarget``) and, with a thumb
-marker, build the wrist frame from the forearm and the thumb side
-(``thumb_marker`` checks that marker).
+(``check_segments``), retarget to NAO (``retarget``; a goal NAO cannot
+reach gets a note, ``goal_reach``) and, with a thumb marker, build the
+wrist frame from the forearm and the thumb side (``thumb_marker`` checks
+that marker).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from shared.demos.anthropometry import Subject
+from shared.demos.goal_reach import goal_reach_problem
 from shared.demos.marker_gaps import LONGEST_GAP, fill_gaps
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
@@ -97,7 +99,8 @@ def trial_from_tracks(
         trial: The trial's number.
         path: The file, for messages.
         report: Gets one-line notes: frames where a missing marker was
-            filled (their number); ``None`` to fill them silently.
+            filled (their number), a goal NAO cannot reach
+            (``goal_reach_problem``); ``None`` for no notes.
 
     Raises:
         DemoFileError: if fewer than ``MIN_SAMPLES`` frames have every marker
@@ -132,6 +135,9 @@ def trial_from_tracks(
         float(np.median(np.linalg.norm(human.wrist - human.elbow, axis=1))),
     )
     nao = retarget(human, nao_arm_size(markers.arm))
+    unreachable = goal_reach_problem(human, nao, markers.arm)
+    if unreachable is not None and report is not None:
+        report(f"{path}: {where}: {unreachable}")
     frames = None
     if "thumb" in points:
         thumb = points["thumb"]

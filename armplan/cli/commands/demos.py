@@ -19,7 +19,8 @@ trial that is no reach (its wrist ends near its start, or moves for under
 0.1 s) and one that is more than one reach (mostly still, or over 10 s;
 ``shared/demos/reach_span.py``) unless ``--allow-long``, and notes on stderr
 how many frames it filled where a marker was missing (a gap at a trial's
-end, or over 0.1 s, is refused: ``shared/demos/marker_gaps.py``).
+end, or over 0.1 s, is refused: ``shared/demos/marker_gaps.py``) and a goal
+NAO cannot reach (``shared/demos/goal_reach.py``).
 """
 
 from __future__ import annotations
