@@ -41,8 +41,8 @@ def read_c3d(
         path: The C3D file.
         markers: Which markers are shoulder, elbow, wrist (and thumb).
         trial: Trial number to give it.
-        report: Gets a one-line note of the frames dropped for a missing
-            marker, if any.
+        report: Gets one-line notes: the frames where a missing marker was
+            filled, a goal NAO cannot reach (``importing.trial_from_tracks``).
 
     Raises:
         DemoFileError: if the file cannot be read as C3D (a corrupt header
