@@ -134,7 +134,7 @@ def test_missing_file(tmp_path: pathlib.Path) -> None:
 @pytest.mark.parametrize(
     ("field", "value", "message"),
     [
-        ("prior", [-1.0, 2.0, 3.0, 4.0], "prior: counts must be >= 0"),
+        ("prior", [-1.0, 2.0, 3.0, 4.0], r"prior: count -1 at \[0\]; counts must"),
         ("shoulder", [[1.0, 2.0]], "shoulder: shape"),
         ("primitives", ["S_R E_P W_P", "W_R"], "primitives must be distinct motion"),
         ("bins", 1, "bins"),
@@ -146,6 +146,44 @@ def test_malformed_models_name_the_field(
 ) -> None:
     """A model whose content is wrong names the field."""
     path = _broken(tmp_path, model, **{field: value})
+    with pytest.raises(ModelFileError, match=message):
+        load_model(path)
+
+
+def _edited(model: MotionModel, table: str, value: float, everywhere: bool) -> dict:
+    """The model's JSON with ``value`` in one cell of ``table`` (or in all)."""
+    data = json.loads(model.to_json())
+    cells = np.array(data[table], dtype=float)
+    if everywhere:
+        cells[...] = value
+    else:
+        cells.flat[1] = value
+    data[table] = cells.tolist()
+    return data
+
+
+@pytest.mark.parametrize(
+    ("table", "value", "everywhere", "message"),
+    [
+        ("start", 0.0, False, r"start: count 0 at \[1\]; counts must be positive"),
+        ("elbow", 0.0, False, r"elbow: count 0 at \[0, 0, 0, 1\]; counts must"),
+        ("transition", 1e308, True, "transition: counts too large: a row's sum"),
+        ("shoulder", 1e308, True, "shoulder: counts too large: a row's sum"),
+    ],
+)
+def test_counts_a_fit_never_writes_are_refused_at_load(
+    tmp_path: pathlib.Path,
+    model: MotionModel,
+    table: str,
+    value: float,
+    everywhere: bool,
+    message: str,
+) -> None:
+    """A fitted count is samples plus the smoothing: a zero count, or counts
+    whose sums overflow, are refused when the file is read, naming the table
+    (both passed, and every decision then died on a NaN g)."""
+    path = tmp_path / "edited.json"
+    path.write_text(json.dumps(_edited(model, table, value, everywhere)))
     with pytest.raises(ModelFileError, match=message):
         load_model(path)
 

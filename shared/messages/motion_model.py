@@ -241,15 +241,32 @@ class MotionModel(Message):
 def _check_counts(
     name: str, value: Any, shape: tuple[int, ...], conditioned: int
 ) -> None:
-    """Raise ValueError unless ``value`` is a table of counts of ``shape``."""
+    """Raise ValueError unless ``value`` is a table of counts of ``shape``.
+
+    A fitted table holds demonstration samples plus the smoothing in every
+    cell (``services.fit.conditionals``), so every count is positive and
+    finite, and so is every row's sum. A hand-edited table with one zero
+    count, or counts of 1e308 whose sums overflow, once passed and made
+    every decision NaN.
+    """
     try:
         table = np.array(value, dtype=float)
     except ValueError:
         raise ValueError(f"{name}: ragged table, expected shape {shape}") from None
     if table.shape != shape:
         raise ValueError(f"{name}: shape {table.shape}, expected {shape}")
-    if np.any(table < 0):
-        raise ValueError(f"{name}: counts must be >= 0")
-    sums = table.sum(axis=tuple(range(conditioned, table.ndim)))
-    if np.any(sums <= 0):
-        raise ValueError(f"{name}: every row needs a positive count")
+    bad = ~(np.isfinite(table) & (table > 0))
+    if np.any(bad):
+        at = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(
+            f"{name}: count {table[at]:g} at {list(at)}; counts must be positive "
+            "and finite (a fitted table holds its samples plus the smoothing in "
+            "every cell)"
+        )
+    with np.errstate(over="ignore"):
+        sums = table.sum(axis=tuple(range(conditioned, table.ndim)))
+    if not np.all(np.isfinite(sums)):
+        raise ValueError(
+            f"{name}: counts too large: a row's sum overflows (largest count "
+            f"{table.max():g})"
+        )
