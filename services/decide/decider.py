@@ -31,6 +31,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from services.fit.model import MotionModel
+from shared.errors import InvalidInputError
 from shared.primitives import MOTION_PRIMITIVES
 
 #: Deciders for other steps than the model's kept by ``Decider.with_step``.
@@ -58,9 +59,30 @@ class Choice(NamedTuple):
         return CANDIDATES[self.candidate]
 
 
-def _log(values: np.ndarray) -> list[Any]:
+def _log(values: np.ndarray, name: str) -> list[Any]:
     """Natural log as nested lists, with the primitive axis last."""
-    return list(np.log(np.moveaxis(values, 0, -1)).tolist())
+    return list(_finite_log(np.moveaxis(values, 0, -1), name).tolist())
+
+
+def _finite_log(values: np.ndarray, name: str) -> np.ndarray:
+    """Natural log of the probabilities ``values`` of table ``name``, all finite.
+
+    Raises:
+        InvalidInputError: (field ``model``) if a probability is 0 (a count
+            too small beside its row's sum) or not finite, which would make
+            every g there NaN.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logs = np.log(values)
+    if not np.all(np.isfinite(logs)):
+        raise InvalidInputError(
+            f"the motion model cannot decide: its {name} table holds a "
+            f"probability of {float(values[~np.isfinite(logs)][0]):g}; every "
+            "probability must be positive (refit with a larger smoothing)",
+            field="model",
+            table=name,
+        )
+    return logs
 
 
 def transition_for(transition: np.ndarray, ratio: float) -> np.ndarray:
@@ -86,6 +108,11 @@ class Decider:
             to it. Default: the demonstrations' sample interval.
         like: A decider of the same model whose step-free tables (all but
             the transition table) this one shares instead of building its own.
+
+    Raises:
+        InvalidInputError: (field ``model``) if a table's probability is 0
+            or not finite (a model fitted with a smoothing of 5e-324); its
+            decisions would all be NaN.
     """
 
     def __init__(
@@ -101,7 +128,7 @@ class Decider:
         self.edges: list[list[float]] = model.edges()
         self.step = 1.0 / model.sample_rate if step is None else float(step)
         moved = transition_for(tables.transition, self.step * model.sample_rate)
-        self.log_next: list[list[float]] = np.log(moved).tolist()
+        self.log_next: list[list[float]] = _finite_log(moved, "transition").tolist()
         self._steps: dict[float, Decider] = {}
         if like is not None:  # the same tables: share them (about 100 000 floats)
             self.log_start: list[float] = like.log_start
@@ -113,11 +140,11 @@ class Decider:
         # Typed nested lists, indexed [state]...[primitive] (shoulder [s_r],
         # elbow [s_r][e_p][e_r], wrist [e_r][w_p][w_r]): compiled, their
         # entries are read and added as machine floats, not Python objects.
-        self.log_start = np.log(tables.start).tolist()
-        self.shoulder = _log(tables.shoulder)
-        self.elbow = _log(tables.elbow)
-        self.wrist = _log(tables.wrist)
-        self.wrist_any = _log(tables.wrist.sum(axis=3))
+        self.log_start = _finite_log(tables.start, "start").tolist()
+        self.shoulder = _log(tables.shoulder, "shoulder")
+        self.elbow = _log(tables.elbow, "elbow")
+        self.wrist = _log(tables.wrist, "wrist")
+        self.wrist_any = _log(tables.wrist.sum(axis=3), "wrist")
 
     def with_step(self, step: float) -> Decider:
         """The same model for decisions ``step`` seconds apart [s].
@@ -162,6 +189,10 @@ class Decider:
             previous: The primitive decided at the point before, as an index
                 into the model's primitives (``Choice.state``); ``None`` at a
                 movement's start.
+
+        Raises:
+            InvalidInputError: (field ``model``) if a g is not finite: a
+                typed error, never a NaN handed on to a message.
         """
         s, ep, er, wp, wr = self.states(values)
         prior = self.log_start if previous is None else self.log_next[previous]
@@ -178,12 +209,20 @@ class Decider:
             total += math.exp(v - top)
         evidence = top + math.log(total)
         g = [0.0] * len(CANDIDATES)
-        best, best_g = 0, -math.inf
+        best, best_g, every = 0, -math.inf, 0.0
         for m, log_p in enumerate(joint):
             value = math.exp(log_p) * (log_p - prior[m] - evidence)
             g[self.candidate[m]] = value
+            every += value  # NaN or inf in any g stays in the sum
             if value > best_g:
                 best, best_g = m, value
+        if not math.isfinite(every):
+            raise InvalidInputError(
+                f"the motion model gave no finite g at states {[s, ep, er, wp, wr]} "
+                f"(g = {[round(v, 6) for v in g]}): its tables cannot be decided with",
+                field="model",
+                states=[s, ep, er, wp, wr],
+            )
         return Choice(self.candidate[best], best, tuple(g))
 
 

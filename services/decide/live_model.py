@@ -44,10 +44,11 @@ class LiveModel:
     def _on_model(self, sample: zenoh.Sample) -> None:
         try:
             model = parse(MotionModel, sample.payload.to_bytes())
+            decider = Decider(model)
         except ArmplanError as error:
             log.warning("ignored a published model: %s", error.message)
             return
-        self.decider = Decider(model)  # one assignment: requests see old or new
+        self.decider = decider  # one assignment: requests see old or new
         self.updates += 1
         log.info("swapped in a new model (%d samples)", model.samples)
 
