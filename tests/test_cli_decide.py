@@ -43,22 +43,43 @@ def test_target_json_is_a_decision_message() -> None:
         assert len(point.g) == 8
 
 
+def _reach_csv(path: pathlib.Path, times: np.ndarray, scale: float = 1.0) -> None:
+    """A smooth 0.5 s reach sampled at ``times`` [s], written in [s] * ``scale``."""
+    start, goal = np.array([0.011, -0.129, -0.058]), np.array([0.11, -0.1, 0.02])
+    s = 3 * (times / 0.5) ** 2 - 2 * (times / 0.5) ** 3
+    points = start + s[:, None] * (goal - start)
+    rows = ["t,x,y,z"] + [
+        f"{t * scale:.3f},{p[0]},{p[1]},{p[2]}"
+        for t, p in zip(times, points, strict=True)
+    ]
+    path.write_text("\n".join(rows) + "\n")
+
+
 def test_wrist_path_csv_keeps_its_times(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """--wrist-path reads t,x,y,z and decides at exactly those times."""
     times = np.linspace(0.0, 0.5, 26)
-    start, goal = np.array([0.011, -0.129, -0.058]), np.array([0.11, -0.1, 0.02])
-    s = 3 * (times / 0.5) ** 2 - 2 * (times / 0.5) ** 3
-    points = start + s[:, None] * (goal - start)
     path = tmp_path / "path.csv"
-    rows = ["t,x,y,z"] + [
-        f"{t:.3f},{p[0]},{p[1]},{p[2]}" for t, p in zip(times, points, strict=True)
-    ]
-    path.write_text("\n".join(rows) + "\n")
+    _reach_csv(path, times)
     assert main(["decide", "--wrist-path", str(path), "--json"]) == 0
     decision = parse(Decision, capsys.readouterr().out)
     np.testing.assert_allclose(decision.times, np.round(times, 3))
+
+
+@pytest.mark.parametrize("command", ["decide", "plan"])
+def test_wrist_path_csv_in_milliseconds_is_refused_as_such(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    """The 0.5 s reach with its times in ms was decided as a 500 s path (other
+    primitives) and planned as a 500 s trajectory."""
+    path = tmp_path / "ms.csv"
+    _reach_csv(path, np.linspace(0.0, 0.5, 26), scale=1000.0)
+    assert main([command, "--wrist-path", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert f"{path}: invalid WristPath: " in err
+    assert "the times step 20 apart (median), a sample rate of 0.05 Hz" in err
+    assert "these look like milliseconds: divide them by 1000" in err
 
 
 def test_plot_writes_a_png(

@@ -128,15 +128,47 @@ def test_measured_times_need_only_increase() -> None:
     ("end", "message"),
     [
         (600.01, r"the path lasts .* longer than 600 s"),
-        (1e308, r"times\[1\] is 1e\+308 s"),
+        (1e308, r"times\[1200\] is 1e\+308 s"),
     ],
 )
 def test_wrist_path_lasts_at_most_ten_minutes(end: float, message: str) -> None:
     """A path longer than 600 s is refused with its duration (1e308 s once
-    overflowed the motion decision's arithmetic); 600 s is accepted."""
+    overflowed the motion decision's arithmetic); 600 s is accepted. (Two
+    a second: a path sampled less than once a second is refused.)"""
+    times = [0.5 * k for k in range(1200)] + [end]
     with pytest.raises(InvalidInputError, match=message):
-        parse(WristPath, {"times": [0.0, end], "positions": [[0.1, 0, 0]] * 2})
-    parse(WristPath, {"times": [5.0, 605.0], "positions": [[0.1, 0, 0]] * 2})
+        parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * len(times)})
+    times = [5.0 + 0.5 * k for k in range(1201)]
+    assert times[-1] == 605.0
+    parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * len(times)})
+
+
+@pytest.mark.parametrize(
+    ("scale", "hint"),
+    [
+        (
+            1000.0,
+            "these look like milliseconds: divide them by 1000 (times are in "
+            "seconds), or, if they are seconds, give a sample every 1 s or less",
+        ),
+        (1e-3, "times must be in seconds"),
+    ],
+)
+def test_wrist_path_times_must_be_seconds(scale: float, hint: str) -> None:
+    """A 0.8 s path sampled at 100 Hz with its times in milliseconds is refused
+    as such (it was taken for an 800 s path, refused only for lasting over
+    600 s, and a 0.5 s one for a 500 s reach), as are times a thousand times
+    too fast; a sample a second still passes."""
+    times = [0.01 * k * scale for k in range(81)]
+    with pytest.raises(InvalidInputError) as info:
+        parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * 81})
+    step, rate = 0.01 * scale, 100.0 / scale
+    assert info.value.message.startswith(
+        f"invalid WristPath: message: the wrist path: the times step {step:.4g} "
+        f"apart (median), a sample rate of {rate:.4g} Hz if they are seconds; "
+        f"wrist paths are sampled at 1 to 10000 Hz: {hint} (got "
+    )
+    parse(WristPath, {"times": [0.0, 1.0, 2.0], "positions": [[0.1, 0, 0]] * 3})
 
 
 def test_wrist_path_lengths_must_match() -> None:

@@ -1,12 +1,12 @@
 """Demonstration times are seconds: the sample rate that shows they are not.
 
 A recording whose times are in milliseconds, read as seconds, is sampled a
-thousand times too slowly (100 Hz reads as 0.1 Hz). No capture of a reach
-is sampled outside the motion model's range, ``MIN_SAMPLE_RATE`` to
-``MAX_SAMPLE_RATE`` (``shared.messages.motion_model``), so a median rate
-outside it means times in another unit. ``armplan demos import`` checks each
-CSV trial with ``check_seconds``, and ``armplan fit`` the whole set, so the
-two refuse the same times in the same words.
+thousand times too slowly (100 Hz reads as 0.1 Hz): ``check_seconds``
+refuses a median rate outside the motion model's range
+(``shared.messages.seconds``, which holds wrist paths to the same range in
+the same words). ``armplan demos import`` checks each CSV trial with it,
+and ``armplan fit`` the whole set, so the two refuse the same times in the
+same words.
 
 ``check_one_rate`` refuses demonstrations sampled at several rates: the
 network counts transitions from one sample to the next, so a step of 1 ms
@@ -22,18 +22,10 @@ import numpy as np
 
 from shared.demos.rotations import FloatArray
 from shared.errors import InvalidInputError
-from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
+from shared.messages.seconds import DIVIDE, not_seconds
 
 if TYPE_CHECKING:
     from shared.demos.trial import Trial
-
-#: Milliseconds per second: how many times too slow times in milliseconds
-#: read as seconds make the sample rate.
-MILLISECONDS = 1000.0
-
-
-#: What to do with times in milliseconds, unless the caller knows better.
-DIVIDE = f"divide them by {MILLISECONDS:g} (times are in seconds)"
 
 
 def check_seconds(
@@ -61,25 +53,13 @@ def check_seconds(
         InvalidInputError: (field ``times``) if that rate is outside
             ``MIN_SAMPLE_RATE`` to ``MAX_SAMPLE_RATE``, naming ``what``, the
             step and the rate, and saying what to do (``milliseconds_fix``)
-            when milliseconds would explain it.
+            when milliseconds would explain it (``shared.messages.seconds``).
     """
     step = float(np.median(np.concatenate([np.diff(t) for t in times])))
-    rate = 1.0 / step
-    if MIN_SAMPLE_RATE <= rate <= MAX_SAMPLE_RATE:
-        return rate
-    hint = "times must be in seconds"
-    if MIN_SAMPLE_RATE <= MILLISECONDS * rate <= MAX_SAMPLE_RATE:
-        hint = f"these look like milliseconds: {milliseconds_fix}"
-    elif seconds_fix and MIN_SAMPLE_RATE <= rate / MILLISECONDS <= MAX_SAMPLE_RATE:
-        hint = f"the file's times look like seconds: {seconds_fix}"
-    raise InvalidInputError(
-        f"{what}: the times step {step:.4g} apart (median), a sample rate of "
-        f"{rate:.4g} Hz if they are seconds; demonstrations are sampled at "
-        f"{MIN_SAMPLE_RATE:g} to {MAX_SAMPLE_RATE:g} Hz: {hint}",
-        field="times",
-        step=step,
-        rate=rate,
-    )
+    problem = not_seconds(step, what, "demonstrations", milliseconds_fix, seconds_fix)
+    if problem:
+        raise InvalidInputError(problem, field="times", step=step, rate=1.0 / step)
+    return 1.0 / step
 
 
 #: Largest relative difference of two trials' sample rates taken as one

@@ -2,16 +2,23 @@
 
 from __future__ import annotations
 
+import statistics
+from itertools import pairwise
+
 from pydantic import Field, model_validator
 
 from shared.messages.base import Direction, Message, Vec3
 from shared.messages.sample_times import check_times
+from shared.messages.seconds import DIVIDE, not_seconds
 from shared.robot.side import Side, SideAnyCase
 
 #: Most samples one path may hold (100 Hz for 10 minutes).
 MAX_SAMPLES = 60_000
 #: Longest a path may last, first sample to last [s] (10 minutes).
 MAX_DURATION = 600.0
+#: What to do with a path whose times look like milliseconds (or that is
+#: in seconds but sampled less than once a second).
+MILLISECONDS_FIX = f"{DIVIDE}, or, if they are seconds, give a sample every 1 s or less"
 
 
 class WristPath(Message):
@@ -20,7 +27,10 @@ class WristPath(Message):
     Attributes:
         arm: Which arm's wrist (any case: ``"Left"`` reads as ``"left"``);
             left out: the right arm's, or in a ``PlanRequest`` its ``arm``.
-        times: Sample times [s], shape (n,), strictly increasing.
+        times: Sample times [s], shape (n,), strictly increasing; sampled
+            at 1 to 10 000 Hz (median step), so that times in milliseconds
+            are refused as such (``shared.messages.seconds``), not taken
+            for a path a thousand times slower.
         positions: Wrist positions in the torso frame [m], shape (n, 3).
         palm: Optional palm direction to hold along the path (unit vector).
     """
@@ -37,6 +47,13 @@ class WristPath(Message):
                 f"{len(self.times)} times but {len(self.positions)} positions"
             )
         check_times(self.times)
+        if len(self.times) > 1:
+            step = statistics.median(b - a for a, b in pairwise(self.times))
+            problem = not_seconds(
+                step, "the wrist path", "wrist paths", MILLISECONDS_FIX
+            )
+            if problem:
+                raise ValueError(problem)
         if self.times[-1] - self.times[0] > MAX_DURATION:
             raise ValueError(
                 f"the path lasts {self.times[-1] - self.times[0]:g} s, longer than "
