@@ -6,8 +6,9 @@ Topics (each channel's schema is the pydantic model's JSON schema):
 
 Reading validates every message once, here, and turns any problem (missing,
 empty, truncated or foreign file, a malformed message, a trial out of order
-or of a single sample, a subject without samples) into a ``DemoFileError``
-that names the file and what is wrong.
+or of a single sample, a subject without samples, an arm that is not NAO's
+size: ``nao_sized``) into a ``DemoFileError`` that names the file and what
+is wrong.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from shared.demos.anthropometry import Subject
+from shared.demos.nao_sized import nao_size_problem
 from shared.demos.paths import check_distinct
 from shared.demos.repeats import Register
 from shared.demos.rotations import matrix_from_quaternion, quaternion_from_matrix
@@ -58,13 +60,15 @@ def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
             folder that does not exist (``shared.output_paths.check_output_file``).
         DemoFileError: if a subject is not a valid ``DemoSubject`` (e.g. a
             zero-length segment), or the file would not read back: a subject
-            without samples, or a trial of a single sample.
+            without samples, a trial of a single sample, or one whose arm is
+            not NAO's size (``nao_sized``).
         RecordingError: if the file cannot be written.
     """
     path = check_output_file(path)
     _check_every_subject_moves(demos.subjects, {t.subject for t in demos.trials}, path)
     for trial in demos.trials:
         _check_moves(trial.subject, trial.trial, trial.times, path)
+        _check_nao_sized(trial, path)
     people = [_subject_message(s, source, path) for s in demos.subjects.values()]
     try:
         with replaced_when_done(path) as partial:
@@ -152,7 +156,8 @@ def read_demos(paths: str | Path | Iterable[str | Path]) -> DemoSet:
             twice (its trials would count twice), is missing,
             empty, truncated, not MCAP, holds a malformed message or no
             samples, has a subject without samples (naming it), a trial of
-            a single sample or whose samples are out of order (naming the
+            a single sample, whose samples are out of order or whose arm is
+            not NAO's size (not retargeted: ``nao_sized``; naming the
             trial and its subject); if one subject's arms in two files
             differ by more than ``SAME_ARM`` (two people under one name), or
             a trial is read twice: the same samples, or one subject's trial
@@ -350,7 +355,7 @@ def _trial(group: list[DemoSample], path: Path) -> Trial:
         if all(oriented)
         else None
     )
-    return Trial(
+    trial = Trial(
         subject=first.subject,
         trial=first.trial,
         point=first.point,
@@ -364,3 +369,17 @@ def _trial(group: list[DemoSample], path: Path) -> Trial:
         labels=[str(s.primitive) for s in group] if all(labelled) else None,
         source=str(path),
     )
+    _check_nao_sized(trial, path)
+    return trial
+
+
+def _check_nao_sized(trial: Trial, path: Path) -> None:
+    """Refuse a trial whose arm is not NAO's size (``nao_sized``)."""
+    problem = nao_size_problem(trial)
+    if problem:
+        raise DemoFileError(
+            str(path),
+            f"trial {trial.trial} of subject {trial.subject!r}: {problem}",
+            subject=trial.subject,
+            trial=trial.trial,
+        )
