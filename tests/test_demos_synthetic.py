@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import itertools
+import pathlib
 
 import numpy as np
 import pytest
 
+from armplan.cli.main import main
 from shared.demos import DemoSet, nao_arm_size, synthesize
 from shared.demos.anthropometry import (
     FOREARM_RATIO,
@@ -18,6 +20,7 @@ from shared.demos.grid import SPACING, grid_targets
 from shared.demos.labels import primitive_name
 from shared.demos.reach_model import AVERAGE_STYLE, plan_reach, sample_reach
 from shared.demos.retarget import ArmTrack, retarget
+from shared.demos.synthetic import MOST_TRIALS, _check
 from shared.errors import InvalidInputError
 from shared.primitives import MOTION_PRIMITIVES
 
@@ -154,7 +157,8 @@ def test_label_of_moving_joints() -> None:
     ("arguments", "field"),
     [({"seed": -1}, "seed"), ({"subjects": 0}, "subjects"),
      ({"trials": 1001}, "trials"), ({"rate": 0.0}, "rate"),
-     ({"points": (0,)}, "points")],
+     ({"rate": 1e6}, "rate"), ({"points": (0,)}, "points"),
+     ({"subjects": 1000, "trials": 1000}, "trials")],
 )  # fmt: skip
 def test_arguments_out_of_their_domain_are_refused(
     arguments: dict[str, object], field: str
@@ -163,3 +167,24 @@ def test_arguments_out_of_their_domain_are_refused(
     with pytest.raises(InvalidInputError) as info:
         synthesize(**arguments)  # type: ignore[arg-type]
     assert info.value.field == field
+
+
+def test_the_set_is_limited_in_all_naming_the_product(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """1000 subjects x 1000 trials x 16 points was allowed: 16 million trials,
+    over 200 GB and hours. Refused before anything is drawn or written."""
+    path = tmp_path / "huge.mcap"
+    argv = ["demos", "synth", "-o", str(path), "--subjects", "1000"]
+    assert main([*argv, "--trials", "1000"]) == 1
+    assert capsys.readouterr().err == (
+        "armplan: error: 1000 subjects x 1000 trials x 16 points = 16000000 "
+        f"trials, more than the {MOST_TRIALS} one set may have (the paper's "
+        "protocol has 1280): ask for fewer subjects, trials or points\n"
+    )
+    assert not path.exists()
+    with pytest.raises(InvalidInputError) as info:
+        synthesize(subjects=1000, trials=3, points=tuple(range(1, 8)))
+    assert info.value.evidence == {"field": "trials", "total": 21_000, "most": 20_000}
+    assert MOST_TRIALS == 20_000
+    _check(0, 1000, 2, 100.0, tuple(range(1, 11)))  # 20 000: the limit passes

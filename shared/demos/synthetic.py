@@ -23,12 +23,18 @@ from shared.demos.retarget import ArmSize, ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, matrix_from_rotation_vector
 from shared.demos.trial import DemoSet, Trial
 from shared.errors import InvalidInputError
+from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
 from shared.robot.side import Side
 
 #: The paper's protocol (Section V.A).
 SUBJECTS, TRIALS, RATE = 16, 5, 100.0
 #: Most subjects, and most trials per subject and point, one set may have.
 MOST = 1000
+#: Most trials one set may have in all (subjects x trials x points): about
+#: 15 times the paper's 1280, some 230 MB and 1.5 minutes to make at 100 Hz.
+#: 1000 subjects x 1000 trials x 16 points once passed: 16 million trials,
+#: over 200 GB, hours.
+MOST_TRIALS = 20_000
 #: Orientation noise of the wrist frame [rad].
 ORIENTATION_NOISE = 0.01
 
@@ -48,13 +54,28 @@ def _check(
             raise InvalidInputError(
                 f"{name} must be 1..{MOST}, got {value}", field=name
             )
-    if not (np.isfinite(rate) and rate > 0.0):
-        raise InvalidInputError(f"rate must be positive, got {rate}", field="rate")
+    if not MIN_SAMPLE_RATE <= rate <= MAX_SAMPLE_RATE:
+        raise InvalidInputError(
+            f"rate must be {MIN_SAMPLE_RATE:g} to {MAX_SAMPLE_RATE:g} Hz, got {rate}",
+            field="rate",
+        )
     for point in points or ():
         if not 1 <= point <= 16:
             raise InvalidInputError(
                 f"grid point {point} does not exist: points are 1..16", field="points"
             )
+    count = len(points) if points else 16
+    total = subjects * trials * count
+    if total > MOST_TRIALS:
+        raise InvalidInputError(
+            f"{subjects} subjects x {trials} trials x {count} points = {total} "
+            f"trials, more than the {MOST_TRIALS} one set may have (the paper's "
+            f"protocol has {SUBJECTS * TRIALS * 16}): ask for fewer subjects, "
+            "trials or points",
+            field="trials",
+            total=total,
+            most=MOST_TRIALS,
+        )
 
 
 def synthesize(
@@ -76,7 +97,9 @@ def synthesize(
 
     Raises:
         InvalidInputError: for a negative seed, subjects or trials outside
-            1..``MOST``, a rate that is not positive, or a point outside 1..16.
+            1..``MOST``, a rate outside the motion model's 1 to 10 000 Hz, a
+            point outside 1..16, or more than ``MOST_TRIALS`` trials in all
+            (subjects x trials x points), before anything is drawn.
     """
     _check(seed, subjects, trials, rate, points)
     rng = np.random.default_rng(seed)
