@@ -8,6 +8,7 @@ message's validation with a pydantic traceback.
 from __future__ import annotations
 
 import math
+import pathlib
 
 import pytest
 
@@ -38,11 +39,11 @@ def test_a_table_with_a_zero_probability_is_refused_when_compiled(
 
 def test_decide_with_such_a_model_file_is_an_error_not_a_traceback(
     vanishing: MotionModel,
-    tmp_path: pytest.TempPathFactory,
+    tmp_path: pathlib.Path,
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     """``armplan decide --model`` exits 1 with the typed error's message."""
-    path = tmp_path / "vanishing.json"  # type: ignore[operator]
+    path = tmp_path / "vanishing.json"
     save_model(vanishing, path)
     assert main(["decide", "--target", *TARGET, "--model", str(path)]) == 1
     err = capsys.readouterr().err

@@ -150,7 +150,9 @@ def test_malformed_models_name_the_field(
         load_model(path)
 
 
-def _edited(model: MotionModel, table: str, value: float, everywhere: bool) -> dict:
+def _edited(
+    model: MotionModel, table: str, value: float, everywhere: bool
+) -> dict[str, object]:
     """The model's JSON with ``value`` in one cell of ``table`` (or in all)."""
     data = json.loads(model.to_json())
     cells = np.array(data[table], dtype=float)
