@@ -192,6 +192,46 @@ def test_earlier_numbered_files_are_refused_or_all_replaced(tmp_path: Path) -> N
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r-0001.mcap"]
 
 
+def test_a_folder_is_refused_as_a_folder(tmp_path: Path) -> None:
+    """A folder at the path is named as one, with or without overwrite and
+    rotation: it used to be "exists: ..., or --overwrite", and --overwrite
+    then failed "Is a directory" (with rotation, parts went beside it)."""
+    folder = tmp_path / "sessions"
+    folder.mkdir()
+    said = f"{folder} is a folder: name the recording's file, e.g. {folder}/session"
+    cases = [
+        lambda: MessageWriter(folder, chunked=False, overwrite=False),
+        lambda: MessageWriter(folder, chunked=False, overwrite=True),
+        lambda: RotatingWriter(folder, RotationPolicy(max_bytes=10_000)).open(),
+        lambda: RotatingWriter(
+            folder, RotationPolicy(max_bytes=10_000), overwrite=True
+        ).open(),
+    ]
+    for make in cases:
+        with pytest.raises(RecordingError) as caught:
+            make()
+        assert caught.value.message.startswith(said)
+        assert "overwrite" not in caught.value.message
+    assert folder.is_dir() and list(folder.iterdir()) == []
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sessions"]
+
+
+@pytest.mark.parametrize("extra", [(), ("--overwrite",), ("--rotate-size", "1M")])
+def test_record_into_a_folder_is_refused_as_a_folder(
+    config: BusConfig, tmp_path: Path, extra: tuple[str, ...]
+) -> None:
+    """`armplan record -o DIR`: exit 1, one line naming the folder, no hint
+    to --overwrite (which used to fail "Is a directory")."""
+    process = record(config, tmp_path, "--duration", "2", *extra)
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 1, stderr
+    assert stderr == (
+        f"armplan: error: {tmp_path} is a folder: name the recording's file, "
+        f"e.g. {tmp_path}/session.mcap\n"
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_sample_without_poses_loses_only_its_poses(tmp_path: Path) -> None:
     """A trajectory stamped a second before MCAP's clock ends (its poses
     would pass 2^64 ns) is written, its Foxglove poses skipped, and the

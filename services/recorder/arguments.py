@@ -15,6 +15,7 @@ from shared.bus import BusConfig, load_config
 from shared.bus.topics import topic_paths
 from shared.errors import InvalidInputError
 from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
+from shared.recording.writer import refuse_folder
 
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kKmMgG]?)i?[bB]?\s*$")
 _UNITS = {"": 1, "k": 1024, "m": 1024**2, "g": 1024**3}
@@ -86,13 +87,16 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
 
     Raises:
         InvalidInputError: naming the option that is wrong.
+        RecordingError: ``-o`` names a folder.
     """
     rotation = RotationPolicy(
         max_bytes=None if args.rotate_size is None else parse_size(args.rotate_size),
         max_seconds=args.rotate_duration,
     )
+    output = Path(args.output) if args.output else default_output()
+    refuse_folder(output)  # before connecting: no router fixes this
     return RecorderOptions(
-        output=Path(args.output) if args.output else default_output(),
+        output=output,
         keys=tuple(args.keys) if args.keys else topic_paths(),
         rotation=rotation,
         flush_every=args.flush_every,

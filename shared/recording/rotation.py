@@ -20,7 +20,7 @@ from typing import Any
 
 from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import Closes
-from shared.recording.writer import MessageWriter
+from shared.recording.writer import MessageWriter, refuse_folder
 
 #: Default longest time between flushes of a live file [s].
 FLUSH_EVERY = 0.2
@@ -124,7 +124,7 @@ class RotatingWriter(Closes):
 
         Raises:
             RecordingError: if the recording exists (and ``overwrite`` is
-                False) or the file cannot be created.
+                False), ``path`` is a folder, or the file cannot be created.
         """
         if self._writer is None:
             self._next()
@@ -165,6 +165,7 @@ class RotatingWriter(Closes):
             self._writer.close()
         number = len(self.paths) + 1
         if number == 1:
+            refuse_folder(self.path)  # its parts would go beside it, not in it
             self._clear_earlier()
         path = part_path(self.path, number) if self.policy.rotates else self.path
         self._writer = MessageWriter(

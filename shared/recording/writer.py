@@ -47,8 +47,8 @@ class MessageWriter(Closes):
             refused (created exclusively, so two writers cannot share it).
 
     Raises:
-        RecordingError: if the file cannot be created or written, or exists
-            and ``overwrite`` is False.
+        RecordingError: if the file cannot be created or written, is a
+            folder, or exists and ``overwrite`` is False.
     """
 
     def __init__(
@@ -60,9 +60,14 @@ class MessageWriter(Closes):
         overwrite: bool = True,
     ):
         self.path = Path(path)
+        refuse_folder(self.path)
         try:
             self._file: IO[bytes] = open(self.path, "wb" if overwrite else "xb")  # noqa: SIM115 (closed in close())
+        except IsADirectoryError:  # made meanwhile
+            raise folder_error(self.path) from None
         except FileExistsError:
+            if self.path.is_dir():  # made meanwhile
+                raise folder_error(self.path) from None
             raise RecordingError(
                 f"{self.path} exists: give another name, or --overwrite to replace it",
                 path=str(self.path),
@@ -232,6 +237,25 @@ class MessageWriter(Closes):
                 self._writer.finish()  # type: ignore[no-untyped-call]
             finally:
                 self._file.close()
+
+
+def folder_error(path: Path) -> RecordingError:
+    """The error for a recording path that names a folder."""
+    return RecordingError(
+        f"{path} is a folder: name the recording's file, e.g. {path / 'session.mcap'}",
+        path=str(path),
+    )
+
+
+def refuse_folder(path: str | Path) -> None:
+    """Refuse a recording path that is a folder (``--overwrite`` cannot help).
+
+    Raises:
+        RecordingError: naming the folder (not "exists": replacing a folder
+            with a recording is never what was meant).
+    """
+    if Path(path).is_dir():
+        raise folder_error(Path(path))
 
 
 #: Largest time an MCAP record holds [ns since the epoch] (unsigned 64 bits).
