@@ -104,8 +104,10 @@ def test_a_truncated_file_is_an_error_or_with_recover_its_prefix(
     ("make", "message"),
     [
         (lambda p: None, "no such file"),
-        (lambda p: p.write_bytes(b""), "is empty, not an MCAP file"),
+        (lambda p: p.write_bytes(b""), "is empty (0 bytes), not an MCAP file"),
         (lambda p: p.write_text("not a recording\n" * 10), "is not an MCAP file"),
+        (lambda p: p.write_text("hello\n"), "is not an MCAP file"),
+        (lambda p: p.write_bytes(b"\x89MC"), "ends inside the MCAP magic"),
         (lambda p: p.mkdir(), "is a folder, not an MCAP file"),
     ],
 )

@@ -16,10 +16,10 @@ import pytest
 
 from shared.errors import RecordingError
 from shared.messages import PlanRequest, ReachTarget
-from shared.recording import MessageWriter, read_records
+from shared.recording import MessageWriter, read_records, summarize
 from shared.recording.inventory import take_inventory
 from shared.recording.metadata import read_metadata
-from shared.recording.reader import Recording
+from shared.recording.reader import MAGIC, Recording
 
 N = 12
 
@@ -57,11 +57,17 @@ def original(
 def test_every_truncation_reads_a_prefix_or_fails_clearly(
     original: tuple[bytes, list[bytes]], tmp_path: Path
 ) -> None:
-    """Cut at every byte: a prefix with recover, else all of it or RecordingError."""
+    """Cut at every byte: a prefix with recover, else all of it or RecordingError;
+    cut inside the magic, nothing was recorded: an error even with recover."""
     data, messages = original
     path = tmp_path / "cut.mcap"
     for length in range(1, len(data)):
         path.write_bytes(data[:length])
+        if length < len(MAGIC):
+            with pytest.raises(RecordingError, match="ends inside the MCAP magic"):
+                Recording(path)
+            assert isinstance(read(path, recover=True), RecordingError)
+            continue
         if length % 7 == 0:  # the public functions, on a sample of the lengths
             recovered = read(path, recover=True)
             strict = read(path, recover=False)
@@ -119,21 +125,46 @@ def test_a_killed_writer_leaves_a_readable_prefix(tmp_path: Path) -> None:
     ("content", "message"),
     [
         (None, "no such file"),
-        (b"", "is empty, not an MCAP file"),
-        (b"hello, this is text\n" * 20, "is not an MCAP file"),
+        (b"", r"is empty \(0 bytes\), not an MCAP file: nothing was recorded"),
+        (b"hello, this is text\n" * 20, r"is not an MCAP file \(no MCAP magic"),
+        (b"hello\n", r"is not an MCAP file \(no MCAP magic"),
+        (b"\x89MCA", r"ends inside the MCAP magic \(4 of its 8 bytes\), not an"),
     ],
 )
 def test_files_that_are_not_recordings(
     tmp_path: Path, content: bytes | None, message: str
 ) -> None:
-    """Missing, empty and non-MCAP files name the file and the problem."""
+    """Missing, empty and non-MCAP files name the file and the problem, also
+    when recovering: a file shorter than the MCAP magic was "damaged after 0
+    readable messages" (an empty recording with recover), and a longer one
+    not MCAP read as empty with read_records or summarize and recover."""
     path = tmp_path / "x.mcap"
     if content is not None:
         path.write_bytes(content)
-    with pytest.raises(RecordingError, match=message):
-        list(read_records(path))
-    with pytest.raises(RecordingError, match=message):
-        take_inventory(path, recover=True)
+    for recover in (False, True):
+        with pytest.raises(RecordingError, match=message):
+            list(read_records(path, recover=recover))
+        with pytest.raises(RecordingError, match=message):
+            summarize(path, recover=recover)
+        with pytest.raises(RecordingError, match=message):
+            take_inventory(path, recover=recover)
+
+
+def test_a_writer_stopped_after_its_magic_left_an_empty_recording(
+    tmp_path: Path,
+) -> None:
+    """The magic, and part of the header: an MCAP file cut short before its
+    first message, damaged after 0 messages; recover reads none."""
+    path = tmp_path / "x.mcap"
+    with MessageWriter(path, chunked=False) as writer:
+        writer.write("t", ReachTarget(position=(0.0, 0.0, 1.0)), log_time=1)
+    whole = path.read_bytes()
+    for cut in (8, 12):
+        path.write_bytes(whole[:cut])
+        with pytest.raises(RecordingError, match="damaged after 0 readable messages"):
+            list(read_records(path))
+        assert list(read_records(path, recover=True)) == []
+        assert summarize(path, recover=True).channels == {}
 
 
 def test_a_name_too_long_for_the_file_system_is_a_recording_error() -> None:

@@ -250,7 +250,9 @@ def _why(error: RecordingError) -> str:
     """The recording error's message without its leading file name."""
     text = error.message
     prefix = f"{error.path}"
-    return text[len(prefix) :].lstrip(": ") if text.startswith(prefix) else text
+    if not text.startswith(prefix):
+        return text
+    return text[len(prefix) :].lstrip(": ").removeprefix("is ")
 
 
 M = TypeVar("M", DemoSubject, DemoSample)

@@ -24,6 +24,8 @@ CHANGED = "its checksum does not match: bytes were changed after it was written"
 NOT_JSON = "a message in it is not UTF-8 JSON"
 NOT_MCAP = "it holds bytes that are not MCAP records"
 NO_MAGIC = "no MCAP magic at its start"
+#: The 8 bytes every MCAP file (version 0) starts with.
+MAGIC = b"\x89MCAP0\r\n"
 #: The message encoding of every armplan channel.
 JSON = "json"
 
@@ -84,7 +86,8 @@ class Recording:
         topics: Only these topics (all if ``None``).
 
     Raises:
-        RecordingError: if the file is missing, a folder, or empty.
+        RecordingError: if the file is missing, a folder, empty or not MCAP
+            (no MCAP magic at its start).
     """
 
     def __init__(self, path: str | Path, topics: Iterable[str] | None = None) -> None:
@@ -103,7 +106,7 @@ class Recording:
             ) from None
 
     def _check_file(self) -> None:
-        """Refuse a path that is not a non-empty regular file.
+        """Refuse a path that is not a regular file starting as MCAP files do.
 
         Raises:
             RecordingError: naming what the path is instead.
@@ -125,12 +128,34 @@ class Recording:
                 path=str(self.path),
                 readable=0,
             )
-        if self.path.stat().st_size == 0:
-            raise RecordingError(
-                f"{self.path} is empty, not an MCAP file",
-                path=str(self.path),
-                readable=0,
+        self._check_magic()
+
+    def _check_magic(self) -> None:
+        """Refuse a file that does not start with the MCAP magic, before reading.
+
+        Nothing can be recovered from it, so it is an error even with
+        ``recover``; a file shorter than the magic is no MCAP file cut short
+        but one in which nothing was recorded.
+
+        Raises:
+            RecordingError: the file is empty, ends inside the magic (its
+                writer stopped at its first bytes), or starts otherwise.
+        """
+        with open(self.path, "rb") as stream:
+            head = stream.read(len(MAGIC))
+        if head == MAGIC:
+            return
+        if not head:
+            why = "is empty (0 bytes), not an MCAP file: nothing was recorded in it"
+        elif MAGIC.startswith(head):
+            why = (
+                f"ends inside the MCAP magic ({len(head)} of its {len(MAGIC)} "
+                "bytes), not an MCAP file: nothing was recorded in it (its "
+                "writer stopped at its first bytes)"
             )
+        else:
+            why = f"is not an MCAP file ({NO_MAGIC})"
+        raise RecordingError(f"{self.path} {why}", path=str(self.path), readable=0)
 
     @property
     def channels(self) -> list[tuple[str, str]]:
@@ -266,8 +291,7 @@ def read_records(
     """
     recording = Recording(path, topics)
     yield from recording
-    if recording.damage is not None and (not recover or recording.foreign):
-        raise recording.error()
+    recording.check(recover)
 
 
 class Summary(NamedTuple):
@@ -300,6 +324,5 @@ def summarize(path: str | Path, *, recover: bool = False) -> Summary:
             min(first, r.log_time),
             max(last, r.log_time),
         )
-    if recording.damage is not None and (not recover or recording.foreign):
-        raise recording.error()
+    recording.check(recover)
     return Summary(channels, recording.damage)
