@@ -15,6 +15,7 @@ from services.recorder.options import RecorderOptions
 from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
 from shared.messages import JointState
+from shared.recording.raw_payload import JSON_SCHEMA, JSON_SCHEMA_NAME
 from shared.recording.rotation import RotatingWriter
 from shared.robot import Side
 
@@ -138,6 +139,31 @@ def test_validate_reports_a_message_that_does_not_match_its_schema(
     err = capsys.readouterr().err
     assert "1 messages do not match their channel's schema" in err
     assert "armplan/bridge/state (JointState): joint_names: Field required" in err
+
+
+def test_validate_reports_json_that_is_not_utf8(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A json channel holding a JSON object in UTF-16 (which Python reads and
+    Foxglove does not), or after a byte order mark: exit 1 naming each."""
+    path = tmp_path / "utf16.mcap"
+    with RotatingWriter(path) as writer:
+        for data in (
+            b'{"fine": 1}',
+            '{"hello": "utf16"}'.encode("utf-16"),
+            b'\xef\xbb\xbf{"hello": "bom"}',
+        ):
+            writer.write("armplan/misc/note", JSON_SCHEMA_NAME, JSON_SCHEMA, data, 1, 1)
+    assert main(["inspect", str(path), "--validate"]) == 1
+    err = capsys.readouterr().err
+    assert "2 messages do not match their channel's schema, e.g. " in err
+    assert "armplan/misc/note: not UTF-8 text (JSON in UTF-16" in err
+    assert main(["inspect", str(path), "--validate", "--json"]) == 1
+    problems = json.loads(capsys.readouterr().out)["problems"]
+    assert [p.split(": ", 1)[1][:24] for p in problems] == [
+        "not UTF-8 text (JSON in ",
+        "it starts with a byte or",
+    ]
 
 
 def test_validate_as_json_is_one_document_with_the_error(

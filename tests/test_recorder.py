@@ -240,6 +240,33 @@ def test_channels_validate_and_foxglove_channels_are_derived(
         assert np.abs(chained(r.data, "r_gripper") - hand).max() < 1e-9
 
 
+#: JSON objects a json channel may not hold (its readers take UTF-8 only),
+#: then one it may: an escaped surrogate is UTF-8 JSON text.
+NOT_UTF8_JSON = [
+    ("misc/note", '{"hello": "utf16"}'.encode("utf-16")),
+    ("misc/note", '{"hello": "utf16"}'.encode("utf-16-le")),  # no BOM either
+    ("misc/note", '{"hello": "utf32"}'.encode("utf-32")),
+    ("plan/request", b'\xef\xbb\xbf{"hello": "bom"}'),
+    ("misc/note", b'{"x": "\xed\xa0\x80"}'),  # an encoded surrogate
+    ("misc/note", b'{"x": "\\ud800"}'),
+]
+
+
+def test_only_utf8_json_goes_to_json_channels(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """JSON in UTF-16 or UTF-32, with a byte order mark, or with an encoded
+    surrogate is kept as a RawPayload (UTF-16 was stored on the json channel
+    as is, which Foxglove cannot read), and replays byte for byte."""
+    out = tmp_path / "odd.mcap"
+    with RecorderProcess.start(config, out, keys=["plan/request", "misc/**"]):
+        publish_all(config, NOT_UTF8_JSON)
+    records = [r for r in read_records(out) if not r.topic.startswith("/")]
+    assert [r.schema for r in records] == ["RawPayload"] * 5 + ["json"]
+    assert [check_record(r) for r in records] == [None] * 6
+    assert recorded(out) == NOT_UTF8_JSON
+
+
 def chained(message: dict[str, Any], frame: str) -> np.ndarray:
     """Position of ``frame`` in the torso frame from a FrameTransforms message."""
     poses = {"torso": (np.eye(3), np.zeros(3))}

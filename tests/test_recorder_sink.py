@@ -66,6 +66,8 @@ def incoming(key: str, payload: bytes, t: int = 1, encoding: str = "x") -> Incom
         ("plan/request", b"\xff\xfe binary", "RawPayload"),
         ("plan/request", b"", "RawPayload"),
         ("plan/request", b"[" * 100_000, "RawPayload"),  # deep nesting
+        ("unknown/key", '{"a": 1}'.encode("utf-16"), "RawPayload"),  # not UTF-8
+        ("unknown/key", b'\xef\xbb\xbf{"a": 1}', "RawPayload"),  # a BOM
     ],
 )
 def test_each_payload_gets_the_most_specific_channel(

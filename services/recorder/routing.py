@@ -8,17 +8,17 @@ lost), and gives each the most specific channel it fits:
    after the class (``Trajectory``), its JSON schema from pydantic;
 2. any other JSON object (unknown topic, or a payload that does not parse
    as its class): the topic's schemaless channel, schema ``"json"``;
-3. anything else (binary, text, JSON that is not an object, Python's
-   NaN and Infinity, which JSON readers such as Foxglove's refuse): a
-   ``RawPayload`` (base64 and the Zenoh encoding) on the topic's
-   ``RawPayload`` channel.
+3. anything else (binary, text, JSON that is not an object, JSON not in
+   UTF-8 or with a byte order mark, Python's NaN and Infinity, which JSON
+   readers such as Foxglove's refuse or read otherwise;
+   ``shared.recording.json_object``): a ``RawPayload`` (base64 and the
+   Zenoh encoding) on the topic's ``RawPayload`` channel.
 
 The channel's topic is the sample's full key, e.g. ``armplan/plan/trajectory``.
 """
 
 from __future__ import annotations
 
-import json
 from functools import cache
 from typing import Any, NamedTuple
 
@@ -26,6 +26,7 @@ from pydantic import ValidationError
 
 from shared.bus.topics import topic_message
 from shared.messages import Message
+from shared.recording.json_object import is_json_object
 from shared.recording.raw_payload import JSON_SCHEMA, JSON_SCHEMA_NAME, RawPayload
 
 
@@ -78,19 +79,6 @@ def relative_path(key: str, namespace: str) -> str | None:
     return key[len(prefix) :] if key.startswith(prefix) else None
 
 
-def _not_json(constant: str) -> None:
-    """``json.loads``' hook for NaN and Infinity, which JSON does not have."""
-    raise ValueError(f"{constant} is not JSON")
-
-
-def _json_object(payload: bytes) -> bool:
-    """Whether ``payload`` is a JSON object by the standard (no NaN, Infinity)."""
-    try:
-        return isinstance(json.loads(payload, parse_constant=_not_json), dict)
-    except (ValueError, UnicodeDecodeError, RecursionError):
-        return False
-
-
 def _typed(cls: type[Message], payload: bytes) -> Message | None:
     try:
         return cls.model_validate_json(payload)
@@ -106,7 +94,7 @@ def route(incoming: Incoming, namespace: str) -> Entry:
         namespace: The bus namespace, e.g. ``"armplan"``.
     """
     key, payload = incoming.key, incoming.payload
-    if not _json_object(payload):
+    if not is_json_object(payload):
         raw = RawPayload.of(payload, incoming.encoding)
         return Entry(
             key, RawPayload.__name__, _schema(RawPayload), raw.to_json().encode(), None

@@ -3,8 +3,9 @@
 Each channel's schema is named after a pydantic model (``Trajectory``,
 ``PrimitiveSample``, ``foxglove.FrameTransforms``, ...); a message is valid
 if that model parses it. ``"json"`` (schemaless) channels accept any JSON
-object. This stands in for a JSON-schema validator: the models are where
-the schemas come from (Foxglove's own are mirrored field for field in
+object in UTF-8 (``shared.recording.json_object``). This stands in for a
+JSON-schema validator: the models are where the schemas come from
+(Foxglove's own are mirrored field for field in
 ``shared.recording.foxglove.schemas``).
 """
 
@@ -23,6 +24,7 @@ from shared.recording.foxglove import (
     PrimitiveSample,
     RobotDescription,
 )
+from shared.recording.json_object import json_object_problem
 from shared.recording.raw_payload import JSON_SCHEMA_NAME, RawPayload
 from shared.recording.reader import Record
 
@@ -53,6 +55,9 @@ def schema_models() -> dict[str, type[BaseModel]]:
 def check_record(record: Record) -> str | None:
     """What is wrong with ``record`` against its channel's schema (``None``: valid)."""
     if record.schema == JSON_SCHEMA_NAME:
+        if record.raw:  # as written: the reader's data may come from UTF-16
+            problem = json_object_problem(record.raw)
+            return None if problem is None else f"{record.topic}: {problem}"
         if isinstance(record.data, dict):
             return None
         return f"{record.topic}: a {type(record.data).__name__}, not a JSON object"
