@@ -9,10 +9,12 @@ loses only its poses; NaN is not JSON; a flipped byte is a checksum error.
 
 from __future__ import annotations
 
+import inspect
 import json
 import logging
 import os
 import resource
+import signal
 import subprocess
 import sys
 import time
@@ -23,6 +25,7 @@ import pytest
 import zenoh
 
 from armplan.launch import free_endpoint
+from services.recorder import RecorderProcess, control, sink
 from services.recorder.options import RecorderOptions
 from services.recorder.routing import Incoming, route
 from services.recorder.service import Recorder
@@ -136,6 +139,83 @@ def test_a_full_file_stops_the_recorder_at_once_with_the_reason(
     kept = [r for r in read_records(out, recover=True) if r.topic.endswith("misc/x")]
     assert 10 <= len(kept) <= said
     assert os.path.getsize(out) <= FILE_LIMIT
+
+
+def test_a_recorder_process_that_failed_makes_stop_raise(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """RecorderProcess (what `armplan demo` records with): its file capped
+    while it runs, the recorder exits 1 at once; stop() raises with its
+    reason and its log. It returned the file as if whole."""
+    out, log = tmp_path / "capped.mcap", tmp_path / "recorder.log"
+    with log.open("w") as stream:
+        recorder = RecorderProcess.start(config, out, keys=["misc/*"], log=stream)
+    try:
+        resource.prlimit(recorder.pid, resource.RLIMIT_FSIZE, (FILE_LIMIT,) * 2)
+        _publish_until_exit(config, recorder.process)
+        assert recorder.process.returncode == 1
+        with pytest.raises(RecordingError) as caught:
+            recorder.stop()
+    finally:
+        recorder.kill()
+    message = caught.value.message
+    print("\n" + message)
+    assert message.startswith(
+        f"the recorder of {out} failed (exit code 1): cannot write {out}: File "
+        "too large; recording stopped after "
+    )
+    assert message.endswith(
+        f"armplan inspect --recover {out} reads them (the file lacks its "
+        f"summary); see its log {log}"
+    )
+    assert caught.value.path == str(out)
+    with pytest.raises(RecordingError, match="damaged after"):
+        list(read_records(out))
+
+
+def test_a_recorder_process_killed_by_someone_else_makes_stop_raise(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """SIGKILL from outside (the OOM killer): stop() names the signal."""
+    out = tmp_path / "killed.mcap"
+    recorder = RecorderProcess.start(
+        config, out, keys=["misc/*"], log=subprocess.DEVNULL
+    )
+    try:
+        os.kill(recorder.pid, signal.SIGKILL)
+        recorder.process.wait(30)
+        with pytest.raises(RecordingError) as caught:
+            recorder.stop()
+    finally:
+        recorder.kill()
+    assert caught.value.message == (
+        f"the recorder of {out} was killed by SIGKILL; {out} lacks its summary; "
+        "see its log"
+    )
+
+
+def test_a_recorder_process_gets_its_own_time_to_write_out() -> None:
+    """RecorderProcess waits longer than the recorder's own bound for
+    writing out its queue (it killed it after 15 s, the bound being 30)."""
+    assert control.STOP_TIMEOUT >= sink.STOP_TIMEOUT + 10.0
+    assert inspect.signature(RecorderProcess.stop).parameters["timeout"].default == (
+        control.STOP_TIMEOUT
+    )
+
+
+def _publish_until_exit(config: BusConfig, process: subprocess.Popen[str]) -> None:
+    """Publish 2 kB messages on misc/x until ``process`` exits (30 s at most)."""
+    payload = json.dumps({"pad": "x" * 2000}).encode()
+    with Bus.connect(config) as bus:
+        publisher = bus.session.declare_publisher(
+            bus.key("misc/x"), congestion_control=zenoh.CongestionControl.BLOCK
+        )
+        deadline = time.monotonic() + 30.0
+        while process.poll() is None:
+            assert time.monotonic() < deadline, "still recording past the cap"
+            publisher.put(payload)
+            time.sleep(0.005)
+        publisher.undeclare()
 
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")

@@ -12,7 +12,10 @@
    the simulated NAO (or the NAO named), which answers with the tracking
    report;
 5. the files are written (:mod:`armplan.demo.outputs`) and every process is
-   stopped, the recorder first, also when a step fails or on Ctrl-C.
+   stopped, the recorder first, also when a step fails or on Ctrl-C. A
+   recording that failed (disk full, the recorder killed) leaves the other
+   files as they are: the result says why it failed, for the caller to
+   report (``armplan demo`` exits 1).
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ from bridge.frames import DEFAULT_RATE
 from shared.bus import Bus, BusConfig
 from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import PLAN
+from shared.errors import RecordingError
 from shared.messages import ExecuteReply, ExecuteRequest, Trajectory
 from shared.messages.request_id import with_request_id
 from shared.output_paths import check_output_folder
@@ -105,11 +109,14 @@ class DemoResult:
         files: The written files by name (``trajectory``, ``choregraphe``,
             ``python``, ``report``, ``recording``, ``sim_log``).
         processes: The PID of every process the run started, by name.
+        recording_error: Why the recording failed (its file lacks its
+            summary and may miss most of the session), or ``None``.
     """
 
     execution: Execution
     files: dict[str, Path] = field(default_factory=dict)
     processes: dict[str, int] = field(default_factory=dict)
+    recording_error: RecordingError | None = None
 
 
 def plan_task(bus: Bus, task: Task) -> Trajectory:
@@ -136,7 +143,8 @@ def run_demo(
             that no earlier demo wrote, the task file is bad, or the frame
             rate is no whole number (``behavior.xar`` needs one), all before
             anything starts.
-        ArmplanError: a step failed (everything started is stopped first).
+        ArmplanError: a step failed (everything started is stopped first;
+            a recording that failed too is said through ``say``).
     """
     timeline_fps(options.rate, "the demo's frame rate")
     check_output_folder(options.out)
@@ -159,12 +167,18 @@ def _run_in(
         allow_not_awake=options.allow_not_awake,
     )
     say(f"starting the router, the services, the bridge and the {_robot(options)}")
-    with stack:
-        processes = stack.processes()
-        say("running: " + ", ".join(f"{n} (pid {p})" for n, p in processes.items()))
-        run = _play(stack, task, options, say)
-        files = write_outputs(options.out, run)
-    return DemoResult(run, {**files, **_process_files(options)}, processes)
+    try:
+        with stack:
+            processes = stack.processes()
+            say("running: " + ", ".join(f"{n} (pid {p})" for n, p in processes.items()))
+            run = _play(stack, task, options, say)
+            files = write_outputs(options.out, run)
+    except BaseException:
+        if stack.recording_error is not None:  # not to be lost behind the error
+            say(f"the recording failed too: {stack.recording_error.message}")
+        raise
+    files = {**files, **_process_files(options)}
+    return DemoResult(run, files, processes, stack.recording_error)
 
 
 def _play(stack: DemoStack, task: Task, options: DemoOptions, say: Say) -> Execution:

@@ -6,7 +6,10 @@ simulated NAO and the bridge (``RobotStack``), then the recorder
 the first plan on. Stop order is the reverse: the recorder closes its file
 first, then the bridge and the sim, then the services and the router. Each
 process also ends itself if the demo dies (``ARMPLAN_PARENT_PID``, the sim's
-closed stdin), so not even a killed demo leaves one behind.
+closed stdin), so not even a killed demo leaves one behind. A recording
+that failed (the recorder exited with an error, or was killed) does not
+stop the others from stopping: ``recording_error`` keeps why, for the run
+to report.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from armplan.launch import Launcher
 from armplan.launch.robot import RobotStack
 from services.recorder import RecorderOptions, RecorderProcess
 from shared.bus import BusConfig
-from shared.errors import ArmplanError, error_from_wire
+from shared.errors import ArmplanError, RecordingError, error_from_wire
 
 #: The recording, in the demo's folder.
 RECORDING_FILE = "session.mcap"
@@ -50,6 +53,8 @@ class DemoStack:
         launcher: The router and the services, once started.
         robot: The sim (if simulated) and the bridge, once started.
         recorder: The recorder, once started (``None`` when not recording).
+        recording_error: Why the recording failed, once the recorder is
+            stopped (``None``: its file is whole, or nothing was recorded).
     """
 
     def __init__(
@@ -78,6 +83,7 @@ class DemoStack:
         self.launcher: Launcher | None = None
         self.robot: RobotStack | None = None
         self.recorder: RecorderProcess | None = None
+        self.recording_error: RecordingError | None = None
         self._robot_url = robot
         self._record = record
         self._stop = stop
@@ -108,7 +114,8 @@ class DemoStack:
                 self.robot = exits.enter_context(self._robot_stack())
             if self._record:
                 with _naming_log(self._log_path("recorder")):
-                    self.recorder = exits.enter_context(self._recorder())
+                    self.recorder = self._recorder()
+                exits.callback(self._stop_recorder, self.recorder)
             self._exits = exits.pop_all()  # started: keep them running
         return self
 
@@ -132,6 +139,17 @@ class DemoStack:
             options=RecorderOptions(overwrite=True),  # the demo's folder is its own
             log=log,
         )
+
+    def _stop_recorder(self, recorder: RecorderProcess) -> None:
+        """Stop ``recorder``; if its recording failed, keep why (not raised).
+
+        The processes started before it still stop, and an error that
+        ended the run is not replaced by the recording's.
+        """
+        try:
+            recorder.stop()
+        except RecordingError as error:
+            self.recording_error = error
 
     def _log_path(self, name: str) -> Path:
         """The log file of ``name``'s processes: ``out/logs/<name>.log``."""

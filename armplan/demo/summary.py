@@ -18,7 +18,7 @@ def summary_lines(result: DemoResult) -> list[str]:
         *task_lines(run),
         *execution_lines(run),
         *tracking_lines(run),
-        *file_lines(result.files),
+        *file_lines(result.files, result.recording_error is not None),
     ]
 
 
@@ -110,13 +110,19 @@ def tracking_lines(run: Execution) -> list[str]:
     return lines
 
 
-def file_lines(files: dict[str, Path]) -> list[str]:
-    """The files written, with the recording's message count."""
+def file_lines(files: dict[str, Path], recording_failed: bool = False) -> list[str]:
+    """The files written, with the recording's message count (or its failure)."""
     lines = ["wrote:"]
     for name, path in files.items():
-        note = _recording_note(path) if name == "recording" else ""
+        note = ""
+        if name == "recording":
+            note = FAILED_NOTE if recording_failed else _recording_note(path)
         lines.append(f"  {name:<12} {path}{note}")
     return lines
+
+
+#: What the summary says of a recording that failed (the error follows).
+FAILED_NOTE = " (FAILED: incomplete, without its summary; see the error below)"
 
 
 def _recording_note(path: Path) -> str:

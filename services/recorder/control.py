@@ -17,6 +17,10 @@ waits for the ready line the process prints), so nothing published after it
 returns is missed. :meth:`RecorderProcess.stop` sends SIGTERM and waits for
 the file to be closed; a recorder that does not exit in time is killed, and
 its file is still readable up to its last flush (read it with ``recover``).
+A recorder that exits with an error, before the stop (the file system
+refused a write: it stops at once) or during it, makes ``stop`` raise
+:class:`~shared.errors.RecordingError` with the reason it printed: its
+files then lack their summaries.
 """
 
 from __future__ import annotations
@@ -32,17 +36,26 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import IO
 
-from services.recorder.main import READY_PREFIX
+from services.recorder.main import FAILED_PREFIX, READY_PREFIX
 from services.recorder.options import RecorderOptions
+from services.recorder.sink import STOP_TIMEOUT as WRITE_OUT_TIMEOUT
 from shared.bus import BusConfig
 from shared.bus.lifeline import PARENT_ENV
 from shared.errors import RecordingError
 from shared.lifecycle import Closes
 from shared.recording.rotation import part_path
 
-#: Longest wait for the recorder to be ready, and to exit after SIGTERM [s].
+#: Longest wait for the recorder to be ready [s].
 START_TIMEOUT = 30.0
-STOP_TIMEOUT = 15.0
+#: What a stopping recorder needs beyond writing out its queue: closing the
+#: file with its summary, then its Zenoh session [s].
+CLOSE_MARGIN = 15.0
+#: Longest wait for the recorder to exit after SIGTERM [s]: its own bound
+#: for writing out its queue, and the margin (killed sooner, it would lose
+#: a backlog it was allowed to write).
+STOP_TIMEOUT = WRITE_OUT_TIMEOUT + CLOSE_MARGIN
+#: Longest wait for a killed recorder to be reaped [s].
+REAP_TIMEOUT = 15.0
 
 
 def recorder_command(config: BusConfig, options: RecorderOptions) -> list[str]:
@@ -73,9 +86,17 @@ class RecorderProcess(Closes):
         options: What it records and where.
     """
 
-    def __init__(self, process: subprocess.Popen[str], options: RecorderOptions):
+    def __init__(
+        self,
+        process: subprocess.Popen[str],
+        options: RecorderOptions,
+        log_name: str | None = None,
+    ):
         self.process = process
         self.options = options
+        self._log_name = log_name
+        self._lines: queue.Queue[str] = queue.Queue()  # its stdout, after ready
+        self._failure = ""  # the reason it gave for exiting with an error
 
     @classmethod
     def start(
@@ -125,7 +146,8 @@ class RecorderProcess(Closes):
             env={**os.environ, PARENT_ENV: str(os.getpid()), "PYTHONUNBUFFERED": "1"},
             start_new_session=True,
         )
-        recorder = cls(process, options)
+        name = getattr(log, "name", None)  # a file's path, for the errors
+        recorder = cls(process, options, name if isinstance(name, str) else None)
         try:
             recorder._wait_ready(timeout)
         except BaseException:  # Ctrl-C, SIGTERM: no caller would ever stop it
@@ -134,14 +156,16 @@ class RecorderProcess(Closes):
         return recorder
 
     def _wait_ready(self, timeout: float) -> None:
-        lines: queue.Queue[str] = queue.Queue()
         stdout = self.process.stdout
         assert stdout is not None
         threading.Thread(
-            target=_pump, args=(stdout, lines), name="recorder-stdout", daemon=True
+            target=_pump,
+            args=(stdout, self._lines),
+            name="recorder-stdout",
+            daemon=True,
         ).start()
         try:
-            line = lines.get(timeout=timeout)
+            line = self._lines.get(timeout=timeout)
         except queue.Empty:
             line = ""
         if not line.startswith(READY_PREFIX):
@@ -149,9 +173,15 @@ class RecorderProcess(Closes):
             code = self.process.returncode
             raise RecordingError(
                 f"the recorder for {self.options.output} did not start "
-                f"(exit code {code}; see its log)",
+                f"(exit code {code}; {self._see_log()})",
                 path=str(self.options.output),
             )
+
+    def _see_log(self) -> str:
+        """``"see its log"``, with the log's path if it is a named file."""
+        return (
+            "see its log" if self._log_name is None else f"see its log {self._log_name}"
+        )
 
     @property
     def pid(self) -> int:
@@ -173,9 +203,14 @@ class RecorderProcess(Closes):
     def stop(self, timeout: float = STOP_TIMEOUT) -> list[Path]:
         """SIGTERM, wait for the files to be closed; the files written.
 
+        Args:
+            timeout: Longest wait for it to exit [s] (by default its own
+                bound for writing out its queue, plus a margin).
+
         Raises:
             RecordingError: if it had to be killed (its files are readable up
-                to the last flush, with ``recover``).
+                to the last flush, with ``recover``), or it exited with an
+                error, now or earlier (the reason it gave, or how it died).
         """
         self._signal(signal.SIGTERM)
         try:
@@ -188,13 +223,48 @@ class RecorderProcess(Closes):
                 "(armplan inspect --recover)",
                 path=str(self.options.output),
             ) from None
+        self._check_exit()
         return self.paths
+
+    def _check_exit(self) -> None:
+        """Raise if the recorder exited otherwise than with code 0.
+
+        Raises:
+            RecordingError: the exit code (or the signal that ended it), the
+                reason it printed, and where its log is.
+        """
+        code = self.process.returncode
+        if code == 0:
+            return
+        if code < 0:
+            how = f"was killed by {_signal_name(-code)}"
+        else:
+            how = f"failed (exit code {code})"
+        reason = self._reason()
+        said = f": {reason}" if reason else f"; {self.options.output} lacks its summary"
+        raise RecordingError(
+            f"the recorder of {self.options.output} {how}{said}; {self._see_log()}",
+            path=str(self.options.output),
+        )
+
+    def _reason(self) -> str:
+        """The last failure the recorder printed on stdout, or ``""``."""
+        while True:
+            try:
+                line = self._lines.get(timeout=1.0)  # its stdout closes as it ends
+            except queue.Empty:
+                return self._failure
+            if not line:  # end of its output
+                self._lines.put(line)  # for a second stop
+                return self._failure
+            if line.startswith(FAILED_PREFIX):
+                self._failure = line.removeprefix(FAILED_PREFIX)
 
     def kill(self) -> None:
         """SIGKILL (the files keep what was flushed) and reap it."""
         self._signal(signal.SIGKILL)
         with contextlib.suppress(subprocess.TimeoutExpired):
-            self.process.wait(STOP_TIMEOUT)
+            self.process.wait(REAP_TIMEOUT)
 
     def _signal(self, signum: int) -> None:
         if self.process.poll() is None:
@@ -204,6 +274,14 @@ class RecorderProcess(Closes):
     def close(self) -> None:
         """Stop the recorder (what leaving the ``with`` does)."""
         self.stop()
+
+
+def _signal_name(signum: int) -> str:
+    """``"SIGKILL"`` for 9, and so on (the number if it has no name)."""
+    try:
+        return signal.Signals(signum).name
+    except ValueError:
+        return f"signal {signum}"
 
 
 def _pump(stream: IO[str], lines: queue.Queue[str]) -> None:

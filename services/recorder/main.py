@@ -10,12 +10,14 @@ stdout (what ``services.recorder.control`` waits for). It
 exits 1 with the error on stderr if the configuration is wrong, no router
 answers, the file cannot be created (or exists, without ``--overwrite``),
 or the file system refuses a write (disk full): then at once, since what
-it receives could no longer be kept.
+it receives could no longer be kept. The error also goes to stdout as one
+line, ``failed: <error>``, for the program that started it.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
 import sys
 from collections.abc import Sequence
@@ -35,6 +37,8 @@ from shared.errors import ArmplanError, ServiceUnavailableError
 log = logging.getLogger("armplan.recorder")
 #: The line the recorder prints on stdout once it records.
 READY_PREFIX = "recording "
+#: The start of the line it prints on stdout when it exits with an error.
+FAILED_PREFIX = "failed: "
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -58,8 +62,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             log.info("%s: asked to stop before a router answered", NAME)
             return 0
         log.error("%s: %s", NAME, error.message)
+        _tell_parent(f"{FAILED_PREFIX}{error.message}")
         return 1
     return 0
+
+
+def _tell_parent(line: str) -> None:
+    """One line on stdout, for the program that started the recorder (if any)."""
+    with contextlib.suppress(OSError):  # nobody reads it any more
+        sys.stdout.write(line.replace("\n", " ") + "\n")
+        sys.stdout.flush()
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -5,7 +5,9 @@ recorder; plans the human-robot collaboration task through the planner
 service; plays it through the bridge; writes ``trajectory.json``,
 ``behavior.xar`` (Choregraphe), ``play.py`` (Python export), ``report.json``
 (tracking error per joint) and ``session.mcap`` into DIR; prints a summary
-and stops every process, also on Ctrl-C or SIGTERM. See ``armplan.demo``.
+and stops every process, also on Ctrl-C or SIGTERM. A recording that failed
+exits 1 with the recorder's reason, after the summary (the other files are
+written). See ``armplan.demo``.
 """
 
 from __future__ import annotations
@@ -87,6 +89,8 @@ def run(args: argparse.Namespace) -> int:
     result = run_demo(options, _say)
     for line in summary_lines(result):
         _say(line)
+    if result.recording_error is not None:  # every other file is whole
+        raise result.recording_error
     took = time.monotonic() - started
     _say(f"armplan demo: done in {took:.1f} s; every process stopped")
     return 0
