@@ -1,4 +1,4 @@
-"""Turn SIGTERM and SIGINT into a stop request, without a lock in the handler.
+"""Turn SIGTERM, SIGINT and SIGHUP into a stop request, without a lock in the handler.
 
 A Python signal handler runs in the main thread, between two bytecodes of
 whatever that thread was doing. A handler that calls ``threading.Event.set``
@@ -10,7 +10,13 @@ Ctrl-C (a fresh-clone CI run saw ``armplan up`` hang so on SIGINT).
 
 So the handler here only writes a byte to a pipe. One relay thread per
 process reads the pipe and sets the events; it takes the lock from another
-thread, which simply waits until the main thread lets go. Example::
+thread, which simply waits until the main thread lets go.
+
+SIGHUP is the terminal going away (a closed window, a dropped ssh
+session): left to its default it killed ``armplan record`` before the
+recording got its summary, so it stops a process as Ctrl-C does. A process
+started with SIGHUP ignored (``nohup armplan record ...``) keeps ignoring
+it: that is what it was asked to do. Example::
 
     stop = stop_on_signals()
     while not stop.wait(0.2):
@@ -27,8 +33,9 @@ import weakref
 from collections.abc import Iterable
 from types import FrameType
 
-#: The signals that ask an armplan process to stop.
-STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT)
+#: The signals that ask an armplan process to stop: SIGTERM, Ctrl-C, and
+#: SIGHUP (its terminal closed).
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP)
 
 
 class _Relay:
@@ -72,10 +79,11 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> threading.Event:
 
     Installs the handler for each signal (call it from the main thread, as
     :func:`signal.signal` requires). Every event made by this function is
-    set by any of the signals installed, from then on.
+    set by any of the signals installed, from then on. SIGHUP ignored at
+    start (``nohup``) stays ignored.
 
     Args:
-        signals: Signal numbers; default SIGTERM and SIGINT.
+        signals: Signal numbers; default SIGTERM, SIGINT and SIGHUP.
 
     Returns:
         The stop request.
@@ -84,5 +92,7 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> threading.Event:
     stop = threading.Event()
     relay.events.add(stop)
     for signum in signals:
+        if signum == signal.SIGHUP and signal.getsignal(signum) is signal.SIG_IGN:
+            continue  # nohup: the hangup is not meant to stop it
         signal.signal(signum, relay.handler)
     return stop

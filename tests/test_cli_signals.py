@@ -23,11 +23,14 @@ from armplan.cli.main import run_command
 from armplan.cli.termination import forget_signals, terminate_on_sigterm
 from shared.errors import InvalidInputError
 
+#: The signals the CLI's handlers take over.
+STOPS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
 
 @pytest.fixture
 def handlers() -> Iterator[None]:
     """The CLI's signal handlers, then pytest's again."""
-    held = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    held = {s: signal.getsignal(s) for s in STOPS}
     forget_signals()
     terminate_on_sigterm()
     try:
@@ -62,6 +65,7 @@ def _serializing(signum: signal.Signals) -> Any:
     [
         (signal.SIGTERM, 143, "armplan: terminated\n"),
         (signal.SIGINT, 130, "armplan: interrupted\n"),
+        (signal.SIGHUP, 129, "armplan: hung up\n"),
     ],
 )
 def test_a_signal_inside_a_serializer_is_reported_as_the_signal(
@@ -116,12 +120,15 @@ def test_without_a_signal_errors_are_reported_as_before(
 
 def test_a_signal_ignored_at_start_stays_ignored() -> None:
     """``armplan demo &`` in a script starts with SIGINT ignored: the
-    handlers used to take it over, and the script's Ctrl-C ended the demo."""
-    held = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    handlers used to take it over, and the script's Ctrl-C ended the demo;
+    ``nohup armplan demo`` starts with SIGHUP ignored."""
+    held = {s: signal.getsignal(s) for s in STOPS}
     try:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
         terminate_on_sigterm()
         assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+        assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
         assert signal.getsignal(signal.SIGTERM) not in (signal.SIG_IGN, signal.SIG_DFL)
     finally:
         for signum, handler in held.items():

@@ -64,8 +64,10 @@ def test_a_dropped_stop_request_is_forgotten(own_signal: int) -> None:
     assert kept in relay.events and len(relay.events) < 10
 
 
-def test_a_waiting_process_stops_on_sigterm() -> None:
-    """A real process waiting in the bus processes' loop exits on SIGTERM."""
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP])
+def test_a_waiting_process_stops_on_sigterm_and_sighup(signum: int) -> None:
+    """A real process waiting in the bus processes' loop exits 0 on SIGTERM,
+    and on SIGHUP (its terminal closed), which killed it before."""
     script = textwrap.dedent(
         """
         from shared.bus.process import wait_for
@@ -81,6 +83,29 @@ def test_a_waiting_process_stops_on_sigterm() -> None:
     ) as child:
         assert child.stdout is not None
         assert child.stdout.readline().strip() == "waiting"
-        child.send_signal(signal.SIGTERM)
+        child.send_signal(signum)
         assert child.wait(10.0) == 0
         assert child.stdout.read().strip() == "stopped"
+
+
+def test_a_hangup_ignored_at_start_stays_ignored() -> None:
+    """``nohup``: SIGHUP ignored at start is not taken over; SIGTERM still
+    stops the process."""
+    script = textwrap.dedent(
+        """
+        import signal
+        from shared.stop_signals import stop_on_signals
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)  # as nohup starts it
+        stop = stop_on_signals()
+        print(signal.getsignal(signal.SIGHUP) is signal.SIG_IGN, flush=True)
+        signal.raise_signal(signal.SIGHUP)
+        print(stop.wait(0.5), flush=True)
+        signal.raise_signal(signal.SIGTERM)
+        print(stop.wait(10.0), flush=True)
+        """
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True", "False", "True"]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import pkgutil
@@ -16,9 +17,10 @@ from armplan.cli import commands as commands_package
 from armplan.cli.output import report_error
 from armplan.cli.parsing import ArgumentParser
 from armplan.cli.termination import (
+    HUNG_UP_CODE,
     INTERRUPTED_CODE,
     TERMINATED_CODE,
-    Terminated,
+    signal_of,
     stopped_by,
 )
 from shared.errors import ArmplanError
@@ -52,8 +54,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; returns the exit code.
 
-    0 ok, 1 armplan error, 2 usage, 130 Ctrl-C, 143 SIGTERM (where the
-    command stops on it as on Ctrl-C).
+    0 ok, 1 armplan error, 2 usage, 130 Ctrl-C, 143 SIGTERM, 129 SIGHUP
+    (where the command stops on them as on Ctrl-C; the commands that record
+    or serve until stopped exit 0 on each).
     """
     args = build_parser().parse_args(argv)
     return run_command(args.run, args)
@@ -70,9 +73,8 @@ def run_command(
     """
     try:
         code = int(run(args))
-    except KeyboardInterrupt as stop:  # Terminated: SIGTERM (demo)
-        kind = signal.SIGTERM if isinstance(stop, Terminated) else signal.SIGINT
-        return _stopped(stopped_by() or kind)
+    except KeyboardInterrupt as stop:  # Terminated, HungUp: SIGTERM, SIGHUP (demo)
+        return _stopped(stopped_by() or signal_of(stop))
     except ArmplanError as error:
         if (signum := stopped_by()) is not None:
             return _stopped(signum)
@@ -89,13 +91,25 @@ def run_command(
     return code if signum is None else _stopped(signum)
 
 
+#: What each stop signal is called, and its exit code.
+_STOPPED = {
+    signal.SIGTERM: ("terminated", TERMINATED_CODE),
+    signal.SIGHUP: ("hung up", HUNG_UP_CODE),
+    signal.SIGINT: ("interrupted", INTERRUPTED_CODE),
+}
+
+
 def _stopped(signum: signal.Signals) -> int:
-    """Say which signal stopped the command; its exit code (143 or 130)."""
-    if signum == signal.SIGTERM:
-        sys.stderr.write("armplan: terminated\n")
-        return TERMINATED_CODE
-    sys.stderr.write("armplan: interrupted\n")
-    return INTERRUPTED_CODE
+    """Say which signal stopped the command; its exit code (143, 129 or 130).
+
+    After a hangup the terminal may be gone (a write fails with EIO): the
+    exit code still says it.
+    """
+    said, code = _STOPPED.get(signum, _STOPPED[signal.SIGINT])
+    with contextlib.suppress(OSError):
+        sys.stderr.write(f"armplan: {said}\n")
+        sys.stderr.flush()
+    return code
 
 
 if __name__ == "__main__":

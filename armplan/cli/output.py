@@ -4,11 +4,29 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from collections.abc import Sequence
 from typing import Any
 
 from shared.errors import ArmplanError
+
+
+def say(line: str) -> None:
+    """Print one progress line; once nobody reads stdout, print no more.
+
+    Nobody reads it once its reader has gone (``| head -1``: a broken pipe)
+    or its terminal has closed (a write fails with EIO after the hangup).
+    The command goes on: it still stops its processes and closes its files
+    (a failed write used to end it there, with a traceback and exit code 1).
+    """
+    try:
+        sys.stdout.write(line + "\n")
+        sys.stdout.flush()
+    except OSError:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # the rest (and exit's flush) lost
+        os.close(devnull)
 
 
 def print_json(data: Any) -> None:

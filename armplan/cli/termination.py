@@ -1,10 +1,13 @@
-"""SIGTERM stops a command as Ctrl-C does, and is reported as itself.
+"""SIGTERM and SIGHUP stop a command as Ctrl-C does, and are reported as themselves.
 
 ``armplan demo`` shuts down every process it started on Ctrl-C
 (``KeyboardInterrupt``); SIGTERM (``timeout``, systemd, ``docker stop``)
 must do the same clean-up, so it raises :class:`Terminated`, a kind of
 ``KeyboardInterrupt``. The command then exits 143 ("terminated"), the code
-a shell gives a process ended by SIGTERM, not Ctrl-C's 130.
+a shell gives a process ended by SIGTERM, not Ctrl-C's 130. SIGHUP (the
+terminal closed, an ssh session dropped) raises :class:`HungUp`, and the
+command exits 129 ("hung up"); its default would have killed the demo
+with every process it started still running until they noticed.
 
 A signal's exception is raised in whatever code runs when it lands, and
 some code turns it into another error: pydantic-core, for one, reports a
@@ -22,6 +25,7 @@ from types import FrameType
 #: Exit codes: 128 + the signal's number.
 INTERRUPTED_CODE = 128 + signal.SIGINT
 TERMINATED_CODE = 128 + signal.SIGTERM
+HUNG_UP_CODE = 128 + signal.SIGHUP
 
 _received: list[signal.Signals] = []
 
@@ -30,25 +34,42 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM arrived: unwind as for Ctrl-C, then exit 143."""
 
 
-def terminate_on_sigterm() -> None:
-    """From now on SIGTERM raises :class:`Terminated` in the main thread.
+class HungUp(KeyboardInterrupt):
+    """SIGHUP arrived (the terminal closed): unwind as for Ctrl-C, then exit 129."""
 
-    Ctrl-C still raises ``KeyboardInterrupt``; both signals are remembered.
-    A signal the process was started with ignored stays ignored (``cmd &``
-    in a script: the script's Ctrl-C is not meant for it).
+
+#: What each signal raises in the main thread.
+_RAISES: dict[signal.Signals, type[KeyboardInterrupt]] = {
+    signal.SIGTERM: Terminated,
+    signal.SIGINT: KeyboardInterrupt,
+    signal.SIGHUP: HungUp,
+}
+
+
+def terminate_on_sigterm() -> None:
+    """From now on SIGTERM raises :class:`Terminated`, SIGHUP :class:`HungUp`.
+
+    Both in the main thread. Ctrl-C still raises ``KeyboardInterrupt``;
+    every signal is remembered. A signal the process was started with
+    ignored stays ignored (``cmd &`` in a script: the script's Ctrl-C is
+    not meant for it; ``nohup``: nor is the hangup).
     """
 
-    def terminate(signum: int, frame: FrameType | None) -> None:
-        _received.append(signal.SIGTERM)
-        raise Terminated
+    def stop(signum: int, frame: FrameType | None) -> None:
+        received = signal.Signals(signum)
+        _received.append(received)
+        raise _RAISES[received]
 
-    def interrupt(signum: int, frame: FrameType | None) -> None:
-        _received.append(signal.SIGINT)
-        raise KeyboardInterrupt
-
-    for signum, handler in ((signal.SIGTERM, terminate), (signal.SIGINT, interrupt)):
+    for signum in _RAISES:
         if signal.getsignal(signum) is not signal.SIG_IGN:  # kept, as inherited
-            signal.signal(signum, handler)
+            signal.signal(signum, stop)
+
+
+def signal_of(stop: KeyboardInterrupt) -> signal.Signals:
+    """The signal a ``KeyboardInterrupt`` (or its kinds here) stands for."""
+    if isinstance(stop, Terminated):
+        return signal.SIGTERM
+    return signal.SIGHUP if isinstance(stop, HungUp) else signal.SIGINT
 
 
 def stopped_by() -> signal.Signals | None:

@@ -20,7 +20,7 @@ import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
-from signal import SIGINT, SIGTERM
+from signal import SIGHUP, SIGINT, SIGTERM
 from types import TracebackType
 from typing import IO
 
@@ -225,11 +225,11 @@ def _naming_log(path: Path) -> Iterator[None]:
 
 @contextlib.contextmanager
 def _signals_held() -> Iterator[None]:
-    """Ignore SIGINT and SIGTERM inside (main thread only; restored after)."""
+    """Ignore SIGINT, SIGTERM and SIGHUP inside (main thread only; restored after)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    held = {s: signal.signal(s, signal.SIG_IGN) for s in (SIGINT, SIGTERM)}
+    held = {s: signal.signal(s, signal.SIG_IGN) for s in (SIGINT, SIGTERM, SIGHUP)}
     try:
         yield
     finally:

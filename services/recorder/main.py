@@ -3,8 +3,8 @@
 Usage: ``python -m services.recorder [-o FILE.mcap] [--keys KEY ...]
 [--rotate-size SIZE] [--rotate-duration S] [--config FILE]
 [--connect ENDPOINT] [--namespace NS] [--wait S]``. It connects to the
-router, records until SIGTERM or SIGINT, then closes its file with its
-summary and exits 0 (at once, also while it still waits for the router).
+router, records until SIGTERM, SIGINT or SIGHUP, then closes its file with
+its summary and exits 0 (at once, also while it still waits for the router).
 Once recording it prints one line, ``recording <keys> to <file>``, on
 stdout (what ``services.recorder.control`` waits for). It
 exits 1 with the error on stderr if the configuration is wrong, no router

@@ -15,7 +15,7 @@ POLL = 0.2
 
 
 def start_process(level: str = "INFO") -> threading.Event:
-    """Log to stderr, stop on SIGTERM/SIGINT, die with the launcher.
+    """Log to stderr, stop on SIGTERM/SIGINT/SIGHUP, die with the launcher.
 
     Args:
         level: Logging level name, e.g. ``"INFO"``.

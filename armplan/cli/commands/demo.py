@@ -13,10 +13,10 @@ written). See ``armplan.demo``.
 from __future__ import annotations
 
 import argparse
-import os
-import sys
 import time
 from pathlib import Path
+
+from armplan.cli.output import say  # stdout gone (| head, closed terminal): quiet
 
 ORDER = 5
 HELP = "run the paper's handover task on the simulated NAO and write the results"
@@ -86,13 +86,13 @@ def run(args: argparse.Namespace) -> int:
         task=Path(args.task) if args.task else DEFAULT_TASK,
         allow_not_awake=args.allow_not_awake,
     )
-    result = run_demo(options, _say)
+    result = run_demo(options, say)
     for line in summary_lines(result):
-        _say(line)
+        say(line)
     if result.recording_error is not None:  # every other file is whole
         raise result.recording_error
     took = time.monotonic() - started
-    _say(f"armplan demo: done in {took:.1f} s; every process stopped")
+    say(f"armplan demo: done in {took:.1f} s; every process stopped")
     return 0
 
 
@@ -103,18 +103,3 @@ def _robot(url: str | None) -> str | None:
     from bridge.address import check_robot_url
 
     return check_robot_url(url)
-
-
-def _say(line: str) -> None:
-    """Print one line; once its reader has gone (``| head -1``), print no more.
-
-    The demo still finishes its work and writes its files: a closed pipe
-    used to stop every process and end the demo with exit code 0.
-    """
-    try:
-        sys.stdout.write(line + "\n")
-        sys.stdout.flush()
-    except BrokenPipeError:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())  # the rest (and exit's flush) lost
-        os.close(devnull)

@@ -1,7 +1,8 @@
 """``armplan record``: record Zenoh key expressions to MCAP until stopped.
 
 The recorder runs in this process (``services.recorder.Recorder``); Ctrl-C,
-SIGTERM or ``--duration`` stop it, and the file is closed with its summary.
+SIGTERM, SIGHUP (its terminal closed) or ``--duration`` stop it, and the
+file is closed with its summary (exit code 0).
 A write the file system refuses (disk full) stops it at once with the
 reason and exit code 1.
 See ``docs/recording.md`` for the channels and how to open them in Foxglove.
@@ -11,8 +12,8 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 
+from armplan.cli.output import say
 from services.recorder.arguments import (
     add_bus_arguments,
     add_recorder_arguments,
@@ -61,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
     stop = stop_on_signals()
     with Bus.connect(config) as bus, Recorder(bus, options) as recorder:
-        _say(
+        say(
             f"armplan record: recording {' '.join(recorder.keys)} to "
             f"{recorder.sink.paths[0]}; Ctrl-C stops"
         )
@@ -70,10 +71,5 @@ def run(args: argparse.Namespace) -> int:
     files = ", ".join(map(str, sink.paths))
     extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
     note = sink.behind_note()
-    _say(f"armplan record: {sink.written} messages{extra} in {files}{note}")
+    say(f"armplan record: {sink.written} messages{extra} in {files}{note}")
     return 0
-
-
-def _say(line: str) -> None:
-    sys.stdout.write(line + "\n")
-    sys.stdout.flush()

@@ -8,6 +8,7 @@ import sys
 import threading
 from pathlib import Path
 
+from armplan.cli.output import say
 from armplan.cli.unsecured import check_plain_listen, check_unsecured
 from armplan.launch import SERVICES, Launcher
 from armplan.launch.robot import SIM_LISTEN, RobotStack
@@ -89,7 +90,7 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Start everything, print where it listens, run until SIGTERM/SIGINT."""
+    """Start everything, print where it listens, run until SIGTERM/SIGINT/SIGHUP."""
     config = load_config(args.config)
     check_unsecured(config, "up")  # the file's own endpoints, before --listen
     if args.listen:
@@ -113,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     with launcher, robot_stack as robot:
         _print_started(launcher, config, robot)
         _watch(launcher, robot, stop)
-    _say("armplan up: stopped every process")
+    say("armplan up: stopped every process")
     return 0
 
 
@@ -164,7 +165,7 @@ def _print_started(
     launcher: Launcher, config: BusConfig, robot: RobotStack | None
 ) -> None:
     assert launcher.router is not None
-    _say(
+    say(
         f"router   pid {launcher.router.pid:<7d} listening on "
         f"{', '.join(config.endpoints)} (namespace {config.namespace}, "
         f"config {config.source})"
@@ -172,20 +173,20 @@ def _print_started(
     for spec in launcher.specs:
         keys = ", ".join(r.key(config.namespace) for r in spec.routes)
         pid = launcher.services[spec.name].pid
-        _say(f"{spec.name:<8} pid {pid:<7d} {keys}")
+        say(f"{spec.name:<8} pid {pid:<7d} {keys}")
     if robot is not None:
         _print_robot(robot, config)
     with Bus.connect(config) as bus:
         alive = ", ".join(bus.alive())
-    _say(f"armplan up: ready, alive: {alive}; Ctrl-C or SIGTERM stops them all")
+    say(f"armplan up: ready, alive: {alive}; Ctrl-C or SIGTERM stops them all")
 
 
 def _print_robot(robot: RobotStack, config: BusConfig) -> None:
     pids = robot.processes()
     if "sim" in pids:
-        _say(f"{'sim':<8} pid {pids['sim']:<7d} ALMotion over NAOqi at {robot.url}")
+        say(f"{'sim':<8} pid {pids['sim']:<7d} ALMotion over NAOqi at {robot.url}")
     key = EXECUTE.key(config.namespace)
-    _say(f"{'bridge':<8} pid {pids['bridge']:<7d} {key} -> robot {robot.url}")
+    say(f"{'bridge':<8} pid {pids['bridge']:<7d} {key} -> robot {robot.url}")
 
 
 def _watch(launcher: Launcher, robot: RobotStack | None, stop: threading.Event) -> None:
@@ -206,8 +207,3 @@ def _exited(launcher: Launcher, robot: RobotStack | None) -> list[tuple[str, int
     return gone + [
         (name, pid, f" with code {code}") for name, pid, code in robot.exited()
     ]
-
-
-def _say(line: str) -> None:
-    sys.stdout.write(line + "\n")
-    sys.stdout.flush()
