@@ -7,9 +7,11 @@
   :mod:`bridge.key_tangents`, the curve they play: :mod:`bridge.bezier_curve`;
   its box to the start: :mod:`bridge.start_box`), a Choregraphe-style Python
   script, and an ALMotion ``angleInterpolation`` call.
-- :mod:`bridge.checks`, :mod:`bridge.fidelity`: every frame against the
-  joints' limits, and the lines between frames against the trajectory,
-  before anything is sent (both: :mod:`bridge.checked_frames`).
+- :mod:`bridge.velocity_agreement`, :mod:`bridge.checks`,
+  :mod:`bridge.fidelity`: the trajectory's velocities against its positions,
+  every frame against the joints' limits, and the lines between frames
+  against the trajectory, before anything is sent (all:
+  :mod:`bridge.checked_frames`).
 - :mod:`bridge.naoqi_client`, :mod:`bridge.playback`,
   :mod:`bridge.robot_bridge`, :mod:`bridge.tracking`: sending to a NAO,
   reading back, and the tracking report; :mod:`bridge.stopper`: stopping

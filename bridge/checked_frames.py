@@ -14,6 +14,7 @@ from bridge.frames import frame_velocities, frames_from_trajectory
 from bridge.hand import hand_inside, with_hand
 from bridge.limits import FrameLimits
 from bridge.timeline_keys import KEY_INSET, played_frames, timeline_keys
+from bridge.velocity_agreement import check_velocities
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.messages import CommandFrames, Trajectory
 
@@ -31,7 +32,10 @@ def checked_frames(
 ) -> CommandFrames:
     """``trajectory`` as frames at ``rate`` [Hz], checked; nothing is sent.
 
-    The trajectory's own samples must lie in the joints' ranges; the curve
+    The trajectory's own samples must lie in the joints' ranges, and its
+    velocities agree with its positions (the curve through both within a
+    degree, or a fast joint's chord gap at 25 fps, of the positions' own:
+    :mod:`bridge.velocity_agreement`); the curve
     between them is held in the ranges (a cubic through samples seconds
     apart overshoots a limit the planned path only touches), by
     ``bridge.timeline_keys.KEY_INSET`` (a written angle's last digit or the
@@ -62,10 +66,13 @@ def checked_frames(
             joints other than the limits', or (``behavior``) a rate that is
             no whole number.
         TrajectoryRefusedError: naming the first frame that breaks a limit,
-            or the joint that strays furthest between frames.
+            the joint that strays furthest between frames, or the sample
+            whose velocity disagrees most with the positions.
     """
+    given, arm = trajectory, limits
     trajectory, limits = with_hand(trajectory, limits)
     check_sample_range(trajectory, limits)
+    check_velocities(given, arm)
     make = partial(_frames_at, trajectory, limits=limits, behavior=behavior)
     try:
         frames = _frames_at(trajectory, rate, limits)

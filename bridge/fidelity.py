@@ -88,18 +88,23 @@ def check_follows(
         frame=frame,
         time=time,
         detail=(
-            f"would pass {_shown(name, gap, '.1f')} from the trajectory at "
+            f"would pass {gap_shown(name, gap, '.1f')} from the trajectory at "
             f"t = {time:.3f} s between frames at {frames.rate:g} Hz (at most "
-            f"{_shown(name, limit[joint], '.3g')})"
+            f"{gap_shown(name, limit[joint], '.3g')})"
         ),
     )
 
 
-def _shown(name: str, gap: float, form: str) -> str:
-    """A gap of actuator ``name``: degrees for a joint, open fraction for a hand."""
+def gap_shown(name: str, gap: float, form: str) -> str:
+    """A gap of actuator ``name``: degrees for a joint, open fraction for a hand.
+
+    ``form`` formats the degrees; a gap of a million or more is shown in
+    exponent form (a velocity of 1e300 makes one of 1e300 degrees).
+    """
     if is_hand(name):
-        return f"{gap:.3f} (open fraction)"
-    return f"{math.degrees(gap):{form}} deg"
+        return f"{gap:{'.3f' if abs(gap) < 1e6 else '.3g'}} (open fraction)"
+    degrees = math.degrees(gap)
+    return f"{degrees:{form if abs(degrees) < 1e6 else '.3g'}} deg"
 
 
 def largest_gap(

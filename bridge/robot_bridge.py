@@ -183,10 +183,11 @@ class RobotBridge:
         """Checked command frames of ``trajectory`` (its hand too); nothing is sent.
 
         Raises:
-            TrajectoryRefusedError: naming the first frame over a limit, or
-                the joint whose frames stray furthest from the trajectory.
+            TrajectoryRefusedError: naming the first frame over a limit,
+                the joint whose frames stray furthest from the trajectory, or
+                the sample whose velocity disagrees with the positions.
         """
-        trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
+        limits = self.limits(trajectory.arm)
         return checked_frames(trajectory, rate or self.rate, limits)
 
     def handle(
@@ -248,7 +249,8 @@ class RobotBridge:
                 here.
 
         Raises:
-            TrajectoryRefusedError: a frame breaks a limit (nothing sent).
+            TrajectoryRefusedError: a frame breaks a limit, or the velocities
+                disagree with the positions (nothing sent).
             CallerDeadlineError: the movement would end after ``until``:
                 nothing sent, or (found after the approach) nothing of the
                 trajectory.
@@ -271,9 +273,9 @@ class RobotBridge:
             RobotLimitsError: the robot allows a joint less range or speed
                 than the bridge's limits (nothing sent).
         """
+        if frames is None:  # from the trajectory as given: its hand speeds if any
+            frames = self.frames(trajectory, rate)
         trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
-        if frames is None:
-            frames = checked_frames(trajectory, rate or self.rate, limits)
         names = list(frames.joint_names)
         url, duration = self.client.url, frames.duration
         keys = len(frames.times) * len(frames.joint_names)

@@ -681,12 +681,16 @@ class TrajectoryRefusedError(ArmplanError):
         joint: NAO joint name, e.g. ``RShoulderPitch``.
         quantity: ``"position"``, ``"velocity"``, ``"acceleration"``,
             ``"jerk"``, ``"start"`` (the arm is away from the start and
-            the approach move is off) or ``"frame_rate"`` (the lines between
-            frames stray from the trajectory; value and limit are that gap).
+            the approach move is off), ``"frame_rate"`` (the lines between
+            frames stray from the trajectory; value and limit are that gap)
+            or ``"velocities"`` (they disagree with the positions: the curve
+            through them strays from the positions'; value and limit are
+            that gap, ``frame`` the trajectory's sample).
         value: The offending value [rad, rad/s, rad/s^2 or rad/s^3].
         limit: The limit it breaks, same unit (the bound crossed, for a position).
-        frame: Index of the command frame (1 is the first key; 0 is the start).
-        time: Time of that frame from the trajectory's start [s].
+        frame: Index of the command frame (1 is the first key; 0 is the start),
+            or of the trajectory's sample for a sample's position or velocity.
+        time: Time of that frame (or sample) from the trajectory's start [s].
         detail: What is wrong, after the joint's name.
     """
 

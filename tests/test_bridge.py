@@ -26,7 +26,15 @@ import pytest
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
-from shared.messages import ExecuteReply, ExecuteRequest, Trajectory
+from bridge.velocity_agreement import positions_slopes
+from services.planner.pipeline import plan
+from shared.messages import (
+    ExecuteReply,
+    ExecuteRequest,
+    PlanRequest,
+    Trajectory,
+    parse,
+)
 from shared.robot import load_arm
 from shared.robot.postures import rest
 
@@ -45,9 +53,15 @@ def realistic(rng: np.random.Generator, side: str = "right") -> Trajectory:
 def with_sample(
     trajectory: Trajectory, index: int, joint: int, offset: float
 ) -> Trajectory:
+    """``trajectory`` with one sample moved by ``offset`` [rad], its velocities
+    those of the moved positions (their own curve's slopes), so that the jump
+    is one the trajectory asks for, not velocities that disagree with it."""
     positions = np.asarray(trajectory.positions)
     positions[index, joint] += offset
-    return trajectory.model_copy(update={"positions": positions.tolist()})
+    slopes = positions_slopes(np.asarray(trajectory.times), positions)
+    return trajectory.model_copy(
+        update={"positions": positions.tolist(), "velocities": slopes.tolist()}
+    )
 
 
 class BridgeProcess:
@@ -137,6 +151,30 @@ def test_frames_too_sparse_for_the_movement_never_reach_the_robot(
     assert error["kind"] == "trajectory_refused"
     assert error["evidence"]["quantity"] == "frame_rate"
     assert "between frames at 2 Hz (at most 1 deg): at " in error["message"]
+    time.sleep(0.1)
+    assert commands_logged(sim) == []
+
+
+def test_velocities_that_disagree_with_the_positions_never_reach_the_robot(
+    sim: SimProcess, bridge: BridgeProcess
+) -> None:
+    """A planned reach slowed 20 times by its times alone (the velocities
+    left): its frames keep every limit and follow the curve through the
+    velocities, which strays 2.7 degrees from the positions. The bridge
+    played it; now it is refused naming the joint and the sample, and the
+    simulated NAO's log shows no command."""
+    request = parse(PlanRequest, {"targets": [{"position": [0.15, -0.1, 0.05]}]})
+    reach = plan(request).trajectory
+    slowed = reach.model_copy(update={"times": [20.0 * t for t in reach.times]})
+    error = bridge.execute(ExecuteRequest(trajectory=slowed))["error"]
+    assert error["kind"] == "trajectory_refused"
+    assert error["evidence"]["quantity"] == "velocities"
+    assert error["evidence"]["joint"] == "RShoulderPitch"
+    assert error["evidence"]["frame"] == 37
+    assert error["message"].startswith(
+        "trajectory refused, nothing was sent: RShoulderPitch velocity -2.607 "
+        "rad/s at sample 37 (t = 7.400 s) disagrees with the positions"
+    )
     time.sleep(0.1)
     assert commands_logged(sim) == []
 

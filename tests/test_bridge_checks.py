@@ -329,13 +329,16 @@ def sparse_near_a_limit(speed: float = 0.05) -> Trajectory:
     """Three samples 1 s apart, RShoulderRoll coming within 1 mrad of its lower
     limit at t = 1 s still moving down at ``speed`` [rad/s] (the planned path
     turns back between samples): the cubic through them dips below the limit
-    (0.1 degree at 0.05 rad/s, 1.1 at 0.2)."""
+    (0.1 degree at 0.05 rad/s, 1.1 at 0.2). The first sample is ``4 speed /
+    3`` [rad] higher than the last, so that ``speed`` is the slope of the
+    positions' own curve there (the clamped spline,
+    ``bridge.velocity_agreement``): the velocities agree with the positions."""
     limits = load_arm("right").limits
     base = minimum_jerk_trajectory("right", [rest("right")] * 3, [1.0, 1.0])
     keep = [0, len(base.times) // 2, len(base.times) - 1]
     q = np.array([base.positions[k] for k in keep])
     v = np.zeros_like(q)
-    q[:, 1] = limits.lower[1] + np.array([0.05, 0.001, 0.05])
+    q[:, 1] = limits.lower[1] + np.array([0.05 + 4.0 * speed / 3.0, 0.001, 0.05])
     v[1, 1] = -speed
     return base.model_copy(
         update={

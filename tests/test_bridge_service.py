@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 import pytest
 import zenoh
+from test_bridge import with_sample
 
 from armplan.launch import Launcher, free_endpoint
 from armplan.launch.robot import RobotStack
@@ -66,10 +67,10 @@ def reach(seconds: float = 1.0) -> Trajectory:
 
 def over_speed(trajectory: Trajectory) -> Trajectory:
     """``trajectory`` with sample 48 of RElbowYaw bumped by 0.4 rad: frame 12
-    (t = 0.48 s) then needs about 10 rad/s, over the 8.27 rad/s limit."""
-    positions = np.asarray(trajectory.positions)
-    positions[48, 2] += 0.4
-    return trajectory.model_copy(update={"positions": positions.tolist()})
+    (t = 0.48 s) then needs about 10 rad/s, over the 8.27 rad/s limit. (The
+    velocities are the bumped positions' own, as a trajectory that asks for
+    the jump has: others would be refused as disagreeing with them.)"""
+    return with_sample(trajectory, 48, 2, 0.4)
 
 
 class Stack:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import re
 import subprocess
@@ -155,6 +157,49 @@ def test_cli_refuses_an_unsafe_trajectory(
         )
         == 1
     )
+
+
+@pytest.fixture(scope="module")
+def planned_json() -> str:
+    """``armplan plan --target 0.15 -0.1 0.05 --json``: a 100 Hz reach."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["plan", "--target", "0.15", "-0.1", "0.05", "--json"]) == 0
+    return out.getvalue()
+
+
+@pytest.mark.parametrize("fmt", ["python", "choregraphe"])
+@pytest.mark.parametrize(
+    ("factor", "gap"), [(20.0, "2.7"), (1000.0, "143.8")], ids=["slowed", "ms"]
+)
+def test_cli_refuses_times_scaled_without_the_velocities(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    planned_json: str,
+    fmt: str,
+    factor: float,
+    gap: str,
+) -> None:
+    """A planned reach, its times scaled with its velocities left (a plan
+    slowed 20 times by its times alone; times in milliseconds): every limit
+    and the frame rate passed, and both formats were written with keys 2.7
+    and 144 degrees off the slowed plan. Now exit 1, naming the joint, the
+    sample and the likely cause, and no file."""
+    data = json.loads(planned_json)
+    data["times"] = [factor * t for t in data["times"]]
+    source = tmp_path / "scaled.json"
+    source.write_text(json.dumps(data))
+    out = tmp_path / f"out.{fmt}"
+    assert main(["export", fmt, str(source), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(
+        "armplan: error: trajectory refused, nothing was written: RShoulderPitch "
+        f"velocity -2.607 rad/s at sample 37 (t = {0.37 * factor:.3f} s) "
+        "disagrees with the positions"
+    )
+    assert f"strays at least {gap} deg both from the positions' own" in err
+    assert "the times scaled without them?" in err
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("rate", ["0.5", "1e-300", "2000"])
