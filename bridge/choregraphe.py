@@ -263,7 +263,9 @@ def write_behavior(
 ) -> Path:
     """Write ``frames`` as a Choregraphe behavior file; returns its path.
 
-    ``velocities`` as :func:`behavior_xml` takes them.
+    ``velocities`` as :func:`behavior_xml` takes them. Whole or not at all
+    (``shared.output_paths.write_output_text``): a write that fails part-way
+    leaves an older file of that name as it was.
 
     Raises:
         InvalidInputError: naming the path and the reason it cannot be

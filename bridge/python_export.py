@@ -91,6 +91,9 @@ def python_script(frames: CommandFrames) -> str:
 def write_python(frames: CommandFrames, path: str | Path) -> Path:
     """Write the replay script of ``frames`` to ``path``; returns the path.
 
+    Whole or not at all (``shared.output_paths.write_output_text``): a write
+    that fails part-way leaves an older file of that name as it was.
+
     Raises:
         InvalidInputError: naming the path and the reason it cannot be written.
     """

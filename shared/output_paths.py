@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import shutil
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -109,15 +110,25 @@ def make_output_folder(out: str | Path, option: str = "--out") -> Path:
 
 
 def write_output_text(path: str | Path, text: str, field: str = "output") -> Path:
-    """Write ``text`` (UTF-8) to ``path``; returns the path.
+    """Write ``text`` (UTF-8) to ``path``, whole or not at all; returns the path.
+
+    Written to a partial file renamed over ``path`` when complete
+    (:func:`replaced_when_done`): a write that fails part-way (a full disk,
+    ``ulimit -f``) leaves an older file of that name as it was, not cut
+    short. A file replaced keeps its permissions, and a symbolic link its
+    target, which is the file replaced.
 
     Raises:
         InvalidInputError: naming the path and the OS's reason if it cannot be
             written.
     """
     path = Path(path)
+    target = Path(os.path.realpath(path))
     try:
-        path.write_text(text, encoding="utf-8")
+        with replaced_when_done(target) as partial:
+            partial.write_text(text, encoding="utf-8")
+            with contextlib.suppress(FileNotFoundError):
+                shutil.copymode(target, partial)
     except OSError as exc:
         raise InvalidInputError(
             f"cannot write {path}: {exc.strerror}", field=field

@@ -6,6 +6,8 @@ import contextlib
 import io
 import json
 import re
+import resource
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -30,7 +32,7 @@ from bridge.python_export import python_script, write_python
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from shared.messages import CommandFrames, Trajectory
-from shared.robot.postures import rest
+from shared.robot.postures import forward, rest
 
 
 def trajectory() -> Trajectory:
@@ -200,6 +202,45 @@ def test_cli_refuses_times_scaled_without_the_velocities(
     assert f"strays at least {gap} deg both from the positions' own" in err
     assert "the times scaled without them?" in err
     assert not out.exists()
+
+
+def _small_files() -> None:
+    """In the child: files of at most 20 kB (``ulimit -f 20``), the signal
+    ignored so that a longer write fails with EFBIG instead of killing it."""
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (20 * 1024, 20 * 1024))
+
+
+@pytest.mark.parametrize(("fmt", "suffix"), [("choregraphe", "xar"), ("python", "py")])
+def test_an_export_cut_short_leaves_the_older_file_whole(
+    tmp_path: Path, fmt: str, suffix: str
+) -> None:
+    """`armplan export` over a good older export, in a process allowed 20 kB
+    files (the new file is larger): exit 1 naming the file and the reason;
+    the older file is as it was, and no partial file is left. It was written
+    in place: a .xar of unclosed XML, the older one gone."""
+    there, back = forward("right"), rest("right")
+    swings = minimum_jerk_trajectory("right", [back, there] * 3, [2.0] * 5)
+    source = tmp_path / "long.json"
+    source.write_text(swings.to_json())
+    out = tmp_path / f"keep.{suffix}"
+    short = tmp_path / "short.json"
+    short.write_text(trajectory().to_json())
+    assert main(["export", fmt, str(short), "-o", str(out)]) == 0
+    older = out.read_bytes()
+    done = subprocess.run(
+        [sys.executable, "-m", "armplan", "export", fmt, str(source), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=_small_files,
+    )
+    assert done.returncode == 1
+    assert done.stderr == f"armplan: error: cannot write {out}: File too large\n"
+    assert out.read_bytes() == older
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        [out.name, source.name, short.name]
+    )
 
 
 @pytest.mark.parametrize("rate", ["0.5", "1e-300", "2000"])

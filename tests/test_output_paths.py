@@ -1,13 +1,18 @@
-"""Files written under partial names and renamed to theirs together, or not at all."""
+"""Files written under partial names and renamed to theirs, or not at all."""
 
 from __future__ import annotations
 
+import resource
+import signal
+import stat
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from shared.errors import InvalidInputError
-from shared.output_paths import replaced_together
+from shared.output_paths import replaced_together, write_output_text
 
 NAMES = ("result.json", "result.md", "result.png")
 
@@ -69,3 +74,54 @@ def test_a_failed_write_names_the_file_asked_for(older: list[Path]) -> None:
     assert caught.value.message == f"cannot write {older[1]}: Is a directory"
     partial_md.rmdir()
     assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES}
+
+
+def _small_files() -> None:
+    """In the child: files of at most 4 kB (``ulimit -f``), the signal ignored
+    so that a longer write fails with EFBIG instead of killing it."""
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+
+
+def test_a_text_cut_short_leaves_the_older_file_whole(tmp_path: Path) -> None:
+    """write_output_text of 10 kB in a process allowed 4 kB files: the error
+    names the file and the reason, the older file keeps its text, and no
+    partial file is left. It used to be written in place: the older file
+    was cut to the first 4 kB of the new text."""
+    path = tmp_path / "play.py"
+    path.write_text("older\n")
+    code = (
+        "import sys\n"
+        "from shared.output_paths import write_output_text\n"
+        "from shared.errors import InvalidInputError\n"
+        "try:\n"
+        "    write_output_text(sys.argv[1], 'x' * 10_000)\n"
+        "except InvalidInputError as error:\n"
+        "    print(error.message)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(path)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        preexec_fn=_small_files,
+        check=True,
+    )
+    assert done.stdout == f"cannot write {path}: File too large\n"
+    assert path.read_text() == "older\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["play.py"]
+
+
+def test_a_replaced_file_keeps_its_mode_and_its_link(tmp_path: Path) -> None:
+    """An executable play.py reached through a symbolic link: the new text
+    replaces the file the link names, which keeps its mode (0o750), and
+    the link stays a link."""
+    path = tmp_path / "play.py"
+    path.write_text("older")
+    path.chmod(0o750)
+    link = tmp_path / "latest.py"
+    link.symlink_to(path.name)
+    assert write_output_text(link, "newer") == link
+    assert link.is_symlink() and link.read_text() == "newer"
+    assert stat.S_IMODE(path.stat().st_mode) == 0o750
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["latest.py", "play.py"]

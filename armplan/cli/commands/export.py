@@ -50,7 +50,11 @@ def read_trajectory(path: str) -> Trajectory:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Check the frames against the limits, then write them."""
+    """Check the frames against the limits, then write them.
+
+    Whole or not at all: a write that fails part-way leaves an older file of
+    that name as it was (``shared.output_paths.write_output_text``).
+    """
     from bridge import (
         FrameLimits,
         checked_frames,
