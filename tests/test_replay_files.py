@@ -23,6 +23,7 @@ from shared.errors import RecordingError
 from shared.recording import MessageWriter, read_records
 from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.raw_payload import JSON_SCHEMA, JSON_SCHEMA_NAME, RawPayload
+from shared.recording.reader import MAGIC
 from shared.recording.rotation import RotationPolicy, part_path
 
 NS = "ns"
@@ -194,7 +195,8 @@ def test_every_truncation_replays_the_prefix_the_reader_reads(
 ) -> None:
     """Cut at every byte: without recover a RecordingError or everything, with
     it exactly the messages ``read_records`` reads (the quick pass and the
-    reader agree on where a file stops being whole)."""
+    reader agree on where a file stops being whole). Cut inside the magic,
+    nothing was recorded: both refuse it, recover or not."""
     whole = tmp_path / "whole.mcap"
     with MessageWriter(whole, chunked=chunked) as writer:
         writer.add_metadata(ARMPLAN_METADATA, {"namespace": NS})
@@ -203,7 +205,13 @@ def test_every_truncation_replays_the_prefix_the_reader_reads(
             writer.write_raw(channel, b'{"t": "%s"}' % topic.encode(), 10**18)
     data = whole.read_bytes()
     cut = tmp_path / "cut.mcap"
-    for size in range(1, len(data) + 1):
+    for size in range(1, len(MAGIC)):
+        cut.write_bytes(data[:size])
+        with pytest.raises(RecordingError, match="inside the MCAP magic"):
+            list(read_records(cut, recover=True))
+        with pytest.raises(RecordingError, match="inside the MCAP magic"):
+            replay_items(cut, recover=True)
+    for size in range(len(MAGIC), len(data) + 1):
         cut.write_bytes(data[:size])
         expected = [
             r.raw
