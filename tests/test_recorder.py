@@ -15,15 +15,16 @@ import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
 import zenoh
+from frame_chain import chain_poses
 from mcap.reader import make_reader
 
 from armplan.launch import free_endpoint
 from services.recorder import RecorderOptions, RecorderProcess
+from services.recorder.control import recorder_command
 from services.recorder.replay import replay_items
 from services.recorder.service import Recorder
 from shared.bus import Bus, BusConfig, open_router
@@ -237,7 +238,27 @@ def test_channels_validate_and_foxglove_channels_are_derived(
     planned = [r for r in records if r.topic == PLANNED_TF_TOPIC]
     for r, row in zip(planned, trajectory().positions, strict=True):
         hand = arm.fk(np.array(row)).hand
-        assert np.abs(chained(r.data, "r_gripper") - hand).max() < 1e-9
+        assert np.abs(chain_poses(r.data)["r_gripper"][1] - hand).max() < 1e-9
+
+
+def test_a_recorder_process_names_the_frames_with_the_prefixes_it_is_given(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """The frame prefixes of RecorderOptions reach the recorder's process (its
+    command line dropped them: the defaults were used whatever was asked)."""
+    out = tmp_path / "session.mcap"
+    options = RecorderOptions(
+        planned_prefix="p/", executed_prefix="e/", commanded_prefix="c/"
+    )
+    with RecorderProcess.start(config, out, keys=topic_paths(), options=options):
+        publish_all(config, [(k, m.to_json().encode()) for k, m in session_messages()])
+    children = {
+        r.topic: {t["child_frame_id"] for t in r.data["transforms"]}
+        for r in read_records(out, topics=[PLANNED_TF_TOPIC, EXECUTED_TF_TOPIC])
+    }
+    assert "p/r_gripper" in children[PLANNED_TF_TOPIC]
+    assert "e/r_gripper" in children[EXECUTED_TF_TOPIC]
+    assert "--commanded-prefix=c/" in recorder_command(config, options)
 
 
 #: JSON objects a json channel may not hold (its readers take UTF-8 only),
@@ -265,25 +286,6 @@ def test_only_utf8_json_goes_to_json_channels(
     assert [r.schema for r in records] == ["RawPayload"] * 5 + ["json"]
     assert [check_record(r) for r in records] == [None] * 6
     assert recorded(out) == NOT_UTF8_JSON
-
-
-def chained(message: dict[str, Any], frame: str) -> np.ndarray:
-    """Position of ``frame`` in the torso frame from a FrameTransforms message."""
-    poses = {"torso": (np.eye(3), np.zeros(3))}
-    for t in message["transforms"]:
-        r0, p0 = poses[t["parent_frame_id"]]
-        q = t["rotation"]
-        x, y, z, w = q["x"], q["y"], q["z"], q["w"]
-        r = np.array(
-            [
-                [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-            ]
-        )
-        p = np.array([t["translation"][k] for k in "xyz"])
-        poses[t["child_frame_id"]] = (r0 @ r, p0 + r0 @ p)
-    return poses[frame][1]
 
 
 def test_log_time_is_the_zenoh_timestamp_and_publish_time_the_receipt(

@@ -80,6 +80,19 @@ def add_recorder_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="do not write the derived Foxglove channels (/tf/..., /decision, ...)",
     )
+    defaults = RecorderOptions()
+    for arm, default in (
+        ("planned", defaults.planned_prefix),
+        ("executed", defaults.executed_prefix),
+        ("commanded", defaults.commanded_prefix),
+    ):
+        parser.add_argument(
+            f"--{arm}-prefix",
+            default=default,
+            metavar="TEXT",
+            help=f"frame name prefix of the {arm} arm in /tf/{arm} "
+            f"(default {default!r}{', which moves the URDF' if not default else ''})",
+        )
 
 
 def options_from_args(args: argparse.Namespace) -> RecorderOptions:
@@ -101,6 +114,9 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         rotation=rotation,
         flush_every=args.flush_every,
         foxglove=not args.no_foxglove,
+        planned_prefix=args.planned_prefix,
+        executed_prefix=args.executed_prefix,
+        commanded_prefix=args.commanded_prefix,
         overwrite=args.overwrite,
     )
 

@@ -33,6 +33,7 @@ import subprocess
 import sys
 import threading
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import IO
 
@@ -73,6 +74,11 @@ def recorder_command(config: BusConfig, options: RecorderOptions) -> list[str]:
         command += ["--rotate-duration", str(options.rotation.max_seconds)]
     if not options.foxglove:
         command.append("--no-foxglove")
+    command += [
+        f"--planned-prefix={options.planned_prefix}",
+        f"--executed-prefix={options.executed_prefix}",
+        f"--commanded-prefix={options.commanded_prefix}",
+    ]
     if options.overwrite:
         command.append("--overwrite")
     return command
@@ -127,15 +133,10 @@ class RecorderProcess(Closes):
             killed first.
         """
         base = options or RecorderOptions()
-        options = RecorderOptions(
+        options = replace(
+            base,
             output=Path(output),
             keys=tuple(keys) if keys is not None else base.keys,
-            rotation=base.rotation,
-            flush_every=base.flush_every,
-            foxglove=base.foxglove,
-            planned_prefix=base.planned_prefix,
-            executed_prefix=base.executed_prefix,
-            overwrite=base.overwrite,
         )
         process = subprocess.Popen(
             recorder_command(config, options),
