@@ -134,8 +134,8 @@ def _no_key_matches(args: argparse.Namespace, items: Replay) -> None:
     )
 
 
-#: Exit code of a replay stopped by SIGINT or SIGTERM before its end (as a
-#: shell reports Ctrl-C), so that a script can tell it from a whole one.
+#: Exit code of a replay stopped by SIGINT, SIGTERM or SIGHUP before its end
+#: (as a shell reports Ctrl-C), so that a script can tell it from a whole one.
 INTERRUPTED = 130
 
 
