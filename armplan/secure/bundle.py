@@ -14,7 +14,14 @@ them where the processes find them, ``paths``, by default ``DIR`` itself,
                         router's endpoint, the CA, the user and its password
 ======================  ==================================================
 
-Keys, passwords and client files are readable by their owner only.
+Keys, passwords and client files are readable by their owner only, from
+the moment they are created.
+
+A run that fails changes nothing in ``DIR`` (a kept ``ca.key`` that does
+not match ``ca.pem``, openssl failing, Ctrl-C): every file is first written
+under a ``.partial`` name and renamed over the old one only once all of
+them are written (``shared.output_paths.replaced_together``), so a rerun to
+renew the router's certificate never leaves a router that cannot start.
 """
 
 from __future__ import annotations
@@ -31,20 +38,28 @@ from armplan.secure.acl import AccessControl
 from armplan.secure.certificates import (
     DAYS,
     MOST_DAYS,
+    Authority,
     authority_warning,
     dropped_hosts_warning,
-    ensure_authority,
     issue_router_certificate,
+    kept_authority,
+    make_authority,
     subject_alt_names,
     tighten_key,
 )
 from armplan.secure.errors import SecureSetupError
-from armplan.secure.passwords import ensure_passwords, read_passwords, write_private
+from armplan.secure.passwords import (
+    complete_passwords,
+    passwords_text,
+    read_passwords,
+)
+from armplan.secure.private_files import write_private
 from shared.bus.certificate_dates import LISTEN_CERTIFICATE
 from shared.bus.config import check_endpoint
 from shared.bus.config_file import REPO_CONFIG, load_config
 from shared.bus.keys import check_path
 from shared.errors import InvalidInputError
+from shared.output_paths import replaced_together
 
 #: The secured router's configuration in the repository.
 TEMPLATE = REPO_CONFIG.parent / "secure" / "router.json5"
@@ -58,6 +73,12 @@ DEFAULT_ENDPOINT = "tls/127.0.0.1:7447"
 ROUTER_USER = "router"
 #: The template's namespace: its access rules name ``armplan/...`` keys.
 TEMPLATE_NAMESPACE = "armplan"
+#: The authority's files, made only if the folder holds none.
+AUTHORITY_FILES = ("ca.key", "ca.pem")
+#: The router's key and certificate, made anew by every run.
+ROUTER_FILES = ("router.key", "router.pem")
+#: The router's configuration and the password file.
+ROUTER_CONFIG, PASSWORDS_FILE = "router.json5", "passwords.txt"
 
 
 @dataclass(frozen=True)
@@ -106,7 +127,9 @@ def write_bundle(
     Raises:
         SecureSetupError: a bad validity, endpoint, host or namespace (checked
             before anything is written), a folder that cannot be made, or
-            openssl failing.
+            openssl failing (nothing in ``directory`` is changed then).
+        InvalidInputError: a file of the bundle cannot be written or replaced
+            (nothing in ``directory`` is changed then).
     """
     _check_namespace(namespace)
     if not 1 <= days <= MOST_DAYS:
@@ -123,28 +146,81 @@ def write_bundle(
     make_folder(directory)
     where = paths or str(directory.resolve())
     check_same_kind(directory, where)
-    read_passwords(directory / "passwords.txt")  # a bad line fails before any file
-    authority = ensure_authority(directory, days)
-    warnings = [
-        authority_warning(authority, datetime.now(UTC)),
-        tighten_key(authority.key),
+    known = read_passwords(directory / "passwords.txt")  # a bad line: no file made
+    access = AccessControl.from_file(TEMPLATE)
+    passwords = complete_passwords(known, access.usernames())
+    kept = kept_authority(directory)
+    warnings = [] if kept is None else [authority_warning(kept, datetime.now(UTC))]
+    warnings += [
+        None if kept is None else tighten_key(kept.key),
         dropped_hosts_warning(directory / "router.pem", names),
     ]
-    issue_router_certificate(directory, authority, list(dict.fromkeys(names)), days)
-    access = AccessControl.from_file(TEMPLATE)
-    passwords = ensure_passwords(directory / "passwords.txt", access.usernames())
-    router_config = directory / "router.json5"
-    write_private(  # with --connect it holds the router's own password
-        router_config,
-        router_text(where, endpoint, connect, passwords[ROUTER_USER], namespace),
-    )
+    texts = bundle_texts(where, endpoint, connect, passwords, access, namespace)
+    write_files(directory, kept, list(dict.fromkeys(names)), texts, days)
     clients = {
-        user: write_client(directory, where, endpoint, user, password, namespace)
-        for user, password in passwords.items()
-        if user != ROUTER_USER and user in access.usernames()
+        user: directory / f"{user}.json5" for user in client_users(passwords, access)
     }
     said = tuple(w for w in warnings if w is not None)
-    return Bundle(directory, router_config, clients, authority.created, said)
+    router_config = directory / ROUTER_CONFIG
+    return Bundle(directory, router_config, clients, kept is None, said)
+
+
+def write_files(
+    directory: Path,
+    kept: Authority | None,
+    hosts: Sequence[str],
+    texts: dict[str, str],
+    days: int,
+) -> None:
+    """The certificates, keys and ``texts``, all or none (see the module docstring).
+
+    Args:
+        directory: The bundle's folder.
+        kept: The authority found there, else ``None`` for a new one.
+        hosts: What the router's certificate names.
+        texts: The text files by name, each written owner-only.
+        days: Validity of new certificates [days].
+
+    Raises:
+        SecureSetupError: openssl failed; it says nothing was changed.
+    """
+    made = [*(() if kept else AUTHORITY_FILES), *ROUTER_FILES, *texts]
+    try:
+        with replaced_together([directory / name for name in made]) as partials:
+            staged = dict(zip(made, partials, strict=True))
+            authority = kept or make_authority(staged["ca.pem"], staged["ca.key"], days)
+            certificate, key = staged["router.pem"], staged["router.key"]
+            issue_router_certificate(authority, hosts, certificate, key, days)
+            for name, text in texts.items():
+                write_private(staged[name], text)
+    except SecureSetupError as error:
+        raise SecureSetupError(
+            f"{error.message}; nothing in {directory} was changed", path=error.path
+        ) from None
+
+
+def client_users(passwords: dict[str, str], access: AccessControl) -> list[str]:
+    """The users that get a client file: every user of the rules but the router."""
+    users = access.usernames()
+    return [user for user in passwords if user != ROUTER_USER and user in users]
+
+
+def bundle_texts(
+    paths: str,
+    endpoint: str,
+    connect: Sequence[str],
+    passwords: dict[str, str],
+    access: AccessControl,
+    namespace: str = TEMPLATE_NAMESPACE,
+) -> dict[str, str]:
+    """Every text file of the bundle by name: passwords, router and clients."""
+    # with --connect the router's file holds the router's own password
+    router = router_text(paths, endpoint, connect, passwords[ROUTER_USER], namespace)
+    texts = {PASSWORDS_FILE: passwords_text(passwords), ROUTER_CONFIG: router}
+    for user in client_users(passwords, access):
+        client = client_text(paths, endpoint, user, passwords[user], namespace)
+        texts[f"{user}.json5"] = client
+    return texts
 
 
 def make_folder(directory: Path) -> Path:
@@ -285,17 +361,3 @@ def client_text(
         "// It holds a password: keep it readable by its owner only.\n"
     )
     return header + json.dumps(body, indent=2) + "\n"
-
-
-def write_client(
-    directory: Path,
-    paths: str,
-    endpoint: str,
-    user: str,
-    password: str,
-    namespace: str = TEMPLATE_NAMESPACE,
-) -> Path:
-    """Write ``directory/<user>.json5`` (owner-only); returns its path."""
-    path = directory / f"{user}.json5"
-    write_private(path, client_text(paths, endpoint, user, password, namespace))
-    return path

@@ -16,12 +16,14 @@ import os
 import re
 import shutil
 import subprocess
+import tempfile
 from collections.abc import Sequence
 from datetime import datetime, timedelta
 from pathlib import Path
 from typing import NamedTuple
 
 from armplan.secure.errors import SecureSetupError
+from armplan.secure.private_files import create_private
 from shared.bus.certificate_dates import NEAR_EXPIRY_DAYS, read_validity
 
 #: Validity of the certificates [days].
@@ -70,8 +72,8 @@ def subject_alt_names(hosts: Sequence[str]) -> str:
     return ",".join(names)
 
 
-def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
-    """``ca.pem`` and ``ca.key`` in ``directory``: kept if both exist, else made.
+def kept_authority(directory: Path) -> Authority | None:
+    """``ca.pem`` and ``ca.key`` in ``directory`` if both exist, else ``None``.
 
     Raises:
         SecureSetupError: if only one of the two exists (a copied bundle
@@ -82,6 +84,16 @@ def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
     if certificate.is_file() and key.is_file():
         return Authority(certificate, key, created=False)
     check_no_half_authority(certificate, key)
+    return None
+
+
+def make_authority(certificate: Path, key: Path, days: int = DAYS) -> Authority:
+    """A new authority, written to ``certificate`` and ``key`` (owner-only).
+
+    Raises:
+        SecureSetupError: if ``openssl`` fails.
+    """
+    create_private(key)  # openssl writes into it and keeps its mode
     openssl(
         [
             *("req", "-x509", *_KEY, "-keyout", str(key), "-out", str(certificate)),
@@ -90,7 +102,6 @@ def ensure_authority(directory: Path, days: int = DAYS) -> Authority:
             *("-addext", "keyUsage=critical,keyCertSign,cRLSign"),
         ]
     )
-    os.chmod(key, 0o600)
     return Authority(certificate, key, created=True)
 
 
@@ -148,7 +159,7 @@ def authority_warning(authority: Authority, now: datetime) -> str | None:
     """A warning if a kept authority has expired or expires soon, else ``None``.
 
     Args:
-        authority: The authority :func:`ensure_authority` returned.
+        authority: The authority :func:`kept_authority` returned.
         now: The current time (UTC).
 
     Raises:
@@ -215,43 +226,53 @@ def dropped_hosts_warning(certificate: Path, hosts: Sequence[str]) -> str | None
 
 
 def issue_router_certificate(
-    directory: Path, authority: Authority, hosts: Sequence[str], days: int = DAYS
-) -> tuple[Path, Path]:
-    """``router.pem`` and ``router.key``, signed by ``authority``, naming ``hosts``.
+    authority: Authority,
+    hosts: Sequence[str],
+    certificate: Path,
+    key: Path,
+    days: int = DAYS,
+) -> None:
+    """Write the router's certificate, signed by ``authority``, naming ``hosts``.
+
+    Args:
+        authority: The authority that signs it.
+        hosts: The names and addresses the certificate names.
+        certificate: The file to write the certificate to.
+        key: The file to write its new key to (made owner-only first).
+        days: Validity [days].
+
+    The signing request and the other scratch files of ``openssl`` go to a
+    temporary folder of their own, never beside ``certificate``.
 
     Raises:
         SecureSetupError: if a host is malformed or ``openssl`` fails.
     """
     if not hosts:
         raise SecureSetupError("the router's certificate needs at least one host")
-    certificate, key = directory / "router.pem", directory / "router.key"
-    request, extensions = directory / "router.csr", directory / "router.ext"
-    extensions.write_text(
-        f"subjectAltName={subject_alt_names(hosts)}\n"
-        "basicConstraints=critical,CA:FALSE\n"
-        "keyUsage=critical,digitalSignature,keyEncipherment\n"
-        "extendedKeyUsage=serverAuth,clientAuth\n"
-    )
-    try:
+    create_private(key)  # openssl writes into it and keeps its mode
+    with tempfile.TemporaryDirectory(prefix="armplan-certs-") as scratch:
+        request, extensions = Path(scratch, "router.csr"), Path(scratch, "router.ext")
+        extensions.write_text(
+            f"subjectAltName={subject_alt_names(hosts)}\n"
+            "basicConstraints=critical,CA:FALSE\n"
+            "keyUsage=critical,digitalSignature,keyEncipherment\n"
+            "extendedKeyUsage=serverAuth,clientAuth\n"
+        )
         openssl(
             [
                 *("req", *_KEY, "-keyout", str(key), "-out", str(request)),
                 *("-subj", f"/CN={ROUTER_COMMON_NAME}"),
             ]
         )
-        os.chmod(key, 0o600)
         openssl(
             [
                 *("x509", "-req", "-in", str(request)),
                 *("-CA", str(authority.certificate), "-CAkey", str(authority.key)),
-                *("-CAcreateserial", "-out", str(certificate), "-days", str(days)),
+                *("-CAserial", str(Path(scratch, "ca.srl")), "-CAcreateserial"),
+                *("-out", str(certificate), "-days", str(days)),
                 *("-extfile", str(extensions)),
             ]
         )
-    finally:
-        for scratch in (request, extensions, directory / "ca.srl"):
-            scratch.unlink(missing_ok=True)
-    return certificate, key
 
 
 def openssl(args: Sequence[str]) -> None:

@@ -9,7 +9,6 @@ copied to a second machine and completed there.
 
 from __future__ import annotations
 
-import os
 import re
 import secrets
 from collections.abc import Iterable
@@ -43,24 +42,20 @@ def read_passwords(path: Path) -> dict[str, str]:
     return passwords
 
 
-def ensure_passwords(path: Path, users: Iterable[str]) -> dict[str, str]:
-    """Every user of ``users`` in the file at ``path``, new ones with new passwords.
+def complete_passwords(known: dict[str, str], users: Iterable[str]) -> dict[str, str]:
+    """``known`` with a new random password for each user of ``users`` it lacks.
 
     Returns:
-        Every user's password, those already in the file included.
+        Every user's password, those already known first, unchanged.
     """
-    passwords = read_passwords(path)
+    passwords = dict(known)
     for user in users:
         if not _USER.match(user):
             raise SecureSetupError(f"user name {user!r} must match {_USER.pattern}")
         passwords.setdefault(user, secrets.token_urlsafe(PASSWORD_BYTES))
-    write_private(path, "".join(f"{u}:{p}\n" for u, p in passwords.items()))
     return passwords
 
 
-def write_private(path: Path, text: str) -> None:
-    """Write ``text`` to ``path``, readable and writable by its owner only."""
-    descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
-    with os.fdopen(descriptor, "w") as file:
-        file.write(text)
-    os.chmod(path, 0o600)
+def passwords_text(passwords: dict[str, str]) -> str:
+    """The dictionary file's text: one ``user:password`` line per user."""
+    return "".join(f"{user}:{password}\n" for user, password in passwords.items())
