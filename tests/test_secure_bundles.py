@@ -106,3 +106,21 @@ def test_the_image_refuses_uid_0_with_a_message(uid: str, code: int) -> None:
     if code:
         assert done.stderr.startswith("ARMPLAN_UID is 0 (id -u of a root shell)")
         assert "chown -R 1000" in done.stderr
+
+
+def test_a_relative_paths_is_written_absolute(
+    tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`--paths relative/dir` went into the configurations as it was, to be
+    looked up from each process's own folder; it is made absolute against
+    the folder `armplan certs` runs in, `..` folded."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["certs", "--out", "secure", "--paths", "elsewhere/../relative/dir"]
+    assert main(argv) == 0
+    files = tmp_path / "relative" / "dir"
+    client = (tmp_path / "secure" / "client.json5").read_text()
+    assert f'"{files / "ca.pem"}"' in client
+    router = (tmp_path / "secure" / "router.json5").read_text()
+    for name in ("ca.pem", "router.pem", "router.key", "passwords.txt"):
+        assert f'"{files / name}"' in router, name
+    assert "elsewhere" not in router + client

@@ -27,6 +27,7 @@ renew the router's certificate never leaves a router that cannot start.
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
@@ -118,7 +119,8 @@ def write_bundle(
         endpoint: The router's TLS endpoint, e.g. ``tls/192.0.2.10:7447``.
         hosts: Names and addresses of the router's machine for its
             certificate (the endpoint's host and the loopback names are added).
-        paths: Where the processes will find the files; default ``directory``.
+        paths: Where the processes will find the files; default ``directory``;
+            a relative path is made absolute against the current folder.
         connect: Other machines' routers this router connects to.
         days: Validity of new certificates [days], 1..``MOST_DAYS``.
         namespace: The key namespace of this deployment, e.g. ``"nao1"``: the
@@ -144,7 +146,7 @@ def write_bundle(
     names = [*hosts, endpoint_host(endpoint), "localhost", "127.0.0.1"]
     subject_alt_names(names)  # a malformed host fails here, before any file
     make_folder(directory)
-    where = paths or str(directory.resolve())
+    where = str(directory.resolve()) if paths is None else absolute(paths)
     check_same_kind(directory, where)
     known = read_passwords(directory / "passwords.txt")  # a bad line: no file made
     access = AccessControl.from_file(TEMPLATE)
@@ -232,6 +234,21 @@ def make_folder(directory: Path) -> Path:
             f"cannot make the folder {directory}: {exc.strerror}", path=str(directory)
         ) from None
     return directory
+
+
+def absolute(paths: str) -> str:
+    """``paths`` made absolute against the current folder (``..`` folded).
+
+    The configurations name their files by these paths, and the processes
+    that read them run in folders of their own: a relative path would be
+    looked up from each one's.
+
+    Raises:
+        SecureSetupError: ``paths`` is empty.
+    """
+    if not paths.strip():
+        raise SecureSetupError("--paths is empty: name the folder of the files")
+    return paths if os.path.isabs(paths) else os.path.abspath(paths)
 
 
 def bundle_kind(paths: str) -> str:

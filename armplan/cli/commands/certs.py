@@ -53,7 +53,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--paths",
         metavar="DIR",
         help="where the processes find the files (default: --out; "
-        f"--compose: {TEMPLATE_PATHS})",
+        f"--compose: {TEMPLATE_PATHS}); a relative DIR is made absolute",
     )
     parser.add_argument(
         "--compose",
