@@ -376,3 +376,27 @@ def test_up_passes_allow_not_awake_to_the_bridge(tmp_path: pathlib.Path) -> None
             assert reply.frames > 0
             up.process.send_signal(signal.SIGINT)
             assert up.process.wait(EXIT_TIMEOUT) == 0
+
+
+def test_a_service_named_twice_is_refused_before_anything_starts() -> None:
+    """`up --only ik ik` started two ik processes and tracked one: the banner
+    printed one PID twice, and SIGTERM said "stopped every process" with the
+    other still running. Now the names are refused, nothing started."""
+    out = armplan("up", "--listen", free_endpoint(), "--only", "ik", "timing", "ik")
+    assert (out.returncode, out.stdout) == (1, "")
+    assert out.stderr == (
+        "armplan: error: service 'ik' named more than once: name each service "
+        "once (each runs as one process)\n"
+    )
+
+
+def test_the_launcher_refuses_a_service_named_twice() -> None:
+    """The API's guard: nothing is started, the error lists each name once."""
+    from armplan.launch import Launcher
+    from shared.errors import InvalidInputError
+
+    config = load_config(endpoints=(free_endpoint(),))
+    with pytest.raises(InvalidInputError) as caught:
+        Launcher(config, ["fit", "ik", "fit", "ik", "fit"])
+    assert caught.value.message.startswith("services 'fit', 'ik' named more than once")
+    assert caught.value.evidence["services"] == ["fit", "ik"]

@@ -54,6 +54,27 @@ def service_spec(name: str) -> ServiceSpec:
     )
 
 
+def service_specs(names: Sequence[str]) -> tuple[ServiceSpec, ...]:
+    """The services called ``names``, in that order, each named once.
+
+    Raises:
+        InvalidInputError: an unknown name (as :func:`service_spec`), or a
+            name given more than once: two processes of one service would
+            both answer its routes, and the launcher would watch only one.
+    """
+    twice = list(dict.fromkeys(n for n in names if list(names).count(n) > 1))
+    if twice:
+        listed = ", ".join(map(repr, twice))
+        noun = "service" if len(twice) == 1 else "services"
+        raise InvalidInputError(
+            f"{noun} {listed} named more than once: name each service once "
+            "(each runs as one process)",
+            field="service",
+            services=twice,
+        )
+    return tuple(map(service_spec, names))
+
+
 #: The recorder process (``python -m services.recorder``, liveliness token
 #: ``recorder``). Not in ``SERVICES``: ``armplan up`` does not start it, since
 #: it writes files; ``armplan demo`` starts it with

@@ -21,7 +21,12 @@ import time
 from collections.abc import Mapping, Sequence
 from typing import IO
 
-from armplan.launch.catalog import ROUTER_MODULE, SERVICES, service_spec
+from armplan.launch.catalog import (
+    ROUTER_MODULE,
+    SERVICES,
+    service_spec,
+    service_specs,
+)
 from armplan.launch.child import Child, stop_all
 from shared.bus import Bus, BusConfig
 from shared.errors import ServiceUnavailableError
@@ -72,9 +77,12 @@ class Launcher(StartStop):
             service_args: More command-line arguments for a service by name,
                 e.g. ``{"fit": ["--model", "/abs/model.json"]}`` (also on a
                 restart).
+
+        Raises:
+            InvalidInputError: an unknown service, or one named twice.
         """
         self.config = config
-        self.specs = SERVICES if names is None else tuple(map(service_spec, names))
+        self.specs = SERVICES if names is None else service_specs(names)
         self.router: Child | None = None
         self.router_id = new_router_id()
         self.services: dict[str, Child] = {}
