@@ -12,6 +12,7 @@ import re
 from collections.abc import Mapping
 
 from shared.errors import InvalidInputError
+from shared.every_interface import names_every_interface
 
 #: Environment variable naming the robot's NAOqi address.
 ROBOT_ENV = "ARMPLAN_ROBOT"
@@ -35,8 +36,17 @@ def check_robot_url(url: str) -> str:
 def check_listen_url(url: str) -> str:
     """``url`` if it is an address to serve at; else InvalidInputError.
 
-    The address reads ``tcp://HOST:PORT``; port 0 means any free one.
+    The address reads ``tcp://HOST:PORT``; port 0 means any free one. The
+    host is one interface's address or a name, never the unspecified
+    (all-zero) address of IPv4 or IPv6: a simulated NAO listening there
+    would take commands from every network the machine is on.
     """
+    if names_every_interface(_host(url)):
+        raise InvalidInputError(
+            f"listen address {url!r} names every interface: give the address "
+            "of the one the bridge reaches (127.0.0.1 on one machine)",
+            field="listen",
+        )
     match = _URL.match(url)
     if match is None or not 0 <= int(match.group(1)) < 65536:
         raise InvalidInputError(
@@ -45,6 +55,11 @@ def check_listen_url(url: str) -> str:
             field="listen",
         )
     return url
+
+
+def _host(url: str) -> str:
+    """The ``HOST`` of ``SCHEME://HOST:PORT`` as written (brackets kept)."""
+    return url.partition("://")[2].rpartition(":")[0]
 
 
 def robot_url(given: str | None, environ: Mapping[str, str] = os.environ) -> str:

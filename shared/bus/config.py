@@ -10,12 +10,12 @@ and clients connect to the router's ``listen`` endpoints in client mode.
 
 from __future__ import annotations
 
-import ipaddress
 import re
 from dataclasses import dataclass, replace
 
 from shared.bus.keys import check_path
 from shared.errors import BusConfigError, InvalidInputError
+from shared.every_interface import names_every_interface
 
 #: The router's endpoint unless configured otherwise: loopback only.
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
@@ -54,7 +54,7 @@ def check_endpoint(endpoint: str, source: str) -> str:
             source=source,
             setting="endpoint",
         )
-    if _unspecified(match.group(2)):
+    if names_every_interface(match.group(2)):
         raise BusConfigError(
             f"endpoint {endpoint!r} names every interface: give the address of "
             "the one the other processes or machines reach (127.0.0.1 on one "
@@ -69,14 +69,6 @@ def check_endpoint(endpoint: str, source: str) -> str:
             setting="endpoint",
         )
     return endpoint
-
-
-def _unspecified(host: str) -> bool:
-    """Whether ``host`` is the unspecified (all-zero) IPv4 or IPv6 address."""
-    try:
-        return ipaddress.ip_address(host.strip("[]")).is_unspecified
-    except ValueError:  # a name
-        return False
 
 
 @dataclass(frozen=True)
