@@ -38,28 +38,66 @@ from types import FrameType
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP)
 
 
+class StopRequest(threading.Event):
+    """An event set soon after a stop signal arrives, knowing which one.
+
+    Attributes:
+        signal: The first signal that set it; ``None`` until one did (also
+            when code set it with :meth:`set`).
+    """
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.signal: signal.Signals | None = None
+
+    def request(self, signum: int) -> None:
+        """Note ``signum`` (if it is the first) and set the event."""
+        if self.signal is None:
+            self.signal = signal.Signals(signum)
+        self.set()
+
+
+class StartInterrupted(KeyboardInterrupt):
+    """A stop request arrived while processes were starting; they were stopped.
+
+    A kind of ``KeyboardInterrupt``: the caller unwinds as for Ctrl-C, and
+    ``armplan`` exits 130 ("interrupted"), or 143 ("terminated") if
+    ``signal`` is SIGTERM.
+
+    Attributes:
+        signal: The signal that asked to stop, if one did.
+    """
+
+    def __init__(self, signum: signal.Signals | None) -> None:
+        super().__init__(f"stopped by {signum.name if signum else 'a request'}")
+        self.signal = signum
+
+
 class _Relay:
     """A pipe the handler writes to, and the thread that sets the events.
 
-    The events are held weakly: a process that asks for stop requests again
-    and again (a command run in-process many times) keeps none it dropped.
+    The handler writes the signal's number, so each event learns which
+    signal set it. The events are held weakly: a process that asks for stop
+    requests again and again (a command run in-process many times) keeps
+    none it dropped.
     """
 
     def __init__(self) -> None:
         self.read_end, self.write_end = os.pipe()
         os.set_blocking(self.write_end, False)
-        self.events: weakref.WeakSet[threading.Event] = weakref.WeakSet()
+        self.events: weakref.WeakSet[StopRequest] = weakref.WeakSet()
         threading.Thread(target=self._run, name="armplan-signals", daemon=True).start()
 
     def _run(self) -> None:
-        while os.read(self.read_end, 64):
+        while received := os.read(self.read_end, 64):
             for event in list(self.events):
-                event.set()
+                for signum in received:
+                    event.request(signum)
 
     def handler(self, signum: int, frame: FrameType | None) -> None:
         """The signal handler: one byte into the pipe (no lock, no wait)."""
         with contextlib.suppress(BlockingIOError):  # full: a wake-up is pending
-            os.write(self.write_end, b"\0")
+            os.write(self.write_end, bytes([signum]))
 
 
 _relay: _Relay | None = None
@@ -74,7 +112,7 @@ def _the_relay() -> _Relay:
         return _relay
 
 
-def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> threading.Event:
+def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
     """An event set soon after any of ``signals`` arrives.
 
     Installs the handler for each signal (call it from the main thread, as
@@ -86,10 +124,10 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> threading.Event:
         signals: Signal numbers; default SIGTERM, SIGINT and SIGHUP.
 
     Returns:
-        The stop request.
+        The stop request (a ``threading.Event``; ``signal`` names the signal).
     """
     relay = _the_relay()
-    stop = threading.Event()
+    stop = StopRequest()
     relay.events.add(stop)
     for signum in signals:
         if signum == signal.SIGHUP and signal.getsignal(signum) is signal.SIG_IGN:

@@ -6,6 +6,7 @@ by SIGKILL in a ``finally``.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import pathlib
@@ -400,3 +401,84 @@ def test_the_launcher_refuses_a_service_named_twice() -> None:
         Launcher(config, ["fit", "ik", "fit", "ik", "fit"])
     assert caught.value.message.startswith("services 'fit', 'ik' named more than once")
     assert caught.value.evidence["services"] == ["fit", "ik"]
+
+
+def children_of(pid: int) -> dict[int, str]:
+    """The command lines of ``pid``'s child processes, by PID."""
+    found = {}
+    for stat in pathlib.Path("/proc").glob("[0-9]*/stat"):
+        try:
+            ppid = int(stat.read_text().rsplit(")", 1)[1].split()[1])
+            command = (stat.parent / "cmdline").read_bytes()
+        except (OSError, IndexError, ValueError):
+            continue
+        if ppid == pid:
+            found[int(stat.parent.name)] = command.replace(b"\0", b" ").decode()
+    return found
+
+
+def hold_fit_at_start(up: subprocess.Popen[str], model: pathlib.Path) -> int:
+    """Wait until `up`'s fit process reads its --model FIFO; our end of it.
+
+    The fit process then waits for a model that never comes (the returned
+    write end is kept open), and `up` waits for fit to come alive: it is
+    starting for as long as the test wants.
+    """
+    deadline = time.monotonic() + READY_TIMEOUT
+    while time.monotonic() < deadline:
+        assert up.poll() is None, "armplan up exited while starting"
+        # `up` read the model before it started anything: once fit runs, the
+        # only reader can be fit; the open fails (ENXIO) until it reads
+        if any("services.fit" in c for c in children_of(up.pid).values()):
+            with contextlib.suppress(OSError):
+                return os.open(model, os.O_WRONLY | os.O_NONBLOCK)
+        time.sleep(0.05)
+    raise AssertionError("the fit process never opened its model")
+
+
+@pytest.mark.parametrize(
+    ("signum", "code", "said"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+)
+def test_a_signal_while_starting_is_reported_as_that_signal(
+    signum: signal.Signals, code: int, said: str, tmp_path: pathlib.Path
+) -> None:
+    """Ctrl-C while `up` started exited 1, "service 'launcher' is unavailable:
+    stopped by a signal while starting"; now 130 "interrupted" (SIGTERM: 143
+    "terminated"), as `armplan demo`, with everything it started stopped.
+
+    `up` is held starting for sure: fit's --model is a named pipe that `up`
+    reads the model from once, and that the fit process then waits on."""
+    model = tmp_path / "model.fifo"
+    os.mkfifo(model)
+    shipped = (pathlib.Path(__file__).parent.parent / "services" / "fit").joinpath(
+        "default_model.json"
+    )
+    feeder = threading.Thread(
+        target=lambda: model.write_text(shipped.read_text()), daemon=True
+    )
+    feeder.start()  # `up`'s own check of the model reads it
+    argv = ["up", "--listen", free_endpoint(), "--only", "fit", "--model", str(model)]
+    with (tmp_path / "up.log").open("w") as err:
+        up = subprocess.Popen(
+            [sys.executable, "-m", "armplan", *argv],
+            stdout=subprocess.PIPE,
+            stderr=err,
+            text=True,
+        )
+    held = None
+    try:
+        held = hold_fit_at_start(up, model)
+        children = list(children_of(up.pid))
+        assert len(children) == 2  # the router and fit
+        up.send_signal(signum)
+        out, _ = up.communicate(timeout=EXIT_TIMEOUT)
+        assert (up.returncode, out) == (code, "")
+        assert (tmp_path / "up.log").read_text().endswith(f"\narmplan: {said}\n")
+        assert wait_gone(children) == []
+    finally:
+        if held is not None:
+            os.close(held)
+        if up.poll() is None:
+            up.kill()
+            up.wait(EXIT_TIMEOUT)

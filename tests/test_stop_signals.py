@@ -34,6 +34,26 @@ def test_a_signal_sets_the_stop_request(own_signal: int) -> None:
     assert stop.wait(5.0)
 
 
+def test_the_stop_request_knows_the_first_signal(own_signal: int) -> None:
+    """`armplan up` stopped while starting says which signal stopped it: the
+    request keeps the first signal that set it, a later one does not
+    replace it."""
+    second = signal.SIGUSR2
+    previous = signal.getsignal(second)
+    try:
+        stop = stop_on_signals([own_signal, second])
+        assert stop.signal is None
+        signal.raise_signal(own_signal)
+        assert stop.wait(5.0) and stop.signal == own_signal
+        signal.raise_signal(second)
+        again = stop_on_signals([own_signal, second])
+        signal.raise_signal(second)
+        assert again.wait(5.0) and again.signal == second
+        assert stop.signal == own_signal
+    finally:
+        signal.signal(second, previous)
+
+
 @pytest.mark.timeout(30)
 def test_a_signal_while_the_event_is_held_does_not_hang(own_signal: int) -> None:
     """The handler runs while this thread holds the event's own lock, as it

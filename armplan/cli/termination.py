@@ -22,6 +22,8 @@ from __future__ import annotations
 import signal
 from types import FrameType
 
+from shared.stop_signals import StartInterrupted
+
 #: Exit codes: 128 + the signal's number.
 INTERRUPTED_CODE = 128 + signal.SIGINT
 TERMINATED_CODE = 128 + signal.SIGTERM
@@ -66,9 +68,14 @@ def terminate_on_sigterm() -> None:
 
 
 def signal_of(stop: KeyboardInterrupt) -> signal.Signals:
-    """The signal a ``KeyboardInterrupt`` (or its kinds here) stands for."""
+    """The signal a ``KeyboardInterrupt`` (or its kinds here) stands for.
+
+    A start it interrupted (``StartInterrupted``, ``armplan up``) says which.
+    """
     if isinstance(stop, Terminated):
         return signal.SIGTERM
+    if isinstance(stop, StartInterrupted) and stop.signal is not None:
+        return stop.signal
     return signal.SIGHUP if isinstance(stop, HungUp) else signal.SIGINT
 
 

@@ -31,6 +31,7 @@ from armplan.launch.child import Child, stop_all
 from shared.bus import Bus, BusConfig
 from shared.errors import ServiceUnavailableError
 from shared.lifecycle import StartStop
+from shared.stop_signals import StartInterrupted
 
 #: Longest wait for the router, then for all services to be alive [s].
 START_TIMEOUT = 60.0
@@ -73,7 +74,8 @@ class Launcher(StartStop):
             names: Services to start; ``None`` starts every one.
             log: Where the children's output goes: a file,
                 ``subprocess.DEVNULL``, or ``None`` for stderr.
-            stop: Set by a signal handler to abort a start in progress.
+            stop: Set by a signal handler to abort a start in progress
+                (``shared.stop_signals.stop_on_signals``).
             service_args: More command-line arguments for a service by name,
                 e.g. ``{"fit": ["--model", "/abs/model.json"]}`` (also on a
                 restart).
@@ -99,6 +101,8 @@ class Launcher(StartStop):
         Raises:
             ServiceUnavailableError: naming the child that exited or did not
                 come alive in time (everything started is stopped again).
+            StartInterrupted: ``stop`` was set meanwhile (a ``KeyboardInterrupt``;
+                everything started is stopped again).
         """
         try:
             self.start_router()
@@ -185,9 +189,7 @@ class Launcher(StartStop):
 
     def _check_running(self) -> None:
         if self._stop.is_set():
-            raise ServiceUnavailableError(
-                "launcher", reason="stopped by a signal while starting"
-            )
+            raise StartInterrupted(getattr(self._stop, "signal", None))
         for child in self.children():
             code = child.exit_code()
             if code is not None:

@@ -34,6 +34,7 @@ from shared.errors import (
     ServiceUnavailableError,
 )
 from shared.lifecycle import StartStop
+from shared.stop_signals import StartInterrupted
 
 if TYPE_CHECKING:
     from bridge.sim import SimProcess
@@ -123,6 +124,7 @@ class RobotStack(StartStop):
             RobotUnavailableError: the sim did not start.
             ServiceUnavailableError: the bridge exited or did not come alive.
             InvalidInputError: a malformed robot address.
+            StartInterrupted: ``stop`` was set while the bridge started.
         """
         try:
             self.url = self._start_sim(timeout) if self._sim_wanted else self._named()
@@ -177,9 +179,7 @@ class RobotStack(StartStop):
 
     def _check_running(self) -> None:
         if self._stop.is_set():
-            raise ServiceUnavailableError(
-                BRIDGE.name, reason="stopped by a signal while starting"
-            )
+            raise StartInterrupted(getattr(self._stop, "signal", None))
         for name, pid, code in self.exited():
             raise ServiceUnavailableError(
                 name,
