@@ -119,6 +119,37 @@ def test_bad_settings_name_the_setting(
 
 
 @pytest.mark.parametrize(
+    ("settings", "problem"),
+    [
+        ("{timeout: Infinity}", "timeout must be a number, got Infinity: give a "
+         "finite number"),
+        ("{'resend_after': -Infinity}", "resend_after must be a number, got "
+         "-Infinity: give a finite number"),
+        ('{"timeout": NaN}', "timeout must be a number, got NaN: give a finite "
+         "number"),
+        ("{timeout: null}", "timeout must be a number, got null"),
+        ("{max_payload: 1e300}", "max_payload must be an integer, got 1e+300"),
+        ("{workers: true}", "workers must be an integer, got true"),
+        ('{colour: "red"}', "unknown setting 'colour'; known: namespace, "
+         "max_payload, timeout, resend_after, workers, queue_limit, client"),
+    ],
+)  # fmt: skip
+def test_a_bad_setting_is_named_with_the_value_written(
+    tmp_path: pathlib.Path, settings: str, problem: str
+) -> None:
+    """`timeout: Infinity` said "unknown setting or wrong type (None)": Zenoh's
+    JSON reads JSON5's Infinity and NaN back as null. The error now names
+    the value as the file wrote it, and what the setting takes."""
+    path = write(tmp_path, settings)
+    with pytest.raises(BusConfigError) as caught:
+        load_config(path)
+    name = caught.value.setting.rsplit("/", 1)[1]
+    assert caught.value.message == (
+        f"Zenoh configuration {path} (metadata/armplan/{name}): {problem}"
+    )
+
+
+@pytest.mark.parametrize(
     ("endpoint", "message"),
     [("127.0.0.1:7447", "must read PROTO/HOST:PORT"),
      ("tcp/127.0.0.1", "must read PROTO/HOST:PORT"),

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +31,12 @@ _SETTINGS: dict[str, type | tuple[type, ...]] = {
     "workers": int,
     "queue_limit": int,
     "client": dict,
+}
+#: How an error names each type of setting (a tuple of types: a number).
+_KINDS: dict[type | tuple[type, ...], str] = {
+    str: "a string",
+    int: "an integer",
+    dict: "an object",
 }
 
 
@@ -77,7 +84,7 @@ def _read(path: Path) -> BusConfig:
             f"not a valid Zenoh config: {problem}", source=source
         ) from None
     _check_no_multicast(parsed, source)
-    settings = _armplan_settings(parsed, source)
+    settings = _armplan_settings(parsed, source, text)
     client = settings.pop("client", {})
     return BusConfig(
         endpoints=_listen_endpoints(parsed, source),
@@ -122,7 +129,20 @@ def _listen_endpoints(config: zenoh.Config, source: str) -> tuple[str, ...]:
     return tuple(str(e) for e in endpoints)
 
 
-def _armplan_settings(config: zenoh.Config, source: str) -> dict[str, Any]:
+def _armplan_settings(
+    config: zenoh.Config, source: str, text: str = ""
+) -> dict[str, Any]:
+    """The ``metadata.armplan`` settings, each known and of its type.
+
+    Args:
+        config: The parsed file.
+        source: The file, for the errors.
+        text: The file's text, to name a value as written (JSON5's
+            ``Infinity`` and ``NaN`` are read back as ``null``).
+
+    Raises:
+        BusConfigError: naming the setting and the value given.
+    """
     metadata = _get(config, "metadata") or {}
     settings = metadata.get("armplan", {}) if isinstance(metadata, dict) else {}
     if not isinstance(settings, dict):
@@ -130,12 +150,35 @@ def _armplan_settings(config: zenoh.Config, source: str) -> dict[str, Any]:
             "must be an object", source=source, setting="metadata/armplan"
         )
     for name, value in settings.items():
-        wanted = _SETTINGS.get(name)
-        if wanted is None or isinstance(value, bool) or not isinstance(value, wanted):
-            known = ", ".join(_SETTINGS)
+        problem = _setting_problem(name, value, text)
+        if problem:
             raise BusConfigError(
-                f"unknown setting or wrong type ({value!r}); known: {known}",
-                source=source,
-                setting=f"metadata/armplan/{name}",
+                problem, source=source, setting=f"metadata/armplan/{name}"
             )
     return dict(settings)
+
+
+def _setting_problem(name: str, value: Any, text: str) -> str:
+    """What is wrong with setting ``name`` = ``value``, or ``""``."""
+    wanted = _SETTINGS.get(name)
+    if wanted is None:
+        return f"unknown setting {name!r}; known: {', '.join(_SETTINGS)}"
+    if isinstance(value, wanted) and not isinstance(value, bool):
+        return ""
+    kind = _KINDS.get(wanted, "a number")
+    if value is None:  # null, or a non-finite number JSON cannot carry
+        written = _written_null(text, name)
+        finite = "" if written == "null" else ": give a finite number"
+        return f"{name} must be {kind}, got {written}{finite}"
+    return f"{name} must be {kind}, got {json.dumps(value)}"
+
+
+def _written_null(text: str, name: str) -> str:
+    """How the file wrote the value of ``name`` that reads back as null.
+
+    ``Infinity``, ``-Infinity`` or ``NaN`` (which Zenoh's JSON turns into
+    null), else ``null``.
+    """
+    key = rf"(?<![\w$])[\"']?{re.escape(name)}[\"']?\s*:\s*"
+    found = re.search(key + r"([+-]?(?:Infinity|NaN))(?![\w$])", text)
+    return found.group(1) if found else "null"
