@@ -37,8 +37,8 @@ RUN apt-get update \
     && apt-get purge --yes --auto-remove gcc libc6-dev \
     && rm -rf /var/lib/apt/lists/* \
     && useradd --uid "${ARMPLAN_UID}" --create-home --shell /usr/sbin/nologin armplan \
-    && mkdir /recordings \
-    && chown armplan /recordings
+    && mkdir -p /recordings /var/lib/armplan/fit \
+    && chown armplan /recordings /var/lib/armplan/fit
 
 # Every armplan process reads this Zenoh configuration: the router is the
 # compose service `router` (docker-compose.secure.yml points each process at

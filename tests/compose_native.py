@@ -6,8 +6,11 @@ address another. A file a container reads (its Zenoh config, the router's
 config) is found through the container's volumes, or in the image (the
 Dockerfile's ``ENV ARMPLAN_ZENOH_CONFIG``), and copied with the same
 names replaced; paths under ``/run/armplan/secure`` become the folder
-``armplan certs --compose`` wrote. The router container (eclipse/zenoh) runs
-as the Python router with the same file.
+``armplan certs --compose`` wrote. A container's working folder (the image's
+``WORKDIR``) is a new folder of its own, as a new container's is; each named
+volume mounted elsewhere is one local folder that outlives the containers,
+its mount point replaced by that folder in the commands. The router
+container (eclipse/zenoh) runs as the Python router with the same file.
 """
 
 from __future__ import annotations
@@ -27,6 +30,12 @@ IMAGE_SOURCES = "/opt/armplan"
 SECURE_PATHS = "/run/armplan/secure"
 #: The simulated NAO's address on the compose network.
 SIM_HOST, SIM_PORT = "sim", 9559
+
+
+def image_workdir() -> str:
+    """The image's last WORKDIR (where the processes run)."""
+    lines = (ROOT / "Dockerfile").read_text().splitlines()
+    return [line.split()[1] for line in lines if line.startswith("WORKDIR")][-1]
 
 
 def image_config() -> pathlib.Path:
@@ -50,6 +59,7 @@ class Localized:
         self.sim_port = int(free_endpoint().rsplit(":", 1)[1])
         self._files = tmp / "files"
         self._files.mkdir()
+        self._volumes = tmp / "volumes"
         self._copies: dict[pathlib.Path, pathlib.Path] = {}
         address = self.endpoint.split("/", 1)[1]
         self._names = {
@@ -66,6 +76,24 @@ class Localized:
         for name, local in self._names.items():
             value = value.replace(name, local)
         return value
+
+    def volumes(self, service: dict[str, Any]) -> dict[str, pathlib.Path]:
+        """The local folder of each named volume the container mounts, by target.
+
+        One folder per volume name, kept across containers (a recreated
+        container finds what the last one left); its mount point is replaced
+        by the folder in every command from now on. A volume at the image's
+        working folder is left out: the container's own folder stands for it.
+        """
+        found = {}
+        for volume in service.get("volumes", []):
+            if volume["type"] != "volume" or volume["target"] == image_workdir():
+                continue
+            folder = self._volumes / volume["source"]
+            folder.mkdir(parents=True, exist_ok=True)
+            self._names[volume["target"]] = str(folder)
+            found[volume["target"]] = folder
+        return found
 
     def file(self, service: dict[str, Any], inside: str) -> pathlib.Path:
         """A local copy of the file the container sees at ``inside``.
@@ -134,9 +162,14 @@ def start_router(
 def start_container(
     name: str, service: dict[str, Any], local: Localized, logs: pathlib.Path
 ) -> Native:
-    """An armplan container's command, in a folder of its own."""
+    """An armplan container's command, in a folder of its own, its volumes mounted.
+
+    ``logs / name`` is the container's working folder: another ``logs``
+    makes a recreated container, whose files are gone but for its volumes.
+    """
     folder = logs / name
-    folder.mkdir()
+    folder.mkdir(exist_ok=True)
+    local.volumes(service)
     config = local.zenoh_config(service)
     return Native(
         name,

@@ -22,6 +22,7 @@ from compose_native import (
     Localized,
     healthy,
     image_config,
+    image_workdir,
     start_container,
     start_router,
 )
@@ -33,6 +34,7 @@ from armplan.secure.bundle import TEMPLATE_ENDPOINT, TEMPLATE_PATHS
 from shared.bus import Bus, load_config
 from shared.bus.routes import PLAN
 from shared.bus.topics import BRIDGE_REPORT_TOPIC
+from shared.errors import ServiceUnavailableError
 from shared.messages import PlanRequest
 
 #: Longest wait for every natively run container to be healthy [s].
@@ -143,6 +145,94 @@ def test_recordings_go_to_a_volume(services: dict[str, Any]) -> None:
     assert ("volume", "recordings", image_workdir()) in mounts
 
 
+#: Where the fit container keeps the model it serves (``--state-dir``).
+FIT_STATE = "/var/lib/armplan/fit"
+
+
+@pytest.mark.parametrize("files", [PLAIN, SECURED])
+def test_the_fit_model_is_kept_in_a_volume(
+    files: tuple[str, ...], compose_bundle: Bundle
+) -> None:
+    """The fit service keeps its model in its state folder, by default its
+    working folder: the image's, lost with the container. docs/services.md
+    says a restarted fit service keeps the lab's model; now the folder is
+    given (--state-dir) and is a named volume, also under the secured overlay."""
+    env = {"ARMPLAN_SECURE": str(compose_bundle.directory)}
+    model = compose_config(files, env=env)
+    fit = model["services"]["fit"]
+    command = fit["command"]
+    assert command[command.index("--state-dir") + 1] == FIT_STATE
+    mounts = {v["target"]: v for v in fit["volumes"]}
+    assert (mounts[FIT_STATE]["type"], mounts[FIT_STATE]["source"]) == (
+        "volume",
+        "fit-state",
+    )
+    assert "fit-state" in model["volumes"]
+    assert image_workdir() != FIT_STATE
+
+
+def test_each_volume_is_a_folder_of_the_image_user(services: dict[str, Any]) -> None:
+    """Docker fills a new named volume from the image's folder at its mount
+    point, owner included: each must be made in the image and given to the
+    user the processes run as, or they could not write in the volume."""
+    text = (ROOT / "Dockerfile").read_text().replace("\\\n", " ")
+    made = re.search(r"mkdir -p ([^&]+)&& chown armplan ([^\n&]+)", text)
+    assert made is not None
+    for name, service in services.items():
+        for volume in service.get("volumes", []):
+            if volume["type"] == "volume":
+                target = volume["target"]
+                assert target in made.group(1).split(), (name, target)
+                assert target in made.group(2).split(), (name, target)
+
+
+def test_a_recreated_fit_container_serves_the_lab_model(
+    services: dict[str, Any], tmp_path: pathlib.Path
+) -> None:
+    """Natively: the fit container fits a lab's demonstrations; a new fit
+    container (a new working folder, the same volumes) serves that model,
+    not the shipped default."""
+    from services.fit import default_model
+    from shared.bus import NoArguments
+    from shared.bus.routes import FIT, FIT_MODEL
+    from shared.demos import synthesize, write_demos
+    from shared.messages import FitRequest
+
+    local = Localized(tmp_path)
+    fit = services["fit"]
+    first, second = tmp_path / "first", tmp_path / "second"
+    first.mkdir()
+    second.mkdir()
+    started = [start_router(services["router"], local, tmp_path)]
+    try:
+        (first / "fit").mkdir()  # the container's working folder, with a demo
+        write_demos(first / "fit" / "lab.mcap", synthesize(9, subjects=3, trials=1))
+        started.append(start_container("fit", fit, local, first))
+        config = load_config(local.zenoh_config(fit))
+        fitted = call_when_alive(config, FIT, FitRequest(files=["lab.mcap"], bins=10))
+        assert fitted != default_model()
+        assert started.pop().stop() == 0
+        started.append(start_container("fit", fit, local, second))
+        assert call_when_alive(config, FIT_MODEL, NoArguments()) == fitted
+        assert not list((second / "fit").iterdir())  # kept in the volume only
+    finally:
+        stop_all(started)
+
+
+def call_when_alive(config: Any, route: Any, request: Any) -> Any:
+    """``route``'s reply once its service is alive on the router of ``config``."""
+    deadline = time.monotonic() + HEALTHY_TIMEOUT
+    while True:
+        try:
+            with Bus.connect(config) as bus:
+                assert bus.wait_alive([route.service], HEALTHY_TIMEOUT) == []
+                return bus.call(route, request, timeout=300.0)
+        except ServiceUnavailableError:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.5)
+
+
 def test_the_compose_config_is_the_repo_config_but_for_the_endpoint() -> None:
     """config/compose.json5 differs from config/zenoh.json5 in the endpoint only."""
     repo = load_config(ROOT / "config" / "zenoh.json5")
@@ -151,12 +241,6 @@ def test_the_compose_config_is_the_repo_config_but_for_the_endpoint() -> None:
     same = ("namespace", "max_payload", "timeout", "workers", "queue_limit")
     assert [getattr(container, f) for f in same] == [getattr(repo, f) for f in same]
     assert container.client_settings == repo.client_settings
-
-
-def image_workdir() -> str:
-    """The image's last WORKDIR (where the processes run)."""
-    lines = (ROOT / "Dockerfile").read_text().splitlines()
-    return [line.split()[1] for line in lines if line.startswith("WORKDIR")][-1]
 
 
 def test_the_image_is_python_311_slim_and_not_root() -> None:
