@@ -87,9 +87,9 @@ def test_a_rerun_stopped_by_ctrl_c_while_signing_changes_nothing(
     (bundle / "router.key.partial").chmod(0o644)
     before = snapshot(bundle)
     del before["router.key.partial"]
+    argv = ["certs", "--out", str(bundle), "--host", "nao-router"]
     done = subprocess.run(
-        [sys.executable, "-m", "armplan", "certs", "--out", str(bundle)]
-        + ["--host", "nao-router"],
+        [sys.executable, "-m", "armplan", *argv],
         cwd=ROOT,
         env={**os.environ, "PATH": f"{tools}{os.pathsep}{os.environ['PATH']}"},
         capture_output=True,
