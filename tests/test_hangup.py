@@ -22,6 +22,7 @@ from pathlib import Path
 
 import pytest
 from mcap.reader import make_reader
+from record_cli import record_command
 
 from armplan.launch import free_endpoint
 from shared.bus import BusConfig, open_router
@@ -43,24 +44,6 @@ def config() -> Iterator[BusConfig]:
     config = BusConfig(endpoints=(free_endpoint(),), namespace=NS)
     with open_router(config):
         yield config
-
-
-def record_command(config: BusConfig, out: Path) -> list[str]:
-    """``armplan record -o out --keys misc/*`` on ``config``'s router."""
-    return [
-        sys.executable,
-        "-m",
-        "armplan",
-        "record",
-        "-o",
-        str(out),
-        "--keys",
-        "misc/*",
-        "--connect",
-        config.endpoint,
-        "--namespace",
-        NS,
-    ]
 
 
 def whole(path: Path) -> list[bytes]:

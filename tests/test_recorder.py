@@ -21,6 +21,7 @@ import pytest
 import zenoh
 from frame_chain import chain_poses
 from mcap.reader import make_reader
+from record_cli import record_command
 
 from armplan.launch import free_endpoint
 from services.recorder import RecorderOptions, RecorderProcess
@@ -400,22 +401,7 @@ def test_armplan_record_cli_records_for_a_duration(
     """`armplan record --duration` records, closes and reports the counts."""
     out = tmp_path / "cli.mcap"
     process = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "armplan",
-            "record",
-            "-o",
-            str(out),
-            "--keys",
-            "misc/*",
-            "--connect",
-            config.endpoint,
-            "--namespace",
-            NAMESPACE,
-            "--duration",
-            "4",
-        ],
+        record_command(config, out, "--duration", "4"),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

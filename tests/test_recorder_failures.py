@@ -16,13 +16,13 @@ import os
 import resource
 import signal
 import subprocess
-import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 import zenoh
+from record_cli import record_command
 
 from armplan.launch import free_endpoint
 from services.recorder import RecorderProcess, control, sink
@@ -63,21 +63,7 @@ def record(
             resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
 
     return subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "armplan",
-            "record",
-            "-o",
-            str(out),
-            "--keys",
-            "misc/*",
-            "--connect",
-            config.endpoint,
-            "--namespace",
-            NS,
-            *extra,
-        ],
+        record_command(config, out, *extra),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
