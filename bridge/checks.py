@@ -53,12 +53,7 @@ def check_frames(
         TrajectoryRefusedError: naming the first frame that breaks a position,
             speed, acceleration or jerk limit.
     """
-    if tuple(frames.joint_names) != tuple(limits.names):
-        raise InvalidInputError(
-            f"frames move {_names(frames.joint_names)}, expected the joints "
-            f"{list(limits.names)}",
-            field="joint_names",
-        )
+    check_joints(frames.joint_names, limits, "frames")
     q = np.vstack([np.asarray(frames.start)[None, :], np.asarray(frames.positions)])
     t = np.concatenate([[0.0], frames.times])
     _check_rows(q, t, 1.0 / frames.rate, limits)
@@ -92,6 +87,22 @@ def _check_rows(
     check_rest_ends(q, t, period, limits)
 
 
+def check_joints(
+    names: list[str], limits: FrameLimits, what: str = "the trajectory"
+) -> None:
+    """``names`` are the limits' joints, in their order.
+
+    Raises:
+        InvalidInputError: naming what moves which joints, and the expected.
+    """
+    if tuple(names) != tuple(limits.names):
+        raise InvalidInputError(
+            f"{what} move{'' if what == 'frames' else 's'} {_names(names)}, "
+            f"expected the joints {list(limits.names)}",
+            field="joint_names",
+        )
+
+
 def _names(names: list[str], shown: int = 6) -> str:
     """``names`` for a message: the first ``shown`` and how many in all."""
     if len(names) <= shown:
@@ -113,12 +124,7 @@ def check_sample_range(trajectory: Trajectory, limits: FrameLimits) -> None:
         InvalidInputError: if the trajectory's joints are not the limits'.
         TrajectoryRefusedError: naming the first sample out of range.
     """
-    if tuple(trajectory.joint_names) != tuple(limits.names):
-        raise InvalidInputError(
-            f"the trajectory moves {_names(trajectory.joint_names)}, expected the "
-            f"joints {list(limits.names)}",
-            field="joint_names",
-        )
+    check_joints(trajectory.joint_names, limits)
     t = np.asarray(trajectory.times, dtype=float)
     q = np.asarray(trajectory.positions, dtype=float)
     check_positions(q, t - t[0], limits, what="sample")

@@ -64,11 +64,12 @@ import math
 import numpy as np
 from scipy.interpolate import CubicSpline  # type: ignore[import-untyped]
 
+from bridge.checks import check_joints
 from bridge.fidelity import follow_tolerance, gap_shown
 from bridge.hand import with_hand
 from bridge.limits import FrameLimits
 from bridge.units import unit
-from shared.errors import InvalidInputError, TrajectoryRefusedError, fixed
+from shared.errors import TrajectoryRefusedError, fixed
 from shared.messages import Trajectory
 
 
@@ -95,12 +96,7 @@ def check_velocities(trajectory: Trajectory, limits: FrameLimits) -> None:
             update={"hand": None, "hand_velocities": None, "hand_accelerations": None}
         )
     trajectory, limits = with_hand(trajectory, limits)
-    if tuple(trajectory.joint_names) != tuple(limits.names):
-        raise InvalidInputError(
-            f"the trajectory moves {trajectory.joint_names}, expected the joints "
-            f"{list(limits.names)}",
-            field="joint_names",
-        )
+    check_joints(trajectory.joint_names, limits)
     t = np.asarray(trajectory.times, dtype=float)
     if len(t) < 2:
         return
