@@ -288,6 +288,10 @@ def _bad_paths(folder: pathlib.Path) -> dict[str, tuple[pathlib.Path, str]]:
         "inf": (header + "0,0.1,-0.1,0\ninf,0.1,-0.1,0\n", "line 3: t = inf"),
         "empty": (header, "the wrist path is empty"),
         "order": (header + "0,0.1,-0.1,0\n0.2,0.1,-0.1,0\n0.2,0.1,-0.1,0\n", "line 4"),
+        "blank": (
+            header + "\n0,0.1,-0.1,0\n\n0.2,0.1,-0.1,0\n\n0.2,0.1,-0.1,0\n",
+            "line 7: times must increase: t = 0.2 s is not after t = 0.2 s on line 5",
+        ),
     }
     out = {"missing": (folder / "missing.csv", "missing.csv: cannot read")}
     for name, (text, message) in texts.items():
@@ -300,14 +304,16 @@ def _bad_paths(folder: pathlib.Path) -> dict[str, tuple[pathlib.Path, str]]:
 
 
 @pytest.mark.parametrize(
-    "case", ["missing", "header", "word", "nan", "inf", "empty", "order", "reach"]
+    "case",
+    ["missing", "header", "word", "nan", "inf", "empty", "order", "blank", "reach"],
 )
 def test_a_bad_wrist_path_is_a_clear_error(
     case: str, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """Missing file, wrong header, a non-number, NaN, inf, no samples, times
     not increasing, a sample out of reach: exit 1 and an error naming the
-    line or sample (and the JSON error with --json)."""
+    line or sample (and the JSON error with --json). Lines are the file's,
+    blank ones counted."""
     file, message = _bad_paths(tmp_path)[case]
     assert main(["plan", "--wrist-path", str(file), "--json"]) == 1
     captured = capsys.readouterr()

@@ -28,8 +28,7 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
     """
     path = Path(path)
     try:
-        with open(path, newline="", encoding="utf-8-sig") as stream:  # Excel: BOM
-            rows = [row for row in csv.reader(stream) if row]
+        rows = _rows(path)
     except OSError as exc:
         raise InvalidInputError(
             f"{path}: cannot read the wrist path ({exc.strerror})", field="wrist_path"
@@ -38,22 +37,24 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
         raise InvalidInputError(
             f"{path}: not a CSV file ({exc})", field="wrist_path"
         ) from None
-    if not rows or [c.strip().lower() for c in rows[0]] != HEADER:
+    if not rows or [c.strip().lower() for c in rows[0][1]] != HEADER:
         raise InvalidInputError(
             f"{path}: the first row must be the header t,x,y,z", field="wrist_path"
         )
     times: list[float] = []
     positions = []
-    for line, row in enumerate(rows[1:], start=2):
+    before = 0
+    for line, row in rows[1:]:
         values = _numbers(row, path, line)
         if times and not values[0] > times[-1]:
             raise InvalidInputError(
                 f"{path}: line {line}: times must increase: t = {values[0]:g} s "
-                f"is not after t = {times[-1]:g} s on the line before",
+                f"is not after t = {times[-1]:g} s on line {before}",
                 field="wrist_path",
             )
         times.append(values[0])
         positions.append(values[1:])
+        before = line
     if not times:
         raise InvalidInputError(
             f"{path}: the wrist path is empty: no samples after the header",
@@ -65,6 +66,19 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
         )
     except InvalidInputError as exc:
         raise InvalidInputError(f"{path}: {exc.message}", field=exc.field) from None
+
+
+def _rows(path: Path) -> list[tuple[int, list[str]]]:
+    """The file's non-blank rows, each with the line it starts on (from 1)."""
+    rows = []
+    with open(path, newline="", encoding="utf-8-sig") as stream:  # Excel: BOM
+        reader = csv.reader(stream)
+        start = 1
+        for row in reader:
+            if row:
+                rows.append((start, row))
+            start = reader.line_num + 1
+    return rows
 
 
 def _numbers(row: list[str], path: Path, line: int) -> list[float]:
