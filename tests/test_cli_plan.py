@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import json
+import os
 import pathlib
 import re
 import subprocess
 import sys
+import threading
 
 import numpy as np
 import pytest
@@ -381,3 +383,33 @@ def test_options_that_do_not_apply_to_a_wrist_path(
     task.write_text(json.dumps({"targets": [{"position": GOAL, "dwell": -1}]}))
     assert main(["plan", "--task", str(task)]) == 1
     assert "targets.0.dwell" in capsys.readouterr().err
+
+
+def test_a_task_that_is_no_regular_file_is_read_up_to_the_limit(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A named pipe (st_size 0) passed the task's size check and was read
+    whole: `--task /dev/zero` took 15 GB in 20 s. It is refused once it has
+    given more than MAX_TASK_BYTES."""
+    from armplan.cli.plan_request import MAX_TASK_BYTES
+
+    fifo = tmp_path / "task.json"
+    os.mkfifo(fifo)
+    writer = threading.Thread(target=_feed, args=(fifo, MAX_TASK_BYTES + 4096))
+    writer.start()
+    try:
+        assert main(["plan", "--task", str(fifo)]) == 1
+    finally:
+        writer.join()
+    error = capsys.readouterr().err
+    assert f"cannot read the task (more than {MAX_TASK_BYTES} bytes)" in error
+
+
+def _feed(fifo: pathlib.Path, size: int) -> None:
+    """Write ``size`` bytes of spaces into ``fifo``, up to the reader's leaving."""
+    try:
+        with open(fifo, "wb") as stream:
+            for _ in range(0, size, 65536):
+                stream.write(b" " * 65536)
+    except BrokenPipeError:
+        pass

@@ -31,11 +31,12 @@ from typing import Any
 
 from armplan.cli.parsing import measure_fields
 from shared.errors import InvalidInputError
+from shared.input_files import MAX_INPUT_BYTES, read_at_most
 from shared.messages import PlanRequest, WristPath, parse
 from shared.robot.side import Side
 
 #: Largest task file read [bytes] (the services' default payload limit).
-MAX_TASK_BYTES = 16 * 1024 * 1024
+MAX_TASK_BYTES = MAX_INPUT_BYTES
 #: Options that belong to the ``--target`` before them.
 PER_TARGET = ("--dwell", "--palm", "--hand")
 
@@ -218,12 +219,7 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
             field=args.steps[0][0][2:],
         )
     try:
-        if path.stat().st_size > MAX_TASK_BYTES:
-            raise InvalidInputError(
-                f"{path}: the task file is larger than {MAX_TASK_BYTES} bytes",
-                field="task",
-            )
-        text = path.read_bytes()
+        text = read_at_most(path, MAX_TASK_BYTES)
     except OSError as exc:
         raise InvalidInputError(
             f"{path}: cannot read the task ({exc.strerror})", field="task"

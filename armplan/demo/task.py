@@ -20,6 +20,7 @@ import numpy as np
 from pydantic import Field, field_validator
 
 from shared.errors import InvalidInputError, JointLimitError, UnreachableTargetError
+from shared.input_files import read_at_most
 from shared.messages import PlanRequest, ReachTarget, parse
 from shared.messages.base import Message
 from shared.robot import Side, load_arm
@@ -188,7 +189,7 @@ def _check_reach(task: Task) -> None:
 def _read(path: Path) -> bytes:
     """The file's bytes; InvalidInputError naming it if it cannot be read."""
     try:
-        return path.read_bytes()
+        return read_at_most(path)
     except OSError as error:
         raise InvalidInputError(
             f"cannot read task file {path}: {error.strerror}", field="task"

@@ -8,10 +8,12 @@ wrist position in NAO's torso frame [m].
 from __future__ import annotations
 
 import csv
+import io
 import math
 from pathlib import Path
 
 from shared.errors import InvalidInputError
+from shared.input_files import read_at_most
 from shared.messages import WristPath, parse
 from shared.robot.side import Side
 
@@ -71,13 +73,13 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
 def _rows(path: Path) -> list[tuple[int, list[str]]]:
     """The file's non-blank rows, each with the line it starts on (from 1)."""
     rows = []
-    with open(path, newline="", encoding="utf-8-sig") as stream:  # Excel: BOM
-        reader = csv.reader(stream)
-        start = 1
-        for row in reader:
-            if row:
-                rows.append((start, row))
-            start = reader.line_num + 1
+    text = read_at_most(path).decode("utf-8-sig")  # Excel writes a BOM
+    reader = csv.reader(io.StringIO(text, newline=""))
+    start = 1
+    for row in reader:
+        if row:
+            rows.append((start, row))
+        start = reader.line_num + 1
     return rows
 
 

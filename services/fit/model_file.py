@@ -13,8 +13,12 @@ from pathlib import Path
 
 from services.fit.model import MODEL_VERSION, MotionModel
 from shared.errors import InvalidInputError, ModelFileError
+from shared.input_files import read_at_most
 from shared.messages.base import parse
 from shared.output_paths import replaced_when_done
+
+#: Largest motion-model file read [bytes] (the shipped one: about 270 kB).
+MAX_MODEL_BYTES = 128 * 1024 * 1024
 
 
 def save_model(model: MotionModel, path: str | Path) -> None:
@@ -43,7 +47,7 @@ def load_model(path: str | Path) -> MotionModel:
     """
     path = Path(path)
     try:
-        text = path.read_text()
+        text = read_at_most(path, MAX_MODEL_BYTES).decode()
     except FileNotFoundError:
         raise ModelFileError(str(path), "no such motion-model file") from None
     except (OSError, UnicodeDecodeError) as exc:

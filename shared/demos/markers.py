@@ -42,6 +42,7 @@ from pydantic import Field, field_validator
 
 from shared.demos.rotations import FloatArray
 from shared.errors import DemoFileError, InvalidInputError
+from shared.input_files import read_at_most
 from shared.messages.base import Message, parse
 from shared.robot.side import Side, SideAnyCase
 
@@ -117,7 +118,7 @@ def read_marker_map(path: str | Path) -> MarkerMap:
     """
     path = Path(path)
     try:
-        text = path.read_text()
+        text = read_at_most(path).decode()
     except OSError as exc:
         raise DemoFileError(
             str(path), f"cannot read the marker map: {exc.strerror}"

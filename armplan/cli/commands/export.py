@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import argparse
 import json
-from pathlib import Path
 from typing import Any
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import InvalidInputError, TrajectoryRefusedError
+from shared.input_files import read_at_most
 from shared.messages import Trajectory, parse
 from shared.messages.base import MAX_RATE, MIN_RATE
 from shared.output_paths import check_output_file
@@ -32,10 +32,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.set_defaults(run=run)
 
 
+#: Largest trajectory file read [bytes]: MAX_TRAJECTORY_SAMPLES as
+#: ``armplan plan --json`` writes them take about 35 MB.
+MAX_TRAJECTORY_BYTES = 64 * 1024 * 1024
+
+
 def read_trajectory(path: str) -> Trajectory:
     """The trajectory in a JSON file (bare, or under a ``"trajectory"`` key)."""
     try:
-        data: Any = json.loads(Path(path).read_text(encoding="utf-8"))
+        data: Any = json.loads(read_at_most(path, MAX_TRAJECTORY_BYTES))
     except OSError as exc:
         raise InvalidInputError(
             f"cannot read {path}: {exc.strerror}", field="trajectory"
