@@ -169,6 +169,26 @@ def test_a_task_files_wrist_path_is_the_tasks_arm(
     )
 
 
+def test_a_task_naming_the_arm_on_its_wrist_path_only_is_for_that_arm(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """{"wrist_path": {"arm": "left", ...}} was refused as for the right arm
+    (the default), even with --arm left: the request takes its path's arm,
+    and --arm must agree with it."""
+    left = reach_path(load_arm("left"), rest("left"), np.array(LEFT_GOAL), 1.0)
+    path = {"times": left.times.tolist(), "positions": left.positions.tolist()}
+    file = tmp_path / "task.json"
+    file.write_text(json.dumps({"arm": "left", "wrist_path": path}))
+    planned = plan_json(capsys, "--task", str(file))
+    file.write_text(json.dumps({"wrist_path": path | {"arm": "left"}}))
+    assert plan_json(capsys, "--task", str(file)) == planned
+    assert plan_json(capsys, "--task", str(file), "--arm", "left") == planned
+    assert main(["plan", "--task", str(file), "--arm", "right"]) == 1
+    assert f"--arm right but the task {file} is for the left arm" in (
+        capsys.readouterr().err
+    )
+
+
 def test_weights_beside_a_task_file_join_the_files_own(
     tmp_path: pathlib.Path,
 ) -> None:

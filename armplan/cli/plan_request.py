@@ -16,8 +16,9 @@ Three ways to say what to do, one per command line:
 - ``--task FILE.json``: a whole ``PlanRequest`` as JSON, the message the
   planner service takes. ``--method``, ``--fastest``, ``--rate``,
   ``--start``, the weights and the limits given beside it override the
-  file's; ``--arm`` must agree with the file's arm, or gives it where the
-  file names none; ``--dwell``, ``--palm`` and ``--hand`` belong in the file.
+  file's; ``--arm`` must agree with the file's arm (or its wrist path's),
+  or gives it where the file names none; ``--dwell``, ``--palm`` and
+  ``--hand`` belong in the file.
 """
 
 from __future__ import annotations
@@ -229,10 +230,10 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
     except InvalidInputError as exc:
         raise InvalidInputError(f"{path}: {exc.message}", field=exc.field) from None
     fields, how = request.model_dump(), _how(args)
-    if args.arm is not None and "arm" not in request.model_fields_set:
-        fields["arm"] = Side.parse(args.arm)  # the file names no arm: --arm does
-        if request.wrist_path and "arm" not in request.wrist_path.model_fields_set:
-            fields["wrist_path"]["arm"] = fields["arm"]  # nor does its path
+    if args.arm is not None and not _names_an_arm(request):
+        fields["arm"] = Side.parse(args.arm)  # the file names none: --arm does
+        if request.wrist_path is not None:
+            fields["wrist_path"]["arm"] = fields["arm"]
     elif args.arm is not None and Side.parse(args.arm) is not request.arm:
         raise InvalidInputError(
             f"--arm {args.arm} but the task {path} is for the {request.arm.value} arm",
@@ -242,6 +243,16 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
         if part in how:
             how[part] = (fields[part] or {}) | how[part]
     return parse(PlanRequest, fields | how)
+
+
+def _names_an_arm(request: PlanRequest) -> bool:
+    """Whether the task file names its arm, itself or on its wrist path.
+
+    A path's arm is the request's (``PlanRequest`` checks they agree).
+    """
+    path = request.wrist_path
+    named_path = path is not None and "arm" in path.model_fields_set
+    return "arm" in request.model_fields_set or named_path
 
 
 def _finite(values: Any, name: str) -> Any:

@@ -59,7 +59,8 @@ class PlanRequest(OptionalFieldsMessage):
         targets: Wrist targets, reached in order (or empty with ``wrist_path``).
         wrist_path: A timed wrist path to follow instead: joint angles at
             exactly its times, no retiming. It is the request's arm's: an
-            ``arm`` it names must match, and one it leaves out is ``arm``.
+            ``arm`` it names must match, and one it leaves out is ``arm``;
+            a request that names no ``arm`` takes the path's.
         start: Start posture [rad]; ``None`` means the arm hanging at rest.
         method: Planning method.
         fastest: Go as fast as a smooth profile along the path allows within
@@ -119,6 +120,12 @@ class PlanRequest(OptionalFieldsMessage):
     def _one_kind(self) -> PlanRequest:
         if (self.wrist_path is None) == (not self.targets):
             raise ValueError("give either targets or a wrist_path, not both or neither")
+        if self.wrist_path is not None and "arm" not in self.model_fields_set:
+            # {"wrist_path": {"arm": "left", ...}} is a left request: naming
+            # the arm once, on the path, is enough (it was refused as "for
+            # the right arm", the default, even with `armplan plan --arm left`).
+            # Frozen: set as pydantic sets it; "arm" stays unset, as given.
+            object.__setattr__(self, "arm", self.wrist_path.arm)
         if self.wrist_path is not None and self.wrist_path.arm != self.arm:
             raise ValueError(
                 f"wrist_path is for the {self.wrist_path.arm.value} arm, "
