@@ -337,3 +337,28 @@ def test_a_wrist_path_reads_its_arm_as_a_task_does() -> None:
     assert parse(WristPath, samples).arm == "right"
     with pytest.raises(InvalidInputError, match="arm"):
         parse(WristPath, {**samples, "arm": "middle"})
+
+
+def test_a_request_names_its_arm_on_its_wrist_path_alone() -> None:
+    """A request naming no arm was for the right one, so a path naming the
+    left was refused ('wrist_path is for the left arm, the request for the
+    right'); it is a left request, and round-trips as one."""
+    samples = {"times": [0.0, 0.01], "positions": [[0.1, 0.1, 0.0]] * 2}
+    request = parse(PlanRequest, json.dumps({"wrist_path": samples | {"arm": "left"}}))
+    assert request.arm == "left" and "arm" not in request.model_fields_set
+    assert parse(PlanRequest, request.to_json()) == request
+    with pytest.raises(InvalidInputError, match="for the left arm, the request for"):
+        parse(
+            PlanRequest,
+            json.dumps({"arm": "right", "wrist_path": samples | {"arm": "left"}}),
+        )
+
+
+@pytest.mark.parametrize("pace", [{"rate": 10.0}, {"fastest": True}])
+def test_a_wrist_path_refuses_a_pace_or_rate(pace: dict[str, object]) -> None:
+    """A wrist path keeps its times: a rate or fastest beside it was
+    silently ignored (a 50 Hz path asked at 10 Hz gave 50 Hz samples)."""
+    samples = {"times": [0.0, 0.01], "positions": [[0.1, -0.1, 0.0]] * 2}
+    with pytest.raises(InvalidInputError, match="a wrist_path keeps its own times"):
+        parse(PlanRequest, json.dumps({"wrist_path": samples} | pace))
+    assert parse(PlanRequest, json.dumps({"wrist_path": samples, "rate": 100}))

@@ -12,7 +12,8 @@ Three ways to say what to do, one per command line:
   0.10 -0.14 0.0``.
 - ``--wrist-path FILE.csv``: a timed wrist path (header ``t,x,y,z``, s and
   m); ``--palm`` (once) is the palm direction held along it. Its times are
-  kept, so ``--fastest``, ``--rate`` and ``--dwell`` do not apply.
+  kept, so ``--fastest``, ``--rate`` and ``--dwell`` do not apply (nor
+  do they, or a task's ``fastest`` and ``rate``, to a task's wrist path).
 - ``--task FILE.json``: a whole ``PlanRequest`` as JSON, the message the
   planner service takes. ``--method``, ``--fastest``, ``--rate``,
   ``--start``, the weights and the limits given beside it override the
@@ -202,12 +203,28 @@ def _from_wrist_path(args: argparse.Namespace) -> PlanRequest:
     return parse(PlanRequest, _how(args) | {"arm": path.arm, "wrist_path": path})
 
 
-def _kept_times(option: str) -> InvalidInputError:
+def _kept_times(option: str, path: str = "--wrist-path") -> InvalidInputError:
     return InvalidInputError(
-        f"{option} does not apply to --wrist-path: the path's own times are kept "
+        f"{option} does not apply to {path}: the path's own times are kept "
         "(no retiming)",
-        field=option[2:],
+        field=option.removeprefix("--"),
     )
+
+
+def _no_retiming(args: argparse.Namespace, request: PlanRequest, path: Path) -> None:
+    """Refuse a pace or rate, beside a task or in it, for its wrist path.
+
+    They were ignored: ``--task`` with a 50 Hz path and ``--rate 10`` gave
+    the path's 50 Hz samples.
+    """
+    if request.wrist_path is None:
+        return
+    for given, option in ((args.fastest, "--fastest"), (args.rate, "--rate")):
+        if given:
+            raise _kept_times(option, f"the wrist_path of the task {path}")
+    for name in ("fastest", "rate"):
+        if name in request.model_fields_set:
+            raise _kept_times(name, f"a wrist_path (the task {path})")
 
 
 def _from_task(args: argparse.Namespace) -> PlanRequest:
@@ -229,6 +246,7 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
         request = parse(PlanRequest, text)
     except InvalidInputError as exc:
         raise InvalidInputError(f"{path}: {exc.message}", field=exc.field) from None
+    _no_retiming(args, request, path)
     fields, how = request.model_dump(), _how(args)
     if args.arm is not None and not _names_an_arm(request):
         fields["arm"] = Side.parse(args.arm)  # the file names none: --arm does

@@ -66,7 +66,8 @@ class PlanRequest(OptionalFieldsMessage):
         fastest: Go as fast as a smooth profile along the path allows within
             the limits (not the path's time-optimal timing) instead of at
             human pace.
-        rate: Sample rate of the returned trajectory [Hz] (targets only).
+        rate: Sample rate of the returned trajectory [Hz] (targets only: with
+            a ``wrist_path``, 100 or left out; ``fastest`` must be false).
         limits: Acceleration and jerk limits to time with (``TimingLimits``:
             up to the bridge's safety net); ``None``: the defaults.
         measures: Weights of the IK's human performance measures (eq.
@@ -130,6 +131,11 @@ class PlanRequest(OptionalFieldsMessage):
             raise ValueError(
                 f"wrist_path is for the {self.wrist_path.arm.value} arm, "
                 f"the request for the {self.arm.value}"
+            )
+        if self.wrist_path is not None and (self.fastest or self.rate != 100.0):
+            raise ValueError(  # they were ignored: the path keeps its samples
+                "fastest and rate apply to targets only: a wrist_path keeps its "
+                "own times (no retiming)"
             )
         if self.path_tolerance is not None and self.wrist_path is None:
             raise ValueError("path_tolerance applies to a wrist_path only")
