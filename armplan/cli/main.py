@@ -16,6 +16,7 @@ from armplan import __version__
 from armplan.cli import commands as commands_package
 from armplan.cli.output import report_error
 from armplan.cli.parsing import ArgumentParser
+from armplan.cli.stdout_guard import StdoutError, discard_stdout, guarded_stdout
 from armplan.cli.termination import (
     HUNG_UP_CODE,
     INTERRUPTED_CODE,
@@ -72,13 +73,19 @@ def run_command(
     :mod:`armplan.cli.termination`), not a failure of the command.
     """
     try:
-        code = int(run(args))
+        with guarded_stdout():
+            code = int(run(args))
+            sys.stdout.flush()  # a buffered write fails here, not at exit
     except KeyboardInterrupt as stop:  # Terminated, HungUp: SIGTERM, SIGHUP (demo)
         return _stopped(stopped_by() or signal_of(stop))
     except ArmplanError as error:
         if (signum := stopped_by()) is not None:
             return _stopped(signum)
         return report_error(error, getattr(args, "json", False))
+    except StdoutError as error:  # e.g. `> /dev/full`, or stdout closed
+        if (signum := stopped_by()) is not None:
+            return _stopped(signum)
+        return _unwritten(error)
     except BrokenPipeError:  # e.g. `armplan ... | head`: the reader left
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # no second error at exit
@@ -89,6 +96,16 @@ def run_command(
         raise
     signum = stopped_by()
     return code if signum is None else _stopped(signum)
+
+
+def _unwritten(error: StdoutError) -> int:
+    """Say that the output could not be written (if stderr works); exit code 1."""
+    if sys.stdout is None or sys.stdout is sys.__stdout__:
+        discard_stdout()  # what it holds: exit's flush would fail again
+    with contextlib.suppress(OSError, AttributeError):
+        sys.stderr.write(f"armplan: error: cannot write the output: {error.strerror}\n")
+        sys.stderr.flush()
+    return 1
 
 
 #: What each stop signal is called, and its exit code.

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -9,6 +10,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
+from armplan.cli.stdout_guard import discard_stdout
 from shared.errors import ArmplanError
 
 
@@ -62,8 +64,19 @@ def _cell(value: Any) -> str:
 
 
 def report_error(error: ArmplanError, as_json: bool) -> int:
-    """Tell the user what went wrong; returns the exit code (1)."""
-    sys.stderr.write(f"armplan: error: {error.message}\n")
+    """Tell the user what went wrong; returns the exit code (1).
+
+    On stderr, and with ``as_json`` on stdout too, as far as each can be
+    written (closed, ``None``, or a full disk: the exit code still says it).
+    """
+    with contextlib.suppress(OSError, AttributeError):
+        sys.stderr.write(f"armplan: error: {error.message}\n")
+        sys.stderr.flush()
     if as_json:
-        print_json({"error": error.to_wire()})
+        try:
+            print_json({"error": error.to_wire()})
+            sys.stdout.flush()
+        except (OSError, AttributeError):
+            if sys.stdout is sys.__stdout__:  # exit's flush would fail again
+                discard_stdout()
     return 1
