@@ -380,6 +380,29 @@ def test_fifty_concurrent_plans_all_succeed(bus: Bus) -> None:
         assert reply.to_json() == expected[k % 16]
 
 
+def test_a_stalled_stage_is_named_to_the_caller_in_its_time(
+    stack: Launcher, bus: Bus
+) -> None:
+    """The timing service paused (SIGSTOP): a caller waiting 3 s was told
+    that the planner did not answer, while the planner waited the bus's
+    whole timeout (60 s here) for timing. Each stage now waits what the
+    caller has left less a margin, so the caller gets the planner's answer
+    naming timing, within its 3 s."""
+    timing = stack.services["timing"]
+    timing.signal(signal.SIGSTOP)
+    try:
+        start = time.monotonic()
+        with pytest.raises(RequestTimeoutError) as caught:
+            bus.call(PLAN, REACH, timeout=3.0)
+        took = time.monotonic() - start
+    finally:
+        timing.signal(signal.SIGCONT)
+    assert caught.value.service == "timing", caught.value.message
+    assert "service 'timing' did not answer" in caught.value.message
+    assert took < 3.0
+    assert bus.call(PLAN, REACH, timeout=60.0).to_json() == in_process(REACH)
+
+
 def test_a_stopped_fit_service_does_not_stop_planning(
     stack: Launcher, bus: Bus
 ) -> None:

@@ -6,13 +6,22 @@ stage function on the same message (JSON round-trips floats exactly), so a
 plan made through the services equals the in-process one. Before planning,
 :meth:`RemoteStages.require` checks the liveliness of every service the
 request needs, so an absent one is named at once, before any work is done.
+
+Each stage waits at most what the planner's caller has left, less
+:func:`stage_margin`: a stage service that stalls (a paused process) is
+then named to the caller by the planner's answer ("service 'timing' did
+not answer ..."), which arrives before the caller stops waiting. With the
+bus's whole timeout for each stage, the caller's own timeout came first,
+and it was told that the planner did not answer.
 """
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 from shared.bus import Bus, Route
+from shared.bus.deadline import REPLY_MARGIN, current_due
 from shared.bus.routes import DECIDE, IK_PATH, TIMING
 from shared.errors import ServiceUnavailableError
 from shared.messages import (
@@ -40,12 +49,30 @@ def needed_routes(request: PlanRequest) -> list[Route[Any, Any]]:
     return routes
 
 
+#: Most time kept back from a stage's wait for the planner's answer to
+#: travel to its caller [s].
+STAGE_MARGIN = 0.25
+#: Shortest wait for a stage [s] (its caller has as good as gone).
+SHORTEST_WAIT = 1e-3
+
+
+def stage_margin(budget: float) -> float:
+    """Time kept back for the planner's answer to travel [s].
+
+    A tenth of the caller's ``budget`` [s], between
+    :data:`~shared.bus.deadline.REPLY_MARGIN` and :data:`STAGE_MARGIN`.
+    """
+    return max(REPLY_MARGIN, min(STAGE_MARGIN, 0.1 * budget))
+
+
 class RemoteStages:
     """The stages as queries to the decide, ik and timing services.
 
     Args:
         bus: The planner's bus.
         timeout: Longest wait for each stage's reply [s]; default the bus's.
+            Either way no longer than the caller of the query being served
+            (``current_due``) has left, less :func:`stage_margin`.
     """
 
     def __init__(self, bus: Bus, timeout: float | None = None) -> None:
@@ -72,10 +99,19 @@ class RemoteStages:
             )
 
     def decide(self, request: DecideRequest) -> Decision:
-        return self._bus.call(DECIDE, request, timeout=self._timeout)
+        return self._bus.call(DECIDE, request, timeout=self._wait())
 
     def ik(self, request: PathIKRequest) -> JointPath:
-        return self._bus.call(IK_PATH, request, timeout=self._timeout)
+        return self._bus.call(IK_PATH, request, timeout=self._wait())
 
     def timing(self, request: TimingRequest) -> Trajectory:
-        return self._bus.call(TIMING, request, timeout=self._timeout)
+        return self._bus.call(TIMING, request, timeout=self._wait())
+
+    def _wait(self) -> float:
+        """The next stage's longest wait [s]."""
+        wait = self._bus.config.timeout if self._timeout is None else self._timeout
+        due = current_due()
+        if due is None:  # not serving a query, or its caller gave no budget
+            return wait
+        left = due.at - time.monotonic() - stage_margin(due.budget)
+        return max(min(wait, left), SHORTEST_WAIT)
