@@ -64,7 +64,7 @@ def guarded_stdout() -> Iterator[None]:
     given = sys.stdout
     if given is None:
         _hold_descriptor_1()
-    sys.stdout = GuardedStdout(given)  # type: ignore[assignment]
+    sys.stdout = GuardedStdout(given)
     try:
         yield
     finally:
