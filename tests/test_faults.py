@@ -133,6 +133,66 @@ def test_overlapping_executes_refused_robot_busy_still_count_as_recovered() -> N
     assert not _recovered([played, Result("plan", Outcome.TYPED, "ik_failed")])
 
 
+def test_a_kill_whose_down_calls_did_not_name_it_fails_the_suite() -> None:
+    """A kill of ik where none of the calls sent while ik was down named ik
+    passed: the verdict looked only at lost, unclear, crashes, recovered."""
+    typed = Result("plan", Outcome.TYPED, "request_timeout", "", "stage timed out")
+    ok = Result("plan", Outcome.SUCCEEDED)
+    kill = Tally("kill, restart ik", 1, [ok] * 20 + [typed] * 20 + [ok] * 20)
+    kill.facts = {"named": 0, "down_needing": 20, "recovered": True, "missing": []}
+    assert not passed([kill])
+    assert kill.unmet == ["only 0 of the 20 calls sent while down named it"]
+    kill.facts |= {"named": 20}
+    assert passed([kill])
+    kill.facts |= {"down_needing": 0, "named": 0}
+    assert not passed([kill]), "no call showed the fault"
+
+
+def test_a_recorder_kill_that_lost_plans_or_recordings_fails_the_suite() -> None:
+    """Plans failed, neither file holds a trajectory, the recorder is not
+    back: each is a failed suite (it passed: no fact but recovered counted)."""
+    ok = Result("plan", Outcome.SUCCEEDED)
+    typed = Result("plan", Outcome.TYPED, "service_unavailable", "planner")
+    rec = Tally("kill, restart recorder", 1, [ok] * 20 + [typed] * 40)
+    rec.facts = {
+        "all_planned": False,
+        "killed_file": 0,
+        "new_file": 0,
+        "planned_after": 0,
+        "missing": ["recorder"],
+    }
+    assert not passed([rec])
+    assert rec.unmet == [
+        "not every plan succeeded",
+        "the killed recorder's file holds no trajectory",
+        "the new recorder's file holds 0 trajectories, not the 1 planned after "
+        "the restart",
+        "still not alive: recorder",
+    ]
+    good = {"all_planned": True, "killed_file": 5, "new_file": 20}
+    rec.facts = good | {"planned_after": 20, "missing": [], "recovered": True}
+    assert passed([rec])
+    rec.facts |= {"new_file": 19}
+    assert not passed([rec]), "a plan made after the restart is not recorded"
+
+
+def test_bad_inputs_without_a_good_answer_next_fail_the_suite() -> None:
+    """The good request after each bad one answered service_busy every time:
+    the service did not answer next, a failed suite (it passed)."""
+    rejected = Result("plan", Outcome.TYPED, "invalid_input")
+    busy = Result("plan", Outcome.TYPED, "service_busy")
+    bad = Tally("bad input: plan", 6, [rejected, busy] * 6)
+    bad.facts = {"bad": 6, "typed": 6, "good_next": 0, "same_process": True}
+    assert not passed([bad])
+    assert bad.unmet == ["the good request right after one answered 0 of 6 times"]
+    bad.facts |= {"good_next": 6, "same_process": False}
+    assert bad.unmet == ["not the same process at the end"]
+    bad.facts |= {"same_process": True}
+    assert passed([bad])
+    report = json_report([bad], (0.0, 0.0))
+    assert report["passed"] and report["scenarios"][0]["unmet"] == []
+
+
 @pytest.fixture(scope="module")
 def good() -> GoodRequests:
     return good_requests()
@@ -178,9 +238,12 @@ def traffic(bus: Bus) -> Iterator[Traffic]:
 
 
 def healthy(tally: Tally) -> None:
-    """Nothing lost, nothing unclear, nothing crashed (with the evidence)."""
+    """Nothing lost, nothing unclear, nothing crashed, no promise unmet: the
+    suite's verdict passes this real run (with the evidence)."""
     row = tally.row()
     assert (row["lost"], row["unclear"], row["crashes"]) == (0, 0, 0), row
+    assert row["unmet"] == [], row
+    assert passed([tally])
 
 
 @pytest.mark.parametrize("name", [*KILLED, "router"])

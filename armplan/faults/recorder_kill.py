@@ -4,7 +4,7 @@ Plans go out in thirds around a SIGKILL of the recorder and its restart
 into a new file (:func:`~armplan.faults.kill_restart.kill_and_restart`).
 Nothing calls the recorder, so every plan must succeed; the killed
 recorder's file must still be readable up to its last flush (read with
-``recover``), and the new recorder must record the plans made after it.
+``recover``), and the new recorder must record every plan made after it.
 """
 
 from __future__ import annotations
@@ -45,8 +45,10 @@ def recorder_scenario(
     """Kill the recorder during plans, restart it into a new file.
 
     Facts: ``all_planned`` (every plan succeeded), ``killed_file``
-    (trajectories readable in the killed recorder's file) and ``new_file``
-    (trajectories in the new recorder's file).
+    (trajectories readable in the killed recorder's file), ``new_file``
+    (trajectories in the new recorder's file), ``planned_after`` (plans
+    that succeeded after the restart, each of which it must hold),
+    ``recovered`` (every process alive again), ``down_s`` and ``missing``.
     """
     tally = Tally("kill, restart recorder", faults=1)
     calls = traffic_calls(good, RECORDER, count)
@@ -56,14 +58,18 @@ def recorder_scenario(
     killed_file, new_file = system.recordings()[-2:]
     kept, new = trajectories(killed_file), trajectories(new_file)
     planned = all(r.outcome is Outcome.SUCCEEDED for r in tally.results)
+    after = sum(r.outcome is Outcome.SUCCEEDED for r in phases.after)
     tally.facts = {
         "all_planned": planned,
         "killed_file": kept,
         "new_file": new,
+        "planned_after": after,
+        "recovered": not phases.missing,
         "down_s": round(phases.down_s, 2),
         "missing": phases.missing,
         "note": f"plans {'all' if planned else 'NOT all'} succeeded; killed file "
-        f"readable with {kept} trajectories, new file has {new}",
+        f"readable with {kept} trajectories, the new one has {new} of the {after} "
+        "planned after the restart",
     }
     tally.crashes = system.crashes()
     return tally

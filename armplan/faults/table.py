@@ -24,9 +24,12 @@ COLUMNS = (
 
 
 def passed(tallies: Sequence[Tally]) -> bool:
-    """No request lost, no unclear error, no crash, none left unrecovered.
+    """No request lost, no unclear error, no crash, no promise unmet.
 
-    In any scenario; "unrecovered": a restarted process that does not serve.
+    In any scenario; a promise is what its facts must show
+    (:func:`~armplan.faults.tally.unmet`): a restarted process serves again,
+    the calls that needed a killed one named it, the recorders' files hold
+    the plans, a good request is answered after each bad one.
     """
     return all(t.healthy for t in tallies)
 
@@ -66,7 +69,9 @@ def _evidence(row: dict[str, Any]) -> str:
     note = str(row["facts"].get("note", ""))
     kinds = ", ".join(f"{k} {n}" for k, n in sorted(row["kinds"].items()))
     crashed = "; crashed: " + ", ".join(row["crashed"]) if row["crashed"] else ""
-    return note + (f" [dim]({kinds})[/]" if kinds else "") + crashed
+    unmet = "; ".join(row["unmet"])
+    failed = f"; [bold red]UNMET: {unmet}[/]" if unmet else ""
+    return note + (f" [dim]({kinds})[/]" if kinds else "") + crashed + failed
 
 
 def json_report(tallies: Sequence[Tally], load: tuple[float, float]) -> dict[str, Any]:

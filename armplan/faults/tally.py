@@ -1,9 +1,13 @@
-"""One scenario's count: faults injected, requests and how each ended, crashes."""
+"""One scenario's count: faults injected, requests and how each ended, crashes.
+
+A scenario is healthy when nothing was lost, unclear or crashed and its
+facts show what docs/faults.md says it must show (:func:`unmet`).
+"""
 
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -55,11 +59,15 @@ class Tally:
         return self.count(Outcome.UNCLEAR)
 
     @property
+    def unmet(self) -> list[str]:
+        """What the scenario had to show and did not, in words (see :func:`unmet`)."""
+        return unmet(self.facts)
+
+    @property
     def healthy(self) -> bool:
-        """Nothing lost, unclear or crashed, and recovered after a restart."""
-        recovered = self.facts.get("recovered", True) is not False
+        """Nothing lost, unclear or crashed, and every promise of its facts kept."""
         clean = self.lost == 0 and self.unclear == 0 and not self.crashes
-        return clean and recovered
+        return clean and not self.unmet
 
     def kinds(self) -> dict[str, int]:
         """How many requests ended with each error kind (not successes)."""
@@ -79,4 +87,75 @@ class Tally:
             "kinds": self.kinds(),
             "crashed": list(self.crashes),
             "facts": dict(self.facts),
+            "unmet": self.unmet,
         }
+
+
+def unmet(facts: Mapping[str, Any]) -> list[str]:
+    """The promises of docs/faults.md that ``facts`` show broken, in words.
+
+    Each scenario's facts carry what it must show; a fact a scenario does
+    not report is not checked:
+
+    - a kill: ``recovered`` (every call after the restart answered, every
+      process alive again, ``missing`` empty) and, of the ``down_needing``
+      calls sent while the process was down that need it (at least one),
+      every one failed naming it (``named``);
+    - the recorder: every plan succeeded (``all_planned``), the killed
+      file holds trajectories (``killed_file``) and the new one every plan
+      made after the restart (``new_file`` of ``planned_after``);
+    - bad inputs: each of the ``bad`` ones answered with a typed error (or,
+      valid after all, ``accepted``), each followed by a good request
+      answered (``good_next``), by the same process (``same_process``).
+    """
+    broken = _kill_unmet(facts) + _recorder_unmet(facts) + _bad_input_unmet(facts)
+    if facts.get("recovered") is False:
+        broken.insert(0, "NOT recovered after the restart")
+    if facts.get("missing"):
+        broken.append("still not alive: " + ", ".join(facts["missing"]))
+    return broken
+
+
+def _kill_unmet(facts: Mapping[str, Any]) -> list[str]:
+    if "down_needing" not in facts:
+        return []
+    needing, named = facts["down_needing"], facts.get("named", 0)
+    if needing < 1:
+        return ["no call that needs the killed process was sent while it was down"]
+    if named < needing:
+        return [f"only {named} of the {needing} calls sent while down named it"]
+    return []
+
+
+def _recorder_unmet(facts: Mapping[str, Any]) -> list[str]:
+    broken = []
+    if facts.get("all_planned") is False:
+        broken.append("not every plan succeeded")
+    if "killed_file" in facts and facts["killed_file"] < 1:
+        broken.append("the killed recorder's file holds no trajectory")
+    if "new_file" in facts:
+        after = max(facts.get("planned_after", 1), 1)
+        if facts["new_file"] < after:
+            broken.append(
+                f"the new recorder's file holds {facts['new_file']} trajectories, "
+                f"not the {after} planned after the restart"
+            )
+    return broken
+
+
+def _bad_input_unmet(facts: Mapping[str, Any]) -> list[str]:
+    if "bad" not in facts:
+        return []
+    bad = facts["bad"]
+    answered = facts.get("typed", 0) + facts.get("accepted", 0)
+    broken = []
+    if answered < bad:
+        broken.append(f"{bad - answered} of {bad} bad inputs got no typed error")
+    if facts.get("good_next", 0) < bad:
+        broken.append(
+            f"the good request right after one answered {facts.get('good_next', 0)} "
+            f"of {bad} times"
+        )
+    if facts.get("same_process") is False:
+        broken.append("not the same process at the end")
+    return broken
