@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from armplan.cli.main import main
+from shared.errors import InvalidInputError
 
 COMMANDS = ("certs", "demo", "faults")
 
@@ -106,6 +107,47 @@ def test_an_empty_out_is_refused(
         "armplan: error: --out is empty: name a folder (. for the current one)\n"
     )
     assert list(here.iterdir()) == []
+
+
+def test_faults_refuses_a_folder_holding_a_recording(
+    here: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A demo folder's session.mcap (from a real NAO, say) was silently
+    replaced by the suite's recording: now the folder is refused, naming
+    the files, before anything starts, and they are left as they were."""
+    (here / "logs").mkdir()
+    kept = {"session.mcap": b"a demo's recording", "logs/services.log": b"old\n"}
+    kept |= {"session-2.mcap": b"an earlier suite's", "logs/recorder-2.log": b"x"}
+    for name, data in kept.items():
+        (here / name).write_bytes(data)
+    (here / "session-old.mcap").write_bytes(b"not a name the suite writes")
+    code, err = armplan(capsys, "faults", "--out", ".", "--requests", "3")
+    assert code == 1
+    assert err == (
+        "armplan: error: cannot write into . (--out): it holds session.mcap, "
+        "logs/services.log, session-2.mcap, logs/recorder-2.log, which armplan "
+        "faults would replace or add to; give --overwrite to replace them, or "
+        "give another --out\n"
+    )
+    assert {n: (here / n).read_bytes() for n in kept} == kept
+    assert not (here / "zenoh.json5").exists()
+
+
+def test_faults_overwrite_clears_an_earlier_runs_files_only(here: Path) -> None:
+    """--overwrite: the suite's names are removed before it starts (no old
+    session-5.mcap or log lines mixed into this run's); other files stay."""
+    from armplan.faults.system import FaultSystem
+
+    (here / "logs").mkdir()
+    for name in ("session.mcap", "session-5.mcap", "sim.jsonl", "logs/bridge.log"):
+        (here / name).write_text("earlier\n")
+    (here / "notes.txt").write_text("mine\n")
+    with pytest.raises(InvalidInputError, match="give --overwrite"):
+        FaultSystem(here)
+    system = FaultSystem(here, overwrite=True)  # prepared, not started
+    assert system.out == here
+    left = sorted(p.relative_to(here).as_posix() for p in here.rglob("*"))
+    assert left == ["logs", "notes.txt", "zenoh.json5"]
 
 
 @pytest.mark.parametrize("host", ["", "bad host", "under_score"])

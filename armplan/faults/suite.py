@@ -69,6 +69,8 @@ def run_suite(
     out: Path,
     options: SuiteOptions,
     report: Callable[[Tally], None] = lambda tally: None,
+    *,
+    overwrite: bool = False,
 ) -> list[Tally]:
     """Start the system in ``out``, run every scenario, stop it; every tally.
 
@@ -76,7 +78,10 @@ def run_suite(
         out: The folder for the configuration, the logs and the recordings.
         options: The suite's size.
         report: Called with each scenario's tally as soon as it is done.
+        overwrite: Replace an earlier run's files in ``out`` (else refused,
+            see :mod:`armplan.faults.out_folder`).
     """
+    fault_system = FaultSystem(out, overwrite=overwrite)  # refuses before work
     good = good_requests()
     tallies: list[Tally] = []
 
@@ -86,7 +91,7 @@ def run_suite(
         system.heal(bus)
 
     with (
-        FaultSystem(out) as system,
+        fault_system as system,
         Bus.connect(system.config) as bus,
         Traffic(bus, options.concurrency, options.timeout) as traffic,
     ):

@@ -17,6 +17,7 @@ import signal
 from pathlib import Path
 
 from armplan.demo.stack import LOGS_DIR, RECORDING_FILE, DemoStack
+from armplan.faults.out_folder import CONFIG_FILE, claim_out_folder
 from armplan.launch import Launcher, free_endpoint
 from armplan.launch.child import Child
 from armplan.launch.robot import RobotStack
@@ -32,8 +33,6 @@ NAMESPACE = "faults"
 MAX_PAYLOAD = 1 << 20
 #: A service's own wait for the services it calls (the planner's stages) [s].
 INNER_TIMEOUT = 20.0
-#: The suite's configuration file, in its folder.
-CONFIG_FILE = "zenoh.json5"
 #: Longest wait for a killed process to be reaped [s].
 REAP_TIMEOUT = 30.0
 #: Longest wait for restarted processes to be alive again [s].
@@ -69,9 +68,20 @@ class FaultSystem(StartStop):
         stack: The processes (router and services, sim and bridge, recorder).
     """
 
-    def __init__(self, out: Path) -> None:
-        """Prepare (start nothing yet); ``out`` is created if missing."""
+    def __init__(self, out: Path, *, overwrite: bool = False) -> None:
+        """Prepare (start nothing yet); ``out`` is created if missing.
+
+        Args:
+            out: The folder for the configuration, the logs, the recordings.
+            overwrite: Remove files an earlier run left there under the
+                names the suite writes, instead of refusing the folder.
+
+        Raises:
+            InvalidInputError: ``out`` cannot be made, or holds such files
+                and ``overwrite`` is false (naming them).
+        """
         self.out = make_output_folder(out)
+        claim_out_folder(out, overwrite)
         self.config = write_config(out / CONFIG_FILE)
         self.stack = DemoStack(self.config, out)
         self._killed: set[int] = set()

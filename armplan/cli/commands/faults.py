@@ -4,10 +4,12 @@ Starts every process on a free 127.0.0.1 port (router, fit, decide, ik,
 timing, planner, the simulated NAO, the bridge, the recorder); kills and
 restarts each service, the bridge, the router and the recorder while clients
 plan; sends a burst of concurrent plans; sends hypothesis-made bad inputs to
-every queryable. Prints one row per scenario: faults injected, requests
-sent, succeeded, failed with a clear error, unclear errors, lost, crashes.
-Exits 1 if any request was lost, answered with an unclear error, or any
-process crashed. See docs/faults.md.
+every queryable. Prints one row per scenario: faults injected, requests sent,
+succeeded, failed with a clear error, unclear errors, lost, crashes, and
+what showed the fault. Exits 1 if any request was lost, answered with an
+unclear error, any process crashed, or a scenario did not show what it
+must (a restarted process serving again, the calls that needed a killed
+one naming it, ...). See docs/faults.md.
 """
 
 from __future__ import annotations
@@ -68,14 +70,20 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--out",
         metavar="DIR",
-        help="keep the logs and recordings here (default: a temporary folder)",
+        help="keep the logs and recordings here (default: a temporary folder); "
+        "a folder already holding them (session.mcap, logs/...) is refused",
+    )
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace an earlier run's recordings and logs in --out",
     )
     add_json(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the suite, print the table; 1 if anything was lost or crashed."""
+    """Run the suite, print the table; 1 if anything was lost, crashed or unmet."""
     if importlib.util.find_spec("hypothesis") is None:
         raise ArmplanError(
             "armplan faults makes its bad inputs with hypothesis, from the "
@@ -105,12 +113,12 @@ def run(args: argparse.Namespace) -> int:
         seed=args.seed,
     )
     if kept is not None:
-        return _run(kept, options, args.json)
+        return _run(kept, options, args.json, args.overwrite)
     with tempfile.TemporaryDirectory(prefix="armplan-faults-") as out:
-        return _run(Path(out), options, args.json)
+        return _run(Path(out), options, args.json, args.overwrite)
 
 
-def _run(out: Path, options: SuiteOptions, as_json: bool) -> int:
+def _run(out: Path, options: SuiteOptions, as_json: bool, overwrite: bool) -> int:
     from rich.console import Console
 
     from armplan.cli.console import StdoutConsole
@@ -127,7 +135,7 @@ def _run(out: Path, options: SuiteOptions, as_json: bool) -> int:
         )
 
     load_start = os.getloadavg()[0]
-    tallies = run_suite(out, options, report)
+    tallies = run_suite(out, options, report, overwrite=overwrite)
     load = (load_start, os.getloadavg()[0])
     if as_json:
         print_json(json_report(tallies, load))
