@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from armplan.bench import service_latency
 from armplan.bench.machine import cpu_model
 from armplan.bench.report import print_bars, print_planning
 from armplan.bench.service_latency import PER_CLIENT, plans_for
@@ -20,6 +21,7 @@ from armplan.cli.main import main
 from shared.bus.config import DEFAULT_QUEUE_LIMIT
 from shared.bus.lifeline import PARENT_ENV
 from shared.compiled import running_compiled
+from shared.errors import ServiceUnavailableError
 
 TINY = ["bench", "--targets", "1", "--repeats", "1", "--plans", "2"]
 CLIENTS = (1, 3)
@@ -266,3 +268,24 @@ def test_the_timing_row_says_it_compares_unlike_work(
     durations = lines[row + 1].split()
     assert "jerk-limited" in lines[row + 1] and "time-optimal" in lines[row + 1]
     assert durations[-3:] == ["0.94000", "0.45000", "-"]
+
+
+def test_a_router_port_in_use_is_said_not_sent_to_a_missing_log(
+    busy_port: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """bench keeps no log of the services it starts: a router that could not
+    listen was reported "(see its log)", a log that does not exist. Now the
+    error says what the router printed: its port in use."""
+    endpoint = f"tcp/127.0.0.1:{busy_port}"
+    monkeypatch.setattr(service_latency, "free_endpoint", lambda: endpoint)
+    with pytest.raises(ServiceUnavailableError) as caught:
+        service_latency.run(n=1, clients=(1,))
+    message = caught.value.message
+    assert "see its log" not in message
+    assert message.startswith(
+        "service 'router' is unavailable: its process exited with code 1 while "
+        "starting; its output ended: router: Zenoh configuration "
+        f"--listen/--connect (listen/endpoints): cannot listen on {endpoint} ("
+    )
+    assert "Address already in use" in message
+    assert caught.value.evidence["output"] in message

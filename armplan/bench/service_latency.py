@@ -18,12 +18,14 @@ where the time through the services goes. :func:`run` measures;
 
 from __future__ import annotations
 
+import contextlib
 import os
-import subprocess
+import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from functools import partial
+from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -32,6 +34,7 @@ from armplan.bench import stage_hops
 from armplan.bench.stage_hops import StageHop
 from armplan.bench.timer import Timing, time_calls
 from armplan.launch import Launcher, free_endpoint
+from armplan.launch.quoted_log import quoting_log
 from services.planner.pipeline import plan
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.routes import PLAN
@@ -216,7 +219,7 @@ def run(
         loads, hops = _remote(config, request, n, clients, after)
     else:
         own = load_config(endpoints=(free_endpoint(),))
-        with Launcher(own, SERVICES, log=subprocess.DEVNULL):
+        with own_services(own):
             loads, hops = _remote(own, request, n, clients, after)
     return ServiceLatency(
         in_process,
@@ -226,6 +229,26 @@ def run(
         (before, os.getloadavg()[0]),
         hops,
     )
+
+
+@contextlib.contextmanager
+def own_services(config: BusConfig) -> Iterator[Launcher]:
+    """The router and the services, started for the run, their output kept aside.
+
+    Their output goes to a temporary file, gone after the run: a process
+    that exits while starting is reported with what it printed last (the
+    router: its port in use), not sent to a log that does not exist.
+    """
+    with tempfile.TemporaryDirectory(prefix="armplan-bench-") as folder:
+        path = Path(folder) / "services.log"
+        with path.open("a", encoding="utf-8") as log:
+            launcher = Launcher(config, SERVICES, log=log)
+            with quoting_log(path):
+                launcher.start()
+            try:
+                yield launcher
+            finally:
+                launcher.stop()
 
 
 def _remote(

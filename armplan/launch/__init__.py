@@ -4,6 +4,7 @@
 - ``child.py``: one child process in its own process group, stopped for sure.
 - ``launcher.py``: start in order, wait for liveliness, stop in reverse order.
 - ``ports.py``: a free loopback endpoint (tests, benchmarks).
+- ``quoted_log.py``: a start failure quotes a temporary log's last words.
 """
 
 from armplan.launch.catalog import SERVICES, ServiceSpec, service_spec
