@@ -17,6 +17,7 @@ from typing import Any
 
 import pytest
 
+from armplan.cli.commands.faults import HELP
 from armplan.faults import Call, Outcome, Tally, passed, send
 from armplan.faults.bad_input import bad_input_scenario, spoiled
 from armplan.faults.burst import burst_scenario
@@ -235,6 +236,16 @@ def bus(system: FaultSystem) -> Iterator[Bus]:
 def traffic(bus: Bus) -> Iterator[Traffic]:
     with Traffic(bus, 3, 30.0) as traffic:
         yield traffic
+
+
+def test_the_help_says_what_the_suite_hurts(system: FaultSystem) -> None:
+    """It said it kills and feeds bad inputs to every process: the sim is
+    never killed, and only the services and the bridge get bad inputs."""
+    hurt = {*KILLED, "router", "recorder"}
+    assert set(system.stack.processes()) - hurt == {"sim"}
+    assert "kill and restart every process but the simulated NAO" in HELP
+    assert {r.service for r in QUERYABLES} == set(KILLED)  # services, bridge
+    assert "bad inputs to the services and the bridge" in HELP
 
 
 def healthy(tally: Tally) -> None:

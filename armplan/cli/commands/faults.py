@@ -4,7 +4,9 @@ Starts every process on a free 127.0.0.1 port (router, fit, decide, ik,
 timing, planner, the simulated NAO, the bridge, the recorder); kills and
 restarts each service, the bridge, the router and the recorder while clients
 plan; sends a burst of concurrent plans; sends hypothesis-made bad inputs to
-every queryable. Prints one row per scenario: faults injected, requests sent,
+every queryable (the services' routes and the bridge's execute; the
+simulated NAO is neither killed nor sent bad inputs, the recorder answers
+no request). Prints one row per scenario: faults injected, requests sent,
 succeeded, failed with a clear error, unclear errors, lost, crashes, and
 what showed the fault. Exits 1 if any request was lost, answered with an
 unclear error, any process crashed, or a scenario did not show what it
@@ -30,7 +32,10 @@ if TYPE_CHECKING:
     from armplan.faults import SuiteOptions
 
 ORDER = 85
-HELP = "kill, restart and feed bad inputs to every process; print what was lost"
+HELP = (
+    "kill and restart every process but the simulated NAO, send bad inputs to "
+    "the services and the bridge; print what was lost"
+)
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
