@@ -17,9 +17,11 @@ the mean elbow, wrist and palm), and turns its palm on the way to where the
 subject's ends (as NAO's joints can face it: the subject's mean end posture
 on NAO); every reach then also gets the posture similarity S of eq. 22-23,
 NAO's five joints against the subject's, averaged over tau. A reach that a
-method cannot plan (no posture within the limits meets the palm there, as
-the planner judges it) is left out for every method and listed. Without
-``palm`` a reach NAO cannot make fails the run, naming its file, subject
+method cannot plan because of the palm (its wrist is within reach, but no
+posture within the limits meets the palm there, as the planner judges it)
+is left out for every method and listed; if that leaves no reach, the run
+fails. A reach NAO cannot make whatever the palm (a goal out of its reach
+after retargeting) fails the run, palm or not, naming its file, subject
 and trial (or grid point).
 """
 
@@ -100,6 +102,8 @@ class Skipped(NamedTuple):
         reason: The planner's error message.
         arm: The arm.
         trial: The trial of a reach off the grid; ``None`` on the grid.
+        name: The reach named for a message, with its files
+            (``subject_reach.reach_name``).
     """
 
     subject: str
@@ -107,6 +111,7 @@ class Skipped(NamedTuple):
     reason: str
     arm: str = "right"
     trial: int | None = None
+    name: str = ""
 
 
 def run_similarity(
@@ -134,32 +139,65 @@ def run_similarity(
         skipped: Receives the reaches left out (with ``palm`` only).
 
     Raises:
-        InvalidInputError: with ``palm``, if a trial has no wrist frames.
+        InvalidInputError: with ``palm``, if a trial has no wrist frames, or
+            every reach was left out (:func:`check_some_left`).
+        UnreachableTargetError: a reach NAO cannot make (with ``palm``: not
+            for the palm's sake), naming it.
     """
     tau = tau_grid(samples)
     stages = stages or LocalStages()
     out: list[ReachError] = []
+    left_out: list[Skipped] = []
     reaches = subject_reaches(demos, tau)
     for done, reach in enumerate(reaches, start=1):
         arm = load_arm(reach.arm)
         try:
             out += _rows(arm, stages, reach, methods, source, tau, measures, palm)
         except UnreachableTargetError as exc:
-            if not palm:
+            if not (palm and missed_palm(exc)):
                 raise _naming(exc, reach) from exc
-            if skipped is not None:
-                skipped.append(
-                    Skipped(
-                        reach.subject,
-                        reach.point,
-                        str(exc),
-                        reach.arm.value,
-                        reach.trial,
-                    )
-                )
+            left_out.append(_skipped(reach, exc))
         if progress is not None:
             progress(done, len(reaches))
+    if skipped is not None:
+        skipped += left_out
+    check_some_left(out, left_out)
     return out
+
+
+def missed_palm(exc: UnreachableTargetError) -> bool:
+    """Whether the palm made the target unreachable: the wrist is within reach.
+
+    The solver tried, with a palm, and stopped short (``residual``); a
+    target out of the reach shell has no residual, palm or not.
+    """
+    return exc.evidence["palm"] is not None and exc.evidence["residual"] is not None
+
+
+def _skipped(reach: SubjectReach, exc: UnreachableTargetError) -> Skipped:
+    arm = reach.arm.value
+    return Skipped(
+        reach.subject, reach.point, str(exc), arm, reach.trial, reach_name(reach)
+    )
+
+
+def check_some_left(rows: list[ReachError], left_out: list[Skipped]) -> None:
+    """Refuse a run whose every reach was left out: there is nothing to compare.
+
+    Raises:
+        InvalidInputError: naming how many were left out, and the first and why.
+    """
+    if rows or not left_out:
+        return
+    first = left_out[0]
+    count = len(left_out)
+    raise InvalidInputError(
+        f"with --palm no reach is left to compare: the planner met the subject's "
+        f"palm in none of the {count} reach{'es' if count != 1 else ''} ("
+        f"{first.name or first.subject}: {first.reason}); run without --palm",
+        field="palm",
+        skipped=[s._asdict() for s in left_out],
+    )
 
 
 def _naming(exc: UnreachableTargetError, reach: SubjectReach) -> UnreachableTargetError:

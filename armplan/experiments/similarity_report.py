@@ -5,7 +5,8 @@ Into the output directory, for path source ``human`` (or ``planned``;
 ``similarity-human.json`` (``similarity_summary.summary``),
 ``similarity-human.md`` (the tables below, in centimetres),
 ``similarity-human-distribution.png`` (Fig. 14) and
-``similarity-human-point-means.png`` (Fig. 15).
+``similarity-human-point-means.png`` (Fig. 15). Reaches left out with
+``--palm`` get a table of their own, its title counting them.
 """
 
 from __future__ import annotations
@@ -46,10 +47,29 @@ def tables(summary: dict[str, Any]) -> dict[str, Table]:
     ]
     return {
         "overall": (header, overall),
+        **_left_out(summary),
         "per point": (["point", *(f"{m} [cm]" for m in methods)], per_point),
         "by mp primitives": _by_count(summary, "by_mp_primitive_count", methods),
         "by human primitives": _by_count(summary, "by_human_primitive_count", methods),
     }
+
+
+def _left_out(summary: dict[str, Any]) -> dict[str, Table]:
+    """The reaches left out with ``--palm`` (none: no table), counted in the title.
+
+    The overall table's ``reaches`` count only those compared; this says
+    how many more there were and why each is not.
+    """
+    skipped = summary["protocol"].get("skipped") or []
+    if not skipped:
+        return {}
+    count = len(skipped)
+    title = (
+        f"left out: {count} reach{'es' if count != 1 else ''} "
+        "(no posture within the limits meets the subject's palm)"
+    )
+    rows = [[s.get("name") or s["subject"], s["reason"]] for s in skipped]
+    return {title: (["reach", "why"], rows)}
 
 
 _OVERALL_KEYS = (

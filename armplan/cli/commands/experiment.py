@@ -114,7 +114,8 @@ def _similarity_parser(which: argparse._SubParsersAction) -> None:  # type: igno
         "--palm",
         action="store_true",
         help="NAO also turns its palm as the subject did, and each method's "
-        "postures are compared with the subject's (S, eq. 22-23)",
+        "postures are compared with the subject's (S, eq. 22-23); a reach whose "
+        "palm no posture meets is left out, and counted in a 'left out' table",
     )
     parser.set_defaults(run=run_similarity)
 
