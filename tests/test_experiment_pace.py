@@ -60,6 +60,33 @@ def test_pace_command_json_table_and_plot(
     assert json.loads((tmp_path / "pace.json").read_text())["mp"]
 
 
+@pytest.mark.parametrize(
+    "options,name",
+    [
+        (["--arm", "left"], "pace-left"),
+        (["--mu", "0.03", "--omega", "0.01"], "pace-mu-0.03-omega-0.01"),
+        (["--arm", "left", "--seed", "7", "--methods", "mp"], "pace-left-seed-7-mp"),
+        (["--methods", "single", "mp", "single"], "pace-single-mp"),
+    ],
+)
+def test_a_run_not_of_the_defaults_never_replaces_the_default_files(
+    options: list[str], name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A left-arm run (or other weights, seed, methods) into docs/results wrote
+    pace.json over the documented right-arm results; its names carry them now,
+    as similarity's and handover's carry their weights."""
+    (tmp_path / "pace.json").write_text("the default run's\n")
+    args = ["experiment", "pace", "--out", str(tmp_path), "--reaches", "2"]
+    data = run_json([*args, "--chains", "0", *options, "--json"], capsys)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        ["pace.json", f"{name}.json", f"{name}.md", f"{name}-ratios.png"]
+    )
+    assert data["files"] == [
+        str(tmp_path / f"{name}{end}") for end in (".json", ".md", "-ratios.png")
+    ]
+    assert (tmp_path / "pace.json").read_text() == "the default run's\n"
+
+
 def test_random_tasks_are_reachable_seeded_and_as_described() -> None:
     """Same seed, same tasks; reaches alternate the rest posture and random
     ones within the ranges; each target is the wrist of a posture (within
@@ -182,6 +209,7 @@ def test_a_kind_with_no_task_has_no_ratios(
     assert reaches["tasks"] == reaches["planned"] == reaches["slow"] == 0
     assert reaches["median_ratio"] is None and reaches["ratios"] == []
     assert (
-        "| mp | reaches | 0 | 0 | 0 | - | - | - |" in (tmp_path / "pace.md").read_text()
+        "| mp | reaches | 0 | 0 | 0 | - | - | - |"
+        in (tmp_path / "pace-mp.md").read_text()
     )
     assert list(data) == ["protocol", "mp", "files"]

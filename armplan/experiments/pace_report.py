@@ -4,7 +4,9 @@ Into the output directory: ``pace.json`` (``pace_summary.summary``),
 ``pace.md`` (per method and kind of task: planned, refused, median, mean
 and largest ratio to human pace, how many slow, how many of those near a
 limit and how many of the others short) and ``pace-ratios.png`` (each
-method's ratios, sorted, per kind).
+method's ratios, sorted, per kind). A run not of the defaults names its
+files after what it changed (``pace-left-mu-0.03-omega-0.01.json``; the
+command builds the name), so it never replaces the default run's.
 """
 
 from __future__ import annotations
@@ -55,17 +57,20 @@ def _cell(value: Any) -> Any:
     return "-" if value is None else value
 
 
-def write_report(summary: dict[str, Any], out: str | Path) -> list[Path]:
+def write_report(
+    summary: dict[str, Any], out: str | Path, name: str = "pace"
+) -> list[Path]:
     """Write the JSON, the table and the figure; returns the paths.
 
-    All three replace older files of their names together, or none does
+    ``name.json``, ``name.md`` and ``name-ratios.png``. All three replace
+    older files of their names together, or none does
     (``shared.output_paths.replaced_together``).
 
     Raises:
         InvalidInputError: if the directory cannot be made or written.
     """
     out = make_dir(out)
-    paths = [out / name for name in ("pace.json", "pace.md", "pace-ratios.png")]
+    paths = [out / f"{name}{end}" for end in (".json", ".md", "-ratios.png")]
     with replaced_together(paths) as (data, table, figure):
         write_text(data, json.dumps(summary, indent=2) + "\n")
         write_text(table, markdown_tables(tables(summary)))

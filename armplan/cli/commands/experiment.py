@@ -24,7 +24,10 @@ and ``--omega`` set the IK measures' weights (every method's); the files
 then carry them in their names (``handover-chained-omega-0``). ``pace``
 (not the paper's): random reaches and chains of reaches with random palms,
 planned in this process; each trajectory's duration over the human one
-(``--arm left``: the right arm's tasks of the seed, mirrored).
+(``--arm left``: the right arm's tasks of the seed, mirrored). Its files'
+names carry the arm, the seed and the methods too when not the defaults
+(``pace-left-mu-0.03-omega-0.01.json``), so that no such run replaces the
+default run's ``pace.json``.
 """
 
 from __future__ import annotations
@@ -140,6 +143,14 @@ def _handover_parser(which: argparse._SubParsersAction) -> None:  # type: ignore
     parser.set_defaults(run=run_handover)
 
 
+#: The pace experiment's defaults that its files' names leave out.
+PACE_DEFAULTS: dict[str, Any] = {
+    "arm": "right",
+    "seed": 5,
+    "methods": ["mp", "least-norm", "single"],
+}
+
+
 def _pace_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     help_ = "random reaches and chains with palms: duration over the human one"
     parser = which.add_parser("pace", help=help_, description=help_)
@@ -148,19 +159,24 @@ def _pace_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[typ
     parser.add_argument(
         "--chains", type=int, default=30, help="random chains with palms (30)"
     )
-    parser.add_argument("--seed", type=int, default=5, help="random tasks' seed (5)")
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=PACE_DEFAULTS["seed"],
+        help=f"random tasks' seed ({PACE_DEFAULTS['seed']})",
+    )
     parser.add_argument(
         "--methods",
         nargs="+",
         choices=("mp", "least-norm", "single"),
-        default=["mp", "least-norm", "single"],
+        default=list(PACE_DEFAULTS["methods"]),
         metavar="METHOD",
         help="mp, least-norm, single (default all)",
     )
     parser.add_argument(
         "--arm",
         choices=("right", "left"),
-        default="right",
+        default=PACE_DEFAULTS["arm"],
         help="default right; left plans the mirrors of the right arm's tasks",
     )
     parser.set_defaults(run=run_pace)
@@ -292,9 +308,22 @@ def run_pace(args: argparse.Namespace) -> int:
         "measures": measures.model_dump(),
     }
     numbers = summary(runs, protocol)
-    written = write_report(numbers, args.out)
+    written = write_report(numbers, args.out, _pace_name(args, methods))
     _print(numbers, tables(numbers), written, args.json)
     return 0
+
+
+def _pace_name(args: argparse.Namespace, methods: list[str]) -> str:
+    """The pace files' name: ``pace``, then what differs from the defaults.
+
+    The arm, the seed, the methods and the weights, each only if given
+    otherwise than by default (``pace-left-seed-7-mp-mu-0.03-omega-0.01``),
+    so that such a run never replaces the default run's files.
+    """
+    arm = "" if args.arm == PACE_DEFAULTS["arm"] else f"-{args.arm}"
+    seed = "" if args.seed == PACE_DEFAULTS["seed"] else f"-seed-{args.seed}"
+    chosen = "" if methods == PACE_DEFAULTS["methods"] else "-" + "-".join(methods)
+    return f"pace{arm}{seed}{chosen}{_weights(args)}"
 
 
 def _demos(args: argparse.Namespace) -> tuple[Any, str]:
