@@ -24,8 +24,14 @@
    shortened below the human duration.
 
 Every result also passes :func:`services.timing.check.check_limits` on its
-samples (divided differences, independent of Ruckig's word); should it fail,
-the limits are tightened and the timing redone, ``RETRIES`` times at most.
+samples (divided differences, independent of Ruckig's word), and
+:func:`services.timing.played_check.check_played` on the curve the robot
+plays between them (the cubic Hermite curve through the samples' positions
+and velocities, whose acceleration can exceed the samples' where the jerk
+changes inside a step); should either fail, the limits are tightened (by
+``TIGHTEN``, or by what the played curve went over:
+:func:`~services.timing.played_check.retime_limits`) and the timing redone,
+``RETRIES`` times at most.
 """
 
 from __future__ import annotations
@@ -41,6 +47,7 @@ from services.timing.human_pace import bell_limits
 from services.timing.judged_points import judged
 from services.timing.parameter_limits import ParameterLimits, parameter_limits
 from services.timing.path_spline import PathSpline
+from services.timing.played_check import check_played, retime_limits
 from services.timing.scalar_profile import ScalarProfile, plan_rest_to_rest, scaled
 from services.timing.trajectory import TimedTrajectory, concatenate
 from shared.errors import InvalidInputError, LimitViolationError, TimingError
@@ -117,13 +124,18 @@ def time_path(
         for share in lengths / lengths.sum()
     ]
     pieces = [index[a : b + 1] for a, b in spans]
-    for attempt in range(RETRIES + 1):
-        tight = limits.scaled(TIGHTEN**attempt) if attempt else limits
+    tight = limits
+    for attempt in range(1, RETRIES + 2):
         result = _timed(splines, pieces, tight, wanted, period)
         try:
             check_limits(result.times, result.positions, limits)
         except LimitViolationError as error:
-            failure = error
+            failure, tight = error, limits.scaled(TIGHTEN**attempt)
+            continue
+        try:
+            check_played(result, limits)
+        except LimitViolationError as error:
+            failure, tight = error, retime_limits(result, limits, tight)
             continue
         return result
     raise TimingError(
