@@ -289,12 +289,13 @@ def test_the_table_and_summary(capsys: pytest.CaptureFixture[str]) -> None:
 def test_a_coarse_rate_says_it_lengthens_the_reach(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    """At 1 Hz a 0.7 s reach lasts one whole second: the summary says why
-    it is slower than human pace; at 100 Hz it says human pace alone."""
-    assert main(["plan", "--target", *AT_GOAL, "--rate", "1"]) == 0
+    """At 16 Hz a 0.7 s reach lasts 0.75 s, twelve whole periods: the
+    summary says why it is slower than human pace; at 100 Hz it says human
+    pace alone."""
+    assert main(["plan", "--target", *AT_GOAL, "--rate", "16"]) == 0
     coarse = capsys.readouterr().out.split("\n\n")[1]
-    assert "duration 1.000 s, 2 samples (1 Hz, human pace, each reach " in coarse
-    assert "lengthened to whole 1 s samples)" in coarse
+    assert "duration 0.750 s, 13 samples (16 Hz, human pace, each reach " in coarse
+    assert "lengthened to whole 0.0625 s samples)" in coarse
     assert main(["plan", "--target", *AT_GOAL]) == 0
     assert "(100 Hz, human pace); method" in capsys.readouterr().out
 
@@ -370,7 +371,8 @@ def test_too_fast_names_the_joint_and_sample(
         (["--target", *GOAL, "--palm", "0", "0", "0"], "zero vector"),
         (["--target", "0.5", "-0.1", "0.05"], "m from the right shoulder"),
         (["--target", *GOAL, "--rate", "0"], "rate"),
-        (["--target", *GOAL, "--rate", "1e-300"], "rate: Input should be greater"),
+        (["--target", *GOAL, "--rate", "1e-300"], "rate: 1e-300 Hz is below the 16"),
+        (["--target", *GOAL, "--rate", "15.9"], "rate: 15.9 Hz is below the 16 Hz"),
         (["--target", "1e308", "0", "0"], "is 1e+308 m from the right shoulder;"),
         (
             ["--target", *GOAL, "--start", "1e308", "0", "0", "0", "0"],

@@ -84,6 +84,15 @@ def unit_direction(v: Sequence[float]) -> tuple[float, float, float]:
 #: reach that lasts about a second, and its period overflows the timing's
 #: arithmetic long before 1e-300 Hz), at most 1000.
 MIN_RATE, MAX_RATE = 1.0, 1000.0
+#: Sample rates a plan may ask for [Hz]: at least 16. The robot bridge and
+#: ``armplan export`` refuse a trajectory whose curve between samples strays
+#: from its positions' own by more than a joint's tolerance
+#: (``bridge.velocity_agreement``); any trajectory within the bridge's jerk
+#: limits passes sampled at ``fine_rate`` or more, at most 15.5 Hz (WristYaw;
+#: ``tests/test_plan_rate_floor.py`` holds the two together). Coarser plans
+#: were planned and then refused (a reach at 5 Hz strayed 0.9 degree, at 2 Hz
+#: 7.8), or passed by luck of the movement.
+MIN_PLAN_RATE = 16.0
 
 #: A point or vector in the torso frame [m] (or unitless for directions).
 Vec3 = tuple[float, float, float]

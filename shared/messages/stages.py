@@ -6,7 +6,7 @@ from pydantic import Field, ValidationInfo, field_validator
 
 from shared.messages.base import (
     MAX_RATE,
-    MIN_RATE,
+    MIN_PLAN_RATE,
     JointVector,
     Message,
     OptionalFieldsMessage,
@@ -106,7 +106,7 @@ class TimingRequest(Message):
     """
 
     segments: list[TimingSegment] = Field(min_length=1, max_length=64)
-    rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
+    rate: float = Field(default=100.0, ge=MIN_PLAN_RATE, le=MAX_RATE)
     method: Method = Method.MP
     limits: TimingLimits | None = None
 

@@ -6,7 +6,7 @@ from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from shared.messages.base import (
     MAX_RATE,
-    MIN_RATE,
+    MIN_PLAN_RATE,
     Direction,
     JointVector,
     OptionalFieldsMessage,
@@ -66,8 +66,9 @@ class PlanRequest(OptionalFieldsMessage):
         fastest: Go as fast as a smooth profile along the path allows within
             the limits (not the path's time-optimal timing) instead of at
             human pace.
-        rate: Sample rate of the returned trajectory [Hz] (targets only: with
-            a ``wrist_path``, 100 or left out; ``fastest`` must be false).
+        rate: Sample rate of the returned trajectory [Hz], ``MIN_PLAN_RATE``
+            (16) to ``MAX_RATE`` (1000) (targets only: with a ``wrist_path``,
+            100 or left out; ``fastest`` must be false).
         limits: Acceleration and jerk limits to time with (``TimingLimits``:
             up to the bridge's safety net); ``None``: the defaults.
         measures: Weights of the IK's human performance measures (eq.
@@ -93,11 +94,23 @@ class PlanRequest(OptionalFieldsMessage):
     start: JointVector | None = None
     method: Method = Method.MP
     fastest: bool = False
-    rate: float = Field(default=100.0, ge=MIN_RATE, le=MAX_RATE)
+    rate: float = Field(default=100.0, le=MAX_RATE)
     limits: TimingLimits | None = None
     measures: MeasureParams | None = None
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
     path_tolerance: float | None = Field(default=None, gt=0.0, le=0.1)
+
+    @field_validator("rate")
+    @classmethod
+    def _playable_rate(cls, rate: float) -> float:
+        """``rate``, if the robot bridge can play a plan sampled at it."""
+        if not rate >= MIN_PLAN_RATE:  # NaN too
+            raise ValueError(
+                f"{rate:g} Hz is below the {MIN_PLAN_RATE:g} Hz a plan needs: the "
+                "robot bridge and armplan export refuse coarser samples, too far "
+                "apart to show the movement"
+            )
+        return rate
 
     @field_validator("wrist_path")
     @classmethod

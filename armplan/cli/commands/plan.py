@@ -121,8 +121,9 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
         "--rate",
         type=float,
         metavar="HZ",
-        help="trajectory samples per second [Hz] (default 100); the duration is "
-        "rounded up to whole sample periods, so a low rate can lengthen it",
+        help="trajectory samples per second [Hz], 16 to 1000 (default 100; the "
+        "robot refuses coarser samples); the duration is rounded up to whole "
+        "sample periods, so a low rate can lengthen it",
     )
     parser.add_argument(
         "--path-tolerance",
