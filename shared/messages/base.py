@@ -80,9 +80,10 @@ def unit_direction(v: Sequence[float]) -> tuple[float, float, float]:
     return (u[0] / norm, u[1] / norm, u[2] / norm)
 
 
-#: Sample and frame rates [Hz]: at least 1 (a slower timeline cannot show a
-#: reach that lasts about a second, and its period overflows the timing's
-#: arithmetic long before 1e-300 Hz), at most 1000.
+#: Frame rates [Hz] (the bridge's, the export's) and the most a plan may be
+#: sampled at: at least 1 (a slower timeline cannot show a reach that lasts
+#: about a second, and its period overflows the timing's arithmetic long
+#: before 1e-300 Hz), at most 1000. A plan's own floor is ``MIN_PLAN_RATE``.
 MIN_RATE, MAX_RATE = 1.0, 1000.0
 #: Sample rates a plan may ask for [Hz]: at least 16. The robot bridge and
 #: ``armplan export`` refuse a trajectory whose curve between samples strays
