@@ -442,18 +442,19 @@ def test_a_pace_or_rate_for_a_tasks_wrist_path_is_refused(
 ) -> None:
     """`--task` with a wrist path ignored --rate and --fastest beside it and
     "rate" and "fastest" in it (a 50 Hz path asked at 10 Hz gave 50 Hz
-    samples), where --wrist-path refuses them: refused alike, by name."""
+    samples), where --wrist-path refuses them: refused alike, by name (at a
+    rate the planner takes for targets)."""
     _, lines = write_path(tmp_path)
     times = [float(line.split(",")[0]) for line in lines[1:]]
     positions = [[float(v) for v in line.split(",")[1:]] for line in lines[1:]]
     task = tmp_path / "task.json"
     path = {"times": times, "positions": positions}
     task.write_text(json.dumps({"wrist_path": path}))
-    for extra in (["--fastest"], ["--rate", "10"]):
+    for extra in (["--fastest"], ["--rate", "50"]):
         assert main(["plan", "--task", str(task), *extra]) == 1
         error = capsys.readouterr().err
         assert f"{extra[0]} does not apply to the wrist_path of the task" in error
-    for pace in ({"rate": 10}, {"fastest": False}):
+    for pace in ({"rate": 50}, {"fastest": False}):
         task.write_text(json.dumps({"wrist_path": path} | pace))
         assert main(["plan", "--task", str(task)]) == 1
         error = capsys.readouterr().err

@@ -354,7 +354,7 @@ def test_a_request_names_its_arm_on_its_wrist_path_alone() -> None:
         )
 
 
-@pytest.mark.parametrize("pace", [{"rate": 10.0}, {"fastest": True}])
+@pytest.mark.parametrize("pace", [{"rate": 50.0}, {"fastest": True}])
 def test_a_wrist_path_refuses_a_pace_or_rate(pace: dict[str, object]) -> None:
     """A wrist path keeps its times: a rate or fastest beside it was
     silently ignored (a 50 Hz path asked at 10 Hz gave 50 Hz samples)."""
