@@ -94,6 +94,8 @@ MIN_RATE, MAX_RATE = 1.0, 1000.0
 #: were planned and then refused (a reach at 5 Hz strayed 0.9 degree, at 2 Hz
 #: 7.8), or passed by luck of the movement.
 MIN_PLAN_RATE = 16.0
+#: A plan's sample rate unless it asks for another [Hz].
+DEFAULT_PLAN_RATE = 100.0
 
 #: A point or vector in the torso frame [m] (or unitless for directions).
 Vec3 = tuple[float, float, float]

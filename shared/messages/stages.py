@@ -5,6 +5,7 @@ from __future__ import annotations
 from pydantic import Field, ValidationInfo, field_validator
 
 from shared.messages.base import (
+    DEFAULT_PLAN_RATE,
     MAX_RATE,
     MIN_PLAN_RATE,
     JointVector,
@@ -106,7 +107,7 @@ class TimingRequest(Message):
     """
 
     segments: list[TimingSegment] = Field(min_length=1, max_length=64)
-    rate: float = Field(default=100.0, ge=MIN_PLAN_RATE, le=MAX_RATE)
+    rate: float = Field(default=DEFAULT_PLAN_RATE, ge=MIN_PLAN_RATE, le=MAX_RATE)
     method: Method = Method.MP
     limits: TimingLimits | None = None
 

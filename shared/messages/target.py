@@ -5,6 +5,7 @@ from __future__ import annotations
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from shared.messages.base import (
+    DEFAULT_PLAN_RATE,
     MAX_RATE,
     MIN_PLAN_RATE,
     Direction,
@@ -94,7 +95,7 @@ class PlanRequest(OptionalFieldsMessage):
     start: JointVector | None = None
     method: Method = Method.MP
     fastest: bool = False
-    rate: float = Field(default=100.0, le=MAX_RATE)
+    rate: float = Field(default=DEFAULT_PLAN_RATE, le=MAX_RATE)
     limits: TimingLimits | None = None
     measures: MeasureParams | None = None
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
@@ -145,7 +146,9 @@ class PlanRequest(OptionalFieldsMessage):
                 f"wrist_path is for the {self.wrist_path.arm.value} arm, "
                 f"the request for the {self.arm.value}"
             )
-        if self.wrist_path is not None and (self.fastest or self.rate != 100.0):
+        if self.wrist_path is not None and (
+            self.fastest or self.rate != DEFAULT_PLAN_RATE
+        ):
             raise ValueError(  # they were ignored: the path keeps its samples
                 "fastest and rate apply to targets only: a wrist_path keeps its "
                 "own times (no retiming)"
