@@ -479,3 +479,108 @@ def test_closing_the_bus_ends_the_reply_readers_of_open_queries(
         server_thread.join()
         queryable.undeclare()
         token.undeclare()
+
+
+def _ask_raw(
+    client: Bus, route: Route[Text, Text], text: str, call: str
+) -> zenoh.Handler[zenoh.Reply]:
+    """Send ``text`` to ``route`` as ``Bus.call`` does, with call id ``call``."""
+    from shared.bus.deadline import budget_attachment
+
+    return client.session.get(
+        route.key(client.config.namespace),
+        payload=Text(text=text).to_json(),
+        attachment=budget_attachment(5.0, call=call),
+        timeout=5.0,
+    )
+
+
+def _texts(replies: zenoh.Handler[zenoh.Reply]) -> list[str]:
+    """Each reply's text, or its error's kind."""
+    from shared.messages import ErrorReply, parse
+
+    out = []
+    for reply in replies:
+        if reply.ok is not None:
+            out.append(parse(Text, reply.ok.payload.to_bytes()).text)
+        else:
+            assert reply.err is not None
+            out.append(parse(ErrorReply, reply.err.payload.to_bytes()).kind)
+    return out
+
+
+def test_a_query_asked_again_joins_its_first_not_refused_busy(
+    config: BusConfig,
+) -> None:
+    """One worker held, one queue slot taken: the second query of the held
+    call and of the queued call (same call id, same request) each get their
+    first query's answer, from one run each, never service_busy (which came
+    first to the caller, while the first query went on: 11 of 12 plan
+    callers were told busy for plans that were published). A new call, and
+    a call id reused with another request, are still refused busy."""
+    tight = dataclasses.replace(config, workers=1, queue_limit=1)
+    handler = Recorded()
+    with (
+        Bus.connect(tight) as service_bus,
+        ServiceHost(service_bus, "gated", [Endpoint(GATED, handler)]),
+        Bus.connect(tight) as client,
+    ):
+        assert client.wait_alive(["gated"], 5.0) == []
+        try:
+            held = _ask_raw(client, GATED, "held", "call-held")
+            assert handler.gate.entered.wait(5.0)
+            queued = _ask_raw(client, GATED, "queued", "call-queued")
+            refused = _ask_raw(client, GATED, "new", "call-new")
+            assert _texts(refused) == ["service_busy"]  # the queue is full
+            again = [
+                _ask_raw(client, GATED, text, f"call-{text}")
+                for text in ("held", "queued")
+            ]
+            reused = _ask_raw(client, GATED, "other", "call-queued")
+            assert _texts(reused) == ["service_busy"]
+        finally:
+            handler.gate.release.set()
+        assert _texts(held) == ["held"] and _texts(again[0]) == ["held"]
+        assert _texts(queued) == ["queued"] and _texts(again[1]) == ["queued"]
+        assert client.call(GATED, Text(text="next")).text == "next"
+    assert handler.ran == ["held", "queued", "next"]
+
+
+def test_busy_to_a_second_query_does_not_override_the_first(
+    config: BusConfig,
+) -> None:
+    """A service that refuses a call's second query busy while it still
+    works on the first (one that does not know call ids): the caller waits
+    for the first query's answer. Once the first query has ended without an
+    answer, the busy refusal is the answer."""
+    from shared.messages import ErrorReply
+
+    busy = ErrorReply.from_error(ServiceBusyError("held", key="k", queued=1))
+    quick = dataclasses.replace(config, resend_after=0.2)
+    with open_client(quick) as server:
+        token = server.liveliness().declare_token(alive_key("test", "held"))
+        queryable = server.declare_queryable(HELD.key("test"))
+
+        def refuse_second(answer_first: bool) -> None:
+            first = queryable.recv()
+            second = queryable.recv()
+            second.reply_err(busy.to_json().encode())
+            second.drop()
+            time.sleep(0.3)  # the refusal reaches the caller first
+            if answer_first:
+                first.reply(first.key_expr, Text(text="done").to_json().encode())
+            first.drop()
+
+        with Bus.connect(quick) as bus:
+            bus.wait_alive(["held"], 5.0)
+            server_thread = threading.Thread(target=refuse_second, args=(True,))
+            server_thread.start()
+            assert bus.call(HELD, Text(text="x"), timeout=5.0).text == "done"
+            server_thread.join()
+            server_thread = threading.Thread(target=refuse_second, args=(False,))
+            server_thread.start()
+            with pytest.raises(ServiceBusyError):
+                bus.call(HELD, Text(text="x"), timeout=5.0)
+            server_thread.join()
+        queryable.undeclare()
+        token.undeclare()

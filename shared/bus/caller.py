@@ -20,13 +20,23 @@ a moment; we saw it twice in one CI run, right after a service restart and a
 client's first call). Our services answer every query they receive, so an
 empty end is not an answer lost. Only repeatable calls are asked again; any
 other call (a robot motion above all) reports the service unavailable.
+
+Both queries carry one call id (``CallerBudget.call``): a service that
+still has the first queued or running answers the second from the same
+work (``shared.bus.call_job``), never ``service_busy``. A ``service_busy``
+answer to the second query while the first is still open (a service that
+does not know call ids) is not taken as the answer either: the first may
+still be worked on, and busy must mean nothing was done. It is the answer
+only once the first query has ended without one.
 """
 
 from __future__ import annotations
 
+import itertools
 import queue
 import threading
 import time
+import uuid
 from typing import Any
 
 import zenoh
@@ -39,6 +49,7 @@ from shared.errors import (
     InvalidInputError,
     RemoteError,
     RequestTimeoutError,
+    ServiceBusyError,
     ServiceUnavailableError,
 )
 from shared.messages import ErrorReply, Message, ServiceTiming, parse
@@ -49,6 +60,9 @@ ZENOH_TIMEOUT = b"Timeout"
 EMPTY_PAUSE = 0.05
 #: Name of the threads that read a query's replies (``_forward``).
 FORWARDER = "zenoh-reply-forwarder"
+#: A query's number in its call (0: the first) and a reply to it, or
+#: ``None`` once it has ended.
+_Item = tuple[int, zenoh.Reply | None]
 
 #: Forwarders still reading a query (the caller may have its answer
 #: already), by the ``id`` of their query's session.
@@ -121,9 +135,14 @@ def _ask(
     Asks again once after ``resend_after`` [s] without an answer, or at once
     if the first query ends without any reply (``None``: never). Returns
     ``None`` if every query ended without a reply; Zenoh's own timeout reply
-    is returned only if no query got anything else.
+    is returned only if no query got anything else, and a ``service_busy``
+    to one query only once no other query is open (see the module's
+    docstring).
     """
-    inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
+    inbox: queue.SimpleQueue[_Item] = queue.SimpleQueue()
+    call = uuid.uuid4().hex  # the same on both queries: see CallerBudget.call
+    open_queries: set[int] = set()
+    numbers = itertools.count()
 
     def send() -> None:
         left = max(deadline - time.monotonic(), 1e-3)
@@ -132,27 +151,28 @@ def _ask(
             payload=body,
             encoding=zenoh.Encoding.APPLICATION_JSON,
             timeout=left,
-            attachment=budget_attachment(left),
+            attachment=budget_attachment(left, call=call),
         )
-        _start_forwarder(id(session), replies, inbox)
+        number = next(numbers)
+        open_queries.add(number)
+        _start_forwarder(id(session), number, replies, inbox)
 
     send()
-    open_queries, timed_out = 1, None
+    timed_out = busy = None
     resend_at = None if resend_after is None else time.monotonic() + resend_after
     while open_queries:
         wait_until = deadline + 1.0 if resend_at is None else resend_at
         try:
-            item = inbox.get(timeout=max(wait_until - time.monotonic(), 0.0))
+            number, item = inbox.get(timeout=max(wait_until - time.monotonic(), 0.0))
         except queue.Empty:
             if resend_at is None:  # Zenoh never closed its query: give up
                 break
             resend_at = None
             if time.monotonic() < deadline:
                 send()
-                open_queries += 1
             continue
         if item is None:
-            open_queries -= 1
+            open_queries.discard(number)
             if not open_queries and resend_at is not None and not timed_out:
                 # Ended without a reply: Zenoh found no route to a queryable
                 # (see the module's docstring) and the query reached no one.
@@ -161,25 +181,31 @@ def _ask(
                 time.sleep(EMPTY_PAUSE)
                 if time.monotonic() < deadline:
                     send()
-                    open_queries += 1
         elif _is_timeout(item):
             timed_out = item
+        elif _is_busy(item) and open_queries - {number}:
+            busy = item  # the other query may still be worked on: wait for it
         else:
             return item
-    return timed_out
+    return timed_out or busy
 
 
 def _start_forwarder(
     session: int,
+    number: int,
     replies: zenoh.Handler[zenoh.Reply],
-    inbox: queue.SimpleQueue[zenoh.Reply | None],
+    inbox: queue.SimpleQueue[_Item],
 ) -> None:
     """Read ``replies`` into ``inbox`` on a thread of its own (``_forward``).
 
-    ``session``: the ``id`` of the query's session.
+    ``session``: the ``id`` of the query's session; ``number``: the query's
+    number in its call.
     """
     thread = threading.Thread(
-        target=_forward, args=(session, replies, inbox), name=FORWARDER, daemon=True
+        target=_forward,
+        args=(session, number, replies, inbox),
+        name=FORWARDER,
+        daemon=True,
     )
     with _forwarders_lock:
         _forwarders.setdefault(session, set()).add(thread)
@@ -206,10 +232,11 @@ def join_forwarders(session: zenoh.Session, timeout: float) -> None:
 
 def _forward(
     session: int,
+    number: int,
     replies: zenoh.Handler[zenoh.Reply],
-    inbox: queue.SimpleQueue[zenoh.Reply | None],
+    inbox: queue.SimpleQueue[_Item],
 ) -> None:
-    """Put a query's replies into ``inbox``, then ``None`` when the query ends.
+    """Put query ``number``'s replies into ``inbox``, then ``None`` when it ends.
 
     Read from Zenoh's channel in order: a callback's end-of-query call can
     overtake its last reply (both run on different threads), which made a
@@ -217,8 +244,8 @@ def _forward(
     """
     try:
         for reply in replies:
-            inbox.put(reply)
-        inbox.put(None)
+            inbox.put((number, reply))
+        inbox.put((number, None))
     finally:
         with _forwarders_lock:
             threads = _forwarders.get(session, set())
@@ -230,6 +257,17 @@ def _forward(
 def _is_timeout(reply: zenoh.Reply) -> bool:
     """Whether ``reply`` is Zenoh's own error reply for a query that timed out."""
     return reply.err is not None and reply.err.payload.to_bytes() == ZENOH_TIMEOUT
+
+
+def _is_busy(reply: zenoh.Reply) -> bool:
+    """Whether ``reply`` is a service's ``service_busy`` error reply."""
+    if reply.err is None:
+        return False
+    try:
+        error = parse(ErrorReply, reply.err.payload.to_bytes())
+    except InvalidInputError:
+        return False
+    return error.kind == ServiceBusyError.kind
 
 
 def _why_absent(session: zenoh.Session, namespace: str, route: Route[Any, Any]) -> str:

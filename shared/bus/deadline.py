@@ -45,11 +45,14 @@ class Due(NamedTuple):
         budget: The caller's time left when it sent the query [s].
         transit: Time from its sending to its arrival, by the two wall
             clocks [s], at least 0.
+        call: The caller's id for the call, shared by a query and the one it
+            asks again (``CallerBudget.call``); ``None``: not said.
     """
 
     at: float
     budget: float
     transit: float = 0.0
+    call: str | None = None
 
     @property
     def passed(self) -> bool:
@@ -65,16 +68,19 @@ class Due(NamedTuple):
         return time.monotonic() > self.at - REPLY_MARGIN
 
 
-def budget_attachment(seconds: float, sent: float | None = None) -> bytes:
+def budget_attachment(
+    seconds: float, sent: float | None = None, call: str | None = None
+) -> bytes:
     """The attachment of a query whose caller waits ``seconds`` [s] more.
 
     Clamped to a millisecond .. a day (``MAX_BUDGET``): a longer wait is
     told as a day. ``sent``: the sending's wall-clock time [s since the
-    epoch], default now.
+    epoch], default now. ``call``: the caller's id for the call, the same on
+    a query asked again (``CallerBudget.call``).
     """
     budget = min(max(seconds, 1e-3), MAX_BUDGET)
     when = time.time() if sent is None else sent
-    return CallerBudget(timeout=budget, sent=when).to_json().encode()
+    return CallerBudget(timeout=budget, sent=when, call=call).to_json().encode()
 
 
 def deadline_of(
@@ -107,7 +113,8 @@ def deadline_of(
     if budget.sent is not None:
         now = time.time() if arrived is None else arrived
         transit = max(now - budget.sent, 0.0)
-    return Due(received + budget.timeout - transit, budget.timeout, transit)
+    at = received + budget.timeout - transit
+    return Due(at, budget.timeout, transit, budget.call)
 
 
 @contextmanager

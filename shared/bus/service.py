@@ -5,7 +5,11 @@ namespace, answers each query on a small pool of worker threads (so a slow
 request never blocks Zenoh's own threads, and a handler may itself call other
 services), and declares the liveliness token ``<ns>/alive/<service>`` once it
 is ready. Every query is answered: a reply, or a ``reply_err`` carrying an
-``ErrorReply`` (see ``codec.answer``); a full queue answers ``service_busy``.
+``ErrorReply`` (see ``codec.answer``); a full queue answers ``service_busy``,
+except to a query its caller asked again (the same call id in its
+attachment) while the first is still queued or running: that one joins the
+first (``call_job``), so one piece of work answers both, and ``service_busy``
+always means the request was not worked on.
 A reply's Zenoh attachment is a ``ServiceTiming``: where the request's time
 went inside the service. A query's attachment is its caller's budget
 (``shared.bus.deadline``): a query still queued when its caller has stopped
@@ -26,7 +30,8 @@ from typing import Any
 import zenoh
 
 from shared.bus.bus import Bus
-from shared.bus.codec import answer, reply_error
+from shared.bus.call_job import CallJob
+from shared.bus.codec import Answer, answer, reply_error
 from shared.bus.deadline import Due, deadline_of, serving_until
 from shared.bus.keys import alive_key, check_name
 from shared.bus.route import Endpoint
@@ -41,9 +46,6 @@ STOP_GRACE = 2.0
 #: trajectory it watched to its end as it stopped: its caller was told "no
 #: queryable answered", 3 times in 3 on a loaded machine).
 REPLY_FLUSH = 0.3
-
-#: An endpoint, its key, the query and when its caller stops waiting.
-_Job = tuple[Endpoint[Any, Any], str, zenoh.Query, Due | None]
 
 
 class ServiceHost(StartStop):
@@ -61,7 +63,9 @@ class ServiceHost(StartStop):
         self.keys = [e.route.key(bus.config.namespace) for e in endpoints]
         self._bus = bus
         self._endpoints = list(endpoints)
-        self._jobs: queue.Queue[_Job | None] = queue.Queue(bus.config.queue_limit)
+        self._jobs: queue.Queue[CallJob | None] = queue.Queue(bus.config.queue_limit)
+        self._lock = threading.Lock()  # guards _calls and the jobs in it
+        self._calls: dict[tuple[str, str], CallJob] = {}  # queued or running
         self._workers: list[threading.Thread] = []
         self._queryables: list[zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
@@ -84,10 +88,7 @@ class ServiceHost(StartStop):
 
     def _declare(self, endpoint: Endpoint[Any, Any], key: str) -> zenoh.Queryable[None]:
         def enqueue(query: zenoh.Query) -> None:  # on Zenoh's thread: no waiting
-            due = deadline_of(query, time.monotonic())
-            try:
-                self._jobs.put_nowait((endpoint, key, query, due))
-            except queue.Full:
+            if not self._admit(endpoint, key, query):
                 busy = ServiceBusyError(self.name, key=key, queued=self._jobs.qsize())
                 with query, contextlib.suppress(zenoh.ZError):  # caller gone
                     query.reply_err(
@@ -96,51 +97,76 @@ class ServiceHost(StartStop):
 
         return self._bus.session.declare_queryable(key, enqueue)
 
+    def _admit(
+        self, endpoint: Endpoint[Any, Any], key: str, query: zenoh.Query
+    ) -> bool:
+        """Queue ``query``, or join it to its call's first query; ``False``: full.
+
+        A query asked again (its call id is that of a query queued or
+        running) takes no place in the queue: refused busy, its error would
+        be its caller's answer while the first query was still worked on.
+        """
+        due = deadline_of(query, time.monotonic())
+        call = None if due is None else due.call
+        with self._lock:
+            job = None if call is None else self._calls.get((key, call))
+            if job is not None and job.add(query, due):
+                return True
+            job = CallJob(endpoint, key, query, due)
+            try:
+                self._jobs.put_nowait(job)
+            except queue.Full:
+                return False
+            if call is not None and (key, call) not in self._calls:
+                self._calls[(key, call)] = job
+            return True
+
     def _work(self) -> None:
         while (job := self._jobs.get()) is not None:
             try:
-                self._serve(*job)
+                self._serve(job)
             except Exception:  # a worker never dies: log, answer the next one
-                log.exception("%s: failed to serve a query", job[1])
+                log.exception("%s: failed to serve a query", job.key)
             finally:
                 self._last_answer = time.monotonic()  # see REPLY_FLUSH
 
-    def _serve(
-        self,
-        endpoint: Endpoint[Any, Any],
-        key: str,
-        query: zenoh.Query,
-        due: Due | None,
-    ) -> None:
-        with query:
-            if due is not None and due.passed:
-                late = time.monotonic() - due.at
-                log.info(
-                    "%s: dropped a request its caller left %.2f s ago (it was "
-                    "%.2f s on its way, by the two wall clocks)",
-                    key,
-                    late,
-                    due.transit,
-                )
-                return  # finished unanswered: no one waits for it
-            payload = query.payload if query.payload is not None else b""
-            with serving_until(due):
-                result = answer(endpoint, payload, key, self._bus.config.max_payload)
-            try:
-                if result.ok:
-                    timing = result.timing
-                    query.reply(
-                        key,
-                        result.body,
-                        encoding=zenoh.Encoding.APPLICATION_JSON,
-                        attachment=None if timing is None else timing.to_json(),
-                    )
-                else:
-                    query.reply_err(
-                        result.body, encoding=zenoh.Encoding.APPLICATION_JSON
-                    )
-            except zenoh.ZError as error:  # the caller gave up or went away
-                log.warning("%s: could not reply (%s)", key, error)
+    def _serve(self, job: CallJob) -> None:
+        """Work on ``job`` once; send its answer to every query of it."""
+        result = None
+        try:
+            with self._lock:
+                due = job.due()
+            result = self._result(job, due)
+        finally:
+            with contextlib.ExitStack() as ending:  # each query finished, whatever
+                for query in self._close(job):
+                    ending.enter_context(query)
+                    if result is not None:
+                        _reply(query, job.key, result)
+
+    def _result(self, job: CallJob, due: Due | None) -> Answer | None:
+        """``job``'s answer; ``None``: dropped, its callers have stopped waiting."""
+        if due is not None and due.passed:
+            late = time.monotonic() - due.at
+            log.info(
+                "%s: dropped a request its caller left %.2f s ago (it was "
+                "%.2f s on its way, by the two wall clocks)",
+                job.key,
+                late,
+                due.transit,
+            )
+            return None  # finished unanswered: no one waits for it
+        first = job.first
+        payload = first.payload if first.payload is not None else b""
+        with serving_until(due):
+            return answer(job.endpoint, payload, job.key, self._bus.config.max_payload)
+
+    def _close(self, job: CallJob) -> list[zenoh.Query]:
+        """``job``'s queries; a query of its call from now on is a new call."""
+        with self._lock:
+            if job.call is not None and self._calls.get((job.key, job.call)) is job:
+                del self._calls[(job.key, job.call)]
+            return job.close()
 
     def stop(self) -> None:
         """Withdraw the token; finish queued requests; then the queryables.
@@ -166,3 +192,20 @@ class ServiceHost(StartStop):
             queryable.undeclare()  # type: ignore[no-untyped-call]
         self._queryables.clear()
         log.info("service %s stopped", self.name)
+
+
+def _reply(query: zenoh.Query, key: str, result: Answer) -> None:
+    """Send ``result`` as ``query``'s reply (an ``ok`` or an ``err``)."""
+    try:
+        if result.ok:
+            timing = result.timing
+            query.reply(
+                key,
+                result.body,
+                encoding=zenoh.Encoding.APPLICATION_JSON,
+                attachment=None if timing is None else timing.to_json(),
+            )
+        else:
+            query.reply_err(result.body, encoding=zenoh.Encoding.APPLICATION_JSON)
+    except zenoh.ZError as error:  # the caller gave up or went away
+        log.warning("%s: could not reply (%s)", key, error)

@@ -28,7 +28,12 @@ class CallerBudget(Message):
         sent: When it was sent, by the caller's wall clock [s since the Unix
             epoch]; ``None`` (a caller that does not say): counted from
             receipt alone.
+        call: The caller's id for the call, the same on a query and on the
+            query it asks again (``caller.answered``); the service answers
+            both from one piece of work, never ``service_busy`` to the second
+            while the first waits or runs. ``None``: a call asked once.
     """
 
     timeout: float = Field(gt=0.0, le=MAX_BUDGET)
     sent: float | None = Field(default=None, gt=0.0)
+    call: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
