@@ -116,7 +116,9 @@ def write_output_text(path: str | Path, text: str, field: str = "output") -> Pat
     (:func:`replaced_when_done`): a write that fails part-way (a full disk,
     ``ulimit -f``) leaves an older file of that name as it was, not cut
     short. A file replaced keeps its permissions, and a symbolic link its
-    target, which is the file replaced.
+    target, which is the file replaced. A path that is no regular file (a
+    device such as ``/dev/null``, a FIFO, ``/dev/stdout``) is written as it
+    is: replacing it would put a regular file in its place.
 
     Raises:
         InvalidInputError: naming the path and the OS's reason if it cannot be
@@ -125,6 +127,10 @@ def write_output_text(path: str | Path, text: str, field: str = "output") -> Pat
     path = Path(path)
     target = Path(os.path.realpath(path))
     try:
+        if path.exists() and not path.is_file():  # followed as opened
+            with open(path, "w", encoding="utf-8") as stream:
+                stream.write(text)
+            return path
         with replaced_when_done(target) as partial:
             partial.write_text(text, encoding="utf-8")
             with contextlib.suppress(FileNotFoundError):

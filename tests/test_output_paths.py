@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import os
 import resource
 import signal
 import stat
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import pytest
@@ -125,3 +127,32 @@ def test_a_replaced_file_keeps_its_mode_and_its_link(tmp_path: Path) -> None:
     assert link.is_symlink() and link.read_text() == "newer"
     assert stat.S_IMODE(path.stat().st_mode) == 0o750
     assert sorted(p.name for p in tmp_path.iterdir()) == ["latest.py", "play.py"]
+
+
+def test_a_fifo_is_written_into_not_replaced(tmp_path: Path) -> None:
+    """An output path that is no regular file (a FIFO here; /dev/null,
+    /dev/stdout alike) gets the text: it was replaced by a regular file, and
+    whatever read the FIFO got nothing."""
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    got: list[str] = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_text()))
+    reader.start()
+    write_output_text(fifo, "keys\n")
+    reader.join(timeout=10)
+    assert got == ["keys\n"]
+    assert stat.S_ISFIFO(fifo.stat().st_mode)
+    assert list(tmp_path.iterdir()) == [fifo]
+
+
+def test_dev_stdout_into_a_pipe_is_written() -> None:
+    """``-o /dev/stdout | ...``: the link leads to a pipe with no name to put
+    a file beside; it was refused "No such file or directory"."""
+    code = (
+        "from shared.output_paths import write_output_text; "
+        "write_output_text('/dev/stdout', 'keys\\n')"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=60
+    )
+    assert (done.returncode, done.stdout) == (0, "keys\n"), done.stderr
