@@ -203,6 +203,14 @@ def _refusal(
     tolerance = follow_tolerance(limits)[j]
     rate = math.ceil(fine_rate(limits.jerk[j], tolerance))
     speed, at = unit(name, 1), t[worse] - t[0]
+    coarse = (
+        "If they are right, the samples are too far apart to show the movement: "
+        f"sample it at {rate} Hz or more, where any trajectory within the limits "
+        "passes"
+        if t[k + 1] - t[k] > 1.0 / rate
+        else f"Sampled at {rate} Hz or more, a trajectory within the limits passes "
+        "only if they agree"
+    )
     return TrajectoryRefusedError(
         name,
         "velocities",
@@ -218,8 +226,6 @@ def _refusal(
             f"{gap_shown(name, gap, '.1f')} both from the positions' own and from "
             f"the line between them (at most {gap_shown(name, tolerance, '.3g')}); "
             "are the velocities in other units, or the times scaled without "
-            "them? If they are right, the samples are too far apart to show "
-            f"the movement: sample it at {rate} Hz or more, where any "
-            "trajectory within the limits passes"
+            f"them? {coarse}"
         ),
     )

@@ -273,10 +273,20 @@ def test_times_scaled_alone_are_refused(
 
 
 def test_velocities_in_degrees_are_refused(reach: Trajectory) -> None:
-    """Velocities written in degrees per second: refused, naming a joint."""
+    """Velocities written in degrees per second: refused, naming a joint. The
+    samples are fine already, so the refusal does not advise finer ones (it
+    said "sample it at 16 Hz or more" to a 100 Hz trajectory)."""
+    assert np.diff(reach.times).max() < 1.0 / 16
     degrees = np.degrees(np.asarray(reach.velocities)).tolist()
     with pytest.raises(TrajectoryRefusedError, match="disagrees with the positions"):
         checked_frames(reach.model_copy(update={"velocities": degrees}), 25.0, LIMITS)
+    with pytest.raises(TrajectoryRefusedError) as refused:
+        check_velocities(reach.model_copy(update={"velocities": degrees}), LIMITS)
+    assert "sample it at" not in refused.value.message
+    assert refused.value.message.endswith(
+        "Sampled at 16 Hz or more, a trajectory within the limits passes only if "
+        "they agree"
+    )
 
 
 def test_a_huge_velocity_is_refused_in_exponent_form(reach: Trajectory) -> None:
