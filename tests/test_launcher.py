@@ -25,9 +25,16 @@ import pytest
 
 from armplan.cli.commands.status import _rows as status_rows
 from armplan.launch import SERVICES, free_endpoint
-from shared.bus import Bus, load_config
+from armplan.launch.robot import RobotStack
+from shared.bus import Bus, BusConfig, load_config
 from shared.bus.routes import ROUTES
-from shared.errors import ArmplanError, RequestTimeoutError, ServiceUnavailableError
+from shared.errors import (
+    ArmplanError,
+    RequestTimeoutError,
+    RobotUnavailableError,
+    ServiceUnavailableError,
+)
+from shared.stop_signals import StartInterrupted, StopRequest
 
 #: Longest wait for `armplan up` to be ready, and for processes to exit [s].
 READY_TIMEOUT, EXIT_TIMEOUT = 120.0, 30.0
@@ -482,3 +489,22 @@ def test_a_signal_while_starting_is_reported_as_that_signal(
         if up.poll() is None:
             up.kill()
             up.wait(EXIT_TIMEOUT)
+
+
+def test_a_sim_ended_by_the_stop_asked_for_is_an_interrupted_start(
+    busy_port: int,
+) -> None:
+    """A Ctrl-C to the terminal's group reaches a sim still starting: it dies
+    and ``armplan up --with-sim`` exited 1, "robot unavailable", with the
+    sim's traceback. With the stop asked for, the sim's end is that stop
+    (StartInterrupted: 130); without, it is the robot's failure. The sim
+    fails here on a port in use; nothing else needs starting."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="simstop")
+    listen = f"tcp://127.0.0.1:{busy_port}"
+    with pytest.raises(RobotUnavailableError):
+        RobotStack(config, sim=True, sim_listen=listen).start(timeout=60)
+    stop = StopRequest()
+    stop.request(signal.SIGINT)
+    with pytest.raises(StartInterrupted) as interrupted:
+        RobotStack(config, sim=True, sim_listen=listen, stop=stop).start(timeout=60)
+    assert interrupted.value.signal == signal.SIGINT

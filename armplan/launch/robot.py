@@ -36,6 +36,10 @@ from shared.errors import (
 from shared.lifecycle import StartStop
 from shared.stop_signals import StartInterrupted
 
+#: Longest wait for a stop request a signal sent, once the sim has failed [s]
+#: (the relay thread sets it within milliseconds).
+STOP_RELAY = 0.5
+
 if TYPE_CHECKING:
     from bridge.sim import SimProcess
 
@@ -156,6 +160,10 @@ class RobotStack(StartStop):
         try:
             return self.sim.start()
         except RuntimeError as error:
+            # a Ctrl-C to the terminal's group ends a sim still starting too:
+            # that is the stop asked for, not a robot that failed
+            if self._stop.wait(STOP_RELAY):
+                raise StartInterrupted(getattr(self._stop, "signal", None)) from None
             raise RobotUnavailableError(self._sim_listen, str(error)) from None
 
     def _bridge_args(self) -> list[str]:
