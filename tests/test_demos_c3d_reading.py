@@ -5,10 +5,13 @@ being the one to say so."""
 from __future__ import annotations
 
 import json
+import os
 import pathlib
+import signal
 import struct
 import subprocess
 import sys
+import time
 
 import ezc3d
 import numpy as np
@@ -125,3 +128,54 @@ def test_a_good_file_reads_as_ezc3d_reads_it(reach: pathlib.Path) -> None:
     np.testing.assert_array_equal(read["data"]["points"], direct["data"]["points"][:3])
     assert read["parameters"]["POINT"]["LABELS"]["value"] == list(MAP_NAMES)
     assert read["header"]["points"]["frame_rate"] == 100.0
+
+
+def _children(pid: int) -> list[int]:
+    """The PIDs of ``pid``'s children (Linux's /proc)."""
+    found: list[int] = []
+    for task in pathlib.Path(f"/proc/{pid}/task").iterdir():
+        found += [int(c) for c in (task / "children").read_text().split()]
+    return found
+
+
+def _alive(pid: int) -> bool:
+    """Whether ``pid`` runs (a zombie, reaped by no one yet, does not)."""
+    try:
+        status = pathlib.Path(f"/proc/{pid}/status").read_text()
+    except FileNotFoundError:
+        return False
+    return "\nState:\tZ" not in status
+
+
+def test_the_reader_ends_with_an_importer_killed_alone(tmp_path: pathlib.Path) -> None:
+    """``kill PID`` of the importer alone left ezc3d's child reading, with no
+    time limit (the parent kept it). Here the child waits on a FIFO no one
+    writes; the importer is SIGKILLed; the child ends with it."""
+    fifo = tmp_path / "never.c3d"
+    os.mkfifo(fifo)
+    code = (
+        "import pathlib, sys; from shared.demos.c3d_reading import read_c3d_file; "
+        "print('reading', flush=True); read_c3d_file(pathlib.Path(sys.argv[1]))"
+    )
+    importer = subprocess.Popen(
+        [sys.executable, "-c", code, str(fifo)], stdout=subprocess.PIPE, text=True
+    )
+    children: list[int] = []
+    try:
+        assert importer.stdout is not None
+        assert importer.stdout.readline() == "reading\n"
+        deadline = time.monotonic() + 30
+        while not (children := _children(importer.pid)):
+            assert time.monotonic() < deadline, "no reader was forked"
+            time.sleep(0.05)
+        importer.kill()
+        importer.wait(timeout=30)
+        deadline = time.monotonic() + 10
+        while _alive(children[0]) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not _alive(children[0]), "the reader outlived its importer"
+    finally:
+        importer.kill()
+        for child in children:  # an orphan of the old code, whoever adopted it
+            if _alive(child):
+                os.kill(child, signal.SIGKILL)

@@ -10,19 +10,17 @@ no process behind.
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
 import os
 import signal
-import sys
 import threading
 import time
+
+from shared.parent_death import die_with_parent
 
 #: Environment variable holding the launcher's PID.
 PARENT_ENV = "ARMPLAN_PARENT_PID"
 #: Period of the watchdog's check [s].
 CHECK_EVERY = 0.5
-_PR_SET_PDEATHSIG = 1
 
 
 def watch_parent() -> bool:
@@ -35,20 +33,12 @@ def watch_parent() -> bool:
     if not raw.isdigit():
         return False
     parent = int(raw)
-    _die_with_parent()
+    die_with_parent()
     thread = threading.Thread(
         target=_watch, args=(parent,), name="parent-watchdog", daemon=True
     )
     thread.start()
     return True
-
-
-def _die_with_parent() -> None:
-    """Linux: have the kernel send SIGTERM when the parent exits."""
-    if not sys.platform.startswith("linux"):
-        return
-    libc = ctypes.CDLL(ctypes.util.find_library("c"), use_errno=True)
-    libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0)
 
 
 def _watch(parent: int) -> None:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import faulthandler
+import math
 import os
 import pickle
 import resource
@@ -33,6 +34,7 @@ import ezc3d
 import numpy as np
 
 from shared.errors import DemoFileError
+from shared.parent_death import die_with_parent
 
 #: Address space the child may add per byte of the file: ezc3d and the
 #: arrays it gives took 14.5 bytes per byte of a float file (29 of an
@@ -71,7 +73,7 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
         pid = os.fork()
         if pid == 0:
             os.close(reading)
-            _child(path, memory, writing, errors.fileno())
+            _child(path, memory, seconds, writing, errors.fileno())
         os.close(writing)
         answer, status = _wait(pid, reading, seconds)
         errors.seek(0)
@@ -141,7 +143,9 @@ def _stop(pid: int) -> None:
     os.waitpid(pid, 0)
 
 
-def _child(path: Path, memory: int, writing: int, errors: int) -> NoReturn:
+def _child(
+    path: Path, memory: int, seconds: float, writing: int, errors: int
+) -> NoReturn:
     """Read the file, write the outcome to ``writing``, exit; never returns.
 
     ``errors`` gets what ezc3d writes to stderr (as it aborts, say); a
@@ -151,6 +155,7 @@ def _child(path: Path, memory: int, writing: int, errors: int) -> NoReturn:
         faulthandler.disable()
         os.dup2(errors, 2)
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+        _end_with_parent(seconds)
         _limit_memory(memory)
         try:
             answer = pickle.dumps(("ok", _contents(ezc3d.c3d(str(path)))))
@@ -163,6 +168,21 @@ def _child(path: Path, memory: int, writing: int, errors: int) -> NoReturn:
             out.write(answer)
     finally:
         os._exit(0)
+
+
+def _end_with_parent(seconds: float) -> None:
+    """End this child with its parent, and after ``seconds`` of CPU [s].
+
+    A parent killed alone (``kill PID``) left the child reading, its time
+    limit gone with the parent that kept it: now the kernel sends SIGKILL
+    when the parent exits, and CPU time past the limit ends it anyway.
+    """
+    parent = os.getppid()
+    die_with_parent(signal.SIGKILL)
+    if os.getppid() != parent:  # the parent died before the request took
+        os._exit(1)
+    cpu = math.ceil(seconds)
+    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu))
 
 
 def _limit_memory(memory: int) -> None:
