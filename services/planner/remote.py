@@ -52,8 +52,6 @@ def needed_routes(request: PlanRequest) -> list[Route[Any, Any]]:
 #: Most time kept back from a stage's wait for the planner's answer to
 #: travel to its caller [s].
 STAGE_MARGIN = 0.25
-#: Shortest wait for a stage [s] (its caller has as good as gone).
-SHORTEST_WAIT = 1e-3
 
 
 def stage_margin(budget: float) -> float:
@@ -72,7 +70,10 @@ class RemoteStages:
         bus: The planner's bus.
         timeout: Longest wait for each stage's reply [s]; default the bus's.
             Either way no longer than the caller of the query being served
-            (``current_due``) has left, less :func:`stage_margin`.
+            (``current_due``) has left, less :func:`stage_margin`, while it
+            has time left: once it has gone, the plan goes on for a repeat
+            of the request that waits for it (``answer_once``), and each
+            stage waits the whole timeout again.
     """
 
     def __init__(self, bus: Bus, timeout: float | None = None) -> None:
@@ -114,4 +115,6 @@ class RemoteStages:
         if due is None:  # not serving a query, or its caller gave no budget
             return wait
         left = due.at - time.monotonic() - stage_margin(due.budget)
-        return max(min(wait, left), SHORTEST_WAIT)
+        if left <= 0.0:  # its caller has gone; a repeat may wait for the plan
+            return wait
+        return min(wait, left)
