@@ -15,8 +15,10 @@ thread, which simply waits until the main thread lets go.
 SIGHUP is the terminal going away (a closed window, a dropped ssh
 session): left to its default it killed ``armplan record`` before the
 recording got its summary, so it stops a process as Ctrl-C does. A process
-started with SIGHUP ignored (``nohup armplan record ...``) keeps ignoring
-it: that is what it was asked to do. Example::
+started with SIGHUP ignored (``nohup armplan record ...``), or SIGINT
+(``armplan record &`` in a script: the script's Ctrl-C is not for it), keeps
+ignoring it: that is what it was asked to do, as the CLI's own handlers
+(``armplan.cli.termination``) keep it. Example::
 
     stop = stop_on_signals()
     while not stop.wait(0.2):
@@ -117,8 +119,8 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
 
     Installs the handler for each signal (call it from the main thread, as
     :func:`signal.signal` requires). Every event made by this function is
-    set by any of the signals installed, from then on. SIGHUP ignored at
-    start (``nohup``) stays ignored.
+    set by any of the signals installed, from then on. SIGHUP or SIGINT
+    ignored at start (``nohup``; a script's ``cmd &``) stays ignored.
 
     Args:
         signals: Signal numbers; default SIGTERM, SIGINT and SIGHUP.
@@ -130,7 +132,7 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
     stop = StopRequest()
     relay.events.add(stop)
     for signum in signals:
-        if signum == signal.SIGHUP and signal.getsignal(signum) is signal.SIG_IGN:
-            continue  # nohup: the hangup is not meant to stop it
+        if signum != signal.SIGTERM and signal.getsignal(signum) is signal.SIG_IGN:
+            continue  # nohup, cmd &: that signal is not meant to stop it
         signal.signal(signum, relay.handler)
     return stop

@@ -108,17 +108,19 @@ def test_a_waiting_process_stops_on_sigterm_and_sighup(signum: int) -> None:
         assert child.stdout.read().strip() == "stopped"
 
 
-def test_a_hangup_ignored_at_start_stays_ignored() -> None:
-    """``nohup``: SIGHUP ignored at start is not taken over; SIGTERM still
-    stops the process."""
+@pytest.mark.parametrize("name", ["SIGHUP", "SIGINT"])
+def test_a_signal_ignored_at_start_stays_ignored(name: str) -> None:
+    """``nohup`` (SIGHUP), or a script's ``cmd &`` (SIGINT): a stop signal
+    ignored at start is not taken over (a script's Ctrl-C stopped the
+    ``armplan record &`` it ran); SIGTERM still stops the process."""
     script = textwrap.dedent(
-        """
+        f"""
         import signal
         from shared.stop_signals import stop_on_signals
-        signal.signal(signal.SIGHUP, signal.SIG_IGN)  # as nohup starts it
+        signal.signal(signal.{name}, signal.SIG_IGN)  # as the shell starts it
         stop = stop_on_signals()
-        print(signal.getsignal(signal.SIGHUP) is signal.SIG_IGN, flush=True)
-        signal.raise_signal(signal.SIGHUP)
+        print(signal.getsignal(signal.{name}) is signal.SIG_IGN, flush=True)
+        signal.raise_signal(signal.{name})
         print(stop.wait(0.5), flush=True)
         signal.raise_signal(signal.SIGTERM)
         print(stop.wait(10.0), flush=True)
