@@ -310,8 +310,9 @@ def test_keys_before_the_file_say_where_the_file_went(
     err = " ".join(capsys.readouterr().err.split())
     assert (
         f"no FILE.mcap to replay was given; --keys took {path} as one of its "
-        "values (it takes every word up to the next option): give the files "
-        "first, or put -- between its values and the files"
+        "values (it takes every word up to the next option): give all the "
+        "files first, or all of them after -- (files cannot stand on both "
+        "sides of it)"
     ) in err
     for argv in (
         ["--keys", "bogus/key", "--", str(path)],
@@ -340,8 +341,8 @@ def test_keys_that_take_a_later_part_say_so(
     err = " ".join(capsys.readouterr().err.split())
     assert (
         f"armplan: error: --keys took {later} as one of its values (it takes "
-        "every word up to the next option): give the files first, or put -- "
-        "between its values and the files"
+        "every word up to the next option): give all the files first, or all "
+        "of them after -- (files cannot stand on both sides of it)"
     ) in err
     argv = ["replay", str(path), "--wait-for", "bridge", later, *connect]
     assert main(argv) == 1

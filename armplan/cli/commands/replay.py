@@ -60,8 +60,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="KEY",
         help="only these key expressions, relative to the namespace, e.g. "
         "plan/trajectory (default: every recorded key); it takes every word "
-        "up to the next option, so give the files first, or put -- between "
-        "the keys and the files, or repeat --keys",
+        "up to the next option, so give all the files first, or all of them "
+        "after -- that ends the keys, or repeat --keys",
     )
     parser.add_argument(
         "--recover",
@@ -106,8 +106,8 @@ def _check_files(args: argparse.Namespace) -> None:
         return
     hint = (
         f"{took[0][0]} took {took[0][1]} as one of its values (it takes every "
-        "word up to the next option): give the files first, or put -- between "
-        "its values and the files"
+        "word up to the next option): give all the files first, or all of them "
+        "after -- (files cannot stand on both sides of it)"
         if took
         else ""
     )
