@@ -532,3 +532,26 @@ def test_an_interrupted_replay_says_so_in_its_exit_code(
     assert process.returncode == 130, err
     assert "interrupted before the end" in err
     assert f"of {len(OFFSETS)} messages" in out
+
+
+@pytest.mark.parametrize("waits_for", ["router", "bridge"])
+def test_ctrl_c_while_waiting_ends_the_replay_at_once(
+    config: BusConfig, recording: tuple[Path, list[float]], waits_for: str
+) -> None:
+    """Ctrl-C while replay waited for a router (none there) or for a service
+    (--wait-for bridge, never started) was ignored until the wait ran out
+    (40 s), then it exited 1; it now ends the wait: 130, "interrupted"."""
+    path, _ = recording
+    endpoint = free_endpoint() if waits_for == "router" else config.endpoint
+    command = [sys.executable, "-m", "armplan", "replay", str(path)]
+    command += ["--connect", endpoint, "--namespace", NAMESPACE, "--wait", "40"]
+    if waits_for == "bridge":
+        command += ["--wait-for", "bridge"]
+    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
+    time.sleep(4.0)  # imported, checked the file, now waiting
+    process.send_signal(signal.SIGINT)
+    sent = time.monotonic()
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 130, stderr
+    assert time.monotonic() - sent < 20.0, "the wait was not ended"
+    assert "interrupted" in stderr

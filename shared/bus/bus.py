@@ -149,22 +149,29 @@ class Bus(Closes):
         """Names of the services running now, sorted."""
         return list_alive(self.session, self.config.namespace)
 
-    def wait_alive(self, services: Iterable[str], timeout: float) -> list[str]:
+    def wait_alive(
+        self,
+        services: Iterable[str],
+        timeout: float,
+        stop: threading.Event | None = None,
+    ) -> list[str]:
         """Wait until every one of ``services`` is running.
 
         Args:
             services: Service names, e.g. ``["ik", "planner"]``.
             timeout: Longest wait [s].
+            stop: Set when the process is asked to stop: the wait ends at once.
 
         Returns:
             The services still missing when it returned (empty: all alive).
         """
+        stop = stop or threading.Event()
         deadline = time.monotonic() + timeout
         while True:
             missing = sorted(set(services) - set(self.alive()))
-            if not missing or time.monotonic() >= deadline:
+            if not missing or time.monotonic() >= deadline or stop.is_set():
                 return missing
-            time.sleep(min(WAIT_POLL, max(deadline - time.monotonic(), 0.0)))
+            stop.wait(min(WAIT_POLL, max(deadline - time.monotonic(), 0.0)))
 
     def close(self) -> None:
         """Close the session (after undeclaring what this bus declared).

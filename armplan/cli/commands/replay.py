@@ -155,8 +155,16 @@ def run(args: argparse.Namespace) -> int:
         warning = refused_warning(refused, user, config.source)
         sys.stderr.write(f"armplan replay: warning: {warning}\n")
     stop = stop_on_signals()
-    with Bus.connect(config, wait=args.wait) as bus:
-        missing = bus.wait_alive(args.wait_for, args.wait)
+    try:
+        bus = Bus.connect(config, wait=args.wait, stop=stop)
+    except ServiceUnavailableError:
+        if stop.is_set():  # asked to stop while waiting for the router
+            return _interrupted()
+        raise
+    with bus:
+        missing = bus.wait_alive(args.wait_for, args.wait, stop)
+        if stop.is_set():
+            return _interrupted()
         if missing:
             raise ServiceUnavailableError(
                 ", ".join(missing),
@@ -199,6 +207,11 @@ def run(args: argparse.Namespace) -> int:
         f"{stats.late * 1000:.1f} ms late){dropped}\n"
     )
     if stop.is_set() and stats.sent < len(items):
-        sys.stderr.write("armplan replay: interrupted before the end\n")
-        return INTERRUPTED
+        return _interrupted()
     return 0
+
+
+def _interrupted() -> int:
+    """Say the replay was stopped before its end; its exit code."""
+    sys.stderr.write("armplan replay: interrupted before the end\n")
+    return INTERRUPTED
