@@ -98,17 +98,7 @@ def test_a_full_file_stops_the_recorder_at_once_with_the_reason(
     try:
         assert process.stdout is not None
         assert "armplan record: recording" in process.stdout.readline()
-        payload = json.dumps({"pad": "x" * 2000}).encode()
-        with Bus.connect(config) as bus:
-            publisher = bus.session.declare_publisher(
-                bus.key("misc/x"), congestion_control=zenoh.CongestionControl.BLOCK
-            )
-            deadline = time.monotonic() + 30.0
-            while process.poll() is None:
-                assert time.monotonic() < deadline, "still recording past the cap"
-                publisher.put(payload)
-                time.sleep(0.005)
-            publisher.undeclare()
+        _publish_until_exit(config, process)
         _, stderr = process.communicate(timeout=30)
     finally:
         process.kill()
