@@ -31,6 +31,7 @@ import numpy.typing as npt
 from scipy.interpolate import CubicSpline  # type: ignore[import-untyped]
 
 from services.timing.check import check_limits, check_path, check_times
+from services.timing.played_curve import curve_maxima
 from services.timing.trajectory import TimedTrajectory
 from shared.errors import InvalidInputError, LimitViolationError
 from shared.robot.motion_limits import MotionLimits
@@ -104,17 +105,12 @@ def check_curve(curve: CubicSpline, limits: MotionLimits) -> None:
             the offending piece starts at.
     """
     t = curve.x
-    acceleration = np.abs(curve(t, 2))
-    a0, a1 = curve(t[:-1], 2), curve(t[1:], 2)
-    turn = np.clip(a0 / np.where(a0 == a1, 1.0, a0 - a1), 0.0, 1.0)
-    inside = t[:-1, None] + turn * np.diff(t)[:, None]  # where a piece's a is 0
-    speed = np.maximum(np.abs(curve(t[:-1], 1)), np.abs(curve(t[1:], 1)))
-    speed = np.maximum(speed, np.abs(_per_joint(curve, inside, 1)))
-    jerk = np.abs(curve(t[:-1], 3))  # constant on each piece, (m - 1, n)
+    maxima = curve_maxima(curve)  # per piece, (m - 1, n)
+    acceleration = np.abs(curve(t, 2))  # continuous: at the samples, (m, n)
     for quantity, values, bound in (
-        ("velocity", speed, limits.velocity),
+        ("velocity", maxima.velocity, limits.velocity),
         ("acceleration", acceleration, limits.acceleration),
-        ("jerk", jerk, limits.jerk),
+        ("jerk", maxima.jerk, limits.jerk),
     ):
         over = values / bound > 1.0 + 1e-9
         if over.any():
@@ -136,13 +132,6 @@ def _where(quantity: str, k: int, count: int) -> str:
     if quantity == "acceleration" or k + 1 >= count:
         return "on the curve between samples"
     return f"on the curve between samples {k} and {k + 1}"
-
-
-def _per_joint(curve: CubicSpline, times: np.ndarray, nu: int) -> np.ndarray:
-    """The ``nu``-th derivative of joint j at ``times[:, j]``, shape (k, joints)."""
-    return np.stack(
-        [curve(times[:, j], nu)[:, j] for j in range(times.shape[1])], axis=1
-    )
 
 
 #: Samples of rest seen before the first sample and after the last.
