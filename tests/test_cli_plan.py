@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from armplan.cli.main import main
+from armplan.demo.task import DEFAULT_TASK as DEMO_TASK
 from services.planner.wrist_path import reach_path
 from services.timing import check_limits
 from shared.messages import Trajectory, parse
@@ -381,6 +382,10 @@ def test_too_fast_names_the_joint_and_sample(
         (["--target", *GOAL, "--arm", "middle"], "unknown arm 'middle'"),
         (["--target", *GOAL, "--start", "9", "0", "0", "0", "0"], "RShoulderPitch"),
         (["--task", "no-such-task.json"], "no-such-task.json: cannot read the task"),
+        (
+            ["--task", str(DEMO_TASK)],
+            "it is a demo task, for `armplan demo --task FILE`",
+        ),
     ],
 )
 def test_bad_options_are_clear_errors(

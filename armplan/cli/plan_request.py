@@ -25,6 +25,7 @@ Three ways to say what to do, one per command line:
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import re
 from collections.abc import Sequence
@@ -245,7 +246,10 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
     try:
         request = parse(PlanRequest, text)
     except InvalidInputError as exc:
-        raise InvalidInputError(f"{path}: {exc.message}", field=exc.field) from None
+        hint = _demo_task_hint(text)
+        raise InvalidInputError(
+            f"{path}: {exc.message}{hint}", field=exc.field
+        ) from None
     _no_retiming(args, request, path)
     fields, how = request.model_dump(), _how(args)
     if args.arm is not None and not _names_an_arm(request):
@@ -261,6 +265,24 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
         if part in how:
             how[part] = (fields[part] or {}) | how[part]
     return parse(PlanRequest, fields | how)
+
+
+def _demo_task_hint(text: bytes) -> str:
+    """A pointer to ``armplan demo --task`` when the file is a demo task.
+
+    A demo task (``armplan/demo/handover_task.json``) holds ``phases`` of
+    targets; ``plan --task`` takes one ``PlanRequest``.
+    """
+    try:
+        fields = json.loads(text)
+    except ValueError:
+        return ""
+    if isinstance(fields, dict) and "phases" in fields:
+        return (
+            " (this file holds phases: it is a demo task, for "
+            "`armplan demo --task FILE`; `plan --task` takes one PlanRequest)"
+        )
+    return ""
 
 
 def _names_an_arm(request: PlanRequest) -> bool:

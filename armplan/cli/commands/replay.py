@@ -80,7 +80,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         type=float,
         default=10.0,
         metavar="S",
-        help="how long to wait for the router and --wait-for services [s]",
+        help="how long to wait for the router and --wait-for services [s] "
+        "(default: %(default)g)",
     )
     parser.add_argument(
         "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
