@@ -3,9 +3,10 @@
 Keys (namespace ``armplan`` by default):
     ``armplan/fit/model``         query: NoArguments -> the current MotionModel
     ``armplan/fit``               query: FitRequest -> the newly fitted model
-    ``armplan/fit/model/update``  publication: the model at start, then each
-                                  newly fitted one (the decide service
-                                  swaps it in)
+    ``armplan/fit/model/update``  publication: the model at start (once the
+                                  queryables and the liveliness token are
+                                  declared), then each newly fitted one
+                                  (the decide service swaps it in)
 
 Run it with ``python -m services.fit [--model FILE] [--state-dir DIR]``
 (``armplan up`` does, ``armplan up --model FILE`` passes ``--model``). It
@@ -18,16 +19,14 @@ working directory) and keeps the model it serves in ``--state-dir``
 from __future__ import annotations
 
 import argparse
-from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 from services.fit.current_model import CurrentModel
 from services.fit.demo_dir import demos_dir
 from services.fit.model_state import check_state_dir, start_model, state_file
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import FIT, FIT_MODEL
-from shared.bus.runner import EndpointsFactory, Options
+from shared.bus.runner import EndpointsFactory, Options, Served
 
 NAME = "fit"
 
@@ -60,11 +59,19 @@ def factory(args: argparse.Namespace) -> EndpointsFactory:
     state = state_file(state_dir)
     start = start_model(args.model, state)
 
-    def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
-        """The fit service's endpoints; publishes the model it starts with."""
+    def endpoints(bus: Bus) -> Served:
+        """The fit service's endpoints; it publishes its start model once served.
+
+        Published only after the queryables and the token are declared:
+        published before, it was lost to a decide service that found no fit
+        service and subscribed a moment later (it decided with the shipped
+        model).
+        """
         current = CurrentModel(bus, start, state)
-        current.publish()
-        return [Endpoint(FIT_MODEL, current.get), Endpoint(FIT, current.fit)]
+        return Served(
+            [Endpoint(FIT_MODEL, current.get), Endpoint(FIT, current.fit)],
+            ready=current.publish,
+        )
 
     return endpoints
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import logging
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from shared.bus.bus import Bus
@@ -24,8 +25,26 @@ from shared.bus.service import ServiceHost
 from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.bus")
-#: Builds a service's endpoints; gets the bus to call other services with.
-EndpointsFactory = Callable[[Bus], Sequence[Endpoint[Any, Any]]]
+
+
+@dataclass(frozen=True)
+class Served:
+    """A service's endpoints and what to do once they are served.
+
+    Attributes:
+        endpoints: The routes it answers and their handlers.
+        ready: Run once the queryables and the liveliness token are
+            declared (``ServiceHost``), e.g. to publish a start state that a
+            client seeing the token could also ask for; ``None``: nothing.
+    """
+
+    endpoints: Sequence[Endpoint[Any, Any]]
+    ready: Callable[[], None] | None = None
+
+
+#: Builds a service's endpoints (and maybe its ``ready`` hook); gets the bus
+#: to call other services with and to publish on.
+EndpointsFactory = Callable[[Bus], Sequence[Endpoint[Any, Any]] | Served]
 
 
 class Options(NamedTuple):
@@ -66,11 +85,11 @@ def serve(
         )
         config = load_config(args.config, tuple(args.connect or ()))
         check_login(config, name)
-        with (
-            Bus.connect(config, wait=args.wait, stop=stop) as bus,
-            ServiceHost(bus, name, factory(bus)),
-        ):
-            wait_for(stop)
+        with Bus.connect(config, wait=args.wait, stop=stop) as bus:
+            built = factory(bus)
+            served = built if isinstance(built, Served) else Served(built)
+            with ServiceHost(bus, name, served.endpoints, served.ready):
+                wait_for(stop)
     except ArmplanError as error:
         if stop.is_set() and isinstance(error, ServiceUnavailableError):
             log.info("service %s: asked to stop before a router answered", name)

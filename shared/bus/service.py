@@ -24,7 +24,7 @@ import logging
 import queue
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import zenoh
@@ -51,18 +51,30 @@ REPLY_FLUSH = 0.3
 class ServiceHost(StartStop):
     """One service on the bus: its endpoints, workers and liveliness token.
 
+    Args:
+        bus: The bus it serves on.
+        name: The service's name, e.g. ``"ik"``.
+        endpoints: The routes it answers and their handlers.
+        ready: Run once its queryables and token are declared, e.g. to
+            publish a start state; ``None``: nothing.
+
     Attributes:
         name: The service's name, e.g. ``"ik"``.
         keys: The full key of each endpoint, e.g. ``["armplan/ik/solve"]``.
     """
 
     def __init__(
-        self, bus: Bus, name: str, endpoints: Sequence[Endpoint[Any, Any]]
+        self,
+        bus: Bus,
+        name: str,
+        endpoints: Sequence[Endpoint[Any, Any]],
+        ready: Callable[[], None] | None = None,
     ) -> None:
         self.name = check_name(name)
         self.keys = [e.route.key(bus.config.namespace) for e in endpoints]
         self._bus = bus
         self._endpoints = list(endpoints)
+        self._ready = ready
         self._jobs: queue.Queue[CallJob | None] = queue.Queue(bus.config.queue_limit)
         self._lock = threading.Lock()  # guards _calls and the jobs in it
         self._calls: dict[tuple[str, str], CallJob] = {}  # queued or running
@@ -72,7 +84,7 @@ class ServiceHost(StartStop):
         self._last_answer = -REPLY_FLUSH  # [s, monotonic]: none yet
 
     def start(self) -> ServiceHost:
-        """Declare the queryables, start the workers, then announce liveliness."""
+        """Start workers, declare queryables, announce liveliness, run ``ready``."""
         for i in range(self._bus.config.workers):
             worker = threading.Thread(
                 target=self._work, name=f"{self.name}-worker-{i}", daemon=True
@@ -84,6 +96,8 @@ class ServiceHost(StartStop):
         token_key = alive_key(self._bus.config.namespace, self.name)
         self._token = self._bus.session.liveliness().declare_token(token_key)
         log.info("service %s ready on %s", self.name, ", ".join(self.keys))
+        if self._ready is not None:
+            self._ready()
         return self
 
     def _declare(self, endpoint: Endpoint[Any, Any], key: str) -> zenoh.Queryable[None]:
