@@ -58,6 +58,25 @@ def test_elbow_triangle_recovers_the_elbow_roll(
         np.testing.assert_array_equal(np.delete(sol.q, 3), np.delete(start, 3))
 
 
+def test_elbow_triangle_reaches_what_elbow_roll_reaches(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """From any start, the closed form lands on every target that moving only
+    ElbowRoll reaches, near a straight arm too: there the distance is not
+    monotonic in ElbowRoll (elbow offset), and of the two roots the one
+    nearer the start's ElbowRoll can miss the target by millimetres."""
+    low, high = arm.limits.lower[3], arm.limits.upper[3]
+    for k in range(200):
+        start = random_posture(arm, rng)
+        goal = start.copy()
+        bent = rng.uniform(0.0, 0.15 if k % 2 else 1.0)  # half near a straight arm
+        goal[3] = low + (high - low) * (bent if arm.side.sign > 0 else 1.0 - bent)
+        target = arm.fk(goal).wrist
+        sol = solve_elbow_triangle(arm, start, target, 1e-6)
+        assert np.linalg.norm(arm.fk(sol.q).wrist - target) < 1e-9
+        np.testing.assert_array_equal(np.delete(sol.q, 3), np.delete(start, 3))
+
+
 def test_shoulder_rotation_recovers_the_elbow_yaw(
     arm: ArmModel, rng: np.random.Generator
 ) -> None:

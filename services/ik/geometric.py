@@ -113,8 +113,30 @@ def solve_elbow_triangle(
             int(np.argmin([abs(d - distance) for d in lengths]))
         ]
         return _finish(arm, q, target, "E_R W_P", reason + " out of this distance", tol)
-    q[ELBOW_ROLL] = min(roots, key=lambda r: abs(r - start[ELBOW_ROLL]))
+    q[ELBOW_ROLL] = _best_root(arm, q, target, roots, tol)
     return _finish(arm, q, target, "E_R W_P", reason, tol)
+
+
+def _best_root(
+    arm: ArmModel, start: np.ndarray, target: np.ndarray, roots: list[float], tol: float
+) -> float:
+    """The ElbowRoll root [rad] whose wrist lands nearest ``target``.
+
+    Both roots put the wrist at the target's distance from the shoulder, but
+    only one of them, in general, on the target: with the elbow offset the
+    distance is not monotonic in ElbowRoll near a straight arm, so the root
+    nearest the start's ElbowRoll may be the wrong one. Roots within ``tol``
+    [m] of the target count as equal; of those, the one nearest the start's
+    ElbowRoll wins (the smallest move).
+    """
+    trial = np.array(start, dtype=float)
+
+    def key(root: float) -> tuple[float, float]:
+        trial[ELBOW_ROLL] = root
+        miss = float(np.linalg.norm(arm.fk(trial).wrist - target))
+        return max(miss - tol, 0.0), abs(root - start[ELBOW_ROLL])
+
+    return min(roots, key=key)
 
 
 def _wrist_distance(arm: ArmModel, q: np.ndarray, elbow_roll: float) -> float:
