@@ -190,3 +190,42 @@ def test_json_output_is_strict(capsys: pytest.CaptureFixture[str]) -> None:
         "rows": [1.5, None],
         "pair": [2, None],
     }
+
+
+@pytest.mark.parametrize(("side", "y"), [("right", "-0.08"), ("left", "0.08")])
+def test_ik_table_round_trips_within_the_limits(side: str, y: str) -> None:
+    """The angles ik prints (here ShoulderRoll on its limit) are accepted back
+    by fk --joints and ik --start, and fk puts the wrist on the target."""
+    out = armplan("ik", "--arm", side, "--target", "0.1", y, "0.0")
+    assert out.returncode == 0, out.stderr
+    printed = [line.split()[1] for line in out.stdout.splitlines()[1:6]]
+    q = np.array([float(v) for v in printed])
+    fk = armplan("fk", "--arm", side, "--joints", *printed, "--json")
+    assert fk.returncode == 0, fk.stderr
+    assert (
+        np.linalg.norm(np.array(json.loads(fk.stdout)["wrist"]) - [0.1, float(y), 0])
+        < 1e-4
+    )
+    again = armplan(
+        "ik", "--arm", side, "--target", "0.1", y, "0.0", "--start", *printed
+    )
+    assert again.returncode == 0, again.stderr
+    limits = load_arm(side).limits
+    assert np.any((q == limits.lower) | (q == limits.upper))  # a limit was printed
+
+
+def test_angle_text_stays_within_the_range(rng: np.random.Generator) -> None:
+    """Each printed angle is the true one rounded (to 5 decimals where that
+    stays in range) and reads back within the joint's range, limits included."""
+    from armplan.cli.output import angle_text
+
+    for side in ("right", "left"):
+        limits = load_arm(side).limits
+        inside = rng.uniform(limits.lower, limits.upper, size=(200, 5))
+        for q in [limits.lower, limits.upper, *inside]:
+            for value, low, high in zip(q, limits.lower, limits.upper, strict=True):
+                text = angle_text(float(value), low, high)
+                digits = len(text.split(".")[1])
+                assert low <= float(text) <= high
+                assert abs(float(text) - value) <= 0.5 * 10.0**-digits
+                assert digits == 5 or not low <= round(value, 5) <= high

@@ -57,6 +57,22 @@ def print_table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
         sys.stdout.write("  ".join((first, *rest)) + "\n")
 
 
+def angle_text(value: float, low: float, high: float) -> str:
+    """A joint angle [rad] to 5 decimals, or to more where 5 would leave its range.
+
+    A posture on a limit, say RShoulderRoll at 0.314159 rad, prints as
+    0.31416 to 5 decimals: outside [low, high] [rad], so fed back to
+    ``fk --joints`` or ``--start`` it was refused. Such a value gets the
+    fewest more decimals that stay within the range (here 0.314159), and
+    every printed value is still the true one, correctly rounded.
+    """
+    for digits in range(5, 18):
+        text = f"{value:.{digits}f}"
+        if low <= float(text) <= high:
+            return text
+    return repr(value)  # outside the range itself: exactly, as it is
+
+
 def _cell(value: Any) -> str:
     if isinstance(value, float):
         return f"{value:.5f}"

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from armplan.cli.output import print_json, print_table
+from armplan.cli.output import angle_text, print_json, print_table
 from armplan.cli.parsing import (
     add_arm,
     add_json,
@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(result.model_dump(mode="json"))
         return 0
-    print_table(("joint", "angle [rad]"), list(result.joints.items()))
+    print_table(("joint", "angle [rad]"), _angle_rows(result))
     x, y, z = result.wrist
     sys.stdout.write(
         f"wrist ({x:.4f}, {y:.4f}, {z:.4f}) m, "
@@ -106,6 +106,16 @@ def run(args: argparse.Namespace) -> int:
             f"(asked {result.swivel_goal:.4f} rad)\n"
         )
     return 0
+
+
+def _angle_rows(result: IKResult) -> list[tuple[str, str]]:
+    """(joint, angle [rad] as text) rows, each within its joint's range."""
+    limits = load_arm(result.arm).limits
+    rows = []
+    for name, value in result.joints.items():
+        k = limits.names.index(name)
+        rows.append((name, angle_text(value, limits.lower[k], limits.upper[k])))
+    return rows
 
 
 def _solve(request: IKRequest) -> IKResult:
