@@ -165,6 +165,24 @@ def test_reach_span_bounds_sampled_postures(
     assert min(distances) - low < 0.003 and high - max(distances) < 0.003
 
 
+def test_distance_span_at_an_elbow_roll_is_what_elbow_yaw_sweeps(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """With ElbowRoll held, FK over ElbowYaw's whole range (the other joints
+    anywhere) stays within distance_span_at and meets both of its ends."""
+    yaws = np.linspace(arm.limits.lower[2], arm.limits.upper[2], 2001)
+    for _ in range(20):
+        q = random_posture(arm, rng)
+        low, high = arm.distance_span_at(q[3])
+        distances = []
+        for yaw in yaws:
+            q[2] = yaw
+            p = arm.fk(q)
+            distances.append(np.linalg.norm(p.wrist - p.shoulder))
+        assert low - 1e-12 <= min(distances) and max(distances) <= high + 1e-12
+        assert min(distances) - low < 1e-8 and high - max(distances) < 1e-8
+
+
 def test_limits_come_from_the_robot_file() -> None:
     """Ranges and speeds are the URDF's, in the paper's joint order."""
     arm = load_arm("left")

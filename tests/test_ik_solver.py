@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -125,14 +126,46 @@ def test_gpm_solution_is_a_constrained_optimum_of_tpe(rng: np.random.Generator) 
 
 
 def test_primitive_that_cannot_reach_says_so(arm: ArmModel) -> None:
-    """S_R E_P W_P cannot bring the wrist nearer the shoulder: a typed error
-    that names the distance it keeps."""
+    """S_R E_P W_P cannot bring the wrist this near the shoulder: a typed
+    error that names the distances ElbowYaw sweeps at the held ElbowRoll."""
     start = rest(arm.side)
     points = arm.fk(start)
     out = points.wrist - points.shoulder
     target = points.shoulder + out / np.linalg.norm(out) * 0.125
-    with pytest.raises(PrimitiveCannotReachError, match="keeps its distance"):
+    low, high = arm.distance_span_at(start[3])
+    assert not low <= 0.125 <= high
+    reason = (
+        f"only ShoulderPitch, ShoulderRoll, ElbowYaw move, so with ElbowRoll at "
+        f"{start[3]:.4f} rad the wrist stays {low:.4f}..{high:.4f} m from the "
+        "shoulder (the target is 0.1250 m from it); closest"
+    )
+    with pytest.raises(PrimitiveCannotReachError, match=re.escape(reason)):
         solve(arm, target, primitive="S_R E_P W_P")
+
+
+@pytest.mark.parametrize("name", ["S_R E_P W_P", "S_R E_P W_PR"])
+def test_shoulder_swing_reaches_what_its_joints_reach(
+    arm: ArmModel, rng: np.random.Generator, name: str
+) -> None:
+    """S_R E_P W_P and S_R E_P W_PR land on every target (and, for W_PR, palm)
+    that moving their own joints reaches from the start, though ElbowYaw then
+    changes the wrist's distance from the shoulder (NAO's elbow offset); the
+    other joints keep the start's angles."""
+    active = [0, 1, 2] if name == "S_R E_P W_P" else [0, 1, 2, 4]
+    for k in range(40):
+        start = random_posture(arm, rng)
+        goal = start.copy()
+        goal[active] += rng.normal(scale=0.4, size=len(active))
+        goal = arm.limits.clip(goal)
+        target = arm.fk(goal).wrist
+        palm = None
+        if name == "S_R E_P W_PR" and k % 2:
+            palm = palm_normal(arm.rotation(goal, "wrist"), arm.side.sign)
+        sol = solve(arm, target, primitive=name, start=start, palm=palm)
+        assert np.linalg.norm(arm.fk(sol.q).wrist - target) <= TOLERANCE
+        assert arm.limits.contains(sol.q)
+        idle = [j for j in range(5) if j not in active]
+        np.testing.assert_array_equal(sol.q[idle], start[idle])
 
 
 def test_function_primitive_swivels_the_elbow_round_the_held_wrist(

@@ -30,7 +30,7 @@ from services.ik.measures import MeasureParams
 from services.ik.measures import factory as measure_factory
 from services.ik.measures.factory import MeasureFactory
 from services.ik.swivel_reach import check_swivel
-from services.ik.task import WristTask, controls_radius
+from services.ik.task import WristTask
 from shared.errors import (
     InvalidInputError,
     PrimitiveCannotReachError,
@@ -42,6 +42,7 @@ from shared.robot.arm_model import ArmModel
 from shared.robot.postures import rest
 
 ALL_JOINTS = (0, 1, 2, 3, 4)
+ELBOW_YAW, ELBOW_ROLL = 2, 3
 #: Joints that move the wrist's position (WristYaw only turns it).
 POSITION_JOINTS = {0, 1, 2, 3}
 
@@ -145,8 +146,7 @@ def solve(
     check_reachable(arm, target)
     if plan.primitive is not None and plan.primitive.ik.geometric:
         return _closed_form(arm, plan.primitive, start, target, palm)
-    radial = controls_radius(plan.active)
-    task = WristTask.make(target, palm, arm.side.sign, radial)
+    task = WristTask.make(target, palm, arm.side.sign)
     if plan.primitive is not None and not plan.primitive.moves_wrist:
         _check_held(arm, plan.primitive, start, target)
     measure = plan.measure(chain_for(arm).state(start))
@@ -246,17 +246,26 @@ def _check_held(
         )
 
 
-def _why(plan: Plan, task: WristTask, st: ChainState) -> str:
-    """Why a primitive's active joints miss the target."""
+def _why(arm: ArmModel, plan: Plan, task: WristTask, st: ChainState) -> str:
+    """Why a primitive's active joints miss the target.
+
+    With ElbowRoll still, only ElbowYaw changes the wrist's distance from the
+    shoulder (NAO's elbow offset), within ``ArmModel.distance_span_at``: a
+    target beyond that span is named as the reason.
+    """
     assert plan.primitive is not None
     joints = ", ".join(plan.primitive.active_joints)
-    if task.radial:
+    if ELBOW_ROLL in plan.active or ELBOW_YAW not in plan.active:
         return f"only {joints} move"
-    reached = math.dist(st.p_wrist, st.p_shoulder)
+    roll = st.qf[ELBOW_ROLL]
+    low, high = arm.distance_span_at(roll)
     wanted = math.dist(task.position, st.p_shoulder)
+    if low - TOLERANCE <= wanted <= high + TOLERANCE:
+        return f"only {joints} move"
     return (
-        f"only {joints} move, so the wrist keeps its distance from the shoulder "
-        f"({reached:.4f} m; the target is {wanted:.4f} m from it)"
+        f"only {joints} move, so with ElbowRoll at {roll:.4f} rad the wrist stays "
+        f"{low:.4f}..{high:.4f} m from the shoulder (the target is {wanted:.4f} m "
+        "from it)"
     )
 
 
@@ -280,7 +289,7 @@ def _accept(
                 task.position,
                 st.wrist,
                 error,
-                _why(plan, task, st),
+                _why(arm, plan, task, st),
             )
         distance = math.dist(task.position, st.p_shoulder)
         raise UnreachableTargetError(

@@ -22,8 +22,9 @@ the wrist stays exactly put (they would move it by up to 7 mm per radian of
 ElbowYaw). Two consequences, both keeping the paper's intent:
 
 - S_R E_P W_P and S_R E_P W_PR (the shoulder swings an arm of fixed shape)
-  control the wrist's direction from the shoulder; its distance is passive,
-  like the elbow (see ``services.ik.task.WristTask``).
+  control the wrist's position, as the other motion primitives: ElbowYaw
+  changes the wrist's distance from the shoulder (by up to 10.5 mm, within
+  ``ArmModel.distance_span_at``), so three joints meet three coordinates.
 - S_R E_P W_R (function primitive: the wrist is held in place while the
   elbow swivels round it) also moves ElbowRoll, by the small amount that
   keeps the wrist exactly still on NAO. The SPEC's table lists it with the

@@ -15,11 +15,13 @@ Points of the arm (all in the torso frame):
 
 from __future__ import annotations
 
+import math
 from functools import cache
 from importlib import resources
 from typing import NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 import pinocchio as pin
 
 from shared.robot.limits import JointLimits
@@ -263,21 +265,46 @@ class ArmModel:
             gravity_gradient=gradient,
         )
 
-    def _distance_span(self) -> tuple[float, float]:
-        """Smallest and largest shoulder-to-wrist distance within the limits [m].
+    def wrist_distance(
+        self, elbow_yaw: npt.ArrayLike, elbow_roll: npt.ArrayLike
+    ) -> np.ndarray:
+        """Shoulder-to-wrist distance [m] at these ElbowYaw and ElbowRoll [rad].
 
-        Only ElbowYaw and ElbowRoll change that distance (the elbow is offset
-        from the upper arm's axis); a dense grid over both gives the span.
+        Only these two joints change it (the elbow is offset from the upper
+        arm's axis by u, the forearm is L_f long):
+        d^2 = |u|^2 + L_f^2 + 2 L_f (u_x cos th4 + u_y cos th3 sin th4).
+        The arguments broadcast as numpy arrays; so does the result.
         """
-        ey = np.linspace(self.limits.lower[2], self.limits.upper[2], 181)[:, None]
-        er = np.linspace(self.limits.lower[3], self.limits.upper[3], 181)[None, :]
+        ey, er = np.asarray(elbow_yaw, dtype=float), np.asarray(elbow_roll, dtype=float)
         u, lf = self.elbow_offset, self.forearm_length
         d2 = (
             u @ u
             + lf**2
             + 2 * lf * (u[0] * np.cos(er) + u[1] * np.cos(ey) * np.sin(er))
         )
-        d = np.sqrt(d2)
+        return np.sqrt(d2)
+
+    def distance_span_at(self, elbow_roll: float) -> tuple[float, float]:
+        """Shoulder-to-wrist distances [m] that ElbowYaw reaches: (least, most).
+
+        ElbowRoll is held at ``elbow_roll`` [rad], ElbowYaw goes anywhere in
+        its range. The squared distance is affine in cos(ElbowYaw) (``wrist_distance``),
+        so its extremes lie at the ends of ElbowYaw's range or where ElbowYaw
+        is a multiple of pi: the span is exact, not sampled.
+        """
+        low, high = self.limits.lower[2], self.limits.upper[2]
+        turns = np.arange(math.ceil(low / math.pi), math.floor(high / math.pi) + 1)
+        d = self.wrist_distance(np.append([low, high], turns * math.pi), elbow_roll)
+        return float(d.min()), float(d.max())
+
+    def _distance_span(self) -> tuple[float, float]:
+        """Smallest and largest shoulder-to-wrist distance within the limits [m].
+
+        A dense grid over ElbowYaw and ElbowRoll (``wrist_distance``).
+        """
+        ey = np.linspace(self.limits.lower[2], self.limits.upper[2], 181)[:, None]
+        er = np.linspace(self.limits.lower[3], self.limits.upper[3], 181)[None, :]
+        d = self.wrist_distance(ey, er)
         return float(d.min()), float(d.max())
 
 
