@@ -11,11 +11,10 @@ from conftest import random_posture
 from scipy.optimize import minimize
 
 from services.ik import solve, solve_request
-from services.ik.iterate import TOLERANCE, solve_gpm
+from services.ik.iterate import TOLERANCE
 from services.ik.kernel import chain_for
 from services.ik.kernel.small import NormalSolver
 from services.ik.measures import MeasureParams, SwivelGoal, TotalPotentialEnergy
-from services.ik.task import WristTask
 from shared.errors import (
     InvalidInputError,
     JointLimitError,
@@ -320,30 +319,6 @@ def test_a_requests_measure_weights_reach_the_solver() -> None:
     np.testing.assert_array_equal(joints(omega=shipped.omega, mu=shipped.mu), default)
     free, stiff = joints(omega=0.0), joints(omega=1000.0)
     assert abs(free[4]) > abs(default[4]) > abs(stiff[4])
-
-
-def test_shoulder_swing_points_the_wrist_and_keeps_the_elbow(
-    arm: ArmModel, rng: np.random.Generator
-) -> None:
-    """S_R E_P W_P moves only the shoulder joints and puts the wrist exactly in the
-    target's direction; the distance changes only through NAO's 15 mm elbow
-    offset, at most 7.4 mm per radian of ElbowYaw."""
-    tpe = TotalPotentialEnergy(MeasureParams().mu)
-    for _ in range(50):
-        start = random_posture(arm, rng)
-        start = np.clip(start, arm.limits.lower + 0.3, arm.limits.upper - 0.3)
-        goal = start.copy()
-        goal[:2] += rng.uniform(-0.3, 0.3, size=2)
-        target = arm.fk(np.clip(goal, arm.limits.lower, arm.limits.upper)).wrist
-        task = WristTask.make(target, None, arm.side.sign, radial=False)
-        q, _ = solve_gpm(arm, task, (0, 1, 2), tpe, start)
-        np.testing.assert_array_equal(q[3:], start[3:])
-        p = arm.fk(q)
-        reached, wanted = p.wrist - p.shoulder, target - p.shoulder
-        cosine = reached @ wanted / (np.linalg.norm(reached) * np.linalg.norm(wanted))
-        assert cosine > 1 - 1e-12
-        drift = abs(np.linalg.norm(reached) - np.linalg.norm(wanted))
-        assert drift <= 7.4e-3 * abs(q[2] - start[2]) + 1e-9
 
 
 def _tpe_of_first_four(
