@@ -27,6 +27,7 @@ from services.planner.stages import LocalStages
 from shared.bus import Bus, NoArguments, load_config
 from shared.bus.routes import FIT, FIT_MODEL
 from shared.demos import read_demos, synthesize, write_demos
+from shared.errors import InvalidInputError
 from shared.messages import FitRequest, MotionModel, PlanRequest, Trajectory, parse
 
 DEMOS = "demos.mcap"
@@ -45,6 +46,14 @@ def demos_dir(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
 def fitted(demos_dir: pathlib.Path) -> MotionModel:
     """The model a fit of ``demos_dir``'s file gives (bins 10)."""
     return fit_model(read_demos(demos_dir / DEMOS), bins=10, sources=[DEMOS])
+
+
+@pytest.fixture(scope="module")
+def vanishing(demos_dir: pathlib.Path) -> MotionModel:
+    """A model of the same file whose tables hold probabilities of 0: fitted
+    with a smoothing of 5e-324, it cannot decide (``Decider`` refuses it)."""
+    demos = read_demos(demos_dir / DEMOS)
+    return fit_model(demos, bins=10, smoothing=5e-324, sources=[DEMOS])
 
 
 @pytest.fixture
@@ -89,6 +98,25 @@ def test_a_restarted_fit_service_serves_the_model_it_fitted(
     assert f"serving model {digest(default_model())} " in said
     assert f"serving model {digest(fitted)} " in said
     assert f"from state {demos_dir / STATE_FILE}" in said
+
+
+def test_a_fit_whose_model_cannot_decide_is_refused_and_not_kept(
+    stack: Launcher, demos_dir: pathlib.Path
+) -> None:
+    """A fit with a smoothing of 5e-324 gives tables the decision cannot
+    use: it is refused, naming why; the model served stays and nothing is
+    kept (it was served, kept and published while decide ignored it)."""
+    request = FitRequest(files=[DEMOS], bins=10, smoothing=5e-324)
+    with Bus.connect(stack.config) as bus:
+        with pytest.raises(InvalidInputError) as refused:
+            bus.call(FIT, request, timeout=300)
+        assert bus.call(FIT_MODEL, NoArguments()) == default_model()
+    assert refused.value.message.startswith(
+        f"the model fitted on {DEMOS} (bins 10, smoothing 5e-324) is not served, "
+        "the current one stays: the motion model cannot decide: its "
+    )
+    assert refused.value.field == "smoothing"
+    assert not (demos_dir / STATE_FILE).exists()
 
 
 def test_fit_service_starts_from_a_model_file(
@@ -157,20 +185,62 @@ def test_a_bad_state_file_is_not_passed_over(tmp_path: pathlib.Path) -> None:
     assert "delete it to start from the shipped default" in out.stderr
 
 
-def test_up_refuses_a_bad_model_before_starting(tmp_path: pathlib.Path) -> None:
-    """``armplan up --model`` checks the file first: nothing starts."""
-    out = subprocess.run(
+def test_a_model_file_that_cannot_decide_stops_the_fit_service(
+    tmp_path: pathlib.Path, vanishing: MotionModel
+) -> None:
+    """``--model`` of a model the decision cannot use: exit 1 naming the
+    file and the table, before serving it (decide could not start on it)."""
+    file = tmp_path / "vanishing.json"
+    save_model(vanishing, file)
+    out = run_fit_service("--model", str(file), "--wait", "0.5")
+    assert out.returncode == 1
+    assert f"{file}: the motion model cannot decide: its " in out.stderr
+
+
+def test_a_state_file_that_cannot_decide_is_not_passed_over(
+    tmp_path: pathlib.Path, vanishing: MotionModel
+) -> None:
+    """A state file holding a model the decision cannot use (kept by an
+    older fit service) stops the service as a damaged one does."""
+    save_model(vanishing, tmp_path / STATE_FILE)
+    out = run_fit_service("--state-dir", str(tmp_path), "--wait", "0.5")
+    assert out.returncode == 1
+    assert f"{tmp_path / STATE_FILE}: the motion model cannot decide" in out.stderr
+    assert "delete it to start from the shipped default" in out.stderr
+
+
+def run_up_with_model(model: pathlib.Path) -> subprocess.CompletedProcess[str]:
+    """``armplan up --model MODEL``, expected to stop before starting."""
+    return subprocess.run(
         [
             *(sys.executable, "-m", "armplan", "up", "--listen", free_endpoint()),
-            *("--model", str(tmp_path / "missing.json")),
+            *("--model", str(model)),
         ],
         capture_output=True,
         text=True,
         timeout=60,
         check=False,
     )
+
+
+def test_up_refuses_a_bad_model_before_starting(tmp_path: pathlib.Path) -> None:
+    """``armplan up --model`` checks the file first: nothing starts."""
+    out = run_up_with_model(tmp_path / "missing.json")
     assert out.returncode == 1
     assert "no such motion-model file" in out.stderr
+    assert "router" not in out.stdout
+
+
+def test_up_refuses_a_model_that_cannot_decide_before_starting(
+    tmp_path: pathlib.Path, vanishing: MotionModel
+) -> None:
+    """``armplan up --model`` checks the file as the fit service does: a
+    model the decision cannot use stops it before anything starts."""
+    file = tmp_path / "vanishing.json"
+    save_model(vanishing, file)
+    out = run_up_with_model(file)
+    assert out.returncode == 1
+    assert f"{file}: the motion model cannot decide: its " in out.stderr
     assert "router" not in out.stdout
 
 

@@ -22,6 +22,7 @@ import logging
 import threading
 from pathlib import Path
 
+from services.fit.decidable import check_decidable
 from services.fit.default import default_model, default_model_path
 from services.fit.demo_dir import demo_file, demos_dir
 from services.fit.fitting import fit_model
@@ -30,7 +31,7 @@ from shared.bus import Bus, NoArguments
 from shared.bus.deadline import current_due
 from shared.bus.routes import FIT, MODEL_TOPIC
 from shared.demos import read_demos
-from shared.errors import RequestTimeoutError, ServiceBusyError
+from shared.errors import InvalidInputError, RequestTimeoutError, ServiceBusyError
 from shared.messages import FitRequest, MotionModel
 
 log = logging.getLogger("armplan.fit")
@@ -86,7 +87,8 @@ class CurrentModel:
 
         Raises:
             InvalidInputError: a file name outside the demonstration directory,
-                or demonstrations that cannot be fitted.
+                demonstrations that cannot be fitted, or a fitted model the
+                decision cannot use (the model is not installed).
             DemoFileError: a file that is missing or not a demonstration file.
             ServiceBusyError: another fit is running (nothing done).
             RequestTimeoutError: the fit ended after its caller stopped
@@ -116,6 +118,7 @@ class CurrentModel:
             smoothing=request.smoothing,
             sources=request.files,
         )
+        _check_decidable(model, request)
         due = current_due()
         if due is not None and due.too_late:
             log.warning(
@@ -139,3 +142,27 @@ class CurrentModel:
         if model.weights is not None and not model.weights.trusted:
             log.warning("model %s: %s", digest(model), model.weights.untrusted())
         return model
+
+
+def _check_decidable(model: MotionModel, request: FitRequest) -> None:
+    """Refuse a fitted model the decision cannot use, naming why.
+
+    Raises:
+        InvalidInputError: (field ``smoothing``) the model is not installed.
+    """
+    try:
+        check_decidable(model)
+    except InvalidInputError as error:
+        log.warning(
+            "model %s fitted on %s cannot decide: not installed (%s)",
+            digest(model),
+            ", ".join(request.files),
+            error.message,
+        )
+        raise InvalidInputError(
+            f"the model fitted on {', '.join(request.files)} (bins {request.bins}, "
+            f"smoothing {request.smoothing!r}) is not served, the current one "
+            f"stays: {error.message}",
+            field="smoothing",
+            table=error.evidence.get("table"),
+        ) from None

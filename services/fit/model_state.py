@@ -1,9 +1,10 @@
 """Which model the fit service starts with, and where it keeps the one it serves.
 
 At start, in this order: the model file given (``--model FILE``; a bad
-one stops the service with ``ModelFileError``), else the model it served
-last (its state file, ``STATE_FILE`` in its state directory, by default
-the demonstration directory), else the shipped default. Whenever the
+one, or one the decision cannot use, stops the service with
+``ModelFileError``), else the model it served last (its state file,
+``STATE_FILE`` in its state directory, by default the demonstration
+directory; checked the same way), else the shipped default. Whenever the
 served model changes (a fit, or a start from ``--model``), it is written
 to the state file atomically, so a restarted fit service serves the same
 model. Delete the state file to start from the shipped default again.
@@ -19,8 +20,9 @@ import tempfile
 from pathlib import Path
 from typing import NamedTuple
 
+from services.fit.decidable import load_decidable
 from services.fit.default import default_model, default_model_path
-from services.fit.model_file import load_model, save_model
+from services.fit.model_file import save_model
 from shared.errors import InvalidInputError, ModelFileError
 from shared.messages import MotionModel
 
@@ -109,14 +111,15 @@ def start_model(model_file: str | None, state: Path | None) -> StartModel:
 
     Raises:
         ModelFileError: ``model_file``, or an existing state file, is not a
-            valid motion model (missing, truncated, of another version...);
-            a bad state file is not passed over for the shipped default.
+            valid motion model (missing, truncated, of another version...,
+            or one the decision cannot use: ``load_decidable``); a bad
+            state file is not passed over for the shipped default.
     """
     if model_file is not None:
-        return StartModel(load_model(model_file), f"--model {model_file}", True)
+        return StartModel(load_decidable(model_file), f"--model {model_file}", True)
     if state is not None and state.exists():
         try:
-            return StartModel(load_model(state), f"state {state}")
+            return StartModel(load_decidable(state), f"state {state}")
         except ModelFileError as exc:
             raise ModelFileError(
                 str(state),

@@ -122,7 +122,8 @@ def _fit_args(args: argparse.Namespace) -> dict[str, list[str]]:
     """``--model`` for the fit service, the file checked here first.
 
     Raises:
-        ModelFileError: the file is no valid motion model.
+        ModelFileError: the file is no valid motion model, or one the
+            decision cannot use (as the fit service checks it at start).
         InvalidInputError: ``--model`` while ``--only`` leaves fit out.
     """
     if args.model is None:
@@ -132,9 +133,9 @@ def _fit_args(args: argparse.Namespace) -> dict[str, list[str]]:
             "--model is the fit service's model, and --only leaves fit out",
             field="model",
         )
-    from services.fit import load_model
+    from services.fit.decidable import load_decidable
 
-    load_model(args.model)  # a bad file stops everything before it starts
+    load_decidable(args.model)  # a bad file stops everything before it starts
     return {"fit": ["--model", str(Path(args.model).resolve())]}
 
 
