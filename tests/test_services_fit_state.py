@@ -192,7 +192,8 @@ def test_a_model_file_that_cannot_decide_stops_the_fit_service(
     file and the table, before serving it (decide could not start on it)."""
     file = tmp_path / "vanishing.json"
     save_model(vanishing, file)
-    out = run_fit_service("--model", str(file), "--wait", "0.5")
+    state = ("--state-dir", str(tmp_path))  # not kept where the tests run
+    out = run_fit_service("--model", str(file), *state, "--wait", "0.5")
     assert out.returncode == 1
     assert f"{file}: the motion model cannot decide: its " in out.stderr
 
