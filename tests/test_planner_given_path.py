@@ -223,6 +223,16 @@ def test_a_start_a_little_off_the_path_starts_on_it(nudge: float) -> None:
     assert _wrist_errors(arm, path, result.trajectory.positions).max() < 1e-5
 
 
+def leaving_the_reach(arm: ArmModel) -> WristPath:
+    """Four samples within reach whose clamped spline leaves it (below)."""
+    hanging = arm.fk(rest(arm.side))
+    way = np.array([1.0, -0.3, 0.3]) / np.linalg.norm([1.0, -0.3, 0.3])
+    far = hanging.shoulder + way * arm.reach[1] * 0.97
+    samples = [hanging.wrist, far, far, hanging.wrist]
+    times = [0.0, 1.0, 1.15, 2.5]
+    return WristPath(arm=arm.side, times=times, positions=[tuple(p) for p in samples])
+
+
 def test_a_sparse_path_whose_curve_leaves_the_reach_names_the_gap() -> None:
     """Four samples within reach at 0, 1.0, 1.15 and 2.5 s (the hanging
     wrist, a point at 0.97 of the reach, held 0.15 s, back): the curve
@@ -231,14 +241,10 @@ def test_a_sparse_path_whose_curve_leaves_the_reach_names_the_gap() -> None:
     curve leaves the reach between and asking for more there. (It was an
     OffPathError, the wrist 176 mm from sample 2, blaming the tracker.)"""
     arm = load_arm("right")
-    hanging = arm.fk(rest(arm.side))
-    way = np.array([1.0, -0.3, 0.3]) / np.linalg.norm([1.0, -0.3, 0.3])
-    far = hanging.shoulder + way * arm.reach[1] * 0.97
-    samples = [hanging.wrist, far, far, hanging.wrist]
-    for point in samples:
-        check_reachable(arm, point)
-    times = [0.0, 1.0, 1.15, 2.5]
-    path = WristPath(arm=arm.side, times=times, positions=[tuple(p) for p in samples])
+    path = leaving_the_reach(arm)
+    times = path.times
+    for point in path.positions:
+        check_reachable(arm, np.array(point))
     with pytest.raises(UnreachableTargetError) as caught:
         plan(PlanRequest(arm=arm.side, wrist_path=path))
     error = caught.value

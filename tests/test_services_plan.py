@@ -12,10 +12,13 @@ from typing import IO, Any
 import numpy as np
 import pytest
 import zenoh
+from test_planner_given_path import NOISY_SAMPLES, NOISY_TIMES, leaving_the_reach
 
 from armplan.launch import Launcher, free_endpoint
 from services.planner import service as planner_service
+from services.planner.path_reach import check_path_within_reach
 from services.planner.pipeline import plan
+from services.planner.stages import LocalStages
 from services.planner.wrist_path import reach_path
 from shared.bus import Bus, Route, load_config
 from shared.bus.routes import DECIDE, IK_PATH, PLAN, TIMING, TRAJECTORY_TOPIC
@@ -28,7 +31,14 @@ from shared.errors import (
     ServiceUnavailableError,
     UnreachableTargetError,
 )
-from shared.messages import Method, PlanRequest, WristPath, parse
+from shared.messages import (
+    DecideRequest,
+    Method,
+    PathIKRequest,
+    PlanRequest,
+    WristPath,
+    parse,
+)
 from shared.messages.request_id import with_request_id
 from shared.robot import load_arm
 from shared.robot.postures import rest
@@ -79,6 +89,10 @@ CASES = {
         }
     ),
     "wrist-path": PlanRequest(wrist_path=timed_path()),
+    # tracked on the even grid, 0.11 mm out of the reach between samples 0-1
+    "noisy-wrist-path": PlanRequest(
+        wrist_path=WristPath(times=list(NOISY_TIMES), positions=list(NOISY_SAMPLES))
+    ),
     "palm-weights": PlanRequest.model_validate(
         {
             "targets": [{"position": (0.12, -0.10, 0.05), "palm": (0, 0, 1)}],
@@ -308,6 +322,62 @@ def test_an_unreachable_target_comes_back_typed(bus: Bus) -> None:
     with pytest.raises(UnreachableTargetError) as caught:
         bus.call(PLAN, far)
     assert caught.value.evidence["arm"] == "right"
+
+
+def through_the_shoulder() -> WristPath:
+    """``timed_path`` with its sample 40 (t = 0.4 s) moved onto the shoulder."""
+    path = timed_path()
+    shoulder = load_arm(path.arm).fk(rest(path.arm)).shoulder
+    positions = list(path.positions)
+    positions[40] = (float(shoulder[0]), float(shoulder[1]), float(shoulder[2]))
+    return path.model_copy(update={"positions": positions})
+
+
+def stage_request(stage: str, path: WristPath) -> tuple[Route[Any, Any], Any]:
+    """The route and request of ``stage`` (decide, ik-mp, ik-least-norm) for
+    ``path``; ik-mp with the decision of ``timed_path`` (the same times)."""
+    if stage == "decide":
+        return DECIDE, DecideRequest(path=path)
+    if stage == "ik-least-norm":
+        return IK_PATH, PathIKRequest(path=path, method=Method.LEAST_NORM)
+    decision = LocalStages().decide(DecideRequest(path=timed_path()))
+    return IK_PATH, PathIKRequest(path=path, decision=decision)
+
+
+@pytest.mark.parametrize("stage", ["decide", "ik-mp", "ik-least-norm"])
+def test_a_path_through_an_unreachable_sample_is_refused_naming_it(
+    bus: Bus, stage: str
+) -> None:
+    """The decide and ik services refuse a wrist path whose sample 40 is the
+    shoulder itself, naming the sample, with the message ``armplan decide
+    --wrist-path`` and ``armplan plan`` give before asking them. (They
+    answered: a primitive for each point, a joint path 51 mm off that
+    sample.)"""
+    path = through_the_shoulder()
+    route, asked = stage_request(stage, path)
+    with pytest.raises(UnreachableTargetError) as caught:
+        check_path_within_reach(load_arm(path.arm), path)
+    with pytest.raises(UnreachableTargetError) as remote:
+        bus.call(route, asked)
+    assert remote.value.message == caught.value.message
+    assert remote.value.message.startswith("wrist-path sample 40 (t = 0.400 s): ")
+    assert remote.value.evidence["distance"] == 0.0
+
+
+def test_a_path_whose_curve_leaves_the_reach_is_named_as_in_process(
+    bus: Bus,
+) -> None:
+    """The planner's even grid through four samples within reach passes
+    11 mm inside the reach: the decide service refuses a point of that
+    grid, and the planner names the gap between the caller's samples, as
+    in-process, not a grid point the caller never gave."""
+    request = PlanRequest(wrist_path=leaving_the_reach(load_arm("right")))
+    with pytest.raises(UnreachableTargetError) as local:
+        plan(request)
+    with pytest.raises(UnreachableTargetError) as remote:
+        bus.call(PLAN, request)
+    assert remote.value.message == local.value.message
+    assert "add samples between them" in remote.value.message
 
 
 @pytest.mark.parametrize(

@@ -16,7 +16,10 @@ it leaves the reach, the gap is named, to be filled with samples (a path
 over a limit keeps its own error). It is not checked before: a path
 leaving its start on the reach shell (the hanging wrist is 0.8 mm inside
 it) may poke a fraction of a millimetre out, and the tracker
-follows it within the path's tolerance all the same.
+follows it within the path's tolerance all the same. Only a grid point
+more than ``STAGE_SLACK`` (1 mm) out is refused before tracking, by the
+decide and ik stages (``services.planner.path_reach``); the planner then
+names the gap here too.
 """
 
 from __future__ import annotations

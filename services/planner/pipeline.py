@@ -37,6 +37,7 @@ from services.ik import check_reachable, solve
 from services.planner.build import trajectory_message
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
 from services.planner.grid_reach import check_grid_within_reach
+from services.planner.path_reach import STAGE_SLACK, check_path_within_reach
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
@@ -212,7 +213,7 @@ def _follow_given(
         if grid is None:
             joint_path = _movement(stages, request, path, start, decisions)
         else:  # tracked on an even grid: the joints do not depend on the sampling
-            tracked = _movement(stages, request, grid, start, decisions)
+            tracked = _track_grid(arm, stages, request, path, grid, start, decisions)
             joint_path = at_path_times(arm, path, tracked)
         limits = request_limits(arm.limits, request.limits)
         timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
@@ -233,6 +234,30 @@ def _follow_given(
     trajectory = trajectory_message(arm, [joint_path], timed, request.method)
     check_payload(trajectory, advice=FEWER_SAMPLES)
     return PlanResult(trajectory, [path], decisions, [joint_path])
+
+
+def _track_grid(
+    arm: ArmModel,
+    stages: Stages,
+    request: PlanRequest,
+    path: WristPath,
+    grid: WristPath,
+    start: np.ndarray,
+    decisions: list[Decision],
+) -> JointPath:
+    """``_movement`` along ``grid``, the even grid through ``path``'s samples.
+
+    Raises:
+        UnreachableTargetError: the grid leaves the reach by more than the
+            stages allow (``STAGE_SLACK``): named as the gap between two of
+            ``path``'s samples, to fill with samples, not as a point of a
+            grid the caller never gave.
+    """
+    try:
+        return _movement(stages, request, grid, start, decisions)
+    except UnreachableTargetError:
+        check_grid_within_reach(arm, path, grid, STAGE_SLACK)
+        raise
 
 
 def start_on_path(
@@ -279,18 +304,3 @@ def check_on_path(
             reason="the IK tracker, from the start posture and within the joint "
             "limits, did not stay on it",
         )
-
-
-def check_path_within_reach(arm: ArmModel, path: WristPath) -> None:
-    """Raise, naming the sample, if a wrist-path sample is out of the arm's reach."""
-    for k, position in enumerate(path.positions):
-        try:
-            check_reachable(arm, np.array(position))
-        except UnreachableTargetError as error:
-            raise UnreachableTargetError(
-                position,
-                arm=arm.side.value,
-                distance=error.distance,
-                reach=error.reach,
-                at=f"wrist-path sample {k} (t = {path.times[k]:.3f} s)",
-            ) from None

@@ -19,6 +19,7 @@ from services.fit.default import default_model
 from services.fit.model import MotionModel
 from services.ik.track import TrackedPath, track_path
 from services.planner.build import arc_length, joint_path_message, trajectory_message
+from services.planner.path_reach import STAGE_SLACK, check_path_within_reach
 from services.timing import Segment
 from services.timing.hand import (
     first_opening,
@@ -69,8 +70,14 @@ class Stages(Protocol):
 def decide(
     model: MotionModel | Decider, request: DecideRequest
 ) -> tuple[Decision, TrackedPath]:
-    """The decide stage: the decision, and the joint path it tracked."""
+    """The decide stage: the decision, and the joint path it tracked.
+
+    Raises:
+        UnreachableTargetError: a path sample more than ``STAGE_SLACK`` out
+            of the arm's reach, naming it.
+    """
     arm = load_arm(request.path.arm)
+    check_path_within_reach(arm, request.path, STAGE_SLACK)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     palm = None if request.path.palm is None else np.array(request.path.palm)
     return decide_path(
@@ -91,9 +98,12 @@ def path_ik(request: PathIKRequest) -> JointPath:
         InvalidInputError: method ``mp`` without a decision. (A decision
             of another arm or other times than the path is refused when the
             request is read: ``PathIKRequest``.)
+        UnreachableTargetError: a path sample more than ``STAGE_SLACK`` out
+            of the arm's reach, naming it.
     """
     arm = load_arm(request.path.arm)
     path = request.path
+    check_path_within_reach(arm, path, STAGE_SLACK)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     palm = None if path.palm is None else np.array(path.palm)
     choose = None

@@ -198,7 +198,8 @@ def _path(
     does already).
     """
     from services.ik.solver import check_reachable
-    from services.planner.pipeline import check_path_within_reach, start_on_path
+    from services.planner.path_reach import check_path_within_reach
+    from services.planner.pipeline import start_on_path
     from shared.messages import Method
 
     if args.wrist_path:
