@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import json
 import math
+from typing import Annotated
 
 import pytest
+from pydantic import TypeAdapter
 
+import shared.messages
 from shared.errors import InvalidInputError
 from shared.messages import (
     CommandFrames,
@@ -22,7 +25,9 @@ from shared.messages import (
     WristPath,
     parse,
 )
+from shared.messages.base import Message
 from shared.primitives import BY_NAME
+from shared.robot import Side
 
 
 def test_round_trip_through_json() -> None:
@@ -337,6 +342,39 @@ def test_a_wrist_path_reads_its_arm_as_a_task_does() -> None:
     assert parse(WristPath, samples).arm == "right"
     with pytest.raises(InvalidInputError, match="arm"):
         parse(WristPath, {**samples, "arm": "middle"})
+
+
+#: Every message with an arm, by name.
+WITH_AN_ARM = {
+    name: kind
+    for name in shared.messages.__all__
+    if isinstance(kind := getattr(shared.messages, name), type)
+    and issubclass(kind, Message)
+    and "arm" in kind.model_fields
+    and kind.model_fields["arm"].annotation is Side
+}
+
+
+def test_an_ik_request_reads_its_arm_in_any_case() -> None:
+    """ "LEFT" over the wire was refused by ``ik/solve`` (invalid_input)
+    while --arm, a task and a wrist path take it."""
+    request = parse(IKRequest, {"arm": "LEFT", "target": [0.12, 0.13, 0.05]})
+    assert request.arm is Side.LEFT
+    assert request.to_json() == IKRequest(arm="left", target=request.target).to_json()
+    with pytest.raises(InvalidInputError, match="unknown arm 'both'"):
+        parse(IKRequest, {"arm": "both", "target": [0.12, 0.13, 0.05]})
+
+
+@pytest.mark.parametrize("name", sorted(WITH_AN_ARM))
+def test_every_message_reads_its_arm_in_any_case(name: str) -> None:
+    """Each message's arm field reads " Left " and "LEFT" as left, strictly
+    from JSON, and refuses what is no arm: one rule at every boundary."""
+    field = WITH_AN_ARM[name].model_fields["arm"]
+    arm = TypeAdapter(Annotated[(field.annotation, *field.metadata)])
+    for spelling in ('" Left "', '"LEFT"', '"left"'):
+        assert arm.validate_json(spelling, strict=True) is Side.LEFT
+    with pytest.raises(ValueError, match="unknown arm 'up'"):
+        arm.validate_json('"up"', strict=True)
 
 
 def test_a_request_names_its_arm_on_its_wrist_path_alone() -> None:

@@ -85,6 +85,14 @@ def test_remote_and_in_process_agree(bus: Bus, request_: IKRequest) -> None:
     assert remote == in_process(request_)
 
 
+def test_an_arm_in_any_case_is_read_as_the_cli_reads_it(bus: Bus) -> None:
+    """``{"arm": "LEFT"}`` over the wire is the left arm, as ``--arm LEFT``
+    and a wrist path's arm are (it was invalid_input)."""
+    payload = b'{"arm": "LEFT", "target": [0.12, 0.13, 0.05]}'
+    left = IKRequest(arm="left", target=(0.12, 0.13, 0.05))
+    assert bus.call(IK_SOLVE, payload).model_dump(mode="json") == in_process(left)
+
+
 def test_an_unreachable_target_comes_back_with_its_evidence(bus: Bus) -> None:
     """The solver's typed error is rebuilt on the caller's side."""
     with pytest.raises(UnreachableTargetError) as caught:

@@ -19,7 +19,7 @@ from shared.messages.base import Message
 from shared.messages.measure_params import MeasureParams
 from shared.messages.sample_times import check_times
 from shared.primitives import BY_NAME
-from shared.robot.side import Side
+from shared.robot.side import Side, SideAnyCase
 
 #: A primitive matrix e as nested lists (rows P, R, PR; columns S, E, W).
 MatrixRows = tuple[tuple[int, int, int], tuple[int, int, int], tuple[int, int, int]]
@@ -57,7 +57,7 @@ class Decision(Message):
             deciding (the request's, else the motion model's).
     """
 
-    arm: Side
+    arm: SideAnyCase
     times: list[float] = Field(min_length=1)
     primitives: list[str]
     candidates: list[str] = Field(min_length=1)

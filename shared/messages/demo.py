@@ -16,7 +16,7 @@ from pydantic import AfterValidator, Field
 
 from shared.messages.base import Message, Vec3
 from shared.primitives import BY_NAME, MOTION_PRIMITIVES
-from shared.robot.side import Side
+from shared.robot.side import Side, SideAnyCase
 
 #: A rotation as a unit quaternion (w, x, y, z).
 QuaternionTuple = tuple[float, float, float, float]
@@ -98,7 +98,7 @@ class DemoSample(Message):
     subject: str = Field(min_length=1, max_length=64)
     trial: int = Field(ge=0)
     point: int = Field(default=0, ge=0, le=1000)
-    arm: Side = Side.RIGHT
+    arm: SideAnyCase = Side.RIGHT
     time: float = Field(ge=0.0)
     shoulder: Vec3
     elbow: Vec3

@@ -15,7 +15,7 @@ from pydantic import Field, NonNegativeFloat, model_validator
 from shared.messages.base import MAX_RATE, MIN_RATE, Message, OptionalFieldsMessage
 from shared.messages.joint_path import Row, Trajectory
 from shared.messages.sample_times import check_times
-from shared.robot.side import Side
+from shared.robot.side import SideAnyCase
 
 #: Highest frame rate a timeline may have [Hz]; ALMotion's cycle is 50 Hz.
 MAX_FRAME_RATE = MAX_RATE
@@ -42,7 +42,7 @@ class CommandFrames(Message):
         positions: Joint angles at those frames [rad], shape (m, n).
     """
 
-    arm: Side
+    arm: SideAnyCase
     rate: float = Field(ge=MIN_RATE, le=MAX_FRAME_RATE)
     joint_names: list[str] = Field(min_length=1)
     start: list[float]
@@ -110,7 +110,7 @@ class ExecutedJointStates(Message):
             uncertain by half its round trip.
     """
 
-    arm: Side
+    arm: SideAnyCase
     joint_names: list[str] = Field(min_length=1)
     times: list[float]
     measured: list[Row]

@@ -8,7 +8,7 @@ from shared.messages.base import Message, OptionalFieldsMessage, Vec3
 from shared.messages.method import Method
 from shared.messages.sample_times import check_times
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
-from shared.robot.side import Side
+from shared.robot.side import SideAnyCase
 
 Row = list[float]
 
@@ -33,7 +33,7 @@ class JointPath(Message):
         wrist: Wrist position reached at each time [m], shape (n, 3).
     """
 
-    arm: Side
+    arm: SideAnyCase
     joint_names: list[str] = Field(min_length=1)
     times: list[float] = Field(min_length=1, max_length=MAX_TRAJECTORY_SAMPLES)
     positions: list[Row]
@@ -78,7 +78,7 @@ class Trajectory(OptionalFieldsMessage):
 
     omitted_when_none = ("hand", "hand_velocities", "hand_accelerations")
 
-    arm: Side
+    arm: SideAnyCase
     joint_names: list[str] = Field(min_length=1)
     times: list[float] = Field(min_length=1, max_length=MAX_TRAJECTORY_SAMPLES)
     positions: list[Row]

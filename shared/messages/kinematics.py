@@ -7,7 +7,7 @@ from pydantic import Field
 from shared.messages.base import Direction, JointVector, Message, Vec3
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
-from shared.robot.side import Side
+from shared.robot.side import Side, SideAnyCase
 
 
 class FKResult(Message):
@@ -23,7 +23,8 @@ class IKRequest(Message):
     """Solve one posture.
 
     Attributes:
-        arm: Which arm.
+        arm: Which arm (any case: ``"LEFT"`` reads as ``"left"``, as
+            ``--arm`` and a ``WristPath`` read it).
         target: Wrist target in the torso frame [m].
         palm: Optional palm direction (wrist orientation), unit vector.
         primitive: Primitive to use (``mp`` only); ``None`` lets armplan pick.
@@ -36,7 +37,7 @@ class IKRequest(Message):
         measures: Weights of the human performance measures (eq. 17-21).
     """
 
-    arm: Side = Side.RIGHT
+    arm: SideAnyCase = Side.RIGHT
     target: Vec3
     palm: Direction | None = None
     primitive: str | None = None
@@ -66,7 +67,7 @@ class IKResult(Message):
             ``SwivelNotReachedError`` instead.
     """
 
-    arm: Side
+    arm: SideAnyCase
     joints: dict[str, float]
     wrist: Vec3
     target: Vec3
