@@ -228,6 +228,38 @@ def test_trajectory_rows_must_match_times() -> None:
         parse(Trajectory, data)
 
 
+@pytest.mark.parametrize(
+    ("point_times", "problem"),
+    [
+        ([[0.0, 0.01], []], r"point_times\[1\] is empty"),
+        ([[0.0, 0.01], [0.005]], r"point_times \(joined\) must not decrease"),
+        ([[0.0, 0.02]], r"point_times end at 0.02 s, after the trajectory's 0.01 s"),
+    ],
+)
+def test_a_trajectory_s_point_times_follow_it(
+    point_times: list[list[float]], problem: str
+) -> None:
+    """When the trajectory passes its paths' points: a time per point, not
+    decreasing along the task, within its span; a rest (two points at one
+    time) passes. Left out of the JSON when not given."""
+    row = [0.0] * 5
+    data = {
+        "arm": "right",
+        "joint_names": ["a", "b", "c", "d", "e"],
+        "times": [0.0, 0.01],
+        "positions": [row, row],
+        "velocities": [row, row],
+        "accelerations": [row, row],
+        "primitives": ["S_R E_P W_P"] * 2,
+        "wrist_path": [[0, 0, 0]] * 2,
+    }
+    assert "point_times" not in parse(Trajectory, data).to_json()
+    good = parse(Trajectory, data | {"point_times": [[0.0, 0.01], [0.01]]})
+    assert good.point_times == [[0.0, 0.01], [0.01]]
+    with pytest.raises(InvalidInputError, match=problem):
+        parse(Trajectory, data | {"point_times": point_times})
+
+
 def test_every_message_has_a_json_schema() -> None:
     """Each message gives a JSON schema naming its fields (for MCAP channels)."""
     for cls in (
@@ -305,6 +337,13 @@ def _decision(**change: object) -> dict[str, object]:
                           "S_R E_PR W_P": BY_NAME["S_R E_PR W_P"].matrix}},
             "is not the matrix of 'S_R E_P W_P'",
         ),
+        ({"trajectory_times": [0.5]}, "2 times but 1 trajectory_times: one per time"),
+        (
+            {"trajectory_times": [0.5, 0.25]},
+            "trajectory_times must not decrease: trajectory_times.1. = 0.25 s",
+        ),
+        ({"trajectory_times": [-0.1, 0.25]}, "trajectory_times.0. is -0.1 s"),
+        ({"trajectory_times": [0.0, 1e9]}, "trajectory_times.1. is 1e.09 s"),
     ],
 )  # fmt: skip
 def test_a_decision_must_agree_with_the_primitives(
@@ -318,6 +357,14 @@ def test_a_decision_must_agree_with_the_primitives(
     assert good.points[1].matrix == BY_NAME["S_R E_PR W_P"].matrix
     with pytest.raises(InvalidInputError, match=problem):
         parse(Decision, _decision(**change))
+
+
+def test_a_decision_s_trajectory_times_are_optional_and_kept() -> None:
+    """Without them the JSON has no key (what it was before they existed);
+    with them (two points passed at once allowed) they read back."""
+    assert "trajectory_times" not in parse(Decision, _decision()).to_json()
+    timed = parse(Decision, _decision(trajectory_times=[1.5, 1.5]))
+    assert parse(Decision, timed.to_json()).trajectory_times == [1.5, 1.5]
 
 
 def test_a_decision_of_points_reads_back_point_by_point() -> None:

@@ -15,8 +15,9 @@ from typing import NamedTuple
 
 from pydantic import Field, model_validator
 
-from shared.messages.base import Message
+from shared.messages.base import OptionalFieldsMessage
 from shared.messages.measure_params import MeasureParams
+from shared.messages.passing_times import check_passing_times
 from shared.messages.sample_times import check_times
 from shared.primitives import BY_NAME
 from shared.robot.side import Side, SideAnyCase
@@ -39,7 +40,7 @@ class PointDecision(NamedTuple):
     g: dict[str, float]
 
 
-class Decision(Message):
+class Decision(OptionalFieldsMessage):
     """Decisions for every point of a wrist path.
 
     Attributes:
@@ -55,7 +56,16 @@ class Decision(Message):
             ``primitives``, by name.
         measures: The IK measures' weights the path was tracked with while
             deciding (the request's, else the motion model's).
+        trajectory_times: When the planned trajectory passes each point [s
+            from its first sample], shape (n,), non-decreasing: the path's
+            own ``times`` are its nominal clock (each reach's from 0), the
+            timing stage sets the pace and the rests. Set by the planner
+            once the trajectory is timed (the decisions it publishes);
+            ``None`` (left out of the JSON, which is then what it was before
+            the field existed): not known, as from the decide stage.
     """
+
+    omitted_when_none = ("trajectory_times",)
 
     arm: SideAnyCase
     times: list[float] = Field(min_length=1)
@@ -64,6 +74,7 @@ class Decision(Message):
     g: list[list[float]]
     matrices: dict[str, MatrixRows]
     measures: MeasureParams = Field(default_factory=MeasureParams)
+    trajectory_times: list[float] | None = None
 
     @model_validator(mode="after")
     def _consistent(self) -> Decision:
@@ -85,6 +96,13 @@ class Decision(Message):
                 )
         _check_names("primitives", self.primitives)
         _check_matrices(self.matrices, set(self.primitives))
+        if self.trajectory_times is not None:
+            if len(self.trajectory_times) != n:
+                raise ValueError(
+                    f"{n} times but {len(self.trajectory_times)} trajectory_times: "
+                    "one per time"
+                )
+            check_passing_times(self.trajectory_times, "trajectory_times")
         return self
 
     @classmethod

@@ -6,6 +6,7 @@ from pydantic import Field, model_validator
 
 from shared.messages.base import Message, OptionalFieldsMessage, Vec3
 from shared.messages.method import Method
+from shared.messages.passing_times import check_passing_times
 from shared.messages.sample_times import check_times
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 from shared.robot.side import SideAnyCase
@@ -74,9 +75,22 @@ class Trajectory(OptionalFieldsMessage):
             differences of ``hand``. Only with ``hand``.
         hand_accelerations: Its rate of change [1/s^2], shape (n,); ``None``
             as ``hand_velocities``.
+        point_times: When the trajectory passes each point of the joint
+            paths it was timed from [s from its first sample], one list per
+            segment of the timing request, shape (segments, points), not
+            decreasing along the task (``services.timing.point_times``).
+            The timing stage sets it for the planner, which moves each
+            reach's list onto its decision (``Decision.trajectory_times``)
+            and leaves it out of the plan's trajectory; ``None`` (left out
+            of the JSON) otherwise.
     """
 
-    omitted_when_none = ("hand", "hand_velocities", "hand_accelerations")
+    omitted_when_none = (
+        "hand",
+        "hand_velocities",
+        "hand_accelerations",
+        "point_times",
+    )
 
     arm: SideAnyCase
     joint_names: list[str] = Field(min_length=1)
@@ -90,6 +104,7 @@ class Trajectory(OptionalFieldsMessage):
     hand: list[float] | None = None
     hand_velocities: list[float] | None = None
     hand_accelerations: list[float] | None = None
+    point_times: list[list[float]] | None = None
 
     @model_validator(mode="after")
     def _shapes(self) -> Trajectory:
@@ -107,9 +122,29 @@ class Trajectory(OptionalFieldsMessage):
             if values is not None and self.hand is None:
                 raise ValueError(f"{name} is given without hand")
         check_times(self.times)
+        if self.point_times is not None:
+            _check_point_times(self.point_times, self.duration)
         return self
 
     @property
     def duration(self) -> float:
         """Time from the first to the last sample [s]."""
         return self.times[-1] - self.times[0]
+
+
+def _check_point_times(point_times: list[list[float]], duration: float) -> None:
+    """Each list has a time, none decreases along the task, none passes the end.
+
+    Raises:
+        ValueError: naming the segment or the time at fault.
+    """
+    flat = [t for times in point_times for t in times]
+    for k, times in enumerate(point_times):
+        if not times:
+            raise ValueError(f"point_times[{k}] is empty: a path has points")
+    check_passing_times(flat, "point_times (joined)")
+    if flat and flat[-1] > duration + 1e-9:
+        raise ValueError(
+            f"point_times end at {flat[-1]:.9g} s, after the trajectory's "
+            f"{duration:.9g} s"
+        )
