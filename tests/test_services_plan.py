@@ -33,6 +33,7 @@ from shared.errors import (
 )
 from shared.messages import (
     DecideRequest,
+    Decision,
     Method,
     PathIKRequest,
     PlanRequest,
@@ -141,7 +142,8 @@ def test_a_plan_publishes_request_decision_joint_path_and_trajectory(
     bus: Bus,
 ) -> None:
     """Each part goes out on its registered topic (so the recorder keeps it
-    on a typed channel), in order, the trajectory equal to the reply."""
+    on a typed channel), in order, the trajectory equal to the reply; the
+    decision after it, on its clock."""
     got: list[tuple[str, bytes]] = []
     lock = threading.Lock()
 
@@ -161,16 +163,20 @@ def test_a_plan_publishes_request_decision_joint_path_and_trajectory(
     paths = [key.removeprefix(f"{NAMESPACE}/") for key, _ in got]
     assert paths == [
         "plan/request",
-        "plan/decision",
         "plan/joint_path",
         "plan/trajectory",
+        "plan/decision",
     ]
+    parts = []
     for path, (_, payload) in zip(paths, got, strict=True):
         topic = find_topic(path)
         assert topic is not None and topic.message is not None
-        parse(topic.message, payload)
+        parts.append(parse(topic.message, payload))
     assert got[0][1] == REACH.to_json().encode()
-    assert got[-1][1] == reply.to_json().encode()
+    assert got[2][1] == reply.to_json().encode()
+    decision = parts[3]
+    assert isinstance(decision, Decision) and decision.trajectory_times is not None
+    assert decision.trajectory_times[-1] == pytest.approx(reply.duration)
 
 
 def test_a_repeated_request_id_is_planned_and_published_once(bus: Bus) -> None:

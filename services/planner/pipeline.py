@@ -35,6 +35,7 @@ import numpy as np
 
 from services.ik import check_reachable, solve
 from services.planner.build import trajectory_message
+from services.planner.decision_times import on_path_clock, timed_decisions
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
 from services.planner.grid_reach import check_grid_within_reach
 from services.planner.path_reach import STAGE_SLACK, check_path_within_reach
@@ -86,7 +87,9 @@ class PlanResult(NamedTuple):
     Attributes:
         trajectory: The timed trajectory (the SPEC's trajectory JSON).
         wrist_paths: Each movement's planned wrist path.
-        decisions: Each movement's decision (method ``mp``; else empty).
+        decisions: Each movement's decision (method ``mp``; else empty),
+            with when the trajectory passes each of its points
+            (``Decision.trajectory_times``).
         joint_paths: Each movement's joint path, before timing.
     """
 
@@ -143,6 +146,7 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
         )
     )
     check_samples(len(trajectory.times), request.rate)
+    trajectory, decisions = timed_decisions(trajectory, decisions)
     check_payload(trajectory)
     return PlanResult(trajectory, paths, decisions, joints)
 
@@ -233,6 +237,7 @@ def _follow_given(
         raise
     trajectory = trajectory_message(arm, [joint_path], timed, request.method)
     check_payload(trajectory, advice=FEWER_SAMPLES)
+    decisions = on_path_clock(decisions, path.times[0])
     return PlanResult(trajectory, [path], decisions, [joint_path])
 
 

@@ -3,9 +3,10 @@
 Keys (namespace ``armplan`` by default):
     ``armplan/plan``             PlanRequest -> Trajectory (``routes.PLAN``)
     ``armplan/plan/request``     publication: each valid request, before planning
-    ``armplan/plan/decision``    publication: each reach's Decision (method mp)
     ``armplan/plan/joint_path``  publication: each reach's JointPath
     ``armplan/plan/trajectory``  publication: each finished Trajectory
+    ``armplan/plan/decision``    publication: each reach's Decision (method mp),
+                                 on the trajectory's clock, after it
 
 It runs the in-process planner (``services.planner.pipeline.plan``) with
 its stages as the decide, ik and timing services (``remote.RemoteStages``),
@@ -97,12 +98,20 @@ def samples(trajectory: Trajectory) -> int:
 
 
 def publish_parts(bus: Bus, result: PlanResult) -> None:
-    """Publish a plan's decisions, joint paths and trajectory, in that order."""
-    for decision in result.decisions:
-        bus.publish(DECISION_TOPIC, decision)
+    """Publish a plan's joint paths, trajectory and decisions, in that order.
+
+    The decisions come right after the trajectory: a recording places each
+    decision point at its decision's arrival plus when the trajectory
+    passes it (``Decision.trajectory_times``), so that arrival stands for
+    the trajectory's (5 ms later in ``tests/test_recorder_plan_decisions``).
+    Before the trajectory they arrived its JSON's encoding earlier (73 ms
+    for the demo's task).
+    """
     for joint_path in result.joint_paths:
         bus.publish(JOINT_PATH_TOPIC, joint_path)
     bus.publish(TRAJECTORY_TOPIC, result.trajectory)
+    for decision in result.decisions:
+        bus.publish(DECISION_TOPIC, decision)
 
 
 def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:

@@ -28,6 +28,7 @@ from services.timing.hand import (
     hand_moves,
     hand_rates,
 )
+from services.timing.point_times import point_times
 from services.timing.request_limits import request_limits
 from services.timing.sample_cap import check_asked, check_samples
 from services.timing.segments import time_segments_with_rests
@@ -138,7 +139,9 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     human bell is the hand's speed profile. A segment's hand action moves
     the gripper during its dwell, lengthened to the gripper's time if
     shorter (``services.timing.hand``); the trajectory then carries the
-    gripper's open fraction (``Trajectory.hand``).
+    gripper's open fraction (``Trajectory.hand``). It also carries when it
+    passes each point of each joint path (``Trajectory.point_times``), for
+    the planner to place each reach's decision on its clock.
 
     Raises:
         InvalidInputError: a trajectory over ``MAX_TRAJECTORY_SAMPLES``
@@ -167,9 +170,10 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     ]
     timed, rests = time_segments_with_rests(segments, limits, rate=request.rate)
     check_samples(len(timed.times), request.rate)
-    trajectory = trajectory_message(
-        arm, [s.joint_path for s in request.segments], timed, request.method
-    )
+    paths = [s.joint_path for s in request.segments]
+    trajectory = trajectory_message(arm, paths, timed, request.method)
+    passed = point_times(timed, [len(p.times) for p in paths])
+    trajectory = trajectory.model_copy(update={"point_times": passed})
     opening = first_opening(actions)
     if opening is None:
         return trajectory
