@@ -364,6 +364,25 @@ def test_a_decision_gives_a_plottable_sample_per_point() -> None:
     assert sample.g == {name.replace(" ", "_"): 0.25, "W_R": 0.125}
 
 
+def test_a_decision_is_placed_when_the_trajectory_passes_its_points() -> None:
+    """With ``trajectory_times`` a point falls at arrival plus its time there,
+    not at its own time on the path's clock; the JSON of a decision recorded
+    before the field existed (no key) still parses and is placed by its own
+    times, as it was."""
+    name = PRIMITIVE_NAMES[2]
+    point = PointDecision(primitive=name, matrix=BY_NAME[name].matrix, g={name: 0.5})
+    decision = Decision.of_points(Side.RIGHT, [0.0, 0.01, 0.02], [point] * 3)
+    assert "trajectory_times" not in decision.to_json()  # as before the field
+    timed = decision.model_validate(
+        {**decision.model_dump(), "trajectory_times": [1.25, 1.5, 1.5]}
+    )
+    stamps = [d.log_time for d in FoxgloveChannels().derive(timed, T0)]
+    assert stamps == [T0 + 1_250_000_000, T0 + 1_500_000_000, T0 + 1_500_000_000]
+    old = Decision.model_validate_json(decision.to_json())
+    stamps = [d.log_time for d in FoxgloveChannels().derive(old, T0)]
+    assert stamps == [T0, T0 + 10_000_000, T0 + 20_000_000]
+
+
 def test_the_robot_description_is_the_project_urdf() -> None:
     """/robot_description carries the URDF text in a ``data`` field."""
     d = description_message(T0)

@@ -202,6 +202,9 @@ def model_messages(
         return [(EXECUTED_TF_TOPIC, start, pose.to_json().encode())]
     assert isinstance(message, Decision | Trajectory)
     stamps = [start + round((t - message.times[0]) * 10**9) for t in message.times]
+    if isinstance(message, Decision):  # when the trajectory passes each point
+        assert message.trajectory_times is not None
+        stamps = [start + round(t * 10**9) for t in message.trajectory_times]
     labels = [
         PrimitiveSample(time=t, primitive=name, index=PRIMITIVE_NAMES.index(name))
         for t, name in zip(message.times, message.primitives, strict=True)
@@ -236,8 +239,9 @@ def test_derived_messages_are_recorded_as_the_models_made_them(
     tmp_path: Path,
 ) -> None:
     """Read back from the file, the derived channels of a planned reach (its
-    decisions, trajectory and a measured state) hold, in order and byte for
-    byte, what a pydantic model per message made before they were streamed."""
+    trajectory, decisions and a measured state, as the planner publishes
+    them) hold, in order and byte for byte, what a pydantic model per
+    message made before they were streamed."""
     result = plan(
         PlanRequest(
             arm="left",
@@ -252,8 +256,8 @@ def test_derived_messages_are_recorded_as_the_models_made_them(
         time=0.4, joint_names=traj.joint_names, positions=traj.positions[40]
     )
     samples: list[tuple[str, Message]] = [
-        *(("plan/decision", d) for d in result.decisions),
         ("plan/trajectory", traj),
+        *(("plan/decision", d) for d in result.decisions),
         ("bridge/state", state),
     ]
     planned, executed = "plan/", 'ex "\u00e9"/'

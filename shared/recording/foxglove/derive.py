@@ -10,7 +10,8 @@
 | ``/primitive/planned`` | ``PrimitiveSample`` | each ``Trajectory``'s labels |
 
 Derived channels start with ``/``, which no Zenoh key does, so a replay
-never republishes them.
+never republishes them. A decision point is placed when the trajectory
+passes it (:func:`decision_stamps`).
 """
 
 from __future__ import annotations
@@ -134,7 +135,7 @@ class FoxgloveChannels:
         if isinstance(message, JointState):
             return self._state(message, log_time)
         if isinstance(message, Decision):
-            stamps = sample_stamps(message.times, log_time)
+            stamps = decision_stamps(message, log_time)
             return _samples(DECISION_TOPIC, stamps, decision_samples(message))
         return iter(())
 
@@ -167,6 +168,24 @@ class FoxgloveChannels:
         stamp = check_stamp(log_time, "the state")
         pose = executed_transforms(self._arm(side), state, stamp, self.executed_prefix)
         return _transforms(EXECUTED_TF_TOPIC, [stamp], iter([pose]))
+
+
+def decision_stamps(decision: Decision, log_time: int) -> list[int]:
+    """When each point of ``decision``, received at ``log_time`` [ns], applies [ns].
+
+    With ``trajectory_times`` (the planner's decisions, published right
+    after their trajectory): the arrival plus when the trajectory passes
+    the point, so the reaches of a task follow each other as the
+    trajectory's samples do. Without (recorded before the field existed, or
+    from another publisher): the arrival plus the point's own time from the
+    first, each reach's from 0, as then.
+
+    Raises:
+        ValueError: a stamp passes MCAP's range.
+    """
+    if decision.trajectory_times is None:
+        return sample_stamps(decision.times, log_time)
+    return sample_stamps(decision.trajectory_times, log_time, origin=0.0)
 
 
 def _transforms(

@@ -25,7 +25,9 @@ class PrimitiveSample(Message):
     """The primitive that drives the arm at one moment.
 
     Attributes:
-        time: Time of the path point from the path's start [s].
+        time: Time of the path point from the path's start [s] (a decision's
+            on its wrist path's own clock, each reach's from 0; its log
+            time is the trajectory's moment there).
         primitive: The winner's name, e.g. ``"S_R E_P W_P"``.
         index: Its position in Table 1's order (0..9); -1 if unknown.
         g: Accumulated mutual information of each candidate [nat], keyed by
