@@ -1,10 +1,14 @@
 """The Zenoh router process: ``python -m shared.bus.router``.
 
-Usage: ``python -m shared.bus.router [--config FILE] [--listen ENDPOINT] [--id HEX]``.
+Usage: ``python -m shared.bus.router [--config FILE] [--listen ENDPOINT] [--id HEX]
+[--check-certificate-every SECONDS]``.
 A Python Zenoh session in ``mode: "router"`` listening on the configured
 endpoints only (default ``tcp/127.0.0.1:7447``), multicast scouting off. It
 runs until SIGTERM or SIGINT; it exits 1 with the reason if it cannot listen
 or its TLS certificate has expired (and warns when it expires within 30 days).
+While it runs it checks the certificate's dates again, hourly and at its end:
+a warning about once a day in the last 30 days, an ERROR once it has expired
+(``certificate_watch.py``).
 Zenoh's own log (stdout) shows its warnings and, for a secured router, every
 handshake accepted or refused, e.g. a wrong password (``zenoh_log.py``).
 """
@@ -17,7 +21,7 @@ import re
 from collections.abc import Sequence
 from datetime import UTC, datetime
 
-from shared.bus.certificate_dates import check_listen_certificate
+from shared.bus.certificate_watch import CHECK_EVERY, watch_certificate
 from shared.bus.config_file import load_config
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.secured import secured_settings
@@ -35,12 +39,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         config = load_config(args.config, tuple(args.listen or ()))
         start_zenoh_log(secured=bool(secured_settings(config)))
-        warning = check_listen_certificate(config, datetime.now(UTC))
-        if warning is not None:
-            log.warning("router: %s", warning)
+        watch = watch_certificate(config, datetime.now(UTC))
         with open_router(config, args.id):
             log.info("router listening on %s", ", ".join(config.endpoints))
-            wait_for(stop)
+            if watch is None:
+                wait_for(stop)
+            else:
+                watch.wait(stop, args.check_certificate_every)
     except ArmplanError as error:
         log.error("router: %s", error.message)
         return 1
@@ -65,7 +70,26 @@ def _parser() -> argparse.ArgumentParser:
         "random); lets "
         "the process that started it tell it from another router on the port",
     )
+    parser.add_argument(
+        "--check-certificate-every",
+        type=_seconds,
+        default=CHECK_EVERY,
+        metavar="SECONDS",
+        help="how often a TLS router checks its certificate's dates while it "
+        f"runs (default {CHECK_EVERY:.0f}; it checks at the end date too)",
+    )
     return parser
+
+
+def _seconds(text: str) -> float:
+    """``text`` as a finite number of seconds above 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds > 0")
+    return value
 
 
 def _zid(text: str) -> str:

@@ -69,7 +69,8 @@ def _what_to_do(config: BusConfig) -> str:
     return (
         f", or one answers but refuses this client: check the user, password "
         f"and certificate settings of {config.source} (the router's certificate "
-        "must name the endpoint's host: `armplan certs --host`), and the "
+        "must name the endpoint's host: `armplan certs --host`, and not have "
+        "expired: the router logs an ERROR then), and the "
         "router's log; start the secured router with `python -m "
         "shared.bus.router --config DIR/router.json5`, or give its address "
         "with --connect"
