@@ -170,3 +170,25 @@ def test_a_secured_client_is_not_told_to_run_armplan_up(
         "DIR/router.json5`, or give its address with --connect"
     )
     assert "armplan up" not in message
+
+
+def test_an_unsecured_client_is_told_of_a_secured_router(
+    tmp_path: pathlib.Path,
+) -> None:
+    """Plain TCP to a TLS router's port: the error names the secured router
+    and the client file, not only `armplan up` (which finds the port taken)."""
+    bundle = write_bundle(tmp_path, endpoint=tls_endpoint())
+    router_config = load_config(bundle.router_config)
+    port = router_config.endpoint.rsplit(":", 1)[1]
+    with open_router(router_config):
+        plain = load_config(endpoints=(f"tcp/127.0.0.1:{port}",))
+        with pytest.raises(ServiceUnavailableError) as raised:
+            Bus.connect(plain).close()
+    message = raised.value.message
+    assert f"no Zenoh router answers at tcp/127.0.0.1:{port}" in message
+    assert message.endswith(
+        "start one with `armplan up`, or give the router's address with "
+        "--connect. If a secured router (TLS) is there, it refuses this unsecured "
+        "client: give the client file `armplan certs` wrote (--config "
+        "DIR/client.json5; --zenoh-config for --remote)"
+    )

@@ -60,11 +60,16 @@ def _what_to_do(config: BusConfig) -> str:
 
     Zenoh tells a refused login or certificate no differently from no router
     at all, so a secured client (TLS endpoints, a login) names both; and
-    ``armplan up`` runs only the unsecured router.
+    ``armplan up`` runs only the unsecured router. An unsecured client is
+    refused just as silently by a secured router on its port (which ``armplan
+    up`` cannot replace: the port is taken), so it names that too.
     """
     if not secured_settings(config):
         return (
-            "; start one with `armplan up`, or give the router's address with --connect"
+            "; start one with `armplan up`, or give the router's address with "
+            "--connect. If a secured router (TLS) is there, it refuses this "
+            "unsecured client: give the client file `armplan certs` wrote "
+            "(--config DIR/client.json5; --zenoh-config for --remote)"
         )
     return (
         f", or one answers but refuses this client: check the user, password "
