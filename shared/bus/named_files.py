@@ -4,19 +4,25 @@ A client whose CA file is gone (the bundle's folder moved: `armplan certs`
 writes absolute paths) fails its handshake with the same message as a wrong
 password or no router at all; a router whose key is gone said "is another
 router using it?". Both now name the missing or unreadable file before Zenoh
-is asked to open anything.
+is asked to open anything, and a CA file that holds no authority
+(``ca_file.py``). A key or a password that other users may read is warned
+about (``armplan certs`` writes them owner-only; a copy may not keep that).
 """
 
 from __future__ import annotations
 
 import json
+import logging
 import os
 from pathlib import Path
 
 import zenoh
 
+from shared.bus.ca_file import ca_file_problem
 from shared.bus.config import BusConfig
 from shared.errors import BusConfigError
+
+log = logging.getLogger("armplan.bus")
 
 #: The settings of a Zenoh configuration that name a file to read.
 FILE_SETTINGS = (
@@ -27,6 +33,14 @@ FILE_SETTINGS = (
     "transport/link/tls/connect_private_key",
     "transport/auth/usrpwd/dictionary_file",
 )
+#: The setting naming the certificate authority a TLS link trusts.
+CA_SETTING = "transport/link/tls/root_ca_certificate"
+#: Settings naming a file only its owner may read, and what the file holds.
+SECRET_FILES = {
+    "transport/link/tls/listen_private_key": "a private key",
+    "transport/link/tls/connect_private_key": "a private key",
+    "transport/auth/usrpwd/dictionary_file": "every user's password",
+}
 
 
 def named_files(config: zenoh.Config) -> dict[str, Path]:
@@ -45,6 +59,10 @@ def named_files(config: zenoh.Config) -> dict[str, Path]:
 def check_named_files(config: zenoh.Config, bus: BusConfig) -> None:
     """Refuse a configuration naming a file that is missing or unreadable.
 
+    Also refuses a CA file that holds no certificate authority, and logs a
+    warning for each key or password file (the configuration file itself if
+    it holds a password) that other users may read.
+
     Args:
         config: The Zenoh configuration about to be opened.
         bus: The settings it was made from (for the file's name in errors).
@@ -54,10 +72,49 @@ def check_named_files(config: zenoh.Config, bus: BusConfig) -> None:
     """
     for setting, path in named_files(config).items():
         problem = _problem(path)
+        if problem is None and setting == CA_SETTING:
+            problem = ca_file_problem(path)
         if problem is not None:
             raise BusConfigError(
                 f"{path} {problem}", source=bus.source, setting=setting
             )
+    for path, held in _secret_files(config, bus).items():
+        warning = open_to_others(path, held)
+        if warning is not None:
+            log.warning("%s", warning)
+
+
+def open_to_others(path: Path, held: str) -> str | None:
+    """A warning if users but its owner may read or write ``path``, else ``None``.
+
+    Args:
+        path: The file.
+        held: What it holds, e.g. ``"a private key"``.
+    """
+    try:
+        mode = path.stat().st_mode & 0o777
+    except OSError:
+        return None
+    if not mode & 0o077:
+        return None
+    return (
+        f"{path} holds {held} and is open to other users (mode {mode:04o}): "
+        f"make it readable by its owner only: chmod 600 {path}"
+    )
+
+
+def _secret_files(config: zenoh.Config, bus: BusConfig) -> dict[Path, str]:
+    """The files of ``config`` only their owner may read, and what each holds."""
+    named = named_files(config)
+    found = {named[s]: held for s, held in SECRET_FILES.items() if s in named}
+    try:
+        password = json.loads(config.get_json("transport/auth/usrpwd/password"))
+    except zenoh.ZError:
+        password = None
+    source = Path(bus.source)
+    if password and source.is_file():
+        found[source] = "a password"
+    return found
 
 
 def _problem(path: Path) -> str | None:

@@ -1,0 +1,78 @@
+"""A CA file holds a certificate authority: checked before a TLS session opens.
+
+A client whose ``root_ca_certificate`` was empty, not PEM, or the router's
+own certificate (``router.pem`` for ``ca.pem``) failed its handshake with the
+generic "no Zenoh router answers ... or one answers but refuses this client".
+:func:`ca_file_problem` names what is wrong with the file instead. The
+certificates are read with ``der.py`` (the pinned dependencies hold no X.509
+package).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from shared.bus.der import (
+    BOOLEAN,
+    OCTET_STRING,
+    OID,
+    SEQUENCE,
+    children,
+    content,
+    pem_certificates,
+    tbs_fields,
+)
+
+#: DER of the object identifier of basicConstraints, 2.5.29.19 (RFC 5280).
+BASIC_CONSTRAINTS = bytes([0x55, 0x1D, 0x13])
+#: What a CA file should be, for the messages.
+WANTED = "give the authority's certificate (ca.pem of `armplan certs`)"
+_EXTENSIONS = 0xA3
+
+
+def ca_file_problem(path: Path) -> str | None:
+    """What keeps the file at ``path`` from being a CA file, or ``None``.
+
+    It must hold at least one PEM certificate that may sign others: one
+    whose basicConstraints says ``CA:TRUE``, or that has none (an old
+    version 1 authority, which TLS trusts as given).
+    """
+    try:
+        certificates = pem_certificates(path.read_bytes())
+        if not certificates:
+            return f"holds no PEM certificate (-----BEGIN CERTIFICATE-----): {WANTED}"
+        if not any(map(is_authority, certificates)):
+            return (
+                "holds no certificate authority, only certificates marked "
+                f"CA:FALSE (is it the router's certificate?): {WANTED}"
+            )
+    except (OSError, ValueError) as error:
+        return f"cannot be read as a certificate ({error}): {WANTED}"
+    return None
+
+
+def is_authority(der: bytes) -> bool:
+    """Whether the certificate may sign others (no basicConstraints CA:FALSE).
+
+    Raises:
+        ValueError: if ``der`` is not an X.509 certificate.
+    """
+    extensions = [at for at in tbs_fields(der) if der[at] == _EXTENSIONS]
+    if not extensions:
+        return True
+    listed = content(der, extensions[0], _EXTENSIONS)[0]
+    for extension in children(der, *content(der, listed, SEQUENCE)):
+        parts = children(der, *content(der, extension, SEQUENCE))
+        start, end = content(der, parts[0], OID)
+        if der[start:end] == BASIC_CONSTRAINTS:
+            return _says_authority(der, content(der, parts[-1], OCTET_STRING)[0])
+    return True
+
+
+def _says_authority(der: bytes, at: int) -> bool:
+    """Whether the BasicConstraints at ``at`` holds ``cA`` TRUE (default FALSE)."""
+    fields = children(der, *content(der, at, SEQUENCE))
+    if not fields or der[fields[0]] != BOOLEAN:
+        return False
+    start, end = content(der, fields[0], BOOLEAN)
+    return end > start and der[start] != 0
