@@ -37,6 +37,7 @@ from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
 from shared.bus import Bus
 from shared.bus.keys import alive_key
+from shared.bus.session import has_router
 from shared.errors import RecordingError
 from shared.lifecycle import StartStop
 
@@ -132,7 +133,7 @@ class Recorder(StartStop):
         Zenoh reconnects by itself; what is published while no router
         connects the recorder is not recorded, so the log says when.
         """
-        connected = bool(self._bus.session.info.routers_zid())
+        connected = has_router(self._bus.session)
         if connected == self._connected:
             return
         self._connected = connected

@@ -45,6 +45,7 @@ from shared.bus.deadline import budget_attachment
 from shared.bus.keys import alive_key
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices
 from shared.bus.route import Rep, Route
+from shared.bus.session import has_router
 from shared.errors import (
     InvalidInputError,
     RemoteError,
@@ -280,7 +281,7 @@ def _why_absent(session: zenoh.Session, namespace: str, route: Route[Any, Any]) 
 
 def _router_lost(session: zenoh.Session) -> str:
     """A reason if the session has no router connection now, else ``""``."""
-    if session.info.routers_zid():
+    if has_router(session):
         return ""
     return "this process has lost its connection to the Zenoh router"
 

