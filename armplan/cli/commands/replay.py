@@ -7,7 +7,8 @@ checked whole before the first message goes, then read as they are sent.
 The derived Foxglove channels (``/tf/...``, ...) are not sent. A bridge
 subscribed to ``plan/trajectory`` drives the (simulated) NAO from the
 replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
---wait-for bridge``.
+--wait-for bridge``. Messages sent while no router was connected reach
+nobody: the summary counts them, and the replay then exits 1.
 """
 
 from __future__ import annotations
@@ -23,8 +24,9 @@ from armplan.launch.catalog import unknown_hint
 from services.recorder.arguments import add_bus_arguments, bus_config
 from services.recorder.replay import Replay, check_speed, replay, replay_items
 from services.recorder.replay_login import refused_by_rules, refused_warning
-from shared.bus import Bus
+from shared.bus import Bus, BusConfig
 from shared.bus.login import login_user
+from shared.bus.session import has_router
 from shared.errors import InvalidInputError, RecordingError, ServiceUnavailableError
 from shared.stop_signals import stop_on_signals
 
@@ -172,10 +174,16 @@ def run(args: argparse.Namespace) -> int:
                 reason=f"not alive after {args.wait:g} s{unknown_hint(missing)}",
             )
 
-        sent = 0
+        sent = offline = 0
+        connected = True
 
         def publish(path: str, payload: bytes, encoding: str) -> None:
-            nonlocal sent
+            nonlocal sent, offline, connected
+            if has_router(bus.session) != connected:
+                connected = not connected
+                _say_router(connected, config)
+            if not connected:  # the put reaches nobody: see _say_router
+                offline += 1
             bus.session.put(
                 bus.key(path),
                 payload,
@@ -189,7 +197,7 @@ def run(args: argparse.Namespace) -> int:
         except RecordingError:  # a message found bad only when read to be sent
             sys.stdout.write(
                 f"armplan replay: sent {sent} of {len(items)} messages, then "
-                "stopped at a message it could not read\n"
+                f"stopped at a message it could not read{_offline(offline, items)}\n"
             )
             if sent:
                 time.sleep(LINGER)  # see LINGER
@@ -205,11 +213,47 @@ def run(args: argparse.Namespace) -> int:
     sys.stdout.write(
         f"armplan replay: sent {stats.sent} of {len(items)} messages in "
         f"{stats.duration:.3f} s (speed {args.speed:g}, at most "
-        f"{stats.late * 1000:.1f} ms late){dropped}\n"
+        f"{stats.late * 1000:.1f} ms late){dropped}{_offline(offline, items)}\n"
     )
     if stop.is_set() and stats.sent < len(items):
         return _interrupted()
+    if offline:
+        raise ServiceUnavailableError(
+            "router",
+            reason=f"the replay lost its connection to the router at "
+            f"{', '.join(config.endpoints)}: {offline} of {len(items)} messages "
+            "went out while no router was connected, and reached nobody",
+        )
     return 0
+
+
+def _say_router(connected: bool, config: BusConfig) -> None:
+    """Warn that the router went away, or say that it is back.
+
+    Zenoh reconnects a replay to its router by itself, but a put made while
+    no router is connected reaches nobody, and a put gets no answer: a
+    replay whose router was killed for 6 of its 10.6 s said "sent 175 of 175
+    messages" and exited 0. It now counts those puts (each is checked with
+    ``has_router`` just before it), says when the router goes and comes
+    back, and exits 1 if any went out so.
+    """
+    endpoints = ", ".join(config.endpoints)
+    if connected:
+        sys.stderr.write(f"armplan replay: the router at {endpoints} is back\n")
+    else:
+        sys.stderr.write(
+            f"armplan replay: warning: lost the router at {endpoints}; the messages "
+            "sent until it is back reach nobody\n"
+        )
+
+
+def _offline(offline: int, items: Replay) -> str:
+    """The summary's note of the messages sent with no router, or ``""``."""
+    if not offline:
+        return ""
+    return (
+        f"; {offline} of {len(items)} messages went out while no router was connected"
+    )
 
 
 def _interrupted() -> int:
