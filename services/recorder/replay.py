@@ -5,11 +5,12 @@ derived ``/...`` Foxglove channels) in file order, which is the order the
 recorder received them, with each one's offset from the first [s] (from the
 log times), its original bytes (a ``RawPayload`` is unwrapped) and its
 Zenoh encoding. Keys are made relative to the recorded namespace, so a
-replay may publish under another one. The files are checked whole first
-(``replay_parts``), then read again message by message as they are sent:
-the messages are never all in memory. :func:`replay` sends them through a
-``publish`` function at ``offset / speed`` after the start; the caller
-supplies the Zenoh put.
+replay may publish under another one (a file another tool wrote notes
+none: its topics under the replay's namespace are full keys in it). The
+files are checked whole first (``replay_parts``), then read again message
+by message as they are sent: the messages are never all in memory.
+:func:`replay` sends them through a ``publish`` function at ``offset /
+speed`` after the start; the caller supplies the Zenoh put.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from services.recorder.replay_parts import (
     matcher,
     to_send,
 )
+from shared.bus.config import DEFAULT_NAMESPACE
 from shared.errors import InvalidInputError, RecordingError
 from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
 from shared.recording.survey import Stamp, Survey
@@ -168,6 +170,7 @@ def replay_items(
     *,
     keys: Sequence[str] | None = None,
     recover: bool = False,
+    namespace: str = DEFAULT_NAMESPACE,
 ) -> Replay:
     """The recorded Zenoh messages to send again, in file order.
 
@@ -184,6 +187,10 @@ def replay_items(
         keys: Only keys matching these expressions (relative to the
             namespace, e.g. ``plan/trajectory``, ``bridge/*``); all if ``None``.
         recover: Replay the readable prefix of a damaged file.
+        namespace: The namespace the messages go out under: in a file
+            without the recorder's namespace (another tool's), a topic
+            already under it is taken as a full key, not moved under it
+            again (``replay_parts.relative_key``).
 
     Raises:
         InvalidInputError: if a key is not a Zenoh key expression.
@@ -198,7 +205,7 @@ def replay_items(
     check_order(looked)
     for each in looked:
         check_damage(each, recover)
-    parts = [to_send(each, wanted, bool(keys)) for each in looked]
+    parts = [to_send(each, wanted, bool(keys), namespace) for each in looked]
     check_no_overlap(parts)
     return Replay(parts)
 

@@ -185,16 +185,35 @@ class Part:
         )
 
 
-def to_send(looked: Looked, wanted: Matcher, keys_given: bool) -> Part:
+def relative_key(topic: str, recorded: str | None, namespace: str) -> str:
+    """``topic``'s key relative to the namespace (the replay puts it under its own).
+
+    Armplan's recorder notes the namespace it recorded (``recorded``), and
+    its topics are full keys under it: ``armplan/plan/trajectory`` gives
+    ``plan/trajectory``. A file another tool wrote notes none: a topic under
+    the replay's ``namespace`` is a full key in it, published unchanged
+    (``armplan/plan/trajectory`` went out as ``armplan/armplan/plan/...``);
+    any other topic is taken as relative (``plan/trajectory``).
+    """
+    return topic.removeprefix(f"{recorded or namespace}/")
+
+
+def to_send(looked: Looked, wanted: Matcher, keys_given: bool, namespace: str) -> Part:
     """What of ``looked`` to send: its recorded keys that ``wanted`` matches.
+
+    Args:
+        looked: The file.
+        wanted: Whether a relative key is to be sent.
+        keys_given: Whether ``--keys`` chose the keys.
+        namespace: The replay's namespace (see :func:`relative_key`).
 
     Raises:
         RecordingError: if a recorded key is not a Zenoh key and no
             ``--keys`` leave it out.
     """
-    namespace = looked.noted.get("namespace", "")
+    recorded = looked.noted.get("namespace")
     relative = {
-        topic: topic.removeprefix(f"{namespace}/") if namespace else topic
+        topic: relative_key(topic, recorded, namespace)
         for topic, _ in sorted(looked.spans.items(), key=lambda item: item[1].first)
         if not topic.startswith("/")  # derived for Foxglove: not sent
     }

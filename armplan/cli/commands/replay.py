@@ -147,11 +147,13 @@ def run(args: argparse.Namespace) -> int:
     _check_files(args)
     check_speed(args.speed)  # before connecting: a bad option, not a lost router
     _check_wait(args.wait)
-    items = replay_items(args.files, keys=args.keys, recover=args.recover)
+    config = bus_config(args)
+    items = replay_items(
+        args.files, keys=args.keys, recover=args.recover, namespace=config.namespace
+    )
     if args.keys and not items:
         _no_key_matches(args, items)
     check_speed(args.speed, items.latest)
-    config = bus_config(args)
     user = login_user(config)
     refused = {} if user is None else refused_by_rules(items.counts, user)
     if user is not None and refused:

@@ -1,0 +1,135 @@
+"""A file another tool wrote is replayed on its own keys, not under the namespace twice.
+
+Armplan's recorder notes its namespace in the file; a file written with the
+``mcap`` library by another tool notes none. Its topic
+``armplan/plan/trajectory`` was taken as relative and published on
+``armplan/armplan/plan/trajectory`` ("sent 3 of 3", exit 0, nobody
+listening there). Now a topic under the replay's namespace is a full key
+in it, published unchanged; any other topic is relative, as before. Real
+MCAP files from the ``mcap`` library; a real router and a subscriber to
+every key (``**``) in this test; ``armplan replay`` a real process.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import zenoh
+from mcap.writer import Writer
+from native_processes import ROOT
+
+from armplan.launch import free_endpoint
+from services.recorder.replay import replay_items
+from shared.bus import Bus, BusConfig, open_router
+
+NAMESPACE = "foreignns"
+#: (topic, payload) of the foreign file, 0.05 s apart.
+MESSAGES = [
+    (f"{NAMESPACE}/plan/trajectory", b'{"i": 0}'),
+    ("plan/decision", b'{"i": 1}'),
+    (f"{NAMESPACE}/plan/trajectory", b'{"i": 2}'),
+    ("misc/raw", b'{"i": 3}'),
+    (f"other/{NAMESPACE}/x", b'{"i": 4}'),
+]
+
+
+def foreign_file(path: Path) -> Path:
+    """``MESSAGES`` written with the ``mcap`` library: JSON, no schema, no
+    armplan metadata."""
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="another tool")
+        channels: dict[str, int] = {}
+        for i, (topic, payload) in enumerate(MESSAGES):
+            if topic not in channels:
+                channels[topic] = writer.register_channel(
+                    topic=topic, message_encoding="json", schema_id=0
+                )
+            t = 10**18 + i * 5 * 10**7
+            writer.add_message(
+                channel_id=channels[topic], log_time=t, data=payload, publish_time=t
+            )
+        writer.finish()
+    return path
+
+
+@pytest.fixture(scope="module")
+def config() -> Iterator[BusConfig]:
+    config = BusConfig(endpoints=(free_endpoint(),), namespace=NAMESPACE)
+    with open_router(config):
+        yield config
+
+
+class Everything:
+    """(key, payload) of every put on the bus, whatever its key."""
+
+    def __init__(self, bus: Bus) -> None:
+        self.got: list[tuple[str, bytes]] = []
+        self._lock = threading.Lock()
+        self._sub = bus.session.declare_subscriber("**", self._on)
+
+    def _on(self, sample: zenoh.Sample) -> None:
+        with self._lock:
+            self.got.append((str(sample.key_expr), sample.payload.to_bytes()))
+
+    def wait(self, count: int, timeout: float) -> list[tuple[str, bytes]]:
+        deadline = time.monotonic() + timeout
+        while len(self.got) < count and time.monotonic() < deadline:
+            time.sleep(0.02)
+        return list(self.got)
+
+
+def test_a_foreign_files_keys_under_the_namespace_go_out_unchanged(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """Keys under the namespace as recorded, the others under it; exit 0."""
+    path = foreign_file(tmp_path / "foreign.mcap")
+    with Bus.connect(config) as bus:
+        everything = Everything(bus)
+        command = [sys.executable, "-m", "armplan", "replay", str(path)]
+        command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
+        done = subprocess.run(
+            command,
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+            env={**os.environ, "PYTHONPATH": str(ROOT)},
+        )
+        assert done.returncode == 0, done.stderr
+        everything.wait(len(MESSAGES), 10.0)
+        time.sleep(0.5)  # nothing more comes
+        got = list(everything.got)
+    assert got == [
+        (f"{NAMESPACE}/plan/trajectory", b'{"i": 0}'),
+        (f"{NAMESPACE}/plan/decision", b'{"i": 1}'),
+        (f"{NAMESPACE}/plan/trajectory", b'{"i": 2}'),
+        (f"{NAMESPACE}/misc/raw", b'{"i": 3}'),
+        (f"{NAMESPACE}/other/{NAMESPACE}/x", b'{"i": 4}'),
+    ]
+
+
+def test_keys_of_a_foreign_file_are_relative_to_the_replays_namespace(
+    tmp_path: Path,
+) -> None:
+    """--keys and the recorded keys name them relative to the namespace;
+    under another namespace the file's topics are all relative."""
+    path = foreign_file(tmp_path / "foreign.mcap")
+    items = replay_items(path, namespace=NAMESPACE)
+    assert items.recorded == [
+        "misc/raw",
+        f"other/{NAMESPACE}/x",
+        "plan/decision",
+        "plan/trajectory",
+    ]
+    chosen = replay_items(path, keys=["plan/trajectory"], namespace=NAMESPACE)
+    assert [item.payload for item in chosen] == [b'{"i": 0}', b'{"i": 2}']
+    elsewhere = replay_items(path, namespace="nao1")
+    assert f"{NAMESPACE}/plan/trajectory" in elsewhere.recorded
