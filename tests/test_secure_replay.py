@@ -4,6 +4,8 @@
 exited 0 while the router dropped every one (only a topic's publisher may
 put it). Now it warns, naming the topics and whose they are, before sending;
 with the planner's file the planner's keys go through, without a warning.
+Keys outside the catalogue (a file another tool wrote), which no process
+may publish, are warned of too.
 """
 
 from __future__ import annotations
@@ -18,12 +20,15 @@ from collections.abc import Iterator
 
 import pytest
 import zenoh
+from mcap.writer import Writer
 from native_processes import Native
 
 from armplan.launch import catalog, free_endpoint
-from armplan.secure import Bundle, write_bundle
+from armplan.secure import TEMPLATE, AccessControl, Bundle, write_bundle
 from services.recorder import RecorderProcess
+from services.recorder.replay_login import refused_by_rules
 from shared.bus import Bus, BusConfig, load_config, open_router
+from shared.bus.topics import TOPICS
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 #: How long a message that should not come is waited for [s].
@@ -69,12 +74,14 @@ class Inbox:
 
     def __init__(self, bus: Bus) -> None:
         self.payloads: list[bytes] = []
+        self.keys: list[str] = []
         self._lock = threading.Lock()
         self._sub = bus.session.declare_subscriber("armplan/**", self._on)
 
     def _on(self, sample: zenoh.Sample) -> None:
         with self._lock:
             self.payloads.append(sample.payload.to_bytes())
+            self.keys.append(str(sample.key_expr))
 
     def wait(self, count: int, timeout: float) -> list[bytes]:
         deadline = time.monotonic() + timeout
@@ -123,3 +130,67 @@ def test_a_replay_warns_of_what_its_login_may_not_publish(
             "; a secured router drops the 3 user 'client' may not publish\n"
         )
         assert len(inbox.wait(3, QUIET)) == 2  # nothing more came
+
+
+#: Keys to check the replay's reading of the rules on: every topic, keys
+#: outside the catalogue (under a publisher's subtree and not), a doubled one.
+RULE_KEYS = [
+    *(topic.path for topic in TOPICS),
+    "bridge",
+    "bridge/other",
+    "plan/other",
+    "fit/model",
+    "misc/raw",
+    "armplan/plan/trajectory",
+]
+
+
+def test_the_replays_reading_of_the_rules_is_the_routers() -> None:
+    """Which keys refused_by_rules refuses each user is what the router's
+    rules (config/secure/router.json5) refuse it; keys outside the catalogue
+    were not judged (all passed, the router dropped most)."""
+    acl = AccessControl.from_file(TEMPLATE)
+    for user in acl.usernames():
+        refused = refused_by_rules(dict.fromkeys(RULE_KEYS, 1), user)
+        for path in RULE_KEYS:
+            allowed = acl.allows(user, "put", "ingress", f"armplan/{path}")
+            assert (path not in refused) is allowed, (user, path)
+
+
+def test_a_foreign_file_is_published_on_its_keys_with_a_warning_for_the_rest(
+    secured: Bundle, tmp_path: pathlib.Path
+) -> None:
+    """A file the mcap library wrote, with topics armplan/plan/trajectory and
+    misc/raw and no armplan metadata, replayed with the planner's file: the
+    trajectories reach armplan/plan/trajectory (they went to
+    armplan/armplan/plan/trajectory, which the router dropped without a
+    warning); misc/raw, which no process may publish, is warned of."""
+    path = tmp_path / "foreign.mcap"
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="another tool")
+        ids = {
+            topic: writer.register_channel(topic, "json", schema_id=0)
+            for topic in ("armplan/plan/trajectory", "misc/raw")
+        }
+        topics = ["armplan/plan/trajectory", "misc/raw", "armplan/plan/trajectory"]
+        for i, topic in enumerate(topics):
+            t = 10**18 + i * 10**7
+            writer.add_message(ids[topic], t, b'{"foreign": %d}' % i, t)
+        writer.finish()
+    recorder = load_config(secured.clients["recorder"])
+    with Bus.connect(recorder, wait=30) as bus:
+        inbox = Inbox(bus)
+        planner = secured.clients["planner"]
+        done = replay(path, "--config", str(planner), "--wait", "30")
+        assert done.returncode == 0, done.stderr
+        assert done.stderr == (
+            f"armplan replay: warning: {planner} logs in as user 'planner', which "
+            "the secured router's rules do not let publish misc/raw (1 message, "
+            "no process's): the router drops those messages without a word. "
+            "Leave out with --keys the keys no process may publish, or replay "
+            "into an unsecured router\n"
+        )
+        assert done.stdout.startswith("armplan replay: sent 3 of 3 messages")
+        assert inbox.wait(3, QUIET) == [b'{"foreign": 0}', b'{"foreign": 2}']
+        assert inbox.keys == ["armplan/plan/trajectory"] * 2
