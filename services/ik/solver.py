@@ -29,6 +29,7 @@ from services.ik.kernel.chain import ChainState, chain_for
 from services.ik.measures import MeasureParams
 from services.ik.measures import factory as measure_factory
 from services.ik.measures.factory import MeasureFactory
+from services.ik.palm_reached import palm_reached
 from services.ik.swivel_reach import check_swivel
 from services.ik.task import WristTask
 from shared.errors import (
@@ -79,7 +80,12 @@ class Plan(NamedTuple):
 
 
 def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
-    """Solve an :class:`IKRequest` (validated already) and package the answer."""
+    """Solve an :class:`IKRequest` (validated already) and package the answer.
+
+    With a palm direction, the answer also says the palm normal reached and
+    its angle from the direction (``palm_reached``): the IK meets the palm's
+    roll about the forearm, not the direction itself.
+    """
     palm = None if request.palm is None else np.array(request.palm)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     solution = solve(
@@ -103,6 +109,9 @@ def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
         iterations=solution.iterations,
         swivel_goal=request.swivel,
         swivel_reached=solution.swivel,
+        palm_reached=None
+        if request.palm is None
+        else palm_reached(arm, solution.q, request.palm),
     )
 
 

@@ -94,3 +94,8 @@ __all__ += ["ServiceTiming"]
 from shared.messages.caller_budget import CallerBudget  # noqa: E402
 
 __all__ += ["CallerBudget"]
+
+# The palm a posture reached against the direction asked (ik, planner).
+from shared.messages.palm_reached import PalmReached  # noqa: E402
+
+__all__ += ["PalmReached"]

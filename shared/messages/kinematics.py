@@ -4,9 +4,16 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from shared.messages.base import Direction, JointVector, Message, Vec3
+from shared.messages.base import (
+    Direction,
+    JointVector,
+    Message,
+    OptionalFieldsMessage,
+    Vec3,
+)
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
+from shared.messages.palm_reached import PalmReached
 from shared.robot.side import Side, SideAnyCase
 
 
@@ -26,7 +33,9 @@ class IKRequest(Message):
         arm: Which arm (any case: ``"LEFT"`` reads as ``"left"``, as
             ``--arm`` and a ``WristPath`` read it).
         target: Wrist target in the torso frame [m].
-        palm: Optional palm direction (wrist orientation), unit vector.
+        palm: Optional palm direction, unit vector: the wrist turns (its roll
+            about the forearm) to face the palm towards it as far as the
+            forearm's direction, set by the position task, allows.
         primitive: Primitive to use (``mp`` only); ``None`` lets armplan pick.
         method: ``mp``, ``least-norm`` or ``single``.
         start: Start posture [rad]; ``None`` means the arm hanging at rest.
@@ -47,7 +56,7 @@ class IKRequest(Message):
     measures: MeasureParams = Field(default_factory=MeasureParams)
 
 
-class IKResult(Message):
+class IKResult(OptionalFieldsMessage):
     """A solved posture (the ``armplan ik`` JSON).
 
     Attributes:
@@ -65,7 +74,13 @@ class IKResult(Message):
             when one was asked. The elbow is within the solver's position
             tolerance of where the goal puts it; short of that the answer is
             ``SwivelNotReachedError`` instead.
+        palm_reached: With a palm direction asked, the palm normal reached
+            and its angle from that direction (only the roll about the
+            forearm is controlled, so the angle need not be 0); ``None``
+            (left out of the JSON) without one.
     """
+
+    omitted_when_none = ("palm_reached",)
 
     arm: SideAnyCase
     joints: dict[str, float]
@@ -77,3 +92,4 @@ class IKResult(Message):
     iterations: int
     swivel_goal: float | None = None
     swivel_reached: float | None = None
+    palm_reached: PalmReached | None = None
