@@ -13,7 +13,8 @@ from typing import NamedTuple
 import numpy as np
 
 from armplan.cli.output import print_json, print_table
-from shared.messages import PlanRequest, Trajectory
+from armplan.cli.palm_line import palm_line
+from shared.messages import PalmReached, PlanRequest, Trajectory
 from shared.robot import Side, load_arm
 
 #: The table shows every ``EVERY``-th sample, and the last.
@@ -32,12 +33,15 @@ class Summary(NamedTuple):
             last sample [m].
         largest_error: With a wrist path, the largest distance of the wrist
             from the path over all samples [m]; else ``None``.
+        palms: Where a palm direction was asked, where (e.g. ``" at target
+            2"``) and the palm reached there (``Trajectory.palm_reached``).
     """
 
     duration: float
     primitives: list[str]
     final_error: float
     largest_error: float | None
+    palms: tuple[tuple[str, PalmReached], ...] = ()
 
 
 def summarize(request: PlanRequest, trajectory: Trajectory) -> Summary:
@@ -45,12 +49,33 @@ def summarize(request: PlanRequest, trajectory: Trajectory) -> Summary:
     arm = load_arm(trajectory.arm)
     wrists = np.array([arm.fk(np.array(q)).wrist for q in trajectory.positions])
     runs = [name for name, _ in itertools.groupby(trajectory.primitives)]
+    palms = _palms(request, trajectory)
     if request.wrist_path is None:
         goal = np.array(request.targets[-1].position)
         error = float(np.linalg.norm(wrists[-1] - goal))
-        return Summary(trajectory.duration, runs, error, None)
+        return Summary(trajectory.duration, runs, error, None, palms)
     errors = np.linalg.norm(wrists - np.array(request.wrist_path.positions), axis=1)
-    return Summary(trajectory.duration, runs, float(errors[-1]), float(errors.max()))
+    return Summary(
+        trajectory.duration, runs, float(errors[-1]), float(errors.max()), palms
+    )
+
+
+def _palms(
+    request: PlanRequest, trajectory: Trajectory
+) -> tuple[tuple[str, PalmReached], ...]:
+    """Each palm reached, with where: the target, or the path's last sample."""
+    reached = trajectory.palm_reached or []
+    if request.wrist_path is not None:
+        places = [" at the path's last sample"]
+    elif len(request.targets) == 1:
+        places = [" at the target"]
+    else:
+        places = [f" at target {k + 1}" for k in range(len(request.targets))]
+    return tuple(
+        (where, palm)
+        for where, palm in zip(places, reached, strict=False)
+        if palm is not None
+    )
 
 
 def show(request: PlanRequest, trajectory: Trajectory, as_json: bool) -> None:
@@ -92,7 +117,10 @@ COARSE_RATE = 50.0
 def print_summary(
     request: PlanRequest, trajectory: Trajectory, summary: Summary
 ) -> None:
-    """Duration, samples, method and pace, primitives in order, wrist errors."""
+    """Duration, samples, method and pace, primitives in order, wrist errors.
+
+    Then the palm reached where one was asked, and the hand's actions.
+    """
     n = len(trajectory.times)
     if request.wrist_path is not None:
         pace = "at the wrist path's own times"
@@ -119,6 +147,7 @@ def print_summary(
             f"final wrist error {summary.final_error * 1e3:.3f} mm from the path's "
             f"last sample; largest along the path {summary.largest_error * 1e3:.3f} mm"
         )
+    lines += [palm_line(palm, where) for where, palm in summary.palms]
     lines += hand_lines(request, trajectory)
     sys.stdout.write("\n" + "\n".join(lines) + "\n")
 

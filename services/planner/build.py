@@ -7,10 +7,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from services.ik.kernel.chain import chain_for
+from services.ik.palm_reached import palm_reached
 from services.ik.track import TrackedPath
 from services.ik.wrists import wrist_positions
 from services.timing import TimedTrajectory
-from shared.messages import JointPath, Method, Trajectory
+from shared.messages import JointPath, Method, PalmReached, Trajectory
 from shared.robot.arm_model import ArmModel
 
 
@@ -60,6 +61,33 @@ def trajectory_message(
         wrist_path=[tuple(w) for w in wrist.tolist()],
         method=method,
     )
+
+
+def with_palms_reached(
+    arm: ArmModel,
+    trajectory: Trajectory,
+    palms: Sequence[Sequence[float] | None],
+    postures: Sequence[Sequence[float]],
+) -> Trajectory:
+    """``trajectory`` with the palm reached where one was asked (``palm_reached``).
+
+    Args:
+        arm: The arm.
+        trajectory: The planned trajectory.
+        palms: The palm direction asked at each target (or along the wrist
+            path), ``None`` where none was.
+        postures: The posture at each of them [rad], shape (len(palms), 5).
+
+    Returns:
+        ``trajectory`` itself when no palm was asked.
+    """
+    if all(palm is None for palm in palms):
+        return trajectory
+    reached: list[PalmReached | None] = [
+        None if palm is None else palm_reached(arm, q, palm)
+        for palm, q in zip(palms, postures, strict=True)
+    ]
+    return trajectory.model_copy(update={"palm_reached": reached})
 
 
 def arc_length(wrist: Sequence[Sequence[float]]) -> np.ndarray:

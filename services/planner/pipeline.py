@@ -8,6 +8,9 @@ each at human pace (Table 4's law, scaled to NAO) or as fast as a smooth
 profile along the path allows (``--fastest``, not time-optimal), resting
 ``dwell`` seconds at each target. The stages are injected
 (:class:`~services.planner.stages.Stages`): here, or the services over Zenoh.
+Where a target asks for a palm direction, the trajectory says the palm
+reached there (``Trajectory.palm_reached``): the IK turns the palm's roll
+about the forearm, so the palm can end tens of degrees off the direction.
 
 With a timed wrist path instead of targets, the joint angles come at exactly
 its times: no retiming, but every limit checked. The trajectory starts on
@@ -34,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 
 from services.ik import check_reachable, solve
-from services.planner.build import trajectory_message
+from services.planner.build import trajectory_message, with_palms_reached
 from services.planner.decision_times import on_path_clock, timed_decisions
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
 from services.planner.grid_reach import check_grid_within_reach
@@ -147,6 +150,12 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
     )
     check_samples(len(trajectory.times), request.rate)
     trajectory, decisions = timed_decisions(trajectory, decisions)
+    trajectory = with_palms_reached(
+        arm,
+        trajectory,
+        [target.palm for target in request.targets],
+        [path.positions[-1] for path in joints],  # the trajectory stops there
+    )
     check_payload(trajectory)
     return PlanResult(trajectory, paths, decisions, joints)
 
@@ -236,6 +245,7 @@ def _follow_given(
             )
         raise
     trajectory = trajectory_message(arm, [joint_path], timed, request.method)
+    trajectory = with_palms_reached(arm, trajectory, [path.palm], [timed.positions[-1]])
     check_payload(trajectory, advice=FEWER_SAMPLES)
     decisions = on_path_clock(decisions, path.times[0])
     return PlanResult(trajectory, [path], decisions, [joint_path])

@@ -7,6 +7,7 @@ from pydantic import Field, model_validator
 from shared.messages.base import Message, OptionalFieldsMessage, Vec3
 from shared.messages.method import Method
 from shared.messages.passing_times import check_passing_times
+from shared.messages.palm_reached import PalmReached
 from shared.messages.sample_times import check_times
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 from shared.robot.side import SideAnyCase
@@ -83,6 +84,12 @@ class Trajectory(OptionalFieldsMessage):
             reach's list onto its decision (``Decision.trajectory_times``)
             and leaves it out of the plan's trajectory; ``None`` (left out
             of the JSON) otherwise.
+        palm_reached: Where a palm direction was asked, the palm reached
+            there: one entry per target of the task, in order (``None`` for
+            a target without a palm), or one for a wrist path's palm, at its
+            last sample. Only the palm's roll about the forearm is
+            controlled, so the angle need not be 0. ``None`` (left out of
+            the JSON) when no palm was asked.
     """
 
     omitted_when_none = (
@@ -90,6 +97,7 @@ class Trajectory(OptionalFieldsMessage):
         "hand_velocities",
         "hand_accelerations",
         "point_times",
+        "palm_reached",
     )
 
     arm: SideAnyCase
@@ -105,6 +113,7 @@ class Trajectory(OptionalFieldsMessage):
     hand_velocities: list[float] | None = None
     hand_accelerations: list[float] | None = None
     point_times: list[list[float]] | None = None
+    palm_reached: list[PalmReached | None] | None = None
 
     @model_validator(mode="after")
     def _shapes(self) -> Trajectory:

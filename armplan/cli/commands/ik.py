@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from armplan.cli.output import angle_text, print_json, print_table
+from armplan.cli.palm_line import palm_line
 from armplan.cli.parsing import (
     add_arm,
     add_json,
@@ -47,7 +48,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         type=float,
         nargs=3,
         metavar=("X", "Y", "Z"),
-        help="direction the palm should face (wrist orientation), torso frame",
+        help="direction to turn the palm towards, torso frame: the wrist rolls "
+        "about the forearm as far as that faces the palm to it (the forearm's "
+        "direction comes from the target, so the palm can end off it; the "
+        "answer says by how much)",
     )
     parser.add_argument(
         "--start",
@@ -100,6 +104,8 @@ def run(args: argparse.Namespace) -> int:
         + (f", primitive {result.primitive}" if result.primitive else "")
         + "\n"
     )
+    if result.palm_reached is not None:
+        sys.stdout.write(palm_line(result.palm_reached) + "\n")
     if result.swivel_goal is not None and result.swivel_reached is not None:
         sys.stdout.write(
             f"elbow swivel {result.swivel_reached:.4f} rad reached "

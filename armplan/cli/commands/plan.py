@@ -91,8 +91,10 @@ def _add_per_target(parser: argparse.ArgumentParser) -> None:
         type=float,
         nargs=3,
         metavar=("X", "Y", "Z"),
-        help="direction the palm faces at the target before it (or along "
-        "--wrist-path), torso frame",
+        help="direction to turn the palm towards at the target before it (or "
+        "along --wrist-path), torso frame: the wrist rolls about the forearm as "
+        "far as that faces the palm to it (the forearm's direction comes from "
+        "the target, so the palm can end off it; the summary says by how much)",
     )
     parser.add_argument(
         "--hand",
