@@ -267,6 +267,24 @@ def test_a_palm_no_posture_can_meet_is_named() -> None:
         solve(arm, target, palm=np.array([1.0, 0.0, 0.0]))
 
 
+def test_a_roll_the_primitive_cannot_make_is_named_as_a_roll() -> None:
+    """S_R W_PR holds the wrist on its target but cannot roll the palm the
+    19.2 deg still needed: the error says it is the roll about the forearm
+    that falls short (it said "the palm stays 19.2 deg from the wanted
+    direction", though the palm's angle is not what is checked)."""
+    arm = load_arm("right")
+    start = np.array([1.9260609670694095, -0.26622793189168914, -0.9228339881774912])
+    start = np.append(start, [1.1088699776477373, -1.0331512899623787])
+    palm = np.array([-0.8834222964244314, -0.3550586231553897, -0.30577511393699597])
+    with pytest.raises(
+        PrimitiveCannotReachError,
+        match=r"the palm's roll about the forearm stays 19\.2 deg short of "
+        r"turning it towards the wanted direction; closest wrist position .* is "
+        r"0\.0 mm away",
+    ):
+        solve(arm, arm.fk(start).wrist, primitive="S_R W_PR", palm=palm, start=start)
+
+
 def test_start_outside_the_limits_is_refused() -> None:
     """A start posture out of range raises JointLimitError naming the joint."""
     q = rest("right")

@@ -184,7 +184,10 @@ def solve_wrist_turn(
     palm: np.ndarray | None,
     tol: float,
 ) -> GeometricSolution:
-    """W_R: only WristYaw turns, by the roll that faces the palm to ``palm``.
+    """W_R: only WristYaw turns, by the roll that best faces the palm to ``palm``.
+
+    The forearm stays where it is, so the palm meets ``palm`` only as far as
+    a roll about the forearm can turn it there.
 
     Raises:
         InvalidInputError: if no palm direction is given.
@@ -205,7 +208,8 @@ def solve_wrist_turn(
             target,
             wrist,
             float(np.linalg.norm(wrist - target)),
-            f"facing the palm needs WristYaw = {q[WRIST_YAW]:.3f} rad, outside "
+            f"the roll that turns the palm towards the wanted direction needs "
+            f"WristYaw = {q[WRIST_YAW]:.3f} rad, outside "
             f"[{low:.3f}, {high:.3f}] rad",
         )
     return _finish(arm, q, target, "W_R", "W_R holds the wrist in place", tol)

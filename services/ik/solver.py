@@ -315,7 +315,8 @@ def _accept(
             task.position,
             st.wrist,
             error,
-            f"the palm stays {math.degrees(task.palm_error(st)):.1f} deg "
-            "from the wanted direction",
+            f"the palm's roll about the forearm stays "
+            f"{math.degrees(task.palm_error(st)):.1f} deg short of turning it "
+            "towards the wanted direction",
         )
     return IKSolution(q, st.wrist, error, name, method, iterations)

@@ -34,8 +34,10 @@ class ReachTarget(OptionalFieldsMessage):
 
     Attributes:
         position: Wrist target in the torso frame [m].
-        palm: Optional wrist orientation: the direction the palm should face,
-            torso frame (unit length after validation).
+        palm: Optional palm direction, torso frame (unit length after
+            validation): the wrist rolls about the forearm to turn the palm
+            towards it; the forearm's direction comes from the position
+            task, so the palm meets it only as far as that roll allows.
         dwell: Time to hold still at the target before the next one [s].
         hand: Optional hand action at the target (``"open"`` or ``"close"``),
             done during the dwell, after arriving and before leaving; a dwell

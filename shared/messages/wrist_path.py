@@ -32,7 +32,8 @@ class WristPath(Message):
             are refused as such (``shared.messages.seconds``), not taken
             for a path a thousand times slower.
         positions: Wrist positions in the torso frame [m], shape (n, 3).
-        palm: Optional palm direction to hold along the path (unit vector).
+        palm: Optional palm direction to turn towards along the path (unit
+            vector; by the roll about the forearm only, as ``ReachTarget``).
     """
 
     arm: SideAnyCase = Side.RIGHT
