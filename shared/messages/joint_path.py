@@ -6,8 +6,8 @@ from pydantic import Field, model_validator
 
 from shared.messages.base import Message, OptionalFieldsMessage, Vec3
 from shared.messages.method import Method
-from shared.messages.passing_times import check_passing_times
 from shared.messages.palm_reached import PalmReached
+from shared.messages.passing_times import check_passing_times
 from shared.messages.sample_times import check_times
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 from shared.robot.side import SideAnyCase
