@@ -12,6 +12,7 @@ from typing import Any
 
 from armplan.cli.stdout_guard import discard_stdout
 from shared.errors import ArmplanError
+from shared.printable import printable_lines
 
 
 def say(line: str) -> None:
@@ -84,9 +85,13 @@ def report_error(error: ArmplanError, as_json: bool) -> int:
 
     On stderr, and with ``as_json`` on stdout too, as far as each can be
     written (closed, ``None``, or a full disk: the exit code still says it).
+    A message may quote names from a file or the network (a recorded
+    topic): on stderr its control characters are escaped
+    (:func:`~shared.printable.printable_lines`), so none reaches the
+    terminal; JSON escapes them itself.
     """
     with contextlib.suppress(OSError, AttributeError):
-        sys.stderr.write(f"armplan: error: {error.message}\n")
+        sys.stderr.write(f"armplan: error: {printable_lines(error.message)}\n")
         sys.stderr.flush()
     if as_json:
         try:

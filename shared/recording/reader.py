@@ -13,6 +13,7 @@ from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import CRCValidationError, StreamReader
 
 from shared.errors import RecordingError
+from shared.printable import printable
 from shared.recording.rotation import numbered_parts
 
 #: What each kind of damage means, for messages (``describe_damage``).
@@ -201,9 +202,10 @@ class Recording:
                 try:
                     channel, message = next(messages)
                     if channel.message_encoding != JSON:
+                        encoding = printable(channel.message_encoding)
                         self.foreign = (
-                            f"channel {channel.topic} has message encoding "
-                            f"{channel.message_encoding or '(none)'}, not {JSON}"
+                            f"channel {printable(channel.topic)} has message "
+                            f"encoding {encoding or '(none)'}, not {JSON}"
                         )
                         self.damage = self.foreign
                         return

@@ -18,6 +18,7 @@ from pydantic import BaseModel, ValidationError
 from shared.bus.topics import TOPICS
 from shared.messages.base import describe_validation_error
 from shared.messages.demo import DemoSample, DemoSubject
+from shared.printable import printable
 from shared.recording.foxglove import (
     FRAME_TRANSFORMS_SCHEMA_NAME,
     FrameTransforms,
@@ -53,7 +54,17 @@ def schema_models() -> dict[str, type[BaseModel]]:
 
 
 def check_record(record: Record) -> str | None:
-    """What is wrong with ``record`` against its channel's schema (``None``: valid)."""
+    """What is wrong with ``record`` against its channel's schema (``None``: valid).
+
+    The answer is made printable: its topic, and the field names it
+    quotes, come from the file.
+    """
+    problem = _problem(record)
+    return None if problem is None else printable(problem)
+
+
+def _problem(record: Record) -> str | None:
+    """``check_record``'s answer, as the file gives its names."""
     if record.schema == JSON_SCHEMA_NAME:
         if record.raw:  # as written: the reader's data may come from UTF-16
             problem = json_object_problem(record.raw)

@@ -3,7 +3,9 @@
 A damaged file (a recorder killed mid-write, a truncated copy) is an error
 naming how many messages were readable; ``--recover`` shows that readable
 prefix instead. ``--validate`` also checks every message against its
-channel's schema (exit 1 if one does not match).
+channel's schema (exit 1 if one does not match). Names from the file
+(topics, schemas, the namespace) are printed with their control characters
+escaped (``shared.printable``).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from armplan.cli.console import StdoutConsole
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import RecordingError
+from shared.printable import printable, printable_lines
 from shared.recording.inventory import Inventory, take_inventory
 from shared.recording.reader import CHANGED
 
@@ -58,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     if error is None:
         return 0
     if args.json:
-        sys.stderr.write(f"armplan: error: {error.message}\n")
+        sys.stderr.write(f"armplan: error: {printable_lines(error.message)}\n")
         return 1
     raise error
 
@@ -116,8 +119,8 @@ def _print(inventory: Inventory, validate: bool) -> None:
     span = 0.0 if first is None or last is None else (last - first) / 1e9
     namespace = inventory.metadata.get("armplan", {}).get("namespace", "-")
     console.print(
-        f"[bold]{escape(str(inventory.path))}[/bold]: {inventory.count} messages "
-        f"on {len(inventory.channels)} channels, namespace {escape(namespace)}\n"
+        f"[bold]{_text(str(inventory.path))}[/bold]: {inventory.count} messages "
+        f"on {len(inventory.channels)} channels, namespace {_text(namespace)}\n"
         f"from {_clock(first)} to {_clock(last)} ({span:.3f} s)"
     )
     console.print(_table(inventory, validate))
@@ -129,8 +132,13 @@ def _print(inventory: Inventory, validate: bool) -> None:
     elif inventory.damage is not None:
         console.print(
             f"[yellow]damaged after {inventory.count} readable messages "
-            f"({escape(inventory.damage)}); shown: the readable prefix[/yellow]"
+            f"({_text(inventory.damage)}); shown: the readable prefix[/yellow]"
         )
+
+
+def _text(name: str) -> str:
+    """``name`` (from the file) as rich markup that prints it as it is, safely."""
+    return escape(printable(name))
 
 
 #: A channel whose messages all came within this span [s] shows no rate.
@@ -150,8 +158,8 @@ def _table(inventory: Inventory, validate: bool) -> Table:
         burst = c.duration < BURST  # a rate over a burst means nothing
         rate = "-" if burst else f"{(c.count - 1) / c.duration:.1f}"
         row = [
-            escape(c.topic),
-            escape(c.schema or "-"),
+            _text(c.topic),
+            _text(c.schema or "-"),
             str(c.count),
             f"{(c.first - origin) / 1e9:.3f}" if c.count else "-",
             f"{c.duration:.3f}" if c.count else "-",

@@ -12,6 +12,7 @@ from armplan.launch import SERVICES
 from armplan.launch.catalog import PROCESSES, ServiceSpec, unknown_hint
 from shared.bus import Bus, load_config
 from shared.errors import ServiceUnavailableError
+from shared.printable import printable, printable_lines
 
 ORDER = 81
 HELP = "list the services alive on the Zenoh router (liveliness tokens)"
@@ -55,7 +56,8 @@ def run(args: argparse.Namespace) -> int:
         )
     if not args.json:
         sys.stdout.write(f"router {config.endpoint}, namespace {config.namespace}\n")
-        print_table(("service", "state", "keys"), rows)
+        table = [(printable(n), state, keys) for n, state, keys in rows]
+        print_table(("service", "state", "keys"), table)  # names from the network
         if error is not None:
             raise error
         return 0
@@ -70,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         print_json(document)
         return 0
     print_json(document | {"error": error.to_wire()})  # one JSON document
-    sys.stderr.write(f"armplan: error: {error.message}\n")
+    sys.stderr.write(f"armplan: error: {printable_lines(error.message)}\n")
     return 1
 
 
