@@ -12,8 +12,10 @@ import pytest
 
 from armplan.cli.main import main
 from services.recorder.options import RecorderOptions
+from services.recorder.replay_parts import check_damage, look_through
 from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
+from shared.errors import RecordingError
 from shared.messages import JointState
 from shared.recording.raw_payload import JSON_SCHEMA, JSON_SCHEMA_NAME
 from shared.recording.rotation import RotatingWriter
@@ -71,12 +73,14 @@ def test_json_output(session: Path, capsys: pytest.CaptureFixture[str]) -> None:
     data = json.loads(capsys.readouterr().out)
     assert data["messages"] == 64
     assert data["damage"] is None
+    assert data["unread"] == []
     assert data["metadata"]["armplan"]["namespace"] == NS
     by_topic = {c["topic"]: c for c in data["channels"]}
     assert by_topic["armplan/bridge/state"]["messages"] == 30
     assert by_topic["armplan/bridge/state"]["start_ns"] == T0
     assert by_topic["armplan/bridge/state"]["duration"] == pytest.approx(0.29)
     assert by_topic["/robot_description"]["schema"] == "RobotDescription"
+    assert {(c["encoding"], c["unread"]) for c in data["channels"]} == {("json", 0)}
 
 
 def test_a_truncated_file_is_an_error_or_with_recover_its_prefix(
@@ -226,21 +230,124 @@ def _mcap(path: Path, encoding: str, messages: int) -> Path:
     return path
 
 
-def test_a_well_formed_foreign_recording_is_not_called_damaged(
-    tmp_path: Path,
-) -> None:
-    """A ROS 2 (cdr) MCAP file is whole: the error says it is not an armplan
-    recording and why, not that it is damaged (nor that --recover helps)."""
+def test_a_well_formed_foreign_recording_is_listed_not_read(tmp_path: Path) -> None:
+    """A ROS 2 (cdr) MCAP file is whole: inspect lists its channel and count,
+    marked not read (it refused the file); reading it for its messages, as
+    replay does, says it is not an armplan recording and why, not that it
+    is damaged (nor that --recover helps)."""
     path = _mcap(tmp_path / "ros.mcap", "cdr", 2)
     for extra in ([], ["--recover"]):
         out = armplan("inspect", str(path), *extra)
-        assert out.returncode == 1
-        assert out.stderr.startswith(
-            f"armplan: error: {path} is not an armplan recording: channel "
-            "/chatter has message encoding cdr, not json"
+        assert out.returncode == 0, out.stderr
+        row = next(line for line in out.stdout.splitlines() if "/chatter" in line)
+        cells = ["std_msgs/String", "cdr", "2", "0.000", "0.000", "-", "2"]
+        assert row.split()[2::2] == cells  # the last: not read
+        assert "not read: 2 messages on 1 channels that are not JSON: /chatter " in (
+            out.stdout
         )
-        assert "damaged" not in out.stderr and "--recover" not in out.stderr
-        assert "Traceback" not in out.stderr
+        assert "armplan replay refuses this file" in out.stdout
+        assert "damaged" not in out.stdout and out.stderr == ""
+    for recover in (False, True):
+        with pytest.raises(RecordingError) as raised:
+            check_damage(look_through(path), recover)  # what replay does
+        assert raised.value.message == (
+            f"{path} is not an armplan recording: channel /chatter has message "
+            "encoding cdr, not json (armplan records JSON messages)"
+        )
+
+
+def _mixed(path: Path) -> Path:
+    """10 JSON messages and, among them, one on a cdr channel (mcap's writer)."""
+    from mcap.writer import Writer
+
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="test")
+        schema = writer.register_schema(JSON_SCHEMA_NAME, "jsonschema", b"{}")
+        ours = writer.register_channel(
+            topic="armplan/misc/note", message_encoding="json", schema_id=schema
+        )
+        ros = writer.register_channel(topic="/r", message_encoding="cdr", schema_id=0)
+        for i in range(10):
+            t = 10**9 + i * 10**6
+            writer.add_message(ours, log_time=t, publish_time=t, data=b'{"x": 1}')
+            if i == 4:
+                writer.add_message(ros, log_time=t, publish_time=t, data=b"\0\1")
+        writer.finish()
+    return path
+
+
+def test_a_file_with_one_foreign_channel_is_listed_whole(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """10 JSON messages and one cdr one: every channel listed, the cdr one
+    not read (inspect refused the whole file, even with --recover); --json
+    gives each channel's encoding and unread count, and no damage."""
+    path = _mixed(tmp_path / "mixed.mcap")
+    assert main(["inspect", str(path), "--recover"]) == 0
+    out = capsys.readouterr().out
+    assert f"{path}: 11 messages on 2 channels" in out
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if "│" in line}
+    note = ["json", "json", "10", "0.000", "0.009", "1000.0", "0"]  # last: not read
+    assert rows["armplan/misc/note"][2::2] == note
+    assert rows["/r"][2::2] == ["-", "cdr", "1", "0.004", "0.000", "-", "1"]
+    assert main(["inspect", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["damage"] is None
+    assert [
+        (c["topic"], c["encoding"], c["messages"], c["unread"])
+        for c in data["channels"]
+    ] == [("armplan/misc/note", "json", 10, 0), ("/r", "cdr", 1, 1)]
+    assert main(["inspect", str(path), "--validate", "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)  # cdr: no armplan message
+    assert [c["invalid"] for c in data["channels"]] == [0, 1]
+    assert data["problems"] == ["/r: message encoding cdr, not json"]
+
+
+def _json_channel(path: Path, *messages: bytes) -> Path:
+    """A well-formed MCAP file (mcap's writer), ``messages`` on one JSON channel."""
+    from mcap.writer import Writer
+
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="test")
+        schema = writer.register_schema(JSON_SCHEMA_NAME, "jsonschema", b"{}")
+        channel = writer.register_channel(
+            topic="armplan/misc/note", message_encoding="json", schema_id=schema
+        )
+        for i, data in enumerate(messages, start=1):
+            writer.add_message(channel, log_time=i, publish_time=i, data=data)
+        writer.finish()
+    return path
+
+
+@pytest.mark.parametrize(
+    ("data", "why"),
+    [
+        (b"", "is empty (0 bytes)"),
+        (b'{"a":' + b"[" * 200_000 + b"]" * 200_000 + b"}", "is JSON nested too deep"),
+        (b"\xff{}", "is not UTF-8 text"),
+    ],
+    ids=["empty", "deep", "binary"],
+)
+def test_a_message_that_is_not_json_is_counted_not_damage(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], data: bytes, why: str
+) -> None:
+    """A well-formed file with a message that is not JSON (which replay sends
+    as it is) was "damaged after 0 readable messages" (a deep one: "bytes
+    that are not MCAP records"): every message is counted, that one not
+    read and named; --validate fails naming it."""
+    path = _json_channel(tmp_path / "x.mcap", b'{"n": 1}', data, b'{"n": 3}')
+    assert main(["inspect", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert f"{path}: 3 messages on 1 channels" in out and "damaged" not in out
+    row = next(line for line in out.splitlines() if "armplan/misc/note" in line)
+    assert row.split()[-1] == "1"  # not read
+    said = "message 2 of the file (channel armplan/misc/note, log time 2 ns) " + why
+    assert "not read: 1 messages on JSON channels that are not JSON, e.g. " in out
+    assert said in " ".join(out.split())
+    assert main(["inspect", str(path), "--validate"]) == 1
+    assert "armplan/misc/note: " + why.removeprefix("is ") in capsys.readouterr().err
 
 
 def test_a_channel_without_messages_is_listed(

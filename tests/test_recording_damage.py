@@ -191,3 +191,45 @@ def test_a_folder_is_not_a_recording(tmp_path: Path) -> None:
     """A directory path is refused with a clear message."""
     with pytest.raises(RecordingError, match="is a folder, not an MCAP file"):
         list(read_records(tmp_path))
+
+
+def _json_messages(path: Path, *messages: bytes) -> Path:
+    """A well-formed MCAP file (mcap's writer), ``messages`` on one JSON channel."""
+    from mcap.writer import Writer
+
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="test")
+        channel = writer.register_channel(
+            topic="armplan/misc/note", message_encoding="json", schema_id=0
+        )
+        for i, data in enumerate(messages, start=1):
+            writer.add_message(channel, log_time=i, publish_time=i, data=data)
+        writer.finish()
+    return path
+
+
+@pytest.mark.parametrize(
+    ("data", "why"),
+    [
+        (b"", "is empty (0 bytes)"),
+        (b"[" * 200_000 + b"]" * 200_000, "is JSON nested too deeply to read"),
+        (b'{"a": 1', "is not JSON (Expecting ',' delimiter: line 1 column 8 (char 7))"),
+    ],
+    ids=["empty", "deep", "cut"],
+)
+def test_a_message_that_is_not_json_is_named(
+    tmp_path: Path, data: bytes, why: str
+) -> None:
+    """Reading stops at it naming the message, its channel and why: a deep
+    one was "bytes that are not MCAP records" (a RecursionError), the others
+    a bare "a message in it is not UTF-8 JSON"; recover reads those before."""
+    path = _json_messages(tmp_path / "x.mcap", b'{"n": 1}', data, b'{"n": 3}')
+    with pytest.raises(RecordingError) as raised:
+        list(read_records(path))
+    assert raised.value.message == (
+        f"{path} is damaged after 1 readable messages: a message in it is not "
+        "UTF-8 JSON: message 2 of the file (channel armplan/misc/note, log time "
+        f"2 ns) {why}; --recover (or recover=True) reads those messages"
+    )
+    assert [r.data for r in read_records(path, recover=True)] == [{"n": 1}]

@@ -3,6 +3,10 @@
 Unlike :func:`~shared.recording.reader.summarize` (one row per topic), a
 channel here is a topic *and* its schema: the recorder may give a topic a
 typed channel and a schemaless ``"json"`` one for payloads that did not parse.
+
+A well-formed file is listed whole, whatever its messages: a channel of
+another message encoding (a ROS 2 ``cdr`` one beside armplan's JSON) is
+counted, its messages not read; so is a message that is not JSON.
 """
 
 from __future__ import annotations
@@ -11,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from shared.recording.metadata import read_metadata
-from shared.recording.reader import Recording
+from shared.recording.reader import JSON, Recording, which_message
 from shared.recording.validation import check_record
 
 
@@ -26,6 +30,9 @@ class ChannelStats:
         first: Earliest log time [ns since the epoch].
         last: Latest log time [ns since the epoch].
         invalid: Messages that do not match the schema (if checked).
+        encoding: Its message encoding (``"json"``: armplan's).
+        unread: Messages not read: all of a channel that is not JSON, and
+            those that are not JSON.
     """
 
     topic: str
@@ -34,6 +41,8 @@ class ChannelStats:
     first: int = 0
     last: int = 0
     invalid: int = 0
+    encoding: str = JSON
+    unread: int = 0
 
     @property
     def duration(self) -> float:
@@ -52,6 +61,8 @@ class Inventory:
         damage: What stopped the reading early (``None``: read whole).
         metadata: Its metadata records by name.
         problems: The first few schema problems found (if checked).
+        unread: The first few messages on JSON channels that are not JSON,
+            each which and why (``message 3 of the file (...) is empty``).
     """
 
     path: Path
@@ -59,6 +70,7 @@ class Inventory:
     damage: str | None = None
     metadata: dict[str, dict[str, str]] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
+    unread: list[str] = field(default_factory=list)
 
     @property
     def count(self) -> int:
@@ -75,8 +87,13 @@ class Inventory:
         """Latest log time [ns], ``None`` if there is no message."""
         return max((c.last for c in self.channels if c.count), default=None)
 
+    @property
+    def foreign(self) -> list[ChannelStats]:
+        """Its channels that are not JSON (their messages counted, not read)."""
+        return [c for c in self.channels if c.encoding != JSON]
 
-#: Schema problems kept as examples in an inventory.
+
+#: Schema problems (and messages not read) kept as examples in an inventory.
 MAX_PROBLEMS = 10
 
 
@@ -84,6 +101,9 @@ def take_inventory(
     path: str | Path, *, recover: bool = False, validate: bool = False
 ) -> Inventory:
     """Read every message of ``path`` and count it per channel.
+
+    Messages it cannot read (a channel that is not JSON, a message that is
+    not JSON) are counted as ``unread``, not damage.
 
     Args:
         path: An MCAP file.
@@ -94,20 +114,29 @@ def take_inventory(
         RecordingError: if the file is missing, empty, not MCAP, or damaged
             (without ``recover``); it says how many messages were readable.
     """
-    recording = Recording(path)
+    recording = Recording(path, keep_unread=True)
     inventory = Inventory(Path(path), metadata=read_metadata(path))
-    channels: dict[tuple[str, str], ChannelStats] = {}
+    channels: dict[tuple[str, str, str], ChannelStats] = {}
     for record in recording:
-        key = (record.topic, record.schema)
+        key = (record.topic, record.schema, record.encoding)
         stats = channels.get(key)
         if stats is None:
             stats = channels[key] = ChannelStats(
-                *key, 0, record.log_time, record.log_time
+                record.topic,
+                record.schema,
+                first=record.log_time,
+                last=record.log_time,
+                encoding=record.encoding,
             )
             inventory.channels.append(stats)
         stats.count += 1
         stats.first = min(stats.first, record.log_time)
         stats.last = max(stats.last, record.log_time)
+        if record.unread:
+            stats.unread += 1
+            if record.encoding == JSON and len(inventory.unread) < MAX_PROBLEMS:
+                which = which_message(recording.count, record.topic, record.log_time)
+                inventory.unread.append(f"{which} is {record.unread}")
         problem = check_record(record) if validate else None
         if problem is not None:
             stats.invalid += 1
@@ -116,7 +145,7 @@ def take_inventory(
     recording.check(recover)
     for key in recording.channels:  # declared, but no message read on them
         if key not in channels:
-            channels[key] = ChannelStats(*key)
+            channels[key] = ChannelStats(key[0], key[1], encoding=key[2])
             inventory.channels.append(channels[key])
     inventory.damage = recording.damage
     return inventory

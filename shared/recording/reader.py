@@ -61,8 +61,11 @@ class Record(NamedTuple):
         schema: Schema name (the message class), or "" if none.
         log_time: When the message was made [ns].
         publish_time: When it was received [ns].
-        data: The decoded JSON message.
+        data: The decoded JSON message (``None`` if it was not read).
         raw: The message's bytes as recorded (its JSON, byte for byte).
+        encoding: Its channel's message encoding (``"json"`` for armplan's).
+        unread: Why it was not read (its channel is not JSON, or it is not
+            JSON), ``""`` if it was; only with ``Recording(keep_unread=True)``.
     """
 
     topic: str
@@ -71,6 +74,34 @@ class Record(NamedTuple):
     publish_time: int
     data: Any
     raw: bytes = b""
+    encoding: str = JSON
+    unread: str = ""
+
+
+def which_message(number: int, topic: str, log_time: int) -> str:
+    """A message in words: ``message 3 of the file (channel /a, log time 5 ns)``.
+
+    Args:
+        number: Its place in the file, from 1, among the messages of every topic.
+        topic: Its channel's topic (made printable here).
+        log_time: Its log time [ns].
+    """
+    where = f"channel {printable(topic)}, log time {log_time} ns"
+    return f"message {number} of the file ({where})"
+
+
+def _decode(data: bytes) -> tuple[Any, str]:
+    """A message's JSON value and ``""``, or ``None`` and why it is not JSON."""
+    if not data:
+        return None, "empty (0 bytes)"
+    try:
+        return json.loads(data), ""
+    except RecursionError:
+        return None, "JSON nested too deeply to read"
+    except UnicodeDecodeError:
+        return None, "not UTF-8 text"
+    except ValueError as exc:  # json.JSONDecodeError, and any other refusal
+        return None, f"not JSON ({exc})"
 
 
 class Recording:
@@ -80,20 +111,32 @@ class Recording:
     damaged byte (truncation by a killed writer, garbage, a checksum that
     does not match); afterwards ``damage`` says in words what was wrong
     (``None`` if the file was read whole) and ``count`` how many messages
-    came out.
+    came out. A message it cannot read as JSON, on a channel of another
+    message encoding (``foreign``) or not JSON itself, stops the reading
+    too, as damage naming the message; with ``keep_unread`` it comes out
+    instead, its ``data`` ``None`` and its ``unread`` saying why, and the
+    reading goes on (``armplan inspect`` lists a whole file so).
 
     Args:
         path: An MCAP file with JSON messages.
         topics: Only these topics (all if ``None``).
+        keep_unread: Yield the messages it cannot read rather than stop.
 
     Raises:
         RecordingError: if the file is missing, a folder, empty or not MCAP
             (no MCAP magic at its start).
     """
 
-    def __init__(self, path: str | Path, topics: Iterable[str] | None = None) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        topics: Iterable[str] | None = None,
+        *,
+        keep_unread: bool = False,
+    ) -> None:
         self.path = Path(path)
         self.topics = None if topics is None else set(topics)
+        self.keep_unread = keep_unread
         self.damage: str | None = None
         self.count = 0
         self.foreign: str | None = None
@@ -159,13 +202,14 @@ class Recording:
         raise RecordingError(f"{self.path} {why}", path=str(self.path), readable=0)
 
     @property
-    def channels(self) -> list[tuple[str, str]]:
+    def channels(self) -> list[tuple[str, str, str]]:
         """Every channel read so far, messages or not, as the file declares them.
 
-        Each as (topic, schema name or "").
+        Each as (topic, schema name or "", message encoding).
         """
         return [
-            (c.topic, self._schema_name(c.schema_id)) for c in self._channels.values()
+            (c.topic, self._schema_name(c.schema_id), c.message_encoding)
+            for c in self._channels.values()
         ]
 
     def _schema_name(self, schema_id: int) -> str:
@@ -198,34 +242,54 @@ class Recording:
             ) from None
         with stream:
             messages = self._messages(stream)
+            number = 0  # messages of the file so far, of every topic
             while True:
                 try:
                     channel, message = next(messages)
-                    if channel.message_encoding != JSON:
-                        encoding = printable(channel.message_encoding)
-                        self.foreign = (
-                            f"channel {printable(channel.topic)} has message "
-                            f"encoding {encoding or '(none)'}, not {JSON}"
-                        )
-                        self.damage = self.foreign
-                        return
-                    data = json.loads(message.data)
                 except StopIteration:
                     return
-                except Exception as exc:  # any decoding failure of the bytes is damage
+                except Exception as exc:  # any failure to read the records is damage
                     self.damage = describe_damage(exc)
+                    return
+                number += 1
+                record = self._record(channel, message, number)
+                if record.unread and not self.keep_unread:
                     return
                 if self.topics is not None and channel.topic not in self.topics:
                     continue
                 self.count += 1
-                yield Record(
-                    channel.topic,
-                    self._schema_name(channel.schema_id),
-                    message.log_time,
-                    message.publish_time,
-                    data,
-                    message.data,
-                )
+                yield record
+
+    def _record(self, channel: Channel, message: Message, number: int) -> Record:
+        """Message ``number`` of the file, read if it can be.
+
+        One that cannot is ``unread``; it also sets ``foreign`` (its channel
+        is not JSON, the first such channel) or, unless ``keep_unread``,
+        ``damage`` (it stops the reading).
+        """
+        encoding = channel.message_encoding
+        if encoding != JSON:
+            data = None
+            unread = f"message encoding {printable(encoding) or '(none)'}, not {JSON}"
+            if self.foreign is None:
+                self.foreign = f"channel {printable(channel.topic)} has {unread}"
+            if not self.keep_unread:
+                self.damage = self.foreign
+        else:
+            data, unread = _decode(message.data)
+            if unread and not self.keep_unread:
+                which = which_message(number, channel.topic, message.log_time)
+                self.damage = f"{NOT_JSON}: {which} is {unread}"
+        return Record(
+            channel.topic,
+            self._schema_name(channel.schema_id),
+            message.log_time,
+            message.publish_time,
+            data,
+            message.data,
+            encoding,
+            unread,
+        )
 
     def check(self, recover: bool) -> None:
         """After reading: raise if damaged (unless ``recover``) or not MCAP at all.
@@ -237,8 +301,13 @@ class Recording:
         """
         if self.damage is None:
             return
-        if not recover or self.not_mcap or self.foreign is not None:
+        if not recover or self.not_mcap or self.refused:
             raise self.error()
+
+    @property
+    def refused(self) -> bool:
+        """Whether the reading stopped at a channel that is not JSON (``foreign``)."""
+        return self.foreign is not None and self.damage == self.foreign
 
     @property
     def not_mcap(self) -> bool:
@@ -247,7 +316,7 @@ class Recording:
 
     def error(self) -> RecordingError:
         """The error that describes this file's damage."""
-        if self.foreign is not None:  # well-formed, but not ours: not damage
+        if self.refused:  # well-formed, but not ours: not damage
             return RecordingError(
                 f"{self.path} is not an armplan recording: {self.foreign} "
                 "(armplan records JSON messages)",

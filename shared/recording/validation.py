@@ -56,8 +56,9 @@ def schema_models() -> dict[str, type[BaseModel]]:
 def check_record(record: Record) -> str | None:
     """What is wrong with ``record`` against its channel's schema (``None``: valid).
 
-    The answer is made printable: its topic, and the field names it
-    quotes, come from the file.
+    A message the reader could not read (``Record.unread``: its channel is
+    not JSON, or it is not JSON) matches no schema. The answer is made
+    printable: its topic, and the field names it quotes, come from the file.
     """
     problem = _problem(record)
     return None if problem is None else printable(problem)
@@ -65,6 +66,8 @@ def check_record(record: Record) -> str | None:
 
 def _problem(record: Record) -> str | None:
     """``check_record``'s answer, as the file gives its names."""
+    if record.unread:
+        return f"{record.topic}: {record.unread}"
     if record.schema == JSON_SCHEMA_NAME:
         if record.raw:  # as written: the reader's data may come from UTF-16
             problem = json_object_problem(record.raw)

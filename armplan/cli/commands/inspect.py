@@ -3,9 +3,11 @@
 A damaged file (a recorder killed mid-write, a truncated copy) is an error
 naming how many messages were readable; ``--recover`` shows that readable
 prefix instead. ``--validate`` also checks every message against its
-channel's schema (exit 1 if one does not match). Names from the file
-(topics, schemas, the namespace) are printed with their control characters
-escaped (``shared.printable``).
+channel's schema (exit 1 if one does not match). A well-formed file is
+listed whole: a channel that is not JSON (another program's, say ROS 2's
+``cdr``) and a message that is not JSON are counted and marked "not read".
+Names from the file (topics, schemas, the namespace) are printed with their
+control characters escaped (``shared.printable``).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from armplan.cli.parsing import add_json
 from shared.errors import RecordingError
 from shared.printable import printable, printable_lines
 from shared.recording.inventory import Inventory, take_inventory
-from shared.recording.reader import CHANGED
+from shared.recording.reader import CHANGED, JSON
 
 ORDER = 92
 HELP = "show a recording's channels, message counts and time range"
@@ -79,7 +81,11 @@ def _invalid(inventory: Inventory) -> RecordingError | None:
 
 
 def as_json(inventory: Inventory) -> dict[str, Any]:
-    """The inventory as JSON-ready data (times in [ns] and [s])."""
+    """The inventory as JSON-ready data (times in [ns], durations in [s]).
+
+    Names are as the file gives them (JSON escapes control characters).
+    The fields are documented in docs/recording.md ("inspect --json").
+    """
     first, last = inventory.first, inventory.last
     return {
         "path": str(inventory.path),
@@ -93,15 +99,18 @@ def as_json(inventory: Inventory) -> dict[str, Any]:
             {
                 "topic": c.topic,
                 "schema": c.schema,
+                "encoding": c.encoding,
                 "messages": c.count,
                 "start_ns": c.first if c.count else None,
                 "end_ns": c.last if c.count else None,
                 "duration": c.duration if c.count else None,
                 "invalid": c.invalid,
+                "unread": c.unread,
             }
             for c in inventory.channels
         ],
         "problems": inventory.problems,
+        "unread": inventory.unread,
     }
 
 
@@ -124,6 +133,8 @@ def _print(inventory: Inventory, validate: bool) -> None:
         f"from {_clock(first)} to {_clock(last)} ({span:.3f} s)"
     )
     console.print(_table(inventory, validate))
+    for note in _unread_notes(inventory):
+        console.print(f"[yellow]{_text(note)}[/yellow]")
     if inventory.damage == CHANGED:
         console.print(
             f"[yellow]{escape(CHANGED)}, somewhere in these {inventory.count} "
@@ -141,16 +152,48 @@ def _text(name: str) -> str:
     return escape(printable(name))
 
 
+def _unread_notes(inventory: Inventory) -> list[str]:
+    """What was not read, and what ``armplan replay`` does with it."""
+    notes = []
+    foreign = [c for c in inventory.foreign if c.count]  # declared alone: no matter
+    if foreign:
+        which = ", ".join(f"{c.topic} ({c.encoding or '(none)'})" for c in foreign)
+        count = sum(c.count for c in foreign)
+        notes.append(
+            f"not read: {count} messages on {len(foreign)} channels that are not "
+            f"JSON: {which}; armplan reads JSON messages only, and armplan "
+            "replay refuses this file"
+        )
+    unread = sum(c.unread for c in inventory.channels if c.encoding == JSON)
+    if unread:
+        notes.append(
+            f"not read: {unread} messages on JSON channels that are not JSON, "
+            f"e.g. {inventory.unread[0]}; armplan replay sends them as they are"
+        )
+    return notes
+
+
 #: A channel whose messages all came within this span [s] shows no rate.
 BURST = 1e-3
 
 
 def _table(inventory: Inventory, validate: bool) -> Table:
+    """One row per channel.
+
+    With an ``encoding`` column if a channel is not JSON, ``not read`` if a
+    message was not read, ``invalid`` if the messages were checked.
+    """
+    encodings = bool(inventory.foreign)
+    unread = any(c.unread for c in inventory.channels)
     table = Table(show_edge=False)
     table.add_column("topic", no_wrap=True)
     table.add_column("schema", no_wrap=True)
+    if encodings:
+        table.add_column("encoding", no_wrap=True)
     for name in ("messages", "start [s]", "duration [s]", "rate [Hz]"):
         table.add_column(escape(name), justify="right")
+    if unread:
+        table.add_column("not read", justify="right")
     if validate:
         table.add_column("invalid", justify="right")
     origin = inventory.first or 0
@@ -160,10 +203,12 @@ def _table(inventory: Inventory, validate: bool) -> Table:
         row = [
             _text(c.topic),
             _text(c.schema or "-"),
+            *([_text(c.encoding or "(none)")] if encodings else []),
             str(c.count),
             f"{(c.first - origin) / 1e9:.3f}" if c.count else "-",
             f"{c.duration:.3f}" if c.count else "-",
             rate,
+            *([str(c.unread)] if unread else []),
         ]
         table.add_row(*row, *([str(c.invalid)] if validate else []))
     return table
