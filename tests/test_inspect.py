@@ -72,7 +72,7 @@ def test_json_output(session: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["inspect", str(session), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["messages"] == 64
-    assert data["damage"] is None
+    assert data["damage"] is None and data["damage_code"] is None
     assert data["unread"] == []
     assert data["metadata"]["armplan"]["namespace"] == NS
     by_topic = {c["topic"]: c for c in data["channels"]}
@@ -99,7 +99,8 @@ def test_a_truncated_file_is_an_error_or_with_recover_its_prefix(
     out = armplan("inspect", str(cut), "--recover", "--json")
     assert out.returncode == 0, out.stderr
     data = json.loads(out.stdout)
-    assert data["damage"] is not None
+    assert data["damage"].startswith("it ends in the middle of a record")
+    assert data["damage_code"] == "truncated"  # the words may change, not this
     counts = {c["topic"]: c["messages"] for c in data["channels"]}
     assert counts["armplan/bridge/state"] == 30
     assert counts["armplan/misc/note"] == 1
@@ -293,7 +294,7 @@ def test_a_file_with_one_foreign_channel_is_listed_whole(
     assert rows["/r"][2::2] == ["-", "cdr", "1", "0.004", "0.000", "-", "1"]
     assert main(["inspect", str(path), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["damage"] is None
+    assert data["damage"] is None and data["damage_code"] is None
     assert [
         (c["topic"], c["encoding"], c["messages"], c["unread"])
         for c in data["channels"]

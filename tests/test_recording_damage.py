@@ -233,3 +233,6 @@ def test_a_message_that_is_not_json_is_named(
         f"2 ns) {why}; --recover (or recover=True) reads those messages"
     )
     assert [r.data for r in read_records(path, recover=True)] == [{"n": 1}]
+    recording = Recording(path)
+    list(recording)
+    assert recording.damage_code == "not_json"

@@ -59,6 +59,7 @@ class Inventory:
         channels: Its channels, in order of first message; those the file
             declares without a message last (count 0).
         damage: What stopped the reading early (``None``: read whole).
+        damage_code: Its kind, for programs (``Recording.damage_code``).
         metadata: Its metadata records by name.
         problems: The first few schema problems found (if checked).
         unread: The first few messages on JSON channels that are not JSON,
@@ -68,6 +69,7 @@ class Inventory:
     path: Path
     channels: list[ChannelStats] = field(default_factory=list)
     damage: str | None = None
+    damage_code: str | None = None
     metadata: dict[str, dict[str, str]] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
     unread: list[str] = field(default_factory=list)
@@ -148,4 +150,5 @@ def take_inventory(
             channels[key] = ChannelStats(key[0], key[1], encoding=key[2])
             inventory.channels.append(channels[key])
     inventory.damage = recording.damage
+    inventory.damage_code = recording.damage_code
     return inventory

@@ -25,6 +25,17 @@ CHANGED = "its checksum does not match: bytes were changed after it was written"
 NOT_JSON = "a message in it is not UTF-8 JSON"
 NOT_MCAP = "it holds bytes that are not MCAP records"
 NO_MAGIC = "no MCAP magic at its start"
+#: A stable name for each kind of damage (``Recording.damage_code``), for
+#: programs: the words above may change, these do not.
+DAMAGE_CODES = {
+    TRUNCATED: "truncated",
+    CHANGED: "changed",
+    NOT_JSON: "not_json",
+    NOT_MCAP: "not_mcap",
+    NO_MAGIC: "no_magic",
+}
+#: The damage code of a well-formed file with a channel that is not JSON.
+FOREIGN = "foreign"
 #: The 8 bytes every MCAP file (version 0) starts with.
 MAGIC = b"\x89MCAP0\r\n"
 #: The message encoding of every armplan channel.
@@ -110,12 +121,13 @@ class Recording:
     Iterate it for :class:`Record` s. Reading stops quietly at the first
     damaged byte (truncation by a killed writer, garbage, a checksum that
     does not match); afterwards ``damage`` says in words what was wrong
-    (``None`` if the file was read whole) and ``count`` how many messages
-    came out. A message it cannot read as JSON, on a channel of another
-    message encoding (``foreign``) or not JSON itself, stops the reading
-    too, as damage naming the message; with ``keep_unread`` it comes out
-    instead, its ``data`` ``None`` and its ``unread`` saying why, and the
-    reading goes on (``armplan inspect`` lists a whole file so).
+    (``None`` if the file was read whole), ``damage_code`` names its kind
+    (a value of :data:`DAMAGE_CODES`, or :data:`FOREIGN`) and ``count`` how
+    many messages came out. A message it cannot read as JSON, on a channel
+    of another message encoding (``foreign``) or not JSON itself, stops the
+    reading too, as damage naming the message; with ``keep_unread`` it comes
+    out instead, its ``data`` ``None`` and its ``unread`` saying why, and
+    the reading goes on (``armplan inspect`` lists a whole file so).
 
     Args:
         path: An MCAP file with JSON messages.
@@ -138,6 +150,7 @@ class Recording:
         self.topics = None if topics is None else set(topics)
         self.keep_unread = keep_unread
         self.damage: str | None = None
+        self.damage_code: str | None = None
         self.count = 0
         self.foreign: str | None = None
         self._schemas: dict[int, Schema] = {}
@@ -233,7 +246,8 @@ class Recording:
                 yield channel, record
 
     def __iter__(self) -> Iterator[Record]:
-        self.damage, self.count, self.foreign = None, 0, None
+        self.damage, self.damage_code = None, None
+        self.count, self.foreign = 0, None
         try:
             stream = open(self.path, "rb")  # noqa: SIM115 (closed below)
         except OSError as exc:
@@ -250,6 +264,7 @@ class Recording:
                     return
                 except Exception as exc:  # any failure to read the records is damage
                     self.damage = describe_damage(exc)
+                    self.damage_code = DAMAGE_CODES[self.damage]
                     return
                 number += 1
                 record = self._record(channel, message, number)
@@ -274,10 +289,11 @@ class Recording:
             if self.foreign is None:
                 self.foreign = f"channel {printable(channel.topic)} has {unread}"
             if not self.keep_unread:
-                self.damage = self.foreign
+                self.damage, self.damage_code = self.foreign, FOREIGN
         else:
             data, unread = _decode(message.data)
             if unread and not self.keep_unread:
+                self.damage_code = DAMAGE_CODES[NOT_JSON]
                 which = which_message(number, channel.topic, message.log_time)
                 self.damage = f"{NOT_JSON}: {which} is {unread}"
         return Record(
@@ -307,7 +323,7 @@ class Recording:
     @property
     def refused(self) -> bool:
         """Whether the reading stopped at a channel that is not JSON (``foreign``)."""
-        return self.foreign is not None and self.damage == self.foreign
+        return self.damage_code == FOREIGN
 
     @property
     def not_mcap(self) -> bool:

@@ -94,6 +94,7 @@ def as_json(inventory: Inventory) -> dict[str, Any]:
         "end_ns": last,
         "duration": None if first is None or last is None else (last - first) / 1e9,
         "damage": inventory.damage,
+        "damage_code": inventory.damage_code,
         "metadata": inventory.metadata,
         "channels": [
             {
