@@ -1,4 +1,9 @@
-"""``armplan status``: which services are alive on the router."""
+"""``armplan status``: which services are alive on the router.
+
+``--json`` prints one document: ``router``, ``namespace`` and ``services``,
+each ``{"service", "state", "keys"}`` with ``keys`` a list of the key
+expressions it answers (``[]`` for none); docs/services.md has the fields.
+"""
 
 from __future__ import annotations
 
@@ -56,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         )
     if not args.json:
         sys.stdout.write(f"router {config.endpoint}, namespace {config.namespace}\n")
-        table = [(printable(n), state, keys) for n, state, keys in rows]
+        table = [(printable(n), state, ", ".join(k) or "-") for n, state, k in rows]
         print_table(("service", "state", "keys"), table)  # names from the network
         if error is not None:
             raise error
@@ -76,12 +81,12 @@ def run(args: argparse.Namespace) -> int:
     return 1
 
 
-def _rows(alive: list[str], namespace: str) -> list[tuple[str, str, str]]:
+def _rows(alive: list[str], namespace: str) -> list[tuple[str, str, list[str]]]:
     """(service, alive|absent, keys) for every service, then any other process alive.
 
     A process ``armplan up`` starts only when asked (recorder, bridge) is
     listed once alive, with its keys; a token no process of ours declares
-    has keys ``-``.
+    has no keys (``[]``; ``-`` in the table).
     """
     known = {s.name for s in SERVICES}
     others = {s.name: s for s in PROCESSES if s.name not in known}
@@ -94,13 +99,13 @@ def _rows(alive: list[str], namespace: str) -> list[tuple[str, str, str]]:
         for spec in SERVICES
     ]
     rows += [
-        (name, "alive", _keys(others[name], namespace) if name in others else "-")
+        (name, "alive", _keys(others[name], namespace) if name in others else [])
         for name in alive
         if name not in known
     ]
     return rows
 
 
-def _keys(spec: ServiceSpec, namespace: str) -> str:
-    """The keys ``spec`` answers, comma-separated, or ``-`` if none."""
-    return ", ".join(r.key(namespace) for r in spec.routes) or "-"
+def _keys(spec: ServiceSpec, namespace: str) -> list[str]:
+    """The keys ``spec`` answers (none: ``[]``)."""
+    return [r.key(namespace) for r in spec.routes]
