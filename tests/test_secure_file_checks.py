@@ -22,6 +22,7 @@ from native_processes import Native
 
 from armplan.launch import catalog, free_endpoint
 from armplan.secure import Bundle, write_bundle
+from armplan.secure.certificates import openssl
 from shared.bus import Bus, BusConfig, load_config, open_router
 from shared.errors import BusConfigError
 
@@ -68,7 +69,7 @@ def open_warnings(caplog: pytest.LogCaptureFixture) -> list[str]:
         (
             "router.pem",
             "holds no certificate authority, only certificates marked CA:FALSE "
-            f"(is it the router's certificate?): {WANTED}",
+            f"that another issued (is it the router's certificate?): {WANTED}",
         ),
     ],
     ids=["empty", "garbage", "key", "not-base64", "not-der", "router-certificate"],
@@ -102,6 +103,33 @@ def test_a_ca_file_holding_the_authority_among_others_is_taken(
     )
     router = open_router(load_config(bundle.router_config))
     with router, Bus.connect(with_ca(bundle, both), wait=30) as bus:
+        assert bus.session.info.routers_zid()
+
+
+def test_a_self_signed_router_certificate_marked_ca_false_is_trusted(
+    tmp_path: pathlib.Path,
+) -> None:
+    """The usual way to trust a self-signed router: its own certificate as the
+    CA file of router and client. rustls takes a self-signed server
+    certificate only when marked CA:FALSE; the check refused it as "holds no
+    certificate authority". Made by the real openssl; a real router and
+    client connect."""
+    bundle = write_bundle(tmp_path / "secure", endpoint=tls_endpoint())
+    folder = bundle.directory
+    openssl(
+        [
+            *("req", "-x509", "-newkey", "ec", "-pkeyopt"),
+            *("ec_paramgen_curve:P-256", "-nodes", "-days", "30"),
+            *("-keyout", str(folder / "router.key"), "-out", str(folder / "ca.pem")),
+            *("-subj", "/CN=armplan router", "-addext"),
+            *("basicConstraints=critical,CA:FALSE", "-addext"),
+            *("subjectAltName=IP:127.0.0.1", "-addext"),
+            "extendedKeyUsage=serverAuth",
+        ]
+    )
+    (folder / "router.pem").write_bytes((folder / "ca.pem").read_bytes())
+    router = open_router(load_config(bundle.router_config))
+    with router, Bus.connect(load_config(bundle.clients["client"]), wait=30) as bus:
         assert bus.session.info.routers_zid()
 
 
