@@ -5,11 +5,14 @@ whose router was killed after 4 of its 10.6 s (restarted 6 s later, or not
 at all) said "sent 175 of 175 messages" and exited 0, while a recorder
 beside it kept 75. Here a real router process is killed with SIGKILL while
 `armplan replay` (a real process) sends a recording of ``COUNT`` messages,
-``GAP`` apart; a subscriber in this test sees what arrives.
+``GAP`` apart; a subscriber in this test sees what arrives. A replay into a
+peer (a peer-mode session listening on the endpoint, which SPEC allows) is
+connected too: it counted every message as sent with no router and exited 1.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import signal
@@ -72,7 +75,7 @@ def test_messages_sent_with_no_router_are_counted_and_fail_the_replay(
 ) -> None:
     """SIGKILL the router 0.8 s into a 6 s replay (restarted at once, or
     not): exit 1; the summary and the error count the messages sent while
-    no router was connected, none of which arrived; a warning says when the
+    no router or peer was connected, none of which arrived; a warning says when the
     router went and, if restarted, that it is back."""
     endpoint = free_endpoint()
     config = BusConfig(endpoints=(endpoint,), namespace=NAMESPACE)
@@ -107,17 +110,55 @@ def test_messages_sent_with_no_router_are_counted_and_fail_the_replay(
         router.stop()
     print(out, err, f"arrived: {len(got)}", sep="\n")
     assert replay.returncode == 1, err
-    found = re.search(rf"; (\d+) of {COUNT} messages went out while no router", out)
+    found = re.search(rf"; (\d+) of {COUNT} messages went out while no router or", out)
     assert found is not None, out
     offline = int(found[1])
     assert out.startswith(f"armplan replay: sent {COUNT} of {COUNT} messages")
-    assert f"{offline} of {COUNT} messages went out while no router" in err
-    assert f"warning: lost the router at {endpoint}" in err
+    assert f"{offline} of {COUNT} messages went out while no router or peer" in err
+    assert f"the replay lost its connection to the router or peer at {endpoint}" in err
+    assert f"warning: lost the router or peer at {endpoint}" in err
+    assert "at the start" not in err
     assert len(got) + offline <= COUNT  # none sent with no router arrived
     if back_after is None:
         assert offline >= COUNT - len(got) - 2  # at most the kill's own instant
-        assert f"router at {endpoint} is back" not in err
+        assert f"peer at {endpoint} is back" not in err
     else:
         assert offline > 0
-        assert f"the router at {endpoint} is back" in err
+        assert f"the router or peer at {endpoint} is back" in err
         assert got[-1] == COUNT - 1  # the last ones went out through it again
+
+
+def test_a_replay_into_a_peer_is_connected(tmp_path: Path) -> None:
+    """`armplan replay --connect` to a peer-mode session listening there:
+    every message arrives, exit 0, and no word of a lost or absent router
+    (routers_zid lists routers only; the peer is in peers_zid)."""
+    endpoint = free_endpoint()
+    config = zenoh.Config()
+    config.insert_json5("mode", '"peer"')
+    config.insert_json5("listen/endpoints", json.dumps([endpoint]))
+    config.insert_json5("scouting/multicast/enabled", "false")
+    config.insert_json5("scouting/gossip/enabled", "false")
+    got: list[str] = []
+    with zenoh.open(config) as peer:
+        peer.declare_subscriber(
+            f"{NAMESPACE}/**", lambda sample: got.append(str(sample.key_expr))
+        )
+        command = [sys.executable, "-m", "armplan", "replay"]
+        command += [str(recording(tmp_path / "s.mcap")), "--connect", endpoint]
+        command += ["--namespace", NAMESPACE, "--wait", "30", "--speed", "10"]
+        done = subprocess.run(
+            command,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            env={**os.environ, "PYTHONPATH": str(ROOT)},
+            check=False,
+        )
+        deadline = time.monotonic() + 10
+        while len(got) < COUNT and time.monotonic() < deadline:
+            time.sleep(0.05)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith(f"armplan replay: sent {COUNT} of {COUNT} messages")
+    assert "went out while" not in done.stdout
+    assert done.stderr == ""
+    assert got == [f"{NAMESPACE}/misc/x"] * COUNT

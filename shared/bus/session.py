@@ -1,6 +1,8 @@
 """Open Zenoh sessions: a router, or a client connected to the router.
 
-:func:`has_router` says whether a client is connected to a router now.
+:func:`has_router` says whether a client is connected to a router now,
+:func:`has_router_or_peer` whether it is connected to anyone who may receive
+what it puts.
 """
 
 from __future__ import annotations
@@ -59,6 +61,18 @@ def has_router(session: zenoh.Session) -> bool:
     before every put.
     """
     return bool(session.info.routers_zid())
+
+
+def has_router_or_peer(session: zenoh.Session) -> bool:
+    """Whether ``session`` (a client) is connected to a router or a peer now.
+
+    A client may connect to a peer-mode session that listens on its endpoint
+    (SPEC: peers with explicit connects), which receives what the client
+    puts; :func:`has_router` does not count it, as ``routers_zid`` lists
+    routers only. One more call (``peers_zid``) when no router is connected.
+    """
+    info = session.info
+    return bool(info.routers_zid() or info.peers_zid())
 
 
 def _why_none(config: BusConfig, error: zenoh.ZError, stopped: bool) -> str:

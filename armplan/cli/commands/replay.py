@@ -7,8 +7,8 @@ checked whole before the first message goes, then read as they are sent.
 The derived Foxglove channels (``/tf/...``, ...) are not sent. A bridge
 subscribed to ``plan/trajectory`` drives the (simulated) NAO from the
 replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
---wait-for bridge``. Messages sent while no router was connected reach
-nobody: the summary counts them, and the replay then exits 1.
+--wait-for bridge``. Messages sent while no router or peer was connected
+reach nobody: the summary counts them, and the replay then exits 1.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from services.recorder.replay import Replay, check_speed, replay, replay_items
 from services.recorder.replay_login import refused_by_rules, refused_warning
 from shared.bus import Bus, BusConfig
 from shared.bus.login import login_user
-from shared.bus.session import has_router
+from shared.bus.session import has_router_or_peer
 from shared.errors import InvalidInputError, RecordingError, ServiceUnavailableError
 from shared.stop_signals import stop_on_signals
 
@@ -177,14 +177,18 @@ def run(args: argparse.Namespace) -> int:
             )
 
         sent = offline = 0
-        connected = True
+        connected: bool | None = None  # known from the first message on
+        began = True  # whether a router or peer was connected at the first
 
         def publish(path: str, payload: bytes, encoding: str) -> None:
-            nonlocal sent, offline, connected
-            if has_router(bus.session) != connected:
-                connected = not connected
-                _say_router(connected, config)
-            if not connected:  # the put reaches nobody: see _say_router
+            nonlocal sent, offline, connected, began
+            now = has_router_or_peer(bus.session)
+            if now != connected:
+                if connected is None:
+                    began = now
+                _say_link(now, connected is None, config)
+                connected = now
+            if not connected:  # the put reaches nobody: see _say_link
                 offline += 1
             bus.session.put(
                 bus.key(path),
@@ -220,32 +224,48 @@ def run(args: argparse.Namespace) -> int:
     if stop.is_set() and stats.sent < len(items):
         return _interrupted()
     if offline:
+        endpoints = ", ".join(config.endpoints)
+        why = (
+            f"the replay lost its connection to the router or peer at {endpoints}"
+            if began
+            else f"no router or peer was connected at {endpoints} when the replay began"
+        )
         raise ServiceUnavailableError(
             "router",
-            reason=f"the replay lost its connection to the router at "
-            f"{', '.join(config.endpoints)}: {offline} of {len(items)} messages "
-            "went out while no router was connected, and reached nobody",
+            reason=f"{why}: {offline} of {len(items)} messages went out while no "
+            "router or peer was connected, and reached nobody",
         )
     return 0
 
 
-def _say_router(connected: bool, config: BusConfig) -> None:
-    """Warn that the router went away, or say that it is back.
+def _say_link(connected: bool, first: bool, config: BusConfig) -> None:
+    """Warn that the router or peer went away, or say that it is back.
 
-    Zenoh reconnects a replay to its router by itself, but a put made while
-    no router is connected reaches nobody, and a put gets no answer: a
-    replay whose router was killed for 6 of its 10.6 s said "sent 175 of 175
+    Zenoh reconnects a replay by itself, but a put made while no router or
+    peer is connected reaches nobody, and a put gets no answer: a replay
+    whose router was killed for 6 of its 10.6 s said "sent 175 of 175
     messages" and exited 0. It now counts those puts (each is checked with
-    ``has_router`` just before it), says when the router goes and comes
-    back, and exits 1 if any went out so.
+    ``has_router_or_peer`` just before it: a replay may connect to a peer),
+    says when the link goes and comes back, and exits 1 if any went out so.
+    ``first``: this is the first message; a link there is not news, and none
+    there is not "lost".
     """
     endpoints = ", ".join(config.endpoints)
     if connected:
-        sys.stderr.write(f"armplan replay: the router at {endpoints} is back\n")
+        if not first:
+            sys.stderr.write(
+                f"armplan replay: the router or peer at {endpoints} is back\n"
+            )
+    elif first:
+        sys.stderr.write(
+            f"armplan replay: warning: no router or peer is connected at "
+            f"{endpoints} at the start; the messages sent until one connects "
+            "reach nobody\n"
+        )
     else:
         sys.stderr.write(
-            f"armplan replay: warning: lost the router at {endpoints}; the messages "
-            "sent until it is back reach nobody\n"
+            f"armplan replay: warning: lost the router or peer at {endpoints}; the "
+            "messages sent until it is back reach nobody\n"
         )
 
 
@@ -254,7 +274,8 @@ def _offline(offline: int, items: Replay) -> str:
     if not offline:
         return ""
     return (
-        f"; {offline} of {len(items)} messages went out while no router was connected"
+        f"; {offline} of {len(items)} messages went out while no router or peer "
+        "was connected"
     )
 
 
