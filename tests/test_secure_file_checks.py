@@ -12,9 +12,12 @@ an error naming it. Real bundles from ``armplan certs``, real routers.
 from __future__ import annotations
 
 import dataclasses
+import grp
 import json
 import logging
+import os
 import pathlib
+import pwd
 import time
 
 import pytest
@@ -30,6 +33,8 @@ CA = "transport/link/tls/root_ca_certificate"
 #: Longest wait for the router to listen [s].
 START_WAIT = 60.0
 WANTED = "give the authority's certificate (ca.pem of `armplan certs`)"
+#: This process's user, as the warnings name a file's owner.
+ME = pwd.getpwuid(os.geteuid()).pw_name
 
 
 def tls_endpoint() -> str:
@@ -161,8 +166,8 @@ def test_a_router_warns_of_its_key_and_passwords_open_to_others(
     ]:
         path = tmp_path / name
         assert (
-            f"WARNING {path} holds {held} and is open to other users (mode {mode}): "
-            f"make it readable by its owner only: chmod 600 {path}\n"
+            f"WARNING {path} holds {held} and is open to other users (mode {mode}, "
+            f"owner {ME}): make it readable by its owner only: chmod 600 {path}\n"
         ) in output
     assert output.count("is open to other users") == 2
 
@@ -181,6 +186,45 @@ def test_a_client_warns_of_its_file_open_to_others(
         with Bus.connect(load_config(client), wait=30):
             pass
     assert open_warnings(caplog) == [
-        f"{client} holds a password and is open to other users (mode 0644): "
-        f"make it readable by its owner only: chmod 600 {client}"
+        f"{client} holds a password and is open to other users (mode 0644, "
+        f"owner {ME}): make it readable by its owner only: chmod 600 {client}"
     ]
+
+
+#: Another user and group to own a shared key: daemon's, as on most systems.
+OTHER = pwd.getpwnam("daemon")
+OTHER_GROUP = grp.getgrgid(OTHER.pw_gid).gr_name
+
+
+@pytest.mark.skipif(
+    os.geteuid() != 0, reason="giving a file to another user needs root"
+)
+@pytest.mark.parametrize(
+    ("mode", "warned"),
+    [(0o640, False), (0o600, False), (0o644, True), (0o660, True), (0o604, True)],
+    ids=["0640", "0600", "0644", "0660", "0604"],
+)
+def test_a_key_another_user_shares_with_its_group_may_be_group_readable(
+    tmp_path: pathlib.Path, caplog: pytest.LogCaptureFixture, mode: int, warned: bool
+) -> None:
+    """router.key owned by another user (as root:ssl-cert 0640, read by a
+    service in the group): 0640 passes quietly, since `chmod 600` would lock
+    the service out; group write or any access by others is warned of,
+    naming owner and group and chmod 640. A real router listens each time."""
+    bundle = write_bundle(tmp_path, endpoint=tls_endpoint())
+    key = tmp_path / "router.key"
+    os.chown(key, OTHER.pw_uid, OTHER.pw_gid)
+    key.chmod(mode)
+    caplog.set_level(logging.WARNING, logger="armplan.bus")
+    with open_router(load_config(bundle.router_config)):
+        pass
+    assert open_warnings(caplog) == (
+        [
+            f"{key} holds a private key and is open to other users (mode "
+            f"{mode:04o}, owner daemon, group {OTHER_GROUP}): make it readable by "
+            f"its owner and group only (this process's user in group "
+            f"{OTHER_GROUP}): chmod 640 {key}, as daemon"
+        ]
+        if warned
+        else []
+    )

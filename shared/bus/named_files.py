@@ -6,14 +6,18 @@ password or no router at all; a router whose key is gone said "is another
 router using it?". Both now name the missing or unreadable file before Zenoh
 is asked to open anything, and a CA file that holds no authority
 (``ca_file.py``). A key or a password that other users may read is warned
-about (``armplan certs`` writes them owner-only; a copy may not keep that).
+about (``armplan certs`` writes them owner-only; a copy may not keep that);
+one that another user owns (a key root shares with a service's group) may
+also be read by its group (:func:`open_to_others`).
 """
 
 from __future__ import annotations
 
+import grp
 import json
 import logging
 import os
+import pwd
 from pathlib import Path
 
 import zenoh
@@ -85,22 +89,56 @@ def check_named_files(config: zenoh.Config, bus: BusConfig) -> None:
 
 
 def open_to_others(path: Path, held: str) -> str | None:
-    """A warning if users but its owner may read or write ``path``, else ``None``.
+    """A warning if users it should not trust may open ``path``, else ``None``.
+
+    A file this process's user owns must be owner-only (0600). A file
+    another user owns, e.g. a key owned by root with group ``ssl-cert`` and
+    mode 0640 that a service reads as a member of that group, may also be
+    read by its group (PostgreSQL's rule for a root-owned key): only write
+    or execute by the group, or any access by others, is warned about there.
+    ``chmod 600`` would lock the service out of such a file.
 
     Args:
         path: The file.
         held: What it holds, e.g. ``"a private key"``.
     """
     try:
-        mode = path.stat().st_mode & 0o777
+        status = path.stat()
     except OSError:
         return None
-    if not mode & 0o077:
+    mode = status.st_mode & 0o777
+    owner = _user_name(status.st_uid)
+    if status.st_uid == os.geteuid():
+        if not mode & 0o077:
+            return None
+        return (
+            f"{path} holds {held} and is open to other users (mode {mode:04o}, "
+            f"owner {owner}): make it readable by its owner only: chmod 600 {path}"
+        )
+    if not mode & 0o037:
         return None
+    group = _group_name(status.st_gid)
     return (
-        f"{path} holds {held} and is open to other users (mode {mode:04o}): "
-        f"make it readable by its owner only: chmod 600 {path}"
+        f"{path} holds {held} and is open to other users (mode {mode:04o}, owner "
+        f"{owner}, group {group}): make it readable by its owner and group only "
+        f"(this process's user in group {group}): chmod 640 {path}, as {owner}"
     )
+
+
+def _user_name(uid: int) -> str:
+    """The user's name, or its number if the system knows no name for it."""
+    try:
+        return pwd.getpwuid(uid).pw_name
+    except KeyError:
+        return f"uid {uid}"
+
+
+def _group_name(gid: int) -> str:
+    """The group's name, or its number if the system knows no name for it."""
+    try:
+        return grp.getgrgid(gid).gr_name
+    except KeyError:
+        return f"gid {gid}"
 
 
 def _secret_files(config: zenoh.Config, bus: BusConfig) -> dict[Path, str]:
