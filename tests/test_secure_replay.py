@@ -5,7 +5,10 @@ exited 0 while the router dropped every one (only a topic's publisher may
 put it). Now it warns, naming the topics and whose they are, before sending;
 with the planner's file the planner's keys go through, without a warning.
 Keys outside the catalogue (a file another tool wrote), which no process
-may publish, are warned of too.
+may publish, are warned of too. A replay of which the router would drop every
+message (another --namespace than the login file's, whose namespace the
+rules name; or only keys its login may not publish) said "sent" and exited
+0: it now exits 1 before sending, saying why.
 """
 
 from __future__ import annotations
@@ -109,27 +112,93 @@ def test_a_replay_warns_of_what_its_login_may_not_publish(
     with Bus.connect(recorder, wait=30) as bus:
         inbox = Inbox(bus)
         planner = secured.clients["planner"]
-        done = replay(recording, "--keys", "plan/trajectory", "--config", str(planner))
+        done = replay(
+            recording,
+            *("--keys", "plan/trajectory", "--config", str(planner)),
+            *("--namespace", "armplan"),  # the file's: passes
+        )
         assert done.returncode == 0, done.stderr
         assert "warning" not in done.stderr
         assert inbox.wait(2, 20.0) == [MESSAGES[0][1], MESSAGES[2][1]]
 
-        client = secured.clients["client"]
-        done = replay(recording, "--config", str(client), "--wait", "30")
+        done = replay(recording, "--config", str(planner), "--wait", "30")
         assert done.returncode == 0, done.stderr
         assert done.stderr == (
-            f"armplan replay: warning: {client} logs in as user 'client', which "
-            "the secured router's rules do not let publish plan/trajectory (2 "
-            "messages, planner's), bridge/state (1 message, bridge's): the "
-            "router drops those messages without a word. Replay each "
-            "publisher's keys with its own file, e.g. --keys plan/trajectory "
-            "--config DIR/planner.json5, or replay into an unsecured router\n"
+            f"armplan replay: warning: {planner} logs in as user 'planner', which "
+            "the secured router's rules do not let publish bridge/state (1 "
+            "message, bridge's): the router drops those messages without a "
+            "word. Replay each publisher's keys with its own file, e.g. --keys "
+            "bridge/state --config DIR/bridge.json5, or replay into an "
+            "unsecured router\n"
         )
         assert done.stdout.startswith("armplan replay: sent 3 of 3 messages")
         assert done.stdout.endswith(
-            "; a secured router drops the 3 user 'client' may not publish\n"
+            "; a secured router drops the 1 user 'planner' may not publish\n"
         )
-        assert len(inbox.wait(3, QUIET)) == 2  # nothing more came
+        assert len(inbox.wait(5, QUIET)) == 4  # the trajectories, not the state
+
+
+@pytest.mark.parametrize(
+    ("user", "keys", "chosen"),
+    [
+        ("client", [], "every message"),
+        ("planner", ["--keys", "bridge/state"], "every message --keys keeps"),
+    ],
+    ids=["client", "planner-bridge-keys"],
+)
+def test_a_replay_its_login_may_publish_nothing_of_is_refused(
+    recording: pathlib.Path, secured: Bundle, user: str, keys: list[str], chosen: str
+) -> None:
+    """The client's file (which publishes nothing), or the planner's with
+    --keys keeping only the bridge's state: exit 1 before sending (it said
+    "sent" and exited 0), naming the keys and whose they are."""
+    recorder = load_config(secured.clients["recorder"])
+    with Bus.connect(recorder, wait=30) as bus:
+        inbox = Inbox(bus)
+        login = secured.clients[user]
+        done = replay(recording, *keys, "--config", str(login), "--wait", "30")
+        assert done.returncode == 1, done.stderr
+        trajectories = "plan/trajectory (2 messages, planner's), " if not keys else ""
+        assert done.stderr == (
+            f"armplan: error: {login} logs in as user {user!r}, which the secured "
+            f"router's rules do not let publish {trajectories}bridge/state (1 "
+            f"message, bridge's): the router would drop {chosen} without a word, "
+            "so none is sent. Replay each publisher's keys with its own file, "
+            f"e.g. --keys {'bridge/state' if keys else 'plan/trajectory'} --config "
+            f"DIR/{'bridge' if keys else 'planner'}.json5, or replay into an "
+            "unsecured router\n"
+        )
+        assert done.stdout == ""
+        assert inbox.wait(1, QUIET) == []
+
+
+def test_a_replay_under_another_namespace_than_its_logins_is_refused(
+    recording: pathlib.Path, secured: Bundle
+) -> None:
+    """The planner's file (namespace armplan, which the rules name) with
+    --namespace nao1: the router dropped every message and the replay exited
+    0; now exit 1 before sending, naming both namespaces."""
+    recorder = load_config(secured.clients["recorder"])
+    with Bus.connect(recorder, wait=30) as bus:
+        inbox = Inbox(bus)
+        planner = secured.clients["planner"]
+        done = replay(
+            recording,
+            *("--keys", "plan/trajectory", "--config", str(planner)),
+            *("--namespace", "nao1", "--wait", "30"),
+        )
+        assert done.returncode == 1, done.stderr
+        assert done.stderr == (
+            f"armplan: error: {planner} logs in as user 'planner', whose file "
+            "was made for the namespace 'armplan', the only one the secured "
+            "router's rules name, but the replay publishes under --namespace "
+            "'nao1': the router would drop every message without a word, so "
+            "none is sent. Replay under 'armplan' (leave out --namespace), with "
+            "a login file made for 'nao1' (`armplan certs --namespace nao1`) on "
+            "that namespace's router, or into an unsecured router\n"
+        )
+        assert done.stdout == ""
+        assert inbox.wait(1, QUIET) == []
 
 
 #: Keys to check the replay's reading of the rules on: every topic, keys
@@ -188,8 +257,8 @@ def test_a_foreign_file_is_published_on_its_keys_with_a_warning_for_the_rest(
             f"armplan replay: warning: {planner} logs in as user 'planner', which "
             "the secured router's rules do not let publish misc/raw (1 message, "
             "no process's): the router drops those messages without a word. "
-            "Leave out with --keys the keys no process may publish, or replay "
-            "into an unsecured router\n"
+            "Choose with --keys the keys to keep, without those no process may "
+            "publish, or replay into an unsecured router\n"
         )
         assert done.stdout.startswith("armplan replay: sent 3 of 3 messages")
         assert inbox.wait(3, QUIET) == [b'{"foreign": 0}', b'{"foreign": 2}']

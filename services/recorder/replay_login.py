@@ -9,7 +9,11 @@ key under the namespace by no process (the bridge excepted: every key under
 said "sent 485 of 485 messages" while the router dropped them all, and a
 file of another tool with a key outside the catalogue was dropped without a
 warning. :func:`refused_by_rules` names the messages a login cannot publish
-under those rules, so the replay can say so before it sends them.
+under those rules, so the replay can say so before it sends them, and
+refuse to start when every message would be dropped (:func:`check_publishable`).
+The rules name one namespace, the one ``armplan certs --namespace`` wrote
+into the login's file: a replay under another (``--namespace``) has every
+key dropped, and :func:`check_rules_namespace` refuses it.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from collections.abc import Mapping
 import zenoh
 
 from shared.bus.topics import find_topic
+from shared.errors import InvalidInputError
 
 #: The login of another machine's router: its rules relay every armplan key.
 ROUTER_USER = "router"
@@ -59,12 +64,86 @@ def refused_by_rules(counts: Mapping[str, int], user: str) -> dict[str, int]:
     return {path: n for path, n in counts.items() if publisher_of(path) != user}
 
 
+def check_rules_namespace(
+    user: str, namespace: str, rules_namespace: str, source: str
+) -> None:
+    """Refuse a replay under another namespace than its login's rules name.
+
+    Args:
+        user: The replay's login, e.g. ``"planner"``.
+        namespace: The namespace the replay publishes under (``--namespace``).
+        rules_namespace: The namespace of the login's file, which ``armplan
+            certs --namespace`` also wrote into the router's rules.
+        source: The login's file, for the message.
+
+    Raises:
+        InvalidInputError: if they differ: the router would drop every key.
+    """
+    if namespace == rules_namespace:
+        return
+    raise InvalidInputError(
+        f"{source} logs in as user {user!r}, whose file was made for the "
+        f"namespace {rules_namespace!r}, the only one the secured router's rules "
+        f"name, but the replay publishes under --namespace {namespace!r}: the "
+        "router would drop every message without a word, so none is sent. "
+        f"Replay under {rules_namespace!r} (leave out --namespace), with a login "
+        f"file made for {namespace!r} (`armplan certs --namespace {namespace}`) "
+        "on that namespace's router, or into an unsecured router",
+        field="namespace",
+        namespace=namespace,
+        rules_namespace=rules_namespace,
+    )
+
+
+def check_publishable(
+    refused: dict[str, int], total: int, user: str, source: str, keys: bool
+) -> None:
+    """Refuse a replay of which the router would drop every message.
+
+    Args:
+        refused: :func:`refused_by_rules`'s result.
+        total: The number of messages to replay.
+        user: The replay's login.
+        source: Its file, for the message.
+        keys: Whether ``--keys`` chose the messages.
+
+    Raises:
+        InvalidInputError: if ``refused`` holds all ``total`` messages.
+    """
+    if not refused or sum(refused.values()) < total:
+        return
+    chosen = "every message --keys keeps" if keys else "every message"
+    raise InvalidInputError(
+        f"{_refused(refused, user, source)}: the router would drop {chosen} "
+        f"without a word, so none is sent. {_advice(refused)}",
+        field="keys" if keys else "config",
+        user=user,
+        refused=refused,
+    )
+
+
 def refused_warning(refused: dict[str, int], user: str, source: str) -> str:
     """The warning for :func:`refused_by_rules`'s result (not empty)."""
+    return (
+        f"{_refused(refused, user, source)}: the router drops those messages "
+        f"without a word. {_advice(refused)}"
+    )
+
+
+def _refused(refused: dict[str, int], user: str, source: str) -> str:
+    """Who logs in, and the keys (with counts and publisher) it may not publish."""
     parts = [
         f"{path} ({count} message{'' if count == 1 else 's'}, {_whose(path)})"
         for path, count in refused.items()
     ]
+    return (
+        f"{source} logs in as user {user!r}, which the secured router's rules do "
+        f"not let publish {', '.join(parts)}"
+    )
+
+
+def _advice(refused: dict[str, int]) -> str:
+    """What to do about the refused keys, as a sentence."""
     owned = [path for path in refused if publisher_of(path) is not None]
     advice = []
     if owned:
@@ -73,14 +152,12 @@ def refused_warning(refused: dict[str, int], user: str, source: str) -> str:
             f"--keys {owned[0]} --config DIR/{publisher_of(owned[0])}.json5"
         )
     if len(owned) < len(refused):
-        advice.append("leave out with --keys the keys no process may publish")
+        advice.append(
+            "choose with --keys the keys to keep, without those no process may publish"
+        )
     advice.append("or replay into an unsecured router")
     text = ", ".join(advice)
-    return (
-        f"{source} logs in as user {user!r}, which the secured router's rules do "
-        f"not let publish {', '.join(parts)}: the router drops those messages "
-        f"without a word. {text[:1].upper()}{text[1:]}"
-    )
+    return f"{text[:1].upper()}{text[1:]}"
 
 
 def _whose(path: str) -> str:

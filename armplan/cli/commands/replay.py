@@ -23,8 +23,13 @@ import zenoh
 from armplan.launch.catalog import unknown_hint
 from services.recorder.arguments import add_bus_arguments, bus_config
 from services.recorder.replay import Replay, check_speed, replay, replay_items
-from services.recorder.replay_login import refused_by_rules, refused_warning
-from shared.bus import Bus, BusConfig
+from services.recorder.replay_login import (
+    check_publishable,
+    check_rules_namespace,
+    refused_by_rules,
+    refused_warning,
+)
+from shared.bus import Bus, BusConfig, load_config
 from shared.bus.login import login_user
 from shared.bus.session import has_router_or_peer
 from shared.errors import InvalidInputError, RecordingError, ServiceUnavailableError
@@ -155,10 +160,7 @@ def run(args: argparse.Namespace) -> int:
         _no_key_matches(args, items)
     check_speed(args.speed, items.latest)
     user = login_user(config)
-    refused = {} if user is None else refused_by_rules(items.counts, user)
-    if user is not None and refused:
-        warning = refused_warning(refused, user, config.source)
-        sys.stderr.write(f"armplan replay: warning: {warning}\n")
+    refused = {} if user is None else _refused(args, config, items, user)
     stop = stop_on_signals()
     try:
         bus = Bus.connect(config, wait=args.wait, stop=stop)
@@ -236,6 +238,26 @@ def run(args: argparse.Namespace) -> int:
             "router or peer was connected, and reached nobody",
         )
     return 0
+
+
+def _refused(
+    args: argparse.Namespace, config: BusConfig, items: Replay, user: str
+) -> dict[str, int]:
+    """The keys a secured router drops of the replay of ``user``; warn of them.
+
+    Raises:
+        InvalidInputError: if the router would drop every message (another
+            namespace than the login file's, or only keys ``user`` may not
+            publish).
+    """
+    login = load_config(args.config)  # its namespace, without --namespace
+    check_rules_namespace(user, config.namespace, login.namespace, login.source)
+    refused = refused_by_rules(items.counts, user)
+    check_publishable(refused, len(items), user, login.source, bool(args.keys))
+    if refused:
+        warning = refused_warning(refused, user, login.source)
+        sys.stderr.write(f"armplan replay: warning: {warning}\n")
+    return refused
 
 
 def _say_link(connected: bool, first: bool, config: BusConfig) -> None:
