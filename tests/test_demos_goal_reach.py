@@ -72,7 +72,8 @@ def test_a_goal_out_of_naos_reach_is_noted_and_named_by_the_experiment(
     with pytest.raises(UnreachableTargetError) as caught:
         run_similarity(read_demos(out), samples=11)
     assert caught.value.message.startswith(
-        f"{out}: subject 'mouth', trial 0 (off the grid): target ("
+        f"{out}: subject 'mouth', trial 0 (off the grid), wrist-path sample 59 "
+        "(t = 0.590 s): target ("
     )
     assert caught.value.message.endswith(
         "NAO cannot make this reach (armplan demos import notes a goal out of "
@@ -141,7 +142,8 @@ def test_with_the_palm_too_a_goal_out_of_naos_reach_fails_the_run(
     err = capsys.readouterr().err
     assert code == 1
     assert err.startswith(
-        f"armplan: error: {mouth}: subject 'mouth', trial 0 (off the grid): target ("
+        f"armplan: error: {mouth}: subject 'mouth', trial 0 (off the grid), "
+        "wrist-path sample 59 (t = 0.590 s): target ("
     )
     assert "import the demonstrations without it" in err
     assert not out.exists() or list(out.iterdir()) == []
