@@ -68,6 +68,38 @@ def test_every_decision_point_is_where_the_trajectory_passes_it(
     assert "point_times" not in result.trajectory.to_json()
 
 
+def test_a_reach_that_does_not_move_is_decided_before_the_hand_closes() -> None:
+    """Resting 0.2 s at A, then a second target at A closing the hand: the
+    second reach does not move, so all its points are where the arm stands
+    when the first rest ends, before the hand moves (they came after the
+    hand had closed, at the trajectory's end)."""
+    a = (0.12, -0.13, 0.05)
+    task = {
+        "targets": [{"position": a, "dwell": 0.2}, {"position": a, "hand": "close"}]
+    }
+    result = plan(PlanRequest.model_validate(task))
+    first, second = (d.trajectory_times for d in result.decisions)
+    assert first is not None and second is not None
+    hand = np.array(result.trajectory.hand)
+    closing = float(result.trajectory.times[np.flatnonzero(np.diff(hand))[0]])
+    arrived = first[-1] + 0.2
+    assert second == pytest.approx([arrived] * len(second))
+    assert closing == pytest.approx(arrived)
+    assert result.trajectory.duration > arrived + 0.3  # the hand's time after
+
+
+def test_a_target_at_the_resting_wrist_is_decided_at_the_start() -> None:
+    """One target where the resting arm's wrist already is, closing the hand:
+    its points at 0, not when the hand has closed."""
+    arm = load_arm("right")
+    wrist = tuple(float(x) for x in arm.fk(rest(arm.side)).wrist)
+    task = {"targets": [{"position": wrist, "hand": "close"}]}
+    result = plan(PlanRequest.model_validate(task))
+    (decision,) = result.decisions
+    assert decision.trajectory_times == [0.0] * len(decision.times)
+    assert result.trajectory.duration > 0.3
+
+
 def test_a_timed_wrist_path_s_decision_is_on_the_path_s_own_clock() -> None:
     """A wrist path played at its own times (from 2 s, at 50 Hz, so the
     decision is made on the tracker's even 100 Hz grid): each point at its

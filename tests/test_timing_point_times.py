@@ -25,7 +25,7 @@ def test_a_rest_splits_the_shared_point_into_arrival_and_departure() -> None:
     segment 1 (points 2-4) leaves it at the last, after the rest; times are
     from the first sample."""
     timed = by_index([0, 0.5, 1, 2, 2, 2, 3, 4], start=3.0)
-    got = point_times(timed, [3, 3])
+    got = point_times(timed, [3, 3], [3, 7])
     assert got == [
         pytest.approx([0.0, 0.02, 0.03]),
         pytest.approx([0.05, 0.06, 0.07]),
@@ -34,7 +34,7 @@ def test_a_rest_splits_the_shared_point_into_arrival_and_departure() -> None:
 
 def test_a_point_between_samples_is_passed_at_the_interpolated_time() -> None:
     """Index 0.4 at 10 ms and 1.6 at 20 ms: point 1 at 15 ms."""
-    assert point_times(by_index([0, 0.4, 1.6, 2]), [3]) == [
+    assert point_times(by_index([0, 0.4, 1.6, 2]), [3], [3]) == [
         pytest.approx([0.0, 0.015, 0.03])
     ]
 
@@ -58,7 +58,7 @@ def test_the_arm_is_at_each_point_when_ruckig_s_timing_passes_it(
     timed, rests = time_segments_with_rests(
         segments, motion_limits(arm.limits), rate=1000.0
     )
-    got = point_times(timed, [len(p) for p in paths])
+    got = point_times(timed, [len(p) for p in paths], rests)
     joined = [t for times in got for t in times]
     assert np.all(np.diff(joined) >= 0.0) and joined[0] == 0.0
     for k, (path, times) in enumerate(zip(paths, got, strict=True)):
@@ -67,3 +67,41 @@ def test_the_arm_is_at_each_point_when_ruckig_s_timing_passes_it(
         assert times[-1] == pytest.approx(timed.times[rests[k]])
     assert got[1][0] == pytest.approx(got[0][-1] + dwells[0])  # left after the rest
     assert got[2][0] == got[1][-1]  # no rest: left as it arrived
+
+
+def test_a_segment_that_does_not_move_is_passed_as_the_previous_rest_ends(
+    arm: ArmModel,
+) -> None:
+    """A reach with a rest of 0.2 s, then one to where the arm already is
+    with a rest of 0.45 s (a hand closing there): the second segment's points
+    are all passed when the first rest ends, not after the second rest, where
+    the path index still stands at them."""
+    a, b = arm.limits.middle, arm.limits.middle + 0.3
+    moving = a + np.linspace(0.0, 1.0, 30)[:, None] * (b - a)
+    still = np.repeat(b[None, :], 12, axis=0)
+    timed, rests = time_segments_with_rests(
+        [Segment(moving, duration=0.6, dwell=0.2), Segment(still, dwell=0.45)],
+        motion_limits(arm.limits),
+    )
+    got = point_times(timed, [30, 12], rests)
+    assert got[0][-1] == pytest.approx(timed.times[rests[0]])
+    assert got[1] == pytest.approx([got[0][-1] + 0.2] * 12)
+    assert timed.times[-1] == pytest.approx(got[1][-1] + 0.45)
+
+
+def test_a_first_segment_that_does_not_move_is_passed_at_the_start(
+    arm: ArmModel,
+) -> None:
+    """Already at the first target, resting 0.3 s there, then a reach: the
+    first segment's points at 0, the reach's first when the rest ends."""
+    a, b = arm.limits.middle, arm.limits.middle - 0.2
+    still = np.repeat(a[None, :], 8, axis=0)
+    moving = a + np.linspace(0.0, 1.0, 25)[:, None] * (b - a)
+    timed, rests = time_segments_with_rests(
+        [Segment(still, dwell=0.3), Segment(moving, duration=0.5)],
+        motion_limits(arm.limits),
+    )
+    got = point_times(timed, [8, 25], rests)
+    assert got[0] == [0.0] * 8
+    assert got[1][0] == pytest.approx(0.3)
+    assert got[1][-1] == pytest.approx(timed.times[-1])

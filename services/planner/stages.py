@@ -172,7 +172,7 @@ def timing(request: TimingRequest, limits: MotionLimits | None = None) -> Trajec
     check_samples(len(timed.times), request.rate)
     paths = [s.joint_path for s in request.segments]
     trajectory = trajectory_message(arm, paths, timed, request.method)
-    passed = point_times(timed, [len(p.times) for p in paths])
+    passed = point_times(timed, [len(p.times) for p in paths], rests)
     trajectory = trajectory.model_copy(update={"point_times": passed})
     opening = first_opening(actions)
     if opening is None:
