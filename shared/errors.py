@@ -131,7 +131,9 @@ class UnreachableTargetError(ArmplanError):
         at: Where the target came from, e.g. "wrist-path sample 37 (t = ...)".
         palm: The wanted palm direction the posture also had to meet, or
             None: with one, a target within reach may still be missed (no
-            posture within the limits turns the palm that way there).
+            posture within the limits turns the palm that way there). Only
+            the palm's roll about the forearm is turned towards it, so the
+            message says so, not that the palm faces it.
         advice: What to change, after the message (e.g. add samples), or "".
     """
 
@@ -163,7 +165,7 @@ class UnreachableTargetError(ArmplanError):
                 f"{residual * 1000:.1f} mm from it"
             )
             if palm is not None:
-                message += f" with the palm facing {_fmt_vec(palm)}"
+                message += f" with the palm's roll turned towards {_fmt_vec(palm)}"
         if advice:
             message += f": {advice}"
         super().__init__(

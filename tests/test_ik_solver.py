@@ -258,11 +258,14 @@ def test_target_behind_the_back_is_unreachable() -> None:
 def test_a_palm_no_posture_can_meet_is_named() -> None:
     """A target within reach with a palm no posture in range turns that way
     there (the right palm facing forward, 0.78 rad of roll short at best by
-    sampling): the error names the palm, not only the target."""
+    sampling): the error names the palm, not only the target, as the
+    direction the palm's roll is turned towards (only the roll about the
+    forearm is controlled: it said "with the palm facing")."""
     arm, target = load_arm("right"), np.array([0.12, -0.13, 0.05])
     assert solve(arm, target).error < 1e-5
     with pytest.raises(
-        UnreachableTargetError, match=r"mm from it with the palm facing \(1, 0, 0\)"
+        UnreachableTargetError,
+        match=r"mm from it with the palm's roll turned towards \(1, 0, 0\)$",
     ):
         solve(arm, target, palm=np.array([1.0, 0.0, 0.0]))
 
