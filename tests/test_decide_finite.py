@@ -7,6 +7,7 @@ message's validation with a pydantic traceback.
 
 from __future__ import annotations
 
+import json
 import math
 import pathlib
 
@@ -14,7 +15,13 @@ import pytest
 
 from armplan.cli.main import main
 from services.decide.decider import Decider
-from services.fit import MotionModel, default_model, fit_model, save_model
+from services.fit import (
+    MotionModel,
+    default_model,
+    fit_model,
+    load_model,
+    save_model,
+)
 from shared.demos import synthesize
 from shared.errors import InvalidInputError
 
@@ -47,8 +54,61 @@ def test_decide_with_such_a_model_file_is_an_error_not_a_traceback(
     save_model(vanishing, path)
     assert main(["decide", "--target", *TARGET, "--model", str(path)]) == 1
     err = capsys.readouterr().err
-    assert "armplan: error: the motion model cannot decide" in err
+    assert "the motion model cannot decide" in err
     assert "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["plan", "--target", *TARGET],
+        ["decide", "--target", *TARGET],
+        ["experiment", "pace", "--reaches", "1", "--chains", "1"],
+    ],
+    ids=["plan", "decide", "experiment"],
+)
+def test_a_model_file_that_cannot_decide_is_named(
+    command: list[str],
+    vanishing: MotionModel,
+    tmp_path: pathlib.Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Each in-process ``--model`` refuses such a file naming it, before any
+    work (it said only "the motion model cannot decide"): nothing written."""
+    path = tmp_path / "vanishing.json"
+    save_model(vanishing, path)
+    out = tmp_path / "out"
+    extra = ["--out", str(out)] if command[0] == "experiment" else []
+    assert main([*command, "--model", str(path), *extra]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(
+        f"armplan: error: {path}: the motion model cannot decide: its "
+    ), err
+    assert not out.exists()
+
+
+def test_fit_refuses_to_write_a_model_that_cannot_decide(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``armplan fit`` with a smoothing of 5e-324 exits 1 naming why and
+    writes nothing (it wrote the model, exit 0, which every ``--model``
+    then refused); the same demonstrations with the default smoothing fit."""
+    demos = tmp_path / "demos.mcap"
+    synth = ["--seed", "9", "--subjects", "3", "--trials", "1"]
+    assert main(["demos", "synth", "-o", str(demos), *synth]) == 0
+    out = tmp_path / "vanish.json"
+    fit = ["fit", str(demos), "-o", str(out), "--bins", "10", "--json"]
+    capsys.readouterr()
+    assert main([*fit, "--smoothing", "5e-324"]) == 1
+    assert not out.exists()
+    error = json.loads(capsys.readouterr().out)["error"]
+    assert error["message"].startswith(
+        f"the model fitted (bins 10, smoothing 5e-324) is not written to {out}: "
+        "the motion model cannot decide: its "
+    )
+    assert error["evidence"]["field"] == "smoothing"
+    assert main(fit) == 0
+    Decider(load_model(out))  # the decision can use what was written
 
 
 def test_a_g_that_is_not_finite_is_a_typed_error() -> None:

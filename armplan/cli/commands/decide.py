@@ -87,12 +87,17 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Decide and print."""
-    from services.fit import default_model, load_model
+    from services.fit import default_model
+    from services.fit.decidable import load_decidable
 
     _check_options(args)
     remote = is_remote(args)  # the service's model, not one loaded here
     model = (
-        None if remote else load_model(args.model) if args.model else default_model()
+        None
+        if remote
+        else load_decidable(args.model)  # a bad file is named
+        if args.model
+        else default_model()
     )
     if args.grid:
         return _grid(args, model)

@@ -386,11 +386,16 @@ def _at_least(value: int, low: int, name: str) -> None:
 
 
 def _stages(model: str | None) -> Any:
-    """The planner's stages in this process, with ``model`` if given."""
-    from services.fit import load_model
+    """The planner's stages in this process, with ``model`` if given.
+
+    Raises:
+        ModelFileError: naming the file: unreadable, or a model the decision
+            cannot use (``services.fit.decidable``).
+    """
+    from services.fit.decidable import load_decidable
     from services.planner.stages import LocalStages
 
-    return LocalStages(load_model(model) if model else None)
+    return LocalStages(load_decidable(model) if model else None)
 
 
 def _print(

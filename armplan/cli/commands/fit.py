@@ -13,6 +13,11 @@ is compared with their labels sample by sample: the agreement and the
 confusion matrix are printed, and the model written is the one fitted
 without them.
 
+A model the decision cannot use (tables holding a probability that rounds
+to 0, as a smoothing of 5e-324 gives) is refused before it is written
+(``services.fit.decidable``): nothing is written and the exit status is 1,
+so no ``--model`` file is made that every command would refuse.
+
 The output is checked before any work: it must be a file name in an
 existing folder and none of the demonstration files (which it would
 overwrite); a demonstration file given twice is refused (its trials would
@@ -93,6 +98,7 @@ def run(args: argparse.Namespace) -> int:
                 task, completed=done, total=total
             ),
         )
+        _check_decidable(model, args)
         save_model(model, args.output)
         agreement = None
         if held:
@@ -106,6 +112,26 @@ def run(args: argparse.Namespace) -> int:
     else:
         _print(console, model, args.output, held, agreement)
     return 0
+
+
+def _check_decidable(model: Any, args: argparse.Namespace) -> None:
+    """Refuse ``model`` if the decision cannot use it, before it is written.
+
+    Raises:
+        InvalidInputError: (field ``smoothing``) naming the output, the fit's
+            bins and smoothing, and the table that cannot decide.
+    """
+    from services.fit.decidable import check_decidable
+
+    try:
+        check_decidable(model)
+    except InvalidInputError as error:
+        raise InvalidInputError(
+            f"the model fitted (bins {args.bins}, smoothing {args.smoothing!r}) "
+            f"is not written to {args.output}: {error.message}",
+            field="smoothing",
+            table=error.evidence.get("table"),
+        ) from None
 
 
 def _split(names: list[str], hold_out: int) -> tuple[list[str], list[str]]:

@@ -205,12 +205,17 @@ def plan_trajectory(
 
 
 def _model(path: str | None) -> MotionModel | None:
-    """The ``--model`` file's model, or ``None``; ``ModelFileError`` if bad."""
+    """The ``--model`` file's model, or ``None``.
+
+    Raises:
+        ModelFileError: naming the file: unreadable, or a model the decision
+            cannot use (``services.fit.decidable``).
+    """
     if path is None:
         return None
-    from services.fit import load_model
+    from services.fit.decidable import load_decidable
 
-    return load_model(path)
+    return load_decidable(path)
 
 
 def _plan_remote(args: argparse.Namespace, request: PlanRequest) -> Trajectory:
