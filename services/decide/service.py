@@ -7,18 +7,19 @@ The handler is the planner's decide stage (``services.planner.stages.decide``)
 with the model the fit service serves, followed live (``live_model.py``): a
 model published on ``armplan/fit/model/update`` is used from the next
 request on, without a restart. Run it with ``python -m services.decide``
-(``armplan up`` does).
+(``armplan up`` does); when it stops, it stops following the fit service
+(``LiveModel.close``) before its session closes.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from typing import Any
+from collections.abc import Callable
 
 from services.decide.live_model import LiveModel
 from services.planner.stages import decide
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import DECIDE
+from shared.bus.runner import Served
 from shared.messages import DecideRequest, Decision
 
 NAME = "decide"
@@ -33,6 +34,7 @@ def deciding(model: LiveModel) -> Callable[[DecideRequest], Decision]:
     return decide_request
 
 
-def endpoints(bus: Bus) -> Sequence[Endpoint[Any, Any]]:
-    """The decide service's endpoints; it follows the fit service's model."""
-    return [Endpoint(DECIDE, deciding(LiveModel(bus)))]
+def endpoints(bus: Bus) -> Served:
+    """The decide service's endpoints; it follows fit's model until it stops."""
+    model = LiveModel(bus)
+    return Served([Endpoint(DECIDE, deciding(model))], stopped=model.close)

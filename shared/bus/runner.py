@@ -2,7 +2,8 @@
 
 Usage: ``python -m services.ik [--config FILE] [--connect tcp/HOST:PORT]``.
 It connects to the router (waiting up to ``--wait`` seconds for it), serves
-the service's endpoints until SIGTERM or SIGINT, and exits 0 (at once, also
+the service's endpoints until SIGTERM or SIGINT (then runs its ``stopped``
+hook, before the session closes), and exits 0 (at once, also
 while it still waits for the router); it exits 1 with
 the error on stderr if the configuration is wrong (a login other than the
 service's own user included) or no router answers.
@@ -36,10 +37,15 @@ class Served:
         ready: Run once the queryables and the liveliness token are
             declared (``ServiceHost``), e.g. to publish a start state that a
             client seeing the token could also ask for; ``None``: nothing.
+        stopped: Run once the service has stopped serving (its token and
+            queryables withdrawn), before the bus's session closes, also
+            when serving failed, e.g. to undeclare the service's own
+            subscribers; ``None``: nothing.
     """
 
     endpoints: Sequence[Endpoint[Any, Any]]
     ready: Callable[[], None] | None = None
+    stopped: Callable[[], None] | None = None
 
 
 #: Builds a service's endpoints (and maybe its ``ready`` hook); gets the bus
@@ -88,8 +94,12 @@ def serve(
         with Bus.connect(config, wait=args.wait, stop=stop) as bus:
             built = factory(bus)
             served = built if isinstance(built, Served) else Served(built)
-            with ServiceHost(bus, name, served.endpoints, served.ready):
-                wait_for(stop)
+            try:
+                with ServiceHost(bus, name, served.endpoints, served.ready):
+                    wait_for(stop)
+            finally:
+                if served.stopped is not None:
+                    served.stopped()
     except ArmplanError as error:
         if stop.is_set() and isinstance(error, ServiceUnavailableError):
             log.info("service %s: asked to stop before a router answered", name)
