@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -228,3 +229,51 @@ def test_killing_an_arms_tasks_stops_that_arm_only(
     assert killed["event"] == "interrupted" and killed["joints"] == ["RElbowRoll"]
     assert "killTasksUsingResources" in killed["reason"]
     assert finished["event"] == "done" and finished["joints"] == ["LElbowRoll"]
+
+
+@pytest.mark.parametrize(
+    ("call", "reason"),
+    [
+        (
+            lambda m, now: m.angleInterpolation("RWristYaw", [now], [1e300], True),
+            r"RWristYaw key 1 at t = 1e\+300 s is later than 86400 s \(a day\)",
+        ),
+        (
+            lambda m, now: m.stiffnessInterpolation("RArm", 1.0, 1e300),
+            r"RShoulderPitch key 1 at t = 1e\+300 s is later than 86400 s",
+        ),
+        (
+            lambda m, now: m.angleInterpolationWithSpeed(
+                "RWristYaw", now + (0.5 if now < 0.0 else -0.5), 1e-300
+            ),
+            r"RWristYaw key 1 at t = .* s is later than 86400 s",
+        ),
+        (
+            lambda m, now: m.angleInterpolation(
+                ["RWristYaw", "RWristYaw"], [[now], [now + 0.1]], [[1.0], [1.0]], True
+            ),
+            r"RWristYaw is named twice",
+        ),
+        (
+            lambda m, now: m.stiffnessInterpolation(["RArm", "RHand"], 1.0, 0.5),
+            r"RHand is named twice \(itself, or in a chain such as RArm\)",
+        ),
+    ],
+)
+def test_a_key_time_past_a_day_or_a_joint_named_twice_is_refused(
+    sim: SimProcess, motion: Any, call: Any, reason: str
+) -> None:
+    """Refused at once with SimCommandError, nothing booked: the right arm
+    is free after it. A key at 1e300 s used to fail the call with an
+    OverflowError and keep RWristYaw (or the arm's stiffness) booked for
+    good; a joint named twice was taken, and interrupted itself."""
+    motion.setStiffnesses("RArm", 1.0)
+    now = motion.getAngles("RWristYaw", False)[0]
+    started = time.monotonic()
+    with pytest.raises(RuntimeError, match=f"SimCommandError: {reason}"):
+        call(motion, now)
+    assert time.monotonic() - started < 1.0
+    assert motion.areResourcesAvailable(["RArm"])
+    refused = [e for e in log_of(sim) if e["event"] == "refused"]
+    assert re.search(reason, refused[-1]["reason"])
+    motion.angleInterpolation("RWristYaw", now + 0.05, 0.1, True)  # plays

@@ -4,7 +4,12 @@ ALMotion accepts, for ``angleLists`` and ``timeLists`` alike: one number
 (every joint gets that one key), a list of numbers (one key per joint, or the
 keys of the single joint named), or a list of lists (the keys of each joint).
 Every check here refuses the whole command with a
-:class:`~bridge.sim.errors.SimCommandError`; nothing is clamped.
+:class:`~bridge.sim.errors.SimCommandError`; nothing is clamped, and nothing
+of a refused command runs or books a joint. A key time of 1e300 s used to
+be accepted: the blocking call then failed with an ``OverflowError`` (not a
+refusal) and its task kept the joint booked for good, every later command
+on it ``robot_busy``; a joint named twice was accepted and interrupted
+itself.
 """
 
 from __future__ import annotations
@@ -15,9 +20,13 @@ from typing import Any, NamedTuple
 
 from bridge.sim.errors import SimCommandError
 from bridge.sim.joints import JointSpec
+from shared.messages.sample_times import MAX_SPAN
 
 #: Slack on the limits [rad, or rad/s relative]: float round-off only.
 SLACK = 1e-6
+#: Latest key time a command may have [s]: a day, the longest span of
+#: times any armplan message holds.
+MAX_KEY_TIME = MAX_SPAN
 
 
 class KeyCommand(NamedTuple):
@@ -66,7 +75,19 @@ def per_joint(value: Any, count: int, what: str) -> list[list[float]]:
 def key_commands(
     joints: list[str], values: Any, times: Any, what: str = "angleLists"
 ) -> list[KeyCommand]:
-    """Pair each joint with its keys; times must increase from above 0."""
+    """Pair each joint with its keys.
+
+    Each joint is named once; its key times [s] increase from above 0 to at
+    most :data:`MAX_KEY_TIME`.
+    """
+    seen: set[str] = set()
+    for joint in joints:
+        if joint in seen:
+            raise SimCommandError(
+                f"{joint} is named twice (itself, or in a chain such as RArm): "
+                "one command gives each joint its keys once"
+            )
+        seen.add(joint)
     value_rows = per_joint(values, len(joints), what)
     time_rows = per_joint(times, len(joints), "timeLists")
     commands = []
@@ -77,6 +98,11 @@ def key_commands(
             )
         if t[0] <= 0.0 or any(b <= a for a, b in pairwise(t)):
             raise SimCommandError(f"{joint} key times must increase from above 0: {t}")
+        if t[-1] > MAX_KEY_TIME:
+            raise SimCommandError(
+                f"{joint} key {len(t)} at t = {t[-1]:g} s is later than "
+                f"{MAX_KEY_TIME:g} s (a day), the latest key time this NAO takes"
+            )
         commands.append(KeyCommand(joint, t, v))
     return commands
 
