@@ -7,7 +7,9 @@ plays it on the robot, and writes one line per request on stdout: the
 the error was raised. The same bridge serves every line, so after a robot
 went away the next request connects again. The Zenoh bridge process wraps
 the same :class:`~bridge.robot_bridge.RobotBridge`; this is its stand-alone
-form, for a real NAO at ``tcp://IP:9559`` or the simulated one. Importing
+form, for a real NAO at ``tcp://IP:9559`` or the simulated one. At the end
+of stdin it exits once a robot it gave up on is no longer being stopped
+(``NaoqiClient.shut``, at most 30 s). Importing
 ``bridge`` first loads libqi before pinocchio (see shared/libqi.py).
 """
 
@@ -89,14 +91,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InvalidInputError as error:
         parser.error(error.message)
     replies = replies_stream()
-    client = NaoqiClient(args.robot)
     try:
-        bridge = RobotBridge(
-            client, rate=args.rate, require_awake=not args.allow_not_awake
-        )
-        serve(bridge, sys.stdin, replies)
+        with NaoqiClient(args.robot) as client:  # at its end, waits for the stops
+            bridge = RobotBridge(
+                client, rate=args.rate, require_awake=not args.allow_not_awake
+            )
+            serve(bridge, sys.stdin, replies)
     finally:
-        client.close()
         replies.flush()
     return 0
 

@@ -15,13 +15,19 @@ long call still on its way (1500 frames take over a second over a 200 kB/s
 link), and a robot that is fine would look silent. When the bridge gives a
 robot up (:meth:`NaoqiClient.halt`), both sessions go to a
 :class:`~bridge.stopper.Stopper`, which stops the arm until the call given
-up has ended; the client takes no new movement meanwhile.
+up has ended; the client takes no new movement meanwhile. Its owner ends
+with :meth:`NaoqiClient.shut` (or a ``with`` block), which waits for those
+stops before closing: the stopper is a thread of the process, and a process
+that exited under it crashed in libqi (exit 134 or 139) with the arm left
+to play the call given up on.
 """
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
+from types import TracebackType
 from typing import Any
 
 import numpy as np
@@ -31,6 +37,7 @@ from bridge.qi_future import robot_reason, wait_future
 from bridge.stopper import SETTLE, STOP_METHOD, Held, Stopper, send_stop
 from shared.errors import RobotCommandError, RobotUnavailableError
 
+log = logging.getLogger("armplan.bridge")
 #: A real NAO's NAOqi port.
 NAOQI_PORT = 9559
 
@@ -110,6 +117,40 @@ class NaoqiClient:
         with self._lock:
             self._command.close()
             self._watch.close()
+
+    def shut(self) -> bool:
+        """Wait for the stops of a call given up on (:meth:`wait_stopped`), then close.
+
+        What the client's owner does last, before its process exits (as the
+        ``with`` block does): the stops run on a thread of this process, and
+        a call still on its way would otherwise reach the robot after the
+        exit and play with no one stopping it (and libqi, its callbacks
+        reaching an interpreter that is finalizing, crashed the process:
+        exit 134 or 139). Logs a warning if the stops outlast their bound.
+
+        Returns:
+            Whether no stopper runs any more.
+        """
+        stopped = self.wait_stopped()
+        if not stopped:
+            log.warning(
+                "the bridge lets the robot go while the arm is still being "
+                "stopped: a call given up on has not ended within %g s",
+                RETIRE_AFTER,
+            )
+        self.close()
+        return stopped
+
+    def __enter__(self) -> NaoqiClient:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        self.shut()
 
     def lost(self, reason: str, elapsed: float | None = None) -> RobotUnavailableError:
         """Drop the sessions and return the error to raise for ``reason``."""

@@ -96,8 +96,7 @@ def run(args: argparse.Namespace) -> None:
     url = robot_url(args.robot)
     config = load_config(args.config, tuple(args.connect or ()))
     check_login(config, BRIDGE)  # another user's file: cut off, yet moving the robot
-    client = NaoqiClient(url)
-    try:
+    with NaoqiClient(url) as client:  # at its end, waits for the stops
         try:
             bus = Bus.connect(config, wait=args.wait, stop=stop)
         except ServiceUnavailableError:
@@ -121,24 +120,7 @@ def run(args: argparse.Namespace) -> None:
                     service.stop()  # no new command; answer the one in flight
                     if follower is not None:
                         follower.stop()
-                    _wait_for_the_stops(client)
-    finally:
-        client.close()
-
-
-def _wait_for_the_stops(client: NaoqiClient) -> None:
-    """Exit only once the arm of a call given up on is no longer being stopped.
-
-    The stops run on a thread of this process (``NaoqiClient.halt``): a
-    call still on its way to the robot would otherwise arrive after the
-    exit and play, unwatched, with no one stopping it.
-    """
-    if client.wait_stopped():
-        return
-    log.warning(
-        "exiting while the arm is still being stopped: a call given up on "
-        "has not ended within the stopper's bound"
-    )
+                    client.wait_stopped()  # holding the bridge's token meanwhile
 
 
 def main(argv: Sequence[str] | None = None) -> int:
