@@ -1,4 +1,4 @@
-"""``python -m bridge --robot URL``: the robot bridge over standard input/output.
+"""``python -m bridge [--robot URL]``: the robot bridge over standard input/output.
 
 Reads one :class:`~shared.messages.ExecuteRequest` per line (JSON) on stdin,
 plays it on the robot, and writes one line per request on stdout: the
@@ -7,7 +7,10 @@ plays it on the robot, and writes one line per request on stdout: the
 the error was raised. The same bridge serves every line, so after a robot
 went away the next request connects again. The Zenoh bridge process wraps
 the same :class:`~bridge.robot_bridge.RobotBridge`; this is its stand-alone
-form, for a real NAO at ``tcp://IP:9559`` or the simulated one. At the end
+form, for a real NAO at ``tcp://IP:9559`` or the simulated one: ``--robot``,
+else ``$ARMPLAN_ROBOT``, else the simulated NAO at ``tcp://127.0.0.1:9559``
+(:mod:`bridge.address`; an address not ``tcp://HOST:PORT`` exits 1 before
+anything is read). At the end
 of stdin it exits once a robot it gave up on is no longer being stopped
 (``NaoqiClient.shut``, at most 30 s). Importing
 ``bridge`` first loads libqi before pinocchio (see shared/libqi.py).
@@ -24,6 +27,7 @@ import time
 from collections.abc import Sequence
 from typing import TextIO
 
+from bridge.address import ROBOT_ENV, robot_url
 from bridge.awake import ALLOW_NOT_AWAKE
 from bridge.frames import check_rate
 from bridge.naoqi_client import NaoqiClient
@@ -74,8 +78,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bridge", description=__doc__)
     parser.add_argument(
         "--robot",
-        default="tcp://127.0.0.1:9559",
-        help="the robot's NAOqi address (a real NAO: tcp://IP:9559)",
+        metavar="URL",
+        help=f"the robot's NAOqi address, e.g. tcp://IP:9559 for a real NAO "
+        f"(default: ${ROBOT_ENV}, else the simulated NAO on tcp://127.0.0.1:9559)",
     )
     parser.add_argument("--rate", type=float, default=25.0, help="frame rate [Hz]")
     parser.add_argument(
@@ -90,9 +95,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         check_rate(args.rate)
     except InvalidInputError as error:
         parser.error(error.message)
+    try:
+        url = robot_url(args.robot)
+    except InvalidInputError as error:  # --robot or $ARMPLAN_ROBOT
+        parser.exit(1, f"{parser.prog}: error: {error.message}\n")
     replies = replies_stream()
     try:
-        with NaoqiClient(args.robot) as client:  # at its end, waits for the stops
+        with NaoqiClient(url) as client:  # at its end, waits for the stops
             bridge = RobotBridge(
                 client, rate=args.rate, require_awake=not args.allow_not_awake
             )
