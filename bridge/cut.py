@@ -1,7 +1,7 @@
 """A stopping bridge's order to stop the arm of the movement it plays.
 
 A bridge told to stop watches the trajectory playing to its end, but only
-for so long (``bridge.service.STOP_LIMIT``). Past that it could only leave
+for so long (``bridge.stopping.STOP_LIMIT``). Past that it could only leave
 the robot playing on, unwatched, or stop the arm: unwatched is worse than
 abrupt, so it stops the arm. :meth:`Cut.order` is given by the stop;
 ``bridge.playback`` looks at it between two readings and, once it is

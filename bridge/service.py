@@ -27,15 +27,14 @@ Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 from __future__ import annotations
 
 import logging
-import time
 from collections.abc import Sequence
 from typing import Any
 
 import zenoh
 
-from bridge.playback import HALT_WAIT, LOST_AFTER
 from bridge.robot_bridge import RobotBridge
-from bridge.serving import Serving, Slot
+from bridge.serving import Slot
+from bridge.stopping import STOP_LIMIT, stop_serving
 from shared.bus import Bus, Endpoint
 from shared.bus.deadline import REPLY_MARGIN, current_due
 from shared.bus.robot_routes import EXECUTE
@@ -48,17 +47,6 @@ from shared.errors import ArmplanError, RobotBusyError
 from shared.messages import CommandFrames, ExecuteReply, ExecuteRequest, JointState
 
 log = logging.getLogger("armplan.bridge")
-#: Longest wait, past the playing movement's end, for the request being
-#: served when the bridge stops [s] (the end counted from when its call
-#: reached the robot; longer than ``playback.OVERRUN``, after which the
-#: bridge gives the movement up itself).
-STOP_GRACE = 2.0
-#: Longest wait for the request being served when the bridge stops [s];
-#: a movement still playing then is stopped (``bridge.cut``).
-STOP_LIMIT = 30.0
-#: Longest wait for the request once its movement is ordered cut [s]: a
-#: reading's wait, then the stop's (``LOST_AFTER`` + ``HALT_WAIT``).
-CUT_WAIT = LOST_AFTER + HALT_WAIT
 
 
 class BridgeService:
@@ -149,55 +137,15 @@ class BridgeService:
 
         Its approach may end, but its trajectory is not sent: it is answered
         with "the bridge is stopping". A trajectory already playing is
-        watched to its end and answered as usual (cut short, the joints
-        would stop dead), for at most :data:`STOP_GRACE` past its expected
-        end (its duration after its call reached the robot; after its
-        approach, once that has started) and ``limit`` [s] in all. Past
-        that, the arm is stopped (its motion tasks killed: unwatched is
-        worse than abrupt) and the request answered with "the bridge is
-        stopping; it stopped the arm at about t = X s of Y s ...", within
-        :data:`CUT_WAIT`.
+        watched to its end and answered as usual, for at most ``limit`` [s];
+        past that the arm is stopped and the request answered with "the
+        bridge is stopping; it stopped the arm at about t = X s of Y s ..."
+        (:func:`~bridge.stopping.stop_serving`).
 
         Returns:
             Whether no request is being served any more.
         """
-        self.robot.stop()
-        give_up = time.monotonic() + limit
-
-        def deadline(serving: Serving, now: float) -> float:
-            return min(serving.end(now) + STOP_GRACE, give_up)
-
-        serving = self._slot.wait_free(deadline)
-        if serving is None:
-            return True
-        now = time.monotonic()
-        why = (
-            f"its movement would end past the {limit:g} s a stopping bridge "
-            "waits for it"
-            if now >= give_up
-            else f"its movement did not end {STOP_GRACE:g} s past its expected end"
-        )
-        if serving.moving:
-            log.warning("stop: %s; stopping the arm", why)
-        self.robot.cut_short(why)
-        cut_at = time.monotonic()
-        serving = self._slot.wait_free(lambda _s, _now: cut_at + CUT_WAIT)
-        if serving is None:
-            return True
-        if serving.moving:
-            log.warning(
-                "stop: a request is still being served; leaving it: the arm was "
-                "ordered stopped %.1f s ago, but its request has not ended "
-                "(its movement ends in about %.1f s)",
-                CUT_WAIT,
-                max(serving.end(time.monotonic()) - time.monotonic(), 0.0),
-            )
-        else:
-            log.warning(
-                "stop: a request is still being served; leaving it: nothing was "
-                "sent for it, and nothing will be"
-            )
-        return False
+        return stop_serving(self.robot, self._slot, limit)
 
     def _publish_state(self, state: JointState) -> None:
         """Publish a measured state; none once the bus has closed.

@@ -33,9 +33,10 @@ from bridge.frames import DEFAULT_RATE
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.naoqi_client import RETIRE_AFTER, NaoqiClient
 from bridge.robot_bridge import RobotBridge
-from bridge.service import CUT_WAIT, STOP_GRACE, STOP_LIMIT, BridgeService
+from bridge.service import BridgeService
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
+from bridge.stopping import CUT_WAIT, STOP_GRACE, STOP_LIMIT
 from shared.bus import Bus, ServiceHost, load_config
 from shared.bus.robot_routes import BRIDGE, EXECUTE
 from shared.errors import ArmplanError, ServiceUnavailableError

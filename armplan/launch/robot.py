@@ -49,8 +49,8 @@ START_TIMEOUT = 60.0
 GRACE = 5.0
 #: Time the bridge gets to exit after SIGTERM before SIGKILL [s]: its own
 #: bound on the wait for a trajectory still playing on a robot
-#: (``bridge.service.STOP_LIMIT``, 30 s), the time to stop the arm of one
-#: that plays longer and answer its caller (``bridge.service.CUT_WAIT``,
+#: (``bridge.stopping.STOP_LIMIT``, 30 s), the time to stop the arm of one
+#: that plays longer and answer its caller (``bridge.stopping.CUT_WAIT``,
 #: 1.25 s), the stops that follow a call still on its way until it ends
 #: (``bridge.naoqi_client.RETIRE_AFTER``, 30 s, over a very slow link
 #: only), and some to exit. Cut short, the arm would play on unwatched
