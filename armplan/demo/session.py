@@ -2,7 +2,10 @@
 
 :func:`run_demo` is ``armplan demo`` without its command line:
 
-1. the task file is read (a bad one fails before anything starts);
+1. the task file is read and the task planned in this process
+   (:mod:`armplan.demo.task_plan`): a bad one, a target the IK cannot reach
+   or a task too long fails before anything starts, naming the file and
+   the phase;
 2. every process starts (:class:`~armplan.demo.stack.DemoStack`);
 3. the task is planned by the planner service (``<ns>/plan``), which calls
    decide, ik and timing and publishes each part, and its exports' frames
@@ -44,6 +47,7 @@ from armplan.demo.stack import (
     DemoStack,
 )
 from armplan.demo.task import DEFAULT_TASK, Task, load_task
+from armplan.demo.task_plan import check_task_plans
 from bridge.choregraphe import timeline_fps
 from bridge.frames import DEFAULT_RATE
 from shared.bus import Bus, BusConfig
@@ -140,7 +144,8 @@ def run_demo(
     Raises:
         InvalidInputError: ``options.out`` cannot be a folder, another
             demo is writing into it, it holds a file of an output's name
-            that no earlier demo wrote, the task file is bad, or the frame
+            that no earlier demo wrote, the task file is bad or its task
+            cannot be planned (naming the phase and target), or the frame
             rate is no whole number (``behavior.xar`` needs one), all before
             anything starts.
         ArmplanError: a step failed (everything started is stopped first;
@@ -149,6 +154,7 @@ def run_demo(
     timeline_fps(options.rate, "the demo's frame rate")
     check_output_folder(options.out)
     task = load_task(options.task)
+    check_task_plans(task, options.task)  # a target the IK misses, too long
     with claimed_folder(options.out):
         return _run_in(options, task, say, stop)
 
