@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from armplan.cli.palm_line import palm_line
 from armplan.demo.outputs import Execution
 from armplan.demo.session import DemoResult
 from armplan.demo.task import Phase
@@ -23,14 +24,25 @@ def summary_lines(result: DemoResult) -> list[str]:
 
 
 def task_lines(run: Execution) -> list[str]:
-    """The task's phases with their wrist targets."""
+    """The task's phases with their wrist targets.
+
+    Under a phase, the palm wanted and reached at each of its targets that
+    asks for a palm direction (``Trajectory.palm_reached``).
+    """
     task = run.task
     lines = [
         f"task {task.name!r}: {task.arm.value} arm, {len(task.phases)} phases, "
         f"{len(task.targets())} wrist targets (torso frame)"
     ]
+    palms = iter(run.trajectory.palm_reached or [None] * len(task.targets()))
     for number, phase in enumerate(task.phases, 1):
         lines.append(f"  {number}. {phase.name:<26} {_targets(phase)}")
+        for target_number, _ in enumerate(phase.targets, 1):
+            reached = next(palms)
+            if reached is not None:
+                lines.append(
+                    "     " + palm_line(reached, f" at target {target_number}")
+                )
     return lines
 
 
