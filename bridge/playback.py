@@ -351,6 +351,11 @@ def _began_moving(client: NaoqiClient, names: list[str], arrival: _Arrival) -> b
     return bool(np.abs(now - mark).max() > MOVED)
 
 
+#: Words of a failed call's reason that say its motion task was killed
+#: (the sim's "angleInterpolation was interrupted: killAll"), lower case.
+KILL_WORDS = ("kill", "interrupt")
+
+
 def _ended_early(
     client: NaoqiClient,
     names: list[str],
@@ -361,17 +366,27 @@ def _ended_early(
     """The error for a call on ``names`` ended at ``played`` of ``duration`` [s].
 
     ``failed``: the robot's reason if the call failed, None if it returned.
-    The words say whether the arm is limp now (``arm_state.limp_joint``):
-    a rest or the fall manager releases it as it kills the call.
+    A kill is said only where it is one: a call that returned early, or a
+    reason naming a kill or an interruption (:data:`KILL_WORDS`); another
+    failure (the sim's log on a full disk failed the call) is said as it
+    is. The words say whether the arm is limp now
+    (``arm_state.limp_joint``): a rest or the fall manager releases it as
+    it kills the call.
     """
     how = "returned" if failed is None else f'failed ("{failed}")'
+    killed = failed is None or any(w in failed.lower() for w in KILL_WORDS)
+    cause = (
+        ": its motion task was killed, by killAll, killTasksUsingResources, "
+        "the fall manager or another client"
+        if killed
+        else ""
+    )
     limp = limp_joint(client, names)
     stopped = "the arm stopped where it was then"
     return RobotStateError(
         client.url,
         f"the robot ended the movement at t = {played:.2f} s of {duration:.2f} s "
-        f"(its call {how} before its last key: its motion task was killed, by "
-        "killAll, killTasksUsingResources, the fall manager or another client)",
+        f"(its call {how} before its last key{cause})",
         outcome=stopped
         if limp is None
         else f"{stopped} and is limp ({limp}): a rest, the fall manager or "

@@ -23,11 +23,16 @@ monotonic clock) and ``event``:
   ``t`` is the time the cycle committed those positions, so a line written
   late still gives the motor's true speed.
 - ``stop``: the sim is shutting down.
+
+If the file cannot be written (a full disk), the sim stops writing it with
+one warning on stderr naming it; its ALMotion calls go on.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
+import sys
 import threading
 import time
 from collections import deque
@@ -105,8 +110,29 @@ class SimLog:
         with self._lock:
             self._entries.append(entry)
             if self._file is not None:
-                self._file.write(line + "\n")
-                self._file.flush()
+                self._append(line)
+
+    def _append(self, line: str) -> None:
+        """Append ``line`` to the file; on a write error, stop writing it.
+
+        A full disk (or a file size limit) must not fail the ALMotion call
+        being logged (the bridge took it for a killed motion): the sim says
+        so once on stderr, naming the file, and keeps the log in memory.
+        """
+        assert self._file is not None
+        try:
+            self._file.write(line + "\n")
+            self._file.flush()
+        except OSError as error:
+            name = self._file.name
+            with contextlib.suppress(OSError):  # its buffer cannot be written
+                self._file.close()
+            self._file = None
+            sys.stderr.write(
+                f"sim: warning: stopped writing the sim log {name}: "
+                f"{error.strerror}; later entries are kept in memory only\n"
+            )
+            sys.stderr.flush()
 
     def entries(self) -> list[dict[str, Any]]:
         """A copy of the entries kept in memory."""
@@ -117,7 +143,8 @@ class SimLog:
         """Close the file."""
         with self._lock:
             if self._file is not None:
-                self._file.close()
+                with contextlib.suppress(OSError):  # said at the failed write
+                    self._file.close()
                 self._file = None
 
 
