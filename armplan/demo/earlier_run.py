@@ -6,7 +6,9 @@ them behind), but only files an earlier demo wrote: each run lists the files
 it writes in a hidden file, :data:`LIST_FILE`, before it writes any. A file
 of one of those names that no earlier run listed (the user's own
 ``play.py``, say) stops the run before anything starts, naming the file;
-other files (``logs/nao.log``) are never touched.
+other files (``logs/nao.log``) are never touched. A ``<name>.partial``
+file beside a listed ``name`` (a run killed while it wrote its outputs) is
+that run's too, and removed.
 
 A folder without that list that holds at least :data:`OLD_RUN_FILES` of
 the demo's files and nothing else is a demo's from before the list existed,
@@ -34,7 +36,10 @@ OWN_PREFIX = ".armplan-demo"
 
 
 def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") -> None:
-    """Remove an earlier demo's ``names`` from ``out``, then list them as this run's.
+    """Remove an earlier demo's files from ``out``, then list ``names`` as this run's.
+
+    An earlier demo's files are the ``names`` its list holds and their
+    ``<name>.partial`` files (left by a run killed while it wrote).
 
     Args:
         out: The output folder (it exists).
@@ -47,7 +52,7 @@ def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") 
             is a file: naming that path; nothing removed.
     """
     _check_folders(out, names, option)
-    _check_partials(out, names, option)
+    leftovers = _earlier_partials(out, names, option)
     present = [name for name in names if _present(out / name)]
     earlier, why = _listed(out), "is not from an earlier armplan demo"
     if present and not (out / LIST_FILE).exists():
@@ -64,6 +69,8 @@ def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") 
             )
     for name in present:
         (out / name).unlink()
+    for partial in leftovers:
+        partial.unlink()
     _write_list(out, names, option)
 
 
@@ -134,25 +141,35 @@ def _look(out: Path, names: Sequence[str]) -> _Look:
     return _Look(count, None)
 
 
-def _check_partials(out: Path, names: Sequence[str], option: str) -> None:
-    """Refuse if a ``<name>.partial`` stands where the demo writes ``name`` through it.
+def _earlier_partials(out: Path, names: Sequence[str], option: str) -> list[Path]:
+    """The ``<name>.partial`` files an earlier run left; refuse any other.
 
     The outputs are written under those names first, then renamed
     (``replaced_together``): a user's file there would be overwritten and
-    removed, a folder there found only once the robot had moved.
+    removed, a folder there found only once the robot had moved. A regular
+    file ``<name>.partial`` where an earlier run's list names ``name`` is
+    that run's, left by a kill (SIGKILL) while it wrote: the caller removes it.
 
     Raises:
-        InvalidInputError: naming the first such path.
+        InvalidInputError: naming the first such path that is not an
+            earlier run's.
     """
+    listed = _listed(out)
+    leftovers = []
     for name in names:
         partial = out / f"{name}.partial"
-        if _present(partial):
-            raise InvalidInputError(
-                f"cannot write into {out} ({option}): {partial} stands where the "
-                f"demo writes {name} first; move it away or give another {option}",
-                field=option.lstrip("-"),
-                path=str(partial),
-            )
+        if not _present(partial):
+            continue
+        if name in listed and partial.is_file() and not partial.is_symlink():
+            leftovers.append(partial)
+            continue
+        raise InvalidInputError(
+            f"cannot write into {out} ({option}): {partial} stands where the "
+            f"demo writes {name} first; move it away or give another {option}",
+            field=option.lstrip("-"),
+            path=str(partial),
+        )
+    return leftovers
 
 
 def _check_folders(out: Path, names: Sequence[str], option: str) -> None:
