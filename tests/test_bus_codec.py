@@ -50,11 +50,12 @@ def test_a_valid_request_gets_the_reply_json() -> None:
     "payload,field,words",
     [
         (b'{"position": [1, 2', "message", "not valid JSON"),
-        (b'{"target": [1, 2, 3]}', "position", "Field required"),
+        (b'{"target": [1, 2, 3]}', "target", "not a field (did you mean position?)"),
+        (b"{}", "position", "Field required"),
         (b'{"position": [NaN, 0, 0]}', "position.0", "finite number"),
         (b"\xff\xfe", "message", "not valid JSON"),
     ],
-    ids=["malformed", "wrong-schema", "nan", "not-utf8"],
+    ids=["malformed", "wrong-schema", "missing", "nan", "not-utf8"],
 )
 def test_bad_requests_get_invalid_input(payload: bytes, field: str, words: str) -> None:
     """Malformed JSON, the wrong schema and NaN: invalid_input naming the field."""

@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Sequence
+from difflib import SequenceMatcher
 from typing import Annotated, Any, ClassVar, TypeVar
 
 from pydantic import (
@@ -108,18 +109,61 @@ M = TypeVar("M", bound=BaseModel)
 
 
 def describe_validation_error(error: ValidationError) -> tuple[str, str]:
-    """(field path, readable message) of the first problem in ``error``."""
-    first = error.errors()[0]
-    loc = ".".join(str(part) for part in first["loc"]) or "message"
+    """(field path, readable message) of the first problem in ``error``.
+
+    A key that is no field beside a field that is missing, in one object
+    (``{"phase": ...}`` for ``phases``), is a misspelt key: it is told first,
+    with the field it may have meant, not as "Field required; and 1 more
+    problem".
+    """
+    errors = error.errors()
+    misspelt = _misspelt_key(errors)
+    if misspelt is not None:
+        extra, missing = misspelt
+        loc, meant = _dotted(extra["loc"]), _dotted(missing["loc"])
+        problem = f"{loc} is not a field (did you mean {meant}?)"
+        return loc, problem + _more(len(errors) - 2)
+    first = errors[0]
+    loc = _dotted(first["loc"])
     problem = first["msg"].removeprefix("Value error, ")
     if "input" in first and first["type"] not in ("missing",):
         shown = repr(first["input"])
         if len(shown) > 60:
             shown = shown[:57] + "..."
         problem = f"{problem} (got {shown})"
-    more = len(error.errors()) - 1
-    suffix = f"; and {more} more problem{'s' if more > 1 else ''}" if more > 0 else ""
-    return loc, f"{loc}: {problem}{suffix}"
+    return loc, f"{loc}: {problem}{_more(len(errors) - 1)}"
+
+
+def _misspelt_key(errors: Sequence[Any]) -> tuple[Any, Any] | None:
+    """(the extra key's error, the missing field's) of one object, or None.
+
+    The first missing field beside which a key that is no field stands; of
+    several such keys, the one whose name is closest to the field's.
+    """
+    for missing in (e for e in errors if e["type"] == "missing"):
+        where, name = tuple(missing["loc"][:-1]), str(missing["loc"][-1])
+        extras = [
+            e
+            for e in errors
+            if e["type"] == "extra_forbidden" and tuple(e["loc"][:-1]) == where
+        ]
+        if extras:
+            closest = max(
+                extras,
+                key=lambda e: SequenceMatcher(None, str(e["loc"][-1]), name).ratio(),
+            )
+            return closest, missing
+    return None
+
+
+def _dotted(loc: Sequence[int | str]) -> str:
+    """A field's path as ``phases.0.targets`` (``message`` for the whole)."""
+    return ".".join(str(part) for part in loc) or "message"
+
+
+def _more(count: int) -> str:
+    """``; and N more problems`` for ``count`` other problems, or ``""``."""
+    return f"; and {count} more problem{'s' if count > 1 else ''}" if count > 0 else ""
 
 
 def parse(cls: type[M], data: str | bytes | dict[str, Any] | M) -> M:
