@@ -159,10 +159,34 @@ def replaced_when_done(path: Path) -> Iterator[Path]:
             partial.unlink()
 
 
+class PartialFiles(list[Path]):
+    """The ``<name>.partial`` files of :func:`replaced_together`, in its order.
+
+    A list of paths (unpacked as one), and :meth:`write_text`, which notes
+    the file it writes: a ``write()`` that fails (a full disk, ``ulimit
+    -f``, an I/O error) raises an ``OSError`` without a file name, and the
+    note is how the error names the file.
+
+    Attributes:
+        writing: The partial file being written by :meth:`write_text`, or
+            ``None`` between writes.
+    """
+
+    def __init__(self, partials: Sequence[Path]) -> None:
+        super().__init__(partials)
+        self.writing: Path | None = None
+
+    def write_text(self, partial: Path, text: str) -> None:
+        """Write ``text`` (UTF-8) to ``partial``, one of these files."""
+        self.writing = partial
+        partial.write_text(text, encoding="utf-8")
+        self.writing = None
+
+
 @contextlib.contextmanager
 def replaced_together(
     paths: Sequence[Path], field: str = "out"
-) -> Iterator[list[Path]]:
+) -> Iterator[PartialFiles]:
     """``<name>.partial`` files to write, renamed to ``paths`` when the block ends.
 
     For files that belong together (an experiment's JSON, tables and
@@ -172,6 +196,10 @@ def replaced_together(
     touched: an older set of these files stays whole, not half new. The
     partial files are removed in every case.
 
+    An ``OSError`` the block raises is this function's typed error if it
+    names a partial file, or, without a file name (a failed ``write()``),
+    if it came from :meth:`PartialFiles.write_text`.
+
     Args:
         paths: The files to write, in one folder.
         field: The option naming the folder, for the error's evidence.
@@ -180,13 +208,14 @@ def replaced_together(
         InvalidInputError: naming the file that cannot be written or
             replaced (not its partial name), and the operating system's reason.
     """
-    partials = [path.with_name(path.name + ".partial") for path in paths]
+    partials = PartialFiles([path.with_name(path.name + ".partial") for path in paths])
     try:
         try:
             yield partials
         except OSError as exc:  # name the file asked for, not its partial
             final = dict(zip(map(str, partials), paths, strict=True))
-            path = final.get(str(exc.filename))
+            named = partials.writing if exc.filename is None else exc.filename
+            path = final.get(str(named))
             if path is None:
                 raise
             raise InvalidInputError(

@@ -9,6 +9,7 @@ import stat
 import subprocess
 import sys
 import threading
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -156,3 +157,69 @@ def test_dev_stdout_into_a_pipe_is_written() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=60
     )
     assert (done.returncode, done.stdout) == (0, "keys\n"), done.stderr
+
+
+def test_a_write_cut_short_in_a_set_names_the_file(older: list[Path]) -> None:
+    """The second of three files, 10 kB, in a process allowed 4 kB files:
+    write() fails with EFBIG and no file name (as on a full disk). It was
+    that raw OSError, a traceback out of ``armplan demo``; now the typed
+    error names result.md (not its partial name), the older set stays
+    whole and no partial file is left."""
+    code = (
+        "import sys\n"
+        "from pathlib import Path\n"
+        "from shared.errors import InvalidInputError\n"
+        "from shared.output_paths import replaced_together\n"
+        "paths = [Path(p) for p in sys.argv[1:]]\n"
+        "try:\n"
+        "    with replaced_together(paths) as partials:\n"
+        "        partials.write_text(partials[0], 'newer')\n"
+        "        partials.write_text(partials[1], 'x' * 10_000)\n"
+        "        partials.write_text(partials[2], 'newer')\n"
+        "except InvalidInputError as error:\n"
+        "    print(error.message, error.field)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, *map(str, older)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        preexec_fn=_small_files,
+        check=False,
+    )
+    assert (done.returncode, done.stdout) == (
+        0,
+        f"cannot write {older[1]}: File too large out\n",
+    ), done.stderr
+    assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES}
+
+
+@pytest.fixture
+def full_disk(tmp_path: Path) -> Iterator[Path]:
+    """A folder on a 64 kB tmpfs, unmounted after; skipped where mounting is
+    not permitted (no root, a container without the privilege)."""
+    folder = tmp_path / "tiny"
+    folder.mkdir()
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs: {mounted.stderr.strip()}")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], timeout=30, check=True)
+
+
+def test_a_full_disk_names_the_file(full_disk: Path) -> None:
+    """A real full disk (ENOSPC from write(), no file name): the typed error
+    names the file and says 'No space left on device'; nothing is left."""
+    paths = [full_disk / name for name in NAMES]
+    with pytest.raises(InvalidInputError) as caught, replaced_together(paths) as new:
+        new.write_text(new[0], "x" * 200_000)
+    assert caught.value.message == f"cannot write {paths[0]}: No space left on device"
+    assert list(full_disk.iterdir()) == []

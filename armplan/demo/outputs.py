@@ -83,6 +83,10 @@ def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
     They are written as a set (``replaced_together``): a SIGTERM or a failed
     write in the middle leaves none of them, not a ``behavior.xar`` without
     the trajectory and report it came with.
+
+    Raises:
+        InvalidInputError: a file cannot be written (a full disk), naming
+            it and the operating system's reason.
     """
     files = {
         "trajectory": out / TRAJECTORY_FILE,
@@ -99,7 +103,7 @@ def write_outputs(out: Path, run: Execution) -> dict[str, Path]:
     ]
     with replaced_together(list(files.values())) as partials:
         for partial, text in zip(partials, texts, strict=True):
-            partial.write_text(text, encoding="utf-8")  # an OSError names the file
+            partials.write_text(partial, text)  # a failed write names the file
     return files
 
 
