@@ -13,10 +13,13 @@ release sets 0), it
 reads where the arm is (its sensors); if that is more than
 :data:`HOLD_TOLERANCE` from the command, the command is first moved to the
 measured angles, a call the limp motors do not follow, so that stiffening
-holds the arm where it is and the approach starts from there. The arm's
-joints only: a hand (``RHand``) closed on an object reads the object's
-width, and its command moved there would open the grip (its command is
-kept, whatever its stiffness).
+holds the arm where it is and the approach starts from there. A hand
+(``RHand``) is held the same way when it is limp itself: let go open, it
+sags, and stiffened it snapped back to its command at its top speed (0.5
+to 1.0 at 8.3 /s from standstill on the simulated NAO), arm stiff or not.
+A stiff hand's command is kept: closed on an object it reads the object's
+width, and its command moved there would open the grip (a limp hand grips
+nothing; the approach closes it again at the approach's pace).
 
 An arm let go falls: on a NAO for about 0.3 s. Read while falling, its
 posture is one it has already fallen past by the time the command is
@@ -41,7 +44,7 @@ from bridge.timeline_keys import is_hand
 
 #: Measured and commanded angles further apart than this on an arm that is
 #: limp (a joint's stiffness below ``arm_state.LIMP``): the command is
-#: moved to the measured angles first [rad].
+#: moved to the measured angles first [rad; open fraction for a hand].
 HOLD_TOLERANCE = math.radians(0.5)
 #: The command moves to the measured angles at most at this share of the
 #: speed limits (the limp motors do not follow it; a motor with some
@@ -63,32 +66,44 @@ SETTLE_WAIT = 1.0
 def limp_posture(client: NaoqiClient, names: list[str]) -> np.ndarray | None:
     """Where a limp arm is [rad], (n,), if its command is elsewhere.
 
-    Reads only: nothing is sent. None if no joint of ``names`` is limp (its
-    stiffness below ``arm_state.LIMP``: an arm Smart Stiffness has softened
-    is not), or the measured angles, once at rest (:func:`settled_angles`),
-    are within :data:`HOLD_TOLERANCE` of the commanded ones.
+    Reads only: nothing is sent. The joints held are the arm's (all of
+    ``names`` but a hand) if any of them is limp (its stiffness below
+    ``arm_state.LIMP``: an arm Smart Stiffness has softened is not), and
+    a hand that is limp itself. None if no joint is held, or the measured
+    angles of those held, once at rest (:func:`settled_angles`), are within
+    :data:`HOLD_TOLERANCE` of the commanded ones. Else the measured angles
+    of the joints held and the commanded angles of the others (a stiff
+    hand's command stays).
 
     Raises:
         RobotBusyError: the arm was still moving after :data:`SETTLE_WAIT`.
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot gave angles that are not numbers.
     """
-    arm = _arm(names)
-    joints = [names[k] for k in arm]
-    if not joints or np.all(client.stiffnesses(joints) >= LIMP):
+    held = _limp(client, names)
+    if not held:
         return None
+    joints = [names[k] for k in held]
     measured = settled_angles(client, joints)
     commanded = read_angles(client, names, use_sensors=False)
-    if np.abs(measured - commanded[arm]).max() <= HOLD_TOLERANCE:
+    if np.abs(measured - commanded[held]).max() <= HOLD_TOLERANCE:
         return None
     where = commanded.copy()
-    where[arm] = measured
+    where[held] = measured
     return where
 
 
-def _arm(names: list[str]) -> list[int]:
-    """Indices of the arm's joints among ``names``: all but a hand."""
-    return [k for k, name in enumerate(names) if not is_hand(name)]
+def _limp(client: NaoqiClient, names: list[str]) -> list[int]:
+    """Indices among ``names`` of the joints to hold where they are.
+
+    The arm's joints (all but a hand) if any of them is limp, and each hand
+    that is limp itself.
+    """
+    stiffness = client.stiffnesses(names)
+    limp = ~(stiffness >= LIMP)  # NaN counts as limp
+    arm = [k for k, name in enumerate(names) if not is_hand(name)]
+    arm_limp = bool(np.any(limp[arm]))
+    return [k for k in range(len(names)) if limp[k] or (arm_limp and k in arm)]
 
 
 def settled_angles(
@@ -125,7 +140,8 @@ def hold_command(
 
     ``limits`` are those of ``names``, in order. The keys' single step keeps
     within :data:`HOLD_SPEED` of the speed limits from the present command.
-    A hand among ``names`` is left out: its command stays.
+    A joint whose ``where`` is its command (a stiff hand, from
+    :func:`limp_posture`) is sent that command: it stays.
 
     Returns:
         The move's length [s].
@@ -134,17 +150,15 @@ def hold_command(
         RobotUnavailableError: the robot cannot be reached.
         RobotCommandError: the robot refused the call.
     """
-    arm = _arm(names)
-    joints = [names[k] for k in arm]
-    commanded = client.get_angles(joints, use_sensors=False)
-    target = np.asarray(where)[arm]
-    speed = HOLD_SPEED * np.asarray(limits.velocity)[arm]
+    commanded = client.get_angles(names, use_sensors=False)
+    target = np.asarray(where)
+    speed = HOLD_SPEED * np.asarray(limits.velocity)
     duration = max(HOLD_SHORTEST, float(np.max(np.abs(target - commanded) / speed)))
     client.call(
         "angleInterpolation",
-        joints,
+        names,
         [[float(angle)] for angle in target],
-        [[duration]] * len(joints),
+        [[duration]] * len(names),
         True,
         timeout=duration + client.call_timeout,
     )

@@ -290,15 +290,16 @@ def test_an_approach_with_a_hand_closed_on_an_object_arrives(
 
 
 def test_a_limp_arm_gripping_keeps_its_hand_command(gripping: SimProcess) -> None:
-    """The arm let go while its hand holds an object: the hand's command (0,
-    shut) was moved to its measured opening (0.3) before stiffening, so the
-    grip would let go. Now only the arm's joints are held; the hand's
+    """The arm let go while its hand, still stiff, holds an object: the
+    hand's command (0, shut) was moved to its measured opening (0.3) before
+    stiffening, so the grip would let go. Now a stiff hand is not held; its
     command stays shut."""
     bridge = RobotBridge(NaoqiClient(gripping.url))
     with _motion(gripping.url) as motion:
-        motion.setStiffnesses("RArm", 0.0)
+        motion.setStiffnesses(list(FrameLimits.for_arm("right").names), 0.0)
         time.sleep(0.1)  # one control cycle's ramp
-        assert motion.getStiffnesses("RHand")[0] == 0.0
+        assert motion.getStiffnesses("RShoulderPitch")[0] == 0.0
+        assert motion.getStiffnesses("RHand")[0] == 1.0
     assert gripping.log_path is not None
     cut = _calls(gripping.log_path, "setStiffnesses")[-1]["t"]
     reach = _closed_hand(
@@ -309,6 +310,63 @@ def test_a_limp_arm_gripping_keeps_its_hand_command(gripping: SimProcess) -> Non
         if call["t"] > cut and "RHand" in call["names"]:
             hand = call["angles"][call["names"].index("RHand")]
             assert max(hand) < 0.05, call
+
+
+@pytest.mark.parametrize("let_go", ["RHand", "RArm"])
+def test_a_limp_hand_is_held_where_it_sagged_not_snapped_back(
+    tmp_path: Path, let_go: str
+) -> None:
+    """The hand held open (1.0) is let go (alone, or with its arm) and sags
+    to 0.5; the next request stiffened it with its command still at 1.0,
+    and it snapped back at its top speed (8.3 /s from standstill, over 1000
+    /s^2) with "approach 0.0". Now a limp hand is held where it sagged like
+    the arm, and the approach opens it again within the hand's limits."""
+    start = np.array(forward("right"))
+    still = minimum_jerk_trajectory("right", [start, start], [0.5])
+    opened = still.model_copy(
+        update={
+            "hand": [1.0] * len(still.times),
+            "hand_velocities": None,
+            "hand_accelerations": None,
+        }
+    )
+    samples: list[tuple[float, float]] = []
+    with _sagging(tmp_path, 0.5) as sim, _motion(sim.url) as motion:
+        bridge = RobotBridge(NaoqiClient(sim.url))
+        bridge.execute(opened)
+        motion.setStiffnesses(let_go, 0.0)
+        time.sleep(0.7)  # sagged 0.5 s at 1 /s
+        assert motion.getAngles("RHand", True)[0] == pytest.approx(0.5, abs=0.01)
+        done = threading.Event()
+
+        def sample() -> None:
+            while not done.is_set():
+                hand = motion.getAngles("RHand", True)[0]
+                samples.append((time.monotonic(), hand))
+                time.sleep(0.005)
+
+        sampler = threading.Thread(target=sample)
+        sampler.start()
+        try:
+            reply = bridge.execute(opened)
+        finally:
+            done.set()
+            sampler.join()
+        arrived = motion.getAngles("RHand", True)[0]
+    t, hand = np.array(samples).T
+    grid = np.arange(t[0], t[-1], 0.02)  # one control cycle
+    speed = np.diff(np.interp(grid, t, hand)) / 0.02
+    acceleration = np.diff(speed) / 0.02
+    limits = FrameLimits.for_arm("right").with_hand("right")
+    print(
+        f"\nhand: fastest {np.abs(speed).max():.2f} /s (limit "
+        f"{limits.velocity[-1]:.2f}), {np.abs(acceleration).max():.1f} /s^2 "
+        f"(limit {limits.acceleration[-1]:.1f})"
+    )
+    assert reply.approach_duration > 0.0
+    assert arrived == pytest.approx(1.0, abs=0.01)
+    assert np.abs(speed).max() < 0.5 * limits.velocity[-1]
+    assert np.abs(acceleration).max() < limits.acceleration[-1]
 
 
 def test_a_connection_made_again_after_the_checks_sends_nothing(
