@@ -14,14 +14,18 @@ and then calls ``motion.angleInterpolation(names, keys, times, True)``. The
 script written here has exactly that block, plus a runner that works on
 Python 2 (NAOqi's ``naoqi`` module) and Python 3 (the ``qi`` package):
 connect to ALMotion (``tcp://127.0.0.1:9559`` or the address given as first
-argument), stiffen the joints, move slowly to the start posture
-(``angleInterpolationWithSpeed``, 20 % of the speed limits), then play.
+argument), refuse a robot not awake, stiffen the joints where they are (a
+limp arm's command first moved to where it hangs: ``bridge.script_stiffen``),
+move slowly to the start posture (``angleInterpolationWithSpeed``, 20 % of
+the speed limits), then play. A refusal prints ``play.py: error: ...`` and
+exits 1.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
+from bridge.script_stiffen import STIFFEN_SOURCE
 from shared.messages import CommandFrames
 from shared.output_paths import write_output_text
 
@@ -43,7 +47,7 @@ def main(url="tcp://127.0.0.1:9559"):
 
         host, port = url.split("://")[-1].split(":")
         motion = ALProxy("ALMotion", host, int(port))
-    motion.setStiffnesses(names, 1.0)
+    stiffen_where_it_is(motion, names)
     motion.angleInterpolationWithSpeed(names, start, {speed})
     motion.angleInterpolation(names, keys, times, True)
 
@@ -51,7 +55,10 @@ def main(url="tcp://127.0.0.1:9559"):
 if __name__ == "__main__":
     import sys
 
-    main(*sys.argv[1:2])
+    try:
+        main(*sys.argv[1:2])
+    except RuntimeError as error:
+        sys.exit("play.py: error: %s" % error)
 '''
 
 
@@ -85,7 +92,7 @@ def python_script(frames: CommandFrames) -> str:
             "",
         ]
     lines.append(f"start = {_numbers(list(frames.start))}")
-    return "\n".join(lines) + _RUNNER.format(speed=START_SPEED)
+    return "\n".join(lines) + STIFFEN_SOURCE + _RUNNER.format(speed=START_SPEED)
 
 
 def write_python(frames: CommandFrames, path: str | Path) -> Path:

@@ -6,10 +6,14 @@ behavior), the runtime would ask the arm to be at the start at once, and
 from rest the demo's RShoulderPitch would need almost five times its speed
 limit to reach the next key. The behavior therefore starts with a Python
 script box, as Choregraphe behaviors do, which stiffens the arm's joints (and
-the hand, for a trajectory that moves it: ``bridge.hand``) and moves them to
-the start posture with ``ALMotion.angleInterpolationWithSpeed`` at
+the hand, for a trajectory that moves it: ``bridge.hand``) where they are (a
+limp arm's command first moved to where it hangs, so it does not snap back;
+a robot not awake refused: ``bridge.script_stiffen``), moves them to the
+start posture with ``ALMotion.angleInterpolationWithSpeed`` at
 ``START_SPEED`` of their speed limits (as ``play.py`` does), then fires its
-``onStopped`` output, linked to the timeline box's ``onStart``.
+``onStopped`` output, linked to the timeline box's ``onStart``. Refused,
+``onInput_onStart`` raises ``RuntimeError`` (the runtime reports the box's
+error) and ``onStopped`` does not fire: the timeline never starts.
 
 Stopped before the arm is there (its ``onStop`` input: the behavior is
 stopped), the box ends the move with ``ALMotion.killTasksUsingResources``
@@ -29,6 +33,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from bridge.python_export import START_SPEED
+from bridge.script_stiffen import STIFFEN_SOURCE
 
 #: Time between the stops the box sends when stopped [s]: ALMotion's cycle.
 STOP_PERIOD = 0.02
@@ -57,15 +62,14 @@ _SCRIPT = '''class MyClass(GeneratedClass):
         self.stopping = False
         self.moving = True
         try:
-            self.motion.setStiffnesses(self.joint_names, 1.0)
+            stiffen_where_it_is(self.motion, self.joint_names)
             if not self.stopping:
-                try:
-                    self.motion.angleInterpolationWithSpeed(
-                        self.joint_names, self.first_key, {speed}
-                    )
-                except Exception:  # ended by onInput_onStop
-                    if not self.stopping:
-                        raise
+                self.motion.angleInterpolationWithSpeed(
+                    self.joint_names, self.first_key, {speed}
+                )
+        except Exception:  # ended by onInput_onStop, or refused
+            if not self.stopping:
+                raise
         finally:
             self.moving = False
         if not self.stopping:
@@ -87,11 +91,14 @@ _SCRIPT = '''class MyClass(GeneratedClass):
 def start_script(names: Sequence[str], start: Sequence[float]) -> str:
     """The box's Python: move ``names`` to ``start`` [rad], then ``onStopped``.
 
-    Its ``onStop`` ends the move and keeps ``onStopped`` from firing.
+    Its ``onStop`` ends the move and keeps ``onStopped`` from firing. The
+    class is followed by the ``stiffen_where_it_is`` it calls
+    (``bridge.script_stiffen``).
     """
-    return _SCRIPT.format(
+    box = _SCRIPT.format(
         names="[" + ", ".join(f'"{name}"' for name in names) + "]",
         start="[" + ", ".join(repr(float(v)) for v in start) + "]",
         speed=START_SPEED,
         period=STOP_PERIOD,
     )
+    return box + STIFFEN_SOURCE

@@ -237,7 +237,7 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
     np.testing.assert_allclose(stopped[0], first_key, atol=1e-6)
     calls = [e for e in read_log(log) if e["event"] == "call"]
     assert [c["method"] for c in calls] == [
-        "setStiffnesses",
+        "stiffnessInterpolation",
         "angleInterpolationWithSpeed",
     ]
     assert calls[1]["fraction"] == 0.2
@@ -292,9 +292,80 @@ def test_the_start_box_stopped_on_the_way_ends_the_move_and_not_the_timeline(
     np.testing.assert_allclose(still, held, atol=1e-9)  # and holding there
     events = read_log(log)
     calls = [e["method"] for e in events if e["event"] == "call"]
-    assert calls[:2] == ["setStiffnesses", "angleInterpolationWithSpeed"]
+    assert calls[:2] == ["stiffnessInterpolation", "angleInterpolationWithSpeed"]
     assert set(calls[2:]) == {"killTasksUsingResources"}
     assert not [e for e in events if e["event"] == "done"][1:]  # only stiffness
+
+
+def test_the_start_box_holds_a_limp_arm_where_it_hangs(tmp_path: Path) -> None:
+    """The arm held at the start is let go and sags (0.3 rad toward rest)
+    before the behavior runs: the box stiffened it in one step and it
+    snapped back at its motors' top speed. Now the box moves its command to
+    where it hangs first, ramps the stiffness, then moves to the start at
+    20 % of the speed limits."""
+    start = forward("right")
+    trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
+    xml = xml_of(trajectory, frames_from_trajectory(trajectory))
+    names = list(trajectory.joint_names)
+    samples: list[tuple[float, list[float]]] = []
+    stopped: list[bool] = []
+    with SimProcess(log_path=tmp_path / "sim.jsonl", limp_sag=0.3) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        motion.angleInterpolationWithSpeed(names, np.asarray(start).tolist(), 0.2)
+        motion.setStiffnesses("RArm", 0.0)
+        time.sleep(1.0)
+        hangs = np.array(motion.getAngles(names, True))
+        done = threading.Event()
+
+        def sample() -> None:
+            while not done.is_set():
+                samples.append((time.monotonic(), motion.getAngles(names, True)))
+                time.sleep(0.005)
+
+        sampler = threading.Thread(target=sample)
+        sampler.start()
+        try:
+            script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
+        finally:
+            done.set()
+            sampler.join()
+        session.close()
+    assert stopped == [True]
+    assert np.abs(hangs - start).max() > 0.29  # it sagged
+    t = np.array([s[0] for s in samples])
+    q = np.array([s[1] for s in samples])
+    grid = np.arange(t[0], t[-1], 0.02)  # one control cycle
+    cycles = np.column_stack([np.interp(grid, t, q[:, j]) for j in range(len(names))])
+    speed = np.abs(np.diff(cycles, axis=0) / 0.02).max(axis=0)
+    share = speed / np.asarray(load_arm("right").limits.velocity)
+    print("\nfastest share of the speed limits:", share.round(3))
+    assert share.max() < 0.3  # the move's 20 %, not the motors' 100 %
+
+
+def test_the_start_box_refuses_a_robot_not_awake(tmp_path: Path) -> None:
+    """After rest() the box stiffened the arm alone and started the timeline
+    on a resting robot (the bridge refuses one). Now onInput_onStart raises
+    saying why (the runtime reports the box's error), having sent nothing,
+    and onStopped, which starts the timeline, never fires."""
+    start = forward("right")
+    trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
+    xml = xml_of(trajectory, frames_from_trajectory(trajectory))
+    log = tmp_path / "sim.jsonl"
+    stopped: list[bool] = []
+    with SimProcess(log_path=log) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        session.service("ALMotion").rest()
+        before = len(read_log(log))
+        box = script_box(xml, session, lambda: stopped.append(True))
+        with pytest.raises(RuntimeError, match="the robot is not awake"):
+            box.onInput_onStart()
+        session.close()
+        sent = [e for e in read_log(log)[before:] if e["event"] == "call"]
+    assert stopped == []
+    assert sent == []
 
 
 @pytest.mark.parametrize("fps", [25, 30, 900])

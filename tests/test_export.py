@@ -10,6 +10,8 @@ import resource
 import signal
 import subprocess
 import sys
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +33,7 @@ from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.python_export import python_script, write_python
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
+from shared.libqi import qi
 from shared.messages import CommandFrames, Trajectory
 from shared.robot.postures import forward, rest
 
@@ -103,6 +106,94 @@ def test_the_script_plays_on_the_simulated_nao(tmp_path: Path) -> None:
         if e["event"] == "done" and e["method"] == "angleInterpolation"
     ]
     assert len(done) == 1
+
+
+def _fastest(samples: list[tuple[float, list[float]]]) -> np.ndarray:
+    """Each joint's fastest measured speed [rad/s], from sensor readings
+    resampled every control cycle (20 ms)."""
+    t = np.array([s[0] for s in samples])
+    q = np.array([s[1] for s in samples])
+    grid = np.arange(t[0], t[-1], 0.02)
+    cycles = np.column_stack([np.interp(grid, t, q[:, j]) for j in range(q.shape[1])])
+    return np.abs(np.diff(cycles, axis=0) / 0.02).max(axis=0)
+
+
+def test_the_script_holds_a_limp_arm_where_it_hangs(tmp_path: Path) -> None:
+    """The arm held at ``forward`` is let go and sags (RShoulderPitch 0.3 rad
+    toward rest), then play.py runs: it stiffened the arm in one step and
+    RShoulderPitch snapped back 0.3 rad at 97 % of its speed limit. Now its
+    command is moved to where it hangs first, the stiffness ramps, and the
+    approach brings it back at 20 % of the speed limits."""
+    there = np.array(forward("right"))
+    frames = frames_from_trajectory(
+        minimum_jerk_trajectory("right", [there, there], [0.5])
+    )
+    names = list(frames.joint_names)
+    script = write_python(frames, tmp_path / "play.py")
+    samples: list[tuple[float, list[float]]] = []
+    with SimProcess(log_path=tmp_path / "sim.jsonl", limp_sag=0.3) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        motion.angleInterpolationWithSpeed(names, there.tolist(), 0.2)
+        motion.setStiffnesses("RArm", 0.0)
+        time.sleep(1.0)
+        hangs = np.array(motion.getAngles(names, True))
+        done = threading.Event()
+
+        def sample() -> None:
+            while not done.is_set():
+                samples.append((time.monotonic(), motion.getAngles(names, True)))
+                time.sleep(0.005)
+
+        sampler = threading.Thread(target=sample)
+        sampler.start()
+        try:
+            run = subprocess.run(
+                [sys.executable, str(script), sim.url],
+                capture_output=True,
+                text=True,
+                timeout=30,
+                check=False,
+            )
+        finally:
+            done.set()
+            sampler.join()
+        arrived = np.array(motion.getAngles(names, True))
+        session.close()
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert np.abs(hangs - there).max() > 0.29  # it sagged
+    np.testing.assert_allclose(arrived, there, atol=1e-3)
+    share = _fastest(samples) / np.asarray(FrameLimits.for_arm("right").velocity)
+    print("\nfastest share of the speed limits:", share.round(3))
+    assert share.max() < 0.3  # the approach's 20 %, not the motors' 100 %
+
+
+def test_the_script_refuses_a_robot_not_awake(tmp_path: Path) -> None:
+    """After rest() play.py stiffened the arm alone and played on a resting
+    robot (the bridge refuses one). Now it prints why and exits 1, having
+    sent nothing."""
+    frames = frames_from_trajectory(trajectory())
+    script = write_python(frames, tmp_path / "play.py")
+    log = tmp_path / "sim.jsonl"
+    with SimProcess(log_path=log) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        session.service("ALMotion").rest()
+        session.close()
+        before = len(read_log(log))
+        run = subprocess.run(
+            [sys.executable, str(script), sim.url],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            check=False,
+        )
+        sent = [e for e in read_log(log)[before:] if e["event"] == "call"]
+    assert run.returncode == 1
+    assert "play.py: error: the robot is not awake" in run.stderr
+    assert "nothing was sent" in run.stderr
+    assert sent == []
 
 
 def test_cli_writes_both_exports(
