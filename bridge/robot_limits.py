@@ -9,18 +9,45 @@ max torque]]`` [rad, rad, rad/s, N m], and refuses if a range or a speed
 limit of a joint it moves is narrower than its own. The answers hold for
 one connection: after connecting again (perhaps to another robot) they are
 asked again.
+
+Narrower means by more than rounding (:func:`slack`): the bridge's limits
+are the robot description's, written to :data:`DIGITS` significant digits
+(RElbowRoll's 1.54462 for NAOqi's 88.5 degrees, 1.5446164 rad; ShoulderPitch's
+2.08567 for 119.5 degrees, which NAOqi answers in single precision as
+2.0856685638...), and NAOqi's are single precision. A fixed 1e-4 let a
+robot whose RElbowRoll stopped at 1.54453 through, and it refused the
+bridge's key at 1.54462.
 """
 
 from __future__ import annotations
+
+import math
+
+import numpy as np
 
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from shared.errors import RobotCommandError, RobotLimitsError
 
-#: The robot's limits may be narrower than the bridge's by this much [rad,
-#: rad/s]: NAOqi's limits are single precision (2.08567 comes back as
-#: 2.0856685638...).
-SLACK = 1e-4
+#: Significant digits of the robot description's limits (``nao_arms.urdf``).
+DIGITS = 6
+#: Single-precision steps (ULPs, at the limit's magnitude) a robot's limit
+#: may be off by, besides the description's rounding.
+FLOAT32_STEPS = 4
+
+
+def slack(value: float) -> float:
+    """How much narrower than the bridge's ``value`` a robot's limit may be.
+
+    Half a unit in the :data:`DIGITS`-th significant digit of ``value`` (the
+    description's rounding: 5e-6 at 1.54462) plus :data:`FLOAT32_STEPS`
+    single-precision steps at its magnitude (4.8e-7 there) [rad, rad/s].
+    """
+    size = abs(value)
+    steps = FLOAT32_STEPS * float(np.spacing(np.float32(size)))
+    if size == 0.0 or not math.isfinite(size):
+        return steps
+    return 0.5 * 10.0 ** (math.floor(math.log10(size)) - DIGITS + 1) + steps
 
 
 class RobotLimitsCheck:
@@ -53,9 +80,9 @@ class RobotLimitsCheck:
                 "velocity": float(limits.velocity[j]),
             }
             fits = {
-                "lower": lower <= mine["lower"] + SLACK,
-                "upper": upper >= mine["upper"] - SLACK,
-                "velocity": velocity >= mine["velocity"] - SLACK,
+                "lower": lower <= mine["lower"] + slack(mine["lower"]),
+                "upper": upper >= mine["upper"] - slack(mine["upper"]),
+                "velocity": velocity >= mine["velocity"] - slack(mine["velocity"]),
             }
             robot = {"lower": lower, "upper": upper, "velocity": velocity}
             for quantity, ok in fits.items():
