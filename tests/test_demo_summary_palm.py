@@ -1,4 +1,4 @@
-"""The demo's summary says the palm wanted and reached at each target.
+"""The demo's summary and report.json say the palm wanted and reached at each target.
 
 A task with three palm directions printed none of them, though the palm
 ended 49.9 degrees from one (``armplan plan`` and ``ik`` print it). Real
@@ -11,7 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from armplan.demo.outputs import Execution, export_frames
+from armplan.demo.outputs import Execution, export_frames, report_document
 from armplan.demo.summary import task_lines
 from armplan.demo.task import load_task
 from bridge.naoqi_client import NaoqiClient
@@ -57,3 +57,10 @@ def test_the_summary_says_each_palm_wanted_and_reached(
     assert "(0.000, 1.000, 0.000)" in palms[1]
     below = lines.index(next(line for line in lines if "palm left" in line)) + 1
     assert "(0.000, 1.000, 0.000)" in lines[below]
+    document = json.loads(json.dumps(report_document(run)))
+    saved = document["trajectory"]["palm_reached"]
+    assert [p is None for p in saved] == [p is None for p in trajectory.palm_reached]
+    for palm, kept in zip(trajectory.palm_reached, saved, strict=True):
+        if palm is not None:
+            assert kept["angle_deg"] == palm.angle_deg
+            assert kept["wanted"] == list(palm.wanted)

@@ -123,6 +123,10 @@ def report_document(run: Execution) -> dict[str, Any]:
             "duration": trajectory.duration,
             "samples": len(trajectory.times),
             "primitives": _in_order(trajectory.primitives),
+            "palm_reached": [
+                None if palm is None else palm.model_dump(mode="json")
+                for palm in trajectory.palm_reached or []
+            ],
         },
         "task": {
             "name": run.task.name,
