@@ -23,8 +23,14 @@ from bridge.sim.robot import SimRobot
 
 #: Time the sim spends on the call, reading its keys or writing its line [s].
 TAKES = 0.3
-#: The ramp's speed [rad/s].
+#: The ramp's mean speed [rad/s]: one key, SPEED away, 1 s on.
 SPEED = 0.5
+
+
+def _on_ramp(s: float) -> float:
+    """Where the ramp is ``s`` seconds after it took effect [rad]: one key,
+    so its curve is the cubic at rest at both ends."""
+    return -SPEED * (3.0 * s**2 - 2.0 * s**3)
 
 
 class _Sim:
@@ -114,7 +120,7 @@ def test_the_joints_take_a_call_before_its_log_line_is_written(sim: _Sim) -> Non
     sent, call = _ramp(sim, [-SPEED])
     try:
         assert sim.now == pytest.approx(sent + TAKES)
-        assert sim.measured() == pytest.approx(-SPEED * TAKES, abs=1e-9)
+        assert sim.measured() == pytest.approx(_on_ramp(TAKES), abs=1e-9)
     finally:
         _finish(sim, call)
     entry = next(e for e in sim.log.entries() if e["event"] == "call")
@@ -131,7 +137,7 @@ def test_the_keys_count_from_when_they_were_read(sim: _Sim) -> None:
         assert sim.now == pytest.approx(sent + TAKES)
         assert sim.measured() == 0.0
         sim.spend(0.1)
-        assert sim.measured() == pytest.approx(-SPEED * 0.1, abs=1e-9)
+        assert sim.measured() == pytest.approx(_on_ramp(0.1), abs=1e-9)
     finally:
         _finish(sim, call)
     entry = next(e for e in sim.log.entries() if e["event"] == "call")

@@ -12,7 +12,11 @@ from bridge.sim.joint import SimJoint
 from bridge.sim.joints import expand_names, joint_specs
 from bridge.sim.log import SimLog
 from bridge.sim.task import MotionTask
-from bridge.sim.timeline import KeyTimeline
+from bridge.sim.timeline import KeyCurve, KeyTimeline
+
+#: The methods whose keys a joint follows on a smooth curve (``KeyCurve``);
+#: the others' (a speed fraction's single key) it follows in a straight line.
+CURVED = frozenset({"angleInterpolation"})
 
 
 class SimRobot:
@@ -107,6 +111,10 @@ class SimRobot:
     ) -> MotionTask:
         """Accept a key command received at sim time ``t``, or refuse it whole.
 
+        The joints of a method in :data:`CURVED` follow the smooth curve
+        through their keys (:class:`~bridge.sim.timeline.KeyCurve`), the
+        others straight lines.
+
         Args:
             method: The ALMotion method, for the log and errors.
             t: Reception time [s, sim clock]; ``None``: the moment the command
@@ -129,10 +137,20 @@ class SimRobot:
                 check_range(command, spec)
                 check_speed(command, spec, starts[command.joint])
             for command in commands:
-                timeline = KeyTimeline(
-                    t, starts[command.joint], command.times, command.values
+                joint = self.joints[command.joint]
+                start = starts[command.joint]
+                timeline = (
+                    KeyCurve(
+                        t,
+                        start,
+                        command.times,
+                        command.values,
+                        (joint.spec.lower, joint.spec.upper),
+                    )
+                    if method in CURVED
+                    else KeyTimeline(t, start, command.times, command.values)
                 )
-                self.joints[command.joint].command(timeline)
+                joint.command(timeline)
             return self._start_task(method, commands, t)
 
     def stiffen(
