@@ -16,6 +16,7 @@ import pytest
 from armplan.demo.task import TaskFile, load_task
 from shared.errors import InvalidInputError
 from shared.messages import parse
+from shared.messages.base import _alike
 
 TARGET = {"position": [0.14, -0.1, 0.06]}
 
@@ -65,14 +66,44 @@ def test_a_misspelt_key_in_a_task_file_is_named(
             "phases.0.targets.0.dwel: Extra inputs are not permitted (got 0.5)",
         ),
         ({}, "phases: Field required"),
+        (
+            {"phases": [{"name": "reach", "note": "TODO add targets"}]},
+            "phases.0.targets: Field required; and 1 more problem",
+        ),
+        (
+            {"phases": [{"name": "a", "targets": [{"dwell": 0.5, "comment": "x"}]}]},
+            "phases.0.targets.0.position: Field required; and 1 more problem",
+        ),
     ],
-    ids=["no-extra", "extra-alone", "missing-alone"],
+    ids=["no-extra", "extra-alone", "missing-alone", "unrelated", "unrelated-deep"],
 )
 def test_other_problems_are_told_as_before(
     data: dict[str, object], message: str
 ) -> None:
-    """An extra key with no field missing beside it, or a missing field with
-    no extra key: the first problem, worded as pydantic words it."""
+    """An extra key with no field missing beside it, a missing field with no
+    extra key, or one with an unrelated extra key (a ``note`` is no
+    misspelt ``targets``): the first problem, worded as pydantic words it."""
     with pytest.raises(InvalidInputError) as caught:
         parse(TaskFile, data)
     assert caught.value.message.startswith(f"invalid TaskFile: {message}")
+
+
+@pytest.mark.parametrize(
+    ("key", "field", "alike"),
+    [
+        ("phase", "phases", True),
+        ("target", "targets", True),
+        ("targest", "targets", True),
+        ("pos", "position", True),
+        ("Dwell", "dwell", True),
+        ("note", "targets", False),
+        ("comment", "trajectory", False),
+        ("comment", "position", False),
+        ("x", "xyz", False),
+    ],
+)
+def test_a_key_is_taken_for_a_misspelling_only_if_alike(
+    key: str, field: str, alike: bool
+) -> None:
+    """A "did you mean" names only a key close to the missing field."""
+    assert _alike(key, field) is alike

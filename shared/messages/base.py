@@ -137,23 +137,45 @@ def describe_validation_error(error: ValidationError) -> tuple[str, str]:
 def _misspelt_key(errors: Sequence[Any]) -> tuple[Any, Any] | None:
     """(the extra key's error, the missing field's) of one object, or None.
 
-    The first missing field beside which a key that is no field stands; of
-    several such keys, the one whose name is closest to the field's.
+    The first missing field beside which a key that is no field stands and
+    looks like a misspelling of it (``_alike``); of several such keys, the
+    one whose name is closest to the field's. An unrelated extra key (a
+    ``comment`` beside a missing ``trajectory``) is no misspelling: then
+    the errors are reported as they come.
     """
     for missing in (e for e in errors if e["type"] == "missing"):
         where, name = tuple(missing["loc"][:-1]), str(missing["loc"][-1])
         extras = [
             e
             for e in errors
-            if e["type"] == "extra_forbidden" and tuple(e["loc"][:-1]) == where
+            if e["type"] == "extra_forbidden"
+            and tuple(e["loc"][:-1]) == where
+            and _alike(str(e["loc"][-1]), name)
         ]
         if extras:
-            closest = max(
-                extras,
-                key=lambda e: SequenceMatcher(None, str(e["loc"][-1]), name).ratio(),
-            )
+            closest = max(extras, key=lambda e: _likeness(str(e["loc"][-1]), name))
             return closest, missing
     return None
+
+
+#: Likeness from which a key is taken for a misspelt field name.
+MISSPELT_LIKENESS = 0.6
+
+
+def _alike(key: str, field: str) -> bool:
+    """Whether ``key`` looks like a misspelling of ``field``.
+
+    Close by difflib's ratio (``phase`` for ``phases``), the same but for
+    case, or one a start of the other (``pos`` for ``position``).
+    """
+    a, b = key.lower(), field.lower()
+    started = len(a) >= 3 and len(b) >= 3 and (a.startswith(b) or b.startswith(a))
+    return started or _likeness(a, b) >= MISSPELT_LIKENESS
+
+
+def _likeness(key: str, field: str) -> float:
+    """difflib's ratio of the two names, case aside, in [0, 1]."""
+    return SequenceMatcher(None, key.lower(), field.lower()).ratio()
 
 
 def _dotted(loc: Sequence[int | str]) -> str:
