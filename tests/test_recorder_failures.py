@@ -389,6 +389,36 @@ def test_the_recorder_says_when_the_router_goes_and_comes_back(
     assert [r.topic for r in read_records(out)] == ["/robot_description"]  # whole
 
 
+def test_a_recorder_on_a_peer_records_and_says_nothing_is_lost(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """`--connect` to a peer-mode session listening there: what the peer
+    publishes is recorded, and no warning says the router was lost (it
+    said so at once: routers_zid lists routers only)."""
+    endpoint = free_endpoint()
+    peer_config = zenoh.Config()
+    peer_config.insert_json5("mode", '"peer"')
+    peer_config.insert_json5("listen/endpoints", json.dumps([endpoint]))
+    peer_config.insert_json5("scouting/multicast/enabled", "false")
+    peer_config.insert_json5("scouting/gossip/enabled", "false")
+    caplog.set_level(logging.WARNING, logger="armplan.recorder")
+    out = tmp_path / "peer.mcap"
+    config = BusConfig(endpoints=(endpoint,), namespace=NS)
+    with (
+        zenoh.open(peer_config) as peer,
+        Bus.connect(config, wait=10.0) as bus,
+        Recorder(bus, RecorderOptions(output=out, keys=("misc/*",))) as recorder,
+    ):
+        deadline = time.monotonic() + 20
+        while recorder.sink.written < 4 and time.monotonic() < deadline:
+            peer.put(f"{NS}/misc/ping", b'{"n": 1}', encoding="application/json")
+            recorder.watch_router()
+            time.sleep(0.1)
+    topics = [r.topic for r in read_records(out)]
+    assert "misc/ping" in [t.rsplit(NS + "/", 1)[-1] for t in topics], topics
+    assert not [r for r in caplog.records if "lost the router" in r.getMessage()]
+
+
 def test_overwrite_finds_the_parts_of_a_name_with_glob_characters(
     tmp_path: Path,
 ) -> None:

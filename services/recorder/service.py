@@ -37,7 +37,7 @@ from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
 from shared.bus import Bus
 from shared.bus.keys import alive_key
-from shared.bus.session import has_router
+from shared.bus.session import has_router_or_peer
 from shared.errors import RecordingError
 from shared.lifecycle import StartStop
 
@@ -131,9 +131,13 @@ class Recorder(StartStop):
         """Log a warning when the router goes away, and when it comes back.
 
         Zenoh reconnects by itself; what is published while no router
-        connects the recorder is not recorded, so the log says when.
+        connects the recorder is not recorded, so the log says when. A peer
+        on ``--connect`` (a peer-mode session listening there, which SPEC
+        allows) counts as connected: it delivers what it receives, and
+        counted as no router it had the log say "nothing is recorded" while
+        the recording went on.
         """
-        connected = has_router(self._bus.session)
+        connected = has_router_or_peer(self._bus.session)
         if connected == self._connected:
             return
         self._connected = connected
