@@ -33,6 +33,7 @@ from shared.libqi import qi
 from shared.messages import CommandFrames, Trajectory
 from shared.robot import load_arm
 from shared.robot.postures import forward, rest
+from tests.limp_arm_run import let_go
 
 
 def script_box(xml: str, session: Any, on_stopped: Callable[[], None]) -> Any:
@@ -307,39 +308,17 @@ def test_the_start_box_holds_a_limp_arm_where_it_hangs(tmp_path: Path) -> None:
     trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
     xml = xml_of(trajectory, frames_from_trajectory(trajectory))
     names = list(trajectory.joint_names)
-    samples: list[tuple[float, list[float]]] = []
     stopped: list[bool] = []
     with SimProcess(log_path=tmp_path / "sim.jsonl", limp_sag=0.3) as sim:
         session = qi.Session()
         session.connect(sim.url)
-        motion = session.service("ALMotion")
-        motion.angleInterpolationWithSpeed(names, np.asarray(start).tolist(), 0.2)
-        motion.setStiffnesses("RArm", 0.0)
-        time.sleep(1.0)
-        hangs = np.array(motion.getAngles(names, True))
-        done = threading.Event()
-
-        def sample() -> None:
-            while not done.is_set():
-                samples.append((time.monotonic(), motion.getAngles(names, True)))
-                time.sleep(0.005)
-
-        sampler = threading.Thread(target=sample)
-        sampler.start()
-        try:
-            script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
-        finally:
-            done.set()
-            sampler.join()
+        arm = let_go(session, names, start)
+        box = script_box(xml, session, lambda: stopped.append(True))
+        arm.sampled(box.onInput_onStart)
         session.close()
     assert stopped == [True]
-    assert np.abs(hangs - start).max() > 0.29  # it sagged
-    t = np.array([s[0] for s in samples])
-    q = np.array([s[1] for s in samples])
-    grid = np.arange(t[0], t[-1], 0.02)  # one control cycle
-    cycles = np.column_stack([np.interp(grid, t, q[:, j]) for j in range(len(names))])
-    speed = np.abs(np.diff(cycles, axis=0) / 0.02).max(axis=0)
-    share = speed / np.asarray(load_arm("right").limits.velocity)
+    assert np.abs(arm.hangs - start).max() > 0.29  # it sagged
+    share = arm.fastest() / np.asarray(load_arm("right").limits.velocity)
     print("\nfastest share of the speed limits:", share.round(3))
     assert share.max() < 0.3  # the move's 20 %, not the motors' 100 %
 

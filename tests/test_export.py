@@ -10,8 +10,6 @@ import resource
 import signal
 import subprocess
 import sys
-import threading
-import time
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +34,7 @@ from bridge.sim.log import read_log
 from shared.libqi import qi
 from shared.messages import CommandFrames, Trajectory
 from shared.robot.postures import forward, rest
+from tests.limp_arm_run import let_go
 
 
 def trajectory() -> Trajectory:
@@ -108,16 +107,6 @@ def test_the_script_plays_on_the_simulated_nao(tmp_path: Path) -> None:
     assert len(done) == 1
 
 
-def _fastest(samples: list[tuple[float, list[float]]]) -> np.ndarray:
-    """Each joint's fastest measured speed [rad/s], from sensor readings
-    resampled every control cycle (20 ms)."""
-    t = np.array([s[0] for s in samples])
-    q = np.array([s[1] for s in samples])
-    grid = np.arange(t[0], t[-1], 0.02)
-    cycles = np.column_stack([np.interp(grid, t, q[:, j]) for j in range(q.shape[1])])
-    return np.abs(np.diff(cycles, axis=0) / 0.02).max(axis=0)
-
-
 def test_the_script_holds_a_limp_arm_where_it_hangs(tmp_path: Path) -> None:
     """The arm held at ``forward`` is let go and sags (RShoulderPitch 0.3 rad
     toward rest), then play.py runs: it stiffened the arm in one step and
@@ -130,41 +119,25 @@ def test_the_script_holds_a_limp_arm_where_it_hangs(tmp_path: Path) -> None:
     )
     names = list(frames.joint_names)
     script = write_python(frames, tmp_path / "play.py")
-    samples: list[tuple[float, list[float]]] = []
     with SimProcess(log_path=tmp_path / "sim.jsonl", limp_sag=0.3) as sim:
         session = qi.Session()
         session.connect(sim.url)
-        motion = session.service("ALMotion")
-        motion.angleInterpolationWithSpeed(names, there.tolist(), 0.2)
-        motion.setStiffnesses("RArm", 0.0)
-        time.sleep(1.0)
-        hangs = np.array(motion.getAngles(names, True))
-        done = threading.Event()
-
-        def sample() -> None:
-            while not done.is_set():
-                samples.append((time.monotonic(), motion.getAngles(names, True)))
-                time.sleep(0.005)
-
-        sampler = threading.Thread(target=sample)
-        sampler.start()
-        try:
-            run = subprocess.run(
+        arm = let_go(session, names, there)
+        run = arm.sampled(
+            lambda: subprocess.run(
                 [sys.executable, str(script), sim.url],
                 capture_output=True,
                 text=True,
                 timeout=30,
                 check=False,
             )
-        finally:
-            done.set()
-            sampler.join()
-        arrived = np.array(motion.getAngles(names, True))
+        )
+        arrived = np.array(arm.motion.getAngles(names, True))
         session.close()
     assert run.returncode == 0, run.stdout + run.stderr
-    assert np.abs(hangs - there).max() > 0.29  # it sagged
+    assert np.abs(arm.hangs - there).max() > 0.29  # it sagged
     np.testing.assert_allclose(arrived, there, atol=1e-3)
-    share = _fastest(samples) / np.asarray(FrameLimits.for_arm("right").velocity)
+    share = arm.fastest() / np.asarray(FrameLimits.for_arm("right").velocity)
     print("\nfastest share of the speed limits:", share.round(3))
     assert share.max() < 0.3  # the approach's 20 %, not the motors' 100 %
 
