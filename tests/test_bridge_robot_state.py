@@ -45,6 +45,7 @@ from shared.libqi import qi
 from shared.messages import Trajectory
 from shared.robot import Side
 from shared.robot.postures import forward, rest
+from tests.narrowed_sim import narrowed_sim
 from tests.slow_link import SlowLink
 
 
@@ -642,39 +643,6 @@ def test_a_robot_with_narrower_limits_is_refused(narrow_sim: str) -> None:
         )
 
 
-NARROWED_SIM = """
-import sys
-import shared
-from bridge.sim.joints import joint_specs
-specs = joint_specs()
-joint, quantity, by = sys.argv[1], sys.argv[2], float(sys.argv[3])
-value = getattr(specs[joint], quantity) - by
-specs[joint] = specs[joint]._replace(**{quantity: value})
-from bridge.sim.server import serve
-serve("tcp://127.0.0.1:0")
-"""
-
-
-@contextmanager
-def _narrowed_sim(joint: str, quantity: str, by: float) -> Iterator[str]:
-    """A simulated NAO whose ``joint``'s ``quantity`` (upper, velocity) is
-    ``by`` less than the robot description's; its address."""
-    process = subprocess.Popen(
-        [sys.executable, "-c", NARROWED_SIM, joint, quantity, repr(by)],
-        stdin=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.DEVNULL,
-        text=True,
-    )
-    try:
-        assert process.stdout is not None
-        line = next(out for out in process.stdout if out.startswith(READY))
-        yield line.split()[-1]
-    finally:
-        process.terminate()
-        process.wait(10)
-
-
 @pytest.mark.parametrize(
     ("joint", "quantity"), [("RElbowRoll", "upper"), ("RElbowYaw", "velocity")]
 )
@@ -687,10 +655,10 @@ def test_a_robot_narrower_by_more_than_rounding_is_refused(
     rounding passes: 1e-6 less (the description's 6 digits, NAOqi's single
     precision) plays; 9e-5 less is refused, naming the joint."""
     reach = minimum_jerk_trajectory("right", [rest("right"), forward("right")], [1.0])
-    with _narrowed_sim(joint, quantity, 1e-6) as url:
+    with narrowed_sim(joint, quantity, 1e-6) as url:
         assert RobotBridge(NaoqiClient(url)).execute(reach).frames > 0
     with (
-        _narrowed_sim(joint, quantity, 9e-5) as url,
+        narrowed_sim(joint, quantity, 9e-5) as url,
         pytest.raises(RobotLimitsError) as caught,
     ):
         RobotBridge(NaoqiClient(url)).execute(reach)
