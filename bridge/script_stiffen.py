@@ -18,7 +18,8 @@ stiffness, and for the limp ones (below ``LIMP``, as the bridge's
 readings agree within ``SETTLED`` (an arm let go falls for about 0.3 s;
 still moving after ``SETTLE_WAIT``: ``RuntimeError``, nothing sent), and
 moves their command there (``angleInterpolation`` at ``HOLD_SPEED`` of the
-robot's speed limits, ``getLimits``; limp motors do not follow); then
+robot's speed limits, ``getLimits``, ``RuntimeError`` if one is not
+positive; limp motors do not follow); then
 ramps every joint to stiffness 1 over ``STIFFEN_TIME`` (NAOqi's
 ``stiffnessInterpolation``). The script then moves slowly to the start as
 before.
@@ -37,8 +38,9 @@ STIFFEN_SOURCE = f'''
 def stiffen_where_it_is(motion, names):
     """Stiffen ``names`` where they are: a limp joint's command first goes there.
 
-    Raises RuntimeError, nothing sent, if the robot is not awake or a limp
-    joint is still moving (falling) after {SETTLE_WAIT} s.
+    Raises RuntimeError, nothing sent, if the robot is not awake, a limp
+    joint is still moving (falling) after {SETTLE_WAIT} s, or the robot
+    gives a limp joint no speed limit.
     """
     import time
 
@@ -64,6 +66,12 @@ def stiffen_where_it_is(motion, names):
             before = hangs
         commanded = motion.getAngles(limp, False)
         speeds = [{HOLD_SPEED!r} * motion.getLimits(n)[0][2] for n in limp]
+        for name, speed in zip(limp, speeds):
+            if not speed > 0:
+                raise RuntimeError(
+                    "the robot gives %s no speed limit (getLimits: %r rad/s); "
+                    "nothing was sent" % (name, speed / {HOLD_SPEED!r})
+                )
         duration = max(
             [{HOLD_SHORTEST!r}]
             + [abs(a - c) / v for a, c, v in zip(hangs, commanded, speeds)]

@@ -35,6 +35,7 @@ from shared.libqi import qi
 from shared.messages import CommandFrames, Trajectory
 from shared.robot.postures import forward, rest
 from tests.limp_arm_run import let_go
+from tests.narrowed_sim import narrowed_sim
 
 
 def trajectory() -> Trajectory:
@@ -167,6 +168,39 @@ def test_the_script_refuses_a_robot_not_awake(tmp_path: Path) -> None:
     assert "play.py: error: the robot is not awake" in run.stderr
     assert "nothing was sent" in run.stderr
     assert sent == []
+
+
+def test_the_script_refuses_a_limp_joint_without_a_speed_limit(
+    tmp_path: Path,
+) -> None:
+    """A robot whose getLimits gives RElbowYaw speed 0: play.py divided by
+    it to time the hold of the limp arm and died with ZeroDivisionError.
+    Now it says which joint, exits 1, and the arm stays limp and unmoved."""
+    frames = frames_from_trajectory(trajectory())
+    names = list(frames.joint_names)
+    speed = float(FrameLimits.for_arm("right").velocity[names.index("RElbowYaw")])
+    script = write_python(frames, tmp_path / "play.py")
+    with narrowed_sim("RElbowYaw", "velocity", speed) as url:
+        session = qi.Session()
+        session.connect(url)
+        motion = session.service("ALMotion")
+        motion.setStiffnesses("RArm", 0.0)
+        commanded = motion.getAngles(names, False)
+        run = subprocess.run(
+            [sys.executable, str(script), url],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            check=False,
+        )
+        stiffness = motion.getStiffnesses(names)
+        after = motion.getAngles(names, False)
+        session.close()
+    assert run.returncode == 1, run.stderr
+    assert "play.py: error: the robot gives RElbowYaw no speed limit" in run.stderr
+    assert "nothing was sent" in run.stderr
+    assert max(stiffness) == 0.0
+    assert after == commanded
 
 
 def test_cli_writes_both_exports(
