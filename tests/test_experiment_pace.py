@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -214,3 +216,37 @@ def test_a_kind_with_no_task_has_no_ratios(
         in (tmp_path / "pace-mp.md").read_text()
     )
     assert list(data) == ["protocol", "mp", "files"]
+
+
+FILE_SIZE_RUN = """
+import resource, signal, sys
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (int(sys.argv[1]),) * 2)
+from armplan.cli.main import main
+sys.exit(main(["experiment", "pace", "--reaches", "1", "--chains", "0",
+               "--out", sys.argv[2]]))
+"""
+
+
+@pytest.mark.parametrize(
+    ("limit", "failed"), [(1000, "pace.json"), (10_000, "pace-ratios.png")]
+)
+def test_a_file_the_disk_refuses_is_named_not_its_partial(
+    limit: int, failed: str, tmp_path: Path
+) -> None:
+    """In a process allowed files of ``limit`` bytes (as a full disk, write()
+    fails without a file name): the error named pace.json.partial, a name
+    the user never asked for. Now it names the file, exit 1, nothing left."""
+    out = tmp_path / "out"
+    run = subprocess.run(
+        [sys.executable, "-c", FILE_SIZE_RUN, str(limit), str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert run.stderr.strip().splitlines()[-1] == (
+        f"armplan: error: cannot write {out / failed}: File too large"
+    )
+    assert list(out.iterdir()) == []

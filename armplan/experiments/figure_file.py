@@ -23,13 +23,24 @@ def new_figure(width: float, height: float) -> Figure:
 def save_png(figure: Figure, path: str | Path) -> Path:
     """Write ``figure`` to ``path`` as PNG; returns the path.
 
+    The figures are written under their partial names
+    (``shared.output_paths.replaced_together``), which turns an ``OSError``
+    naming the partial file into the typed error naming the final one; so
+    an ``OSError`` without a file name (a full disk fails ``write()``) is
+    raised again naming ``path``.
+
     Raises:
-        InvalidInputError: if the file cannot be written (naming it).
+        OSError: naming ``path``, if the file cannot be written.
+        InvalidInputError: if matplotlib refuses the path (naming it).
     """
     path = Path(path)
     try:
         figure.savefig(path, dpi=100, format="png")
-    except (OSError, ValueError) as exc:
+    except OSError as exc:
+        if exc.filename is not None:
+            raise
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
+    except ValueError as exc:
         raise InvalidInputError(
             f"cannot write the plot {path}: {exc}", field="out"
         ) from None

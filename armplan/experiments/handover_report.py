@@ -17,7 +17,7 @@ from armplan.experiments.handover_plots import plot_similarity
 from armplan.experiments.handover_summary import movement_table
 from armplan.experiments.human_reference import ReferenceMovement
 from armplan.experiments.markdown_table import markdown_tables
-from armplan.experiments.similarity_report import Table, make_dir, write_text
+from armplan.experiments.similarity_report import Table, make_dir
 from shared.output_paths import replaced_together
 
 
@@ -66,8 +66,9 @@ def write_report(
     paths = [out / f"{name}{end}" for end in (".json", ".md", "-similarity.png")]
     starts = summary["protocol"]["starts"]
     title = f"posture similarity to the human reference, handover task ({starts})"
-    with replaced_together(paths) as (data, table, figure):
-        write_text(data, json.dumps(summary, indent=2) + "\n")
-        write_text(table, markdown_tables(tables(reference, series, summary)))
+    with replaced_together(paths) as files:
+        data, table, figure = files
+        files.write_text(data, json.dumps(summary, indent=2) + "\n")
+        files.write_text(table, markdown_tables(tables(reference, series, summary)))
         plot_similarity(reference, series, figure, title)
     return paths

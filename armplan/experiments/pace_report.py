@@ -21,7 +21,7 @@ from matplotlib.ticker import NullFormatter, ScalarFormatter
 from armplan.experiments.figure_file import COLOURS, new_figure, save_png
 from armplan.experiments.markdown_table import markdown_tables
 from armplan.experiments.pace_summary import KINDS, SHORT, SLOW
-from armplan.experiments.similarity_report import Table, make_dir, write_text
+from armplan.experiments.similarity_report import Table, make_dir
 from shared.output_paths import replaced_together
 
 #: The table's columns after method and kind, with the summary's keys.
@@ -71,9 +71,10 @@ def write_report(
     """
     out = make_dir(out)
     paths = [out / f"{name}{end}" for end in (".json", ".md", "-ratios.png")]
-    with replaced_together(paths) as (data, table, figure):
-        write_text(data, json.dumps(summary, indent=2) + "\n")
-        write_text(table, markdown_tables(tables(summary)))
+    with replaced_together(paths) as files:
+        data, table, figure = files
+        files.write_text(data, json.dumps(summary, indent=2) + "\n")
+        files.write_text(table, markdown_tables(tables(summary)))
         plot_ratios(summary, figure)
     return paths
 

@@ -104,9 +104,10 @@ def write_report(
     paths = [out / f"{name}{end}" for end in ends]
     palm = ", palm turned" if summary["protocol"].get("palm") else ""
     title = f"elbow error on NAO, {summary['protocol']['path']} wrist path{palm}"
-    with replaced_together(paths) as (data, table, spread, means):
-        write_text(data, json.dumps(summary, indent=2) + "\n")
-        write_text(table, markdown_tables(tables(summary)))
+    with replaced_together(paths) as files:
+        data, table, spread, means = files
+        files.write_text(data, json.dumps(summary, indent=2) + "\n")
+        files.write_text(table, markdown_tables(tables(summary)))
         plot_distribution(rows, spread, title)
         plot_point_means(rows, means, title)
     return paths
@@ -121,13 +122,4 @@ def make_dir(path: str | Path) -> Path:
         raise InvalidInputError(
             f"cannot make the output directory {path}: {exc}", field="out"
         ) from None
-    return path
-
-
-def write_text(path: Path, text: str) -> Path:
-    """Write ``text`` to ``path``; a typed error naming the file if impossible."""
-    try:
-        path.write_text(text)
-    except OSError as exc:
-        raise InvalidInputError(f"cannot write {path}: {exc}", field="out") from None
     return path
