@@ -26,6 +26,7 @@ from armplan.experiments.pace import (
     random_tasks,
     run_task,
 )
+from armplan.experiments.pace_report import RATIO_TICKS, methods_of, ratio_figure
 from shared.demos.nao_grid import nao_grid
 from shared.messages import Method
 from shared.robot import load_arm
@@ -250,3 +251,22 @@ def test_a_file_the_disk_refuses_is_named_not_its_partial(
         f"armplan: error: cannot write {out / failed}: File too large"
     )
     assert list(out.iterdir()) == []
+
+
+def test_the_ratio_axis_is_labelled_where_the_ratios_are() -> None:
+    """The shipped figure's log axis ran 1 to 6.1 labelled only "1.0" (a log
+    axis labels decades): the 1.5 line and the 2x..6x ratios the text
+    discusses could not be read. Now each panel is labelled at RATIO_TICKS
+    within its range, and a method with one planned task shows as a dot."""
+    shipped = Path(__file__).parents[1] / "docs" / "results" / "pace.json"
+    summary = json.loads(shipped.read_text())
+    summary["single"]["chains"]["ratios"] = [1.7]
+    figure = ratio_figure(summary)
+    figure.canvas.draw()
+    reaches, chains = figure.axes
+    high = max(max(summary[m]["reaches"]["ratios"]) for m in methods_of(summary))
+    labels = [t.get_text() for t in reaches.get_xticklabels()]
+    assert labels == [f"{t:g}" for t in RATIO_TICKS if t <= high]
+    assert {"1", "1.5", "2", "4"} <= set(labels)
+    dots = [line for line in chains.get_lines() if line.get_marker() == "o"]
+    assert [line.get_xdata().tolist() for line in dots] == [[1.7]]

@@ -16,13 +16,17 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.ticker import NullFormatter, ScalarFormatter
+from matplotlib.figure import Figure
+from matplotlib.ticker import FormatStrFormatter, NullFormatter
 
 from armplan.experiments.figure_file import COLOURS, new_figure, save_png
 from armplan.experiments.markdown_table import markdown_tables
 from armplan.experiments.pace_summary import KINDS, SHORT, SLOW
 from armplan.experiments.similarity_report import Table, make_dir
 from shared.output_paths import replaced_together
+
+#: Where the ratio axis is labelled [-] (those within its range).
+RATIO_TICKS = (1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64)
 
 #: The table's columns after method and kind, with the summary's keys.
 _COLUMNS = {
@@ -80,7 +84,18 @@ def write_report(
 
 
 def plot_ratios(summary: dict[str, Any], path: Path) -> Path:
-    """Each method's ratios to human pace, sorted, one panel per kind of task."""
+    """Write :func:`ratio_figure` of ``summary`` to ``path`` as PNG."""
+    return save_png(ratio_figure(summary), path)
+
+
+def ratio_figure(summary: dict[str, Any]) -> Figure:
+    """Each method's ratios to human pace, sorted, one panel per kind of task.
+
+    The ratio axis is logarithmic and labelled at :data:`RATIO_TICKS` (a
+    log axis labels only decades, and no decade but 1 falls in 1..6). A
+    method with one planned task is drawn as a dot (a step of one point
+    draws nothing).
+    """
     figure = new_figure(10.0, 4.0)
     for k, name in enumerate(KINDS.values()):
         ax = figure.add_subplot(1, len(KINDS), k + 1)
@@ -88,14 +103,18 @@ def plot_ratios(summary: dict[str, Any], path: Path) -> Path:
             ratios = np.sort(summary[method][name]["ratios"])
             share = np.arange(1, len(ratios) + 1) / max(len(ratios), 1)
             ax.step(ratios, share, where="post", color=COLOURS.get(method),
+                    marker="o" if len(ratios) == 1 else None,
                     label=f"{method} ({len(ratios)} planned)")  # fmt: skip
         ax.axvline(SLOW, color="grey", ls=":", lw=0.8)
         ax.set_xscale("log")
-        ax.xaxis.set_major_formatter(ScalarFormatter())
+        low, high = ax.get_xlim()
+        ax.set_xticks([t for t in RATIO_TICKS if low <= t <= high])
+        ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xlim(low, high)
         ax.set_xlabel("trajectory duration / human duration [-]")
         ax.set_ylabel("share of the planned tasks [-]")
         ax.set_title(f"random {name}")
         ax.legend(loc="lower right", fontsize=8)
         ax.grid(alpha=0.3)
-    return save_png(figure, path)
+    return figure
