@@ -457,7 +457,8 @@ def test_methods_are_the_method_and_both_baselines() -> None:
 
 @pytest.mark.parametrize(
     ("option", "message"),
-    [(["--samples", "1000000000"], "need 2 to 10001 samples of normalised time"),
+    [(["--samples", "1000000000"], "need 11 to 10001 samples of normalised time"),
+     (["--samples", "2"], "need 11 to 10001 samples of normalised time, got 2"),
      (["--seed", "-1"], "seed must be 0 or more, got -1"),
      (["--subjects", "5000"], "subjects must be 1..1000, got 5000"),
      (["--trials", "0"], "trials must be 1..1000, got 0"),

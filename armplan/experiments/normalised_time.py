@@ -14,6 +14,11 @@ from shared.errors import InvalidInputError
 
 #: Values of tau at which movements are compared, by default.
 SAMPLES = 101
+#: Fewest values of tau: a tenth of the movement apart. Fewer read the
+#: subject's wrist path as a few chords, not the path: with 2 a reach from
+#: the hanging arm became one straight line through NAO's shoulder, refused
+#: as a reach NAO cannot make, blaming the demonstrations.
+FEWEST_SAMPLES = 11
 #: Most values of tau: a hundredth of a percent of the movement apart.
 MOST_SAMPLES = 10_001
 
@@ -22,11 +27,13 @@ def tau_grid(samples: int = SAMPLES) -> np.ndarray:
     """``samples`` evenly spaced values of tau from 0 to 1, shape (samples,).
 
     Raises:
-        InvalidInputError: if ``samples`` is not within 2..``MOST_SAMPLES``.
+        InvalidInputError: if ``samples`` is not within
+            ``FEWEST_SAMPLES``..``MOST_SAMPLES``.
     """
-    if not 2 <= samples <= MOST_SAMPLES:
+    if not FEWEST_SAMPLES <= samples <= MOST_SAMPLES:
         raise InvalidInputError(
-            f"need 2 to {MOST_SAMPLES} samples of normalised time, got {samples}",
+            f"need {FEWEST_SAMPLES} to {MOST_SAMPLES} samples of normalised time, "
+            f"got {samples}",
             field="samples",
         )
     return np.linspace(0.0, 1.0, samples)

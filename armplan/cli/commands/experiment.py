@@ -112,7 +112,9 @@ def _similarity_parser(which: argparse._SubParsersAction) -> None:  # type: igno
         default="human",
         help="NAO's wrist path: the subject's, or the planner's own (default human)",
     )
-    parser.add_argument("--samples", type=int, default=101, help="tau samples (101)")
+    parser.add_argument(
+        "--samples", type=int, default=101, help="tau samples, 11 to 10001 (101)"
+    )
     parser.add_argument(
         "--palm",
         action="store_true",
