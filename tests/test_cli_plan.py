@@ -287,6 +287,25 @@ def test_the_table_and_summary(capsys: pytest.CaptureFixture[str]) -> None:
     assert error is not None and float(error[1]) < 1.0
 
 
+def test_the_end_posture_line_is_the_next_plans_start(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The table is in degrees and --start takes radians: a user chaining
+    plans pasted the last row and was refused (39.31 rad), or, near zero,
+    started 57 times off. The summary now prints the last posture in
+    radians; given to --start, the next plan starts there."""
+    first = plan_json(capsys, "--target", *AT_GOAL)
+    assert main(["plan", "--target", *AT_GOAL]) == 0
+    line = re.search(r"end posture \[rad\] \(the next plan's --start\): (.+)",
+                     capsys.readouterr().out)  # fmt: skip
+    assert line is not None
+    words = line[1].split()
+    np.testing.assert_allclose([float(w) for w in words], first.positions[-1],
+                               atol=5e-7)  # fmt: skip
+    second = plan_json(capsys, "--target", *AT_OTHER, "--start", *words)
+    np.testing.assert_allclose(second.positions[0], first.positions[-1], atol=5e-7)
+
+
 def test_a_coarse_rate_says_it_lengthens_the_reach(
     capsys: pytest.CaptureFixture[str],
 ) -> None:

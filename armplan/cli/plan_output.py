@@ -147,9 +147,20 @@ def print_summary(
             f"final wrist error {summary.final_error * 1e3:.3f} mm from the path's "
             f"last sample; largest along the path {summary.largest_error * 1e3:.3f} mm"
         )
+    lines.append(end_posture_line(trajectory))
     lines += [palm_line(palm, where) for where, palm in summary.palms]
     lines += hand_lines(request, trajectory)
     sys.stdout.write("\n" + "\n".join(lines) + "\n")
+
+
+def end_posture_line(trajectory: Trajectory) -> str:
+    """The last posture [rad], as ``--start`` takes it.
+
+    The table is in degrees: a row pasted into the next plan's ``--start``
+    was 57 times off.
+    """
+    last = " ".join(f"{q:.6f}" for q in trajectory.positions[-1])
+    return f"end posture [rad] (the next plan's --start): {last}"
 
 
 def hand_lines(request: PlanRequest, trajectory: Trajectory) -> list[str]:
