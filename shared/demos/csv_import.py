@@ -16,7 +16,10 @@ the map's units (default metres). Other columns are ignored. An empty (or
 ``nan``) marker cell is a missing sample, as capture systems export gaps:
 a gap of at most 0.1 s between rows that have the marker is filled, the
 number of filled rows reported; a longer one, or one at a trial's first or
-last row, is refused (``marker_gaps``). A row that
+last row, is refused (``marker_gaps``). Rows left out are missing samples
+too: a time step over 1.6 times the trial's median is frames missing, filled
+as empty cells for at most 0.1 s and refused beyond, naming the lines on
+both sides (``missing_rows``). A row that
 lacks a needed cell (shorter than the header) is refused, as is an empty
 time or trial cell.
 OptiTrack's own CSV export has several header rows: flatten it to this form.
@@ -34,6 +37,7 @@ import numpy as np
 from shared.demos.anthropometry import Subject
 from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import TIME_SCALE, MarkerMap
+from shared.demos.missing_rows import missing_frames
 from shared.demos.sample_rate import check_seconds
 from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError, InvalidInputError
@@ -232,13 +236,17 @@ def _tracks(
 
     times = TIME_SCALE[markers.time_units] * column(columns["time"][0])
     _check_times(times, rows, path, trial, markers.time_units)
-    points = {
-        role: np.stack([column(i) for i in cols], axis=1)
-        for role, cols in columns.items()
-        if role != "time"
-    }
-    units = markers.units or "m"
-    return MarkerTracks(times, points, units, [row.line for row in rows])
+    lines = [row.line for row in rows]
+    frames = missing_frames(times, lines, f"trial {trial}", path)
+    points = {}
+    for role, cols in columns.items():
+        if role != "time":
+            points[role] = np.full((len(frames.times), 3), np.nan)
+            points[role][frames.rows] = np.stack([column(i) for i in cols], axis=1)
+    framed: list[int | None] = [None] * len(frames.times)
+    for k, line in zip(frames.rows, lines, strict=True):
+        framed[k] = line
+    return MarkerTracks(frames.times, points, markers.units or "m", framed)
 
 
 def _check_times(

@@ -55,13 +55,14 @@ class MarkerTracks(NamedTuple):
         points: Marker positions by role (shoulder, elbow, wrist, thumb),
             each shape (n, 3).
         units: The file's length unit, a key of ``UNIT_SCALE`` (m, cm, mm).
-        lines: The file's line of each frame (CSV), or ``None``.
+        lines: The file's line of each frame (CSV; ``None`` for a frame
+            of a missing row, ``missing_rows``), or ``None``.
     """
 
     times: FloatArray
     points: dict[str, FloatArray]
     units: str
-    lines: list[int] | None = None
+    lines: list[int | None] | None = None
 
     @property
     def scale(self) -> float:
@@ -76,9 +77,22 @@ class MarkerTracks(NamedTuple):
         return f" (line {first})" if first == last else f" (lines {first}-{last})"
 
     def frame(self, k: int) -> str:
-        """Frame ``k`` named for a message: ``frame 4 (t = 0.04 s, line 7)``."""
-        line = "" if self.lines is None else f", line {self.lines[k]}"
-        return f"frame {k} (t = {self.times[k]:g} s{line})"
+        """Frame ``k`` named for a message: ``frame 4 (t = 0.04 s, line 7)``.
+
+        A frame of a missing row names the rows around it:
+        ``frame 5 (t = 0.05 s, no row: between lines 7 and 8)``.
+        """
+        return f"frame {k} (t = {self.times[k]:g} s{self._line(k)})"
+
+    def _line(self, k: int) -> str:
+        """Frame ``k``'s line for a message, ``", line 7"``; ``""`` without."""
+        if self.lines is None:
+            return ""
+        if self.lines[k] is not None:
+            return f", line {self.lines[k]}"
+        before = next(n for n in reversed(self.lines[:k]) if n is not None)
+        after = next(n for n in self.lines[k:] if n is not None)
+        return f", no row: between lines {before} and {after}"
 
 
 def trial_from_tracks(
