@@ -5,9 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from shared.demos.sample_rate import check_seconds
+from shared.demos.sample_rate import check_one_rate, check_seconds
+from shared.demos.trial import Trial
 from shared.errors import InvalidInputError
 from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
+from shared.robot.side import Side
 
 
 @pytest.mark.parametrize("rate", [MIN_SAMPLE_RATE, 100.0, MAX_SAMPLE_RATE])
@@ -17,11 +19,45 @@ def test_rates_in_the_model_range_are_returned(rate: float) -> None:
     assert check_seconds([times], "trial 0") == pytest.approx(rate)
 
 
-def test_the_rate_is_one_over_the_median_step_of_every_trial() -> None:
-    """Steps of all trials count: 0.01 s twice and 0.02 s once give 100 Hz,
-    whatever one odd step (a dropped frame) does."""
+def test_the_rate_is_fitted_to_every_trial() -> None:
+    """Steps of all trials count: a step of 0.01 s in one and of 0.02 s in
+    the other fit one of 0.012 s (weighted by their samples' spread)."""
     times = [np.array([0.0, 0.01, 0.02]), np.array([0.0, 0.02])]
-    assert check_seconds(times, "the demonstrations") == pytest.approx(100.0)
+    assert check_seconds(times, "the demonstrations") == pytest.approx(1 / 0.012)
+
+
+def test_a_last_sample_off_the_grid_barely_moves_the_rate() -> None:
+    """80 steps of 0.01 s, the last sample 5 ms late (a synthetic reach ends
+    at its duration): 100 Hz within 0.1 % (over the span, 99.4 Hz)."""
+    times = np.arange(81) / 100.0
+    times[-1] += 0.005
+    assert check_seconds([times], "trial 0") == pytest.approx(100.0, rel=1e-3)
+
+
+@pytest.mark.parametrize("rate", [120.0, 150.0, 240.0])
+def test_times_rounded_to_milliseconds_keep_their_rate(rate: float) -> None:
+    """A second at 120, 150 or 240 Hz written to the millisecond reads within
+    0.1 % of its rate (the median step read 125, 142.9 and 250 Hz)."""
+    times = np.round(np.arange(int(rate) + 1) / rate, 3)
+    assert check_seconds([times], "trial 0") == pytest.approx(rate, rel=1e-3)
+
+
+def test_a_csv_rounded_to_milliseconds_is_one_rate_with_its_c3d() -> None:
+    """The same 120 Hz session, exact (C3D) and to the millisecond (CSV):
+    one rate; 100 and 120 Hz are still two."""
+    exact = np.arange(121) / 120.0
+
+    def trial(times: np.ndarray, source: str) -> Trial:
+        still = np.zeros((len(times), 3))
+        return Trial(
+            "P01", 0, 0, Side.RIGHT, times, still, still, still, None,
+            still[-1], None, source,
+        )  # fmt: skip
+
+    rounded = trial(np.round(exact, 3), "s.csv")
+    check_one_rate([trial(exact, "s.c3d"), rounded])
+    with pytest.raises(InvalidInputError, match=r"s\.c3d at 100 Hz; s\.csv at 120"):
+        check_one_rate([trial(np.arange(101) / 100.0, "s.c3d"), rounded])
 
 
 def test_milliseconds_are_named_with_what_to_do() -> None:

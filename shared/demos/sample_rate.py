@@ -11,6 +11,17 @@ same words.
 ``check_one_rate`` refuses demonstrations sampled at several rates: the
 network counts transitions from one sample to the next, so a step of 1 ms
 in one file and of 10 ms in another would be counted as one step.
+
+A trial's rate is one over the slope of its times against the samples'
+numbers (least squares), not one over its median step: CSV times written to
+the millisecond round a 120 Hz capture's steps (8.33 ms) to 8 and 9 ms,
+whose median made 125 Hz, and the same session's C3D (120 Hz) and CSV were
+refused as two rates (240 Hz read as 250, 150 Hz as 142.9). Nor is it the
+samples' count over the span, (n - 1) / (t[-1] - t[0]): a synthetic reach's
+last sample is at its duration, up to half a step off the grid, which made
+an 80-sample trial's rate 99.4 Hz. The median step is kept for telling
+seconds from milliseconds, which a few odd steps must not sway. Frames
+missing from a CSV trial are put back before (``missing_rows``).
 """
 
 from __future__ import annotations
@@ -34,7 +45,7 @@ def check_seconds(
     milliseconds_fix: str = DIVIDE,
     seconds_fix: str | None = None,
 ) -> float:
-    """The median sample rate [Hz] of ``times``, refused if they are not seconds.
+    """The sample rate [Hz] of ``times``, refused if they are not seconds.
 
     Args:
         times: Increasing times [s] of one or more trials, each shape (n,);
@@ -47,19 +58,45 @@ def check_seconds(
             are not converted, say nothing of it.
 
     Returns:
-        One over the median step between consecutive times [Hz].
+        The steps' count over their total span [Hz] (``fitted_rate`` of the
+        trials together).
 
     Raises:
-        InvalidInputError: (field ``times``) if that rate is outside
-            ``MIN_SAMPLE_RATE`` to ``MAX_SAMPLE_RATE``, naming ``what``, the
-            step and the rate, and saying what to do (``milliseconds_fix``)
-            when milliseconds would explain it (``shared.messages.seconds``).
+        InvalidInputError: (field ``times``) if one over the median step is
+            outside ``MIN_SAMPLE_RATE`` to ``MAX_SAMPLE_RATE``, naming
+            ``what``, the step and the rate, and saying what to do
+            (``milliseconds_fix``) when milliseconds would explain it
+            (``shared.messages.seconds``).
     """
+    times = list(times)
     step = float(np.median(np.concatenate([np.diff(t) for t in times])))
     problem = not_seconds(step, what, "demonstrations", milliseconds_fix, seconds_fix)
     if problem:
         raise InvalidInputError(problem, field="times", step=step, rate=1.0 / step)
-    return 1.0 / step
+    return fitted_rate(times)
+
+
+def fitted_rate(times: Iterable[FloatArray]) -> float:
+    """The sample rate [Hz] of one or more trials: one over their fitted step.
+
+    The step is the slope of a least-squares line through each trial's times
+    against the samples' numbers (one slope for all the trials): rounding
+    and a last sample off the grid (a synthetic reach ends at its duration)
+    move it by far less than they move any one step.
+
+    Args:
+        times: Increasing times [s] of each trial, shape (n,); together at
+            least one step.
+
+    Returns:
+        One over the fitted step [Hz].
+    """
+    covariance = variance = 0.0
+    for t in times:
+        k = np.arange(len(t)) - (len(t) - 1) / 2.0
+        covariance += float(k @ (t - t.mean()))
+        variance += float(k @ k)
+    return variance / covariance
 
 
 #: Largest relative difference of two trials' sample rates taken as one
@@ -68,7 +105,7 @@ SAME_RATE = 0.02
 
 
 def check_one_rate(trials: Sequence[Trial]) -> None:
-    """Refuse trials sampled at different rates (each its median step's).
+    """Refuse trials sampled at different rates (each its ``fitted_rate``).
 
     Args:
         trials: The demonstrations' trials (times [s], each shape (n,)).
@@ -78,7 +115,7 @@ def check_one_rate(trials: Sequence[Trial]) -> None:
             the first's by more than ``SAME_RATE``, naming each file (or, for
             trials made here, subject) with its rates [Hz].
     """
-    rates = [1.0 / float(np.median(np.diff(t.times))) for t in trials]
+    rates = [fitted_rate([t.times]) for t in trials]
     if all(abs(rate / rates[0] - 1.0) <= SAME_RATE for rate in rates):
         return
     found: dict[str, list[float]] = {}
