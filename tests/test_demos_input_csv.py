@@ -264,3 +264,24 @@ def test_a_map_saying_milliseconds_reads_the_same_trial(tmp_path: pathlib.Path) 
         'the file\'s times look like seconds: leave "time_units": "ms" out of the '
         "marker map"
     )
+
+
+def test_a_time_column_of_frame_numbers_is_refused_on_import(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Times 0, 1, 2, ... read as 1 Hz: refused, naming the trial and lines
+    and asking whether they are frame numbers (it imported, and the error
+    then blamed the 30 s trial's stillness)."""
+    rows = arm_rows(0)
+    for k, row in enumerate(rows):
+        row[0] = str(k)
+    path = write_csv(tmp_path / "frames.csv", rows)
+    out = tmp_path / "frames.mcap"
+    assert import_cli(path, out) == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {path}: trial 0 (lines 2-31): the times step 1 s apart "
+        "(median), a sample rate of 1 Hz; motion capture samples at 20 Hz or "
+        "more: are these frame numbers? Times must be in seconds (a frame's "
+        "number over the capture's rate)\n"
+    )
+    assert not out.exists()

@@ -5,16 +5,20 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from shared.demos.sample_rate import check_one_rate, check_seconds
+from shared.demos.sample_rate import (
+    MIN_CAPTURE_RATE,
+    check_one_rate,
+    check_seconds,
+)
 from shared.demos.trial import Trial
 from shared.errors import InvalidInputError
 from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
 from shared.robot.side import Side
 
 
-@pytest.mark.parametrize("rate", [MIN_SAMPLE_RATE, 100.0, MAX_SAMPLE_RATE])
-def test_rates_in_the_model_range_are_returned(rate: float) -> None:
-    """1, 100 and 10 000 Hz are seconds: the median rate comes back."""
+@pytest.mark.parametrize("rate", [MIN_CAPTURE_RATE, 100.0, MAX_SAMPLE_RATE])
+def test_rates_in_the_capture_range_are_returned(rate: float) -> None:
+    """20, 100 and 10 000 Hz are seconds: the rate comes back."""
     times = np.arange(20) / rate
     assert check_seconds([times], "trial 0") == pytest.approx(rate)
 
@@ -80,3 +84,18 @@ def test_other_units_are_refused_without_the_milliseconds_hint(step: float) -> N
         check_seconds([step * np.arange(5)], "trial 0")
     assert info.value.message.endswith(": times must be in seconds")
     assert "milliseconds" not in info.value.message
+
+
+@pytest.mark.parametrize("rate", [MIN_SAMPLE_RATE, 10.0, 19.0])
+def test_a_rate_below_any_capture_asks_for_frame_numbers(rate: float) -> None:
+    """Frame numbers (0, 1, 2, ...) read as seconds make 1 Hz, which the
+    model's range lets by: refused, asking if they are frame numbers."""
+    with pytest.raises(InvalidInputError) as info:
+        check_seconds([np.arange(137) / rate], "trial 0 (lines 2-138)")
+    assert info.value.message == (
+        f"trial 0 (lines 2-138): the times step {1 / rate:.4g} s apart "
+        f"(median), a sample rate of {rate:.4g} Hz; motion capture samples at "
+        "20 Hz or more: are these frame numbers? Times must be in seconds (a "
+        "frame's number over the capture's rate)"
+    )
+    assert info.value.evidence["rate"] == pytest.approx(rate)

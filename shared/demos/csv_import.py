@@ -8,7 +8,8 @@ The format (one header row, then one row per frame, comma-separated)::
 ``time`` is required and increases within a trial, in seconds or, if the
 marker map says ``"time_units": "ms"``, milliseconds; a trial whose median
 step is outside 0.1 ms to 1 s (1 to 10 000 Hz) is refused, its times not in
-that unit (most often milliseconds read as seconds; ``sample_rate``). ``trial`` (a whole
+that unit (most often milliseconds read as seconds; ``sample_rate``), and
+so is one sampled below 20 Hz (frame numbers for times, most often). ``trial`` (a whole
 number) is optional and splits the rows into trials (rows of one trial
 consecutive, at least two of them); each marker of the marker map
 (``markers``) has three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` in

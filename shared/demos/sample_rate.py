@@ -8,6 +8,12 @@ the same words). ``armplan demos import`` checks each CSV trial with it,
 and ``armplan fit`` the whole set, so the two refuse the same times in the
 same words.
 
+Nor is a demonstration sampled below ``MIN_CAPTURE_RATE``: a time column
+of frame numbers (0, 1, 2, ...) read as seconds makes 1 Hz, within the
+motion model's range, and a 136-sample reach read as 136 s was refused only
+later, as mostly still. ``check_seconds`` refuses it, asking whether the
+times are frame numbers.
+
 ``check_one_rate`` refuses demonstrations sampled at several rates: the
 network counts transitions from one sample to the next, so a step of 1 ms
 in one file and of 10 ms in another would be counted as one step.
@@ -39,6 +45,12 @@ if TYPE_CHECKING:
     from shared.demos.trial import Trial
 
 
+#: Slowest sample rate [Hz] of a demonstration: motion capture samples at
+#: 50 to 1000 Hz (the paper's at 100 Hz); a 20 Hz capture still has 11
+#: samples in the paper's quickest mean reach (0.55 s, Table 4).
+MIN_CAPTURE_RATE = 20.0
+
+
 def check_seconds(
     times: Iterable[FloatArray],
     what: str,
@@ -66,14 +78,26 @@ def check_seconds(
             outside ``MIN_SAMPLE_RATE`` to ``MAX_SAMPLE_RATE``, naming
             ``what``, the step and the rate, and saying what to do
             (``milliseconds_fix``) when milliseconds would explain it
-            (``shared.messages.seconds``).
+            (``shared.messages.seconds``); or if the rate is below
+            ``MIN_CAPTURE_RATE``, asking whether the times are frame numbers.
     """
     times = list(times)
     step = float(np.median(np.concatenate([np.diff(t) for t in times])))
     problem = not_seconds(step, what, "demonstrations", milliseconds_fix, seconds_fix)
     if problem:
         raise InvalidInputError(problem, field="times", step=step, rate=1.0 / step)
-    return fitted_rate(times)
+    rate = fitted_rate(times)
+    if rate < MIN_CAPTURE_RATE:
+        raise InvalidInputError(
+            f"{what}: the times step {step:.4g} s apart (median), a sample rate "
+            f"of {rate:.4g} Hz; motion capture samples at {MIN_CAPTURE_RATE:g} "
+            "Hz or more: are these frame numbers? Times must be in seconds (a "
+            "frame's number over the capture's rate)",
+            field="times",
+            step=step,
+            rate=rate,
+        )
+    return rate
 
 
 def fitted_rate(times: Iterable[FloatArray]) -> float:
