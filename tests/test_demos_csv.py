@@ -13,8 +13,10 @@ from shared.demos.csv_import import read_csv
 from shared.demos.markers import MarkerMap
 from shared.demos.retarget import ArmTrack, retarget
 from shared.errors import DemoFileError
+from tests.test_demos_input_csv import arm_rows, write_csv
 
 MARKERS = MarkerMap(shoulder="SHO", elbow="ELB", wrist="WRI", units="cm")
+IN_METRES = MarkerMap(shoulder="RSHO", elbow="RELB", wrist="RWRB")
 
 
 def _arm(n: int, phase: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -117,3 +119,36 @@ def test_a_marker_absurdly_far_away_is_named(tmp_path: pathlib.Path) -> None:
     path.write_text("\n".join(lines) + "\n")
     trials, _ = read_csv(path, MARKERS)
     assert len(trials[0].times) == 30
+
+
+def _arms(path: pathlib.Path, scales: list[float]) -> pathlib.Path:
+    """Trials 0, 1, ... of one swing, each trial's coordinates times its
+    scale (a person of arms that much longer), in metres."""
+    rows = [r for k, scale in enumerate(scales) for r in arm_rows(k, scale=scale)]
+    return write_csv(path, rows)
+
+
+def test_two_people_in_one_csv_are_refused_naming_the_trials(
+    tmp_path: pathlib.Path,
+) -> None:
+    """Trials 2 and 3 of arms 25 % longer (a 1.95 m person beside a 1.55 m
+    one): refused, naming them, their lines and both arms (they imported as
+    one subject of median arms)."""
+    path = _arms(tmp_path / "two.csv", [1.0, 1.0, 1.25, 1.25])
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, IN_METRES)
+    assert caught.value.message == (
+        f"{path}: subject 'two': the arm of trials 2, 3 is not trial 0's: trial "
+        "2 (lines 62-91) measures 0.375 + 0.312 m, trial 0 (lines 2-31) 0.300 + "
+        "0.250 m, more than 10% apart: two people in one file? Give each person "
+        'a file of their own and a name (the marker map\'s "subject")'
+    )
+    assert caught.value.evidence["trials"] == [2, 3]
+
+
+def test_one_persons_arm_a_little_off_is_one_person(tmp_path: pathlib.Path) -> None:
+    """Markers placed again (arms 5 % apart): one subject, of the median arm."""
+    path = _arms(tmp_path / "one.csv", [1.0, 1.05, 1.05])
+    trials, person = read_csv(path, IN_METRES)
+    assert len(trials) == 3
+    assert person.upper_arm == pytest.approx(0.315, abs=1e-5)

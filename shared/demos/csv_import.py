@@ -23,6 +23,9 @@ as empty cells for at most 0.1 s and refused beyond, naming the lines on
 both sides (``missing_rows``). A row that
 lacks a needed cell (shorter than the header) is refused, as is an empty
 time or trial cell.
+A file is one subject's: a trial whose upper arm or forearm differs from
+the first trial's by more than ``SAME_ARM`` (10 %) is refused, naming the
+trials, as two C3D files of one name are (``same_person``).
 OptiTrack's own CSV export has several header rows: flatten it to this form.
 """
 
@@ -39,6 +42,7 @@ from shared.demos.anthropometry import Subject
 from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import TIME_SCALE, MarkerMap
 from shared.demos.missing_rows import missing_frames
+from shared.demos.same_person import SAME_ARM, same_arm
 from shared.demos.sample_rate import check_seconds
 from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError, InvalidInputError
@@ -73,8 +77,9 @@ def read_csv(
             not a whole number, a value that is not a finite number (naming
             line, column and value), a trial of a single row, times that do
             not increase within a trial or are not in seconds (each naming
-            the trial and line), or an implausible arm
-            (``importing.check_segments``).
+            the trial and line), an implausible arm
+            (``importing.check_segments``), or trials whose arms differ by
+            more than ``SAME_ARM`` (two people; naming the trials).
     """
     path = Path(path)
     header, rows = _rows(path)
@@ -89,6 +94,7 @@ def read_csv(
         )
         trials.append(trial)
         people.append(person)
+    _check_one_person(people, groups, str(path))
     subject = Subject(
         name,
         people[0].stature,
@@ -96,6 +102,44 @@ def read_csv(
         float(np.median([p.forearm for p in people])),
     )
     return trials, subject
+
+
+def _check_one_person(
+    people: list[Subject], groups: dict[int, list[Row]], path: str
+) -> None:
+    """Refuse trials whose arms are not the first trial's (``same_arm``).
+
+    Args:
+        people: Each trial's measured arm [m], in the order of ``groups``.
+        groups: Each trial's rows, by trial number.
+        path: The file, for messages.
+
+    Raises:
+        DemoFileError: naming the subject, the trials that differ and, for
+            the first of them and the first trial, their lines and arms.
+    """
+    numbers = list(groups)
+    first = people[0]
+    odd = [k for k, p in zip(numbers, people, strict=True) if not same_arm(first, p)]
+    if not odd:
+        return
+    other = people[numbers.index(odd[0])]
+
+    def lines(key: int) -> str:
+        return f"lines {groups[key][0].line}-{groups[key][-1].line}"
+
+    raise DemoFileError(
+        path,
+        f"subject {first.name!r}: the arm of trial{'s' if len(odd) > 1 else ''} "
+        f"{', '.join(map(str, odd))} is not trial {numbers[0]}'s: trial {odd[0]} "
+        f"({lines(odd[0])}) measures {other.upper_arm:.3f} + {other.forearm:.3f} m, "
+        f"trial {numbers[0]} ({lines(numbers[0])}) {first.upper_arm:.3f} + "
+        f"{first.forearm:.3f} m, more than {SAME_ARM:.0%} apart: two people in one "
+        "file? Give each person a file of their own and a name (the marker "
+        'map\'s "subject")',
+        subject=first.name,
+        trials=odd,
+    )
 
 
 def _rows(path: Path) -> tuple[list[str], list[Row]]:
