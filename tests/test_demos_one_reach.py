@@ -144,3 +144,16 @@ def test_a_trial_moving_under_a_tenth_of_a_second_is_refused(
     )
     if frames == 2:
         assert "lasts 0.01 s, and its wrist moves for 0.00 s (from 0.01 s to " in err
+
+
+def test_a_csv_trial_is_refused_by_its_own_number(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Trial 15 of the file, after trial 3, still for a minute: the error
+    names trial 15, as the file and its gap notes do (it named the trial's
+    new number, 101 with --first-trial 100)."""
+    long = [[row[0], "15", *row[2:]] for row in _held(60.0)]
+    code, _ = _import(tmp_path, arm_rows(3) + long, "--first-trial", "100")
+    assert code == 1
+    err = capsys.readouterr().err
+    assert f"{tmp_path / 'rec.csv'}: trial 15 of subject 'rec' lasts 60.3 s" in err

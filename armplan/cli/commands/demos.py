@@ -14,7 +14,8 @@ the same MCAP form; ``info`` counts subjects, trials, samples and labels.
 Files are checked before any work: a file given twice (its trials would
 count twice) and an output that is also an input are refused; so is a
 trial whose samples another file's trial has (a copy). ``import`` numbers
-the trials from ``--first-trial`` (default 0) across its files, refuses a
+the trials from ``--first-trial`` (default 0) across its files (a CSV
+trial's errors and notes name its number in the file), refuses a
 trial that is no reach (its wrist ends near its start, or moves for under
 0.1 s) and one that is more than one reach (mostly still, or over 10 s;
 ``shared/demos/reach_span.py``) unless ``--allow-long``, and notes on stderr
@@ -149,12 +150,14 @@ def run_import(args: argparse.Namespace) -> int:
             found = [trial]
         else:
             found, subject = read_csv(path, markers, report=_note)
+        for trial in found:  # by the file's own numbers, as its gap notes are
+            _check_one_reach(trial, name, args.allow_long)
+        if path.suffix.lower() == ".csv":
             found = [t._replace(trial=base + i) for i, t in enumerate(found)]
         _check_one_person(subjects.get(subject.name), subject, name)
         subjects.setdefault(subject.name, subject)
         for trial in found:
             register.add(trial, name)
-            _check_one_reach(trial, name, args.allow_long)
         trials.extend(found)
     count = write_demos(
         args.output, DemoSet(subjects, trials), source=", ".join(args.files)
