@@ -152,3 +152,38 @@ def test_one_persons_arm_a_little_off_is_one_person(tmp_path: pathlib.Path) -> N
     trials, person = read_csv(path, IN_METRES)
     assert len(trials) == 3
     assert person.upper_arm == pytest.approx(0.315, abs=1e-5)
+
+
+@pytest.mark.parametrize(("mark", "name"), [(";", "semicolons"), ("\t", "tabs")])
+def test_a_header_of_another_delimiter_is_shown_with_a_hint(
+    tmp_path: pathlib.Path, mark: str, name: str
+) -> None:
+    """A semicolon- or tab-separated file reads as one column: the error
+    shows the header read and names its delimiter (it named only the
+    columns it lacked)."""
+    path = tmp_path / "rec.csv"
+    _write(path, [0])
+    path.write_text(path.read_text().replace(",", mark))
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    cells = ["time", "trial", "note", "SHO_x", "SHO_y", "SHO_z", "ELB_x", "..."]
+    header = mark.join(cells)  # its first 40 characters
+    assert caught.value.message == (
+        f"{path}: lacks the columns time, SHO_x, SHO_y, SHO_z, ELB_x, ELB_y, "
+        f"ELB_z, WRI_x, WRI_y, WRI_z; its header reads 1 column: {header!r}: "
+        f"its columns seem separated by {name}; the format's are separated by "
+        "commas, with points for decimals (export it as comma-separated values)"
+    )
+
+
+def test_a_header_without_a_column_is_shown(tmp_path: pathlib.Path) -> None:
+    """A comma-separated header lacking a marker: the error shows its first
+    cells, and no delimiter hint."""
+    path = tmp_path / "rec.csv"
+    _write(path, [0])
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS.model_copy(update={"wrist": "RWRB"}))
+    assert caught.value.message == (
+        f"{path}: lacks the columns RWRB_x, RWRB_y, RWRB_z; its header reads 12 "
+        "columns: 'time', 'trial', 'note', 'SHO_x', 'SHO_y', 'SHO_z', ..."
+    )

@@ -5,6 +5,8 @@ The format (one header row, then one row per frame, comma-separated)::
     time,trial,RSHO_x,RSHO_y,RSHO_z,RELB_x,RELB_y,RELB_z,RWRB_x,RWRB_y,RWRB_z
     0.00,0,12.1,-180.3,1402.0,...
 
+A header that lacks a column is shown in the error, which says so if
+semicolons or tabs separate its columns (a spreadsheet's other exports).
 ``time`` is required and increases within a trial, in seconds or, if the
 marker map says ``"time_units": "ms"``, milliseconds; a trial whose median
 step is outside 0.1 ms to 1 s (1 to 10 000 Hz) is refused, its times not in
@@ -172,7 +174,9 @@ def _columns(header: list[str], markers: MarkerMap, path: str) -> dict[str, list
     if missing:
         raise DemoFileError(
             path,
-            f"lacks the column{'s' if len(missing) > 1 else ''} {', '.join(missing)}",
+            f"lacks the column{'s' if len(missing) > 1 else ''} "
+            f"{', '.join(missing)}{_header_read(header)}",
+            missing=missing,
         )
     for column in [*needed, "trial"]:
         if header.count(column) > 1:
@@ -180,6 +184,33 @@ def _columns(header: list[str], markers: MarkerMap, path: str) -> dict[str, list
                 path, f"the header names column {column!r} more than once"
             )
     return {role: [header.index(c) for c in cols] for role, cols in wanted.items()}
+
+
+#: Delimiters a spreadsheet may write instead of commas, named for messages.
+OTHER_DELIMITERS = {";": "semicolons", "\t": "tabs"}
+#: How many header cells, and characters of each, a message shows.
+_SHOWN_CELLS, _SHOWN_CHARS = 6, 40
+
+
+def _header_read(header: list[str]) -> str:
+    """The header as read, for a message, and a hint if its delimiter is wrong.
+
+    A tab- or semicolon-separated file reads as one column: the hint says so
+    (``"; its header reads 1 column: 'time;trial;RS...': ..."``).
+    """
+    cells = [h if len(h) <= _SHOWN_CHARS else h[:_SHOWN_CHARS] + "..." for h in header]
+    shown = ", ".join(repr(c) for c in cells[:_SHOWN_CELLS])
+    if len(header) > _SHOWN_CELLS:
+        shown += ", ..."
+    text = f"; its header reads {len(header)} column{'s' * (len(header) > 1)}: {shown}"
+    for mark, name in OTHER_DELIMITERS.items():
+        if any(mark in h for h in header):
+            return (
+                f"{text}: its columns seem separated by {name}; the format's are "
+                "separated by commas, with points for decimals (export it as "
+                "comma-separated values)"
+            )
+    return text
 
 
 def _trials(rows: list[Row], header: list[str], path: str) -> dict[int, list[Row]]:
