@@ -7,6 +7,7 @@ import pytest
 
 from shared.demos.sample_rate import (
     MIN_CAPTURE_RATE,
+    check_capture_rate,
     check_one_rate,
     check_seconds,
 )
@@ -16,9 +17,9 @@ from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
 from shared.robot.side import Side
 
 
-@pytest.mark.parametrize("rate", [MIN_CAPTURE_RATE, 100.0, MAX_SAMPLE_RATE])
-def test_rates_in_the_capture_range_are_returned(rate: float) -> None:
-    """20, 100 and 10 000 Hz are seconds: the rate comes back."""
+@pytest.mark.parametrize("rate", [MIN_SAMPLE_RATE, 100.0, MAX_SAMPLE_RATE])
+def test_rates_in_the_model_range_are_returned(rate: float) -> None:
+    """1, 100 and 10 000 Hz are seconds: the rate comes back."""
     times = np.arange(20) / rate
     assert check_seconds([times], "trial 0") == pytest.approx(rate)
 
@@ -91,7 +92,7 @@ def test_a_rate_below_any_capture_asks_for_frame_numbers(rate: float) -> None:
     """Frame numbers (0, 1, 2, ...) read as seconds make 1 Hz, which the
     model's range lets by: refused, asking if they are frame numbers."""
     with pytest.raises(InvalidInputError) as info:
-        check_seconds([np.arange(137) / rate], "trial 0 (lines 2-138)")
+        check_capture_rate(np.arange(137) / rate, "trial 0 (lines 2-138)")
     assert info.value.message == (
         f"trial 0 (lines 2-138): the times step {1 / rate:.4g} s apart "
         f"(median), a sample rate of {rate:.4g} Hz; motion capture samples at "
@@ -99,3 +100,9 @@ def test_a_rate_below_any_capture_asks_for_frame_numbers(rate: float) -> None:
         "frame's number over the capture's rate)"
     )
     assert info.value.evidence["rate"] == pytest.approx(rate)
+
+
+@pytest.mark.parametrize("rate", [MIN_CAPTURE_RATE, 120.0, MAX_SAMPLE_RATE])
+def test_capture_rates_pass(rate: float) -> None:
+    """20 Hz and up are a capture's rates: no error."""
+    check_capture_rate(np.arange(50) / rate, "trial 0")

@@ -45,7 +45,7 @@ from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import TIME_SCALE, MarkerMap
 from shared.demos.missing_rows import missing_frames
 from shared.demos.same_person import SAME_ARM, same_arm
-from shared.demos.sample_rate import check_seconds
+from shared.demos.sample_rate import check_capture_rate, check_seconds
 from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError, InvalidInputError
 
@@ -331,8 +331,8 @@ def _check_times(
     """Refuse a trial's times [s]: one row, a gap, a step back, or a wrong unit.
 
     A missing time or one not after the row before names its line; times
-    not in the map's ``unit`` (``sample_rate.check_seconds``) name the
-    trial's lines.
+    not in the map's ``unit`` (``sample_rate.check_seconds``) or sampled
+    too slowly for a capture (``check_capture_rate``) name the trial's lines.
     """
     if len(rows) < MIN_SAMPLES:
         raise DemoFileError(
@@ -361,6 +361,7 @@ def _check_times(
         span += f", its times read as {unit} as the marker map says"
     try:
         check_seconds([times], span, MILLISECONDS_FIX, SECONDS_FIX)
+        check_capture_rate(times, span)
     except InvalidInputError as exc:
         raise DemoFileError(
             path, exc.message, trial=trial, line=rows[0].line, **exc.evidence

@@ -11,8 +11,10 @@ same words.
 Nor is a demonstration sampled below ``MIN_CAPTURE_RATE``: a time column
 of frame numbers (0, 1, 2, ...) read as seconds makes 1 Hz, within the
 motion model's range, and a 136-sample reach read as 136 s was refused only
-later, as mostly still. ``check_seconds`` refuses it, asking whether the
-times are frame numbers.
+later, as mostly still. ``check_capture_rate`` refuses such a recording
+on import, asking whether the times are frame numbers (``armplan fit``
+takes what the demonstration files hold: a sparser sampling of a reach is
+still one rate).
 
 ``check_one_rate`` refuses demonstrations sampled at several rates: the
 network counts transitions from one sample to the next, so a step of 1 ms
@@ -78,26 +80,41 @@ def check_seconds(
             outside ``MIN_SAMPLE_RATE`` to ``MAX_SAMPLE_RATE``, naming
             ``what``, the step and the rate, and saying what to do
             (``milliseconds_fix``) when milliseconds would explain it
-            (``shared.messages.seconds``); or if the rate is below
-            ``MIN_CAPTURE_RATE``, asking whether the times are frame numbers.
+            (``shared.messages.seconds``).
     """
     times = list(times)
     step = float(np.median(np.concatenate([np.diff(t) for t in times])))
     problem = not_seconds(step, what, "demonstrations", milliseconds_fix, seconds_fix)
     if problem:
         raise InvalidInputError(problem, field="times", step=step, rate=1.0 / step)
-    rate = fitted_rate(times)
-    if rate < MIN_CAPTURE_RATE:
-        raise InvalidInputError(
-            f"{what}: the times step {step:.4g} s apart (median), a sample rate "
-            f"of {rate:.4g} Hz; motion capture samples at {MIN_CAPTURE_RATE:g} "
-            "Hz or more: are these frame numbers? Times must be in seconds (a "
-            "frame's number over the capture's rate)",
-            field="times",
-            step=step,
-            rate=rate,
-        )
-    return rate
+    return fitted_rate(times)
+
+
+def check_capture_rate(times: FloatArray, what: str) -> None:
+    """Refuse a recorded trial sampled below ``MIN_CAPTURE_RATE``.
+
+    Args:
+        times: The trial's increasing times [s], shape (n,), n >= 2.
+        what: Whose times, for the message, e.g. ``"trial 3 (lines 2-31)"``.
+
+    Raises:
+        InvalidInputError: (field ``times``) naming ``what``, the median
+            step and the rate, and asking whether the times are frame
+            numbers.
+    """
+    rate = fitted_rate([times])
+    if rate >= MIN_CAPTURE_RATE:
+        return
+    step = float(np.median(np.diff(times)))
+    raise InvalidInputError(
+        f"{what}: the times step {step:.4g} s apart (median), a sample rate "
+        f"of {rate:.4g} Hz; motion capture samples at {MIN_CAPTURE_RATE:g} "
+        "Hz or more: are these frame numbers? Times must be in seconds (a "
+        "frame's number over the capture's rate)",
+        field="times",
+        step=step,
+        rate=rate,
+    )
 
 
 def fitted_rate(times: Iterable[FloatArray]) -> float:
