@@ -24,19 +24,24 @@ def test_rates_in_the_model_range_are_returned(rate: float) -> None:
     assert check_seconds([times], "trial 0") == pytest.approx(rate)
 
 
-def test_the_rate_is_fitted_to_every_trial() -> None:
-    """Steps of all trials count: a step of 0.01 s in one and of 0.02 s in
-    the other fit one of 0.012 s (weighted by their samples' spread)."""
-    times = [np.array([0.0, 0.01, 0.02]), np.array([0.0, 0.02])]
-    assert check_seconds(times, "the demonstrations") == pytest.approx(1 / 0.012)
+def test_the_rate_is_the_median_of_every_trials_wide_steps() -> None:
+    """Each trial's steps across half of it count, all trials' together:
+    two trials of 0.01 s steps and one of 0.02 s read 100 Hz; two of 0.02 s
+    and one of 0.01 s, 50 Hz."""
+    fine, coarse = np.arange(11) * 0.01, np.arange(11) * 0.02
+    rate = check_seconds([fine, fine, coarse], "the demonstrations")
+    assert rate == pytest.approx(100.0)
+    rate = check_seconds([coarse, fine, coarse], "the demonstrations")
+    assert rate == pytest.approx(50.0)
 
 
-def test_a_last_sample_off_the_grid_barely_moves_the_rate() -> None:
+def test_a_last_sample_off_the_grid_leaves_the_rate() -> None:
     """80 steps of 0.01 s, the last sample 5 ms late (a synthetic reach ends
-    at its duration): 100 Hz within 0.1 % (over the span, 99.4 Hz)."""
+    at its duration): 100 Hz (over the span, 99.4 Hz; a least-squares step,
+    99.98 Hz)."""
     times = np.arange(81) / 100.0
     times[-1] += 0.005
-    assert check_seconds([times], "trial 0") == pytest.approx(100.0, rel=1e-3)
+    assert check_seconds([times], "trial 0") == pytest.approx(100.0, rel=1e-9)
 
 
 @pytest.mark.parametrize("rate", [120.0, 150.0, 240.0])

@@ -43,8 +43,8 @@ def test_files_at_two_sample_rates_are_refused_naming_each(
     out = tmp_path / "m.json"
     assert main(["fit", str(slow), str(fast), "-o", str(out)]) == 1
     assert capsys.readouterr().err.endswith(
-        f"armplan: error: the demonstrations mix sample rates: {slow} at 99.95 Hz; "
-        f"{fast} at 999.5 Hz. The motion model counts transitions from one sample "
+        f"armplan: error: the demonstrations mix sample rates: {slow} at 100 Hz; "
+        f"{fast} at 1000 Hz. The motion model counts transitions from one sample "
         "to the next, as steps of one rate: fit the files of each rate apart, or "
         "resample them to one rate\n"
     )

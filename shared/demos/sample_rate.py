@@ -20,8 +20,8 @@ still one rate).
 network counts transitions from one sample to the next, so a step of 1 ms
 in one file and of 10 ms in another would be counted as one step.
 
-A trial's rate is one over the slope of its times against the samples'
-numbers (least squares), not one over its median step: CSV times written to
+A trial's rate is one over its median step across half the trial
+(``fitted_rate``), not one over its median step: CSV times written to
 the millisecond round a 120 Hz capture's steps (8.33 ms) to 8 and 9 ms,
 whose median made 125 Hz, and the same session's C3D (120 Hz) and CSV were
 refused as two rates (240 Hz read as 250, 150 Hz as 142.9). Nor is it the
@@ -72,8 +72,7 @@ def check_seconds(
             are not converted, say nothing of it.
 
     Returns:
-        The steps' count over their total span [Hz] (``fitted_rate`` of the
-        trials together).
+        The trials' rate together [Hz] (``fitted_rate``).
 
     Raises:
         InvalidInputError: (field ``times``) if one over the median step is
@@ -118,26 +117,27 @@ def check_capture_rate(times: FloatArray, what: str) -> None:
 
 
 def fitted_rate(times: Iterable[FloatArray]) -> float:
-    """The sample rate [Hz] of one or more trials: one over their fitted step.
+    """The sample rate [Hz] of one or more trials: one over their wide step.
 
-    The step is the slope of a least-squares line through each trial's times
-    against the samples' numbers (one slope for all the trials): rounding
-    and a last sample off the grid (a synthetic reach ends at its duration)
-    move it by far less than they move any one step.
+    A trial of n samples spans ``m = (n - 1) // 2`` steps from each of its
+    first ``n - m`` samples; the rate is one over the median of those spans
+    over ``m``, all trials' together. Rounding the times moves a span by
+    at most one rounding step, a ``m``-th of a step each; a last sample off
+    the grid (a synthetic reach ends at its duration) moves only the last
+    span, which the median ignores, so a regular clock reads exactly.
 
     Args:
         times: Increasing times [s] of each trial, shape (n,); together at
             least one step.
 
     Returns:
-        One over the fitted step [Hz].
+        One over the median wide step [Hz].
     """
-    covariance = variance = 0.0
+    steps = []
     for t in times:
-        k = np.arange(len(t)) - (len(t) - 1) / 2.0
-        covariance += float(k @ (t - t.mean()))
-        variance += float(k @ k)
-    return variance / covariance
+        m = max((len(t) - 1) // 2, 1)
+        steps.append((t[m:] - t[:-m]) / m)
+    return 1.0 / float(np.median(np.concatenate(steps)))
 
 
 #: Largest relative difference of two trials' sample rates taken as one
