@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import os
 import pathlib
 
+import numpy as np
 import pytest
 
 from armplan.cli.main import main
 from shared.demos import read_demos, synthesize, write_demos
 from shared.demos.demo_file import SYNTHETIC
+from shared.demos.trial import DemoSet
 from shared.errors import DemoFileError
 from tests.test_demos_input_csv import arm_rows, write_csv
 
@@ -145,7 +148,8 @@ def test_two_people_under_one_name_are_refused(
     argv = ["demos", "synth", "-o", str(other), "--subjects", "1", "--trials", "1"]
     assert main([*argv, "--seed", "1"]) == 0
     with pytest.raises(
-        DemoFileError, match=rf"trial 0 of subject 'S01' is also in {demos}"
+        DemoFileError,
+        match=rf"trial 0 of subject 'S01' \(right arm\) is also in {demos}",
     ):
         read_demos([demos, other])
 
@@ -217,11 +221,70 @@ def test_one_trial_number_in_two_files_is_refused(tmp_path: pathlib.Path) -> Non
     with pytest.raises(DemoFileError) as caught:
         read_demos([first, second])
     assert caught.value.message == (
-        f"{second}: trial 0 of subject 'P01' is also in {first}, another "
+        f"{second}: trial 0 of subject 'P01' (right arm) is also in {first}, another "
         "recording under the same number (each `armplan demos import` numbers "
         "its trials from 0): import the files in one `armplan demos import`, or "
         "number this file's from 2 (`armplan demos import --first-trial 2`)"
     )
+
+
+def _both_arms_csv(path: pathlib.Path) -> pathlib.Path:
+    """A CSV of trials 0 and 1 with P01's right arm (columns R...) and its
+    mirror image, the left arm (columns L..., y negated), side by side."""
+    rows = arm_rows(0) + arm_rows(1)
+    markers = ("SHO", "ELB", "WRB")
+    header = ["time", "trial"]
+    header += [f"{s}{m}_{a}" for s in "RL" for m in markers for a in "xyz"]
+    mirror = np.tile([1.0, -1.0, 1.0], 3)
+    cells = [r + [f"{v:.6f}" for v in mirror * np.array(r[2:], float)] for r in rows]
+    with open(path, "w", newline="") as stream:
+        csv.writer(stream).writerows([header, *cells])
+    return path
+
+
+def _import_arm(tmp_path: pathlib.Path, table: pathlib.Path, arm: str) -> str:
+    """``armplan demos import`` of ``table``'s ``arm`` (marker map of that
+    arm's columns); the output's path."""
+    side = arm[0].upper()
+    markers = tmp_path / f"map_{arm}.json"
+    names = {"shoulder": "SHO", "elbow": "ELB", "wrist": "WRB"}
+    fields = {key: side + name for key, name in names.items()}
+    markers.write_text(json.dumps(fields | {"arm": arm, "subject": "P01"}))
+    out = tmp_path / f"both_{arm}.mcap"
+    argv = ["demos", "import", str(table), "--markers", str(markers)]
+    assert main([*argv, "-o", str(out)]) == 0
+    return str(out)
+
+
+def test_one_trial_number_on_two_arms_is_two_reaches(tmp_path: pathlib.Path) -> None:
+    """One CSV of both arms imported once per arm: trial 0 of the right arm
+    and trial 0 of the left are two reaches, read together (they were
+    refused as one number recorded twice)."""
+    table = _both_arms_csv(tmp_path / "both.csv")
+    right, left = (_import_arm(tmp_path, table, arm) for arm in ("right", "left"))
+    demos = read_demos([right, left])
+    read = [(t.arm.value, t.trial, t.source) for t in demos.trials]
+    assert read == [
+        ("right", 0, right),
+        ("right", 1, right),
+        ("left", 0, left),
+        ("left", 1, left),
+    ]
+
+
+def test_both_arms_in_one_file_are_two_reaches(tmp_path: pathlib.Path) -> None:
+    """A file holding trial 0 of each arm, one after the other, reads as two
+    trials (the samples of both used to be joined into one trial)."""
+    table = _both_arms_csv(tmp_path / "both.csv")
+    both = read_demos([_import_arm(tmp_path, table, a) for a in ("right", "left")])
+    pair = [t for t in both.trials if t.trial == 0]
+    path = tmp_path / "pair.mcap"
+    write_demos(path, DemoSet(both.subjects, pair))
+    read = read_demos(path)
+    assert [(t.arm.value, t.trial, len(t.times)) for t in read.trials] == [
+        ("right", 0, 30),
+        ("left", 0, 30),
+    ]
 
 
 def test_one_trial_number_in_two_synthetic_sets_gets_their_advice(

@@ -32,6 +32,7 @@ from shared.messages.demo import DemoSample, DemoSubject
 from shared.output_paths import check_output_file, replaced_when_done
 from shared.recording import MessageWriter
 from shared.recording.reader import Recording
+from shared.robot.side import Side
 
 SUBJECT_TOPIC = "demo/subject"
 SAMPLE_TOPIC = "demo/sample"
@@ -273,17 +274,17 @@ def _trials(
 ) -> list[Trial]:
     """Consecutive samples of one (subject, trial, arm) make one trial."""
     groups: list[list[DemoSample]] = []
-    seen: set[tuple[str, int]] = set()
+    seen: set[tuple[str, str, int]] = set()
     for sample in samples:
-        key = (sample.subject, sample.trial)
-        if groups and (groups[-1][0].subject, groups[-1][0].trial) == key:
+        key = _trial_key(sample)
+        if groups and _trial_key(groups[-1][0]) == key:
             groups[-1].append(sample)
             continue
         if key in seen:
             raise DemoFileError(
                 str(path),
                 f"the samples of trial {sample.trial} of subject {sample.subject!r} "
-                "are not consecutive",
+                f"({key[1]} arm) are not consecutive",
             )
         if sample.subject not in subjects:
             raise DemoFileError(
@@ -295,6 +296,11 @@ def _trials(
         groups.append([sample])
     _check_every_subject_moves(subjects, {key[0] for key in seen}, path)
     return [_trial(group, path) for group in groups]
+
+
+def _trial_key(sample: DemoSample) -> tuple[str, str, int]:
+    """Which trial a sample is of: (subject, arm, trial number)."""
+    return sample.subject, Side.parse(sample.arm).value, sample.trial
 
 
 def _check_every_subject_moves(

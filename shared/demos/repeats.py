@@ -3,9 +3,10 @@
 Two demonstration files can hold one recording twice: a copy of a file
 under another name, or a CSV and a C3D export of one session imported
 apart. And two imports each number their trials from 0, so one subject's
-trial 3 can be in two files as two recordings: the experiments tell reaches
-off the grid apart by (subject, trial), and would average the two as one.
-``Register`` refuses both, naming both files.
+trial 3 of one arm can be in two files as two recordings: the experiments
+tell reaches off the grid apart by (subject, arm, trial), and would average
+the two as one. ``Register`` refuses both, naming both files. One number on
+the two arms is two reaches (a CSV of both arms imported once per arm).
 """
 
 from __future__ import annotations
@@ -46,7 +47,8 @@ class Register:
     """The trials read so far, each with the file it came from."""
 
     def __init__(self) -> None:
-        self._by_name: dict[tuple[str, int], str] = {}
+        #: Files by (subject, arm, trial number).
+        self._by_name: dict[tuple[str, str, int], str] = {}
         #: Trials by sample count: the candidates for ``same_samples``.
         self._by_count: dict[int, list[tuple[Trial, str]]] = {}
 
@@ -59,9 +61,10 @@ class Register:
         Raises:
             DemoFileError: (of file ``where``) if the same samples
                 (``same_samples``) were read before, under any name, or the
-                subject's trial number was, naming both files.
+                subject's trial number of this arm was, naming both files.
         """
         named = f"trial {trial.trial} of subject {trial.subject!r}"
+        arm = trial.arm.value
         twins = self._by_count.setdefault(len(trial.times), [])
         for first, there in twins:
             if same_samples(first, trial):
@@ -75,13 +78,14 @@ class Register:
                     subject=trial.subject,
                     duplicate=there,
                 )
-        key = (trial.subject, trial.trial)
+        key = (trial.subject, arm, trial.trial)
         if key in self._by_name:
             there = self._by_name[key]
             raise DemoFileError(
                 where,
-                f"{named} is also {self._in(there, where)}, another recording "
-                f"under the same number {self._advice(trial.subject, synthetic)}",
+                f"{named} ({arm} arm) is also {self._in(there, where)}, another "
+                "recording under the same number "
+                f"{self._advice(trial.subject, arm, synthetic)}",
                 trial=trial.trial,
                 subject=trial.subject,
                 duplicate=there,
@@ -89,7 +93,7 @@ class Register:
         self._by_name[key] = where
         twins.append((trial, where))
 
-    def _advice(self, subject: str, synthetic: bool) -> str:
+    def _advice(self, subject: str, arm: str, synthetic: bool) -> str:
         """What to do about a trial number used twice, by where the file came from."""
         if synthetic:
             return (
@@ -97,16 +101,18 @@ class Register:
                 "synthetic set is read alone; make one with more --subjects or "
                 "--trials instead"
             )
-        first = self._next(subject)
+        first = self._next(subject, arm)
         return (
             "(each `armplan demos import` numbers its trials from 0): import the "
             f"files in one `armplan demos import`, or number this file's from "
             f"{first} (`armplan demos import --first-trial {first}`)"
         )
 
-    def _next(self, subject: str) -> int:
-        """The subject's next free trial number."""
-        return 1 + max(n for name, n in self._by_name if name == subject)
+    def _next(self, subject: str, arm: str) -> int:
+        """The next free trial number of the subject's ``arm``."""
+        return 1 + max(
+            n for name, side, n in self._by_name if (name, side) == (subject, arm)
+        )
 
     @staticmethod
     def _in(there: str, where: str) -> str:

@@ -20,7 +20,7 @@ class Trial(NamedTuple):
 
     Attributes:
         subject: The subject's name.
-        trial: Trial number, unique within the subject.
+        trial: Trial number, unique within the subject's reaches of ``arm``.
         point: Grid point number 1..16, or 0 if the reach is not on the grid.
         arm: Which arm.
         times: Sample times from the reach's start [s], shape (n,), increasing.
