@@ -242,6 +242,7 @@ def test_a_trajectory_gives_one_timed_pose_per_sample() -> None:
         assert np.abs(wrist - arm.fk(np.array(row)).wrist).max() < TOL
     last = PrimitiveSample.model_validate_json(labels[-1].data)
     assert (last.primitive, last.index) == ("E_R W_P", 1)
+    assert json.loads(labels[-1].data)["arm"] == "right"
 
 
 def test_streamed_transforms_are_the_models_json_byte_for_byte(
@@ -362,6 +363,23 @@ def test_a_decision_gives_a_plottable_sample_per_point() -> None:
     sample = PrimitiveSample.model_validate_json(derived[1].data)
     assert sample.index == 3
     assert sample.g == {name.replace(" ", "_"): 0.25, "W_R": 0.125}
+
+
+@pytest.mark.parametrize("side", [Side.LEFT, Side.RIGHT])
+def test_each_primitive_sample_names_its_arm(side: Side) -> None:
+    """A decision's and a trajectory's samples carry the arm ("left" or
+    "right"), and the channel's JSON schema lists it as required: a session
+    planning both arms mixes them on one channel (they had no arm)."""
+    name = PRIMITIVE_NAMES[0]
+    point = PointDecision(primitive=name, matrix=BY_NAME[name].matrix, g={name: 0.5})
+    decision = Decision.of_points(side, [0.0, 0.01], [point] * 2)
+    channels = FoxgloveChannels()
+    derived = list(channels.derive(decision, T0))
+    derived += list(channels.derive(trajectory(side), T0))
+    primitive = [d for d in derived if d.schema_name == "PrimitiveSample"]
+    assert {d.topic for d in primitive} == {DECISION_TOPIC, PLANNED_PRIMITIVE_TOPIC}
+    assert {json.loads(d.data)["arm"] for d in primitive} == {side.value}
+    assert "arm" in primitive[0].schema["required"]
 
 
 def test_a_decision_is_placed_when_the_trajectory_passes_its_points() -> None:

@@ -206,7 +206,12 @@ def model_messages(
         assert message.trajectory_times is not None
         stamps = [start + round(t * 10**9) for t in message.trajectory_times]
     labels = [
-        PrimitiveSample(time=t, primitive=name, index=PRIMITIVE_NAMES.index(name))
+        PrimitiveSample(
+            arm=message.arm,
+            time=t,
+            primitive=name,
+            index=PRIMITIVE_NAMES.index(name),
+        )
         for t, name in zip(message.times, message.primitives, strict=True)
     ]
     if isinstance(message, Decision):

@@ -9,6 +9,8 @@
 | ``/decision`` | ``PrimitiveSample`` | each ``Decision``, one per path point |
 | ``/primitive/planned`` | ``PrimitiveSample`` | each ``Trajectory``'s labels |
 
+Each ``PrimitiveSample`` names its arm (``arm``, ``"right"`` or ``"left"``).
+
 Derived channels start with ``/``, which no Zenoh key does, so a replay
 never republishes them. A decision point is placed when the trajectory
 passes it (:func:`decision_stamps`).
