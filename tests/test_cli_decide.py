@@ -113,6 +113,28 @@ def test_grid_prints_the_table_4_like_table(capsys: pytest.CaptureFixture[str]) 
     assert all(row["sequence"][0] == "S_R E_P W_P" for row in data["nao"][:4])
 
 
+def test_grid_names_its_arm_and_each_points_position(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """--grid --arm left and --arm right printed the same bytes: now the
+    header and the JSON name the arm, and each point's wrist target in the
+    torso frame [m] is the other arm's mirror image (y negated)."""
+    grids = {}
+    for arm in ("Left", "right"):
+        assert main(["decide", "--grid", "--arm", arm, "--json"]) == 0
+        grids[arm.lower()] = json.loads(capsys.readouterr().out)
+    assert [grids[a]["arm"] for a in ("left", "right")] == ["left", "right"]
+    left = np.array([row["wrist"] for row in grids["left"]["nao"]])
+    right = np.array([row["wrist"] for row in grids["right"]["nao"]])
+    assert left.shape == (16, 3)
+    assert np.abs(left - right * [1.0, -1.0, 1.0]).max() < 1e-9
+    assert (right[:, 1] < 0.0).all()
+    assert main(["decide", "--grid", "--arm", "LEFT"]) == 0
+    assert capsys.readouterr().out.startswith(
+        "NAO's left arm, decision along the planner's reach from hanging at rest"
+    )
+
+
 def _demos_file(tmp_path: pathlib.Path, synthetic: bool) -> str:
     """Two recorded reaches (imported: no grid point, no labels), with the
     16 synthetic grid reaches of one subject if ``synthetic``."""

@@ -48,6 +48,8 @@ class GridRow(NamedTuple):
         sequence: Primitives in the order they win (runs >= MIN_POINTS).
         short: Runs shorter than MIN_POINTS.
         error: Distance of the wrist from the point at the end [m].
+        wrist: The point, the wrist's target in NAO's torso frame [m],
+            (x, y, z).
     """
 
     point: int
@@ -55,6 +57,7 @@ class GridRow(NamedTuple):
     sequence: list[str]
     short: int
     error: float
+    wrist: tuple[float, float, float]
 
 
 class DemoRow(NamedTuple):
@@ -188,7 +191,9 @@ def grid_rows(model: MotionModel, side: Side | str = Side.RIGHT) -> list[GridRow
         )
         kept, short = sequence(decision.primitives, MIN_POINTS)
         error = float(np.linalg.norm(tracked.wrist[-1] - target.wrist))
-        out.append(GridRow(target.point, target.duration, kept, short, error))
+        x, y, z = (float(v) for v in target.wrist)
+        row = GridRow(target.point, target.duration, kept, short, error, (x, y, z))
+        out.append(row)
     return out
 
 

@@ -15,10 +15,12 @@ tracker (``services.decide.path``) and prints, per run of one primitive, its
 times and points (``--json``: the ``Decision`` message, every point's
 primitive, matrix and every g). ``--plot`` draws it like the paper's Fig. 7.
 ``--grid`` prints the Table-4-like sequences of primitives on the paper's 16
-grid points (and with ``--demos`` the ``--arm``'s demonstrations' own
-sequences, with a count of the reaches left out and why: recorded reaches
-have no grid point, the other arm's are not this table's; a file with no
-reach of the arm, or none that can enter the table, is refused).
+grid points for the ``--arm`` its header names (``--json``: ``arm``, and
+each point's wrist target in the torso frame, ``wrist`` [m]); with
+``--demos`` also the ``--arm``'s demonstrations' own sequences, with a count
+of the reaches left out and why (recorded reaches have no grid point, the
+other arm's are not this table's; a file with no reach of the arm, or none
+that can enter the table, is refused).
 """
 
 from __future__ import annotations
@@ -282,12 +284,15 @@ def _print_runs(decision: Any, wrist_end: np.ndarray, positions: np.ndarray) -> 
 
 def _grid(args: argparse.Namespace, model: Any) -> int:
     from services.decide.grid_table import MIN_POINTS, grid_rows
+    from shared.robot import Side
 
+    side = Side.parse(args.arm)
     demo, left = _demo_table(args.demos, args.arm)
-    rows = grid_rows(model, args.arm)
+    rows = grid_rows(model, side)
     if args.json:
         print_json(
             {
+                "arm": side.value,
                 "nao": [r._asdict() for r in rows],
                 "demonstrations": [r._asdict() for r in demo],
                 "left_out": None
@@ -297,8 +302,8 @@ def _grid(args: argparse.Namespace, model: Any) -> int:
         )
         return 0
     sys.stdout.write(
-        "NAO, decision along the planner's reach from the hanging arm "
-        f"(switches shorter than {MIN_POINTS} points counted apart):\n"
+        f"NAO's {side.value} arm, decision along the planner's reach from "
+        f"hanging at rest (switches shorter than {MIN_POINTS} points counted apart):\n"
     )
     print_table(
         ("point", "time [s]", "primitives in order", "count", "short"),
