@@ -36,8 +36,9 @@ def test_target_json_is_a_decision_message() -> None:
     )
     assert out.returncode == 0, out.stderr
     decision = parse(Decision, out.stdout)
-    assert decision.arm == "right" and len(decision.points) == 81
-    assert decision.times[-1] == pytest.approx(0.8)
+    # 0.72 s at 100 Hz: the planner's human pace for the reach (was 0.8 s)
+    assert decision.arm == "right" and len(decision.points) == 73
+    assert decision.times[-1] == pytest.approx(0.72)
     for point in decision.points:
         assert point.matrix == BY_NAME[point.primitive].matrix
         assert len(point.g) == 8
@@ -300,3 +301,22 @@ def test_a_given_model_file_is_used(
         main(["decide", "--target", "0.12", "-0.09", "0.05", "--model", str(path)]) == 0
     )
     assert "primitive" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("arm", ["right", "left"])
+def test_a_targets_decision_lasts_as_long_as_the_plan(
+    arm: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Without --duration the reach is as long as ``armplan plan`` plays it
+    (the planner's human pace, 0.69 s here: 70 points at 100 Hz), not a
+    fixed 0.8 s; --duration still sets it."""
+    goal = ["0.12", "-0.13" if arm == "right" else "0.13", "0.05"]
+    assert main(["plan", "--arm", arm, "--target", *goal, "--json"]) == 0
+    played = json.loads(capsys.readouterr().out)["times"]
+    assert main(["decide", "--arm", arm, "--target", *goal, "--json"]) == 0
+    decision = parse(Decision, capsys.readouterr().out)
+    assert len(decision.times) == len(played) == 70
+    assert decision.times[-1] == pytest.approx(played[-1] - played[0], abs=1e-9)
+    given = ["decide", "--arm", arm, "--target", *goal, "--duration", "1"]
+    assert main([*given, "--json"]) == 0
+    assert parse(Decision, capsys.readouterr().out).times[-1] == pytest.approx(1.0)

@@ -8,15 +8,18 @@
     armplan decide --target X Y Z | --wrist-path FILE.csv --remote [...]
 
 With ``--target`` the wrist path is the planner's human-like reach from the
-start posture (default: the arm hanging at rest) to the target, ``--duration``
-seconds long at 100 Hz; with ``--wrist-path`` it is read from a CSV file
-(header ``t,x,y,z``, torso frame, s and m). The decision runs inside the IK
-tracker (``services.decide.path``) and prints, per run of one primitive, its
-times and points (``--json``: the ``Decision`` message, every point's
-primitive, matrix and every g). ``--plot`` draws it like the paper's Fig. 7.
-``--grid`` prints the Table-4-like sequences of primitives on the paper's 16
-grid points for the ``--arm`` its header names (``--json``: ``arm``, and
-each point's wrist target in the torso frame, ``wrist`` [m]); with
+start posture (default: the arm hanging at rest) to the target, at 100 Hz and
+``--duration`` seconds long, by default as long as ``armplan plan`` takes for
+it at human pace (``services.timing.reach_duration`` of the move the planner
+tracks: the same 0.69 s for ``0.12 -0.13 0.05`` from rest); with
+``--wrist-path`` it is read from a CSV file (header ``t,x,y,z``, torso frame,
+s and m). The decision runs inside the IK tracker (``services.decide.path``)
+and prints, per run of one primitive, its times and points (``--json``: the
+``Decision`` message, every point's primitive, matrix and every g).
+``--plot`` draws it like the paper's Fig. 7. ``--grid`` prints the
+Table-4-like sequences of primitives on the paper's 16 grid points for the
+``--arm`` its header names (``--json``: ``arm``, and each point's wrist
+target in the torso frame, ``wrist`` [m]); with
 ``--demos`` also the ``--arm``'s demonstrations' own sequences, with a count
 of the reaches left out and why (recorded reaches have no grid point, the
 other arm's are not this table's; a file with no reach of the arm, or none
@@ -27,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -42,10 +46,16 @@ from shared.output_paths import check_output_file
 if TYPE_CHECKING:
     from services.decide.grid_table import DemoRow, LeftOut
 
+#: Decides along a path: (times [s] (n,), wrist positions [m] (n, 3), start
+#: posture [rad] (5,)) -> (decision, last posture [rad], last wrist [m]).
+Decide = Callable[
+    [np.ndarray, np.ndarray, np.ndarray], tuple[Any, np.ndarray, np.ndarray]
+]
+
 ORDER = 25
 HELP = "motion decision: which movement primitive drives each path point"
-#: Default movement time of a reach [s] and sample rate [Hz].
-DURATION, RATE = 0.8, 100.0
+#: Sample rate of a reach [Hz].
+RATE = 100.0
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -71,7 +81,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--duration",
         type=float,
-        help=f"movement time of --target [s] (default {DURATION})",
+        help="movement time of --target [s] (default: the planner's human pace "
+        "for the reach, as armplan plan takes)",
     )
     parser.add_argument(
         "--model", metavar="FILE", help="motion model (default: shipped)"
@@ -114,14 +125,17 @@ def run(args: argparse.Namespace) -> int:
     arm.limits.check(start, where="in the start posture")
     palm = _palm(args.palm)
     plot = _plot_file(args.plot)
-    times, positions, start = _path(args, arm, start, palm)
-    if remote:
-        decision, wrist_end = _decide_remote(args, arm, times, positions, start, palm)
-    else:
+
+    def decide(times: np.ndarray, positions: np.ndarray, start: np.ndarray) -> Any:
+        if remote:
+            return _decide_remote(args, arm, times, positions, start, palm)
         decision, tracked = decide_path(
             model, arm, positions, start, palm=palm, times=times
         )
-        wrist_end = tracked.wrist[-1]
+        return decision, tracked.q[-1], tracked.wrist[-1]
+
+    times, positions, start = _path(args, arm, start, palm, decide)
+    decision, _, wrist_end = decide(times, positions, start)
     if plot is not None:
         from services.decide.plot import plot_decision
 
@@ -196,13 +210,18 @@ def _palm(values: list[float] | None) -> np.ndarray | None:
 
 
 def _path(
-    args: argparse.Namespace, arm: Any, start: np.ndarray, palm: np.ndarray | None
+    args: argparse.Namespace,
+    arm: Any,
+    start: np.ndarray,
+    palm: np.ndarray | None,
+    decide: Decide,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(times [s], positions [m], start posture [rad]) of the path to decide along.
 
     A CSV path starts at its first sample: as ``armplan plan`` does, the arm
     starts in the posture that puts the wrist there (``start`` itself if it
-    does already).
+    does already). A reach to ``--target`` lasts ``--duration``, or the
+    planner's human pace for it (``_human_pace``, with ``decide``).
     """
     from services.ik.solver import check_reachable
     from services.planner.path_reach import check_path_within_reach
@@ -220,13 +239,42 @@ def _path(
         return np.array(path.times), np.array(path.positions), start
     from services.planner.wrist_path import reach_path
 
-    duration = DURATION if args.duration is None else args.duration
-    if not 0.05 <= duration <= 60.0:
+    if args.duration is not None and not 0.05 <= args.duration <= 60.0:
         raise InvalidInputError("--duration must be 0.05..60 s", field="duration")
     target = np.array(finite(args.target, "target"))
     check_reachable(arm, target)
+    duration = args.duration
+    if duration is None:
+        duration = _human_pace(arm, start, target, palm, decide)
     path = reach_path(arm, start, target, duration, RATE)
     return path.times, path.positions, start
+
+
+def _human_pace(
+    arm: Any,
+    start: np.ndarray,
+    target: np.ndarray,
+    palm: np.ndarray | None,
+    decide: Decide,
+) -> float:
+    """How long ``armplan plan`` takes for the reach at human pace [s].
+
+    As the planner times it: the human law (``reach_duration``) for the move
+    from ``start`` [rad], shape (5,), to the posture that tracking its wrist
+    path (``reach_wrist_path``) with ``decide`` ends in; ``target`` [m] and
+    ``palm`` (unit or ``None``) shape (3,), torso frame.
+    """
+    from services.planner.reach_path import reach_wrist_path
+    from services.timing import reach_duration
+    from shared.messages import ReachTarget
+
+    goal = ReachTarget(
+        position=tuple(float(v) for v in target),
+        palm=None if palm is None else tuple(float(v) for v in palm),
+    )
+    path = reach_wrist_path(arm, start, goal)
+    _, end, _ = decide(np.array(path.times), np.array(path.positions), start)
+    return reach_duration(arm, start, end)
 
 
 def _title(args: argparse.Namespace, positions: np.ndarray) -> str:
@@ -241,11 +289,12 @@ def _decide_remote(
     positions: np.ndarray,
     start: np.ndarray,
     palm: np.ndarray | None,
-) -> tuple[Any, np.ndarray]:
-    """(decision, the wrist's last position [m]) from the decide and ik services.
+) -> tuple[Any, np.ndarray, np.ndarray]:
+    """(decision, last posture [rad], last wrist [m]) from the services.
 
-    The ik service tracks the path with the decided primitives, as the
-    decision's own tracking did, to give the wrist's end.
+    The decide service decides; the ik service tracks the path with the
+    decided primitives, as the decision's own tracking did, to give the
+    arm's end.
     """
     from armplan.cli.remote import connect
     from shared.bus.routes import DECIDE, IK_PATH
@@ -264,7 +313,7 @@ def _decide_remote(
             IK_PATH,
             PathIKRequest(path=path, start=begin, method=Method.MP, decision=decision),
         )
-    return decision, np.array(tracked.wrist[-1])
+    return decision, np.array(tracked.positions[-1]), np.array(tracked.wrist[-1])
 
 
 def _print_runs(decision: Any, wrist_end: np.ndarray, positions: np.ndarray) -> None:
