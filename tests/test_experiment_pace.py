@@ -17,6 +17,7 @@ from test_experiments import (
     run_json,
 )
 
+from armplan.cli.main import main
 from armplan.experiments.pace import (
     CHAIN_LENGTH,
     LEAST_MOVE,
@@ -67,6 +68,7 @@ def test_pace_command_json_table_and_plot(
     "options,name",
     [
         (["--arm", "left"], "pace-left"),
+        (["--arm", "Left"], "pace-left"),  # any case, as every command reads it
         (["--mu", "0.03", "--omega", "0.01"], "pace-mu-0.03-omega-0.01"),
         (["--arm", "left", "--seed", "7", "--methods", "mp"], "pace-left-seed-7-mp"),
         (["--methods", "single", "mp", "single"], "pace-single-mp"),
@@ -270,3 +272,18 @@ def test_the_ratio_axis_is_labelled_where_the_ratios_are() -> None:
     assert {"1", "1.5", "2", "4"} <= set(labels)
     dots = [line for line in chains.get_lines() if line.get_marker() == "o"]
     assert [line.get_xdata().tolist() for line in dots] == [[1.7]]
+
+
+def test_an_unknown_arm_is_a_typed_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--arm reads as every command's does (any case): a name that is no arm
+    exits 1 naming it, a typed JSON error, before any file is written
+    (argparse's usage error, exit 2, refused "Left" too)."""
+    out = tmp_path / "out"
+    code = main(["experiment", "pace", "--arm", "middle", "--out", str(out), "--json"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert "unknown arm 'middle': expected 'right' or 'left'" in captured.err
+    assert json.loads(captured.out)["error"]["kind"] == "unknown_arm"
+    assert not out.exists()

@@ -36,9 +36,15 @@ def finite(values: list[float] | None, name: str) -> list[float] | None:
     return values
 
 
-def add_arm(parser: argparse.ArgumentParser) -> None:
-    """``--arm right|left`` (default right)."""
-    parser.add_argument("--arm", default="right", help="right or left (default: right)")
+def add_arm(
+    parser: argparse.ArgumentParser, help: str = "right or left (default: right)"
+) -> None:
+    """``--arm right|left`` (default right), in any case.
+
+    Read as given: ``Side.parse`` (or ``load_arm``) turns it into an arm,
+    refusing any other name with ``UnknownArmError``.
+    """
+    parser.add_argument("--arm", default="right", help=help)
 
 
 def add_json(parser: argparse.ArgumentParser) -> None:

@@ -40,6 +40,7 @@ from typing import Any
 
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import (
+    add_arm,
     add_json,
     add_measure_options,
     measure_fields,
@@ -175,11 +176,10 @@ def _pace_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[typ
         metavar="METHOD",
         help="mp, least-norm, single (default all)",
     )
-    parser.add_argument(
-        "--arm",
-        choices=("right", "left"),
-        default=PACE_DEFAULTS["arm"],
-        help="default right; left plans the mirrors of the right arm's tasks",
+    add_arm(
+        parser,
+        help="right or left, in any case (default right); left plans the "
+        "mirrors of the right arm's tasks",
     )
     parser.set_defaults(run=run_pace)
 
@@ -322,7 +322,10 @@ def _pace_name(args: argparse.Namespace, methods: list[str]) -> str:
     otherwise than by default (``pace-left-seed-7-mp-mu-0.03-omega-0.01``),
     so that such a run never replaces the default run's files.
     """
-    arm = "" if args.arm == PACE_DEFAULTS["arm"] else f"-{args.arm}"
+    from shared.robot.side import Side
+
+    side = Side.parse(args.arm).value
+    arm = "" if side == PACE_DEFAULTS["arm"] else f"-{side}"
     seed = "" if args.seed == PACE_DEFAULTS["seed"] else f"-seed-{args.seed}"
     chosen = "" if methods == PACE_DEFAULTS["methods"] else "-" + "-".join(methods)
     return f"pace{arm}{seed}{chosen}{_weights(args)}"
