@@ -159,10 +159,10 @@ def test_empty_marker_cells_are_filled_and_the_cli_says_so(
     notes = captured.err.splitlines()
     assert notes == [
         f"armplan: note: {path}: trial 0: filled 1 of 30 frames where a marker "
-        "was missing (gaps of at most 0.1 s, by a cubic spline), the first at "
+        "was missing (gaps of at most 0.1 s, by a smoothing spline), the first at "
         "frame 4 (t = 0.04 s, line 6)",
         f"armplan: note: {path}: trial 1: filled 2 of 30 frames where a marker "
-        "was missing (gaps of at most 0.1 s, by a cubic spline), the first at "
+        "was missing (gaps of at most 0.1 s, by a smoothing spline), the first at "
         "frame 10 (t = 0.1 s, line 42)",
     ]
     filled = read_demos(out).trials[0].wrist

@@ -73,7 +73,7 @@ def test_a_gap_in_the_middle_is_filled_up_to_a_tenth_of_a_second(
             f"{path}: subject 'rec', trial 0 (lines 2-31): marker 'RWRB' is "
             "missing for 0.11 s, from frame 10 (t = 0.1 s, line 12) to frame 20 "
             "(t = 0.2 s, line 22): the import fills a gap of at most 0.1 s (a "
-            "cubic spline through the frames around it); fill this one in the "
+            "smoothing spline through the frames around it); fill this one in the "
             "capture software, or leave the trial out"
         )
         return

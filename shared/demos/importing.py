@@ -329,7 +329,7 @@ def _report_gaps(
         return
     report(
         f"{path}: trial {trial}: filled {filled} of {len(whole)} frames where a "
-        f"marker was missing (gaps of at most {LONGEST_GAP:g} s, by a cubic "
+        f"marker was missing (gaps of at most {LONGEST_GAP:g} s, by a smoothing "
         f"spline), the first at {tracks.frame(int(gaps[0]))}"
     )
 
