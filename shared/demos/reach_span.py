@@ -1,11 +1,13 @@
-"""A trial is one reach: one mostly still, far longer, or far shorter, is not.
+"""A trial is one reach: one mostly still, stopping, longer or shorter is not.
 
 ``armplan fit`` takes every sample of a trial as part of a reach from its
 start to its goal (its last sample). A recording of one reach and then
 minutes of stillness, taken as one trial, gave a model of the stillness: a
-W_P rate of 13,594 and one primitive for a whole reach. ``armplan demos
-import`` refuses such a trial (``long_trial_problem``) unless told to keep
-it.
+W_P rate of 13,594 and one primitive for a whole reach. Two reaches with a
+0.8 s hold between, taken as one, made the W_R rate 2.80 /rad instead of
+about 5.7: a wrist that stops on its way (``reach_pause``) is two reaches.
+``armplan demos import`` refuses such trials (``long_trial_problem``)
+unless told to keep them.
 
 A trial that is no reach at all (``not_a_reach_problem``) is refused by
 ``armplan demos import`` and ``armplan fit`` alike, with no way round: a
@@ -27,6 +29,7 @@ from functools import cache
 
 import numpy as np
 
+from shared.demos.reach_pause import PAUSE_LIMIT, mid_pause
 from shared.demos.retarget import nao_arm_size
 from shared.demos.rotations import FloatArray
 from shared.demos.trial import Trial
@@ -65,10 +68,20 @@ SHORTEST_MOVE = 0.1
 SHORTEST_TRAVEL = 0.1
 
 
+def still_spread(wrist: FloatArray) -> float:
+    """How far [m] a still wrist may move, its positions shape (n, 3) [m].
+
+    ``LEFT_FRACTION`` of the way from its first to its last position, at
+    least ``LEFT_AT_LEAST``.
+    """
+    way = float(np.linalg.norm(wrist[-1] - wrist[0]))
+    return max(LEFT_FRACTION * way, LEFT_AT_LEAST)
+
+
 def moving_span(times: FloatArray, wrist: FloatArray) -> tuple[float, float]:
     """When the wrist moves: (from, to) [s], times shape (n,), wrist (n, 3) [m]."""
     start, goal = wrist[0], wrist[-1]
-    near = max(LEFT_FRACTION * float(np.linalg.norm(goal - start)), LEFT_AT_LEAST)
+    near = still_spread(wrist)
     left = np.flatnonzero(np.linalg.norm(wrist - start, axis=1) > near)
     away = np.flatnonzero(np.linalg.norm(wrist - goal, axis=1) > near)
     if not left.size or not away.size:
@@ -117,7 +130,9 @@ def long_trial_problem(trial: Trial) -> str | None:
     """What makes ``trial`` more than one reach, or ``None`` if nothing does.
 
     Still (``moving_span``) for more than ``STILL_LIMIT`` before the wrist
-    moves or after it arrives, or longer than ``LONGEST_REACH``.
+    moves or after it arrives, stopped on its way for ``PAUSE_LIMIT`` or more
+    (``mid_pause``: within ``still_spread``, at least ``SHORTEST_TRAVEL`` arm
+    lengths from its start and its goal), or longer than ``LONGEST_REACH``.
     """
     duration = float(trial.times[-1] - trial.times[0])
     start, end = moving_span(trial.times, trial.wrist)
@@ -135,9 +150,31 @@ def long_trial_problem(trial: Trial) -> str | None:
                 "start to its goal, and armplan fit would count the stillness as "
                 "reaching"
             )
+    problem = _pause_problem(trial, named)
+    if problem is not None:
+        return problem
     if duration > LONGEST_REACH:
         return (
             f"{named}, far longer than a reach (at most {LONGEST_REACH:g} s; "
             f"{moves}): a trial must be one reach, from its start to its goal"
         )
     return None
+
+
+def _pause_problem(trial: Trial, named: str) -> str | None:
+    """What makes ``trial`` two reaches with a stop between, or ``None``."""
+    away = SHORTEST_TRAVEL * _arm_length(trial.arm)
+    pause = mid_pause(trial.times, trial.wrist, still_spread(trial.wrist), away)
+    if pause is None:
+        return None
+    start = float(np.linalg.norm(pause.place - trial.wrist[0]))
+    goal = float(np.linalg.norm(pause.place - trial.wrist[-1]))
+    return (
+        f"{named}, and its wrist stops on its way for "
+        f"{pause.restarts - pause.stops:.2f} s, from {pause.stops:.2f} s to "
+        f"{pause.restarts:.2f} s, {1000 * start:.1f} mm from its start and "
+        f"{1000 * goal:.1f} mm from its goal (a reach stops for under "
+        f"{PAUSE_LIMIT:g} s on its way): two reaches, not one; split the trial "
+        f"where the wrist stops ({pause.stops:.2f} s) and restarts "
+        f"({pause.restarts:.2f} s)"
+    )
