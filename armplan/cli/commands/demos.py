@@ -17,8 +17,9 @@ trial whose samples another file's trial has (a copy). ``import`` numbers
 the trials from ``--first-trial`` (default 0) across its files (a CSV
 trial's errors and notes name its number in the file), refuses a
 trial that is no reach (its wrist ends near its start, or moves for under
-0.1 s) and one that is more than one reach (mostly still, or over 10 s;
-``shared/demos/reach_span.py``) unless ``--allow-long``, and notes on stderr
+0.1 s) and one that is more than one reach (mostly still, over 10 s, or
+its wrist stopping on its way; ``shared/demos/reach_span.py``) unless
+``--allow-long``, and notes on stderr
 how many frames it filled where a marker was missing (a gap at a trial's
 end, or over 0.1 s, is refused: ``shared/demos/marker_gaps.py``) and a goal
 NAO cannot reach (``shared/demos/goal_reach.py``).
@@ -93,8 +94,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     imported.add_argument(
         "--allow-long",
         action="store_true",
-        help="import a trial that is mostly still or over 10 s anyway (a note "
-        "on stderr); by default it is refused: a trial must be one reach",
+        help="import a trial that is mostly still, over 10 s or stops on its "
+        "way anyway (a note on stderr); by default it is refused: a trial must "
+        "be one reach",
     )
     imported.set_defaults(run=run_import)
     info = actions.add_parser("info", help="summarise demonstration files")
