@@ -1,9 +1,12 @@
-"""Many plan requests at once: every one answered, none lost.
+"""Many plan requests at once: every one planned, none lost.
 
 ``count`` client threads on one bus each send one plan request at the same
 moment (reaches to NAO's 16 grid targets, in turn). No fault is injected:
-the services queue what they cannot start at once and answer every request
-(a full queue would answer ``service_busy``, a typed error).
+the services queue what they cannot start at once and must plan every
+request. ``count`` is at most the planner's queue limit
+(:data:`~shared.bus.queue_room.MOST_AT_ONCE`); a full queue would answer
+``service_busy``, a typed error, and any plan that fails is a broken
+promise (:func:`~armplan.faults.tally.unmet`).
 """
 
 from __future__ import annotations
@@ -23,7 +26,9 @@ def burst_scenario(
 ) -> Tally:
     """Send ``count`` plan requests at once, each with ``timeout`` [s].
 
-    Facts: ``wall_s`` (until the last answer) and ``slowest_s``.
+    Facts: ``burst`` (plans sent), ``planned`` (those that succeeded: all
+    of them, or the promise is broken), ``wall_s`` (until the last answer)
+    and ``slowest_s``.
     """
     tally = Tally(f"{count} concurrent plans")
     start = time.monotonic()
@@ -33,6 +38,8 @@ def burst_scenario(
     slowest = max((r.seconds for r in results), default=0.0)
     done = sum(r.outcome is Outcome.SUCCEEDED for r in results)
     tally.facts = {
+        "burst": count,
+        "planned": done,
         "wall_s": round(wall, 2),
         "slowest_s": round(slowest, 2),
         "note": f"{done}/{count} planned in {wall:.1f} s; "

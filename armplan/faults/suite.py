@@ -24,6 +24,7 @@ from armplan.faults.tally import Tally
 from armplan.faults.traffic import Traffic
 from armplan.launch.catalog import SERVICES
 from shared.bus import Bus, Route
+from shared.bus.queue_room import MOST_AT_ONCE, check_queue_room
 from shared.bus.robot_routes import EXECUTE
 from shared.bus.routes import ROUTES
 
@@ -40,7 +41,8 @@ class SuiteOptions:
     Attributes:
         requests: Requests per kill scenario (a third before, during, after).
         concurrency: Client threads sending them.
-        burst: Plan requests sent at once.
+        burst: Plan requests sent at once, 0 (none) to ``MOST_AT_ONCE``
+            (the planner's queue limit: more would be refused ``service_busy``).
         examples: Bad inputs of each kind per queryable.
         seed: Seed of the bad inputs.
         timeout: Each request's timeout [s].
@@ -63,6 +65,10 @@ class SuiteOptions:
     router: bool = True
     recorder: bool = True
     queryables: tuple[Route[Any, Any], ...] = QUERYABLES
+
+    def __post_init__(self) -> None:
+        give = f"burst 0..{MOST_AT_ONCE}"
+        check_queue_room(self.burst, "plans at once", give, field="burst")
 
 
 def run_suite(

@@ -104,11 +104,13 @@ def unmet(facts: Mapping[str, Any]) -> list[str]:
     - the recorder: every plan succeeded (``all_planned``), the killed
       file holds trajectories (``killed_file``) and the new one every plan
       made after the restart (``new_file`` of ``planned_after``);
+    - a burst: every one of its ``burst`` plans succeeded (``planned``);
     - bad inputs: each of the ``bad`` ones answered with a typed error (or,
       valid after all, ``accepted``), each followed by a good request
       answered (``good_next``), by the same process (``same_process``).
     """
-    broken = _kill_unmet(facts) + _recorder_unmet(facts) + _bad_input_unmet(facts)
+    broken = _kill_unmet(facts) + _recorder_unmet(facts) + _burst_unmet(facts)
+    broken += _bad_input_unmet(facts)
     if facts.get("recovered") is False:
         broken.insert(0, "NOT recovered after the restart")
     if facts.get("missing"):
@@ -141,6 +143,15 @@ def _recorder_unmet(facts: Mapping[str, Any]) -> list[str]:
                 f"not the {after} planned after the restart"
             )
     return broken
+
+
+def _burst_unmet(facts: Mapping[str, Any]) -> list[str]:
+    if "burst" not in facts:
+        return []
+    burst, planned = facts["burst"], facts.get("planned", 0)
+    if planned < burst:
+        return [f"only {planned} of the {burst} plans sent at once succeeded"]
+    return []
 
 
 def _bad_input_unmet(facts: Mapping[str, Any]) -> list[str]:

@@ -23,7 +23,7 @@ import os
 from armplan.bench.machine import cpu_model
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
-from shared.bus.config import DEFAULT_QUEUE_LIMIT
+from shared.bus.queue_room import MOST_AT_ONCE, check_queue_room
 from shared.compiled import running_compiled
 from shared.errors import InvalidInputError
 
@@ -78,7 +78,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 #: Most concurrent clients in one row: the planner lets this many requests
 #: wait (its queue limit); more would be answered ``service_busy`` after all
 #: the other work of the run.
-MOST_CLIENTS = DEFAULT_QUEUE_LIMIT
+MOST_CLIENTS = MOST_AT_ONCE
 
 
 def _client_counts(text: str) -> list[int]:
@@ -92,12 +92,11 @@ def _client_counts(text: str) -> list[int]:
             f"{text!r} is not a comma-separated list of client counts, "
             f"each 1..{MOST_CLIENTS}"
         )
-    if max(counts) > MOST_CLIENTS:
-        raise argparse.ArgumentTypeError(
-            f"{max(counts)} clients are more than the planner's queue limit "
-            f"({MOST_CLIENTS} requests waiting): the extra plans would be "
-            f"refused service_busy; give each count 1..{MOST_CLIENTS}"
-        )
+    try:
+        give = f"each count 1..{MOST_CLIENTS}"
+        check_queue_room(max(counts), "clients", give, field="clients")
+    except InvalidInputError as error:
+        raise argparse.ArgumentTypeError(error.message) from None
     return counts
 
 

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
+from shared.bus.queue_room import MOST_AT_ONCE, check_queue_room
 from shared.errors import ArmplanError, InvalidInputError
 
 if TYPE_CHECKING:
@@ -60,7 +61,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         type=int,
         default=200,
         metavar="N",
-        help="plan requests sent at once (200)",
+        help="plan requests sent at once, at most the planner's queue limit "
+        f"of {MOST_AT_ONCE} (200)",
     )
     parser.add_argument(
         "--examples",
@@ -105,6 +107,8 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidInputError("--requests must be at least 3", field="requests")
     if args.burst < 0:
         raise InvalidInputError("--burst must not be negative", field="burst")
+    give = f"--burst 0..{MOST_AT_ONCE}"
+    check_queue_room(args.burst, "plans at once (--burst)", give, field="burst")
     if args.seed < 0:
         raise InvalidInputError(
             f"--seed must be 0 or more, got {args.seed}", field="seed"
