@@ -31,7 +31,7 @@ from armplan.faults.strategies import SPOILERS, locations, nested, replaced
 from armplan.faults.suite import KILLED, QUERYABLES, SuiteOptions
 from armplan.faults.system import FaultSystem
 from armplan.faults.table import json_report
-from armplan.faults.traffic import Traffic
+from armplan.faults.traffic import Traffic, cycle
 from armplan.launch import free_endpoint
 from shared.bus import Bus, BusConfig, Endpoint, Route, ServiceHost, open_router
 from shared.bus.routes import PLAN
@@ -160,6 +160,8 @@ def test_a_recorder_kill_that_lost_plans_or_recordings_fails_the_suite() -> None
     rec.facts = {
         "all_planned": False,
         "killed_file": 0,
+        "planned_before": 3,
+        "flush_allowance_s": 1.0,
         "new_file": 0,
         "planned_after": 0,
         "missing": ["recorder"],
@@ -167,16 +169,42 @@ def test_a_recorder_kill_that_lost_plans_or_recordings_fails_the_suite() -> None
     assert not passed([rec])
     assert rec.unmet == [
         "not every plan succeeded",
-        "the killed recorder's file holds no trajectory",
+        "the killed recorder's file holds 0 of the scenario's trajectories, not "
+        "the 3 planned 1 s or more before the kill",
         "the new recorder's file holds 0 trajectories, not the 1 planned after "
         "the restart",
         "still not alive: recorder",
     ]
     good = {"all_planned": True, "killed_file": 5, "new_file": 20}
     rec.facts = good | {"planned_after": 20, "missing": [], "recovered": True}
+    rec.facts |= {"planned_before": 5, "flush_allowance_s": 1.0}
     assert passed([rec])
     rec.facts |= {"new_file": 19}
     assert not passed([rec]), "a plan made after the restart is not recorded"
+
+
+def test_a_killed_recorder_file_missing_plans_made_before_the_kill_fails() -> None:
+    """The killed file held 2 of the 5 plans answered a second before the
+    kill: it passed (any one trajectory was enough, even an earlier
+    scenario's); every plan answered before the flush allowance must be in."""
+    ok = Result("plan", Outcome.SUCCEEDED)
+    rec = Tally("kill, restart recorder", 1, [ok] * 15)
+    rec.facts = {
+        "all_planned": True,
+        "killed_file": 2,
+        "planned_before": 5,
+        "flush_allowance_s": 1.0,
+        "new_file": 5,
+        "planned_after": 5,
+        "recovered": True,
+        "missing": [],
+    }
+    assert rec.unmet == [
+        "the killed recorder's file holds 2 of the scenario's trajectories, not "
+        "the 5 planned 1 s or more before the kill"
+    ]
+    rec.facts |= {"killed_file": 5}
+    assert passed([rec])
 
 
 def test_a_burst_with_plans_refused_busy_fails_the_suite() -> None:
@@ -321,11 +349,19 @@ def test_a_killed_process_is_named_while_down_and_serves_after_a_restart(
 def test_a_recorder_killed_mid_session_loses_no_plan(
     system: FaultSystem, traffic: Traffic, good: GoodRequests
 ) -> None:
-    """Plans go on; the killed file is readable; the new recorder records."""
+    """Plans go on; the killed file is readable and holds the plans answered
+    before the kill; the new recorder records. Plans made before the scenario
+    are in the killed file too, and are not counted as its own (they were:
+    the check passed with none of its own)."""
+    earlier = traffic.run(cycle(good.plan_calls(), 2 * REQUESTS))
+    assert all(r.outcome is Outcome.SUCCEEDED for r in earlier)
     tally = recorder_scenario(system, traffic, good, REQUESTS)
     healthy(tally)
-    assert tally.facts["all_planned"]
-    assert tally.facts["killed_file"] >= 1 and tally.facts["new_file"] >= 1
+    facts = tally.facts
+    assert facts["all_planned"]
+    # its own: at most the first third's, at least those answered long before
+    assert 1 <= facts["planned_before"] <= facts["killed_file"] <= REQUESTS // 3
+    assert facts["new_file"] >= facts["planned_after"] == REQUESTS // 3
 
 
 def test_200_concurrent_plans_are_all_answered(

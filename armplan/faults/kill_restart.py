@@ -31,6 +31,8 @@ class Phases(NamedTuple):
 
     Attributes:
         before: Calls sent before the kill (some in flight at it).
+        settled: Those of ``before`` answered at least the ``settle`` time
+            of :func:`kill_and_restart` before the kill.
         down: Calls sent while the process was down.
         after: Calls sent once every process was alive again.
         down_s: From the kill to every process alive again [s].
@@ -38,6 +40,7 @@ class Phases(NamedTuple):
     """
 
     before: list[Result]
+    settled: list[Result]
     down: list[Result]
     after: list[Result]
     down_s: float
@@ -49,12 +52,23 @@ class Phases(NamedTuple):
 
 
 def kill_and_restart(
-    system: FaultSystem, traffic: Traffic, calls: list[Call], name: str
+    system: FaultSystem,
+    traffic: Traffic,
+    calls: list[Call],
+    name: str,
+    *,
+    settle: float = 0.0,
 ) -> Phases:
-    """Send ``calls`` in thirds around killing and restarting process ``name``."""
+    """Send ``calls`` in thirds around killing and restarting process ``name``.
+
+    Once half the first third is answered, wait ``settle`` [s], then kill
+    (the recorder: so that what was answered by then has been flushed).
+    """
     third = len(calls) // 3
     before = traffic.send(calls[:third])
     traffic.wait_done(before, len(before) // 2)
+    settled = [f.result() for f in before if f.done()]
+    time.sleep(settle)
     killed = time.monotonic()
     system.kill(name)
     down = traffic.send(calls[third : 2 * third])
@@ -63,7 +77,7 @@ def kill_and_restart(
     missing = system.wait_alive(traffic.bus, ALIVE_TIMEOUT)
     back = time.monotonic() - killed
     after = traffic.run(calls[2 * third :])
-    return Phases(before_results, down_results, after, back, missing)
+    return Phases(before_results, settled, down_results, after, back, missing)
 
 
 def names(result: Result, name: str) -> bool:

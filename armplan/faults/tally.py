@@ -102,8 +102,10 @@ def unmet(facts: Mapping[str, Any]) -> list[str]:
       calls sent while the process was down that need it (at least one),
       every one failed naming it (``named``);
     - the recorder: every plan succeeded (``all_planned``), the killed
-      file holds trajectories (``killed_file``) and the new one every plan
-      made after the restart (``new_file`` of ``planned_after``);
+      file holds (``killed_file``) each of the scenario's plans answered
+      ``flush_allowance_s`` or more before the kill (``planned_before``),
+      and the new one every plan made after the restart (``new_file`` of
+      ``planned_after``);
     - a burst: every one of its ``burst`` plans succeeded (``planned``);
     - bad inputs: each of the ``bad`` ones answered with a typed error (or,
       valid after all, ``accepted``), each followed by a good request
@@ -133,8 +135,15 @@ def _recorder_unmet(facts: Mapping[str, Any]) -> list[str]:
     broken = []
     if facts.get("all_planned") is False:
         broken.append("not every plan succeeded")
-    if "killed_file" in facts and facts["killed_file"] < 1:
-        broken.append("the killed recorder's file holds no trajectory")
+    if "killed_file" in facts:
+        kept, before = facts["killed_file"], facts.get("planned_before", 1)
+        if kept < before:
+            allowance = facts.get("flush_allowance_s", 0.0)
+            broken.append(
+                f"the killed recorder's file holds {kept} of the scenario's "
+                f"trajectories, not the {before} planned {allowance:g} s or more "
+                "before the kill"
+            )
     if "new_file" in facts:
         after = max(facts.get("planned_after", 1), 1)
         if facts["new_file"] < after:
