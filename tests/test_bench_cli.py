@@ -180,6 +180,24 @@ def test_more_clients_than_the_planner_queues_are_refused_at_once(
     assert DEFAULT_QUEUE_LIMIT == 256 and _client_counts("1,256") == [1, 256]
 
 
+@pytest.mark.parametrize(
+    "clients,repeated", [("2,2", "2"), ("1,8,1,8", "1, 8"), ("8,3,8", "8")]
+)
+def test_a_client_count_given_twice_is_refused(
+    clients: str, repeated: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--clients 2,2 ran both loads and printed two identical rows (the
+    figures are kept under one key, services_2_*): now a usage error."""
+    with pytest.raises(SystemExit) as exit_:
+        main(["bench", "--clients", clients])
+    assert exit_.value.code == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert (
+        f"argument --clients: {clients!r} gives {repeated} clients more than "
+        "once: each count is one row, give each once"
+    ) in err
+
+
 def test_a_negative_seed_is_refused_before_any_work(
     capsys: pytest.CaptureFixture[str],
 ) -> None:

@@ -82,7 +82,11 @@ MOST_CLIENTS = MOST_AT_ONCE
 
 
 def _client_counts(text: str) -> list[int]:
-    """``"1,8,50"`` -> ``[1, 8, 50]``; each 1..``MOST_CLIENTS``."""
+    """``"1,8,50"`` -> ``[1, 8, 50]``; each 1..``MOST_CLIENTS``, each once.
+
+    A count given twice would run twice and print two rows, but its
+    figures are kept under one key (``services_8_p50_ms``): refused.
+    """
     try:
         counts = [int(part) for part in text.split(",")]
     except ValueError:
@@ -91,6 +95,12 @@ def _client_counts(text: str) -> list[int]:
         raise argparse.ArgumentTypeError(
             f"{text!r} is not a comma-separated list of client counts, "
             f"each 1..{MOST_CLIENTS}"
+        )
+    repeated = sorted({c for c in counts if counts.count(c) > 1})
+    if repeated:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} gives {', '.join(map(str, repeated))} clients more than "
+            "once: each count is one row, give each once"
         )
     try:
         give = f"each count 1..{MOST_CLIENTS}"
