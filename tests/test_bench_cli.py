@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from armplan.bench import service_latency
+from armplan.bench import ik_cost, service_latency
 from armplan.bench.machine import cpu_model
-from armplan.bench.report import print_bars, print_planning
+from armplan.bench.report import print_bars, print_ik, print_planning
 from armplan.bench.service_latency import PER_CLIENT, plans_for
 from armplan.cli.commands.bench import _client_counts
 from armplan.cli.main import main
@@ -244,6 +244,22 @@ def test_the_bars_show_the_in_process_plan_both_ways(
     }
     print_bars({"plan_mp_ms": 12.0}, [])
     assert "back to back" not in capsys.readouterr().out
+
+
+def test_figures_with_nothing_measured_print_as_a_dash(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """With 5 targets (seed 7) SLSQP reaches none: the rows on the targets
+    both reached printed nan cells (the JSON gives null); now "-"."""
+    figures = ik_cost.run(5, 7, lambda: None).figures()
+    assert figures["common_targets"] == 0.0
+    assert math.isnan(figures["speedup_vs_slsqp_on_common"])
+    print_ik(figures)
+    out = capsys.readouterr().out
+    assert "nan" not in out.lower()
+    rows = {" ".join(r.split()[:-3]): r.split()[-3:] for r in out.splitlines()[2:]}
+    assert rows["on the 0 both reached [ms]"] == ["-", "-", "-"]
+    assert rows["TPE ours - SLSQP, both reached [J]"] == ["-", "-", "-"]
 
 
 def test_the_peers_are_compared_on_like_work(figures: dict[str, float]) -> None:

@@ -1,12 +1,17 @@
 """The tables ``armplan bench`` prints: each figure beside its peer's, as a ratio.
 
 Every function takes the flat figures of ``--json`` (times [ms, us], rates
-[1/s], ratios) so the table and the JSON can never disagree.
+[1/s], ratios) so the table and the JSON can never disagree. A figure with
+nothing to measure (NaN: the IK beside SLSQP on the targets both reached,
+when SLSQP reached none) prints as ``-``, as ``--json`` gives ``null``.
 """
 
 from __future__ import annotations
 
+import math
 import sys
+from collections.abc import Sequence
+from typing import Any
 
 from armplan.bench.service_latency import PER_CLIENT
 from armplan.cli.output import print_table
@@ -40,7 +45,7 @@ def print_ik(f: Figures) -> None:
     """The IK per target beside scipy SLSQP (same measure) and ikpy (position)."""
     sys.stdout.write(f"IK of {f['targets']:.0f} random reachable targets, means:\n")
     ours = f["ik_per_target_ms"]
-    print_table(
+    _table(
         ("measure", "armplan", "peer", "peer / armplan"),
         [
             ("IK per target vs scipy SLSQP [ms]", ours, f["slsqp_per_target_ms"],
@@ -70,7 +75,7 @@ def print_planning(f: Figures) -> None:
         f"\none-second reach in-process ({f['plan_points']:.0f} path points, a "
         f"{f['plan_duration_s']:.2f} s trajectory), medians [ms]:\n"
     )
-    print_table(
+    _table(
         ("measure", "armplan", "peer", "peer / armplan"),
         [
             ("plan, method mp", plan, "-", "-"),
@@ -96,7 +101,7 @@ def print_planning(f: Figures) -> None:
         ],
     )
     sys.stdout.write("\nparts of the mp plan, each timed alone:\n")
-    print_table(
+    _table(
         ("part", "median [ms]", "per path point [us]"),
         [
             ("wrist path", f["part_wrist_path_ms"], "-"),
@@ -123,7 +128,7 @@ def print_services(f: Figures, clients: list[int]) -> None:
     rows += [
         _service_row(f"services, {k} clients", f"services_{k}", f) for k in clients
     ]
-    print_table(
+    _table(
         ("plans", "p50 [ms]", "p99 [ms]", "plans/s", "p50 / in-process p50"),
         rows,
     )
@@ -141,7 +146,7 @@ def print_stage_hops(f: Figures) -> None:
     )
     fields = ("here", "service", "overhead", "handle", "inside", "trips")
     rows = [(name, *(f[f"stage_{name}_{k}_ms"] for k in fields)) for name in stages]
-    print_table(
+    _table(
         (
             "stage",
             "here [ms]",
@@ -199,7 +204,17 @@ def print_bars(f: Figures, clients: list[int]) -> None:
             _bar("through the services, 1 client, p50", f["services_1_p50_ms"],
                  SERVICES_BAR_MS)
         )  # fmt: skip
-    print_table(("bar", "measured [ms]", "bar [ms]", "met"), rows)
+    _table(("bar", "measured [ms]", "bar [ms]", "met"), rows)
+
+
+def _table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
+    """:func:`print_table`, a figure that is not a number (none measured) as ``-``."""
+    print_table(headers, [[_figure(value) for value in row] for row in rows])
+
+
+def _figure(value: Any) -> Any:
+    """``value``, or ``"-"`` if it is a float NaN."""
+    return "-" if isinstance(value, float) and math.isnan(value) else value
 
 
 def _bar(label: str, measured: float, bar: float) -> tuple[str, float, float, str]:
