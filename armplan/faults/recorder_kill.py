@@ -85,9 +85,9 @@ def recorder_scenario(
         "down_s": round(phases.down_s, 2),
         "missing": phases.missing,
         "note": f"plans {'all' if planned else 'NOT all'} succeeded; killed file "
-        f"readable with {kept} of its trajectories (of the {before} planned "
-        f"{FLUSH_ALLOWANCE:g} s before the kill), the new one has {new} of the "
-        f"{after} planned after the restart",
+        f"readable with {kept} of its trajectories (it must hold the {before} "
+        f"answered {FLUSH_ALLOWANCE:g} s or more before the kill), the new one "
+        f"has {new} of the {after} planned after the restart",
     }
     tally.crashes = system.crashes()
     return tally
