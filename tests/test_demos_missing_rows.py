@@ -26,7 +26,7 @@ def test_a_long_run_of_deleted_rows_is_refused_naming_both_lines(
         f"{path}: trial 0: no rows between line 46 (t = 0.44 s) and line 47 "
         "(t = 0.95 s): 50 frames missing at the trial's step of 0.01 s "
         "(median), 0.5 s; the import fills missing frames for at most 0.1 s "
-        "(a cubic spline through the frames around them); export the rows "
+        "(a smoothing spline through the frames around them); export the rows "
         "between, or leave the trial out"
     )
     assert caught.value.evidence["line"] == 47
@@ -47,7 +47,7 @@ def test_a_few_deleted_rows_are_filled_as_empty_cells_are(
     np.testing.assert_allclose(cut.wrist, whole.wrist, atol=1e-4)
     assert notes == [
         f"{path}: trial 0: filled 3 of 30 frames where a marker was missing "
-        "(gaps of at most 0.1 s, by a cubic spline), the first at frame 10 "
+        "(gaps of at most 0.1 s, by a smoothing spline), the first at frame 10 "
         "(t = 0.1 s, no row: between lines 11 and 12)"
     ]
 

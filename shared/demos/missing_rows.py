@@ -95,7 +95,7 @@ def _check_length(
         f"{where}: no rows between line {lines[k]} (t = {times[k]:g} s) and line "
         f"{lines[k + 1]} (t = {times[k + 1]:g} s): {count} frames missing at the "
         f"trial's step of {usual:.4g} s (median), {length:.3g} s; the import "
-        f"fills missing frames for at most {LONGEST_GAP:g} s (a cubic spline "
+        f"fills missing frames for at most {LONGEST_GAP:g} s (a smoothing spline "
         "through the frames around them); export the rows between, or leave "
         "the trial out",
         line=lines[k + 1],
