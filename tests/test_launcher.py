@@ -508,3 +508,20 @@ def test_a_sim_ended_by_the_stop_asked_for_is_an_interrupted_start(
     with pytest.raises(StartInterrupted) as interrupted:
         RobotStack(config, sim=True, sim_listen=listen, stop=stop).start(timeout=60)
     assert interrupted.value.signal == signal.SIGINT
+
+
+@pytest.mark.parametrize("bridge", [(), ("--with-bridge",)])
+def test_sim_listen_without_the_sim_is_refused(bridge: tuple[str, ...]) -> None:
+    """`up --with-bridge --sim-listen URL` pointed the bridge at the default
+    robot (127.0.0.1:9559), and `--sim-listen` alone started no sim; either
+    was silent. Now the option is refused without --with-sim, nothing
+    started."""
+    sim_at = "tcp://127.0.0.1:0"
+    argv = ("--listen", free_endpoint(), "--only", "ik", *bridge)
+    out = armplan("up", *argv, "--sim-listen", sim_at, timeout=30.0)
+    assert (out.returncode, out.stdout) == (1, "")
+    assert out.stderr == (
+        "armplan: error: --sim-listen is where the simulated NAO serves: add "
+        "--with-sim to start it (a bridge to another robot: --robot URL)\n"
+    )
+

@@ -62,9 +62,8 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--sim-listen",
         metavar="URL",
-        default=SIM_LISTEN,
-        help=f"where the simulated NAO serves (default {SIM_LISTEN}; port 0: any "
-        "free one)",
+        help=f"where the simulated NAO serves, with --with-sim (default "
+        f"{SIM_LISTEN}; port 0: any free one)",
     )
     parser.add_argument(
         "--with-bridge",
@@ -102,20 +101,41 @@ def run(args: argparse.Namespace) -> int:
         from bridge.address import check_robot_url
 
         check_robot_url(args.robot)  # before anything starts
-    if args.with_sim:
-        from bridge.address import check_listen_url
-
-        check_listen_url(args.sim_listen)
+    sim_listen = _sim_listen(args)
     fit_args = _fit_args(args)
     stop = stop_on_signals()
     launcher = Launcher(config, args.only, stop=stop, service_args=fit_args)
-    robot_stack = _robot_stack(args, config, stop)  # checked before anything starts
+    # checked before anything starts
+    robot_stack = _robot_stack(args, config, stop, sim_listen)
     # starts; stops everything on the way out (the robot side first)
     with launcher, robot_stack as robot:
         _print_started(launcher, config, robot)
         _watch(launcher, robot, stop)
     say("armplan up: stopped every process")
     return 0
+
+
+def _sim_listen(args: argparse.Namespace) -> str:
+    """Where the sim is to serve, checked; ``--sim-listen`` only with ``--with-sim``.
+
+    Raises:
+        InvalidInputError: ``--sim-listen`` without ``--with-sim`` (the bridge
+            went to the default robot, and without a bridge nothing started),
+            or a malformed URL (as ``check_listen_url``).
+    """
+    if not args.with_sim:
+        if args.sim_listen is not None:
+            raise InvalidInputError(
+                "--sim-listen is where the simulated NAO serves: add --with-sim "
+                "to start it (a bridge to another robot: --robot URL)",
+                field="sim_listen",
+            )
+        return SIM_LISTEN
+    from bridge.address import check_listen_url
+
+    url = SIM_LISTEN if args.sim_listen is None else args.sim_listen
+    check_listen_url(url)
+    return url
 
 
 def _fit_args(args: argparse.Namespace) -> dict[str, list[str]]:
@@ -140,7 +160,10 @@ def _fit_args(args: argparse.Namespace) -> dict[str, list[str]]:
 
 
 def _robot_stack(
-    args: argparse.Namespace, config: BusConfig, stop: threading.Event
+    args: argparse.Namespace,
+    config: BusConfig,
+    stop: threading.Event,
+    sim_listen: str,
 ) -> RobotStack | contextlib.nullcontext[None]:
     """The sim and the bridge if asked for (not started yet), else nothing."""
     if not (args.with_sim or args.with_bridge or args.robot or args.follow):
@@ -155,7 +178,7 @@ def _robot_stack(
         config,
         robot=args.robot,
         sim=args.with_sim,
-        sim_listen=args.sim_listen,
+        sim_listen=sim_listen,
         follow=args.follow,
         stop=stop,
         allow_not_awake=args.allow_not_awake,
