@@ -525,3 +525,16 @@ def test_sim_listen_without_the_sim_is_refused(bridge: tuple[str, ...]) -> None:
         "--with-sim to start it (a bridge to another robot: --robot URL)\n"
     )
 
+
+def test_an_endpoint_given_twice_is_refused_before_anything_starts() -> None:
+    """`up --listen E --listen E` started a router that clashed with itself
+    ("Address already in use; is another router using it?"); now the
+    endpoint is named as given twice, nothing started."""
+    endpoint = free_endpoint()
+    out = armplan("up", "--listen", endpoint, "--listen", endpoint, "--only", "ik")
+    assert (out.returncode, out.stdout) == (1, "")
+    assert out.stderr == (
+        f"armplan: error: --listen {endpoint} given more than once: the router "
+        "cannot listen twice on one endpoint; give each once\n"
+    )
+

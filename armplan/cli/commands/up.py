@@ -94,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
     check_unsecured(config, "up")  # the file's own endpoints, before --listen
     if args.listen:
         check_plain_listen(args.listen, "up")
+        _check_each_once(args.listen)
         config = config.with_endpoints(tuple(args.listen), "--listen")
     else:
         check_plain_listen(config.endpoints, "up", f"{config.source} endpoint")
@@ -113,6 +114,22 @@ def run(args: argparse.Namespace) -> int:
         _watch(launcher, robot, stop)
     say("armplan up: stopped every process")
     return 0
+
+
+def _check_each_once(endpoints: list[str]) -> None:
+    """Refuse an endpoint given twice: the router would clash with itself.
+
+    Raises:
+        InvalidInputError: naming the endpoints given more than once.
+    """
+    twice = list(dict.fromkeys(e for e in endpoints if endpoints.count(e) > 1))
+    if twice:
+        raise InvalidInputError(
+            f"--listen {', '.join(twice)} given more than once: the router "
+            "cannot listen twice on one endpoint; give each once",
+            field="listen",
+            endpoints=twice,
+        )
 
 
 def _sim_listen(args: argparse.Namespace) -> str:
