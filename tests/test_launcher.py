@@ -538,3 +538,15 @@ def test_an_endpoint_given_twice_is_refused_before_anything_starts() -> None:
         "cannot listen twice on one endpoint; give each once\n"
     )
 
+
+def test_an_endpoint_without_a_protocol_is_said_to_be_malformed() -> None:
+    """`up --listen 127.0.0.1:P` was refused as a protocol other than tcp/
+    ("which 127.0.0.1:P/ is not"); its syntax is now checked first, as
+    `status --connect` does."""
+    endpoint = free_endpoint().removeprefix("tcp/")
+    out = armplan("up", "--listen", endpoint, "--only", "ik")
+    assert (out.returncode, out.stdout) == (1, "")
+    assert out.stderr == (
+        "armplan: error: Zenoh configuration --listen (endpoint): endpoint "
+        f"'{endpoint}' must read PROTO/HOST:PORT, e.g. tcp/127.0.0.1:7447\n"
+    )

@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from shared.bus import BusConfig
+from shared.bus.config import check_endpoint
 from shared.bus.secured import secured_settings
 from shared.errors import InvalidInputError
 
@@ -55,9 +56,12 @@ def check_plain_listen(
             configuration file (``"FILE endpoint"``).
 
     Raises:
+        BusConfigError: an endpoint that does not read ``PROTO/HOST:PORT``
+            (checked first: ``127.0.0.1:7447`` has no protocol to name).
         InvalidInputError: naming the endpoint and why only ``tcp/`` is taken.
     """
     for endpoint in endpoints:
+        check_endpoint(endpoint, source)
         if endpoint.startswith(SECURED_PROTOCOLS):
             raise InvalidInputError(
                 f"{source} {endpoint}: armplan {command} runs the unsecured "
