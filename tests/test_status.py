@@ -84,3 +84,38 @@ def test_status_json_gives_keys_as_a_list(router: str) -> None:
     rows = {line.split()[0]: line.split() for line in table.stdout.splitlines()[1:]}
     assert rows["recorder"] == ["recorder", "alive", "-"]
     assert rows["planner"] == ["planner", "absent", "armplan/plan"]
+
+
+def test_status_json_without_a_router_is_still_the_document() -> None:
+    """No router: ``--json`` printed ``{"error": ...}`` alone, not the
+    documented document; now every service is absent and ``error`` is
+    added, exit 1 as before."""
+    endpoint = free_endpoint()
+    out = armplan("status", "--connect", endpoint, "--json")
+    assert out.returncode == 1
+    document = json.loads(out.stdout)
+    assert set(document) == {"router", "namespace", "services", "error"}
+    assert (document["router"], document["namespace"]) == (endpoint, NS)
+    assert [(s["service"], s["state"]) for s in document["services"]] == [
+        (s.name, "absent") for s in SERVICES
+    ]
+    assert document["error"]["kind"] == "service_unavailable"
+    assert document["error"]["evidence"]["service"] == "router"
+    assert f"no Zenoh router answers at {endpoint}" in out.stderr
+
+
+def test_a_required_service_not_alive_names_its_token(router: str) -> None:
+    """The ``--require`` error's evidence had ``"key": ""``; it names the
+    token looked for, or every token's pattern for several services."""
+    one = armplan("status", "--connect", router, "--json", "--require", "ik")
+    two = armplan("status", "--connect", router, "--require", "ik", "fit")
+    assert (one.returncode, two.returncode) == (1, 1)
+    error = json.loads(one.stdout)["error"]
+    assert error["evidence"]["key"] == "armplan/alive/ik"
+    assert error["message"] == (
+        f"service 'ik' is unavailable for armplan/alive/ik: not alive on {router}"
+    )
+    assert two.stderr == (
+        "armplan: error: service 'ik, fit' is unavailable for armplan/alive/*: "
+        f"not alive on {router}\n"
+    )

@@ -3,6 +3,8 @@
 ``--json`` prints one document: ``router``, ``namespace`` and ``services``,
 each ``{"service", "state", "keys"}`` with ``keys`` a list of the key
 expressions it answers (``[]`` for none); docs/services.md has the fields.
+Without a router it is the same document, every service absent, with the
+error added.
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
 from armplan.launch import SERVICES
 from armplan.launch.catalog import PROCESSES, ServiceSpec, unknown_hint
-from shared.bus import Bus, load_config
+from shared.bus import Bus, BusConfig, load_config
+from shared.bus.keys import alive_key, alive_pattern
 from shared.errors import ServiceUnavailableError
 from shared.printable import printable, printable_lines
 
@@ -49,16 +52,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def run(args: argparse.Namespace) -> int:
     """Print every known service and whether it is alive."""
     config = load_config(args.config, tuple(args.connect or ()))
-    with Bus.connect(config) as bus:
-        alive = bus.alive()
+    try:
+        with Bus.connect(config) as bus:
+            alive, error = bus.alive(), None
+    except ServiceUnavailableError as no_router:
+        if not args.json:
+            raise
+        alive, error = [], no_router  # the document still, every service absent
     rows = _rows(alive, config.namespace)
-    missing = [name for name in args.require if name not in alive]
-    error = None
-    if missing:
-        error = ServiceUnavailableError(
-            ", ".join(missing),
-            reason=f"not alive on {config.endpoint}{unknown_hint(missing)}",
-        )
+    error = error or _missing(args.require, alive, config)
     if not args.json:
         sys.stdout.write(f"router {config.endpoint}, namespace {config.namespace}\n")
         table = [(printable(n), state, ", ".join(k) or "-") for n, state, k in rows]
@@ -79,6 +81,25 @@ def run(args: argparse.Namespace) -> int:
     print_json(document | {"error": error.to_wire()})  # one JSON document
     sys.stderr.write(f"armplan: error: {printable_lines(error.message)}\n")
     return 1
+
+
+def _missing(
+    required: list[str], alive: list[str], config: BusConfig
+) -> ServiceUnavailableError | None:
+    """The error for the ``required`` services not ``alive``; ``None`` if none.
+
+    Its key is the liveliness token looked for (``armplan/alive/ik``), or the
+    pattern of every token (``armplan/alive/*``) for several services.
+    """
+    missing = [name for name in required if name not in alive]
+    if not missing:
+        return None
+    ns = config.namespace
+    return ServiceUnavailableError(
+        ", ".join(missing),
+        key=alive_key(ns, missing[0]) if len(missing) == 1 else alive_pattern(ns),
+        reason=f"not alive on {config.endpoint}{unknown_hint(missing)}",
+    )
 
 
 def _rows(alive: list[str], namespace: str) -> list[tuple[str, str, list[str]]]:
