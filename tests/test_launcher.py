@@ -58,6 +58,7 @@ class Up:
         self.process = process
         self.lines = lines
         self.pids: dict[str, int] = {}
+        self.reader: threading.Thread | None = None  # copies stdout to lines
 
     def wait_ready(self) -> list[str]:
         """Read its stdout until the ready line; returns the lines read."""
@@ -91,6 +92,7 @@ def armplan_up(*args: str, log: pathlib.Path) -> Iterator[Up]:
     reader = threading.Thread(target=pump, args=(process.stdout, lines), daemon=True)
     reader.start()
     up = Up(process, lines)
+    up.reader = reader
     try:
         yield up
     finally:
@@ -328,7 +330,8 @@ def test_a_robot_side_process_that_exits_is_reported_with_its_code(
     tmp_path: pathlib.Path,
 ) -> None:
     """A service that exits is reported 'exited with code N'; the sim and the
-    bridge were reported without one ('bridge (pid N) exited')."""
+    bridge were reported without one ('bridge (pid N) exited'). Stopped,
+    `up` exits 1 naming it (it exited 0: a supervisor could not tell)."""
     log = tmp_path / "up.log"
     sim_at = f"tcp://127.0.0.1:{free_endpoint().rsplit(':', 1)[1]}"
     args = ("--listen", free_endpoint(), "--only", "ik", "--with-sim")
@@ -341,7 +344,42 @@ def test_a_robot_side_process_that_exits_is_reported_with_its_code(
             time.sleep(0.1)
         assert wanted in log.read_text()
         up.process.send_signal(signal.SIGTERM)
-        assert up.process.wait(EXIT_TIMEOUT) == 0
+        assert up.process.wait(EXIT_TIMEOUT) == 1
+        assert last_line(up) == (
+            "armplan up: stopped every process; exited while running: "
+            f"sim (pid {up.pids['sim']}) with code -9"
+        )
+
+
+def last_line(up: Up) -> str:
+    """The last line `up` printed on stdout, once it has exited."""
+    assert up.reader is not None
+    up.reader.join(EXIT_TIMEOUT)  # its stdout closed: every line is queued
+    lines = [up.lines.get_nowait() for _ in range(up.lines.qsize())]
+    return lines[-1]
+
+
+def test_a_router_that_dies_makes_up_exit_1(tmp_path: pathlib.Path) -> None:
+    """The router killed while `up` ran: `up` ran on and exited 0 at its stop,
+    so a supervisor (systemd Restart=on-failure, docker) never knew. It now
+    exits 1 and names the router on its last line; nothing is restarted."""
+    args = ("--listen", free_endpoint(), "--only", "ik")
+    with armplan_up(*args, log=tmp_path / "up.log") as up:
+        up.wait_ready()
+        router = up.pids["router"]
+        os.kill(router, signal.SIGKILL)
+        deadline = time.monotonic() + 10.0
+        wanted = f"armplan up: router (pid {router}) exited with code -9"
+        while wanted not in (tmp_path / "up.log").read_text():
+            assert time.monotonic() < deadline, "the router's end was not reported"
+            time.sleep(0.1)
+        up.process.send_signal(signal.SIGTERM)
+        assert up.process.wait(EXIT_TIMEOUT) == 1
+        assert last_line(up) == (
+            "armplan up: stopped every process; exited while running: "
+            f"router (pid {router}) with code -9"
+        )
+        assert wait_gone(list(up.pids.values()), timeout=1.0) == []
 
 
 def test_up_passes_allow_not_awake_to_the_bridge(tmp_path: pathlib.Path) -> None:

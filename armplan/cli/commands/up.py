@@ -21,6 +21,8 @@ ORDER = 80
 HELP = "start the Zenoh router and every service; Ctrl-C or SIGTERM stops them all"
 #: Pause between checks on the children while running [s].
 POLL = 0.2
+#: Exit code once stopped if a child had exited while running (none restarts).
+EXITED_WHILE_RUNNING = 1
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -89,7 +91,12 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Start everything, print where it listens, run until SIGTERM/SIGINT/SIGHUP."""
+    """Start everything, print where it listens, run until SIGTERM/SIGINT/SIGHUP.
+
+    Returns:
+        0, or ``EXITED_WHILE_RUNNING`` (1) if a child exited while running
+        (reported then, not restarted), named on the last line.
+    """
     config = load_config(args.config)
     check_unsecured(config, "up")  # the file's own endpoints, before --listen
     if args.listen:
@@ -111,9 +118,13 @@ def run(args: argparse.Namespace) -> int:
     # starts; stops everything on the way out (the robot side first)
     with launcher, robot_stack as robot:
         _print_started(launcher, config, robot)
-        _watch(launcher, robot, stop)
-    say("armplan up: stopped every process")
-    return 0
+        exited = _watch(launcher, robot, stop)
+    if not exited:
+        say("armplan up: stopped every process")
+        return 0
+    # a supervisor (systemd Restart=on-failure, docker) learns it from the code
+    say(f"armplan up: stopped every process; exited while running: {exited}")
+    return EXITED_WHILE_RUNNING
 
 
 def _check_each_once(endpoints: list[str]) -> None:
@@ -230,14 +241,19 @@ def _print_robot(robot: RobotStack, config: BusConfig) -> None:
     say(f"{'bridge':<8} pid {pids['bridge']:<7d} {key} -> robot {robot.url}")
 
 
-def _watch(launcher: Launcher, robot: RobotStack | None, stop: threading.Event) -> None:
-    """Wait for a stop request; report children that exit meanwhile."""
-    reported: set[int] = set()
+def _watch(launcher: Launcher, robot: RobotStack | None, stop: threading.Event) -> str:
+    """Wait for a stop request; report children that exit meanwhile.
+
+    Returns:
+        Those children, ``"sim (pid 12) with code -9, ..."``; ``""`` if none.
+    """
+    reported: dict[int, str] = {}
     while not stop.wait(POLL):
         for name, pid, how in _exited(launcher, robot):
-            if pid not in reported:
-                reported.add(pid)
+            if pid not in reported and not stop.is_set():  # not the stop's doing
+                reported[pid] = f"{name} (pid {pid}){how}"
                 sys.stderr.write(f"armplan up: {name} (pid {pid}) exited{how}\n")
+    return ", ".join(reported.values())
 
 
 def _exited(launcher: Launcher, robot: RobotStack | None) -> list[tuple[str, int, str]]:
