@@ -21,7 +21,7 @@ from armplan.cli.main import main
 from armplan.launch import Launcher, free_endpoint
 from services.fit import default_model, fit_model, save_model
 from services.fit.demo_dir import DEMOS_DIR_ENV
-from services.fit.model_state import STATE_FILE, digest
+from services.fit.model_state import STATE_FILE, digest, state_file
 from services.planner.pipeline import plan
 from services.planner.stages import LocalStages
 from shared.bus import Bus, NoArguments, load_config
@@ -152,6 +152,70 @@ def test_fit_service_starts_from_a_model_file(
         Bus.connect(stack.config) as bus,
     ):
         assert bus.call(FIT_MODEL, NoArguments()) == fitted
+
+
+NAMESPACED = """{{
+  mode: "router",
+  listen: {{ endpoints: ["{endpoint}"] }},
+  scouting: {{ multicast: {{ enabled: false }} }},
+  metadata: {{ armplan: {{ namespace: "{namespace}" }} }},
+}}"""
+
+
+def test_state_files_of_two_namespaces_are_two_files(tmp_path: pathlib.Path) -> None:
+    """The default namespace keeps the old name; others get their own, and
+    ``a/b`` and ``a-b`` (or ``a_b``) never share one."""
+    names = ["armplan", "lab/nao1", "lab-nao1", "lab_nao1", "lab/nao1/x"]
+    files = [state_file(tmp_path, name) for name in names]
+    assert files[0] == tmp_path / STATE_FILE
+    assert files[1] == tmp_path / "armplan-fit-model.lab.nao1.json"
+    assert len(set(files)) == len(names)
+
+
+def test_a_robot_of_another_namespace_does_not_serve_the_first_ones_model(
+    demos_dir: pathlib.Path,
+    fitted: MotionModel,
+    tmp_path: pathlib.Path,
+    log: pathlib.Path,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Two fit services in one folder, the second in namespace ``lab/nao1``
+    without ``--model``: it served the first one's model from its state
+    file (and a fit of either overwrote the other's). Now it serves the
+    shipped default, says why it passed the file over, and keeps its own."""
+    lab, shared = tmp_path / "lab.json", tmp_path / STATE_FILE
+    save_model(fitted, lab)
+    monkeypatch.setenv(DEMOS_DIR_ENV, str(demos_dir))
+    first = load_config(endpoints=(free_endpoint(),))
+    state = ("--state-dir", str(tmp_path))
+    with Launcher(
+        first,
+        ["fit"],
+        log=subprocess.DEVNULL,
+        service_args={"fit": ["--model", str(lab), *state]},
+    ):
+        assert shared.exists()
+    path = tmp_path / "lab-nao1.json5"
+    path.write_text(NAMESPACED.format(endpoint=free_endpoint(), namespace="lab/nao1"))
+    with (
+        log.open("w") as out,
+        Launcher(
+            load_config(path), ["fit"], log=out, service_args={"fit": state}
+        ) as stack,
+        Bus.connect(stack.config) as bus,
+    ):
+        assert bus.call(FIT_MODEL, NoArguments()) == default_model()
+        refit = bus.call(FIT, FitRequest(files=[DEMOS], bins=8), timeout=300)
+    assert refit != fitted
+    own = tmp_path / "armplan-fit-model.lab.nao1.json"
+    assert MotionModel.model_validate_json(own.read_text()) == refit
+    assert MotionModel.model_validate_json(shared.read_text()) == fitted
+    said = log.read_text()
+    assert "from shipped default " in said
+    assert (
+        f"not reading {shared}: it is the state file of namespace 'armplan'; "
+        f"this fit service (namespace 'lab/nao1') keeps its model in {own.name}"
+    ) in said
 
 
 def run_fit_service(*args: str) -> subprocess.CompletedProcess[str]:

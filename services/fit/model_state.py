@@ -2,9 +2,12 @@
 
 At start, in this order: the model file given (``--model FILE``; a bad
 one, or one the decision cannot use, stops the service with
-``ModelFileError``), else the model it served last (its state file,
-``STATE_FILE`` in its state directory, by default the demonstration
-directory; checked the same way), else the shipped default. Whenever the
+``ModelFileError``), else the model it served last (its state file in its
+state directory, by default the demonstration directory; checked the same
+way), else the shipped default. The state file belongs to the namespace:
+``STATE_FILE`` for the default one, ``armplan-fit-model.<ns>.json`` (the
+namespace's ``/`` as ``.``) for another, so two robots with their own
+namespaces never serve or overwrite each other's model. Whenever the
 served model changes (a fit, or a start from ``--model``), it is written
 to the state file atomically, so a restarted fit service serves the same
 model. Delete the state file to start from the shipped default again.
@@ -23,6 +26,7 @@ from typing import NamedTuple
 from services.fit.decidable import load_decidable
 from services.fit.default import default_model, default_model_path
 from services.fit.model_file import save_model
+from shared.bus.config import DEFAULT_NAMESPACE
 from shared.errors import InvalidInputError, ModelFileError
 from shared.messages import MotionModel
 
@@ -53,9 +57,39 @@ def digest(model: MotionModel) -> str:
     return hashlib.sha256(model.model_dump_json().encode()).hexdigest()[:12]
 
 
-def state_file(state_dir: Path) -> Path:
-    """The state file in ``state_dir``."""
-    return state_dir / STATE_FILE
+def state_file(state_dir: Path, namespace: str) -> Path:
+    """The state file of ``namespace``'s fit service in ``state_dir``.
+
+    ``STATE_FILE`` for the default namespace (as before namespaces had their
+    own), else ``armplan-fit-model.lab.nao1.json`` for ``lab/nao1``: a ``.``
+    is in no namespace chunk, so two namespaces never share a file.
+    """
+    if namespace == DEFAULT_NAMESPACE:
+        return state_dir / STATE_FILE
+    stem = STATE_FILE.removesuffix(".json")
+    return state_dir / f"{stem}.{namespace.replace('/', '.')}.json"
+
+
+def say_other_state(state: Path, namespace: str) -> None:
+    """Log that the default namespace's state file beside ``state`` is not read.
+
+    Before each namespace had its own state file, every fit service kept its
+    model in ``STATE_FILE``: a robot of another namespace finds it there and
+    is told how to serve it, rather than serving another robot's model.
+    """
+    shared = state.with_name(STATE_FILE)
+    if shared == state or state.exists() or not shared.exists():
+        return
+    log.warning(
+        "not reading %s: it is the state file of namespace %r; this fit "
+        "service (namespace %r) keeps its model in %s (rename the file, or "
+        "give --model %s, to serve that model)",
+        shared,
+        DEFAULT_NAMESPACE,
+        namespace,
+        state.name,
+        shared,
+    )
 
 
 def check_state_dir(state_dir: Path, given: bool) -> None:

@@ -12,8 +12,8 @@ Run it with ``python -m services.fit [--model FILE] [--state-dir DIR]``
 (``armplan up`` does, ``armplan up --model FILE`` passes ``--model``). It
 reads demonstration files only inside ``$ARMPLAN_DEMOS_DIR`` (default: its
 working directory) and keeps the model it serves in ``--state-dir``
-(default: that same directory) for a restart; see ``current_model.py``,
-``model_state.py`` and ``demo_dir.py``.
+(default: that same directory; one file per namespace) for a restart; see
+``current_model.py``, ``model_state.py`` and ``demo_dir.py``.
 """
 
 from __future__ import annotations
@@ -23,8 +23,13 @@ from pathlib import Path
 
 from services.fit.current_model import CurrentModel
 from services.fit.demo_dir import demos_dir
-from services.fit.model_state import check_state_dir, start_model, state_file
-from shared.bus import Bus, Endpoint
+from services.fit.model_state import (
+    check_state_dir,
+    say_other_state,
+    start_model,
+    state_file,
+)
+from shared.bus import Bus, Endpoint, load_config
 from shared.bus.routes import FIT, FIT_MODEL
 from shared.bus.runner import EndpointsFactory, Options, Served
 
@@ -53,10 +58,15 @@ def factory(args: argparse.Namespace) -> EndpointsFactory:
     Raises:
         ModelFileError: ``--model`` or the state file is no valid model.
         InvalidInputError: ``--state-dir`` is no folder it can write in.
+        BusConfigError: the configuration (its namespace names the state
+            file) is wrong.
     """
+    namespace = load_config(args.config).namespace
     state_dir = Path(args.state_dir) if args.state_dir else demos_dir()
     check_state_dir(state_dir, given=args.state_dir is not None)
-    state = state_file(state_dir)
+    state = state_file(state_dir, namespace)
+    if args.model is None:
+        say_other_state(state, namespace)
     start = start_model(args.model, state)
 
     def endpoints(bus: Bus) -> Served:
