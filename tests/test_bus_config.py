@@ -129,6 +129,10 @@ def test_bad_settings_name_the_setting(
          "number"),
         ("{timeout: null}", "timeout must be a number, got null"),
         ("{max_payload: 1e300}", "max_payload must be an integer, got 1e+300"),
+        ("{resend_after: 1e10}", "resend_after must be at most 86400 s (a day), "
+         "got 1e+10"),
+        ("{timeout: 1e300}", "timeout must be at most 86400 s (a day), got "
+         "1e+300"),
         ("{workers: true}", "workers must be an integer, got true"),
         ('{colour: "red"}', "unknown setting 'colour'; known: namespace, "
          "max_payload, timeout, resend_after, workers, queue_limit, client"),

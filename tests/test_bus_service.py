@@ -17,9 +17,10 @@ import zenoh
 
 from armplan.launch import free_endpoint
 from shared.bus import Bus, BusConfig, Endpoint, Route, ServiceHost, open_router
-from shared.bus.caller import FORWARDER
+from shared.bus.caller import FORWARDER, answered
 from shared.bus.deadline import current_due
 from shared.bus.keys import alive_key
+from shared.bus.liveness import AliveServices
 from shared.bus.session import open_client
 from shared.errors import (
     InternalServiceError,
@@ -72,6 +73,16 @@ def test_a_call_returns_the_typed_reply(bus: Bus) -> None:
     """The reply is parsed into the route's reply message."""
     assert bus.call(ECHO, Text(text="hi")) == Text(text="HI")
     assert "echo" in bus.alive()
+
+
+def test_a_wait_beyond_what_the_clock_takes_is_clamped(bus: Bus) -> None:
+    """A resend after 1e10 s and a timeout of 1e300 s: every call crashed
+    (``OverflowError`` from the inbox's wait, "negative timeout" from
+    Zenoh's ``get``); the waits are clamped to a day and the call answered."""
+    assert bus.call(ECHO, Text(text="hi"), timeout=1e300) == Text(text="HI")
+    alive = AliveServices(bus.session, "test")
+    reply = answered(bus.session, alive, "test", ECHO, Text(text="hi"), 5.0, 1e10, True)
+    assert Text.model_validate_json(reply.ok.payload.to_bytes()) == Text(text="HI")
 
 
 def test_errors_come_back_typed_and_the_service_answers_on(bus: Bus) -> None:

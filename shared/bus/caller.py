@@ -41,6 +41,7 @@ from typing import Any
 
 import zenoh
 
+from shared.bus.config import MAX_WAIT
 from shared.bus.deadline import budget_attachment
 from shared.bus.keys import alive_key
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices
@@ -138,8 +139,11 @@ def _ask(
     ``None`` if every query ended without a reply; Zenoh's own timeout reply
     is returned only if no query got anything else, and a ``service_busy``
     to one query only once no other query is open (see the module's
-    docstring).
+    docstring). Every wait is clamped to ``MAX_WAIT`` and the resend to the
+    deadline: a wait of 1e10 s overflowed ``queue.get``, one of 1e300 s was
+    a "negative timeout" to Zenoh.
     """
+    deadline = min(deadline, time.monotonic() + MAX_WAIT)
     inbox: queue.SimpleQueue[_Item] = queue.SimpleQueue()
     call = uuid.uuid4().hex  # the same on both queries: see CallerBudget.call
     open_queries: set[int] = set()
@@ -160,7 +164,9 @@ def _ask(
 
     send()
     timed_out = busy = None
-    resend_at = None if resend_after is None else time.monotonic() + resend_after
+    resend_at = (
+        None if resend_after is None else min(time.monotonic() + resend_after, deadline)
+    )
     while open_queries:
         wait_until = deadline + 1.0 if resend_at is None else resend_at
         try:

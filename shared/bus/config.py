@@ -27,6 +27,11 @@ DEFAULT_MAX_PAYLOAD = 16 * 1024 * 1024
 DEFAULT_TIMEOUT = 5.0
 #: How long a caller waits for a repeatable route's answer before asking again [s].
 DEFAULT_RESEND_AFTER = 1.0
+#: Longest ``timeout`` and ``resend_after`` [s]: a day. A caller never waits
+#: longer (``caller.py`` clamps its waits to it); a longer one crashed every
+#: call (an ``OverflowError`` past ``threading.TIMEOUT_MAX``, a "negative
+#: timeout" of Zenoh's) instead of being refused at start.
+MAX_WAIT = 86_400.0
 #: Threads per service answering queries.
 DEFAULT_WORKERS = 4
 #: Requests a service lets wait before it answers ``service_busy``.
@@ -80,9 +85,11 @@ class BusConfig:
             connect, e.g. ``("tcp/127.0.0.1:7447",)``.
         namespace: Prefix of every key, e.g. ``"armplan"`` (``armplan/plan``).
         max_payload: Largest request payload a service accepts [bytes].
-        timeout: How long a client waits for a reply by default [s].
+        timeout: How long a client waits for a reply by default [s], at
+            most ``MAX_WAIT``.
         resend_after: How long a caller waits for the answer of a repeatable
-            route before it asks once more [s] (``Route.repeatable``).
+            route before it asks once more [s] (``Route.repeatable``), at
+            most ``MAX_WAIT``.
         workers: Threads per service answering queries.
         queue_limit: Requests waiting per service before ``service_busy``.
         client_settings: Zenoh settings for client sessions as (path, JSON
@@ -120,8 +127,8 @@ class BusConfig:
                 error.message, source=self.source, setting="namespace"
             ) from None
         self._check_positive("max_payload", self.max_payload)
-        self._check_positive("timeout", self.timeout)
-        self._check_positive("resend_after", self.resend_after)
+        self._check_wait("timeout", self.timeout)
+        self._check_wait("resend_after", self.resend_after)
         self._check_positive("workers", self.workers)
         self._check_positive("queue_limit", self.queue_limit)
 
@@ -129,6 +136,15 @@ class BusConfig:
         if not value > 0:
             raise BusConfigError(
                 f"{name} must be positive, got {value}",
+                source=self.source,
+                setting=f"metadata/armplan/{name}",
+            )
+
+    def _check_wait(self, name: str, value: float) -> None:
+        self._check_positive(name, value)
+        if value > MAX_WAIT:
+            raise BusConfigError(
+                f"{name} must be at most {MAX_WAIT:g} s (a day), got {value:g}",
                 source=self.source,
                 setting=f"metadata/armplan/{name}",
             )
