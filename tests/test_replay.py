@@ -35,6 +35,7 @@ from armplan.launch import free_endpoint
 from services.recorder import RecorderProcess
 from services.recorder.replay import ReplayItem, replay, replay_items
 from shared.bus import Bus, BusConfig, open_router
+from shared.bus.keys import alive_key
 from shared.errors import InvalidInputError
 
 NAMESPACE = "replaytest"
@@ -243,6 +244,41 @@ def test_replay_waits_for_a_missing_service_then_fails(
     out = armplan_replay(config, str(path), "--wait-for", "bridge", "--wait", "0.5")
     assert out.returncode == 1
     assert "service 'bridge' is unavailable" in out.stderr
+
+
+def test_a_whole_recording_is_not_replayed_into_a_live_bridge(
+    config: BusConfig, recording: tuple[Path, list[float]]
+) -> None:
+    """A bridge's token in the namespace and no --keys: refused before the
+    first message, naming the keys it would act on or mix with (the live
+    bridge played the old trajectories again, exit 0). With --keys the
+    chosen keys go out as before."""
+    path, _ = recording
+    with Bus.connect(config) as bridge:
+        token = bridge.session.liveliness().declare_token(alive_key(TARGET, "bridge"))
+        try:
+            out, got = replay_into_listener(config, path, "--speed", "10")
+            chosen, sent = replay_into_listener(
+                config,
+                path,
+                *("--keys", "plan/trajectory", "--wait-for", "bridge"),
+                *("--speed", "10"),
+                expect=2,
+            )
+        finally:
+            token.undeclare()
+    assert out.returncode == 1
+    assert out.stderr == (
+        f"armplan: error: a bridge is alive in namespace {TARGET!r}: the recorded "
+        "plan/request, plan/trajectory, bridge/state would go to it (a bridge "
+        "with --follow moves the robot again) and mix with the live messages; "
+        "nothing was sent. To replay into a live robot on purpose, choose the "
+        "keys with --keys, e.g. --keys plan/trajectory --wait-for bridge\n"
+    )
+    assert got == []
+    assert chosen.returncode == 0, chosen.stderr
+    wanted = [(k, p) for k, p in payloads() if k == "plan/trajectory"]
+    assert [(k, p) for k, p, _ in sent] == wanted
 
 
 def test_replay_schedule_scales_with_speed() -> None:

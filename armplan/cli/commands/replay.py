@@ -7,7 +7,9 @@ checked whole before the first message goes, then read as they are sent.
 The derived Foxglove channels (``/tf/...``, ...) are not sent. A bridge
 subscribed to ``plan/trajectory`` drives the (simulated) NAO from the
 replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
---wait-for bridge``. Messages sent while no router or peer was connected
+--wait-for bridge``. Without ``--keys``, a recording holding ``plan/*`` or
+``bridge/*`` messages is refused while a bridge is alive in the namespace
+(nothing is sent). Messages sent while no router or peer was connected
 reach nobody: the summary counts them, and the replay then exits 1.
 """
 
@@ -42,6 +44,10 @@ HELP = "publish a recording's messages again over Zenoh with their timing"
 #: replays on its way through a second router, though the first had it;
 #: Zenoh has no flush to wait for. A mitigation, not a proven cure.
 LINGER = 0.5
+#: First key chunks a live bridge acts on (``plan/trajectory``: a bridge
+#: with ``--follow`` plays it) or whose messages would mix with the live
+#: ones (the planner's ``plan/*``, the bridge's own ``bridge/*``).
+LIVE_CHUNKS = ("plan", "bridge")
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -132,6 +138,30 @@ def _check_wait(wait: float) -> None:
         )
 
 
+def _check_no_live_bridge(bus: Bus, items: Replay) -> None:
+    """Raise: a bridge is alive and the whole recording would go to it.
+
+    A replay of every recorded key into a live system played the recorded
+    trajectories again on the robot (a bridge with ``--follow``) and mixed
+    old ``bridge/*`` messages into the live recording, with no word and
+    exit 0. Replaying into a live robot is done on purpose, with ``--keys``.
+
+    Raises:
+        InvalidInputError: naming the keys and how to replay them anyway.
+    """
+    live = [key for key in items.counts if key.split("/")[0] in LIVE_CHUNKS]
+    if not live or "bridge" not in bus.alive():
+        return
+    raise InvalidInputError(
+        f"a bridge is alive in namespace {bus.config.namespace!r}: the recorded "
+        f"{', '.join(live)} would go to it (a bridge with --follow moves the "
+        "robot again) and mix with the live messages; nothing was sent. To "
+        "replay into a live robot on purpose, choose the keys with --keys, "
+        "e.g. --keys plan/trajectory --wait-for bridge",
+        field="keys",
+    )
+
+
 def _no_key_matches(args: argparse.Namespace, items: Replay) -> None:
     """Raise: ``--keys`` matched nothing; name the keys the recording holds."""
     held = items.recorded
@@ -177,6 +207,8 @@ def run(args: argparse.Namespace) -> int:
                 ", ".join(missing),
                 reason=f"not alive after {args.wait:g} s{unknown_hint(missing)}",
             )
+        if args.keys is None:
+            _check_no_live_bridge(bus, items)
 
         sent = offline = 0
         connected: bool | None = None  # known from the first message on
