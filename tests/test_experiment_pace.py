@@ -27,7 +27,12 @@ from armplan.experiments.pace import (
     random_tasks,
     run_task,
 )
-from armplan.experiments.pace_report import RATIO_TICKS, methods_of, ratio_figure
+from armplan.experiments.pace_report import (
+    RATIO_TICKS,
+    methods_of,
+    ratio_figure,
+    ratio_ticks,
+)
 from shared.demos.nao_grid import nao_grid
 from shared.messages import Method
 from shared.robot import load_arm
@@ -272,6 +277,21 @@ def test_the_ratio_axis_is_labelled_where_the_ratios_are() -> None:
     assert {"1", "1.5", "2", "4"} <= set(labels)
     dots = [line for line in chains.get_lines() if line.get_marker() == "o"]
     assert [line.get_xdata().tolist() for line in dots] == [[1.7]]
+
+
+@pytest.mark.parametrize(
+    ("low", "high", "ticks"),
+    [(0.95, 6.3, [1, 1.5, 2, 3, 4, 6]),
+     (1.04, 1.45, [1.1, 1.2, 1.3, 1.4]),
+     (2.1, 2.9, [2.25, 2.5, 2.75]),
+     (2.51, 2.74, [2.51, 2.74])],
+)  # fmt: skip
+def test_the_ratio_axis_has_two_labels_or_more(
+    low: float, high: float, ticks: list[float]
+) -> None:
+    """Ratios all within 1.05..1.4 had one label (1.5, kept in range only
+    by the slow line): no scale on a log axis. Each range gets two or more."""
+    assert ratio_ticks(low, high) == ticks
 
 
 def test_an_unknown_arm_is_a_typed_error(

@@ -25,8 +25,10 @@ from armplan.experiments.pace_summary import KINDS, SHORT, SLOW
 from armplan.experiments.similarity_report import Table, make_dir
 from shared.output_paths import replaced_together
 
-#: Where the ratio axis is labelled [-] (those within its range).
+#: Where the ratio axis is labelled [-] (those within its range) ...
 RATIO_TICKS = (1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64)
+#: ... or, where fewer than two of those fall within it, these.
+FINE_TICKS = (1, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2, 2.25, 2.5, 2.75, 3, 3.5, 4, 5)
 
 #: The table's columns after method and kind, with the summary's keys.
 _COLUMNS = {
@@ -83,6 +85,19 @@ def write_report(
     return paths
 
 
+def ratio_ticks(low: float, high: float) -> list[float]:
+    """Ratios [-] to label on an axis from ``low`` to ``high``: at least two.
+
+    :data:`RATIO_TICKS` within the range, else :data:`FINE_TICKS`, else the
+    range's ends (3 significant digits).
+    """
+    for ticks in (RATIO_TICKS, FINE_TICKS):
+        inside = [float(t) for t in ticks if low <= t <= high]
+        if len(inside) >= 2:
+            return inside
+    return [float(f"{low:.3g}"), float(f"{high:.3g}")]
+
+
 def plot_ratios(summary: dict[str, Any], path: Path) -> Path:
     """Write :func:`ratio_figure` of ``summary`` to ``path`` as PNG."""
     return save_png(ratio_figure(summary), path)
@@ -108,7 +123,7 @@ def ratio_figure(summary: dict[str, Any]) -> Figure:
         ax.axvline(SLOW, color="grey", ls=":", lw=0.8)
         ax.set_xscale("log")
         low, high = ax.get_xlim()
-        ax.set_xticks([t for t in RATIO_TICKS if low <= t <= high])
+        ax.set_xticks(ratio_ticks(low, high))
         ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlim(low, high)
