@@ -49,11 +49,11 @@ def test_a_valid_request_gets_the_reply_json() -> None:
 @pytest.mark.parametrize(
     "payload,field,words",
     [
-        (b'{"position": [1, 2', "message", "not valid JSON"),
+        (b'{"position": [1, 2', "", "not valid JSON"),
         (b'{"target": [1, 2, 3]}', "position", "Field required"),
         (b"{}", "position", "Field required"),
         (b'{"position": [NaN, 0, 0]}', "position.0", "finite number"),
-        (b"\xff\xfe", "message", "not valid JSON"),
+        (b"\xff\xfe", "", "not valid JSON"),
     ],
     ids=["malformed", "wrong-schema", "missing", "nan", "not-utf8"],
 )

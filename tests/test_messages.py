@@ -143,8 +143,8 @@ def test_wrist_path_lasts_at_most_ten_minutes(end: float, message: str) -> None:
     times = [0.5 * k for k in range(1200)] + [end]
     with pytest.raises(InvalidInputError, match=message):
         parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * len(times)})
-    times = [5.0 + 0.5 * k for k in range(1201)]
-    assert times[-1] == 605.0
+    times = [0.5 * k for k in range(1201)]
+    assert times[-1] == 600.0
     parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * len(times)})
 
 
@@ -169,17 +169,80 @@ def test_wrist_path_times_must_be_seconds(scale: float, hint: str) -> None:
         parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * 81})
     step, rate = 0.01 * scale, 100.0 / scale
     assert info.value.message.startswith(
-        f"invalid WristPath: message: the wrist path: the times step {step:.4g} "
+        f"invalid WristPath: times: the wrist path: the times step {step:.4g} "
         f"apart (median), a sample rate of {rate:.4g} Hz if they are seconds; "
-        f"wrist paths are sampled at 1 to 10000 Hz: {hint} (got "
+        f"wrist paths are sampled at 1 to 10000 Hz: {hint}"
     )
+    assert info.value.field == "times"
     parse(WristPath, {"times": [0.0, 1.0, 2.0], "positions": [[0.1, 0, 0]] * 3})
 
 
 def test_wrist_path_lengths_must_match() -> None:
-    """Times and positions need the same length."""
-    with pytest.raises(InvalidInputError, match="2 times but 1 positions"):
+    """Times and positions need the same length; the error names positions."""
+    with pytest.raises(InvalidInputError, match="2 times but 1 positions") as info:
         parse(WristPath, {"times": [0.0, 0.1], "positions": [[0.1, 0, 0]]})
+    assert info.value.field == "positions"
+
+
+@pytest.mark.parametrize("first", [-5.0, 1.0, 1.7e9])
+def test_wrist_path_times_start_at_zero(first: float) -> None:
+    """Times are from the movement's start: a path starting at -5 s, 1 s or
+    at a Unix timestamp is refused naming times (the planner kept them, and
+    the trajectory started there), inside a plan request as wrist_path.times."""
+    times = [first + 0.01 * k for k in range(3)]
+    path = {"times": times, "positions": [[0.1, 0, 0]] * 3}
+    with pytest.raises(InvalidInputError, match="subtract the first time") as info:
+        parse(WristPath, path)
+    assert info.value.field == "times"
+    assert f"starts at t = {first:.9g} s, not 0" in info.value.message
+    with pytest.raises(InvalidInputError) as info:
+        parse(PlanRequest, json.dumps({"wrist_path": path}))
+    assert info.value.field == "wrist_path.times"
+    times = [0.01 * k for k in range(3)]
+    assert parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * 3})
+
+
+def test_a_path_of_the_longest_duration_at_100_hz_is_accepted() -> None:
+    """600 s (MAX_DURATION) at 100 Hz is 60 001 samples, both ends included:
+    it was refused as more than 60 000 (MAX_SAMPLES was one short)."""
+    times = [k / 100 for k in range(60_001)]
+    path = parse(WristPath, {"times": times, "positions": [[0.1, 0, 0]] * 60_001})
+    assert len(path.times) == 60_001 and path.times[-1] == 600.0
+    with pytest.raises(InvalidInputError, match="at most 60001 items"):
+        parse(
+            WristPath, {"times": [*times, 600.005], "positions": [[0.1, 0, 0]] * 60_002}
+        )
+
+
+@pytest.mark.parametrize(
+    ("data", "field"),
+    [
+        ({}, "targets"),
+        ({"targets": [{"position": [0.1, 0, 0]}], "wrist_path": "PATH"}, "wrist_path"),
+        ({"arm": "right", "wrist_path": "LEFT"}, "arm"),
+        ({"wrist_path": "PATH", "rate": 50}, "rate"),
+        (
+            {"targets": [{"position": [0.1, 0, 0]}], "path_tolerance": 0.01},
+            "path_tolerance",
+        ),
+        ([], ""),
+        ("[1, 2", ""),
+    ],
+    ids=["neither", "both", "arm", "rate", "tolerance", "array", "not-json"],
+)
+def test_a_request_error_names_the_field_at_fault(data: object, field: str) -> None:
+    """An error of the request as a whole names the field at fault, or ""
+    when the whole payload is (it named "message", which is no field)."""
+    path = {"times": [0.0, 0.01], "positions": [[0.1, 0, 0]] * 2}
+    if isinstance(data, dict) and data.get("wrist_path") == "PATH":
+        data = data | {"wrist_path": path}
+    if isinstance(data, dict) and data.get("wrist_path") == "LEFT":
+        data = data | {"wrist_path": path | {"arm": "left"}}
+    text = data if isinstance(data, str) else json.dumps(data)
+    with pytest.raises(InvalidInputError) as info:
+        parse(PlanRequest, text)
+    assert info.value.field == field
+    assert "message" not in info.value.message.split(":")[1]
 
 
 def test_empty_path_and_empty_task_are_refused() -> None:

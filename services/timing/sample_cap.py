@@ -13,12 +13,14 @@ from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 SURELY_SMALL = 40_000
 
 
-def check_samples(samples: float, rate: float) -> None:
+def check_samples(samples: float, rate: float, field: str = "rate") -> None:
     """Refuse a trajectory of more than ``MAX_TRAJECTORY_SAMPLES`` samples.
 
     Args:
         samples: Its sample count (or a lower bound of it, before timing).
         rate: Its sample rate [Hz].
+        field: The request's field the error names: the one that made it
+            too long, if one did alone, else the rate.
 
     Raises:
         InvalidInputError: naming the count, the duration and the cap.
@@ -28,7 +30,7 @@ def check_samples(samples: float, rate: float) -> None:
             f"the trajectory would have {samples:.0f} samples ({samples / rate:g} s "
             f"at {rate:g} Hz), more than {MAX_TRAJECTORY_SAMPLES}, the most the bus "
             "and the robot bridge take: lower the rate or split the task",
-            field="rate",
+            field=field,
             samples=float(samples),
             limit=MAX_TRAJECTORY_SAMPLES,
         )
@@ -39,12 +41,22 @@ def check_asked(request: TimingRequest) -> None:
 
     Checked before any timing, so that an oversized request costs nothing:
     the trajectory lasts at least the sum of the wanted durations and dwells.
+    A trajectory of the longest duration (``MAX_DURATION``, 600 s) at 100 Hz
+    has 60 001 samples, both ends included: it passes.
 
     Raises:
-        InvalidInputError: as :func:`check_samples`.
+        InvalidInputError: as :func:`check_samples`, naming the one duration
+            or dwell asked (``segments.0.duration``) if only one was.
     """
-    asked = sum((s.duration or 0.0) + s.dwell for s in request.segments)
-    check_samples(asked * request.rate + 1.0, request.rate)
+    asked = [
+        (f"segments.{i}.{name}", value)
+        for i, s in enumerate(request.segments)
+        for name, value in (("duration", s.duration or 0.0), ("dwell", s.dwell))
+        if value > 0.0
+    ]
+    total = sum(value for _, value in asked)
+    field = asked[0][0] if len(asked) == 1 else "rate"
+    check_samples(total * request.rate + 1.0, request.rate, field)
 
 
 #: What to do about a planned trajectory too large to send.

@@ -27,6 +27,19 @@ from pydantic import (
 from shared.errors import InvalidInputError
 
 
+class FieldError(ValueError):
+    """A validator's error about one field of its message (not the whole).
+
+    A model validator's ``ValueError`` has no location in pydantic: raised
+    as a ``FieldError``, :func:`parse` names ``field`` (a dotted path within
+    the message that raised it) as the field at fault, instead of the whole.
+    """
+
+    def __init__(self, field: str, message: str) -> None:
+        super().__init__(message)
+        self.field = field
+
+
 class Message(BaseModel):
     """Base of every message exchanged between armplan processes."""
 
@@ -124,14 +137,26 @@ def describe_validation_error(error: ValidationError) -> tuple[str, str]:
         problem = f"{loc} is not a field (did you mean {meant}?)"
         return loc, problem + _more(len(errors) - 2)
     first = errors[0]
-    loc = _dotted(first["loc"])
+    loc = _dotted(_location(first))
     problem = first["msg"].removeprefix("Value error, ")
-    if "input" in first and first["type"] not in ("missing",):
+    whole = not isinstance(first.get("ctx", {}).get("error"), FieldError)
+    if "input" in first and first["type"] not in ("missing",) and whole:
+        # A FieldError's input is its whole message, not the field's value.
         shown = repr(first["input"])
         if len(shown) > 60:
             shown = shown[:57] + "..."
         problem = f"{problem} (got {shown})"
-    return loc, f"{loc}: {problem}{_more(len(errors) - 1)}"
+    where = f"{loc}: " if loc else ""
+    return loc, f"{where}{problem}{_more(len(errors) - 1)}"
+
+
+def _location(error: Any) -> tuple[int | str, ...]:
+    """Where ``error`` is: its loc, and the field a ``FieldError`` names."""
+    loc = tuple(error["loc"])
+    cause = error.get("ctx", {}).get("error")
+    if isinstance(cause, FieldError):
+        loc += tuple(cause.field.split("."))
+    return loc
 
 
 def _misspelt_key(errors: Sequence[Any]) -> tuple[Any, Any] | None:
@@ -179,8 +204,8 @@ def _likeness(key: str, field: str) -> float:
 
 
 def _dotted(loc: Sequence[int | str]) -> str:
-    """A field's path as ``phases.0.targets`` (``message`` for the whole)."""
-    return ".".join(str(part) for part in loc) or "message"
+    """A field's path as ``phases.0.targets`` (``""`` for the whole message)."""
+    return ".".join(str(part) for part in loc)
 
 
 def _more(count: int) -> str:
@@ -214,7 +239,7 @@ def parse(cls: type[M], data: str | bytes | dict[str, Any] | M) -> M:
         first = exc.errors()[0]
         if first["type"] == "json_invalid":
             raise InvalidInputError(
-                f"{cls.__name__}: not valid JSON ({first['msg']})", field="message"
+                f"{cls.__name__}: not valid JSON ({first['msg']})", field=""
             ) from None
         field, message = describe_validation_error(exc)
         raise InvalidInputError(
@@ -222,7 +247,7 @@ def parse(cls: type[M], data: str | bytes | dict[str, Any] | M) -> M:
         ) from None
     except RecursionError:
         raise InvalidInputError(
-            f"invalid {cls.__name__}: nested too deeply", field="message"
+            f"invalid {cls.__name__}: nested too deeply", field=""
         ) from None
 
 

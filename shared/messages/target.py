@@ -9,6 +9,7 @@ from shared.messages.base import (
     MAX_RATE,
     MIN_PLAN_RATE,
     Direction,
+    FieldError,
     JointVector,
     OptionalFieldsMessage,
     Vec3,
@@ -22,11 +23,12 @@ from shared.robot.side import Side, SideAnyCase
 
 #: Most targets one task may hold.
 MAX_TARGETS = 64
-#: Most samples a planned trajectory may have: 10 minutes at 100 Hz. A
+#: Most samples a planned trajectory may have: 10 minutes at 100 Hz, both
+#: ends included (a 600 s path or segment, the longest, sampled at 100 Hz). A
 #: sample takes about 210 bytes of JSON at rest and 340 moving, so above
 #: about 49 000 moving samples a trajectory passes the bus's default 16 MiB
 #: payload limit: the planner measures those (``check_payload``).
-MAX_TRAJECTORY_SAMPLES = 60_000
+MAX_TRAJECTORY_SAMPLES = 60_001
 
 
 class ReachTarget(OptionalFieldsMessage):
@@ -136,7 +138,10 @@ class PlanRequest(OptionalFieldsMessage):
     @model_validator(mode="after")
     def _one_kind(self) -> PlanRequest:
         if (self.wrist_path is None) == (not self.targets):
-            raise ValueError("give either targets or a wrist_path, not both or neither")
+            raise FieldError(
+                "wrist_path" if self.wrist_path is not None else "targets",
+                "give either targets or a wrist_path, not both or neither",
+            )
         if self.wrist_path is not None and "arm" not in self.model_fields_set:
             # {"wrist_path": {"arm": "left", ...}} is a left request: naming
             # the arm once, on the path, is enough (it was refused as "for
@@ -144,25 +149,30 @@ class PlanRequest(OptionalFieldsMessage):
             # Frozen: set as pydantic sets it; "arm" stays unset, as given.
             object.__setattr__(self, "arm", self.wrist_path.arm)
         if self.wrist_path is not None and self.wrist_path.arm != self.arm:
-            raise ValueError(
+            raise FieldError(
+                "arm",
                 f"wrist_path is for the {self.wrist_path.arm.value} arm, "
-                f"the request for the {self.arm.value}"
+                f"the request for the {self.arm.value}",
             )
         if self.wrist_path is not None and (
             self.fastest or self.rate != DEFAULT_PLAN_RATE
         ):
-            raise ValueError(  # they were ignored: the path keeps its samples
+            raise FieldError(  # they were ignored: the path keeps its samples
+                "fastest" if self.fastest else "rate",
                 "fastest and rate apply to targets only: a wrist_path keeps its "
-                "own times (no retiming)"
+                "own times (no retiming)",
             )
         if self.path_tolerance is not None and self.wrist_path is None:
-            raise ValueError("path_tolerance applies to a wrist_path only")
+            raise FieldError(
+                "path_tolerance", "path_tolerance applies to a wrist_path only"
+            )
         held = sum(t.dwell for t in self.targets)
         if held * self.rate > MAX_TRAJECTORY_SAMPLES:
-            raise ValueError(
+            raise FieldError(
+                "targets",
                 f"the dwells alone ({held:g} s at {self.rate:g} Hz) make "
                 f"{held * self.rate:.0f} samples, more than "
                 f"{MAX_TRAJECTORY_SAMPLES} (MAX_TRAJECTORY_SAMPLES): shorten the "
-                "dwells, split the task or lower the rate"
+                "dwells, split the task or lower the rate",
             )
         return self

@@ -7,13 +7,14 @@ from itertools import pairwise
 
 from pydantic import Field, model_validator
 
-from shared.messages.base import Direction, Message, Vec3
+from shared.messages.base import Direction, FieldError, Message, Vec3
 from shared.messages.sample_times import check_times
 from shared.messages.seconds import DIVIDE, not_seconds
 from shared.robot.side import Side, SideAnyCase
 
-#: Most samples one path may hold (100 Hz for 10 minutes).
-MAX_SAMPLES = 60_000
+#: Most samples one path may hold: 100 Hz for 10 minutes (``MAX_DURATION``),
+#: both ends included.
+MAX_SAMPLES = 60_001
 #: Longest a path may last, first sample to last [s] (10 minutes).
 MAX_DURATION = 600.0
 #: What to do with a path whose times look like milliseconds (or that is
@@ -27,7 +28,10 @@ class WristPath(Message):
     Attributes:
         arm: Which arm's wrist (any case: ``"Left"`` reads as ``"left"``);
             left out: the right arm's, or in a ``PlanRequest`` its ``arm``.
-        times: Sample times [s], shape (n,), strictly increasing; sampled
+        times: Sample times from the movement's start [s], shape (n,):
+            the first is 0 (a path in clock time, or starting at t = 1 s, is
+            refused: the planner keeps its times, they are the
+            trajectory's), strictly increasing; sampled
             at 1 to 10 000 Hz (median step), so that times in milliseconds
             are refused as such (``shared.messages.seconds``), not taken
             for a path a thousand times slower.
@@ -44,21 +48,30 @@ class WristPath(Message):
     @model_validator(mode="after")
     def _consistent(self) -> WristPath:
         if len(self.times) != len(self.positions):
-            raise ValueError(
-                f"{len(self.times)} times but {len(self.positions)} positions"
+            raise FieldError(
+                "positions",
+                f"{len(self.times)} times but {len(self.positions)} positions",
             )
         check_times(self.times)
+        if self.times[0] != 0.0:
+            raise FieldError(
+                "times",
+                f"the path starts at t = {self.times[0]:.9g} s, not 0: times are "
+                "from the movement's start (the trajectory keeps them); subtract "
+                "the first time from every time",
+            )
         if len(self.times) > 1:
             step = statistics.median(b - a for a, b in pairwise(self.times))
             problem = not_seconds(
                 step, "the wrist path", "wrist paths", MILLISECONDS_FIX
             )
             if problem:
-                raise ValueError(problem)
+                raise FieldError("times", problem)
         if self.times[-1] - self.times[0] > MAX_DURATION:
-            raise ValueError(
+            raise FieldError(
+                "times",
                 f"the path lasts {self.times[-1] - self.times[0]:g} s, longer than "
                 f"{MAX_DURATION:g} s (from t = {self.times[0]:g} s to "
-                f"t = {self.times[-1]:g} s)"
+                f"t = {self.times[-1]:g} s)",
             )
         return self
