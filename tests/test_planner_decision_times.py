@@ -101,20 +101,18 @@ def test_a_target_at_the_resting_wrist_is_decided_at_the_start() -> None:
 
 
 def test_a_timed_wrist_path_s_decision_is_on_the_path_s_own_clock() -> None:
-    """A wrist path played at its own times (from 2 s, at 50 Hz, so the
-    decision is made on the tracker's even 100 Hz grid): each point at its
-    own time from the path's first."""
+    """A wrist path played at its own times (at 50 Hz, so the decision is
+    made on the tracker's even 100 Hz grid): each point at its own time (a
+    path's times start at 0, the movement's start: one from 2 s is refused)."""
     arm = load_arm("right")
     goal = np.array((0.12, -0.10, 0.05))
     path = reach_path(arm, rest(arm.side), goal, 1.5, rate=50.0)
     given = WristPath(
         arm=arm.side,
-        times=(2.0 + path.times).tolist(),
+        times=path.times.tolist(),
         positions=[tuple(p) for p in path.positions.tolist()],
     )
     result = plan(PlanRequest(wrist_path=given))
     (decision,) = result.decisions
-    assert decision.trajectory_times == pytest.approx(
-        [t - 2.0 for t in decision.times], abs=1e-12
-    )
+    assert decision.trajectory_times == pytest.approx(decision.times, abs=1e-12)
     assert decision.times != given.times  # decided on the even grid
