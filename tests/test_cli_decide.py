@@ -274,6 +274,23 @@ def test_bad_wrist_path_file(
     assert "times must increase" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("command", ["decide", "plan"])
+def test_a_wrist_path_file_from_t_1_is_refused(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    """Times are from the movement's start: a CSV whose first t is 1.0 was
+    planned as a trajectory starting at 1 s. Refused naming the line and what
+    to do, by decide and plan alike."""
+    path = tmp_path / "late.csv"
+    path.write_text("t,x,y,z\n1.0,0.1,-0.1,0\n1.01,0.1,-0.1,0\n")
+    assert main([command, "--wrist-path", str(path)]) == 1
+    assert (
+        f"{path}: line 2: the first t is 1 s, not 0: a wrist path's times are "
+        "from the movement's start (the trajectory keeps them); subtract it "
+        "from every t"
+    ) in capsys.readouterr().err
+
+
 def test_wrong_model_version_is_refused_without_traceback(
     tmp_path: pathlib.Path,
 ) -> None:

@@ -2,7 +2,8 @@
 
 The format (the same as ``armplan plan --wrist-path``): a header row
 ``t,x,y,z``, then one row per point: time [s], strictly increasing, and the
-wrist position in NAO's torso frame [m].
+wrist position in NAO's torso frame [m]. Times are from the movement's start:
+the first row's t is 0 (the trajectory keeps the path's times).
 """
 
 from __future__ import annotations
@@ -26,7 +27,8 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
     Raises:
         InvalidInputError: naming the file, and the line or field that is
             wrong (missing file, wrong header, a cell that is not a number or
-            not finite, no samples, times that do not increase, too many points).
+            not finite, no samples, a first time other than 0, times that do
+            not increase, too many points).
     """
     path = Path(path)
     try:
@@ -47,6 +49,13 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
     positions = []
     before = 0
     for line, row in rows[1:]:
+        if not times and (first := _numbers(row, path, line)[0]) != 0.0:
+            raise InvalidInputError(
+                f"{path}: line {line}: the first t is {first:.9g} s, not 0: a "
+                "wrist path's times are from the movement's start (the "
+                "trajectory keeps them); subtract it from every t",
+                field="times",
+            )
         values = _numbers(row, path, line)
         if times and not values[0] > times[-1]:
             raise InvalidInputError(
