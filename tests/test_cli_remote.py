@@ -110,6 +110,9 @@ def test_a_swivel_the_primitive_ignores_is_refused() -> None:
     out = armplan("ik", *CASES[0], "--swivel", "1.0")
     assert out.returncode == 1
     assert "primitive 'S_R E_PR W_P' does not use it" in out.stderr
+    # the service's words for the fields, told as the options that set them
+    assert "error: --swivel is the goal of" in out.stderr
+    assert "(give --primitive 'S_R E_P W_R')" in out.stderr
     out = armplan("ik", *CASES[0], "--swivel", "1.0", "--method", "single")
     assert out.returncode == 1 and "method 'single' does not use it" in out.stderr
 

@@ -199,7 +199,7 @@ def test_the_jerk_check_does_not_depend_on_the_sampling() -> None:
         assert error.value > error.limit
         assert "on the curve between samples" in error.message
         assert error.advice == GIVEN_PATH_ADVICE  # what to do, not only what broke
-        assert error.message.endswith("raise --max-jerk / --max-acceleration")
+        assert error.message.endswith("raise limits.jerk / limits.acceleration")
     assert refusals[0].time == pytest.approx(refusals[1].time, abs=0.011)
     assert refusals[0].value == pytest.approx(refusals[1].value, rel=0.05)
     for step in (0.01, 0.005):

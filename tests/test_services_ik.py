@@ -101,6 +101,25 @@ def test_an_unreachable_target_comes_back_with_its_evidence(bus: Bus) -> None:
     assert "0.5030 m from the right shoulder" in caught.value.message
 
 
+def test_errors_name_json_fields_not_cli_options(bus: Bus) -> None:
+    """A client of the bus has no options: the service words its errors by
+    the request's fields (it told "--swivel ... (give --primitive ...)"), and
+    a payload at fault as a whole names the field ""."""
+    for asked, field, words in (
+        ({"swivel": 1.0}, "swivel", "(give primitive 'S_R E_P W_R')"),
+        ({"swivel": 1.0, "method": "single"}, "swivel", "swivel is the goal"),
+        ({"primitive": "S_R E_P W_R", "method": "single"}, "primitive", "mp' only"),
+    ):
+        request = IKRequest.model_validate({"target": (0.12, -0.13, 0.05)} | asked)
+        with pytest.raises(InvalidInputError) as caught:
+            bus.call(IK_SOLVE, request)
+        assert "--" not in caught.value.message and words in caught.value.message
+        assert caught.value.evidence["field"] == field
+    with pytest.raises(InvalidInputError) as caught:
+        bus.call(IK_SOLVE, b"[1, 2]")
+    assert caught.value.evidence["field"] == ""
+
+
 @pytest.mark.parametrize(
     "payload,error,words",
     [

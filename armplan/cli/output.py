@@ -80,6 +80,24 @@ def _cell(value: Any) -> str:
     return str(value)
 
 
+#: A service's words for a request's fields, as the CLI's options say them:
+#: services word their errors by JSON field (a client of the bus has no
+#: options); the CLI tells its user the option to change.
+OPTION_WORDS = {
+    "raise limits.jerk / limits.acceleration": "raise --max-jerk / --max-acceleration",
+    "swivel is the goal of": "--swivel is the goal of",
+    "(give primitive '": "(give --primitive '",
+    "primitive applies to method": "--primitive applies to method",
+}
+
+
+def in_option_terms(message: str) -> str:
+    """``message`` with the JSON fields it names as the CLI's options."""
+    for field, option in OPTION_WORDS.items():
+        message = message.replace(field, option)
+    return message
+
+
 def report_error(error: ArmplanError, as_json: bool) -> int:
     """Tell the user what went wrong; returns the exit code (1).
 
@@ -88,14 +106,16 @@ def report_error(error: ArmplanError, as_json: bool) -> int:
     A message may quote names from a file or the network (a recorded
     topic): on stderr its control characters are escaped
     (:func:`~shared.printable.printable_lines`), so none reaches the
-    terminal; JSON escapes them itself.
+    terminal; JSON escapes them itself. A service's words for a field are
+    told as the option that sets it (:func:`in_option_terms`).
     """
+    message = in_option_terms(error.message)
     with contextlib.suppress(OSError, AttributeError):
-        sys.stderr.write(f"armplan: error: {printable_lines(error.message)}\n")
+        sys.stderr.write(f"armplan: error: {printable_lines(message)}\n")
         sys.stderr.flush()
     if as_json:
         try:
-            print_json({"error": error.to_wire()})
+            print_json({"error": error.to_wire() | {"message": message}})
             sys.stdout.flush()
         except (OSError, AttributeError):
             if sys.stdout is sys.__stdout__:  # exit's flush would fail again

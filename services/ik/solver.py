@@ -189,7 +189,7 @@ def _plan(
     if method is not Method.MP:
         if name is not None:
             raise InvalidInputError(
-                f"--primitive applies to method 'mp' only, not {method.value!r}",
+                f"primitive applies to method 'mp' only, not {method.value!r}",
                 field="primitive",
             )
         _check_swivel_used(swivel, f"method {method.value!r}")
@@ -218,8 +218,8 @@ def _check_swivel_used(swivel: float | None, what: str) -> None:
     """Refuse a swivel goal that ``what`` would ignore."""
     if swivel is not None:
         raise InvalidInputError(
-            f"--swivel is the goal of the function primitive S_R E_P W_R; {what} "
-            "does not use it (give --primitive 'S_R E_P W_R')",
+            f"swivel is the goal of the function primitive S_R E_P W_R; {what} "
+            "does not use it (give primitive 'S_R E_P W_R')",
             field="swivel",
         )
 

@@ -80,7 +80,7 @@ PATH_TOLERANCE = 1e-3
 GIVEN_PATH_ADVICE = (
     "the wrist path is played at its own times: slow it down, smooth its "
     "samples (noise as small as rounding to 1 um every 10 ms can pass the "
-    "jerk limit), give fewer samples, or raise --max-jerk / --max-acceleration"
+    "jerk limit), give fewer samples, or raise limits.jerk / limits.acceleration"
 )
 
 
