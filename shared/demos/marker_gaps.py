@@ -27,7 +27,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from shared.demos.gap_fill import gap_positions, marker_noise
+from shared.demos.gap_fill import filled_track, marker_noise
 from shared.demos.rotations import FloatArray
 from shared.errors import DemoFileError
 
@@ -79,11 +79,8 @@ def fill_gaps(
             _check_gap(first, last, len(times), step, names[role], frame, where, path)
         out[role] = track
         if missing.any():
-            noise = marker_noise(track)
-            out[role] = track.copy()
-            for first, last in gap_runs(missing):
-                positions = gap_positions(times, track, first, last, noise)
-                out[role][first : last + 1] = positions
+            gaps = gap_runs(missing)
+            out[role] = filled_track(times, track, gaps, marker_noise(track))
             filled |= missing
     return out, int(filled.sum())
 
