@@ -67,3 +67,22 @@ def test_a_frame_missing_at_an_uneven_rate_is_put_back_between() -> None:
     frames = missing_frames(times, [2, 3, 4, 5, 6], "trial 0", "x.csv")
     np.testing.assert_allclose(frames.times, [0.0, 0.01, 0.02, 0.03, 0.04, 0.05])
     np.testing.assert_array_equal(frames.rows, [0, 1, 2, 4, 5])
+
+
+def test_a_second_of_rows_missing_is_not_taken_for_frame_numbers(
+    tmp_path: pathlib.Path,
+) -> None:
+    """39 rows at 100 Hz with 1 s missing after line 21: its rate over wide
+    steps read 15.97 Hz and the import asked if the times were frame
+    numbers; it is refused for the missing rows, naming lines 21 and 22."""
+    rows = arm_rows(0, n=140)
+    path = write_csv(tmp_path / "hole.csv", rows[:20] + rows[121:])
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: trial 0: no rows between line 21 (t = 0.19 s) and line 22 "
+        "(t = 1.21 s): 101 frames missing at the trial's step of 0.01 s "
+        "(median), 1.01 s; the import fills missing frames for at most 0.1 s "
+        "(a smoothing spline through the frames around them); export the rows "
+        "between, or leave the trial out"
+    )
