@@ -10,6 +10,24 @@ fit at that median step, and puts frames there with every marker missing:
 ``marker_gaps`` then fills them as it fills empty cells, and the trial's
 steps stay those of one rate. Missing frames that last longer than
 ``LONGEST_GAP`` are refused here, naming the lines on both sides.
+
+Times written to a resolution r (the millisecond) round an even clock's
+steps to the two multiples of r around its period p: above 500 Hz, 1 and
+2 ms, a median of 1 ms, and every 2 ms step had read as a missing frame
+(910 rows at 700 Hz made 1300 frames, 390 "filled"; 1248 at 960 Hz the
+same 1300). A one-frame step reads at most p + r, and the median at
+least p - r, so a step up to the median plus r may be one frame; such a
+step is rounding's, not a missing frame, where the run of rows around
+it (between longer steps, which are holes at any rounding) holds at
+least two of them and its times are one even clock rounded to r: some
+line within r / 2 of every one (``_rounded_steps``). A single such step
+is taken for a missing frame: one step cannot show a clock's pattern
+(and a 100 Hz clock with one missing frame steps exactly so). The
+resolution is the least difference between the values of the steps at
+most twice the median (``resolution``); the missing frames are then
+counted at the mean of the run's one-frame steps, the period, not at the
+median (1 ms at 700 Hz). Left undecidable: missing frames spread as
+evenly as a rounded clock's long steps are that clock.
 """
 
 from __future__ import annotations
@@ -26,6 +44,8 @@ from shared.errors import DemoFileError
 #: missing: a capture's clock jitters far less, and times rounded to the
 #: millisecond step at most 1.5 times the median (2 and 3 ms at 400 Hz).
 GAP_STEP = 1.6
+#: Halvings of the periods searched for the line nearest a run's times.
+_BISECTIONS = 100
 #: Slack [s] for a gap's length, a product of floats (as in ``marker_gaps``).
 _SLACK = 1e-9
 
@@ -63,11 +83,16 @@ def missing_frames(
     """
     steps = np.diff(times)
     usual = float(np.median(steps))
-    missing = np.where(
-        steps > GAP_STEP * usual, np.maximum(np.rint(steps / usual) - 1, 1), 0
-    ).astype(int)
+    rounded = _rounded_steps(times)
+    measure = "median"
+    if rounded.any():
+        usual = float(np.mean(steps[rounded | (steps <= usual)]))
+        measure = "mean over its rounded times"
+    long = (steps > GAP_STEP * usual) & ~rounded
+    missing = np.where(long, np.maximum(np.rint(steps / usual) - 1, 1), 0).astype(int)
     for k in np.flatnonzero(missing):
-        _check_length(int(k), int(missing[k]), usual, times, lines, where, path)
+        count = int(missing[k])
+        _check_length(int(k), count, (usual, measure), times, lines, where, path)
     rows = np.concatenate(([0], np.cumsum(missing + 1)))
     frames = np.empty(int(rows[-1]) + 1)
     frames[rows] = times
@@ -77,16 +102,73 @@ def missing_frames(
     return Frames(frames, rows)
 
 
+def resolution(times: FloatArray) -> float:
+    """The time column's resolution [s]: its steps' values' least difference.
+
+    Of the steps at most twice the median: a column rounded coarser than
+    its median step cannot be read, and a longer step is not one frame
+    (two holes' steps differ by anything). 0 if every such step has one
+    value (to ``_SLACK``): times written to the millisecond at 700 Hz step
+    1 and 2 ms, a resolution of 1 ms; at 100 Hz all step 10 ms, 0.
+    """
+    steps = np.diff(times)
+    steps = steps[steps <= 2.0 * np.median(steps) + _SLACK]
+    values = np.unique(np.rint(steps / _SLACK)) * _SLACK
+    return float(np.min(np.diff(values))) if len(values) > 1 else 0.0
+
+
+def _rounded_steps(times: FloatArray) -> np.ndarray:
+    """The long steps that rounding made, not missing frames, shape (n - 1,).
+
+    A step longer than ``GAP_STEP`` times the median but by at most the
+    time column's resolution r is rounding's if the run of rows around it
+    (between steps longer than that) has at least two such steps and is one
+    even clock rounded to r: a line within r / 2 of every row's time.
+    """
+    steps = np.diff(times)
+    usual = float(np.median(steps))
+    step = resolution(times)
+    doubtful = (steps > GAP_STEP * usual) & (steps <= usual + step + _SLACK)
+    rounded = np.zeros(len(steps), dtype=bool)
+    clear = np.flatnonzero(steps > usual + step + _SLACK)
+    for lo, hi in zip(np.r_[0, clear + 1], np.r_[clear, len(steps)], strict=True):
+        run = times[lo : hi + 1]
+        if doubtful[lo:hi].sum() >= 2 and _line_spread(run) <= step + _SLACK:
+            rounded[lo:hi] = doubtful[lo:hi]
+    return rounded
+
+
+def _line_spread(times: FloatArray) -> float:
+    """The least spread [s] of ``times[k] - k p`` over periods p.
+
+    Twice the farthest time from the line that best meets them all
+    (minimax). The spread is convex in p: bisected on its slope, the
+    frame of the latest time's most ahead less that of the most behind.
+    """
+    frames = np.arange(len(times))
+    low, high = float(np.diff(times).min()), float(np.diff(times).max())
+    for _ in range(_BISECTIONS):
+        period = 0.5 * (low + high)
+        off = times - frames * period
+        if np.argmin(off) > np.argmax(off):
+            high = period
+        else:
+            low = period
+    off = times - frames * 0.5 * (low + high)
+    return float(off.max() - off.min())
+
+
 def _check_length(
     k: int,
     count: int,
-    usual: float,
+    step: tuple[float, str],
     times: FloatArray,
     lines: list[int],
     where: str,
     path: str,
 ) -> None:
     """Refuse ``count`` frames missing after row ``k`` if over ``LONGEST_GAP``."""
+    usual, measure = step
     length = count * usual
     if length <= LONGEST_GAP + _SLACK:
         return
@@ -94,7 +176,7 @@ def _check_length(
         path,
         f"{where}: no rows between line {lines[k]} (t = {times[k]:g} s) and line "
         f"{lines[k + 1]} (t = {times[k + 1]:g} s): {count} frames missing at the "
-        f"trial's step of {usual:.4g} s (median), {length:.3g} s; the import "
+        f"trial's step of {usual:.4g} s ({measure}), {length:.3g} s; the import "
         f"fills missing frames for at most {LONGEST_GAP:g} s (a smoothing spline "
         "through the frames around them); export the rows between, or leave "
         "the trial out",
