@@ -39,8 +39,11 @@ SIDE_FRAMES = 10
 #: a CSV's 0.1 mm rounding is noise of 0.03 mm; skin markers jitter about 1 mm.
 NOISE_FLOOR = 5e-5
 #: Most frames one fit holds when gaps near each other are fitted together:
-#: a GCV fit's cost grows as the frames cubed (``smoothing_gcv``).
-MOST_MERGED = 200
+#: a GCV fit's cost grows as the frames cubed (``smoothing_gcv``), and over
+#: about 100 frames the BLAS's threads contend on a busy machine (20 trials
+#: at 250 Hz, 40 gaps a marker: 1.6-1.9 s to import with 100, 1.9-6.7 s
+#: with 200).
+MOST_MERGED = 100
 #: Fewest frames a smoothing spline is fitted to (scipy's least).
 _FEWEST = 5
 #: Standard deviation of a third difference of white noise, in its sigma:
