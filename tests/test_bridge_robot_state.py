@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import subprocess
-import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -33,7 +31,6 @@ from bridge.sim import SimProcess
 from bridge.sim.joint import SAG_SPEED
 from bridge.sim.joints import joint_specs
 from bridge.sim.log import read_log
-from bridge.sim.process import READY
 from shared.errors import (
     CallerDeadlineError,
     RobotBusyError,
@@ -596,34 +593,12 @@ def test_a_robot_not_awake_is_refused_unless_allowed(
     assert reply.frames > 0
 
 
-NARROW_SIM = """
-import sys
-import shared
-from bridge.sim.joints import joint_specs
-specs = joint_specs()
-specs["RShoulderRoll"] = specs["RShoulderRoll"]._replace(upper=-0.0087)
-from bridge.sim.server import serve
-serve("tcp://127.0.0.1:0")
-"""
-
-
 @pytest.fixture
 def narrow_sim() -> Iterator[str]:
     """A simulated robot whose RShoulderRoll stops at -0.0087 rad (a Pepper's)."""
-    process = subprocess.Popen(
-        [sys.executable, "-c", NARROW_SIM],
-        stdin=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.DEVNULL,
-        text=True,
-    )
-    try:
-        assert process.stdout is not None
-        line = next(out for out in process.stdout if out.startswith(READY))
-        yield line.split()[-1]
-    finally:
-        process.terminate()
-        process.wait(10)
+    upper = joint_specs()["RShoulderRoll"].upper
+    with narrowed_sim("RShoulderRoll", "upper", upper + 0.0087) as url:
+        yield url
 
 
 def test_a_robot_with_narrower_limits_is_refused(narrow_sim: str) -> None:
