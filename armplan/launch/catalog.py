@@ -25,21 +25,33 @@ class ServiceSpec(NamedTuple):
         name: The service's name (its liveliness token), e.g. ``"ik"``.
         module: The module run with ``python -m``, e.g. ``"services.ik"``.
         routes: The routes it answers.
+        after: Services it is started after, once they are alive, when they
+            are part of the same launch (``Launcher.start``).
     """
 
     name: str
     module: str
     routes: tuple[Route[Any, Any], ...]
+    after: tuple[str, ...] = ()
 
 
-def _spec(name: str) -> ServiceSpec:
+def _spec(name: str, after: tuple[str, ...] = ()) -> ServiceSpec:
     routes = tuple(r for r in ROUTES if r.service == name)
-    return ServiceSpec(name, f"services.{name}", routes)
+    return ServiceSpec(name, f"services.{name}", routes, after)
 
 
 #: Every service, in start order (the planner last: it calls the others).
-SERVICES: tuple[ServiceSpec, ...] = tuple(
-    _spec(name) for name in ("fit", "decide", "ik", "timing", "planner")
+#: decide starts once fit is alive: it then asks fit for its model before it
+#: declares its own token, so "ready" means it decides with fit's model (fit
+#: takes seconds longer to start when it checks a kept model; started
+#: together, decide came alive with the shipped model and swapped fit's in
+#: only after ``armplan up`` said ready).
+SERVICES: tuple[ServiceSpec, ...] = (
+    _spec("fit"),
+    _spec("decide", after=("fit",)),
+    _spec("ik"),
+    _spec("timing"),
+    _spec("planner"),
 )
 
 

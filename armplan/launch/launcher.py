@@ -1,7 +1,9 @@
 """Start the router and the services, wait until all are alive, stop them all.
 
 Start order: the router (ready once a client session opens on it), then the
-services (ready once each one's liveliness token is seen). Stop order: the
+services (ready once each one's liveliness token is seen); a service with
+services to follow (``ServiceSpec.after``, e.g. decide after fit) that are
+part of the launch is started once those are alive, the others at once. Stop order: the
 services, then the router; each gets SIGTERM, then SIGKILL after the grace
 period. A child that exits during start aborts the start with an error
 naming it. Children end themselves if this process dies; on Linux that is
@@ -24,6 +26,7 @@ from typing import IO
 from armplan.launch.catalog import (
     ROUTER_MODULE,
     SERVICES,
+    ServiceSpec,
     service_spec,
     service_specs,
 )
@@ -107,9 +110,13 @@ class Launcher(StartStop):
         try:
             self.start_router()
             with self._connect(timeout) as bus:
-                for spec in self.specs:
+                deadline = time.monotonic() + timeout
+                names = [spec.name for spec in self.specs]
+                for spec in self._start_order():
+                    first = [n for n in spec.after if n in names]
+                    self._wait_alive(bus, first, deadline, timeout)
                     self.start_service(spec.name)
-                self._wait_alive(bus, timeout)
+                self._wait_alive(bus, names, deadline, timeout)
         except BaseException:
             self.stop()
             raise
@@ -177,9 +184,21 @@ class Launcher(StartStop):
                 return self.router_id in routers
             time.sleep(0.01)
 
-    def _wait_alive(self, bus: Bus, timeout: float) -> None:
-        wanted = [spec.name for spec in self.specs]
-        deadline = time.monotonic() + timeout
+    def _start_order(self) -> list[ServiceSpec]:
+        """``specs``, those that follow another one of them after the rest."""
+        names = {spec.name for spec in self.specs}
+        return sorted(self.specs, key=lambda s: any(n in names for n in s.after))
+
+    def _wait_alive(
+        self, bus: Bus, wanted: Sequence[str], deadline: float, timeout: float
+    ) -> None:
+        """Wait until ``wanted`` are alive; give up at ``deadline`` (monotonic).
+
+        Raises:
+            ServiceUnavailableError: one is not alive by then (``timeout``
+                [s] is for the message), or a child exited.
+            StartInterrupted: ``stop`` was set.
+        """
         while missing := bus.wait_alive(wanted, POLL):
             self._check_running()
             if time.monotonic() > deadline:

@@ -2,7 +2,11 @@
 
 At start it first subscribes to ``<ns>/fit/model/update`` and watches the
 fit service's liveliness token (``<ns>/alive/fit``), then asks the fit
-service for its model (``<ns>/fit/model``). If the fit service is not
+service for its model (``<ns>/fit/model``). If the fit service is alive
+(``armplan up`` starts decide once it is), this happens before the decide
+service declares its own token, so a client seeing decide alive gets
+decisions of fit's model; if fit gives none within ``FETCH_TIMEOUT``, a
+warning is logged and the shipped default is used. If the fit service is not
 running it starts with the shipped default and asks again as soon as the
 fit service's token appears (a fit service started after it, or
 restarted): asked only once at start, a decide service started a moment
@@ -75,8 +79,15 @@ class LiveModel:
         self._fit_token = bus.session.liveliness().declare_subscriber(
             alive_key(bus.config.namespace, FIT_MODEL.service), self._on_fit_token
         )
+        fit_alive = FIT_MODEL.service in bus.alive()  # asked, not cached
         self._ask("the fit service")
         if self._digest is None:  # none came meanwhile (checked again inside)
+            if fit_alive:
+                log.warning(
+                    "the fit service is alive but gave no model within %.0f s: "
+                    "deciding with the shipped default until it publishes one",
+                    FETCH_TIMEOUT,
+                )
             until = "the shipped default, until the fit service starts"
             self._serve(default_model(), until, fallback=True)
 
