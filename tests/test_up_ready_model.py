@@ -19,7 +19,7 @@ from armplan.launch import Launcher, free_endpoint
 from services.decide import Decider
 from services.fit import default_model, fit_model
 from services.fit.model_file import save_model
-from services.fit.model_state import state_file
+from services.fit.model_state import digest, state_file
 from services.planner.pipeline import plan
 from services.planner.stages import decide
 from shared.bus import Bus, load_config
@@ -54,7 +54,7 @@ def test_ready_means_decide_serves_the_kept_model(
     names: list[str],
 ) -> None:
     """The first decision after start is the kept model's, whatever order
-    the services are named in."""
+    the services are named in, and says so (``Decision.model``)."""
     wanted = decided(lab_model, request_)
     assert wanted != decided(default_model(), request_)  # the test can fail
     config = load_config(endpoints=(free_endpoint(),))
@@ -65,4 +65,6 @@ def test_ready_means_decide_serves_the_kept_model(
         Launcher(config, names, log=log, service_args={"fit": fit_args}) as up,
         Bus.connect(up.config) as bus,
     ):
-        assert bus.call(DECIDE, request_) == wanted
+        first = bus.call(DECIDE, request_)
+    assert first.model == digest(lab_model)  # the digest fit and decide log
+    assert first == wanted

@@ -9,6 +9,8 @@ tracking it again (the services recompute it: same inputs, same result).
 
 from __future__ import annotations
 
+import threading
+import weakref
 from functools import cache
 from typing import Protocol
 
@@ -17,6 +19,7 @@ import numpy as np
 from services.decide import Decider, decide_path
 from services.fit.default import default_model
 from services.fit.model import MotionModel
+from services.fit.model_state import digest
 from services.ik.track import TrackedPath, track_path
 from services.planner.build import arc_length, joint_path_message, trajectory_message
 from services.planner.path_reach import STAGE_SLACK, check_path_within_reach
@@ -73,6 +76,10 @@ def decide(
 ) -> tuple[Decision, TrackedPath]:
     """The decide stage: the decision, and the joint path it tracked.
 
+    The decision carries the digest of the model that decided
+    (``Decision.model``), so a plan can tell whether all its decisions
+    came from one model.
+
     Raises:
         UnreachableTargetError: a path sample more than ``STAGE_SLACK`` out
             of the arm's reach, naming it.
@@ -81,7 +88,7 @@ def decide(
     check_path_within_reach(arm, request.path, STAGE_SLACK)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     palm = None if request.path.palm is None else np.array(request.path.palm)
-    return decide_path(
+    decision, tracked = decide_path(
         model,
         arm,
         np.array(request.path.positions),
@@ -90,6 +97,32 @@ def decide(
         times=np.array(request.path.times),
         params=request.measures,
     )
+    motion_model = model.model if isinstance(model, Decider) else model
+    return decision.model_copy(update={"model": model_digest(motion_model)}), tracked
+
+
+#: Digests of the models decided with, by ``id``, with a weak reference
+#: telling whether that id is still the model's (dead entries are pruned).
+_DIGESTS: dict[int, tuple[weakref.ref[MotionModel], str]] = {}
+_DIGESTS_LOCK = threading.Lock()
+
+
+def model_digest(model: MotionModel) -> str:
+    """``digest(model)``, computed once per model object.
+
+    Hashing a model's JSON costs up to about 0.1 s for a fine one (64 bins),
+    too much for every decision; a model is not changed once built.
+    """
+    with _DIGESTS_LOCK:
+        ref, known = _DIGESTS.get(id(model), (None, None))
+    if ref is not None and ref() is model and known is not None:
+        return known
+    known = digest(model)
+    with _DIGESTS_LOCK:
+        for key in [k for k, (r, _) in _DIGESTS.items() if r() is None]:
+            del _DIGESTS[key]
+        _DIGESTS[id(model)] = (weakref.ref(model), known)
+    return known
 
 
 def path_ik(request: PathIKRequest) -> JointPath:

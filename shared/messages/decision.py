@@ -63,9 +63,14 @@ class Decision(OptionalFieldsMessage):
             once the trajectory is timed (the decisions it publishes);
             ``None`` (left out of the JSON, which is then what it was before
             the field existed): not known, as from the decide stage.
+        model: The digest of the motion model that decided (12 hex digits
+            of its JSON's SHA-256, ``services.fit.model_state.digest``, as
+            the fit and decide services log it). Set by the decide stage;
+            ``None`` (left out of the JSON): not known, as in recordings
+            made before the field existed.
     """
 
-    omitted_when_none = ("trajectory_times",)
+    omitted_when_none = ("trajectory_times", "model")
 
     arm: SideAnyCase
     times: list[float] = Field(min_length=1)
@@ -75,6 +80,7 @@ class Decision(OptionalFieldsMessage):
     matrices: dict[str, MatrixRows]
     measures: MeasureParams = Field(default_factory=MeasureParams)
     trajectory_times: list[float] | None = None
+    model: str | None = Field(default=None, pattern="^[0-9a-f]{12}$")
 
     @model_validator(mode="after")
     def _consistent(self) -> Decision:
