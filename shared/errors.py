@@ -452,6 +452,31 @@ class TimingError(ArmplanError):
     kind = "timing_error"
 
 
+class ModelChangedError(ArmplanError):
+    """A plan's decisions came from more than one motion model, twice running.
+
+    The planner asks the decide stage once per reach; a model swapped in
+    meanwhile (a fit landing) splits the plan between two models. It plans
+    once more; this is raised if that plan is split as well.
+
+    Attributes:
+        models: The digests of the models, one per decision (``None``: not
+            known), of the last plan.
+    """
+
+    kind = "model_changed"
+
+    def __init__(self, models: list[str | None]) -> None:
+        distinct = list(dict.fromkeys(m for m in models if m is not None))
+        super().__init__(
+            f"the motion model changed while planning, twice running (its "
+            f"decisions came from models {', '.join(distinct)}): the fit "
+            "service is swapping models in; ask again",
+            models=models,
+        )
+        self.models = models
+
+
 def error_from_wire(payload: dict[str, Any]) -> ArmplanError:
     """Rebuild an error sent with :meth:`ArmplanError.to_wire`.
 

@@ -32,6 +32,7 @@ on the wrist path, not on where it was sampled.
 
 from __future__ import annotations
 
+import logging
 from typing import NamedTuple
 
 import numpy as np
@@ -47,7 +48,12 @@ from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
 from services.timing.request_limits import request_limits
 from services.timing.sample_cap import FEWER_SAMPLES, check_payload, check_samples
-from shared.errors import LimitViolationError, OffPathError, UnreachableTargetError
+from shared.errors import (
+    LimitViolationError,
+    ModelChangedError,
+    OffPathError,
+    UnreachableTargetError,
+)
 from shared.messages import (
     DecideRequest,
     Decision,
@@ -64,6 +70,8 @@ from shared.messages.measure_params import MeasureParams
 from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
 from shared.robot.postures import rest
+
+log = logging.getLogger("armplan.planner")
 
 #: A start posture whose wrist is this close to a wrist path's first sample is
 #: on the path [m]; farther, the trajectory starts at the IK solution there.
@@ -105,7 +113,13 @@ class PlanResult(NamedTuple):
 def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
     """The trajectory for a task (targets, or a timed wrist path).
 
+    All its decisions come from one motion model (``Decision.model``): the
+    decide stage is asked once per reach, and a plan during which the model
+    was swapped (a fit landing) is made once more.
+
     Raises:
+        ModelChangedError: the second plan's decisions also came from more
+            than one model.
         UnreachableTargetError: a target (or a wrist-path sample) beyond reach.
         JointLimitError: a start posture outside the joint ranges.
         LimitViolationError: a wrist path timed faster than the limits allow.
@@ -114,6 +128,25 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
         PrimitiveCannotReachError, InvalidInputError: from the stages.
     """
     stages = stages or LocalStages()
+    result = _plan(request, stages)
+    if len(_models(result)) > 1:
+        log.info(
+            "the motion model changed while planning (models %s): planning once more",
+            ", ".join(_models(result)),
+        )
+        result = _plan(request, stages)
+        if len(_models(result)) > 1:
+            raise ModelChangedError([d.model for d in result.decisions])
+    return result
+
+
+def _models(result: PlanResult) -> list[str]:
+    """The digests of the models a plan's decisions came from (known ones)."""
+    return list(dict.fromkeys(d.model for d in result.decisions if d.model))
+
+
+def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
+    """``plan``, its decisions' models not checked."""
     arm = load_arm(request.arm)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     arm.limits.check(start, where="in the start posture")
