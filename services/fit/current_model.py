@@ -13,7 +13,13 @@ one's (a slow fit sent first used to be installed 36 s after a quick one
 sent 2 s later). A fit that ends after its caller stopped waiting is not
 installed (``request_timeout``): no one was told of the model, so it must
 not change every plan (it used to be served 36 s after its caller's 5 s
-timeout).
+timeout). The caller's deadline is checked after the demonstrations are
+read and after each step of the fit (``fit_model``'s progress, one per
+trial), so a fit whose caller stopped waiting stops there instead of running
+to its end: such a fit used to hold the one-fit lock for 11 s after its
+caller's 4 s timeout, refusing the caller's retry as busy with "its model
+is served when it ends", which it never was. A fit refused while one past
+its deadline still runs says that model will not be served.
 """
 
 from __future__ import annotations
@@ -28,7 +34,7 @@ from services.fit.demo_dir import demo_file, demos_dir
 from services.fit.fitting import fit_model
 from services.fit.model_state import StartModel, digest, keep
 from shared.bus import Bus, NoArguments
-from shared.bus.deadline import current_due
+from shared.bus.deadline import Due, current_due
 from shared.bus.routes import FIT, MODEL_TOPIC
 from shared.demos import read_demos
 from shared.errors import InvalidInputError, RequestTimeoutError, ServiceBusyError
@@ -58,6 +64,8 @@ class CurrentModel:
         self._state = state
         self._lock = threading.Lock()
         self._fitting = threading.Lock()
+        #: The running fit's caller's deadline (``None``: none or no fit).
+        self._running: Due | None = None
         log.info(
             "serving model %s (%d samples, primitives %s) from %s",
             digest(start.model),
@@ -96,30 +104,49 @@ class CurrentModel:
         """
         key = FIT.key(self._bus.config.namespace)
         if not self._fitting.acquire(blocking=False):
-            raise ServiceBusyError(
-                FIT.service,
-                key=key,
-                queued=0,
-                why="a fit is running (one at a time); its model is served when "
-                "it ends",
-            )
+            raise ServiceBusyError(FIT.service, key=key, queued=0, why=self._busy())
+        due = current_due()
+        self._running = due
         try:
-            return self._fit(request, key)
+            return self._fit(request, key, due)
         finally:
+            self._running = None
             self._fitting.release()
 
-    def _fit(self, request: FitRequest, key: str) -> MotionModel:
-        """:meth:`fit`, with the fitting lock held."""
+    def _busy(self) -> str:
+        """Why a fit is refused while another runs, and what becomes of that one."""
+        running = self._running
+        if running is not None and running.too_late:
+            return (
+                f"a fit is running (one at a time) whose caller stopped waiting "
+                f"({running.budget:.1f} s): its model will not be served, and it "
+                "stops at its next step"
+            )
+        return "a fit is running (one at a time); its model is served when it ends"
+
+    def _fit(self, request: FitRequest, key: str, due: Due | None) -> MotionModel:
+        """:meth:`fit`, with the fitting lock held.
+
+        Raises:
+            RequestTimeoutError: ``due`` passed after the demonstrations were
+                read, at a step of the fit, or by its end.
+        """
         root = demos_dir()
         paths = [demo_file(name, root) for name in request.files]
+        demos = read_demos(paths)
+        _check_due(due, request, key, "reading the demonstrations")
+
+        def progress(done: int, total: int) -> None:
+            _check_due(due, request, key, f"step {done} of {total} of the fit")
+
         model = fit_model(
-            read_demos(paths),
+            demos,
             bins=request.bins,
             smoothing=request.smoothing,
             sources=request.files,
+            progress=None if due is None else progress,
         )
         _check_decidable(model, request)
-        due = current_due()
         if due is not None and due.too_late:
             log.warning(
                 "model %s fitted on %s after its caller stopped waiting (%.1f s): "
@@ -142,6 +169,24 @@ class CurrentModel:
         if model.weights is not None and not model.weights.trusted:
             log.warning("model %s: %s", digest(model), model.weights.untrusted())
         return model
+
+
+def _check_due(due: Due | None, request: FitRequest, key: str, after: str) -> None:
+    """Stop a fit whose caller stopped waiting; ``after``: the step just done.
+
+    Raises:
+        RequestTimeoutError: ``due`` is (nearly) past; nothing is installed.
+    """
+    if due is None or not due.too_late:
+        return
+    log.warning(
+        "fit on %s stopped after %s: its caller stopped waiting (%.1f s); "
+        "no model installed",
+        ", ".join(request.files),
+        after,
+        due.budget,
+    )
+    raise RequestTimeoutError(FIT.service, key=key, timeout=due.budget)
 
 
 def _check_decidable(model: MotionModel, request: FitRequest) -> None:
