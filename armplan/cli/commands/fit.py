@@ -2,6 +2,9 @@
 
     armplan fit DEMOS.mcap ... -o model.json [--bins 20] [--smoothing 1]
                 [--hold-out N] [--json]
+    armplan fit DEMOS.mcap ... --remote [--connect E] [--zenoh-config F]
+                [--timeout S] [--bins 20] [--smoothing 1] [--json]
+    armplan fit --show --remote [--connect E] [--zenoh-config F] [--json]
 
 Shows its progress, then prints each motion variable's fitted exponential
 rate with its log-likelihood and leave-one-out cross-validated
@@ -17,6 +20,16 @@ A model the decision cannot use (tables holding a probability that rounds
 to 0, as a smoothing of 5e-324 gives) is refused before it is written
 (``services.fit.decidable``): nothing is written and the exit status is 1,
 so no ``--model`` file is made that every command would refuse.
+
+With ``--remote`` (or ``--connect`` / ``--zenoh-config``) the running fit
+service fits (``<ns>/fit``): it reads the files by the names given, inside
+its own demonstration directory (its ``$ARMPLAN_DEMOS_DIR``, else its
+working directory), serves the model and publishes it to the decide
+service; the command prints the served model's digest (the one the
+service logs) and the files it was fitted on. It waits ``--timeout`` seconds
+(default ``REMOTE_TIMEOUT``): a fit of a large set takes a while, and one
+whose caller stopped waiting is not served. ``--show --remote`` prints the
+model the service serves now.
 
 The output is checked before any work: it must be a file name in an
 existing folder and none of the demonstration files (which it would
@@ -34,9 +47,12 @@ from typing import Any
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
-from shared.errors import InvalidInputError
+from armplan.cli.remote import add_remote, is_remote
+from shared.errors import InvalidInputError, RequestTimeoutError
 
 ORDER = 40
+#: How long ``--remote`` waits for the fit service's fit by default [s].
+REMOTE_TIMEOUT = 600.0
 HELP = "fit the motion model (densities and network) to demonstrations"
 
 
@@ -44,14 +60,17 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     """Register ``fit``."""
     parser = commands.add_parser("fit", help=HELP, description=HELP)
     parser.add_argument(
-        "files", nargs="+", metavar="DEMOS.mcap", help="demonstration files"
+        "files",
+        nargs="*",
+        metavar="DEMOS.mcap",
+        help="demonstration files (with --remote: names inside the fit "
+        "service's demonstration directory)",
     )
     parser.add_argument(
         "-o",
         "--output",
-        required=True,
         metavar="model.json",
-        help="the motion model to write",
+        help="the motion model to write (required unless --remote)",
     )
     parser.add_argument(
         "--bins", type=int, default=20, help="states per variable (default 20)"
@@ -69,12 +88,28 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="N",
         help="leave the last N subjects out and report the decision's agreement",
     )
+    add_remote(parser)
+    parser.add_argument(
+        "--timeout",
+        type=float,
+        metavar="S",
+        help=f"with --remote: longest wait for the fit [s] (default "
+        f"{REMOTE_TIMEOUT:g})",
+    )
+    parser.add_argument(
+        "--show",
+        action="store_true",
+        help="with --remote: show the model the fit service serves, fit nothing",
+    )
     add_json(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Read, fit, write, report."""
+    """Read, fit, write, report; or have the fit service fit, or show its model."""
+    _check_options(args)
+    if is_remote(args):
+        return _run_remote(args)
     from services.fit import fit_model, save_model
     from shared.demos import read_demos
     from shared.demos.paths import check_distinct
@@ -112,6 +147,115 @@ def run(args: argparse.Namespace) -> int:
     else:
         _print(console, model, args.output, held, agreement)
     return 0
+
+
+def _check_options(args: argparse.Namespace) -> None:
+    """Refuse options the chosen form would ignore, or a missing one, naming it."""
+    if is_remote(args):
+        for name, why in (
+            ("output", "the fit service serves the model and keeps it itself"),
+            ("hold_out", "the fit service fits on every subject"),
+        ):
+            if getattr(args, name):
+                raise InvalidInputError(
+                    f"--{name.replace('_', '-')} does not go with --remote: {why}",
+                    field=name,
+                )
+        if args.show and args.files:
+            raise InvalidInputError(
+                "--show fits nothing: give demonstration files or --show",
+                field="files",
+            )
+        if not args.show and not args.files:
+            raise InvalidInputError(
+                "give the demonstration files for the fit service to fit, or "
+                "--show for the model it serves",
+                field="files",
+            )
+        return
+    for name in ("show", "timeout"):
+        if getattr(args, name) not in (None, False):
+            raise InvalidInputError(
+                f"--{name} goes with --remote (the running fit service)", field=name
+            )
+    if not args.files:
+        raise InvalidInputError("give the demonstration files to fit", field="files")
+    if args.output is None:
+        raise InvalidInputError(
+            "give -o model.json, the motion model to write (or --remote, for "
+            "the running fit service to fit and serve it)",
+            field="output",
+        )
+
+
+def _run_remote(args: argparse.Namespace) -> int:
+    """Have the fit service fit ``args.files`` (or show its model); report it."""
+    from armplan.cli.remote import connect
+    from shared.bus import NoArguments
+    from shared.bus.routes import FIT, FIT_MODEL
+    from shared.messages import FitRequest
+
+    with connect(args) as bus:
+        if args.show:
+            model = bus.call(FIT_MODEL, NoArguments())
+        else:
+            request = FitRequest(
+                files=args.files, bins=args.bins, smoothing=args.smoothing
+            )
+            timeout = REMOTE_TIMEOUT if args.timeout is None else args.timeout
+            try:
+                model = bus.call(FIT, request, timeout=timeout)
+            except InvalidInputError as error:
+                raise _where_files_are(error) from None
+            except RequestTimeoutError as error:
+                error.message += (
+                    "; the fit service stops a fit whose caller stopped waiting "
+                    "and serves nothing from it: give a longer --timeout"
+                )
+                raise
+    _print_served(model, args.json, fitted=not args.show)
+    return 0
+
+
+def _where_files_are(error: InvalidInputError) -> InvalidInputError:
+    """``error``, told how the fit service finds files if it refused a name."""
+    if error.evidence.get("field") != "files" or "outside" not in error.message:
+        return error
+    return InvalidInputError(
+        f"{error.message}. With --remote the names are sent as given and the "
+        "fit service reads them inside its own demonstration directory "
+        "($ARMPLAN_DEMOS_DIR where it runs, else its working directory), not "
+        "this machine's folders: give names relative to that directory (e.g. "
+        "a.mcap), or copy the files there",
+        field="files",
+    )
+
+
+def _print_served(model: Any, json: bool, *, fitted: bool) -> None:
+    """The served model: its digest, samples, sources, subjects, primitives."""
+    from services.fit.model_state import digest
+
+    if json:
+        print_json(
+            {
+                "digest": digest(model),
+                "fitted": fitted,
+                "sources": model.sources,
+                "samples": model.samples,
+                "subjects": model.subjects,
+                "primitives": model.primitives,
+                "bins": model.bins,
+                "smoothing": model.smoothing,
+            }
+        )
+        return
+    what = "fitted and serving" if fitted else "serving"
+    sys.stdout.write(
+        f"{what} model {digest(model)}: {model.samples} samples of "
+        f"{', '.join(model.sources) or 'no named file'} "
+        f"({len(model.subjects)} subjects; primitives "
+        f"{', '.join(model.primitives)}; {model.bins} states per variable)\n"
+    )
 
 
 def _check_decidable(model: Any, args: argparse.Namespace) -> None:

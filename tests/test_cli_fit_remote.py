@@ -1,0 +1,130 @@
+"""``armplan fit --remote``: the running fit service fits and serves; ``--show``.
+
+A real router and fit service process on loopback, reading a demonstration
+directory of its own. ``armplan fit a.mcap --remote`` used to exit 2 (``-o``
+required): only Python could ask the service to fit or show its model.
+"""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import subprocess
+from collections.abc import Iterator
+
+import pytest
+
+from armplan.cli.main import main
+from armplan.launch import Launcher, free_endpoint
+from services.fit import default_model
+from services.fit.demo_dir import DEMOS_DIR_ENV
+from services.fit.model_state import digest
+from shared.bus import Bus, NoArguments, load_config
+from shared.bus.routes import FIT_MODEL
+from shared.demos import synthesize, write_demos
+
+DEMOS = "demos.mcap"
+
+
+@pytest.fixture()
+def stack(
+    tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> Iterator[Launcher]:
+    """Router and fit service reading tmp_path/demos (the shipped model)."""
+    demos = tmp_path / "demos"
+    demos.mkdir()
+    write_demos(demos / DEMOS, synthesize(9, subjects=3, trials=1))
+    monkeypatch.setenv(DEMOS_DIR_ENV, str(demos))
+    config = load_config(endpoints=(free_endpoint(),))
+    with Launcher(config, ["fit"], log=subprocess.DEVNULL) as launched:
+        monkeypatch.delenv(DEMOS_DIR_ENV)  # the CLI reads no such thing
+        yield launched
+
+
+def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
+    code = main(["fit", *args])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def served(stack: Launcher) -> str:
+    with Bus.connect(stack.config) as bus:
+        return digest(bus.call(FIT_MODEL, NoArguments()))
+
+
+def test_show_prints_the_served_model(
+    stack: Launcher, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code, out, err = run(capsys, "--show", "--connect", stack.config.endpoint)
+    assert (code, err) == (0, "")
+    shipped = default_model()
+    assert out.startswith(f"serving model {digest(shipped)}: {shipped.samples} ")
+    assert ", ".join(shipped.sources) in out
+
+
+def test_a_remote_fit_is_served_and_printed(
+    stack: Launcher, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The digest printed is the one served afterwards; --show agrees."""
+    where = ["--connect", stack.config.endpoint]
+    code, out, err = run(capsys, DEMOS, *where, "--timeout", "120", "--bins", "10")
+    assert (code, err) == (0, ""), err
+    now = served(stack)
+    assert now != digest(default_model())
+    assert out.startswith(f"fitted and serving model {now}: ")
+    assert f"samples of {DEMOS} (3 subjects;" in out
+    assert "10 states per variable" in out
+    code, out, _ = run(capsys, "--show", *where, "--json")
+    report = json.loads(out)
+    assert (code, report["digest"], report["sources"]) == (0, now, [DEMOS])
+    assert report["fitted"] is False
+
+
+def test_a_name_outside_the_services_folder_says_where_it_reads(
+    stack: Launcher, capsys: pytest.CaptureFixture[str], tmp_path: pathlib.Path
+) -> None:
+    """A local path the service cannot read: refused, saying that names are
+    read inside the service's demonstration directory; nothing served."""
+    before = served(stack)
+    elsewhere = tmp_path / "elsewhere.mcap"
+    code, out, err = run(capsys, str(elsewhere), "--connect", stack.config.endpoint)
+    assert (code, out) == (1, "")
+    assert "outside the fit service's demonstration directory" in err
+    assert "inside its own demonstration directory" in err
+    assert served(stack) == before
+
+
+def test_a_remote_fit_that_times_out_says_to_wait_longer(
+    stack: Launcher, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A wait of 1 ms (no fit is that quick): request_timeout, the advice to
+    give a longer --timeout, and the served model unchanged."""
+    before = served(stack)
+    where = ["--connect", stack.config.endpoint]
+    code, out, err = run(capsys, DEMOS, *where, "--timeout", "0.001")
+    assert (code, out) == (1, "")
+    assert "did not answer" in err
+    assert "give a longer --timeout" in err
+    assert served(stack) == before
+
+
+@pytest.mark.parametrize(
+    "args,words",
+    [
+        ([DEMOS, "--remote", "-o", "m.json"], "--output does not go with --remote"),
+        ([DEMOS, "--remote", "--hold-out", "1"], "--hold-out does not go with"),
+        (["--remote"], "or --show for the model it serves"),
+        ([DEMOS, "--remote", "--show"], "--show fits nothing"),
+        ([DEMOS, "--show", "-o", "m.json"], "--show goes with --remote"),
+        ([DEMOS, "--timeout", "5", "-o", "m.json"], "--timeout goes with --remote"),
+        ([DEMOS], "give -o model.json"),
+    ],
+    ids=["output", "hold-out", "nothing", "show-files", "show", "timeout", "no-out"],
+)
+def test_options_that_do_not_go_together_are_refused(
+    capsys: pytest.CaptureFixture[str], args: list[str], words: str
+) -> None:
+    """Before connecting or reading anything: exit 1, naming the option."""
+    code, out, err = run(capsys, *args)
+    assert (code, out) == (1, "")
+    assert words in err
