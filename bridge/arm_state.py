@@ -66,6 +66,7 @@ def check_still_stiff(
             f"at {stiffness[j]:.2f}): the fall manager, a rest, or another "
             "client released it",
             outcome=outcome,
+            stopped_at=time.monotonic(),
         )
 
 

@@ -5,9 +5,14 @@ follower subscribed there hands each one to the bridge, in arrival order, on
 its own thread (Zenoh's threads only queue). So a recording replayed with
 ``armplan replay --keys plan/trajectory`` drives the robot. A payload that is
 not a trajectory, a refused trajectory or a lost robot is logged, and the
-follower goes on with the next one. When more trajectories wait than
-``QUEUE_LIMIT``, the oldest waiting one is dropped (with a warning): the
-robot falls behind by at most that many, and the newest command is kept.
+follower goes on with the next one. A movement the robot stopped (its
+motion task killed: ``killTasksUsingResources``, ``killAll``, a rest, the
+fall manager; or its arm released) is an operator's stop: every trajectory
+that arrived before the bridge saw the stop is dropped (and the count
+logged), so the arm stays still; the next trajectory published plays.
+When more trajectories wait than ``QUEUE_LIMIT``, the oldest waiting one is
+dropped (with a warning): the robot falls behind by at most that many, and
+the newest command is kept.
 """
 
 from __future__ import annotations
@@ -15,12 +20,14 @@ from __future__ import annotations
 import logging
 import queue
 import threading
+import time
+from typing import TypeVar
 
 import zenoh
 
 from bridge.service import BridgeService
 from shared.bus.routes import TRAJECTORY_TOPIC
-from shared.errors import ArmplanError
+from shared.errors import ArmplanError, RobotStateError
 from shared.messages import ExecuteRequest, Trajectory, parse
 
 log = logging.getLogger("armplan.bridge")
@@ -30,7 +37,10 @@ QUEUE_LIMIT = 16
 STOP_GRACE = 2.0
 
 
-def offer_newest(waiting: queue.Queue[bytes | None], item: bytes) -> bool:
+_Item = TypeVar("_Item")
+
+
+def offer_newest(waiting: queue.Queue[_Item], item: _Item) -> bool:
     """Queue ``item``; if ``waiting`` is full, drop its oldest item first.
 
     Returns:
@@ -56,13 +66,17 @@ class TrajectoryFollower:
         bridge: The bridge service that plays them.
         rate: Frame rate of the command frames [Hz].
         played: Number of trajectories played to the end.
+        dropped: Number of waiting trajectories dropped because the robot
+            stopped a movement before they arrived.
     """
 
     def __init__(self, bridge: BridgeService, rate: float = 25.0) -> None:
         self.bridge = bridge
         self.rate = rate
         self.played = 0
-        self._queue: queue.Queue[bytes | None] = queue.Queue(QUEUE_LIMIT)
+        self.dropped = 0
+        # (arrival [s, monotonic], payload); None: stop the worker
+        self._queue: queue.Queue[tuple[float, bytes] | None] = queue.Queue(QUEUE_LIMIT)
         self._thread = threading.Thread(
             target=self._work, name="bridge-follower", daemon=True
         )
@@ -78,20 +92,47 @@ class TrajectoryFollower:
         return self
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread
-        if offer_newest(self._queue, sample.payload.to_bytes()):
+        item = (time.monotonic(), sample.payload.to_bytes())
+        if offer_newest(self._queue, item):
             log.warning(
                 "follow: %d trajectories waiting; dropped the oldest of them",
                 QUEUE_LIMIT,
             )
 
     def _work(self) -> None:
-        while (payload := self._queue.get()) is not None:
+        while (item := self._queue.get()) is not None:
             try:
-                self._play(payload)
+                self._play(item[1])
+            except RobotStateError as error:  # the bridge has logged it
+                if error.stopped:
+                    self._drop_before(error.stopped_at or time.monotonic())
             except ArmplanError:  # the bridge has logged it
                 pass
             except Exception:  # the follower never dies
                 log.exception("follow: failed to play a trajectory")
+
+    def _drop_before(self, stopped_at: float) -> None:
+        """Drop the waiting trajectories that arrived before ``stopped_at``.
+
+        The robot stopped the movement (an operator's stop): what was queued
+        before it must not move the arm again; what arrived since was
+        published knowing of the stop, and plays.
+        """
+        with self._queue.mutex:  # Zenoh's thread may be queueing meanwhile
+            waiting = self._queue.queue
+            kept = [i for i in waiting if i is None or i[0] > stopped_at]
+            gone = len(waiting) - len(kept)
+            waiting.clear()
+            waiting.extend(kept)
+            self._queue.not_full.notify_all()
+        self.dropped += gone
+        log.warning(
+            "follow: the robot stopped the movement; dropped the %d "
+            "trajectories waiting from before the stop (the arm stays still); "
+            "the next trajectory published on %s will play",
+            gone,
+            self.bridge.bus.key(TRAJECTORY_TOPIC),
+        )
 
     def _play(self, payload: bytes) -> None:
         try:

@@ -311,7 +311,7 @@ def play_and_sample(
     played = end - _began(start, arrival.time, end)
     if future.hasError() or played < call.duration - EARLY_END:
         failed = robot_reason(future.error()) if future.hasError() else None
-        raise _ended_early(client, call.names, played, call.duration, failed)
+        raise _ended_early(client, call.names, played, call.duration, failed, end)
     width = len(call.names)
     return Samples(
         np.array(times),
@@ -362,8 +362,12 @@ def _ended_early(
     played: float,
     duration: float,
     failed: str | None,
+    ended: float,
 ) -> RobotStateError:
     """The error for a call on ``names`` ended at ``played`` of ``duration`` [s].
+
+    ``ended``: when the call's answer came [s, monotonic], the error's
+    ``stopped_at`` (the follower drops what was queued before it).
 
     ``failed``: the robot's reason if the call failed, None if it returned.
     A kill is said only where it is one: a call that returned early, or a
@@ -387,6 +391,9 @@ def _ended_early(
         client.url,
         f"the robot ended the movement at t = {played:.2f} s of {duration:.2f} s "
         f"(its call {how} before its last key{cause})",
+        stopped_at=ended,
+        played=round(played, 3),
+        duration=round(duration, 3),
         outcome=stopped
         if limp is None
         else f"{stopped} and is limp ({limp}): a rest, the fall manager or "

@@ -939,20 +939,38 @@ class RobotStateError(ArmplanError):
         reason: What was found, e.g. ``"the stiffness of RArm dropped during
             the movement"``.
         outcome: What became of the trajectory, e.g. ``"nothing was sent"``.
+        stopped: The robot stopped or released the arm during a movement
+            (its motion task killed, its stiffness cut): an operator's stop
+            looks like this, so the bridge's follower drops what was queued
+            before it. False for a robot found unfit before anything moved.
+        stopped_at: When the bridge saw the stop [s, ``time.monotonic``, this
+            process's clock]; None if not stopped. Not sent over the bus.
     """
 
     kind = "robot_state"
 
-    def __init__(self, url: str, reason: str, *, outcome: str) -> None:
+    def __init__(
+        self,
+        url: str,
+        reason: str,
+        *,
+        outcome: str,
+        stopped_at: float | None = None,
+        **evidence: Any,
+    ) -> None:
         super().__init__(
             f"the robot at {url}: {reason}; {outcome}",
             url=url,
             reason=reason,
             outcome=outcome,
+            **({"stopped": True} if stopped_at is not None else {}),
+            **evidence,
         )
         self.url = url
         self.reason = reason
         self.outcome = outcome
+        self.stopped = stopped_at is not None
+        self.stopped_at = stopped_at
 
 
 class RobotLimitsError(ArmplanError):
