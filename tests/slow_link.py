@@ -10,7 +10,8 @@ real link (each connection is carried at ``bandwidth``; readings are too
 small to matter). It can also go silent, holding what it carries without
 closing anything, as a link out of range does: everything
 (:meth:`SlowLink.freeze`), or one connection's answers
-(:meth:`SlowLink.hold_answers`); or close one connection
+(:meth:`SlowLink.hold_answers`, until :meth:`SlowLink.release_answers`);
+or close one connection
 (:meth:`SlowLink.cut`).
 """
 
@@ -77,6 +78,10 @@ class SlowLink:
     def hold_answers(self, index: int) -> None:
         """Carry no more answers back on connection ``index`` (0: the first)."""
         self._held.add(index)
+
+    def release_answers(self, index: int) -> None:
+        """Carry connection ``index``'s held answers back again, in order."""
+        self._held.discard(index)
 
     def cut(self, index: int) -> None:
         """Close connection ``index`` (0: the first) at both ends."""

@@ -264,6 +264,32 @@ def test_a_movement_that_overruns_is_caught_and_stopped(
     assert kill < given_up
 
 
+def test_a_call_whose_arrival_mark_is_answered_late_is_played_not_ended_early(
+    sim: SimProcess, fast_link: SlowLink
+) -> None:
+    """The call's connection carries no answer for its first second (as when
+    another client's blocking calls hold the robot's worker threads: the
+    mark came 0.87 s late), so its arrival mark is answered then, while the
+    robot plays the whole 2 s call: the bridge said "the robot ended the
+    movement at t = 1.0 s of 2.0 s (its call returned before its last key:
+    its motion task was killed ...)". A call that returned its duration
+    after it left, its joints commanded at its last key, played through."""
+    robot = RobotBridge(NaoqiClient(fast_link.url))
+    trajectory = reach(2.0)
+
+    def hold_the_mark(_: CommandFrames) -> None:
+        fast_link.hold_answers(0)  # the first connection: the call's
+        threading.Timer(1.0, fast_link.release_answers, (0,)).start()
+
+    try:
+        reply = robot.execute(trajectory, rate=25.0, on_play=hold_the_mark)
+    finally:
+        robot.client.close()
+    worst = max(reply.report.tracking_rms_deg.values())
+    print(f"\nplayed; worst joint RMS {worst:.3f} deg")
+    assert finished(sim) != []  # the sim played it to its last key
+
+
 def test_a_call_given_up_on_its_way_is_ended_as_it_takes_effect(
     sim: SimProcess,
 ) -> None:
