@@ -229,6 +229,7 @@ def play_and_sample(
     on_sample: Callable[[JointState], None] | None = None,
     on_arrival: Callable[[float], None] | None = None,
     cut: Cut | None = None,
+    approach: bool = False,
 ) -> Samples:
     """Send ``call`` and sample the measured angles until it ends.
 
@@ -241,6 +242,8 @@ def play_and_sample(
             monotonic] (its arrival mark's answer), as soon as that is seen.
         cut: Once ordered, the arm is stopped as when the robot is given up
             (within a reading's wait), and the cut's error raised.
+        approach: ``call`` is the approach to a trajectory's start: an end
+            before its last key is said as "the robot ended the approach".
 
     Raises:
         RobotUnavailableError: the robot went away during the call (within
@@ -320,7 +323,9 @@ def play_and_sample(
         played = call.duration  # its arrival mark was answered late, not a kill
     if future.hasError() or played < call.duration - EARLY_END:
         failed = robot_reason(future.error()) if future.hasError() else None
-        raise _ended_early(client, call.names, played, call.duration, failed, end)
+        raise _ended_early(
+            client, call.names, played, call.duration, failed, end, approach
+        )
     width = len(call.names)
     return Samples(
         np.array(times),
@@ -399,11 +404,13 @@ def _ended_early(
     duration: float,
     failed: str | None,
     ended: float,
+    approach: bool = False,
 ) -> RobotStateError:
     """The error for a call on ``names`` ended at ``played`` of ``duration`` [s].
 
     ``ended``: when the call's answer came [s, monotonic], the error's
-    ``stopped_at`` (the follower drops what was queued before it).
+    ``stopped_at`` (the follower drops what was queued before it);
+    ``approach``: the call was the approach to the trajectory's start.
 
     ``failed``: the robot's reason if the call failed, None if it returned.
     A kill is said only where it is one: a call that returned early, or a
@@ -422,13 +429,18 @@ def _ended_early(
         else ""
     )
     limp = limp_joint(client, names)
+    phase = "approach"
     stopped = "the arm stopped where it was then"
+    if approach:
+        stopped += "; nothing of the trajectory was sent"
     return RobotStateError(
         client.url,
-        f"the robot ended the movement at t = {played:.2f} s of {duration:.2f} s "
+        f"the robot ended the {phase if approach else 'movement'} at "
+        f"t = {played:.2f} s of {duration:.2f} s "
         f"(its call {how} before its last key{cause})",
         stopped_at=ended,
-        played=round(played, 3),
+        phase=phase if approach else "trajectory",
+        played=round(max(played, 0.0), 3),
         duration=round(duration, 3),
         outcome=stopped
         if limp is None

@@ -418,6 +418,7 @@ class RobotBridge:
             period=0.05,
             on_sample=on_sample,
             cut=self._cut,
+            approach=True,
         )
         keys = len(move.times) * len(move.joint_names)
         self._call_delay.learn(keys, samples.start_delay)  # a small call: latency

@@ -6,7 +6,10 @@
 :class:`~shared.messages.ExecuteReply` with the tracking report out) and
 publishes what crosses the robot's boundary: the checked command frames
 (``bridge/frames``), each measured joint state while the arm moves
-(``bridge/state``) and the tracking report (``bridge/report``). A trajectory
+(``bridge/state``), the tracking report (``bridge/report``) and how each
+execution ended (``bridge/outcome``: completed; stopped by the robot, in
+the approach or the trajectory, at t = X s; or the error's kind), so a
+stop is seen on the bus, not only by the caller. A trajectory
 with one frame over a limit is refused with the bridge's typed error before
 anything is published or sent, even while another plays (its frames are
 checked before the robot is asked for). One robot plays one trajectory at
@@ -40,11 +43,18 @@ from shared.bus.deadline import REPLY_MARGIN, current_due
 from shared.bus.robot_routes import EXECUTE
 from shared.bus.topics import (
     BRIDGE_FRAMES_TOPIC,
+    BRIDGE_OUTCOME_TOPIC,
     BRIDGE_REPORT_TOPIC,
     BRIDGE_STATE_TOPIC,
 )
-from shared.errors import ArmplanError, RobotBusyError
-from shared.messages import CommandFrames, ExecuteReply, ExecuteRequest, JointState
+from shared.errors import ArmplanError, RobotBusyError, RobotStateError
+from shared.messages import (
+    CommandFrames,
+    ExecuteReply,
+    ExecuteRequest,
+    ExecutionOutcome,
+    JointState,
+)
 
 log = logging.getLogger("armplan.bridge")
 
@@ -92,12 +102,19 @@ class BridgeService:
             log.warning("execute: refused, the robot is busy (%.1f s left)", remaining)
             raise RobotBusyError(self.robot.client.url, remaining)
         try:
-            return self._play(request, frames)
+            reply = self._play(request, frames)
         except ArmplanError as error:
             log.warning("execute: %s", error.message)
+            self._publish_outcome(ended_by(frames, error))
             raise
         finally:
             self._slot.give_back()
+        self._publish_outcome(
+            ExecutionOutcome(
+                outcome="completed", arm=frames.arm.value, duration=frames.duration
+            )
+        )
+        return reply
 
     def _play(self, request: ExecuteRequest, frames: CommandFrames) -> ExecuteReply:
         due = current_due()  # the query's caller's; None for the follower
@@ -147,6 +164,13 @@ class BridgeService:
         """
         return stop_serving(self.robot, self._slot, limit)
 
+    def _publish_outcome(self, outcome: ExecutionOutcome) -> None:
+        """Publish how an execution ended; nothing once the bus has closed."""
+        try:
+            self.bus.publish(BRIDGE_OUTCOME_TOPIC, outcome)
+        except zenoh.ZError as error:
+            log.debug("outcome not published: %s", error)
+
     def _publish_state(self, state: JointState) -> None:
         """Publish a measured state; none once the bus has closed.
 
@@ -160,3 +184,23 @@ class BridgeService:
     def endpoints(self) -> Sequence[Endpoint[Any, Any]]:
         """The bridge's endpoints: ``bridge/execute``."""
         return [Endpoint(EXECUTE, self.execute)]
+
+
+def ended_by(frames: CommandFrames, error: ArmplanError) -> ExecutionOutcome:
+    """The outcome of playing ``frames`` that ended with ``error``.
+
+    ``"stopped"`` if the robot stopped the movement or released the arm
+    (``RobotStateError.stopped``), with where if known; else ``"error"``.
+    """
+    stopped = isinstance(error, RobotStateError) and error.stopped
+    evidence = error.evidence if stopped else {}
+    return ExecutionOutcome(
+        outcome="stopped" if stopped else "error",
+        arm=frames.arm.value,
+        duration=frames.duration,
+        error_kind=error.kind,
+        message=error.message,
+        phase=evidence.get("phase"),
+        played=evidence.get("played"),
+        phase_duration=evidence.get("duration"),
+    )

@@ -26,8 +26,9 @@ from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from shared.bus import Bus, load_config
 from shared.bus.routes import TRAJECTORY_TOPIC
+from shared.bus.topics import BRIDGE_OUTCOME_TOPIC, BRIDGE_REPORT_TOPIC
 from shared.libqi import qi
-from shared.messages import Trajectory
+from shared.messages import ExecutionOutcome, Trajectory
 from shared.robot.postures import forward, rest
 
 ROUTER = "tcp/127.0.0.1:52010"
@@ -104,6 +105,13 @@ def test_a_stop_during_the_first_of_three_drops_the_two_waiting(
     assert sim.log_path is not None
     records = Records()
     logging.getLogger("armplan.bridge").addHandler(records)
+    heard: dict[str, list[bytes]] = {BRIDGE_OUTCOME_TOPIC: [], BRIDGE_REPORT_TOPIC: []}
+    listeners = [
+        bus.session.declare_subscriber(
+            bus.key(path), lambda s, path=path: heard[path].append(s.payload.to_bytes())
+        )
+        for path in heard
+    ]
     session = qi.Session()
     session.connect(sim.url)
     try:
@@ -120,9 +128,26 @@ def test_a_stop_during_the_first_of_three_drops_the_two_waiting(
         # published after the stop: played, and the only one played since
         bus.publish(TRAJECTORY_TOPIC, _reach(forward("right"), 0.5))
         _wait("the one published after the stop", lambda: follower.played == 1)
+        _wait("its outcome", lambda: len(heard[BRIDGE_OUTCOME_TOPIC]) == 2)
     finally:
+        for listener in listeners:
+            listener.undeclare()
         session.close()
         logging.getLogger("armplan.bridge").removeHandler(records)
+    # the stop is on the bus too (it published nothing: no report, no outcome)
+    stop, done = (
+        ExecutionOutcome.model_validate_json(m) for m in heard[BRIDGE_OUTCOME_TOPIC]
+    )
+    print(f"\n{stop.model_dump_json()}")
+    assert (stop.outcome, stop.error_kind, stop.phase) == (
+        "stopped",
+        "robot_state",
+        "trajectory",
+    )
+    assert stop.played is not None and 0.2 < stop.played < 1.5
+    assert stop.phase_duration == pytest.approx(2.0, abs=0.05)
+    assert done.outcome == "completed" and done.message is None
+    assert len(heard[BRIDGE_REPORT_TOPIC]) == 1  # of the completed one only
     log = read_log(sim.log_path)
     kill = next(
         i for i, e in enumerate(log) if e.get("method") == "killTasksUsingResources"

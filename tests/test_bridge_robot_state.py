@@ -558,7 +558,8 @@ def test_an_approach_the_robot_cuts_short_sends_no_trajectory(
     """The approach's task killed half-way, its call returning normally:
     the trajectory went out from where the arm had stopped (its first key
     four times the speed limit away; only the sim's refusal stopped it).
-    Now the bridge raises and sends nothing after the approach."""
+    Now the bridge raises and sends nothing after the approach, and says
+    it ended the approach (it said "the movement", as of the trajectory)."""
     bridge = RobotBridge(NaoqiClient(quiet_kills.url))
     trajectory = minimum_jerk_trajectory(
         "right", [forward("right"), rest("right")], [1.5]
@@ -566,9 +567,13 @@ def test_an_approach_the_robot_cuts_short_sends_no_trajectory(
     with _motion(quiet_kills.url) as motion:
         kill = threading.Timer(0.5, motion.killTasksUsingResources, [["RArm"]])
         kill.start()
-        with pytest.raises(RobotStateError):
+        with pytest.raises(RobotStateError) as caught:
             bridge.execute(trajectory)
         kill.join()
+    print(f"\n{caught.value.message}")
+    assert "the robot ended the approach at t = " in caught.value.message
+    assert "nothing of the trajectory was sent" in caught.value.message
+    assert caught.value.stopped and caught.value.evidence["phase"] == "approach"
     assert quiet_kills.log_path is not None
     assert len(_calls(quiet_kills.log_path, "angleInterpolation")) == 1
     assert not [e for e in read_log(quiet_kills.log_path) if e["event"] == "refused"]

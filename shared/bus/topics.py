@@ -3,7 +3,8 @@
 Zenoh subscribers see publications only (not queries), so each stage of a
 planning session is also *published*: the planner puts the request it got,
 the decision, the joint path and the trajectory; the bridge puts the command
-frames, each measured joint state and the tracking report; the fit service
+frames, each measured joint state, the tracking report and each
+execution's outcome; the fit service
 puts each new model. The recorder subscribes to these topics and gives each
 one an MCAP channel whose JSON schema is its message class's; a topic not
 listed here (or a payload that does not parse as its class) is recorded on a
@@ -27,7 +28,12 @@ from shared.messages import (
     PlanRequest,
     Trajectory,
 )
-from shared.messages.frames import CommandFrames, JointState, TrackingReport
+from shared.messages.frames import (
+    CommandFrames,
+    ExecutionOutcome,
+    JointState,
+    TrackingReport,
+)
 
 #: Each request the planner accepts (``PlanRequest``).
 PLAN_REQUEST_TOPIC = "plan/request"
@@ -41,6 +47,8 @@ BRIDGE_FRAMES_TOPIC = "bridge/frames"
 BRIDGE_STATE_TOPIC = "bridge/state"
 #: The tracking report after each execution (``TrackingReport``).
 BRIDGE_REPORT_TOPIC = "bridge/report"
+#: How each execution ended: completed, stopped or an error (``ExecutionOutcome``).
+BRIDGE_OUTCOME_TOPIC = "bridge/outcome"
 
 
 @dataclass(frozen=True)
@@ -75,6 +83,7 @@ TOPICS: tuple[Topic, ...] = (
     Topic(BRIDGE_FRAMES_TOPIC, CommandFrames, "bridge"),
     Topic(BRIDGE_STATE_TOPIC, JointState, "bridge"),
     Topic(BRIDGE_REPORT_TOPIC, TrackingReport, "bridge"),
+    Topic(BRIDGE_OUTCOME_TOPIC, ExecutionOutcome, "bridge"),
     Topic(MODEL_TOPIC, MotionModel, "fit"),
 )
 

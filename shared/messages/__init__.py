@@ -38,6 +38,7 @@ from shared.messages.frames import (
     ExecutedJointStates,
     ExecuteReply,
     ExecuteRequest,
+    ExecutionOutcome,
     JointState,
     TrackingReport,
 )
@@ -47,6 +48,7 @@ __all__ += [
     "ExecuteReply",
     "ExecuteRequest",
     "ExecutedJointStates",
+    "ExecutionOutcome",
     "JointState",
     "TrackingReport",
 ]

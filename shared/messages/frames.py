@@ -10,6 +10,8 @@ states and a tracking report.
 
 from __future__ import annotations
 
+from typing import Literal
+
 from pydantic import Field, NonNegativeFloat, model_validator
 
 from shared.messages.base import MAX_RATE, MIN_RATE, Message, OptionalFieldsMessage
@@ -175,6 +177,43 @@ class TrackingReport(OptionalFieldsMessage):
     duration: float = Field(ge=0.0)
     hand_tracking_rms: float | None = Field(default=None, ge=0.0)
     hand_tracking_max: float | None = Field(default=None, ge=0.0)
+
+
+class ExecutionOutcome(OptionalFieldsMessage):
+    """How one execution ended (``bridge/outcome``), a stop or an error too.
+
+    The bridge publishes one for every execution it played or tried to play
+    (not for a request refused before: busy, a frame over a limit).
+
+    Attributes:
+        outcome: ``"completed"`` (played to its last key; its
+            :class:`TrackingReport` is on ``bridge/report``), ``"stopped"``
+            (the robot ended the movement or released the arm: an
+            operator's stop, a rest, the fall manager) or ``"error"``
+            (anything else; nothing reported on ``bridge/report``).
+        arm: ``"right"`` or ``"left"``.
+        duration: The trajectory's length [s].
+        error_kind: The typed error's kind (e.g. ``"robot_state"``); None
+            (left out) when completed.
+        message: The error's message; None (left out) when completed.
+        phase: Where it was stopped: ``"approach"`` (the move to the
+            trajectory's start; nothing of the trajectory was sent) or
+            ``"trajectory"``; None (left out) unless stopped there.
+        played: Time into that phase when it was stopped [s]; None (left
+            out) unless known.
+        phase_duration: That phase's length [s]; None (left out) unless known.
+    """
+
+    omitted_when_none = ("error_kind", "message", "phase", "played", "phase_duration")
+
+    outcome: Literal["completed", "stopped", "error"]
+    arm: str
+    duration: float = Field(ge=0.0)
+    error_kind: str | None = None
+    message: str | None = None
+    phase: Literal["approach", "trajectory"] | None = None
+    played: float | None = Field(default=None, ge=0.0)
+    phase_duration: float | None = Field(default=None, ge=0.0)
 
 
 class ExecuteRequest(Message):
