@@ -115,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
     if args.grid:
         return _grid(args, model)
     from services.decide.path import decide_path
+    from services.planner.stages import model_digest
     from shared.robot import load_arm
     from shared.robot.postures import rest
 
@@ -132,7 +133,8 @@ def run(args: argparse.Namespace) -> int:
         decision, tracked = decide_path(
             model, arm, positions, start, palm=palm, times=times
         )
-        return decision, tracked.q[-1], tracked.wrist[-1]
+        named = {"model": model_digest(model)}  # as the decide service names it
+        return decision.model_copy(update=named), tracked.q[-1], tracked.wrist[-1]
 
     times, positions, start = _path(args, arm, start, palm, decide)
     decision, _, wrist_end = decide(times, positions, start)
