@@ -63,9 +63,11 @@ def test_only_a_kill_is_said_to_be_one(
     """A call that failed for another reason is said as it failed."""
     client = NaoqiClient(sim.url)
     try:
-        error = _ended_early(client, ["RShoulderPitch"], 0.5, 1.0, failed)
+        ended = time.monotonic()
+        error = _ended_early(client, ["RShoulderPitch"], 0.5, 1.0, failed, ended)
     finally:
         client.close()
     assert ("motion task was killed" in error.message) is killed
+    assert error.stopped_at == ended
     if failed is not None:
         assert f'its call failed ("{failed}") before its last key' in error.message
