@@ -31,9 +31,11 @@ from armplan.secure import (
     write_bundle,
 )
 from bridge.claim import claim_key, sole_bridge
+from services.recorder import RecorderOptions
+from services.recorder.service import Recorder
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.robot_routes import EXECUTE
-from shared.bus.routes import IK_SOLVE, PLAN, ROUTES, TRAJECTORY_TOPIC
+from shared.bus.routes import FIT_MODEL, IK_SOLVE, PLAN, ROUTES, TRAJECTORY_TOPIC
 from shared.bus.topics import BRIDGE_FRAMES_TOPIC, TOPICS
 from shared.errors import (
     RequestTimeoutError,
@@ -41,6 +43,7 @@ from shared.errors import (
     ServiceUnavailableError,
 )
 from shared.messages import IKRequest, PlanRequest, Trajectory
+from shared.recording import read_records
 
 NS = "armplan"
 ACL = AccessControl.from_file(TEMPLATE)
@@ -112,6 +115,15 @@ def test_clients_may_only_ask_for_plans_and_read_results() -> None:
     assert ACL.allows("client", "put", "egress", f"{NS}/{TRAJECTORY_TOPIC}")
     assert ACL.allows("client", "put", "egress", f"{NS}/bridge/report")
     assert not ACL.allows("client", "put", "egress", f"{NS}/fit/model/update")
+
+
+def test_the_recorder_asks_only_for_the_served_model() -> None:
+    """The recorder may ask armplan/fit/model (once, at its start) and be
+    answered; no other route, the robot's included."""
+    asks = [k for k in ROUTE_KEYS if ACL.allows("recorder", "query", "ingress", k)]
+    assert asks == [FIT_MODEL.key(NS)]
+    assert ACL.allows("recorder", "reply", "egress", FIT_MODEL.key(NS))
+    assert not ACL.allows("recorder", "reply", "egress", PLAN.key(NS))
 
 
 def test_each_process_holds_only_its_own_token() -> None:
@@ -403,6 +415,23 @@ def test_a_client_cannot_reach_the_robot_keys(secured: Bundle) -> None:
         )
         assert replies == [] and asked == []
         queryable.undeclare()  # type: ignore[no-untyped-call]
+
+
+def test_a_secured_recording_holds_the_model_served_at_its_start(
+    secured: Bundle, tmp_path: pathlib.Path
+) -> None:
+    """Logged in as the recorder, a recording started after the fit service
+    asks it for its model and records it (the rules let the query through)."""
+    out = tmp_path / "secured.mcap"
+    with Bus.connect(load_config(secured.clients["recorder"])) as bus:
+        recorder = Recorder(bus, RecorderOptions(output=out)).start()
+        assert recorder.model_at_start is not None
+        recorder.model_at_start.join(30.0)
+        time.sleep(0.3)  # the answer reaches the writer
+        recorder.stop()
+    assert recorder.model_at_start.recorded
+    topics = [(r.topic, r.schema) for r in read_records(out)]
+    assert (FIT_MODEL.key(NS), "MotionModel") in topics
 
 
 def test_a_client_cannot_ask_the_stage_services(secured: Bundle) -> None:

@@ -4,7 +4,9 @@ The recorder keeps every payload, byte for byte (SPEC: nothing recorded is
 lost), and gives each the most specific channel it fits:
 
 1. a JSON object on a registered topic that parses as the topic's message
-   class (``shared.bus.topics``): the topic's typed channel, schema named
+   class (``shared.bus.topics``), or on a key whose answer the recorder
+   asks for itself (``fit/model``, ``services.recorder.model_at_start``),
+   that parses as the answer's class: the typed channel, schema named
    after the class (``Trajectory``), its JSON schema from pydantic;
 2. any other JSON object (unknown topic, or a payload that does not parse
    as its class): the topic's schemaless channel, schema ``"json"``;
@@ -24,6 +26,7 @@ from typing import Any, NamedTuple
 
 from pydantic import ValidationError
 
+from shared.bus.routes import FIT_MODEL
 from shared.bus.topics import topic_message
 from shared.messages import Message
 from shared.recording.json_object import is_json_object
@@ -67,6 +70,10 @@ class Entry(NamedTuple):
     message: Message | None
 
 
+#: The answers the recorder asks for and records, by key under the namespace.
+ASKED: dict[str, type[Message]] = {FIT_MODEL.path: FIT_MODEL.reply}
+
+
 @cache
 def _schema(cls: type[Message]) -> dict[str, Any]:
     """``cls``'s JSON schema, computed once per class."""
@@ -100,7 +107,7 @@ def route(incoming: Incoming, namespace: str) -> Entry:
             key, RawPayload.__name__, _schema(RawPayload), raw.to_json().encode(), None
         )
     path = relative_path(key, namespace)
-    cls = None if path is None else topic_message(path)
+    cls = None if path is None else topic_message(path) or ASKED.get(path)
     message = None if cls is None else _typed(cls, payload)
     if cls is not None and message is not None:
         return Entry(key, cls.__name__, _schema(cls), payload, message)

@@ -32,6 +32,7 @@ from pathlib import Path
 
 import zenoh
 
+from services.recorder.model_at_start import ModelAtStart, records_models
 from services.recorder.options import RecorderOptions, check_keys
 from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
@@ -77,6 +78,7 @@ class Recorder(StartStop):
         self._subscriber: zenoh.Subscriber[None] | None = None
         self._token: zenoh.LivelinessToken | None = None
         self._connected = True
+        self.model_at_start: ModelAtStart | None = None
 
     def start(self) -> Recorder:
         """Open the file, subscribe, then announce liveliness.
@@ -91,6 +93,8 @@ class Recorder(StartStop):
             everything = f"{namespace}/**"
             self._subscriber = session.declare_subscriber(everything, self._on_sample)
             self._token = session.liveliness().declare_token(alive_key(namespace, NAME))
+            if records_models(self._exprs, namespace):
+                self.model_at_start = ModelAtStart(self._bus, self.sink).start()
         except BaseException:  # leave nothing half-started: close the file
             self.stop()
             raise
@@ -104,6 +108,8 @@ class Recorder(StartStop):
             return
         if not any(expr.intersects(sample.key_expr) for expr in self._exprs):
             return
+        if self.model_at_start is not None:
+            self.model_at_start.saw(str(sample.key_expr))
         self.sink.put(
             Incoming(
                 str(sample.key_expr),
@@ -168,6 +174,8 @@ class Recorder(StartStop):
         if self._subscriber is not None:
             self._subscriber.undeclare()  # type: ignore[no-untyped-call]
             self._subscriber = None
+        if self.model_at_start is not None:
+            self.model_at_start.close()
         paths = self.sink.stop()
         derived = self.sink.derived
         log.info(
