@@ -5,7 +5,8 @@
   sizes from anthropometric tables (``anthropometry``).
 - ``c3d_import``, ``csv_import``: recorded markers (``markers`` maps them);
   a C3D file's structure is checked first (``c3d_layout``) and ezc3d reads it
-  in a child process (``c3d_reading``).
+  in a child process (``c3d_reading``); a CSV file's table (rows, columns,
+  trials, cells) is read by ``csv_table``.
 - ``retarget``: human arm data to NAO, segment directions kept.
 - ``demo_file``: demonstration MCAP files (``DemoSubject``, ``DemoSample``).
 """
