@@ -577,6 +577,21 @@ def test_an_endpoint_given_twice_is_refused_before_anything_starts() -> None:
     )
 
 
+def test_an_endpoint_spelt_twice_is_refused_before_anything_starts() -> None:
+    """`up --listen tcp/127.0.0.1:P --listen tcp/localhost:P` is one socket
+    twice: the router clashed with itself and the error suggested another
+    router on the port. Now both spellings are named, nothing started."""
+    endpoint = free_endpoint()
+    other = endpoint.replace("127.0.0.1", "localhost")
+    out = armplan("up", "--listen", endpoint, "--listen", other, "--only", "ik")
+    assert (out.returncode, out.stdout) == (1, "")
+    assert out.stderr == (
+        f"armplan: error: --listen {endpoint} and {other} are one socket (one "
+        "transport, port and address): the router cannot listen twice on it; "
+        "give one of them\n"
+    )
+
+
 def test_an_endpoint_without_a_protocol_is_said_to_be_malformed() -> None:
     """`up --listen 127.0.0.1:P` was refused as a protocol other than tcp/
     ("which 127.0.0.1:P/ is not"); its syntax is now checked first, as

@@ -37,7 +37,7 @@ DEFAULT_WORKERS = 4
 #: Requests a service lets wait before it answers ``service_busy``.
 DEFAULT_QUEUE_LIMIT = 256
 
-_ENDPOINT = re.compile(
+ENDPOINT_SYNTAX = re.compile(
     r"^(tcp|tls|udp|quic|ws)/(\[[0-9a-fA-F:.]+\]|[^\s/:\[\]]+):(\d+)$"
 )
 
@@ -52,7 +52,7 @@ def check_endpoint(endpoint: str, source: str) -> str:
     Raises:
         BusConfigError: naming ``source`` (file or option) and the endpoint.
     """
-    match = _ENDPOINT.match(endpoint)
+    match = ENDPOINT_SYNTAX.match(endpoint)
     if not match:
         raise BusConfigError(
             f"endpoint {endpoint!r} must read PROTO/HOST:PORT, e.g. {DEFAULT_ENDPOINT}",

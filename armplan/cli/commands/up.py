@@ -13,6 +13,7 @@ from armplan.cli.unsecured import check_plain_listen, check_unsecured
 from armplan.launch import SERVICES, Launcher
 from armplan.launch.robot import SIM_LISTEN, RobotStack
 from shared.bus import Bus, BusConfig, load_config
+from shared.bus.listen_clash import clashes
 from shared.bus.robot_routes import EXECUTE
 from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
@@ -128,7 +129,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _check_each_once(endpoints: list[str]) -> None:
-    """Refuse an endpoint given twice: the router would clash with itself.
+    """Refuse an endpoint given or spelt twice: the router would clash with itself.
+
+    ``tcp/localhost:P`` is ``tcp/127.0.0.1:P`` (``shared.bus.listen_clash``).
 
     Raises:
         InvalidInputError: naming the endpoints given more than once.
@@ -140,6 +143,16 @@ def _check_each_once(endpoints: list[str]) -> None:
             "cannot listen twice on one endpoint; give each once",
             field="listen",
             endpoints=twice,
+        )
+    found = clashes(endpoints)
+    if found:
+        first, second = found[0]
+        raise InvalidInputError(
+            f"--listen {first} and {second} are one socket (one transport, "
+            "port and address): the router cannot listen twice on it; give "
+            "one of them",
+            field="listen",
+            endpoints=[first, second],
         )
 
 
