@@ -58,7 +58,11 @@ class Endpoint(Generic[Req, Rep]):
     Attributes:
         route: The route served.
         handle: Request in, reply out; raises an ``ArmplanError`` to refuse.
+        own_worker: Answered by a worker of its own, never queued behind
+            the service's other requests: a stop must be served while the
+            workers are blocked playing movements (``bridge/stop``).
     """
 
     route: Route[Req, Rep]
     handle: Callable[[Req], Rep]
+    own_worker: bool = False

@@ -10,6 +10,9 @@ except to a query its caller asked again (the same call id in its
 attachment) while the first is still queued or running: that one joins the
 first (``call_job``), so one piece of work answers both, and ``service_busy``
 always means the request was not worked on.
+An endpoint with ``own_worker`` has a queue and a worker of its own: its
+queries are never queued behind the other endpoints' (a ``bridge/stop``
+is answered while every worker plays or waits on ``bridge/execute``).
 A reply's Zenoh attachment is a ``ServiceTiming``: where the request's time
 went inside the service. A query's attachment is its caller's budget
 (``shared.bus.deadline``): a query still queued when its caller has stopped
@@ -75,10 +78,17 @@ class ServiceHost(StartStop):
         self._bus = bus
         self._endpoints = list(endpoints)
         self._ready = ready
-        self._jobs: queue.Queue[CallJob | None] = queue.Queue(bus.config.queue_limit)
+        # the shared queue ("") and one per endpoint with its own worker (its key)
+        self._lanes: dict[str, queue.Queue[CallJob | None]] = {
+            lane: queue.Queue(bus.config.queue_limit)
+            for lane in (
+                "",
+                *(_lane(e, k) for e, k in zip(endpoints, self.keys, strict=True)),
+            )
+        }
         self._lock = threading.Lock()  # guards _calls and the jobs in it
         self._calls: dict[tuple[str, str], CallJob] = {}  # queued or running
-        self._workers: list[threading.Thread] = []
+        self._workers: list[tuple[threading.Thread, queue.Queue[CallJob | None]]] = []
         self._queryables: list[zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
         self._last_answer = -REPLY_FLUSH  # [s, monotonic]: none yet
@@ -86,11 +96,10 @@ class ServiceHost(StartStop):
     def start(self) -> ServiceHost:
         """Start workers, declare queryables, announce liveliness, run ``ready``."""
         for i in range(self._bus.config.workers):
-            worker = threading.Thread(
-                target=self._work, name=f"{self.name}-worker-{i}", daemon=True
-            )
-            worker.start()
-            self._workers.append(worker)
+            self._start_worker(self._lanes[""], f"{self.name}-worker-{i}")
+        for lane, jobs in self._lanes.items():
+            if lane:
+                self._start_worker(jobs, f"{self.name}-{lane.rsplit('/', 1)[-1]}")
         for endpoint, key in zip(self._endpoints, self.keys, strict=True):
             self._queryables.append(self._declare(endpoint, key))
         token_key = alive_key(self._bus.config.namespace, self.name)
@@ -100,10 +109,19 @@ class ServiceHost(StartStop):
             self._ready()
         return self
 
+    def _start_worker(self, jobs: queue.Queue[CallJob | None], name: str) -> None:
+        worker = threading.Thread(
+            target=self._work, args=(jobs,), name=name, daemon=True
+        )
+        worker.start()
+        self._workers.append((worker, jobs))
+
     def _declare(self, endpoint: Endpoint[Any, Any], key: str) -> zenoh.Queryable[None]:
+        jobs = self._lanes[_lane(endpoint, key)]
+
         def enqueue(query: zenoh.Query) -> None:  # on Zenoh's thread: no waiting
-            if not self._admit(endpoint, key, query):
-                busy = ServiceBusyError(self.name, key=key, queued=self._jobs.qsize())
+            if not self._admit(endpoint, key, query, jobs):
+                busy = ServiceBusyError(self.name, key=key, queued=jobs.qsize())
                 with query, contextlib.suppress(zenoh.ZError):  # caller gone
                     query.reply_err(
                         reply_error(busy), encoding=zenoh.Encoding.APPLICATION_JSON
@@ -112,7 +130,11 @@ class ServiceHost(StartStop):
         return self._bus.session.declare_queryable(key, enqueue)
 
     def _admit(
-        self, endpoint: Endpoint[Any, Any], key: str, query: zenoh.Query
+        self,
+        endpoint: Endpoint[Any, Any],
+        key: str,
+        query: zenoh.Query,
+        jobs: queue.Queue[CallJob | None],
     ) -> bool:
         """Queue ``query``, or join it to its call's first query; ``False``: full.
 
@@ -128,15 +150,15 @@ class ServiceHost(StartStop):
                 return True
             job = CallJob(endpoint, key, query, due)
             try:
-                self._jobs.put_nowait(job)
+                jobs.put_nowait(job)
             except queue.Full:
                 return False
             if call is not None and (key, call) not in self._calls:
                 self._calls[(key, call)] = job
             return True
 
-    def _work(self) -> None:
-        while (job := self._jobs.get()) is not None:
+    def _work(self, jobs: queue.Queue[CallJob | None]) -> None:
+        while (job := jobs.get()) is not None:
             try:
                 self._serve(job)
             except Exception:  # a worker never dies: log, answer the next one
@@ -194,11 +216,11 @@ class ServiceHost(StartStop):
             self._token.undeclare()  # type: ignore[no-untyped-call]
             self._token = None
         try:
-            for _ in self._workers:
-                self._jobs.put(None, timeout=STOP_GRACE)
+            for _, jobs in self._workers:
+                jobs.put(None, timeout=STOP_GRACE)
         except queue.Full:  # workers stuck in handlers: they are daemons
             log.warning("service %s: workers still busy at stop", self.name)
-        for worker in self._workers:
+        for worker, _ in self._workers:
             worker.join(STOP_GRACE)
         self._workers.clear()
         time.sleep(max(0.0, self._last_answer + REPLY_FLUSH - time.monotonic()))
@@ -206,6 +228,11 @@ class ServiceHost(StartStop):
             queryable.undeclare()  # type: ignore[no-untyped-call]
         self._queryables.clear()
         log.info("service %s stopped", self.name)
+
+
+def _lane(endpoint: Endpoint[Any, Any], key: str) -> str:
+    """The queue ``endpoint`` (at ``key``) is served from: ``""``, the shared one."""
+    return key if endpoint.own_worker else ""
 
 
 def _reply(query: zenoh.Query, key: str, result: Answer) -> None:
