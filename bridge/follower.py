@@ -10,6 +10,10 @@ motion task killed: ``killTasksUsingResources``, ``killAll``, a rest, the
 fall manager; or its arm released) is an operator's stop: every trajectory
 that arrived before the bridge saw the stop is dropped (and the count
 logged), so the arm stays still; the next trajectory published plays.
+A ``bridge/stop`` query does the same at once, whether a movement plays
+or not (``BridgeService.halt`` calls :meth:`TrajectoryFollower.drop_waiting`
+and answers with the count); a trajectory the worker had taken but not yet
+started is stopped as it starts (``since``).
 When more trajectories wait than ``QUEUE_LIMIT``, the oldest waiting one is
 dropped (with a warning): the robot falls behind by at most that many, and
 the newest command is kept.
@@ -26,6 +30,7 @@ from typing import TypeVar
 import zenoh
 
 from bridge.service import BridgeService
+from bridge.stop_order import STOPPED_BY
 from shared.bus.routes import TRAJECTORY_TOPIC
 from shared.errors import ArmplanError, RobotStateError
 from shared.messages import ExecuteRequest, Trajectory, parse
@@ -85,6 +90,7 @@ class TrajectoryFollower:
     def start(self) -> TrajectoryFollower:
         """Start playing, then subscribe."""
         self._thread.start()
+        self.bridge.on_halt(self.drop_waiting)
         bus = self.bridge.bus
         key = bus.key(TRAJECTORY_TOPIC)
         self._subscriber = bus.session.declare_subscriber(key, self._on_sample)
@@ -102,21 +108,24 @@ class TrajectoryFollower:
     def _work(self) -> None:
         while (item := self._queue.get()) is not None:
             try:
-                self._play(item[1])
+                self._play(*item)
             except RobotStateError as error:  # the bridge has logged it
-                if error.stopped:
+                by_query = error.evidence.get("stopped_by") == STOPPED_BY
+                if error.stopped and not by_query:  # the query dropped them
                     self._drop_before(error.stopped_at or time.monotonic())
             except ArmplanError:  # the bridge has logged it
                 pass
             except Exception:  # the follower never dies
                 log.exception("follow: failed to play a trajectory")
 
-    def _drop_before(self, stopped_at: float) -> None:
+    def drop_waiting(self, stopped_at: float) -> int:
         """Drop the waiting trajectories that arrived before ``stopped_at``.
 
-        The robot stopped the movement (an operator's stop): what was queued
-        before it must not move the arm again; what arrived since was
-        published knowing of the stop, and plays.
+        What was queued before a stop must not move the arm again; what
+        arrived since was published knowing of the stop, and plays.
+
+        Returns:
+            How many were dropped.
         """
         with self._queue.mutex:  # Zenoh's thread may be queueing meanwhile
             waiting = self._queue.queue
@@ -126,6 +135,15 @@ class TrajectoryFollower:
             waiting.extend(kept)
             self._queue.not_full.notify_all()
         self.dropped += gone
+        return gone
+
+    def _drop_before(self, stopped_at: float) -> None:
+        """Drop what waits from before the robot's stop at ``stopped_at``.
+
+        The robot stopped the movement (an operator's stop through NAOqi):
+        :meth:`drop_waiting`, and say so.
+        """
+        gone = self.drop_waiting(stopped_at)
         log.warning(
             "follow: the robot stopped the movement; dropped the %d "
             "trajectories waiting from before the stop (the arm stays still); "
@@ -134,14 +152,16 @@ class TrajectoryFollower:
             self.bridge.bus.key(TRAJECTORY_TOPIC),
         )
 
-    def _play(self, payload: bytes) -> None:
+    def _play(self, arrival: float, payload: bytes) -> None:
         try:
             trajectory = parse(Trajectory, payload)
         except ArmplanError as error:
             log.warning("follow: not a trajectory: %s", error.message)
             return
         self.bridge.execute(
-            ExecuteRequest(trajectory=trajectory, rate=self.rate), wait=True
+            ExecuteRequest(trajectory=trajectory, rate=self.rate),
+            wait=True,
+            since=arrival,
         )
         self.played += 1
 

@@ -64,6 +64,10 @@ A bridge that is stopping and can wait no longer for the movement's end
 orders it cut (``bridge.cut``): the arm is stopped the same way as when the
 robot is given up, and the caller told where (``service_unavailable``, "the
 bridge is stopping; it stopped the arm at about t = X s of Y s ...").
+An operator's ``bridge/stop`` query orders the execution stopped
+(``bridge.stop_order``): the arm is stopped the same way, at once, and the
+caller told where (``robot_state``, stopped: "a bridge/stop query stopped
+the movement at t = X s of Y s").
 """
 
 from __future__ import annotations
@@ -79,6 +83,7 @@ from bridge.arm_state import limp_joint
 from bridge.cut import Cut
 from bridge.naoqi_client import NaoqiClient
 from bridge.qi_future import POLL, robot_reason, wait_future
+from bridge.stop_order import StopOrder
 from shared.errors import (
     RobotStateError,
     RobotUnavailableError,
@@ -230,6 +235,7 @@ def play_and_sample(
     on_arrival: Callable[[float], None] | None = None,
     cut: Cut | None = None,
     approach: bool = False,
+    stop: StopOrder | None = None,
 ) -> Samples:
     """Send ``call`` and sample the measured angles until it ends.
 
@@ -244,6 +250,9 @@ def play_and_sample(
             (within a reading's wait), and the cut's error raised.
         approach: ``call`` is the approach to a trajectory's start: an end
             before its last key is said as "the robot ended the approach".
+        stop: Once ordered (``bridge/stop``), the arm is stopped as when
+            the robot is given up (within a reading's wait), and the
+            order's error raised.
 
     Raises:
         RobotUnavailableError: the robot went away during the call (within
@@ -258,6 +267,8 @@ def play_and_sample(
         ServiceUnavailableError: ``cut`` was ordered (the bridge is
             stopping): the arm was stopped, the client goes on stopping it
             until the call has ended.
+        RobotStateError: ``stop`` was ordered: the arm was stopped the same
+            way (``stopped``, saying the ``bridge/stop`` query stopped it).
     """
     motion = client.motion()
     reader = _Reader(client.watch(), call.names, min(period * 20, LOST_AFTER / 2))
@@ -299,6 +310,8 @@ def play_and_sample(
             on_arrival(arrival.time)
         if cut is not None and cut.ordered:
             raise _cut_short(client, future, call, arrival.time, cut)
+        if stop is not None and stop.ordered:
+            raise _stopped(client, future, call, arrival.time, stop, approach)
         late = overdue(start, arrival.time, call.duration, time.monotonic())
         if late is not None:
             raise _give_up(
@@ -467,6 +480,35 @@ def _cut_short(
         return cut.error_on_its_way(call.duration, outcome)
     played = min(max(now - arrival, 0.0), call.duration)
     return cut.error(played, call.duration, outcome)
+
+
+def _stopped(
+    client: NaoqiClient,
+    future: Any,
+    call: AngleInterpolationCall,
+    arrival: float | None,
+    stop: StopOrder,
+    approach: bool,
+) -> RobotStateError:
+    """The error to raise when ``stop`` stops ``call`` (its libqi ``future``).
+
+    The arm is stopped as when the robot is given up (:func:`_give_up`):
+    ``killTasksUsingResources`` on its joints, again until the call has
+    ended; the robot is not declared lost.
+    """
+    now = time.monotonic()
+    outcome = client.halt(HALT_WAIT, call.names, future, arrival is not None)
+    played = None if arrival is None else min(max(now - arrival, 0.0), call.duration)
+    stopped = "the arm stopped where it was then"
+    if approach:
+        stopped += "; nothing of the trajectory was sent"
+    return stop.error(
+        client.url,
+        f"{stopped} ({outcome})",
+        phase="approach" if approach else "trajectory",
+        played=played,
+        duration=call.duration,
+    )
 
 
 def _give_up(

@@ -73,6 +73,7 @@ from bridge.posture_range import check_in_range
 from bridge.robot_limits import RobotLimitsCheck
 from bridge.same_connection import check_connection
 from bridge.start_gap import needs_approach
+from bridge.stop_order import StopOrder
 from bridge.tracking import executed_states, tracking_report
 from shared.bus.robot_routes import BRIDGE
 from shared.errors import ServiceUnavailableError, TrajectoryRefusedError
@@ -200,6 +201,7 @@ class RobotBridge:
         on_approach: ApproachCallback | None = None,
         on_arrival: ArrivalCallback | None = None,
         frames: CommandFrames | None = None,
+        stop: StopOrder | None = None,
     ) -> ExecuteReply:
         """Answer an execute request (see :meth:`execute`)."""
         return self.execute(
@@ -212,6 +214,7 @@ class RobotBridge:
             on_approach=on_approach,
             on_arrival=on_arrival,
             frames=frames,
+            stop=stop,
         )
 
     def execute(
@@ -226,6 +229,7 @@ class RobotBridge:
         on_approach: ApproachCallback | None = None,
         on_arrival: ArrivalCallback | None = None,
         frames: CommandFrames | None = None,
+        stop: StopOrder | None = None,
     ) -> ExecuteReply:
         """Play ``trajectory`` on the robot and report how well it followed.
 
@@ -247,6 +251,9 @@ class RobotBridge:
             frames: The frames of ``trajectory`` at ``rate``, checked
                 already (:meth:`frames`); None: they are made and checked
                 here.
+            stop: The operator's order to stop this execution
+                (``bridge/stop``): seen between two checks, and between two
+                readings while a movement plays (the arm is stopped at once).
 
         Raises:
             TrajectoryRefusedError: a frame breaks a limit, or the velocities
@@ -257,6 +264,8 @@ class RobotBridge:
             ServiceUnavailableError: the bridge is stopping (:meth:`stop`):
                 nothing sent, or nothing after the approach; or it stopped
                 the arm mid-movement (:meth:`cut_short`).
+            RobotStateError: ``stop`` was ordered (``stopped``; the arm
+                stopped where it was, or nothing was sent).
             RobotBusyError: the arm was still moving after a second.
             RobotUnavailableError: the robot cannot be reached, or went away
                 during the movement (raised within 2 s of it going; asked to
@@ -273,6 +282,7 @@ class RobotBridge:
             RobotLimitsError: the robot allows a joint less range or speed
                 than the bridge's limits (nothing sent).
         """
+        order = StopOrder() if stop is None else stop
         if frames is None:  # from the trajectory as given: its hand speeds if any
             frames = self.frames(trajectory, rate)
         trajectory, limits = with_hand(trajectory, self.limits(trajectory.arm))
@@ -282,6 +292,7 @@ class RobotBridge:
         overhead = self._call_delay.estimate(keys) + AFTER
         check_in_time(url, until, None, duration, "nothing was sent", overhead)
         self.refuse_if_stopping("nothing was sent")
+        order.check(url, "nothing was sent")
         self.client.refuse_while_stopping()
         self.client.motion()  # connected: the checks hold for this connection
         checked = self.client.connection
@@ -295,6 +306,7 @@ class RobotBridge:
         # all checked before the hold and the stiffening: a refusal sends nothing
         move = self._start_move(frames, current, limits, approach, limp is not None)
         self.refuse_if_stopping("nothing was sent")
+        order.check(url, "nothing was sent")
         check_connection(self.client, checked, "nothing was sent")
         if limp is not None:
             hold_command(self.client, names, limp, limits)
@@ -306,13 +318,15 @@ class RobotBridge:
         approach_time = 0.0 if move is None else move.duration
         check_in_time(url, until, approach_time, duration, sent, overhead)
         self.refuse_if_stopping(sent)
+        order.check(url, sent)
         if move is not None:
             check_connection(self.client, checked, sent)
             if on_approach is not None:
                 on_approach(move.duration)
-            self._approach(frames, move, on_state)
+            self._approach(frames, move, on_state, order)
         check_in_time(url, until, 0.0, duration, ARRIVED, overhead)
         self.refuse_if_stopping(ARRIVED if move is not None else sent)
+        order.check(url, ARRIVED if move is not None else sent)
         if on_play is not None:
             on_play(frames)
         call = angle_interpolation_call(frames)
@@ -329,6 +343,7 @@ class RobotBridge:
             on_sample=on_state,
             on_arrival=on_arrival,
             cut=self._cut,
+            stop=order,
         )
         self._call_delay.learn(keys, samples.start_delay)
         check_still_stiff(
@@ -400,6 +415,7 @@ class RobotBridge:
         frames: CommandFrames,
         move: CommandFrames,
         on_state: StateCallback | None = None,
+        stop: StopOrder | None = None,
     ) -> None:
         """Play ``move``, which brings the arm to the start of ``frames``.
 
@@ -419,6 +435,7 @@ class RobotBridge:
             on_sample=on_sample,
             cut=self._cut,
             approach=True,
+            stop=stop,
         )
         keys = len(move.times) * len(move.joint_names)
         self._call_delay.learn(keys, samples.start_delay)  # a small call: latency

@@ -23,6 +23,16 @@ and again after the approach if that took longer (``bridge.in_time``).
 The follower (``--follow``) waits instead: it plays the planner's
 trajectories in order by design.
 
+``<ns>/bridge/stop`` (:meth:`BridgeService.halt`) is the operator's stop
+over Zenoh: the execution being served is ordered stopped
+(``bridge.stop_order``; a movement playing has its arm's motion tasks
+killed at once, ``ALMotion.killTasksUsingResources``), its caller gets the
+robot's usual "stopped" error, ``bridge/outcome`` says ``"stopped"`` (by
+``bridge/stop``), the follower's waiting trajectories are dropped, and the
+:class:`~shared.messages.StopReply` comes once the arm is still. It has a
+worker of its own (``Endpoint.own_worker``): never queued behind an
+execute query. A stop is not a latch: an execute query after it plays.
+
 Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 --with-sim`` and ``armplan demo`` do); see :mod:`bridge.serve`.
 """
@@ -30,17 +40,21 @@ Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 from __future__ import annotations
 
 import logging
-from collections.abc import Sequence
+import time
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import zenoh
 
+from bridge.at_rest import READ_GAP, until_still
+from bridge.playback import HALT_WAIT, LOST_AFTER
 from bridge.robot_bridge import RobotBridge
 from bridge.serving import Slot
+from bridge.stop_order import StopOrder
 from bridge.stopping import STOP_LIMIT, stop_serving
 from shared.bus import Bus, Endpoint
 from shared.bus.deadline import REPLY_MARGIN, current_due
-from shared.bus.robot_routes import EXECUTE
+from shared.bus.robot_routes import EXECUTE, STOP
 from shared.bus.topics import (
     BRIDGE_FRAMES_TOPIC,
     BRIDGE_OUTCOME_TOPIC,
@@ -54,9 +68,25 @@ from shared.messages import (
     ExecuteRequest,
     ExecutionOutcome,
     JointState,
+    StopReply,
+    StopRequest,
 )
+from shared.robot import Side
 
 log = logging.getLogger("armplan.bridge")
+#: Longest wait for the stopped execution to end [s]: its next step (a
+#: reading, or a check before its movement: the arm's rest, up to a
+#: second, and stiffening), then the stop's answer (``HALT_WAIT``).
+HALT_END_WAIT = 2.0 * LOST_AFTER + HALT_WAIT + 1.0
+#: Longest wait for the stopped arm's measured angles to settle [s].
+SETTLE_WAIT = 1.0
+#: Two measured readings ``READ_GAP`` apart that differ by no more than
+#: this on every joint: the arm is still [rad] (0.06 deg: 1.3 deg/s).
+SETTLED = 1e-3
+
+#: Called by a stop with its time [s, monotonic]; drops what waits from
+#: before it and returns how many it dropped (the follower's queue).
+DropWaiting = Callable[[float], int]
 
 
 class BridgeService:
@@ -71,14 +101,23 @@ class BridgeService:
         self.bus = bus
         self.robot = robot
         self._slot = Slot()  # the request being served, and what it has sent
+        self._on_halt: list[DropWaiting] = []
 
-    def execute(self, request: ExecuteRequest, wait: bool = False) -> ExecuteReply:
+    def on_halt(self, drop: DropWaiting) -> None:
+        """Have every ``bridge/stop`` call ``drop`` (the follower's queue)."""
+        self._on_halt.append(drop)
+
+    def execute(
+        self, request: ExecuteRequest, wait: bool = False, since: float | None = None
+    ) -> ExecuteReply:
         """Check, play and report one trajectory (see ``RobotBridge.execute``).
 
         Args:
             request: The trajectory and how to play it.
             wait: Wait for a trajectory that is playing to end (the
                 follower's way), instead of refusing this one.
+            since: When the trajectory arrived [s, monotonic] (the
+                follower's): a ``bridge/stop`` after that stops it too.
 
         Raises:
             RobotBusyError: another trajectory is playing (``wait`` False).
@@ -89,6 +128,7 @@ class BridgeService:
             ServiceUnavailableError: the bridge is stopping (:meth:`stop`):
                 nothing sent, or nothing after the approach; or it stopped
                 the arm mid-movement, unable to wait for its end.
+            RobotStateError: a ``bridge/stop`` stopped it (``stopped``).
             RobotUnavailableError, RobotCommandError: from the robot.
         """
         self.robot.refuse_if_stopping("nothing was sent")
@@ -97,26 +137,127 @@ class BridgeService:
         except ArmplanError as error:
             log.warning("execute: %s", error.message)
             raise
-        if not self._slot.take(frames.duration, wait):
+        order = StopOrder()
+        if not self._slot.take(frames.duration, wait, order, since):
             remaining = self._slot.left()
             log.warning("execute: refused, the robot is busy (%.1f s left)", remaining)
             raise RobotBusyError(self.robot.client.url, remaining)
         try:
-            reply = self._play(request, frames)
+            reply = self._play(request, frames, order)
         except ArmplanError as error:
             log.warning("execute: %s", error.message)
-            self._publish_outcome(ended_by(frames, error))
+            order.outcome = ended_by(frames, error)
+            self._publish_outcome(order.outcome)
             raise
-        finally:
-            self._slot.give_back()
-        self._publish_outcome(
-            ExecutionOutcome(
+        else:  # before the slot is free: a stop waiting for it reads it
+            order.outcome = ExecutionOutcome(
                 outcome="completed", arm=frames.arm.value, duration=frames.duration
             )
-        )
+        finally:
+            self._slot.give_back()
+        self._publish_outcome(order.outcome)
         return reply
 
-    def _play(self, request: ExecuteRequest, frames: CommandFrames) -> ExecuteReply:
+    def halt(self, request: StopRequest) -> StopReply:
+        """Stop the execution being served, drop what waits; answer once still.
+
+        The execution being served (if any) is ordered stopped: a movement
+        playing has its arm's motion tasks killed at once
+        (``killTasksUsingResources``, again until its call has ended), one
+        not sent yet is not sent; its caller gets the robot's "stopped"
+        error (``robot_state``) and ``bridge/outcome`` says ``"stopped"``
+        by ``bridge/stop``. The follower's waiting trajectories that
+        arrived before the stop are dropped. The answer comes once that
+        execution has ended (at most :data:`HALT_END_WAIT`) and the arm's
+        measured angles have settled (at most :data:`SETTLE_WAIT`); with
+        nothing served, at once. Idempotent; not a latch: the next
+        execute query plays.
+        """
+        at = time.monotonic()
+        why = "" if request.reason is None else f' (reason: "{request.reason}")'
+        dropped = sum(drop(at) for drop in self._on_halt)
+        serving = self._slot.halt(request.reason, at)
+        log.warning(
+            "stop: asked on %s%s; %s; %d waiting trajectories dropped",
+            self.bus.key(STOP.path),
+            why,
+            "nothing was being played"
+            if serving is None
+            else "stopping the movement playing"
+            if serving.moving
+            else "stopping the execution before its movement",
+            dropped,
+        )
+        if serving is None:
+            return StopReply(
+                playing=False,
+                stopped=False,
+                dropped=dropped,
+                waited=time.monotonic() - at,
+                reason=request.reason,
+            )
+        due = current_due()
+        give_up = at + HALT_END_WAIT
+        if due is not None:
+            give_up = min(give_up, due.at - REPLY_MARGIN - SETTLE_WAIT)
+        left = self._slot.wait_free(lambda _serving, _now: give_up)
+        outcome = serving.order.outcome
+        ended = left is None or left.order is not serving.order
+        stopped = (
+            outcome is not None
+            and outcome.outcome == "stopped"
+            and outcome.stopped_by is not None
+        )
+        still = ended and self._settled(outcome, due)
+        if not ended:
+            log.warning(
+                "stop: the execution had not ended %.1f s after the stop; "
+                "answering without waiting for it",
+                time.monotonic() - at,
+            )
+        reply = StopReply(
+            playing=serving.moving,
+            stopped=stopped,
+            arm=None if outcome is None else outcome.arm,
+            phase=outcome.phase if stopped and outcome is not None else None,
+            played=outcome.played if stopped and outcome is not None else None,
+            phase_duration=outcome.phase_duration
+            if stopped and outcome is not None
+            else None,
+            dropped=dropped,
+            still=still,
+            waited=time.monotonic() - at,
+            reason=request.reason,
+        )
+        log.warning("stop: answered %s", reply.to_json())
+        return reply
+
+    def _settled(self, outcome: ExecutionOutcome | None, due: Any) -> bool:
+        """Whether the arm of ``outcome`` holds still (its measured angles)."""
+        if outcome is None:
+            return True
+        wait = SETTLE_WAIT
+        if due is not None:
+            wait = min(wait, max(due.at - REPLY_MARGIN - time.monotonic(), 0.0))
+        names = list(Side.parse(outcome.arm).joint_names)
+        try:
+            until_still(
+                self.robot.client,
+                names,
+                use_sensors=True,
+                tolerance=SETTLED,
+                wait=wait,
+                gap=READ_GAP,
+                moving="its measured angles did not settle after the stop",
+            )
+        except ArmplanError as error:
+            log.warning("stop: the arm is not known still: %s", error.message)
+            return False
+        return True
+
+    def _play(
+        self, request: ExecuteRequest, frames: CommandFrames, order: StopOrder
+    ) -> ExecuteReply:
         due = current_due()  # the query's caller's; None for the follower
         reply = self.robot.handle(
             request,
@@ -126,6 +267,7 @@ class BridgeService:
             on_approach=self._slot.approaching,
             on_arrival=self._slot.arrived,
             frames=frames,
+            stop=order,
         )
         self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
         worst = max(reply.report.tracking_rms_deg.values(), default=0.0)
@@ -182,8 +324,15 @@ class BridgeService:
             log.debug("state not published: %s", error)
 
     def endpoints(self) -> Sequence[Endpoint[Any, Any]]:
-        """The bridge's endpoints: ``bridge/execute``."""
-        return [Endpoint(EXECUTE, self.execute)]
+        """The bridge's endpoints: ``bridge/execute`` and ``bridge/stop``.
+
+        The stop has a worker of its own: it is answered while execute
+        queries block every other worker.
+        """
+        return [
+            Endpoint(EXECUTE, self.execute),
+            Endpoint(STOP, self.halt, own_worker=True),
+        ]
 
 
 def ended_by(frames: CommandFrames, error: ArmplanError) -> ExecutionOutcome:
@@ -203,4 +352,6 @@ def ended_by(frames: CommandFrames, error: ArmplanError) -> ExecutionOutcome:
         phase=evidence.get("phase"),
         played=evidence.get("played"),
         phase_duration=evidence.get("duration"),
+        stopped_by=evidence.get("stopped_by"),
+        stop_reason=evidence.get("stop_reason"),
     )

@@ -16,6 +16,12 @@ arrival (``bridge.playback``'s arrival mark) once that is known. While
 the call is on its way, the trajectory ends no sooner than its duration
 from now, and no later than ``playback`` waits for it: arrived within its
 duration + ``OVERRUN`` of leaving, then its duration.
+
+Each request carries its :class:`~bridge.stop_order.StopOrder`: an
+operator's ``bridge/stop`` orders the one holding the slot (:meth:`Slot.halt`),
+under the same lock, so it never stops the next request instead. A
+follower's trajectory that arrived before a stop is stopped as it takes the
+slot (``since``): the stop meant it too.
 """
 
 from __future__ import annotations
@@ -23,9 +29,10 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 from bridge.playback import OVERRUN
+from bridge.stop_order import StopOrder
 
 
 @dataclass(frozen=True)
@@ -39,6 +46,7 @@ class Serving:
         moving: Whether a movement was sent (its approach or trajectory).
         sent: When the trajectory's call left [s, monotonic]; None: not yet.
         arrival: When it reached the robot [s, monotonic]; None: not yet.
+        order: Its order to stop (``bridge/stop``).
     """
 
     duration: float
@@ -46,6 +54,7 @@ class Serving:
     moving: bool = False
     sent: float | None = None
     arrival: float | None = None
+    order: StopOrder = field(default_factory=StopOrder)
 
     def end(self, now: float) -> float:
         """When the movement ends, about [s, monotonic], as seen at ``now``."""
@@ -61,18 +70,47 @@ class Slot:
     def __init__(self) -> None:
         self._changed = threading.Condition()
         self._serving: Serving | None = None
+        self._last_stop = -float("inf")  # [s, monotonic]: the last halt's
 
-    def take(self, duration: float, wait: bool) -> bool:
+    def take(
+        self,
+        duration: float,
+        wait: bool,
+        order: StopOrder | None = None,
+        since: float | None = None,
+    ) -> bool:
         """Take the slot for a trajectory of ``duration`` [s]; False if busy.
 
-        ``wait``: wait for the request being served to end instead.
+        Args:
+            duration: The trajectory's length [s].
+            wait: Wait for the request being served to end instead.
+            order: The request's order to stop; None: one of its own.
+            since: When its trajectory arrived [s, monotonic] (the
+                follower's); a :meth:`halt` after that orders it stopped
+                now. None: only a halt from now on stops it.
         """
+        order = StopOrder() if order is None else order
         with self._changed:
             if self._serving is not None and not wait:
                 return False
             self._changed.wait_for(lambda: self._serving is None)
-            self._serving = Serving(duration, time.monotonic() + duration)
+            if since is not None and since <= self._last_stop:
+                order.order(None, self._last_stop)
+            self._serving = Serving(duration, time.monotonic() + duration, order=order)
             return True
+
+    def halt(self, reason: str | None, at: float) -> Serving | None:
+        """Order the request being served stopped (``bridge/stop`` at ``at``).
+
+        Returns:
+            What it had done when ordered; None if no request was served.
+        """
+        with self._changed:
+            self._last_stop = max(self._last_stop, at)
+            serving = self._serving
+            if serving is not None:
+                serving.order.order(reason, at)
+            return serving
 
     def give_back(self) -> None:
         """The request has been answered."""

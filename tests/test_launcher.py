@@ -279,7 +279,7 @@ def test_status_names_the_keys_of_the_bridge_started_on_request() -> None:
     rows = status_rows([*(s.name for s in SERVICES), "bridge", "recorder", "x"], "ns")
     extra = {name: (state, keys) for name, state, keys in rows[len(SERVICES) :]}
     assert extra == {
-        "bridge": ("alive", ["ns/bridge/execute"]),
+        "bridge": ("alive", ["ns/bridge/execute", "ns/bridge/stop"]),
         "recorder": ("alive", []),
         "x": ("alive", []),
     }

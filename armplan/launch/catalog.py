@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from typing import Any, NamedTuple
 
 from shared.bus import Route
-from shared.bus.robot_routes import EXECUTE
+from shared.bus.robot_routes import EXECUTE, STOP
 from shared.bus.routes import ROUTES
 from shared.errors import InvalidInputError
 
@@ -96,7 +96,7 @@ RECORDER = ServiceSpec("recorder", "services.recorder", ())
 #: The robot bridge (``python -m bridge.serve``, token ``bridge``). Not in
 #: ``SERVICES``: it needs a robot; ``armplan up --with-bridge/--with-sim`` and
 #: ``armplan demo`` start it (``armplan.launch.robot.RobotStack``).
-BRIDGE = ServiceSpec("bridge", "bridge.serve", (EXECUTE,))
+BRIDGE = ServiceSpec("bridge", "bridge.serve", (EXECUTE, STOP))
 #: The simulated NAO (``python -m bridge.sim``): it speaks libqi, not Zenoh, so
 #: it has no token and no route; ready once it prints its address.
 SIM = ServiceSpec("sim", "bridge.sim", ())

@@ -53,6 +53,11 @@ __all__ += [
     "TrackingReport",
 ]
 
+# Stopping the arm through the bridge (``bridge/stop``).
+from shared.messages.stop import StopReply, StopRequest  # noqa: E402
+
+__all__ += ["StopReply", "StopRequest"]
+
 # Human demonstrations (demonstration MCAP files, shared/demos).
 from shared.messages.demo import DemoSample, DemoSubject  # noqa: E402
 

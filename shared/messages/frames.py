@@ -202,9 +202,20 @@ class ExecutionOutcome(OptionalFieldsMessage):
         played: Time into that phase when it was stopped [s]; None (left
             out) unless known.
         phase_duration: That phase's length [s]; None (left out) unless known.
+        stopped_by: ``"bridge/stop"`` when a query on that key stopped it
+            (the operator's stop through the bridge); None (left out) else.
+        stop_reason: The reason that query gave; None (left out) if none.
     """
 
-    omitted_when_none = ("error_kind", "message", "phase", "played", "phase_duration")
+    omitted_when_none = (
+        "error_kind",
+        "message",
+        "phase",
+        "played",
+        "phase_duration",
+        "stopped_by",
+        "stop_reason",
+    )
 
     outcome: Literal["completed", "stopped", "error"]
     arm: str
@@ -214,6 +225,8 @@ class ExecutionOutcome(OptionalFieldsMessage):
     phase: Literal["approach", "trajectory"] | None = None
     played: float | None = Field(default=None, ge=0.0)
     phase_duration: float | None = Field(default=None, ge=0.0)
+    stopped_by: str | None = None
+    stop_reason: str | None = None
 
 
 class ExecuteRequest(Message):
