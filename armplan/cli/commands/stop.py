@@ -1,0 +1,124 @@
+"""``armplan stop``: stop the arm the bridge is moving, now (``<ns>/bridge/stop``).
+
+Usage::
+
+    armplan stop [--connect ENDPOINT] [--config FILE] [--namespace NS]
+                 [--timeout S] [--reason TEXT] [--json]
+
+It asks the running bridge (``python -m bridge.serve``, ``armplan up
+--with-sim``) on ``<ns>/bridge/stop``: the movement playing is stopped at
+once (``ALMotion.killTasksUsingResources`` on the arm's joints), its
+execute caller gets the robot's "stopped" error, ``bridge/outcome`` says
+"stopped", and a follower (``--follow``) drops the trajectories waiting.
+The bridge answers once the arm is still; this prints what was stopped
+(``--json``: the :class:`~shared.messages.StopReply`). Exit code 0 once the
+arm is still; 1 with no bridge alive (or no router), or an arm whose
+measured angles had not settled when the bridge answered.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import replace
+
+from armplan.cli.output import print_json, say
+from armplan.cli.parsing import add_json
+from shared.bus import Bus, load_config
+from shared.bus.config import MAX_WAIT
+from shared.bus.robot_routes import STOP
+from shared.errors import InvalidInputError
+from shared.messages import StopReply, StopRequest, parse
+
+ORDER = 82
+HELP = "stop the arm the bridge is moving, now (<ns>/bridge/stop)"
+#: How long ``armplan stop`` waits for the bridge's answer by default [s]:
+#: the bridge waits up to about 4.3 s for the stopped execution to end and
+#: the arm to settle.
+DEFAULT_TIMEOUT = 10.0
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Register ``stop``."""
+    parser = commands.add_parser("stop", help=HELP, description=HELP)
+    parser.add_argument(
+        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
+    )
+    parser.add_argument(
+        "--connect",
+        action="append",
+        metavar="ENDPOINT",
+        help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
+    )
+    parser.add_argument(
+        "--namespace",
+        metavar="NS",
+        help="the key namespace of the bridge (default: the config's, armplan)",
+    )
+    parser.add_argument(
+        "--timeout",
+        type=float,
+        default=DEFAULT_TIMEOUT,
+        metavar="S",
+        help=f"longest wait for the bridge's answer [s] (default {DEFAULT_TIMEOUT:g})",
+    )
+    parser.add_argument(
+        "--reason",
+        metavar="TEXT",
+        help="why, logged by the bridge and carried in the execution's outcome",
+    )
+    add_json(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Ask the bridge to stop; print what it stopped."""
+    timeout = float(args.timeout)
+    if not 0.0 < timeout <= MAX_WAIT:  # NaN too
+        raise InvalidInputError(
+            f"--timeout must be a positive number of seconds up to {MAX_WAIT:g}, "
+            f"got {args.timeout}",
+            field="--timeout",
+        )
+    given = {} if args.reason is None else {"reason": args.reason}
+    request = parse(StopRequest, json.dumps(given))  # typed: names the reason
+    config = load_config(args.config, tuple(args.connect or ()))
+    if args.namespace is not None:
+        config = replace(config, namespace=args.namespace)
+    with Bus.connect(config) as bus:
+        reply = bus.call(STOP, request, timeout=timeout)
+    if args.json:
+        print_json(reply.model_dump(mode="json"))
+    else:
+        say(describe(reply))
+    if not reply.still:
+        url = f"{config.namespace}/{STOP.path}"
+        sys.stderr.write(
+            f"armplan: error: the bridge ({url}) answered before the arm was "
+            "known still: look at the robot\n"
+        )
+        return 1
+    return 0
+
+
+def describe(reply: StopReply) -> str:
+    """One line: what the stop stopped, what it dropped, whether the arm is still."""
+    if reply.stopped and reply.phase is not None:
+        what = "trajectory" if reply.phase == "trajectory" else "approach"
+        where = (
+            f" at t = {reply.played:.2f} s of {reply.phase_duration:.2f} s"
+            if reply.played is not None and reply.phase_duration is not None
+            else " as it started"
+        )
+        line = f"stopped the {reply.arm} arm's {what}{where}"
+    elif reply.stopped:
+        line = f"stopped the {reply.arm} arm's execution before its trajectory was sent"
+    elif reply.arm is not None:
+        line = f"the {reply.arm} arm's execution ended before the stop took effect"
+    else:
+        line = "nothing was playing"
+    if reply.dropped:
+        line += f"; dropped {reply.dropped} waiting trajectories"
+    line += "; the arm is still" if reply.still else "; the arm is NOT known still"
+    return f"{line} (answered in {reply.waited:.2f} s)"

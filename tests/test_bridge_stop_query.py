@@ -1,0 +1,330 @@
+"""``<ns>/bridge/stop``: any Zenoh client stops the arm the bridge moves.
+
+Real parts: a Zenoh router process (``armplan.launch``), the simulated NAO
+as its own process over libqi, a :class:`BridgeService` (and, for
+``--follow``, its follower) in this process on a real Zenoh session, a
+client session asking ``bridge/execute`` from a thread and ``bridge/stop``;
+a libqi session of the test's own reads the sim's measured angles. The
+bridge serves with ONE worker: a stop queued behind the blocking execute
+would be answered only once the trajectory had played.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import zenoh
+
+from armplan.launch import Launcher, free_endpoint
+from bridge.follower import TrajectoryFollower
+from bridge.minimum_jerk import minimum_jerk_trajectory
+from bridge.naoqi_client import NaoqiClient
+from bridge.robot_bridge import RobotBridge
+from bridge.service import BridgeService
+from bridge.sim import SimProcess
+from bridge.sim.log import read_log
+from shared.bus import Bus, ServiceHost, load_config
+from shared.bus.robot_routes import BRIDGE, EXECUTE, STOP
+from shared.bus.routes import TRAJECTORY_TOPIC
+from shared.bus.topics import BRIDGE_OUTCOME_TOPIC, BRIDGE_STATE_TOPIC
+from shared.errors import ArmplanError, ServiceUnavailableError
+from shared.libqi import qi
+from shared.messages import (
+    ExecuteRequest,
+    ExecutionOutcome,
+    JointState,
+    StopReply,
+    StopRequest,
+    Trajectory,
+)
+from shared.robot import Side
+from shared.robot.postures import forward, rest
+
+REPO = Path(__file__).resolve().parents[1]
+NAMES = list(Side.RIGHT.joint_names)
+#: The long trajectory: rest -> arm stretched forward, no approach needed
+#: (the sim starts at rest).
+LONG = 4.0
+
+
+def _reach(seconds: float) -> Trajectory:
+    return minimum_jerk_trajectory(
+        "right", [rest("right"), forward("right")], [seconds]
+    )
+
+
+def _wait(what: str, done: Any, within: float = 15.0) -> None:
+    deadline = time.monotonic() + within
+    while not done():
+        assert time.monotonic() < deadline, f"{what}: not within {within:g} s"
+        time.sleep(0.01)
+
+
+class Served:
+    """The router, the sim, the bridge service (one worker) and a client bus."""
+
+    def __init__(
+        self,
+        bus: Bus,
+        service: BridgeService,
+        sim: SimProcess,
+        follower: TrajectoryFollower | None,
+    ) -> None:
+        self.bus, self.service, self.sim, self.follower = bus, service, sim, follower
+        self.states: list[JointState] = []
+        self.outcomes: list[ExecutionOutcome] = []
+        self._subscribers = [
+            bus.session.declare_subscriber(bus.key(BRIDGE_STATE_TOPIC), self._state),
+            bus.session.declare_subscriber(
+                bus.key(BRIDGE_OUTCOME_TOPIC), self._outcome
+            ),
+        ]
+        self._qi = qi.Session()
+        self._qi.connect(sim.url)
+        self._motion = self._qi.service("ALMotion")
+
+    def _state(self, sample: zenoh.Sample) -> None:
+        self.states.append(JointState.model_validate_json(sample.payload.to_bytes()))
+
+    def _outcome(self, sample: zenoh.Sample) -> None:
+        self.outcomes.append(
+            ExecutionOutcome.model_validate_json(sample.payload.to_bytes())
+        )
+
+    def measured(self) -> np.ndarray:
+        """The right arm's measured angles now [rad], read by the test."""
+        return np.array(self._motion.getAngles(NAMES, True), dtype=float)
+
+    def sim_calls(self, method: str) -> int:
+        assert self.sim.log_path is not None
+        return sum(
+            1
+            for e in read_log(self.sim.log_path)
+            if e["event"] == "call" and e.get("method") == method
+        )
+
+    def execute_in_background(self, trajectory: Trajectory) -> dict[str, Any]:
+        """Ask ``bridge/execute`` from a thread; the dict gets "reply" or "error"."""
+        outcome: dict[str, Any] = {}
+
+        def call() -> None:
+            try:
+                request = ExecuteRequest(trajectory=trajectory)
+                outcome["reply"] = self.bus.call(EXECUTE, request, timeout=30.0)
+            except ArmplanError as error:
+                outcome["error"] = error
+
+        outcome["thread"] = threading.Thread(target=call)
+        outcome["thread"].start()
+        return outcome
+
+    def wait_for_state(self, after: float) -> None:
+        _wait(
+            f"a state after t = {after} s",
+            lambda: any(s.time > after for s in list(self.states)),
+        )
+
+    def close(self) -> None:
+        for subscriber in self._subscribers:
+            subscriber.undeclare()  # type: ignore[no-untyped-call]
+        self._qi.close()
+
+
+@contextlib.contextmanager
+def served(tmp_path: Path, sim: SimProcess, follow: bool = False) -> Iterator[Served]:
+    config = load_config(endpoints=(free_endpoint(),))
+    client = NaoqiClient(sim.url)
+    try:
+        with (
+            (tmp_path / "router.log").open("w") as router_log,
+            Launcher(config, [], log=router_log),
+            Bus.connect(replace(config, workers=1)) as bridge_bus,
+            Bus.connect(config) as bus,
+        ):
+            service = BridgeService(bridge_bus, RobotBridge(client))
+            follower = TrajectoryFollower(service) if follow else None
+            with ServiceHost(bridge_bus, BRIDGE, service.endpoints()):
+                if follower is not None:
+                    follower.start()
+                bus.wait_alive([BRIDGE], 10.0)
+                there = Served(bus, service, sim, follower)
+                try:
+                    yield there
+                finally:
+                    there.close()
+                    if follower is not None:
+                        follower.stop()
+    finally:
+        client.close()
+
+
+def _assert_stopped_mid_way(there: Served) -> np.ndarray:
+    """The sim's arm holds still, well short of the trajectory's end."""
+    before = there.measured()
+    time.sleep(0.3)
+    after = there.measured()
+    print(f"\nheld after the stop [rad]: {after.round(4).tolist()}")
+    assert np.abs(after - before).max() < 1e-3  # still
+    assert np.abs(after - np.array(forward("right"))).max() > 0.2  # not at the end
+    assert np.abs(after - np.array(rest("right"))).max() > 0.05  # it had moved
+    return after
+
+
+def test_a_stop_query_stops_the_trajectory_playing_at_once(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """1 s into a 4 s trajectory, ``bridge/stop`` (while the execute query
+    blocks the bridge's only worker): the arm is stopped where it is, the
+    execute caller gets the robot's stopped error, the outcome says who
+    stopped it, and the reply comes once the arm is still. An execute
+    query after it plays as usual (a stop is no latch)."""
+    with served(tmp_path, sim) as there:
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(1.0)
+        asked = time.monotonic()
+        reply = there.bus.call(STOP, StopRequest(reason="test e-stop"), timeout=10.0)
+        took = time.monotonic() - asked
+        print(f"\n{reply.to_json()} in {took:.2f} s")
+        running["thread"].join(10.0)
+        assert not running["thread"].is_alive()
+        assert isinstance(reply, StopReply)
+        assert (reply.playing, reply.stopped, reply.arm, reply.phase) == (
+            True,
+            True,
+            "right",
+            "trajectory",
+        )
+        assert reply.played is not None and 0.9 < reply.played < 2.5
+        assert reply.phase_duration == pytest.approx(LONG, abs=0.05)
+        assert reply.still and reply.dropped == 0
+        assert reply.reason == "test e-stop"
+        assert took < 2.5  # not after the trajectory's end (3 s later)
+        error = running.get("error")
+        assert isinstance(error, ArmplanError), running
+        assert error.kind == "robot_state" and error.evidence.get("stopped")
+        assert error.evidence["stopped_by"] == "bridge/stop"
+        assert "a bridge/stop query stopped the movement at t = " in error.message
+        assert 'reason: "test e-stop"' in error.message
+        assert there.sim_calls("killTasksUsingResources") >= 1
+        _assert_stopped_mid_way(there)
+        _wait("the outcome", lambda: len(there.outcomes) == 1)
+        (outcome,) = there.outcomes
+        assert (outcome.outcome, outcome.phase, outcome.stopped_by) == (
+            "stopped",
+            "trajectory",
+            "bridge/stop",
+        )
+        assert outcome.stop_reason == "test e-stop"
+        assert outcome.played == reply.played
+        # not a latch: the next execute query plays (an approach, then 1 s)
+        again = there.bus.call(
+            EXECUTE, ExecuteRequest(trajectory=_reach(1.0)), timeout=20.0
+        )
+        assert again.approach_duration > 0.0
+        assert np.abs(there.measured() - np.array(forward("right"))).max() < 0.02
+
+
+def test_a_stop_with_nothing_playing_answers_at_once(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """Nothing playing: answered at once, playing false; twice the same."""
+    with served(tmp_path, sim) as there:
+        for _ in range(2):
+            asked = time.monotonic()
+            reply = there.bus.call(STOP, "{}", timeout=5.0)
+            assert time.monotonic() - asked < 1.0
+            assert (reply.playing, reply.stopped, reply.still) == (False, False, True)
+            assert reply.arm is None and reply.dropped == 0 and reply.waited < 0.1
+            assert reply.reason is None
+        assert there.sim_calls("killTasksUsingResources") == 0
+        assert there.outcomes == []
+
+
+def test_a_stop_query_refuses_a_bad_reason_by_name(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """A reason that is no string is the typed invalid_input naming it."""
+    with served(tmp_path, sim) as there:
+        with pytest.raises(ArmplanError) as caught:
+            there.bus.call(STOP, '{"reason": 5}', timeout=5.0)
+        assert caught.value.kind == "invalid_input"
+        assert "reason" in caught.value.message
+
+
+def test_a_stop_query_drops_every_trajectory_the_follower_holds(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """``--follow`` with three trajectories published: a stop during the
+    first stops it and drops the two waiting (counted in the reply); one
+    published after the stop plays."""
+    with served(tmp_path, sim, follow=True) as there:
+        follower = there.follower
+        assert follower is not None
+        for seconds in (LONG, 1.0, 1.0):
+            there.bus.publish(TRAJECTORY_TOPIC, _reach(seconds))
+        there.wait_for_state(0.8)
+        reply = there.bus.call(STOP, StopRequest(), timeout=10.0)
+        print(f"\n{reply.to_json()}")
+        assert (reply.playing, reply.stopped, reply.dropped) == (True, True, 2)
+        assert reply.still and reply.phase == "trajectory"
+        assert follower.dropped == 2
+        time.sleep(1.0)  # nothing more plays
+        assert there.sim_calls("angleInterpolation") == 1
+        _assert_stopped_mid_way(there)
+        there.bus.publish(TRAJECTORY_TOPIC, _reach(1.0))
+        _wait("the one published after the stop", lambda: follower.played == 1)
+        assert [o.outcome for o in there.outcomes] == ["stopped", "completed"]
+
+
+def _armplan(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "armplan", *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+        cwd=REPO,
+    )
+
+
+def test_armplan_stop_stops_the_arm_end_to_end(tmp_path: Path, sim: SimProcess) -> None:
+    """``armplan stop --connect E --reason R`` during a trajectory: exit 0,
+    it says what it stopped, and the arm holds still short of the end."""
+    with served(tmp_path, sim) as there:
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(0.8)
+        endpoint = there.bus.config.endpoint
+        done = _armplan("stop", "--connect", endpoint, "--reason", "from the CLI")
+        print(f"\n{done.stdout}{done.stderr}")
+        assert done.returncode == 0, done.stderr
+        assert done.stdout.startswith("stopped the right arm's trajectory at t = ")
+        assert "; the arm is still (answered in " in done.stdout
+        running["thread"].join(10.0)
+        assert running["error"].evidence["stop_reason"] == "from the CLI"
+        _assert_stopped_mid_way(there)
+
+
+def test_armplan_stop_without_a_bridge_is_a_clear_error(tmp_path: Path) -> None:
+    """A router but no bridge: exit 1, naming the bridge that is not alive."""
+    config = load_config(endpoints=(free_endpoint(),))
+    with (
+        (tmp_path / "router.log").open("w") as router_log,
+        Launcher(config, [], log=router_log),
+    ):
+        done = _armplan("stop", "--connect", config.endpoint, "--timeout", "3")
+    print(f"\n{done.stderr}")
+    assert done.returncode == 1
+    assert done.stdout == ""
+    assert done.stderr.startswith("armplan: error: ")
+    assert "bridge" in done.stderr and "armplan/bridge/stop" in done.stderr
+    assert ServiceUnavailableError.kind == "service_unavailable"
