@@ -33,8 +33,8 @@ from armplan.secure import (
 from bridge.claim import claim_key, sole_bridge
 from services.recorder import RecorderOptions
 from services.recorder.service import Recorder
-from shared.bus import Bus, BusConfig, load_config
-from shared.bus.robot_routes import EXECUTE
+from shared.bus import Bus, BusConfig, ServiceHost, load_config
+from shared.bus.robot_routes import EXECUTE, STOP
 from shared.bus.routes import FIT_MODEL, IK_SOLVE, PLAN, ROUTES, TRAJECTORY_TOPIC
 from shared.bus.topics import BRIDGE_FRAMES_TOPIC, TOPICS
 from shared.errors import (
@@ -42,7 +42,7 @@ from shared.errors import (
     ServiceRunningError,
     ServiceUnavailableError,
 )
-from shared.messages import IKRequest, PlanRequest, Trajectory
+from shared.messages import IKRequest, PlanRequest, StopRequest, Trajectory
 from shared.recording import read_records
 
 NS = "armplan"
@@ -50,7 +50,7 @@ ACL = AccessControl.from_file(TEMPLATE)
 USERS = ACL.usernames()
 #: Users that are armplan processes (not another machine's router).
 PROCESS_USERS = [u for u in USERS if u != "router"]
-ROUTE_KEYS = [f"{NS}/{r.path}" for r in (*ROUTES, EXECUTE)]
+ROUTE_KEYS = [f"{NS}/{r.path}" for r in (*ROUTES, EXECUTE, STOP)]
 REACH = PlanRequest.model_validate({"targets": [{"position": (0.12, -0.10, 0.05)}]})
 #: How long a refused message is waited for before concluding it never comes [s].
 QUIET = 1.0
@@ -65,7 +65,7 @@ def test_every_process_of_the_catalog_has_a_user() -> None:
     assert sorted(PROCESS_USERS) == sorted([*zenoh_processes, "client"])
 
 
-@pytest.mark.parametrize("route", [*ROUTES, EXECUTE], ids=lambda r: r.path)
+@pytest.mark.parametrize("route", [*ROUTES, EXECUTE, STOP], ids=lambda r: r.path)
 def test_each_route_is_served_by_its_service_only(route: Any) -> None:
     """Only the route's service may declare its queryable and answer on it."""
     key = route.key(NS)
@@ -105,10 +105,24 @@ def test_only_the_bridge_is_on_the_robot_keys() -> None:
                 ), (user, message, key)
 
 
-def test_clients_may_only_ask_for_plans_and_read_results() -> None:
-    """The client asks armplan/plan only, publishes nothing, reads results."""
+def test_only_the_client_may_ask_the_bridge_to_stop() -> None:
+    """armplan/bridge/stop: the client (the operator) asks, the bridge answers;
+    no other user asks it, and nobody asks armplan/bridge/execute."""
+    for user in PROCESS_USERS:
+        asks = ACL.allows(user, "query", "ingress", STOP.key(NS))
+        assert asks is (user == "client"), user
+        answered = ACL.allows(user, "reply", "egress", STOP.key(NS))
+        assert answered is (user == "client"), user
+        assert not ACL.allows(user, "query", "ingress", EXECUTE.key(NS)), user
+    assert ACL.allows("bridge", "query", "egress", STOP.key(NS))
+    assert ACL.allows("bridge", "reply", "ingress", STOP.key(NS))
+
+
+def test_clients_may_only_ask_for_plans_and_stops_and_read_results() -> None:
+    """The client asks armplan/plan and armplan/bridge/stop only, publishes
+    nothing, reads results."""
     asks = [k for k in ROUTE_KEYS if ACL.allows("client", "query", "ingress", k)]
-    assert asks == [PLAN.key(NS)]
+    assert asks == [PLAN.key(NS), STOP.key(NS)]
     for key in [*ROUTE_KEYS, *(t.key(NS) for t in TOPICS)]:
         assert not ACL.allows("client", "put", "ingress", key)
         assert not ACL.allows("client", "declare_queryable", "ingress", key)
@@ -432,6 +446,34 @@ def test_a_secured_recording_holds_the_model_served_at_its_start(
     assert recorder.model_at_start.recorded
     topics = [(r.topic, r.schema) for r in read_records(out)]
     assert (FIT_MODEL.key(NS), "MotionModel") in topics
+
+
+def test_a_client_may_stop_the_arm_but_not_move_it(secured: Bundle) -> None:
+    """The client's bridge/stop reaches the bridge and is answered (the
+    operator's stop); its bridge/execute never arrives."""
+    from bridge.naoqi_client import NaoqiClient
+    from bridge.robot_bridge import RobotBridge
+    from bridge.service import BridgeService
+
+    robot = NaoqiClient(f"tcp://127.0.0.1:{free_endpoint().rsplit(':', 1)[1]}")
+    with (
+        Bus.connect(load_config(secured.clients["bridge"])) as served,
+        Bus.connect(load_config(secured.clients["client"])) as client,
+    ):
+        service = BridgeService(served, RobotBridge(robot))
+        with ServiceHost(served, "bridge", service.endpoints()):
+            assert not client.wait_alive(["bridge"], 10.0)
+            reply = client.call(STOP, StopRequest(reason="secured"), timeout=5.0)
+            assert (reply.playing, reply.stopped, reply.reason) == (
+                False,
+                False,
+                "secured",
+            )
+            started = time.monotonic()
+            with pytest.raises((ServiceUnavailableError, RequestTimeoutError)):
+                client.call(EXECUTE, b"{}", timeout=2.0)
+            assert time.monotonic() - started < 3.0
+    robot.close()
 
 
 def test_a_client_cannot_ask_the_stage_services(secured: Bundle) -> None:
