@@ -4,7 +4,8 @@ Usage: ``python -m bridge.serve [--robot tcp://IP:9559] [--follow]
 [--config FILE] [--connect tcp/HOST:PORT] [--rate HZ] [--allow-not-awake]``.
 
 It connects to the router (waiting up to ``--wait`` seconds), answers
-``<ns>/bridge/execute`` (:mod:`bridge.service`), with ``--follow`` also plays
+``<ns>/bridge/execute`` and ``<ns>/bridge/stop`` (the operator's stop:
+``armplan stop``; :mod:`bridge.service`), with ``--follow`` also plays
 every trajectory published on ``<ns>/plan/trajectory``
 (:mod:`bridge.follower`), and runs until SIGTERM or SIGINT (or its launcher
 dies). Told to stop, it sends no new command: a request in its approach is
