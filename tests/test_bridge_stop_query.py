@@ -234,6 +234,34 @@ def test_a_stop_query_stops_the_trajectory_playing_at_once(
         assert np.abs(there.measured() - np.array(forward("right"))).max() < 0.02
 
 
+def test_a_stop_query_in_the_approach_sends_nothing_of_the_trajectory(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """Stopped 0.3 s into the approach to a trajectory's start: the approach
+    is stopped where it is, and the trajectory is never sent."""
+    from_forward = minimum_jerk_trajectory(
+        "right", [forward("right"), rest("right")], [2.0]
+    )
+    with served(tmp_path, sim) as there:
+        running = there.execute_in_background(from_forward)
+        there.wait_for_state(-10.0)  # the approach's first state
+        time.sleep(0.3)
+        reply = there.bus.call(STOP, StopRequest(), timeout=10.0)
+        print(f"\n{reply.to_json()}")
+        running["thread"].join(10.0)
+        assert (reply.playing, reply.stopped, reply.phase) == (True, True, "approach")
+        assert reply.played is not None and reply.phase_duration is not None
+        assert 0.1 < reply.played < reply.phase_duration
+        error = running["error"]
+        assert "a bridge/stop query stopped the approach at t = " in error.message
+        assert "nothing of the trajectory was sent" in error.message
+        time.sleep(0.5)
+        assert there.sim_calls("angleInterpolation") == 1  # the approach alone
+        _assert_stopped_mid_way(there)
+        _wait("the outcome", lambda: len(there.outcomes) == 1)
+        assert there.outcomes[0].phase == "approach"
+
+
 def test_a_stop_with_nothing_playing_answers_at_once(
     tmp_path: Path, sim: SimProcess
 ) -> None:
