@@ -7,7 +7,10 @@ decided them (``Decision.model``, a 12-hex digest) but the recording did not
 hold that model. So a recorder whose keys take ``fit/model/update`` asks
 ``<ns>/fit/model`` once, on its own thread (the recording starts at once),
 and records the answer on the channel ``<ns>/fit/model`` (schema
-``MotionModel``): the model served when the recording started.
+``MotionModel``): the model served when the recording started. Each later
+file of a rotating recording starts with the last model recorded, on the
+same channel (``sink.RecordingSink``); a replay sends none of them
+(``replay_parts.to_send``): they were answers, not publications.
 
 The answer is dropped if a model was published on ``fit/model/update``
 after it was asked for (that one is newer, and recorded), or if the
@@ -23,7 +26,7 @@ import time
 
 import zenoh
 
-from services.recorder.routing import Incoming
+from services.recorder.routing import ASKED_ENCODING, Incoming
 from services.recorder.sink import RecordingSink
 from shared.bus import Bus, NoArguments
 from shared.bus.routes import FIT_MODEL, MODEL_TOPIC
@@ -32,8 +35,6 @@ from shared.errors import ArmplanError
 log = logging.getLogger("armplan.recorder")
 #: Longest wait for the fit service's answer [s] (as the decide service's).
 ASK_TIMEOUT = 5.0
-#: The answer's Zenoh encoding, as a service's replies are labelled.
-ENCODING = "application/json"
 
 
 def records_models(exprs: list[zenoh.KeyExpr], namespace: str) -> bool:
@@ -101,7 +102,7 @@ class ModelAtStart:
         sample = Incoming(
             self._bus.key(FIT_MODEL.path),
             model.model_dump_json().encode(),
-            ENCODING,
+            ASKED_ENCODING,
             now,
             now,
         )

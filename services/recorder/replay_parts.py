@@ -20,6 +20,7 @@ from pathlib import Path
 
 import zenoh
 
+from services.recorder.routing import ASKED
 from shared.errors import InvalidInputError, RecordingError
 from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.reader import Recording
@@ -217,6 +218,9 @@ def to_send(looked: Looked, wanted: Matcher, keys_given: bool, namespace: str) -
         for topic, _ in sorted(looked.spans.items(), key=lambda item: item[1].first)
         if not topic.startswith("/")  # derived for Foxglove: not sent
     }
+    # the recorder's own questions' answers (the model at its start): no
+    # service publishes them, and a put on a queryable's key reaches no one
+    relative = {t: path for t, path in relative.items() if path not in ASKED}
     bad = [topic for topic, path in relative.items() if not is_key(path)]
     if bad and not keys_given:
         span = looked.spans[bad[0]]

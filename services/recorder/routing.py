@@ -71,11 +71,14 @@ class Entry(NamedTuple):
 
 
 #: The answers the recorder asks for and records, by key under the namespace.
+#: A replay does not send them: they were answers, not publications.
 ASKED: dict[str, type[Message]] = {FIT_MODEL.path: FIT_MODEL.reply}
+#: The Zenoh encoding noted on their channels, as a service labels replies.
+ASKED_ENCODING = "application/json"
 
 
 @cache
-def _schema(cls: type[Message]) -> dict[str, Any]:
+def typed_schema(cls: type[Message]) -> dict[str, Any]:
     """``cls``'s JSON schema, computed once per class."""
     return cls.json_schema()
 
@@ -104,11 +107,15 @@ def route(incoming: Incoming, namespace: str) -> Entry:
     if not is_json_object(payload):
         raw = RawPayload.of(payload, incoming.encoding)
         return Entry(
-            key, RawPayload.__name__, _schema(RawPayload), raw.to_json().encode(), None
+            key,
+            RawPayload.__name__,
+            typed_schema(RawPayload),
+            raw.to_json().encode(),
+            None,
         )
     path = relative_path(key, namespace)
     cls = None if path is None else topic_message(path) or ASKED.get(path)
     message = None if cls is None else _typed(cls, payload)
     if cls is not None and message is not None:
-        return Entry(key, cls.__name__, _schema(cls), payload, message)
+        return Entry(key, cls.__name__, typed_schema(cls), payload, message)
     return Entry(key, JSON_SCHEMA_NAME, JSON_SCHEMA, payload, None)

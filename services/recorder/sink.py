@@ -33,8 +33,16 @@ import time
 from pathlib import Path
 
 from services.recorder.options import RecorderOptions
-from services.recorder.routing import Entry, Incoming, route
+from services.recorder.routing import (
+    ASKED_ENCODING,
+    Entry,
+    Incoming,
+    route,
+    typed_schema,
+)
+from shared.bus.routes import FIT_MODEL
 from shared.errors import RecordingError
+from shared.messages import MotionModel
 from shared.recording.foxglove import FoxgloveChannels, description_message
 from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
@@ -105,6 +113,7 @@ class RecordingSink:
         self.error: RecordingError | None = None
         self.broken = threading.Event()
         self._queue: queue.SimpleQueue[Incoming | None] = queue.SimpleQueue()
+        self._model: bytes | None = None  # the last model written, its JSON
         self._files = RotatingWriter(
             options.output,
             options.rotation,
@@ -269,6 +278,8 @@ class RecordingSink:
                 metadata=_channel_metadata(entry, sample),
             )
             self.written += 1
+            if isinstance(entry.message, MotionModel):
+                self._model = entry.data
         except RecordingError:
             raise  # the file takes no more: see _run
         except Exception:  # a writer keeps writing: log, count, go on
@@ -323,7 +334,12 @@ class RecordingSink:
             log.exception("recorder: Foxglove poses of %s cut short", entry.topic)
 
     def _on_open(self, writer: MessageWriter, number: int) -> None:
-        """Start a file: the recorder's metadata, then the robot description."""
+        """Start a file: the recorder's metadata, the robot description, the model.
+
+        A file after the first starts with the last motion model recorded
+        (asked at the start or published since) on ``<ns>/fit/model``: each
+        file stands alone, its decisions' model with it.
+        """
         now = time.time_ns()
         writer.add_metadata(
             ARMPLAN_METADATA,
@@ -340,4 +356,12 @@ class RecordingSink:
             channel = writer.add_channel(d.topic, d.schema_name, d.schema)
             writer.write_raw(channel, d.data, d.log_time, d.log_time)
             self.derived += 1
+        if self._model is not None:
+            model = writer.add_channel(
+                f"{self.namespace}/{FIT_MODEL.path}",
+                MotionModel.__name__,
+                typed_schema(MotionModel),
+                {ZENOH_ENCODING: ASKED_ENCODING},
+            )
+            writer.write_raw(model, self._model, now, now)
         writer.flush()
