@@ -167,3 +167,25 @@ def test_an_output_that_is_the_input_is_refused(
         "it would destroy that input; choose another output name\n"
     )
     assert source.read_text() == before
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_a_plans_error_file_is_named_as_one(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, fmt: str
+) -> None:
+    """`armplan plan --json > f.json` for an unreachable target writes the
+    error there; exporting f.json said "invalid Trajectory: arm: Field
+    required; and 8 more problems". Now it says the file holds the plan's
+    error, and which."""
+    failed = tmp_path / "failed.json"
+    assert main(["plan", "--target", "0.5", "0.5", "0.5", "--json"]) == 1
+    failed.write_text(capsys.readouterr().out)
+    output = tmp_path / f"out.{fmt}"
+    code, err = export(capsys, fmt, failed, str(output))
+    assert code == 1
+    assert err.startswith(
+        f"armplan: error: {failed} holds an armplan error (unreachable_target), "
+        "not a trajectory: the command that wrote it failed: target (0.5, 0.5, "
+        "0.5) m is 0.8761 m from the right shoulder"
+    )
+    assert not output.exists()

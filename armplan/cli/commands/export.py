@@ -51,7 +51,27 @@ def read_trajectory(path: str) -> Trajectory:
         ) from None
     if isinstance(data, dict) and isinstance(data.get("trajectory"), dict):
         data = data["trajectory"]
+    _refuse_error_document(data, path)
     return parse(Trajectory, data)
+
+
+def _refuse_error_document(data: Any, path: str) -> None:
+    """Refuse a file that holds a command's error (``{"error": {...}}``), not a plan.
+
+    ``armplan plan --json > f.json`` writes the error there when planning
+    fails; exported, it used to read "invalid Trajectory: arm: Field
+    required; and 8 more problems".
+    """
+    error = data.get("error") if isinstance(data, dict) else None
+    if not isinstance(error, dict) or "times" in data:
+        return
+    kind, message = error.get("kind", "?"), error.get("message", "")
+    raise InvalidInputError(
+        f"{path} holds an armplan error ({kind}), not a trajectory: the command "
+        f"that wrote it failed: {message}",
+        field="trajectory",
+        error_kind=kind,
+    )
 
 
 def run(args: argparse.Namespace) -> int:
