@@ -10,6 +10,12 @@ before anything imports pinocchio. Every armplan module imports pinocchio
 through ``shared.robot``, and ``shared/__init__.py`` imports this module
 first, so any process that imports ``shared`` before pinocchio is safe; the
 warning below names the one that does not.
+
+libqi's warning that no ``qi.Application`` was made (``[W] ...
+qi.path.sdklayout: No Application was created, trying to deduce paths``) is
+filtered out: armplan makes none on purpose (it finds no files through
+libqi), and C++ wrote the line on standard output, ahead of what a reader
+of ``armplan sim``'s output waits for (its ready line).
 """
 
 from __future__ import annotations
@@ -22,6 +28,10 @@ LOADED_AFTER_PINOCCHIO = "pinocchio" in sys.modules and "qi" not in sys.modules
 
 import qi  # noqa: E402
 
+#: libqi's log categories armplan silences (see above).
+SILENCED = ("qi.path.sdklayout",)
+qi.logging.setFilters(":".join(f"-{category}" for category in SILENCED))
+
 if LOADED_AFTER_PINOCCHIO:
     warnings.warn(
         "libqi was loaded after pinocchio: a dropped robot connection may crash "
@@ -30,4 +40,4 @@ if LOADED_AFTER_PINOCCHIO:
         stacklevel=2,
     )
 
-__all__ = ["LOADED_AFTER_PINOCCHIO", "qi"]
+__all__ = ["LOADED_AFTER_PINOCCHIO", "SILENCED", "qi"]

@@ -228,3 +228,23 @@ def test_the_sim_options_reach_the_sim() -> None:
     finally:
         process.terminate()
         process.communicate(timeout=10)
+
+
+def test_the_first_line_of_the_sims_output_is_its_ready_line() -> None:
+    """libqi printed "[W] ... qi.path.sdklayout: No Application was created"
+    on standard output before ``armplan-sim ready URL``; a script reading the
+    first line for the address read the warning."""
+    url = f"tcp://127.0.0.1:{free_endpoint().rsplit(':', 1)[1]}"
+    child = subprocess.Popen(
+        [sys.executable, "-m", "armplan", "sim", "--listen", url],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        stdin=subprocess.DEVNULL,
+        text=True,
+    )
+    try:
+        assert child.stdout is not None
+        assert child.stdout.readline() == f"{READY} {url}\n"
+    finally:
+        child.terminate()
+        child.wait(30)
