@@ -25,41 +25,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from bridge.play_runner import runner_source
 from bridge.script_stiffen import STIFFEN_SOURCE
 from shared.messages import CommandFrames
 from shared.output_paths import write_output_text
 
 #: Fraction of the speed limits used to reach the start posture.
 START_SPEED = 0.2
-
-_RUNNER = '''
-
-def main(url="tcp://127.0.0.1:9559"):
-    """Play the keys on the ALMotion at ``url`` (a NAO: tcp://IP:9559)."""
-    try:
-        import qi
-
-        session = qi.Session()
-        session.connect(url)
-        motion = session.service("ALMotion")
-    except ImportError:
-        from naoqi import ALProxy
-
-        host, port = url.split("://")[-1].split(":")
-        motion = ALProxy("ALMotion", host, int(port))
-    stiffen_where_it_is(motion, names)
-    motion.angleInterpolationWithSpeed(names, start, {speed})
-    motion.angleInterpolation(names, keys, times, True)
-
-
-if __name__ == "__main__":
-    import sys
-
-    try:
-        main(*sys.argv[1:2])
-    except RuntimeError as error:
-        sys.exit("play.py: error: %s" % error)
-'''
 
 
 def _numbers(values: list[float]) -> str:
@@ -92,7 +64,10 @@ def python_script(frames: CommandFrames) -> str:
             "",
         ]
     lines.append(f"start = {_numbers(list(frames.start))}")
-    return "\n".join(lines) + STIFFEN_SOURCE + _RUNNER.format(speed=START_SPEED)
+    runner = runner_source(
+        frames.arm.value, len(frames.times), frames.rate, frames.duration, START_SPEED
+    )
+    return "\n".join(lines) + STIFFEN_SOURCE + runner
 
 
 def write_python(frames: CommandFrames, path: str | Path) -> Path:
