@@ -11,14 +11,15 @@ Choregraphe's timeline export writes three lists, appended to per joint::
     keys.append([1.2, 1.21, ...])     # [rad] (a hand, RHand: open fraction)
 
 and then calls ``motion.angleInterpolation(names, keys, times, True)``. The
-script written here has exactly that block, plus a runner that works on
-Python 2 (NAOqi's ``naoqi`` module) and Python 3 (the ``qi`` package):
-connect to ALMotion (``tcp://127.0.0.1:9559`` or the address given as first
-argument), refuse a robot not awake, stiffen the joints where they are (a
-limp arm's command first moved to where it hangs: ``bridge.script_stiffen``),
-move slowly to the start posture (``angleInterpolationWithSpeed``, 20 % of
-the speed limits), then play. A refusal prints ``play.py: error: ...`` and
-exits 1.
+script written here has exactly that block, plus a runner
+(``bridge.play_runner``) that works on Python 2 (NAOqi's ``naoqi`` module,
+or ``qi``) and Python 3 (the ``qi`` package): connect to ALMotion
+(``tcp://127.0.0.1:9559`` or the URL given, within ``--timeout``), refuse a
+robot not awake, stiffen the joints where they are (a limp arm's command
+first moved to where it hangs: ``bridge.script_stiffen``), move slowly to
+the start posture (``angleInterpolationWithSpeed``, 20 % of the speed
+limits), then play. A refusal prints ``play.py: error: ...`` and exits 1;
+Ctrl-C stops the arm where it is and exits 130.
 """
 
 from __future__ import annotations

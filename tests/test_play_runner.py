@@ -311,3 +311,10 @@ def test_the_options_work_on_python_2(tmp_path: Path) -> None:
     assert ran[2].stderr == (
         "play.py: error: neither the qi package nor NAOqi's naoqi module is installed\n"
     )
+
+
+def test_the_docs_show_the_scripts_own_usage(tmp_path: Path) -> None:
+    """docs/robot.md's usage line of play.py is the script's own."""
+    usage = run(script(tmp_path), "--help").stdout.splitlines()[0]
+    docs = Path(__file__).resolve().parents[1] / "docs" / "robot.md"
+    assert f"    python {usage.removeprefix('usage: ')}\n" in docs.read_text()
