@@ -12,6 +12,7 @@ description), and channels and schemas are registered again in each file.
 from __future__ import annotations
 
 import glob
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -20,6 +21,7 @@ from typing import Any
 
 from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import Closes
+from shared.recording.file_lock import locked_all
 from shared.recording.writer import MessageWriter, refuse_folder
 
 #: Default longest time between flushes of a live file [s].
@@ -86,7 +88,10 @@ class RotatingWriter(Closes):
         flush_every: Longest time between flushes to the OS [s].
         overwrite: Replace an existing recording at ``path`` (with rotation:
             its numbered files, all of them removed on opening); if False, an
-            existing one is refused and every file is created exclusively.
+            existing one is refused. Either way a recording another writer
+            is still writing is refused (``file_lock``): the first file stays
+            held for the whole recording, the current one while it is
+            written; the files after the first are created exclusively.
 
     Attributes:
         paths: Every file started so far, in order.
@@ -109,6 +114,7 @@ class RotatingWriter(Closes):
         self._flush_every = flush_every
         self._writer: MessageWriter | None = None
         self._opened = 0.0
+        self._claim: int | None = None  # holds the first file until close
         self.closed = False
 
     @property
@@ -135,7 +141,11 @@ class RotatingWriter(Closes):
         return numbered_parts(self.path) if self.policy.rotates else []
 
     def _clear_earlier(self) -> None:
-        """Remove (``overwrite``) or refuse an earlier rotating recording."""
+        """Remove (``overwrite``) or refuse an earlier rotating recording.
+
+        Either all of its files are removed or none: none while another
+        writer holds one of them (it is still recording).
+        """
         earlier = self._earlier_parts()
         if earlier and not self.overwrite:
             more = len(earlier) - 1
@@ -148,8 +158,9 @@ class RotatingWriter(Closes):
                 "--overwrite to replace them",
                 path=str(earlier[0]),
             )
-        for part in earlier:
-            part.unlink(missing_ok=True)
+        with locked_all(earlier):
+            for part in earlier:
+                part.unlink(missing_ok=True)
 
     def _due(self) -> bool:
         """Whether the current file has reached a limit."""
@@ -172,8 +183,10 @@ class RotatingWriter(Closes):
             path,
             chunked=False,
             flush_every=self._flush_every,
-            overwrite=self.overwrite,
+            overwrite=self.overwrite and number == 1,  # the rest were removed
         )
+        if number == 1 and self.policy.rotates:
+            self._claim = self._writer.hold()
         self._opened = time.monotonic()
         self.paths.append(path)
         if self._on_open is not None:
@@ -216,6 +229,15 @@ class RotatingWriter(Closes):
 
     def close(self) -> None:
         """Close the current file with its summary. Safe to call twice."""
-        if self._writer is not None:
-            self._writer.close()
-        self.closed = True
+        try:
+            if self._writer is not None:
+                self._writer.close()
+        finally:
+            self._release()
+            self.closed = True
+
+    def _release(self) -> None:
+        """Let go of the first file (another writer may replace it now)."""
+        if self._claim is not None:
+            os.close(self._claim)
+            self._claim = None

@@ -27,6 +27,7 @@ from mcap.writer import CompressionType, Writer
 from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import Closes
 from shared.messages.base import Message
+from shared.recording.file_lock import hold, open_locked
 
 PROFILE = "armplan"
 
@@ -43,12 +44,16 @@ class MessageWriter(Closes):
         path: File to create.
         chunked: Compressed chunks (offline) or one record per message (live).
         flush_every: Live layout only: longest time between flushes [s].
-        overwrite: Replace an existing file; if False, an existing file is
-            refused (created exclusively, so two writers cannot share it).
+        overwrite: Replace an existing file (unlinked, then a new one
+            created: never emptied in place), unless another writer holds
+            it; if False, an existing file is refused. Either way the file
+            is created exclusively and held (``file_lock``) until closed,
+            so two writers never share it.
 
     Raises:
         RecordingError: if the file cannot be created or written, is a
-            folder, or exists and ``overwrite`` is False.
+            folder, exists and ``overwrite`` is False, or another writer
+            is writing it (``overwrite`` or not).
     """
 
     def __init__(
@@ -62,16 +67,13 @@ class MessageWriter(Closes):
         self.path = Path(path)
         refuse_folder(self.path)
         try:
-            self._file: IO[bytes] = open(self.path, "wb" if overwrite else "xb")  # noqa: SIM115 (closed in close())
+            self._file: IO[bytes] = open_locked(self.path, overwrite=overwrite)
         except IsADirectoryError:  # made meanwhile
             raise folder_error(self.path) from None
-        except FileExistsError:
+        except RecordingError:
             if self.path.is_dir():  # made meanwhile
                 raise folder_error(self.path) from None
-            raise RecordingError(
-                f"{self.path} exists: give another name, or --overwrite to replace it",
-                path=str(self.path),
-            ) from None
+            raise
         except OSError as exc:
             raise RecordingError(
                 f"cannot create {self.path}: {exc.strerror}", path=str(self.path)
@@ -220,6 +222,14 @@ class MessageWriter(Closes):
             and time.monotonic() - self._last_flush >= self._flush_every
         ):
             self.flush()
+
+    def hold(self) -> int:
+        """A second descriptor of the file, holding it against other writers.
+
+        It keeps the file held (``file_lock``) past :meth:`close`, until
+        ``os.close`` closes it.
+        """
+        return hold(self._file)
 
     def flush(self) -> None:
         """Push buffered bytes to the OS (live layout: everything written so far)."""

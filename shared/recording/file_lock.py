@@ -1,0 +1,168 @@
+"""Recording files held by their writer: refused to another while written.
+
+A writer opens its file with :func:`open_locked`, which takes an advisory
+lock (``flock`` exclusive) on it and keeps it for as long as the file is
+open. Another writer asked to replace the file (``--overwrite``) or to
+remove it (the numbered files of a rotating recording) first tries the
+lock: a file another writer holds is refused, so two recorders never share
+one, and a recording still being written is never cut short. A file is
+replaced by unlinking it and creating a new one exclusively, never by
+truncating it in place: a writer that still had it open would go on
+writing into the emptied file.
+
+The lock is advisory: readers (``inspect``, a replay) do not take it and
+read a file being written as before.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import stat
+from collections.abc import Iterator, Sequence
+from contextlib import ExitStack, contextmanager
+from pathlib import Path
+from typing import IO
+
+from shared.errors import RecordingError
+
+#: Permissions of a new recording (before the umask), as ``open(..., "wb")``.
+MODE = 0o666
+
+
+def busy_error(path: Path) -> RecordingError:
+    """The error for a file another recorder is writing."""
+    return RecordingError(
+        f"{path} is being written by another recorder: give another name "
+        "(--overwrite never replaces a recording still being written)",
+        path=str(path),
+    )
+
+
+def exists_error(path: Path) -> RecordingError:
+    """The error for an existing file that is not to be replaced."""
+    return RecordingError(
+        f"{path} exists: give another name, or --overwrite to replace it",
+        path=str(path),
+    )
+
+
+def _lock(fd: int, path: Path) -> None:
+    """Take the exclusive lock of ``fd`` without waiting; close it if held.
+
+    Raises:
+        RecordingError: :func:`busy_error` if another writer holds it.
+    """
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise busy_error(path) from None
+
+
+def _same_file(fd: int, path: Path) -> bool:
+    """Whether ``path`` still names the file open at ``fd``."""
+    try:
+        now = os.stat(path)
+    except FileNotFoundError:
+        return False
+    held = os.fstat(fd)
+    return (now.st_dev, now.st_ino) == (held.st_dev, held.st_ino)
+
+
+def _create(path: Path) -> int:
+    """A new file at ``path``, created exclusively and locked.
+
+    Raises:
+        FileExistsError: if ``path`` exists.
+        RecordingError: if another writer replaced it before it was locked.
+    """
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, MODE)
+    _lock(fd, path)
+    if not _same_file(fd, path):  # replaced between the create and the lock
+        os.close(fd)
+        raise busy_error(path)
+    return fd
+
+
+def _take_over(path: Path) -> int | None:
+    """Replace the existing ``path``, unless another writer holds it.
+
+    A regular file is unlinked (while locked, so no writer takes it
+    meanwhile) and ``None`` returned: the caller creates a new one. Anything
+    else (a device such as ``/dev/full``, a symbolic link) is opened for
+    writing, locked, and a regular file behind a link emptied: its
+    descriptor.
+
+    Raises:
+        RecordingError: if another writer holds it.
+        OSError: if it cannot be opened.
+    """
+    try:
+        regular = stat.S_ISREG(os.lstat(path).st_mode)
+        fd = os.open(path, os.O_RDONLY if regular else os.O_WRONLY)
+    except FileNotFoundError:  # removed meanwhile: create it
+        return None
+    _lock(fd, path)
+    if regular:
+        path.unlink(missing_ok=True)
+        os.close(fd)
+        return None
+    if stat.S_ISREG(os.fstat(fd).st_mode):
+        os.ftruncate(fd, 0)
+    return fd
+
+
+def open_locked(path: Path, *, overwrite: bool) -> IO[bytes]:
+    """``path`` opened for writing, held (locked) until the file is closed.
+
+    Args:
+        path: The file.
+        overwrite: Replace an existing file (unless another writer holds it);
+            if False, an existing one is refused.
+
+    Raises:
+        RecordingError: if ``path`` exists (and ``overwrite`` is False) or
+            another writer holds it.
+        OSError: if the file system refuses to create or open it
+            (``IsADirectoryError`` for a folder).
+    """
+    for _ in range(2):  # a second time if another writer made it meanwhile
+        try:
+            return os.fdopen(_create(path), "wb")
+        except FileExistsError:
+            if not overwrite:
+                raise exists_error(path) from None
+        fd = _take_over(path)
+        if fd is not None:
+            return os.fdopen(fd, "wb")
+    raise busy_error(path)  # made again by another writer as it was replaced
+
+
+def hold(stream: IO[bytes]) -> int:
+    """A second descriptor on ``stream``'s file, holding its lock.
+
+    It keeps the lock when the stream is closed, until ``os.close`` closes it.
+    """
+    return os.dup(stream.fileno())
+
+
+@contextmanager
+def locked_all(paths: Sequence[Path]) -> Iterator[None]:
+    """Hold the lock of every one of ``paths`` (none held by another writer).
+
+    Used before removing them: either none is removed or all are, and none
+    another writer is writing.
+
+    Raises:
+        RecordingError: naming the first file another writer holds.
+    """
+    with ExitStack() as stack:
+        for path in paths:
+            try:
+                fd = os.open(path, os.O_RDONLY)
+            except FileNotFoundError:
+                continue
+            _lock(fd, path)
+            stack.callback(os.close, fd)
+        yield
