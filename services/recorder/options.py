@@ -27,12 +27,25 @@ def default_output() -> Path:
 def check_keys(keys: tuple[str, ...], namespace: str) -> tuple[str, ...]:
     """``keys`` if each, under ``namespace``, is a valid Zenoh key expression.
 
+    A key that starts with the namespace (``armplan/plan/trajectory``, copied
+    from ``armplan inspect``) is refused, naming the relative form: put under
+    the namespace again it recorded ``armplan/armplan/plan/trajectory``,
+    which nothing publishes (a replay's ``--keys`` likewise matches nothing).
+
     Raises:
         InvalidInputError: naming the first bad key expression.
     """
     if not keys:
         raise InvalidInputError("no key expression to record", field="keys")
     for key in keys:
+        if key.startswith(f"{namespace}/"):
+            relative = key.removeprefix(f"{namespace}/")
+            raise InvalidInputError(
+                f"--keys {key} starts with the namespace {namespace!r}: keys are "
+                f"relative to it, give {relative} (this would record "
+                f"{namespace}/{key})",
+                field="keys",
+            )
         try:
             zenoh.KeyExpr(f"{namespace}/{key}")
         except zenoh.ZError:

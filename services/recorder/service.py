@@ -32,6 +32,7 @@ from pathlib import Path
 
 import zenoh
 
+from services.recorder.alive_check import warn_if_nobody_alive
 from services.recorder.model_at_start import ModelAtStart, records_models
 from services.recorder.options import RecorderOptions, check_keys
 from services.recorder.routing import Incoming
@@ -83,6 +84,9 @@ class Recorder(StartStop):
     def start(self) -> Recorder:
         """Open the file, subscribe, then announce liveliness.
 
+        Warns (``alive_check``) when no armplan process is alive in the
+        namespace: a wrong ``--namespace`` records nothing.
+
         Raises:
             RecordingError: if the file cannot be created.
         """
@@ -92,6 +96,7 @@ class Recorder(StartStop):
         try:
             everything = f"{namespace}/**"
             self._subscriber = session.declare_subscriber(everything, self._on_sample)
+            warn_if_nobody_alive(self._bus, NAME)
             self._token = session.liveliness().declare_token(alive_key(namespace, NAME))
             if records_models(self._exprs, namespace):
                 self.model_at_start = ModelAtStart(self._bus, self.sink).start()

@@ -17,7 +17,12 @@ import threading
 
 import zenoh
 
-from shared.bus.keys import alive_key, alive_pattern, service_from_alive_key
+from shared.bus.keys import (
+    ALIVE,
+    alive_key,
+    alive_pattern,
+    service_from_alive_key,
+)
 
 #: Longest wait for the router's answer to a liveliness query [s].
 QUERY_TIMEOUT = 0.5
@@ -89,3 +94,24 @@ def list_alive(
         if reply.ok is not None
     }
     return sorted(names)
+
+
+def alive_by_namespace(
+    session: zenoh.Session, timeout: float = QUERY_TIMEOUT
+) -> dict[str, list[str]]:
+    """Every namespace with a service holding a token now: its services, sorted.
+
+    One liveliness query on ``**/alive/*`` (a secured router may answer only
+    for the namespaces its user may see).
+
+    Args:
+        session: An open session.
+        timeout: Longest wait for the router's answer [s].
+    """
+    found: dict[str, set[str]] = {}
+    for reply in session.liveliness().get(alive_pattern("**"), timeout=timeout):
+        if reply.ok is None:
+            continue
+        namespace, _, service = str(reply.ok.key_expr).rpartition(f"/{ALIVE}/")
+        found.setdefault(namespace, set()).add(service)
+    return {namespace: sorted(found[namespace]) for namespace in sorted(found)}
