@@ -2,9 +2,18 @@
 
 :func:`replay_items` gives the recorded Zenoh messages of files (not the
 derived ``/...`` Foxglove channels) in file order, which is the order the
-recorder received them, with each one's offset from the first [s] (from the
-log times), its original bytes (a ``RawPayload`` is unwrapped) and its
-Zenoh encoding. Keys are made relative to the recorded namespace, so a
+recorder received them, with each one's offset from the first [s], its
+original bytes (a ``RawPayload`` is unwrapped) and its Zenoh encoding.
+
+Offsets keep the spacing the messages had as they crossed the bus, in file
+order, and never decrease. In files armplan's recorder wrote they come from
+the publish times, which are the recorder's receipt times (its clock alone,
+written in file order). Not from the log times: those are Zenoh timestamps,
+the publisher's own clock when it sets one, and a message stamped by a
+publisher whose clock was 20 s behind held a replay of a 0.5 s session
+for 21.6 s. In a file another tool wrote the offsets come from the log
+times, each at least the one before (a file in reverse log-time order
+goes out at once, in file order). Keys are made relative to the recorded namespace, so a
 replay may publish under another one (a file another tool wrote notes
 none: its topics under the replay's namespace are full keys in it). The
 files are checked whole first (``replay_parts``), then read again message
@@ -48,7 +57,8 @@ class ReplayItem(NamedTuple):
     """One message to send again.
 
     Attributes:
-        offset: Its log time minus the first message's [s].
+        offset: When to send it after the first message [s]: its receipt
+            (else log) time minus the first's, at least the one before's.
         path: Its key relative to the recorded namespace, e.g. ``plan/trajectory``.
         payload: Its original bytes.
         encoding: Its Zenoh encoding.
@@ -66,7 +76,8 @@ class ReplayStats(NamedTuple):
     Attributes:
         sent: Messages sent.
         duration: Wall time from the first to the last send [s].
-        late: Largest delay of a send behind its scheduled time [s].
+        late: Largest delay of a send behind its scheduled time [s] (a
+            send on time or early counts 0).
     """
 
     sent: int
@@ -74,14 +85,17 @@ class ReplayStats(NamedTuple):
     late: float
 
 
-def _item(part: Part, stamp: Stamp, first: int) -> ReplayItem:
+def _item(part: Part, stamp: Stamp, first: int, by_receipt: bool) -> ReplayItem:
     """The message of ``stamp`` (its bytes read) to send again.
+
+    Its offset is not yet made at least the one before's (``Replay``).
 
     Raises:
         RecordingError: if it is a ``RawPayload`` that cannot be decoded.
     """
     path = part.topics[stamp.channel.topic]
-    offset = (stamp.log_time - first) / _NS_PER_S
+    when = stamp.publish_time if by_receipt else stamp.log_time
+    offset = (when - first) / _NS_PER_S
     data = stamp.data or b""
     if stamp.schema != RawPayload.__name__:
         encoding = stamp.channel.metadata.get(ZENOH_ENCODING, JSON_ENCODING)
@@ -96,7 +110,7 @@ def _item(part: Part, stamp: Stamp, first: int) -> ReplayItem:
         ) from None
 
 
-def _read(part: Part, first: int) -> Iterator[ReplayItem]:
+def _read(part: Part, first: int, by_receipt: bool) -> Iterator[ReplayItem]:
     """The messages of ``part`` to send, read one at a time.
 
     Raises:
@@ -107,7 +121,7 @@ def _read(part: Part, first: int) -> Iterator[ReplayItem]:
         return
     read = 0
     for stamp in Survey(part.path, read=part.topics, only=part.topics, verify=False):
-        yield _item(part, stamp, first)
+        yield _item(part, stamp, first, by_receipt)
         read += 1
         if read == part.count:
             return
@@ -127,28 +141,43 @@ class Replay:
 
     Args:
         parts: Each file's messages to send, in order.
+        by_receipt: Time them by their publish (receipt) times, which
+            armplan's recorder writes in file order; else by their log times.
+
+    Attributes:
+        first: The time the offsets count from [ns]: the first message's.
     """
 
-    def __init__(self, parts: list[Part]) -> None:
+    def __init__(self, parts: list[Part], by_receipt: bool = False) -> None:
         self.parts = parts
+        self.by_receipt = by_receipt
         self.count = sum(part.count for part in parts)
         firsts = [part.first for part in parts if part.count]
-        self.first = firsts[0].first_log if firsts and firsts[0] else 0
+        span = firsts[0] if firsts else None
+        if span is None:
+            self.first = 0
+        else:
+            self.first = span.first_publish if by_receipt else span.first_log
 
     def __len__(self) -> int:
         return self.count
 
     def __iter__(self) -> Iterator[ReplayItem]:
+        latest = 0.0
         for part in self.parts:
-            yield from _read(part, self.first)
+            for item in _read(part, self.first, self.by_receipt):
+                latest = max(latest, item.offset)
+                yield item._replace(offset=latest)
 
     @property
     def latest(self) -> float:
         """The latest offset of a message to send [s] (0 if none)."""
+        spans = [part.spans[topic] for part in self.parts for topic in part.topics]
         latest = [
-            part.spans[topic].latest_log for part in self.parts for topic in part.topics
+            max(s.first_publish, s.last_publish) if self.by_receipt else s.latest_log
+            for s in spans
         ]
-        return (max(latest) - self.first) / _NS_PER_S if latest else 0.0
+        return max((max(latest) - self.first) / _NS_PER_S, 0.0) if latest else 0.0
 
     @property
     def counts(self) -> dict[str, int]:
@@ -207,7 +236,8 @@ def replay_items(
         check_damage(each, recover)
     parts = [to_send(each, wanted, bool(keys), namespace) for each in looked]
     check_no_overlap(parts)
-    return Replay(parts)
+    by_receipt = all(each.noted for each in looked)  # armplan's recorder wrote them
+    return Replay(parts, by_receipt)
 
 
 def check_speed(speed: float, latest: float = 0.0) -> float:

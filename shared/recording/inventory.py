@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from shared.recording.metadata import read_metadata
-from shared.recording.reader import JSON, Recording, which_message
+from shared.recording.reader import JSON, Record, Recording, which_message
 from shared.recording.validation import check_record
 
 
@@ -64,6 +64,10 @@ class Inventory:
         problems: The first few schema problems found (if checked).
         unread: The first few messages on JSON channels that are not JSON,
             each which and why (``message 3 of the file (...) is empty``).
+        skew: The largest difference, log time minus publish (receipt)
+            time, of a recorded message (not a derived ``/...`` one, whose
+            log time is the moment it describes) [ns]; 0 if none.
+        skew_topic: That message's topic ("" if none).
     """
 
     path: Path
@@ -73,6 +77,24 @@ class Inventory:
     metadata: dict[str, dict[str, str]] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
     unread: list[str] = field(default_factory=list)
+    skew: int = 0
+    skew_topic: str = ""
+
+    @property
+    def clock_offset(self) -> float | None:
+        """``skew`` [s] if over ``CLOCK_OFFSET`` in size, else ``None``.
+
+        A publisher's clock may be off by about that much.
+        """
+        return self.skew / 1e9 if abs(self.skew) > CLOCK_OFFSET * 1e9 else None
+
+    def note_skew(self, record: Record) -> None:
+        """Keep ``record``'s log minus publish time if the largest so far."""
+        if record.topic.startswith("/") or not record.publish_time:
+            return  # derived for Foxglove, or no publish time written
+        skew = record.log_time - record.publish_time
+        if abs(skew) > abs(self.skew):
+            self.skew, self.skew_topic = skew, record.topic
 
     @property
     def count(self) -> int:
@@ -97,6 +119,9 @@ class Inventory:
 
 #: Schema problems (and messages not read) kept as examples in an inventory.
 MAX_PROBLEMS = 10
+#: Log and publish times further apart than this for some message make
+#: ``inspect`` warn that a publisher's clock may be off [s].
+CLOCK_OFFSET = 1.0
 
 
 def take_inventory(
@@ -132,6 +157,7 @@ def take_inventory(
             )
             inventory.channels.append(stats)
         stats.count += 1
+        inventory.note_skew(record)
         stats.first = min(stats.first, record.log_time)
         stats.last = max(stats.last, record.log_time)
         if record.unread:

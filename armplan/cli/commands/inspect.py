@@ -112,6 +112,7 @@ def as_json(inventory: Inventory) -> dict[str, Any]:
         ],
         "problems": inventory.problems,
         "unread": inventory.unread,
+        "clock_offset": inventory.clock_offset,
     }
 
 
@@ -134,7 +135,7 @@ def _print(inventory: Inventory, validate: bool) -> None:
         f"from {_clock(first)} to {_clock(last)} ({span:.3f} s)"
     )
     console.print(_table(inventory, validate))
-    for note in _unread_notes(inventory):
+    for note in [*_unread_notes(inventory), *_clock_notes(inventory)]:
         console.print(f"[yellow]{_text(note)}[/yellow]")
     if inventory.damage == CHANGED:
         console.print(
@@ -172,6 +173,20 @@ def _unread_notes(inventory: Inventory) -> list[str]:
             f"e.g. {inventory.unread[0]}; armplan replay sends them as they are"
         )
     return notes
+
+
+def _clock_notes(inventory: Inventory) -> list[str]:
+    """A warning if log and publish times of a message are far apart."""
+    offset = inventory.clock_offset
+    if offset is None:
+        return []
+    way = "behind" if offset < 0 else "ahead"
+    return [
+        f"warning: log time and publish (receipt) time differ by up to "
+        f"{abs(offset):.3f} s (on {inventory.skew_topic}): a publisher's clock "
+        f"may be off by {abs(offset):.3f} s ({way}); the times above are log "
+        "times, armplan replay times messages by their receipt"
+    ]
 
 
 #: A channel whose messages all came within this span [s] shows no rate.

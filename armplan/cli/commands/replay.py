@@ -2,8 +2,9 @@
 
 Each recorded Zenoh message goes out again on its key, under the current
 namespace, with its original payload bytes and Zenoh encoding and its
-original timing (from the log times) divided by ``--speed``. The files are
-checked whole before the first message goes, then read as they are sent.
+original timing (the recorder's receipt times, see
+``services.recorder.replay``) divided by ``--speed``. The files are checked
+whole before the first message goes, then read as they are sent.
 The derived Foxglove channels (``/tf/...``, ...) are not sent. A bridge
 subscribed to ``plan/trajectory`` drives the (simulated) NAO from the
 replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
