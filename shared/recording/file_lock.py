@@ -52,12 +52,16 @@ def _lock(fd: int, path: Path) -> None:
 
     Raises:
         RecordingError: :func:`busy_error` if another writer holds it.
+        OSError: if the file system takes no lock (``fd`` closed too).
     """
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         os.close(fd)
         raise busy_error(path) from None
+    except OSError:
+        os.close(fd)
+        raise
 
 
 def _same_file(fd: int, path: Path) -> bool:
