@@ -404,7 +404,11 @@ def test_a_bad_speed_is_refused_before_connecting(
      (["--wait", "nan"], "--wait must be 0 or more seconds, got nan"),
      (["--keys", "bogus/key"],
       "no recorded message matches --keys bogus/key; the recording holds "
-      "bridge/state, misc/raw, plan/request, plan/trajectory")],
+      "bridge/state, misc/raw, plan/request, plan/trajectory"),
+     (["--keys", f"{NAMESPACE}/plan/*"],
+      f"no recorded message matches --keys {NAMESPACE}/plan/*; the recording "
+      "holds bridge/state, misc/raw, plan/request, plan/trajectory; keys are "
+      "relative to the namespace: give plan/*")],
 )  # fmt: skip
 def test_options_that_would_do_nothing_are_refused_before_connecting(
     option: list[str],

@@ -32,6 +32,7 @@ from services.recorder.replay_login import (
     refused_by_rules,
     refused_warning,
 )
+from services.recorder.replay_parts import matcher
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.login import login_user
 from shared.bus.session import has_router_or_peer
@@ -164,13 +165,28 @@ def _check_no_live_bridge(bus: Bus, items: Replay) -> None:
 
 
 def _no_key_matches(args: argparse.Namespace, items: Replay) -> None:
-    """Raise: ``--keys`` matched nothing; name the keys the recording holds."""
+    """Raise: ``--keys`` matched nothing; name the keys the recording holds.
+
+    A key given with its namespace (``armplan/plan/trajectory``, as
+    ``inspect`` prints it) is named in its relative form, as ``armplan
+    record`` does.
+    """
     held = items.recorded
     raise InvalidInputError(
         f"no recorded message matches --keys {' '.join(args.keys)}; the recording "
-        f"holds {', '.join(held) if held else 'no messages'}",
+        f"holds {', '.join(held) if held else 'no messages'}"
+        f"{_relative_hint(args.keys, held)}",
         field="keys",
     )
+
+
+def _relative_hint(keys: list[str], held: list[str]) -> str:
+    """``"; keys are relative ..."`` if a key less its first chunk matches."""
+    for key in keys:
+        rest = key.partition("/")[2]
+        if rest and any(map(matcher([rest]), held)):
+            return f"; keys are relative to the namespace: give {rest}"
+    return ""
 
 
 #: Exit code of a replay stopped by SIGINT, SIGTERM or SIGHUP before its end
