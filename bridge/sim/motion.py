@@ -19,7 +19,7 @@ from bridge.sim.errors import SimCommandError
 from bridge.sim.joints import expand_names
 from bridge.sim.log import SimLog
 from bridge.sim.robot import SimRobot
-from bridge.sim.task import MotionTask
+from bridge.sim.task import GRACE, MotionTask
 from shared.libqi import qi
 
 #: Shortest move ``setAngles`` and ``angleInterpolationWithSpeed`` make [s].
@@ -53,6 +53,32 @@ def _accept(
     duration = round(task.end_time - task.start_time, 6)
     log.write("motion", method=method, joints=task.joints, duration=duration)
     return task
+
+
+def _answer(task: MotionTask, duration: float) -> qi.Future:
+    """The answer of a blocking call, set when ``task`` ends.
+
+    Served as the call's result, it blocks the caller as a NAO's blocking
+    call does, but no thread: a thread waiting for the task held one of
+    libqi's worker threads, and a call from another client (a stop, a
+    reading) waited behind a few blocking calls until libqi added one
+    (0.5 s). It returns None, or fails as a raised ``SimCommandError`` did
+    (libqi's ``RuntimeError``, "SimCommandError: <reason>"): interrupted
+    (:meth:`MotionTask.interrupt`), or not ended within ``duration`` [s]
+    plus :data:`~bridge.sim.task.GRACE`, then told by a libqi timer.
+    """
+    promise = qi.Promise()
+    overdue = qi.runAsync(task.expire, delay=round((duration + GRACE) * 1e6))
+
+    def reply(reason: str | None) -> None:
+        overdue.cancel()
+        if reason is None:
+            promise.setValue(None)
+        else:
+            promise.setError(f"{SimCommandError.__name__}: {reason}")
+
+    task.answer(reply)
+    return promise.future()
 
 
 def _fraction(value: Any, what: str) -> float:
@@ -98,8 +124,8 @@ class SimulatedMotion:
 
     def angleInterpolation(
         self, names: Any, angleLists: Any, timeLists: Any, isAbsolute: bool
-    ) -> None:
-        """Move joints through timed keys [rad, s]; blocks until done.
+    ) -> qi.Future:
+        """Move joints through timed keys [rad, s]; answered once done.
 
         The keys count from when the command takes effect, once they are
         read and checked (a long call's take tenths of a second).
@@ -123,12 +149,12 @@ class SimulatedMotion:
                 bool(isAbsolute),
             ),
         )
-        task.wait(task.end_time - task.start_time)
+        return _answer(task, task.end_time - task.start_time)
 
     def angleInterpolationWithSpeed(
         self, names: Any, targetAngles: Any, maxSpeedFraction: float
-    ) -> None:
-        """Move joints to targets [rad] together; blocks until done.
+    ) -> qi.Future:
+        """Move joints to targets [rad] together; answered once done.
 
         The joint that needs longest moves at ``maxSpeedFraction`` of its
         speed limit; the others arrive with it.
@@ -143,7 +169,7 @@ class SimulatedMotion:
                 self._robot, t, names, targetAngles, maxSpeedFraction, True
             ),
         )
-        task.wait(task.end_time - t)
+        return _answer(task, task.end_time - t)
 
     def setAngles(self, names: Any, angles: Any, fractionMaxSpeed: float) -> None:
         """Start moving joints to ``angles`` [rad]; returns at once.
@@ -165,8 +191,8 @@ class SimulatedMotion:
 
     def stiffnessInterpolation(
         self, names: Any, stiffnessLists: Any, timeLists: Any
-    ) -> None:
-        """Ramp stiffnesses (0..1) through timed keys [s]; blocks until done."""
+    ) -> qi.Future:
+        """Ramp stiffnesses (0..1) through timed keys [s]; answered once done."""
         t = self._robot.now()
         task = _accept(
             self._log,
@@ -177,7 +203,7 @@ class SimulatedMotion:
                 "stiffnessInterpolation", t, names, stiffnessLists, timeLists
             ),
         )
-        task.wait(task.end_time - t)
+        return _answer(task, task.end_time - t)
 
     def setStiffnesses(self, names: Any, stiffnesses: Any) -> None:
         """Set stiffnesses (0..1) within one control cycle."""
@@ -196,16 +222,22 @@ class SimulatedMotion:
         """Stiffnesses now (0..1)."""
         return self._robot.stiffnesses(names)
 
-    def wakeUp(self) -> None:
-        """Stiffen every joint (the simulated NAO has no posture to stand in)."""
-        self.stiffnessInterpolation("Body", 1.0, 0.1)
-        self._awake = True
+    def wakeUp(self) -> qi.Future:
+        """Stiffen every joint (the simulated NAO has no posture to stand in).
 
-    def rest(self) -> None:
-        """Stop every command and release every joint's stiffness."""
+        Answered once stiff; awake from then (not if the ramp failed).
+        """
+
+        def awake(_: None) -> None:
+            self._awake = True
+
+        return self.stiffnessInterpolation("Body", 1.0, 0.1).andThen(awake)
+
+    def rest(self) -> qi.Future:
+        """Stop every command and release every stiffness; answered once limp."""
         self._awake = False
         self.killAll()
-        self.stiffnessInterpolation("Body", 0.0, 0.1)
+        return self.stiffnessInterpolation("Body", 0.0, 0.1)
 
     def robotIsWakeUp(self) -> bool:
         """True after ``wakeUp`` (and at start), False after ``rest``.

@@ -1,10 +1,9 @@
-"""A running motion command, which a blocking ALMotion call waits for."""
+"""A running motion command; a blocking ALMotion call is answered when it ends."""
 
 from __future__ import annotations
 
 import threading
-
-from bridge.sim.errors import SimCommandError
+from collections.abc import Callable
 
 #: Extra time a blocking call waits past its command's end before failing [s].
 GRACE = 5.0
@@ -15,9 +14,19 @@ BOOKING = frozenset(
     {"angleInterpolation", "angleInterpolationWithSpeed", "stiffnessInterpolation"}
 )
 
+#: How a blocking call is answered: with None (it returns) or the reason it
+#: fails.
+Answer = Callable[[str | None], None]
+
 
 class MotionTask:
     """One accepted command on a set of joints.
+
+    A blocking call is answered once, when its task ends (:meth:`answer`),
+    not by a thread that waits for it: a NAO answers a stop at once however
+    many blocking calls run, and a waiting thread held one of libqi's
+    worker threads, so that a stop sent behind a few blocking calls waited
+    for libqi to add a thread (0.5 s).
 
     Attributes:
         method: The ALMotion method that made it.
@@ -38,7 +47,7 @@ class MotionTask:
         """A task from ``start_time`` to ``end_time`` [s, sim clock].
 
         ``killed_returns``: a blocking call whose task is interrupted returns
-        normally instead of raising (:meth:`wait`).
+        normally instead of failing (:meth:`answer`).
         """
         self.method = method
         self.killed_returns = killed_returns
@@ -46,16 +55,23 @@ class MotionTask:
         self.joints = joints
         self.end_time = end_time
         self._done = threading.Event()
-        self._error: str | None = None
+        self._lock = threading.Lock()  # one outcome, one answer
+        self._outcome: tuple[str | None] | None = None  # (reason or None,) once ended
+        self._answer: Answer | None = None
 
     def finish(self) -> None:
         """The command's joints reached their last keys."""
-        self._done.set()
+        self._end(None)
 
     def interrupt(self, reason: str) -> None:
         """Another command took its joints, or everything was stopped."""
-        self._error = reason
-        self._done.set()
+        self._end(
+            None if self.killed_returns else f"{self.method} was interrupted: {reason}"
+        )
+
+    def expire(self) -> None:
+        """Its end is overdue (:data:`GRACE` past it): its call fails if unanswered."""
+        self._end(f"{self.method} did not finish in time", done=False)
 
     @property
     def books(self) -> bool:
@@ -67,18 +83,28 @@ class MotionTask:
         """True once finished or interrupted."""
         return self._done.is_set()
 
-    def wait(self, duration: float) -> None:
-        """Block until done (at most ``duration`` + :data:`GRACE` [s]).
+    def answer(self, reply: Answer) -> None:
+        """Call ``reply`` once, when the task ends (now if it already has).
 
-        An interrupted task raises, unless made with ``killed_returns``: then
-        its call returns as if it had ended (a NAOqi call whose task is
-        killed may return normally; the caller learns it only from when).
-
-        Raises:
-            SimCommandError: if it was interrupted (see above) or never
-                finished.
+        With None if it finished, or was interrupted and made with
+        ``killed_returns`` (a NAOqi call whose task is killed may return
+        normally; the caller learns it only from when); else with the reason
+        its call fails: interrupted, or never finished (:meth:`expire`).
+        The first end counts: a task interrupted as the cycle finishes it
+        is answered once.
         """
-        if not self._done.wait(duration + GRACE):
-            raise SimCommandError(f"{self.method} did not finish in time")
-        if self._error is not None and not self.killed_returns:
-            raise SimCommandError(f"{self.method} was interrupted: {self._error}")
+        with self._lock:
+            outcome, self._answer = self._outcome, reply
+        if outcome is not None:
+            reply(outcome[0])
+
+    def _end(self, reason: str | None, done: bool = True) -> None:
+        if done:
+            self._done.set()
+        with self._lock:
+            if self._outcome is not None:
+                return
+            self._outcome = (reason,)
+            reply = self._answer
+        if reply is not None:
+            reply(reason)
