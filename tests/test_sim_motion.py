@@ -17,9 +17,12 @@ from typing import Any
 
 import pytest
 
+from bridge.qi_future import wait_future
+from bridge.sim import motion as sim_motion
 from bridge.sim.log import SimLog
 from bridge.sim.motion import SimulatedMotion
 from bridge.sim.robot import SimRobot
+from bridge.sim.task import MotionTask
 
 #: Time the sim spends on the call, reading its keys or writing its line [s].
 TAKES = 0.3
@@ -86,23 +89,20 @@ class _SlowToRead(list[float]):
         return super().__iter__()
 
 
-def _ramp(sim: _Sim, keys: list[float]) -> tuple[float, threading.Thread]:
-    """Send a ramp at ``SPEED`` over 1 s on its own thread; once it took
-    effect: the clock when it was sent [s], and the thread."""
+def _ramp(sim: _Sim, keys: list[float]) -> tuple[float, Any]:
+    """Send a ramp at ``SPEED`` over 1 s; once it took effect: the clock
+    when it was sent [s], and the call's answer (a ``qi.Future``), which
+    blocks its caller until the ramp ends."""
     sent = sim.now
-    call = threading.Thread(
-        target=sim.motion.angleInterpolation,
-        args=("RShoulderPitch", keys, [1.0], True),
-    )
-    call.start()
-    assert sim.log.applied.wait(10.0)
-    return sent, call
+    answer = sim.motion.angleInterpolation("RShoulderPitch", keys, [1.0], True)
+    assert sim.log.applied.is_set()
+    assert not answer.isFinished()
+    return sent, answer
 
 
-def _finish(sim: _Sim, call: threading.Thread) -> None:
-    sim.spend(1.0)  # past the ramp's end: the blocking call returns
-    call.join(10.0)
-    assert not call.is_alive()
+def _finish(sim: _Sim, answer: Any) -> None:
+    sim.spend(1.0)  # past the ramp's end: the blocking call is answered
+    assert answer.isFinished() and answer.hasValue() and answer.value() is None
 
 
 @pytest.fixture
@@ -117,12 +117,12 @@ def test_the_joints_take_a_call_before_its_log_line_is_written(sim: _Sim) -> Non
     (it used to hold still until the line was written, then catch up); the
     line says when the keys count from."""
     sim.slow_to_write = True
-    sent, call = _ramp(sim, [-SPEED])
+    sent, answer = _ramp(sim, [-SPEED])
     try:
         assert sim.now == pytest.approx(sent + TAKES)
         assert sim.measured() == pytest.approx(_on_ramp(TAKES), abs=1e-9)
     finally:
-        _finish(sim, call)
+        _finish(sim, answer)
     entry = next(e for e in sim.log.entries() if e["event"] == "call")
     assert entry["t"] == pytest.approx(sent - sim.log.origin, abs=1e-6)
     assert entry["method"] == "angleInterpolation" and entry["angles"] == [-SPEED]
@@ -132,14 +132,14 @@ def test_the_keys_count_from_when_they_were_read(sim: _Sim) -> None:
     """Keys that take TAKES to read: the ramp starts once read, at its own
     speed (it used to start at the call's arrival, so the joint, held
     meanwhile, then ran at 4 times the ramp's speed to catch up)."""
-    sent, call = _ramp(sim, _SlowToRead([-SPEED], sim.spend))
+    sent, answer = _ramp(sim, _SlowToRead([-SPEED], sim.spend))
     try:
         assert sim.now == pytest.approx(sent + TAKES)
         assert sim.measured() == 0.0
         sim.spend(0.1)
         assert sim.measured() == pytest.approx(_on_ramp(0.1), abs=1e-9)
     finally:
-        _finish(sim, call)
+        _finish(sim, answer)
     entry = next(e for e in sim.log.entries() if e["event"] == "call")
     assert entry["t"] == pytest.approx(sent + TAKES - sim.log.origin, abs=1e-6)
     done = next(
@@ -148,3 +148,42 @@ def test_the_keys_count_from_when_they_were_read(sim: _Sim) -> None:
         if e["event"] == "done" and e["method"] == "angleInterpolation"
     )
     assert done["t"] >= entry["t"] + 1.0
+
+
+def test_a_task_is_answered_once_by_its_first_end() -> None:
+    """Interrupted as the cycle finishes it (a new command took its joint
+    between the cycle's look and its finish), then overdue: one answer, the
+    interruption's. Answered on asking if it already ended; a task made
+    with killed_returns answers an interruption as a normal return."""
+    answers: list[str | None] = []
+    task = MotionTask("angleInterpolation", ["RShoulderPitch"], 0.0, 1.0)
+    task.answer(answers.append)
+    task.interrupt("killAll")
+    task.finish()
+    task.expire()
+    assert answers == ["angleInterpolation was interrupted: killAll"]
+    assert task.finished
+    ended = MotionTask("angleInterpolation", ["RShoulderPitch"], 0.0, 1.0)
+    ended.finish()
+    ended.answer(answers.append)
+    killed = MotionTask("angleInterpolation", ["RShoulderPitch"], 0.0, 1.0, True)
+    killed.answer(answers.append)
+    killed.interrupt("killAll")
+    assert answers[1:] == [None, None]
+
+
+def test_a_call_whose_task_never_ends_fails_past_its_grace(
+    sim: _Sim, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The clock stands still, so the cycle never finishes the 0.1 s ramp: a
+    libqi timer fails its call GRACE past its duration (no thread waits for
+    it); the joints' task goes on, still booking them, as it did."""
+    monkeypatch.setattr(sim_motion, "GRACE", 0.1)
+    answer = sim.motion.angleInterpolation("RShoulderPitch", [-0.01], [0.1], True)
+    assert wait_future(answer, 10.0)
+    assert answer.hasError()
+    error = answer.error()
+    assert error == "SimCommandError: angleInterpolation did not finish in time"
+    assert not sim.motion.areResourcesAvailable("RShoulderPitch")
+    sim.spend(0.2)
+    assert sim.motion.areResourcesAvailable("RShoulderPitch")
