@@ -212,10 +212,16 @@ class SimRobot:
         """End ``task`` before its last key and log it (held lock)."""
         if task.finished:
             return
-        task.interrupt(reason)
-        self._log.write(
-            "interrupted", at=t, method=task.method, joints=task.joints, reason=reason
-        )
+        try:  # logged, then its call is answered: a caller then finds the line
+            self._log.write(
+                "interrupted",
+                at=t,
+                method=task.method,
+                joints=task.joints,
+                reason=reason,
+            )
+        finally:  # answered whatever happened to the log
+            task.interrupt(reason)
 
     def step(self) -> None:
         """One control cycle: advance every joint, end finished commands, log."""
@@ -233,9 +239,11 @@ class SimRobot:
             # time the line is written: a cycle preempted between the two
             # would otherwise log a speed the motor never had.
             self._log.write("state", at=t, cycle=self.cycles, positions=positions)
-        for task in finished:
-            task.finish()
-            self._log.write("done", at=t, method=task.method, joints=task.joints)
+        for task in finished:  # logged, then answered (as in _interrupt)
+            try:
+                self._log.write("done", at=t, method=task.method, joints=task.joints)
+            finally:
+                task.finish()
 
     def _prepare(self, commands: list[KeyCommand], t: float) -> dict[str, float]:
         """Commit the commanded joints to ``t``; their setpoints there [rad].
