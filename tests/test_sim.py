@@ -111,6 +111,27 @@ def test_out_of_range_angles_are_refused_not_clamped(
     assert "RElbowRoll key 1 = 1.70000 rad" in refused[-2]["reason"]
 
 
+@pytest.mark.parametrize("method", ["angleInterpolationWithSpeed", "setAngles"])
+def test_several_targets_for_one_joint_are_refused(
+    sim: SimProcess, motion: Any, method: str
+) -> None:
+    """NAOqi takes one target per joint here. The sim took the last of
+    [5.0, 1.0] and never checked 5.0 rad against the range; nested lists
+    likewise. Now refused, naming the joint, and nothing moves."""
+    motion.setStiffnesses("RArm", 1.0)
+    time.sleep(0.1)
+    before = motion.getAngles("RArm", False)
+    call = getattr(motion, method)
+    with pytest.raises(
+        RuntimeError, match=f"RShoulderPitch has 2 target angles; {method} takes one"
+    ):
+        call("RShoulderPitch", [5.0, 1.0], 0.5)
+    with pytest.raises(RuntimeError, match="RShoulderPitch has 2 target angles"):
+        call(["RShoulderPitch", "RShoulderRoll"], [[0.3, 1.1], [-0.2, -0.3]], 0.5)
+    time.sleep(0.1)
+    assert motion.getAngles("RArm", False) == before
+
+
 def test_over_speed_timing_is_refused(sim: SimProcess, motion: Any) -> None:
     """Keys too far apart for their time, or speed fractions above 1: errors."""
     motion.setStiffnesses("RArm", 1.0)

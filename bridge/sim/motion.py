@@ -100,7 +100,7 @@ def _speed_move(
     share = _fraction(fraction, "fractionMaxSpeed")
     joints = expand_names(names)
     current = robot.angles(joints, False)
-    wanted = [row[-1] for row in per_joint(targets, len(joints), "angles")]
+    wanted = _one_each(per_joint(targets, len(joints), "angles"), joints, together)
     durations = [
         max(MIN_MOVE_TIME, abs(w - c) / (share * robot.joints[j].spec.velocity))
         for j, w, c in zip(joints, wanted, current, strict=True)
@@ -110,6 +110,24 @@ def _speed_move(
     method = "angleInterpolationWithSpeed" if together else "setAngles"
     keys = [[w] for w in wanted]
     return robot.move(method, t, joints, keys, [[d] for d in durations])
+
+
+def _one_each(
+    rows: list[list[float]], joints: list[str], together: bool
+) -> list[float]:
+    """The one target angle [rad] of each joint; refuse a joint given several.
+
+    NAOqi takes one target per joint here. The last of several used to be
+    taken, the others never checked against the joint's range (5.0 rad
+    passed before 1.0), so a mistake made on the sim failed on a robot.
+    """
+    method = "angleInterpolationWithSpeed" if together else "setAngles"
+    for joint, row in zip(joints, rows, strict=True):
+        if len(row) != 1:
+            raise SimCommandError(
+                f"{joint} has {len(row)} target angles; {method} takes one per joint"
+            )
+    return [row[0] for row in rows]
 
 
 @qi.multiThreaded()
