@@ -595,3 +595,65 @@ def test_busy_to_a_second_query_does_not_override_the_first(
             server_thread.join()
         queryable.undeclare()
         token.undeclare()
+
+
+URGENT = Route("urgent", "test/urgent", Text, Text)
+
+
+def test_an_urgent_endpoint_acts_on_every_query_and_refuses_none(
+    config: BusConfig,
+) -> None:
+    """An endpoint with ``at_once`` (the bridge's stop): while its worker is
+    held, 60 more queries (one queue slot), one with a payload that is no
+    JSON and one whose caller's clock says it was sent 10 s ago, each have
+    ``at_once`` run as they arrive, before the worker is free; none is
+    refused busy nor dropped: every caller gets an answer."""
+    from shared.bus.deadline import budget_attachment
+
+    tight = dataclasses.replace(config, workers=1, queue_limit=1)
+    arrived: list[bytes] = []
+    handler = Recorded()
+    endpoint = Endpoint(
+        URGENT,
+        handler,
+        at_once=arrived.append,
+        parse=lambda data: Text(text=data.decode("utf-8", "replace") or "empty"),
+    )
+    with (
+        Bus.connect(tight) as service_bus,
+        ServiceHost(service_bus, "urgent", [endpoint]),
+        Bus.connect(tight) as client,
+        ThreadPoolExecutor(62) as pool,
+    ):
+        assert client.wait_alive(["urgent"], 5.0) == []
+        key = URGENT.key(config.namespace)
+        held = pool.submit(client.call, URGENT, "held", timeout=8.0)
+        assert handler.gate.entered.wait(5.0)
+        burst = [
+            pool.submit(client.call, URGENT, f"q{i}", timeout=8.0) for i in range(58)
+        ]
+        bad = pool.submit(client.call, URGENT, "not json", timeout=8.0)
+
+        def ask_late() -> list[zenoh.Reply]:
+            return list(
+                client.session.get(
+                    key,
+                    payload=b'{"text": "late"}',
+                    attachment=budget_attachment(5.0, sent=time.time() - 10.0),
+                    timeout=8.0,
+                )
+            )
+
+        late = pool.submit(ask_late)
+        deadline = time.monotonic() + 5.0
+        while len(arrived) < 61 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert len(arrived) == 61  # all acted on while the worker is held
+        assert b"not json" in arrived
+        handler.gate.release.set()
+        for call in [held, bad, *burst]:
+            assert call.exception(10.0) is None, call.exception()
+        replies = late.result(10.0)
+        assert len(replies) == 1 and replies[0].ok is not None
+    assert handler.ran[0] == "held"
+    assert len(handler.ran) <= 3  # the rest joined a queued query

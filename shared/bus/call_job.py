@@ -51,14 +51,16 @@ class CallJob:
         """The call's first query (the one whose request is worked on)."""
         return self._queries[0]
 
-    def add(self, query: zenoh.Query, due: Due | None) -> bool:
+    def add(self, query: zenoh.Query, due: Due | None, same: bool = True) -> bool:
         """Answer ``query`` too, if it asks the same; ``False``: it does not.
 
         A query of this call with another request (a caller that reused its
-        call id) is not answered with this one's answer.
+        call id) is not answered with this one's answer; unless ``same`` is
+        False: any request is answered with it (an urgent endpoint's, whose
+        work was done as each query arrived, ``Endpoint.at_once``).
         """
         assert not self._closed, "a query joined a call already answered"
-        if _body(query) != _body(self.first):
+        if same and _body(query) != _body(self.first):
             return False
         self._queries.append(query)
         self._dues.append(due)

@@ -55,7 +55,12 @@ def answer(
         if len(payload) > limit:
             raise PayloadTooLargeError(size=len(payload), limit=limit, key=key)
         start = time.perf_counter()
-        request = parse(endpoint.route.request, bytes(payload) or b"{}")
+        data = bytes(payload)
+        request = (
+            parse(endpoint.route.request, data or b"{}")
+            if endpoint.parse is None
+            else endpoint.parse(data)
+        )
         parsed = time.perf_counter()
         result = endpoint.handle(request)
         handled = time.perf_counter()

@@ -61,8 +61,27 @@ class Endpoint(Generic[Req, Rep]):
         own_worker: Answered by a worker of its own, never queued behind
             the service's other requests: a stop must be served while the
             workers are blocked playing movements (``bridge/stop``).
+        at_once: Run on Zenoh's own thread as each query arrives, with its
+            raw payload (``b""`` if none or over the size limit), before
+            anything is parsed, queued or checked against its caller's
+            deadline: what must happen whatever becomes of the reply (a
+            stop ordering the arm stopped). It must not block nor raise
+            (an exception is logged). An endpoint with one is *urgent*:
+            its queries are never refused busy nor dropped for their
+            caller's deadline, and a query that comes while one is queued
+            (not yet worked on) joins it and gets its answer.
+        parse: Reads the request from the raw payload instead of the
+            route's message, e.g. leniently; it raises an ``ArmplanError``
+            to refuse. None: the route's request message, strictly.
     """
 
     route: Route[Req, Rep]
     handle: Callable[[Req], Rep]
     own_worker: bool = False
+    at_once: Callable[[bytes], None] | None = None
+    parse: Callable[[bytes], Req] | None = None
+
+    @property
+    def urgent(self) -> bool:
+        """Never refused busy nor dropped (see ``at_once``)."""
+        return self.at_once is not None

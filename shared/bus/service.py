@@ -13,6 +13,13 @@ always means the request was not worked on.
 An endpoint with ``own_worker`` has a queue and a worker of its own: its
 queries are never queued behind the other endpoints' (a ``bridge/stop``
 is answered while every worker plays or waits on ``bridge/execute``).
+An *urgent* endpoint (``Endpoint.at_once``, the bridge's stop) has its
+``at_once`` run on Zenoh's thread as each query arrives, before anything
+else (no parsing, no queue, no deadline can keep it from running); its own
+worker then answers: a query that comes while another is queued joins it
+(one answer for both, whatever each asked), so its queue never fills, and
+it is never dropped for its caller's deadline (a caller whose clock is
+behind would lose an answer that costs little).
 A reply's Zenoh attachment is a ``ServiceTiming``: where the request's time
 went inside the service. A query's attachment is its caller's budget
 (``shared.bus.deadline``): a query still queued when its caller has stopped
@@ -86,6 +93,10 @@ class ServiceHost(StartStop):
                 *(_lane(e, k) for e, k in zip(endpoints, self.keys, strict=True)),
             )
         }
+        for endpoint, key in zip(endpoints, self.keys, strict=True):
+            if endpoint.urgent:  # never full: at most one job waits in it
+                self._lanes[key] = queue.Queue()
+        self._waiting: dict[str, CallJob] = {}  # an urgent key's job not yet begun
         self._lock = threading.Lock()  # guards _calls and the jobs in it
         self._calls: dict[tuple[str, str], CallJob] = {}  # queued or running
         self._workers: list[tuple[threading.Thread, queue.Queue[CallJob | None]]] = []
@@ -120,6 +131,8 @@ class ServiceHost(StartStop):
         jobs = self._lanes[_lane(endpoint, key)]
 
         def enqueue(query: zenoh.Query) -> None:  # on Zenoh's thread: no waiting
+            if endpoint.at_once is not None:
+                self._at_once(endpoint.at_once, key, query)
             if not self._admit(endpoint, key, query, jobs):
                 busy = ServiceBusyError(self.name, key=key, queued=jobs.qsize())
                 with query, contextlib.suppress(zenoh.ZError):  # caller gone
@@ -128,6 +141,22 @@ class ServiceHost(StartStop):
                     )
 
         return self._bus.session.declare_queryable(key, enqueue)
+
+    def _at_once(
+        self, at_once: Callable[[bytes], None], key: str, query: zenoh.Query
+    ) -> None:
+        """Run an urgent endpoint's ``at_once`` on ``query``'s raw payload."""
+        try:
+            payload = query.payload
+            size = 0 if payload is None else len(payload)
+            data = (
+                b""
+                if payload is None or size > self._bus.config.max_payload
+                else payload.to_bytes()
+            )
+            at_once(data)
+        except Exception:  # the query is still queued and answered
+            log.exception("%s: failed to act on a query as it arrived", key)
 
     def _admit(
         self,
@@ -144,6 +173,8 @@ class ServiceHost(StartStop):
         """
         due = deadline_of(query, time.monotonic())
         call = None if due is None else due.call
+        if endpoint.urgent:
+            return self._admit_urgent(endpoint, key, query, due, jobs)
         with self._lock:
             job = None if call is None else self._calls.get((key, call))
             if job is not None and job.add(query, due):
@@ -155,6 +186,24 @@ class ServiceHost(StartStop):
                 return False
             if call is not None and (key, call) not in self._calls:
                 self._calls[(key, call)] = job
+            return True
+
+    def _admit_urgent(
+        self,
+        endpoint: Endpoint[Any, Any],
+        key: str,
+        query: zenoh.Query,
+        due: Due | None,
+        jobs: queue.Queue[CallJob | None],
+    ) -> bool:
+        """Join ``query`` to its key's job not yet begun, or queue a new one."""
+        with self._lock:
+            job = self._waiting.get(key)
+            if job is not None and job.add(query, due, same=False):
+                return True
+            job = CallJob(endpoint, key, query, due)
+            jobs.put_nowait(job)  # unbounded: never full
+            self._waiting[key] = job
             return True
 
     def _work(self, jobs: queue.Queue[CallJob | None]) -> None:
@@ -171,6 +220,8 @@ class ServiceHost(StartStop):
         result = None
         try:
             with self._lock:
+                if self._waiting.get(job.key) is job:
+                    del self._waiting[job.key]  # begun: a later query waits
                 due = job.due()
             result = self._result(job, due)
         finally:
@@ -182,7 +233,7 @@ class ServiceHost(StartStop):
 
     def _result(self, job: CallJob, due: Due | None) -> Answer | None:
         """``job``'s answer; ``None``: dropped, its callers have stopped waiting."""
-        if due is not None and due.passed:
+        if due is not None and due.passed and not job.endpoint.urgent:
             late = time.monotonic() - due.at
             log.info(
                 "%s: dropped a request its caller left %.2f s ago (it was "
@@ -231,8 +282,11 @@ class ServiceHost(StartStop):
 
 
 def _lane(endpoint: Endpoint[Any, Any], key: str) -> str:
-    """The queue ``endpoint`` (at ``key``) is served from: ``""``, the shared one."""
-    return key if endpoint.own_worker else ""
+    """The queue ``endpoint`` (at ``key``) is served from: ``""``, the shared one.
+
+    An urgent endpoint always has its own.
+    """
+    return key if endpoint.own_worker or endpoint.urgent else ""
 
 
 def _reply(query: zenoh.Query, key: str, result: Answer) -> None:
