@@ -50,6 +50,22 @@ RETIRE_AFTER = 30.0
 STOP = f"ALMotion.{STOP_METHOD}"
 
 
+class Halted(str):
+    """What :meth:`NaoqiClient.halt` came to, and whether the robot confirmed it.
+
+    Confirmed: the robot answered a stop, or answered the call (which has
+    then ended). Not: the stop was sent, or could not be, and the robot
+    said nothing of it.
+    """
+
+    confirmed: bool
+
+    def __new__(cls, text: str, confirmed: bool) -> Halted:
+        made = super().__new__(cls, text)
+        made.confirmed = confirmed
+        return made
+
+
 class NaoqiClient:
     """ALMotion of the robot at ``url``, connected on first use.
 
@@ -157,7 +173,7 @@ class NaoqiClient:
         self.close()
         return RobotUnavailableError(self.url, reason, elapsed=elapsed)
 
-    def halt(self, wait: float, names: list[str], call: Any, arrived: bool) -> str:
+    def halt(self, wait: float, names: list[str], call: Any, arrived: bool) -> Halted:
         """Stop the motion tasks using ``names`` (:data:`STOP`) until ``call`` ends.
 
         The stop goes at once on each session still up, without connecting
@@ -179,7 +195,8 @@ class NaoqiClient:
             arrived: Whether the call is known to have reached the robot.
 
         Returns:
-            What came of it, to add to the reason the robot is given up.
+            What came of it, to add to the reason the robot is given up;
+            ``confirmed`` if the robot answered the stop or the call.
         """
         with self._lock:
             watch, command = self._watch.hand_over(), self._command.hand_over()
@@ -191,7 +208,7 @@ class NaoqiClient:
         futures = [future for future in sent if future is not None]
         if not futures:
             _close(watch, command)
-            return f"no connection left to stop it ({STOP})"
+            return Halted(f"no connection left to stop it ({STOP})", False)
         deadline = time.monotonic() + wait
         answered = _any_answered(futures, wait)
         if answered and arrived and command is not None:
@@ -200,14 +217,14 @@ class NaoqiClient:
         if ended and command is not None and command.up:
             _close(watch, command)  # the robot answered the call: it has ended
             if answered and call.hasError():
-                return f"stopped it ({STOP} answered, the call ended)"
-            return "its call had ended"
+                return Halted(f"stopped it ({STOP} answered, the call ended)", True)
+            return Halted("its call had ended", True)
         outcome = _stop_outcome(futures, answered, wait)
         follow = _follow_up(command is not None and command.up, arrived)
         self._stopper = Stopper(
             call, command, watch, names, arrived=arrived, limit=RETIRE_AFTER
         )
-        return f"{outcome}; {follow}"
+        return Halted(f"{outcome}; {follow}", answered)
 
     def wait_stopped(self) -> bool:
         """Wait until the arm is no longer being stopped after a call given up on.
@@ -224,6 +241,15 @@ class NaoqiClient:
         if stopper is None or not stopper.running:
             return True
         return stopper.wait(max(0.0, stopper.limit_at - time.monotonic()) + 0.5)
+
+    @property
+    def stopping(self) -> bool:
+        """True while the arm is still being stopped after a call given up on.
+
+        (:meth:`halt`'s stopper runs: the call may still start or play.)
+        """
+        stopper = self._stopper
+        return stopper is not None and stopper.running
 
     def refuse_while_stopping(self) -> None:
         """Raise if the arm is still being stopped after a call given up on.

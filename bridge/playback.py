@@ -494,12 +494,18 @@ def _stopped(
 
     The arm is stopped as when the robot is given up (:func:`_give_up`):
     ``killTasksUsingResources`` on its joints, again until the call has
-    ended; the robot is not declared lost.
+    ended; the robot is not declared lost. The error says the arm stopped
+    only if the robot confirmed it (it answered the stop or the call);
+    else that the stop was sent and the robot has not confirmed it.
     """
     now = time.monotonic()
     outcome = client.halt(HALT_WAIT, call.names, future, arrival is not None)
     played = None if arrival is None else min(max(now - arrival, 0.0), call.duration)
-    stopped = "the arm stopped where it was then"
+    stopped = (
+        "the arm stopped where it was then"
+        if outcome.confirmed
+        else "the stop was sent; the robot has not confirmed it"
+    )
     if approach:
         stopped += "; nothing of the trajectory was sent"
     return stop.error(

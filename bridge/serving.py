@@ -47,6 +47,7 @@ class Serving:
         sent: When the trajectory's call left [s, monotonic]; None: not yet.
         arrival: When it reached the robot [s, monotonic]; None: not yet.
         order: Its order to stop (``bridge/stop``).
+        arm: The arm it moves, ``"right"`` or ``"left"``; None: not said.
     """
 
     duration: float
@@ -55,6 +56,7 @@ class Serving:
     sent: float | None = None
     arrival: float | None = None
     order: StopOrder = field(default_factory=StopOrder)
+    arm: str | None = None
 
     def end(self, now: float) -> float:
         """When the movement ends, about [s, monotonic], as seen at ``now``."""
@@ -78,6 +80,7 @@ class Slot:
         wait: bool,
         order: StopOrder | None = None,
         since: float | None = None,
+        arm: str | None = None,
     ) -> bool:
         """Take the slot for a trajectory of ``duration`` [s]; False if busy.
 
@@ -88,6 +91,7 @@ class Slot:
             since: When its trajectory arrived [s, monotonic] (the
                 follower's); a :meth:`halt` after that orders it stopped
                 now. None: only a halt from now on stops it.
+            arm: The arm it moves (what a stop says it stopped).
         """
         order = StopOrder() if order is None else order
         with self._changed:
@@ -96,7 +100,9 @@ class Slot:
             self._changed.wait_for(lambda: self._serving is None)
             if since is not None and since <= self._last_stop:
                 order.order(None, self._last_stop)
-            self._serving = Serving(duration, time.monotonic() + duration, order=order)
+            self._serving = Serving(
+                duration, time.monotonic() + duration, order=order, arm=arm
+            )
             return True
 
     def halt(self, reason: str | None, at: float) -> Serving | None:
@@ -111,6 +117,12 @@ class Slot:
             if serving is not None:
                 serving.order.order(reason, at)
             return serving
+
+    @property
+    def serving(self) -> Serving | None:
+        """What the request being served has done; None: none is."""
+        with self._changed:
+            return self._serving
 
     def give_back(self) -> None:
         """The request has been answered."""

@@ -68,7 +68,9 @@ class StopOrder:
         Args:
             url: The robot's address.
             outcome: What became of the movement, e.g. "the arm stopped
-                where it was then (...)"; or "nothing was sent".
+                where it was then (...)" (the robot confirmed it), "the stop
+                was sent; the robot has not confirmed it (...)"; or
+                "nothing was sent".
             phase: ``"approach"`` or ``"trajectory"``; None: between two
                 movements or checks, before the trajectory was sent.
             played: Time into the phase [s], if known.

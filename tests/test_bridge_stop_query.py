@@ -12,6 +12,9 @@ would be answered only once the trajectory had played.
 from __future__ import annotations
 
 import contextlib
+import logging
+import os
+import signal
 import subprocess
 import sys
 import threading
@@ -34,10 +37,15 @@ from bridge.service import BridgeService
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from shared.bus import Bus, ServiceHost, load_config
+from shared.bus.deadline import budget_attachment
 from shared.bus.robot_routes import BRIDGE, EXECUTE, STOP
 from shared.bus.routes import TRAJECTORY_TOPIC
 from shared.bus.topics import BRIDGE_OUTCOME_TOPIC, BRIDGE_STATE_TOPIC
-from shared.errors import ArmplanError, ServiceUnavailableError
+from shared.errors import (
+    ArmplanError,
+    RequestTimeoutError,
+    ServiceUnavailableError,
+)
 from shared.libqi import qi
 from shared.messages import (
     ExecuteRequest,
@@ -265,28 +273,96 @@ def test_a_stop_query_in_the_approach_sends_nothing_of_the_trajectory(
 def test_a_stop_with_nothing_playing_answers_at_once(
     tmp_path: Path, sim: SimProcess
 ) -> None:
-    """Nothing playing: answered at once, playing false; twice the same."""
+    """Nothing playing: answered at once, playing false, still from a reading
+    of both arms settled; twice the same."""
     with served(tmp_path, sim) as there:
         for _ in range(2):
             asked = time.monotonic()
             reply = there.bus.call(STOP, "{}", timeout=5.0)
             assert time.monotonic() - asked < 1.0
             assert (reply.playing, reply.stopped, reply.still) == (False, False, True)
-            assert reply.arm is None and reply.dropped == 0 and reply.waited < 0.1
+            assert reply.arm is None and reply.dropped == 0 and reply.waited < 0.5
+            assert reply.ended is None and reply.note is None
             assert reply.reason is None
         assert there.sim_calls("killTasksUsingResources") == 0
         assert there.outcomes == []
 
 
-def test_a_stop_query_refuses_a_bad_reason_by_name(
-    tmp_path: Path, sim: SimProcess
+@pytest.mark.parametrize(
+    "payload",
+    [
+        "not json",
+        '{"reason": "a\\u0000b\\nFAKE LOG LINE", "source": "lab gui"}',
+    ],
+    ids=["not-json", "extra-field-control-characters"],
+)
+def test_any_payload_on_bridge_stop_stops_the_arm(
+    tmp_path: Path, sim: SimProcess, payload: str, caplog: pytest.LogCaptureFixture
 ) -> None:
-    """A reason that is no string is the typed invalid_input naming it."""
+    """A payload that is no JSON, or one with a field the bridge does not
+    know and a reason with a NUL and a line break: the arm is stopped all
+    the same, the reply notes what was ignored, and no log line carries a
+    control character (no forged log line)."""
+    caplog.set_level(logging.INFO, logger="armplan")
     with served(tmp_path, sim) as there:
-        with pytest.raises(ArmplanError) as caught:
-            there.bus.call(STOP, '{"reason": 5}', timeout=5.0)
-        assert caught.value.kind == "invalid_input"
-        assert "reason" in caught.value.message
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(1.0)
+        reply = there.bus.call(STOP, payload, timeout=10.0)
+        print(f"\n{reply.to_json()}")
+        running["thread"].join(10.0)
+        assert (reply.playing, reply.stopped, reply.ended) == (True, True, True)
+        assert reply.still and reply.note
+        error = running["error"]
+        assert error.evidence["stopped_by"] == "bridge/stop"
+        if payload == "not json":
+            assert "not JSON" in reply.note and reply.reason is None
+        else:
+            assert "'source'" in reply.note and "control characters" in reply.note
+            assert reply.reason == "ab FAKE LOG LINE"
+            assert error.evidence["stop_reason"] == "ab FAKE LOG LINE"
+        _assert_stopped_mid_way(there)
+    lines = [r.getMessage() for r in caplog.records]
+    assert any("stop: asked on" in line for line in lines)
+    for line in lines:
+        assert not any(ord(c) < 32 for c in line), repr(line)
+
+
+@pytest.mark.parametrize("hurry", ["clock-behind", "1-ms-timeout"])
+def test_a_stop_is_made_whatever_its_callers_deadline(
+    tmp_path: Path, sim: SimProcess, hurry: str
+) -> None:
+    """A stop sent "15 s ago" (10 s to wait) by a caller's clock that is
+    behind, or one whose caller waits 1 ms: the arm is stopped all the
+    same; the first is answered in full (its caller does wait)."""
+    with served(tmp_path, sim) as there:
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(1.0)
+        if hurry == "clock-behind":
+            replies = list(
+                there.bus.session.get(
+                    there.bus.key(STOP.path),
+                    payload=b'{"reason": "hurried"}',
+                    attachment=budget_attachment(10.0, sent=time.time() - 15.0),
+                    timeout=10.0,
+                )
+            )
+            assert len(replies) == 1 and replies[0].ok is not None
+            reply = StopReply.model_validate_json(replies[0].ok.payload.to_bytes())
+            print(f"\n{reply.to_json()}")
+            assert (reply.playing, reply.stopped, reply.ended, reply.still) == (
+                True,
+                True,
+                True,
+                True,
+            )
+        else:
+            with pytest.raises(RequestTimeoutError):
+                there.bus.call(STOP, StopRequest(reason="hurried"), timeout=0.001)
+        running["thread"].join(10.0)
+        assert running["error"].evidence["stop_reason"] == "hurried"
+        _wait("the outcome", lambda: len(there.outcomes) == 1)
+        assert there.outcomes[0].outcome == "stopped"
+        _assert_stopped_mid_way(there)
 
 
 def test_a_stop_query_drops_every_trajectory_the_follower_holds(
@@ -356,3 +432,82 @@ def test_armplan_stop_without_a_bridge_is_a_clear_error(tmp_path: Path) -> None:
     assert done.stderr.startswith("armplan: error: ")
     assert "bridge" in done.stderr and "armplan/bridge/stop" in done.stderr
     assert ServiceUnavailableError.kind == "service_unavailable"
+
+
+def test_a_stop_too_short_to_wait_says_ordered_not_confirmed(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """``armplan stop --timeout 0.05`` during a trajectory: the arm is
+    stopped; the reply, sent before the execution could end, says stopped
+    (ordered) with the arm and phase, not ended, not known still; the CLI
+    says so and exits 1."""
+    with served(tmp_path, sim) as there:
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(1.0)
+        endpoint = there.bus.config.endpoint
+        done = _armplan("stop", "--connect", endpoint, "--timeout", "0.05", "--json")
+        print(f"\n{done.stdout}{done.stderr}")
+        running["thread"].join(10.0)
+        _assert_stopped_mid_way(there)
+        if done.returncode == 1 and "did not answer" in done.stderr:
+            pytest.skip("the CLI's 50 ms passed before the reply (a loaded machine)")
+        reply = StopReply.model_validate_json(done.stdout)
+        assert done.returncode == 1
+        assert (reply.playing, reply.stopped, reply.ended, reply.still) == (
+            True,
+            True,
+            False,
+            False,
+        )
+        assert (reply.arm, reply.phase) == ("right", "trajectory")
+        assert reply.phase_duration == pytest.approx(LONG, abs=0.05)
+        assert "look at the robot" in done.stderr
+        from armplan.cli.commands.stop import describe
+
+        assert describe(reply).startswith(
+            "ordered the right arm's movement stopped; not yet confirmed; "
+            "the arm is NOT known still (answered in "
+        )
+
+
+def test_a_stop_with_the_robot_frozen_never_says_still(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """The sim frozen (SIGSTOP) 1 s into a 4 s trajectory: two stops at once
+    and then ``armplan stop`` all say the arm is NOT known still (the bridge
+    keeps stopping a call the robot did not answer), the CLI exits 1; the
+    execute's error never says the arm stopped."""
+    with served(tmp_path, sim) as there:
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(1.0)
+        os.kill(sim.pid, signal.SIGSTOP)
+        try:
+            replies: list[Any] = [None, None]
+
+            def stop(i: int) -> None:
+                replies[i] = there.bus.call(STOP, StopRequest(), timeout=10.0)
+
+            both = [threading.Thread(target=stop, args=(i,)) for i in range(2)]
+            for thread in both:
+                thread.start()
+            for thread in both:
+                thread.join(15.0)
+            print(f"\n{[r.to_json() for r in replies if r is not None]}")
+            assert [getattr(r, "still", None) for r in replies] == [False, False]
+            for reply in replies:
+                assert isinstance(reply, StopReply)
+                assert reply.playing and reply.note
+            running["thread"].join(10.0)
+            error = running["error"]
+            print(error.message)
+            assert "the arm stopped where it was then" not in error.message
+            if error.kind == "robot_state":
+                assert "the robot has not confirmed it" in error.message
+            endpoint = there.bus.config.endpoint
+            done = _armplan("stop", "--connect", endpoint)
+            print(f"{done.stdout}{done.stderr}")
+            assert done.returncode == 1
+            assert "the arm is NOT known still" in done.stdout
+            assert "look at the robot" in done.stderr
+        finally:
+            os.kill(sim.pid, signal.SIGCONT)

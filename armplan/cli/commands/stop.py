@@ -10,16 +10,20 @@ It asks the running bridge (``python -m bridge.serve``, ``armplan up
 once (``ALMotion.killTasksUsingResources`` on the arm's joints), its
 execute caller gets the robot's "stopped" error, ``bridge/outcome`` says
 "stopped", and a follower (``--follow``) drops the trajectories waiting.
-The bridge answers once the arm is still; this prints what was stopped
-(``--json``: the :class:`~shared.messages.StopReply`). Exit code 0 once the
-arm is still; 1 with no bridge alive (or no router), or an arm whose
-measured angles had not settled when the bridge answered.
+The bridge orders the stop as the query arrives, whatever the caller's
+time left; the reply waits for the stopped execution to end and says
+whether the arm is known still. This prints what was stopped (``--json``:
+the :class:`~shared.messages.StopReply`) and the bridge's note, if any.
+Exit code 0 once the arm is known still; 1 with no bridge alive (or no
+router), no answer within ``--timeout`` (the stop was sent all the same),
+or an arm not known still when the bridge answered: look at the robot.
+A reason with control characters has them removed, and one longer than
+200 characters is cut, with a warning: the stop is never refused for it.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from dataclasses import replace
 
@@ -28,8 +32,9 @@ from armplan.cli.parsing import add_json
 from shared.bus import Bus, load_config
 from shared.bus.config import MAX_WAIT
 from shared.bus.robot_routes import STOP
-from shared.errors import InvalidInputError
-from shared.messages import StopReply, StopRequest, parse
+from shared.errors import InvalidInputError, RequestTimeoutError
+from shared.messages import StopReply, StopRequest
+from shared.messages.stop import clean_reason
 
 ORDER = 82
 HELP = "stop the arm the bridge is moving, now (<ns>/bridge/stop)"
@@ -81,19 +86,33 @@ def run(args: argparse.Namespace) -> int:
             f"got {args.timeout}",
             field="--timeout",
         )
-    given = {} if args.reason is None else {"reason": args.reason}
-    request = parse(StopRequest, json.dumps(given))  # typed: names the reason
+    reason = None
+    if args.reason is not None:
+        reason, problems = clean_reason(args.reason)
+        if reason is None:
+            problems.append("the reason is empty: none sent")
+        for problem in problems:
+            sys.stderr.write(f"armplan: warning: {problem}\n")
+    request = StopRequest(reason=reason)
     config = load_config(args.config, tuple(args.connect or ()))
     if args.namespace is not None:
         config = replace(config, namespace=args.namespace)
+    url = f"{config.namespace}/{STOP.path}"
     with Bus.connect(config) as bus:
-        reply = bus.call(STOP, request, timeout=timeout)
+        try:
+            reply = bus.call(STOP, request, timeout=timeout)
+        except RequestTimeoutError:
+            sys.stderr.write(
+                f"armplan: the stop was sent to {url}; a bridge that got it "
+                "stops the arm however short the wait, but no answer came: "
+                "look at the robot\n"
+            )
+            raise
     if args.json:
         print_json(reply.model_dump(mode="json"))
     else:
         say(describe(reply))
     if not reply.still:
-        url = f"{config.namespace}/{STOP.path}"
         sys.stderr.write(
             f"armplan: error: the bridge ({url}) answered before the arm was "
             "known still: look at the robot\n"
@@ -104,7 +123,10 @@ def run(args: argparse.Namespace) -> int:
 
 def describe(reply: StopReply) -> str:
     """One line: what the stop stopped, what it dropped, whether the arm is still."""
-    if reply.stopped and reply.phase is not None:
+    if reply.stopped and reply.ended is False:
+        what = "movement" if reply.playing else "execution before its movement"
+        line = f"ordered the {reply.arm} arm's {what} stopped; not yet confirmed"
+    elif reply.stopped and reply.phase is not None:
         what = "trajectory" if reply.phase == "trajectory" else "approach"
         where = (
             f" at t = {reply.played:.2f} s of {reply.phase_duration:.2f} s"
@@ -121,4 +143,7 @@ def describe(reply: StopReply) -> str:
     if reply.dropped:
         line += f"; dropped {reply.dropped} waiting trajectories"
     line += "; the arm is still" if reply.still else "; the arm is NOT known still"
-    return f"{line} (answered in {reply.waited:.2f} s)"
+    line += f" (answered in {reply.waited:.2f} s)"
+    if reply.note:
+        line += f"\nnote: {reply.note}"
+    return line
