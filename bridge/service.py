@@ -23,15 +23,19 @@ and again after the approach if that took longer (``bridge.in_time``).
 The follower (``--follow``) waits instead: it plays the planner's
 trajectories in order by design.
 
-``<ns>/bridge/stop`` (:meth:`BridgeService.halt`) is the operator's stop
-over Zenoh: the execution being served is ordered stopped
-(``bridge.stop_order``; a movement playing has its arm's motion tasks
-killed at once, ``ALMotion.killTasksUsingResources``), its caller gets the
-robot's usual "stopped" error, ``bridge/outcome`` says ``"stopped"`` (by
-``bridge/stop``), the follower's waiting trajectories are dropped, and the
-:class:`~shared.messages.StopReply` comes once the arm is still. It has a
-worker of its own (``Endpoint.own_worker``): never queued behind an
-execute query. A stop is not a latch: an execute query after it plays.
+``<ns>/bridge/stop`` is the operator's stop over Zenoh. ANY query on it
+stops the arm: :meth:`BridgeService.order_stop` runs on Zenoh's thread as
+the query arrives (``Endpoint.at_once``), before the payload is parsed
+(leniently) or the caller's deadline looked at: the execution being served
+is ordered stopped (``bridge.stop_order``; a movement playing has its
+arm's motion tasks killed at once, ``ALMotion.killTasksUsingResources``),
+its caller gets the robot's usual "stopped" error, ``bridge/outcome`` says
+``"stopped"`` (by ``bridge/stop``), and the follower's waiting trajectories
+are dropped. Then :meth:`BridgeService.answer_stop`, on a worker of its own
+(never queued behind an execute query, never refused busy), sends the
+:class:`~shared.messages.StopReply` once the stopped execution has ended,
+saying whether the arm is known still (never when that is not known). A
+stop is not a latch: an execute query after it plays.
 
 Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 --with-sim`` and ``armplan demo`` do); see :mod:`bridge.serve`.

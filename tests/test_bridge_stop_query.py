@@ -511,3 +511,28 @@ def test_a_stop_with_the_robot_frozen_never_says_still(
             assert "look at the robot" in done.stderr
         finally:
             os.kill(sim.pid, signal.SIGCONT)
+
+
+def test_armplan_stop_cuts_a_long_reason_instead_of_refusing(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """``--reason`` of 261 characters with a line break, and an empty one:
+    the stop is sent all the same (exit 0, nothing playing, the arm read
+    still), the reason cleaned and cut to 200, with warnings."""
+    with served(tmp_path, sim) as there:
+        endpoint = there.bus.config.endpoint
+        long = "x" * 130 + "\n" + "y" * 130
+        done = _armplan("stop", "--connect", endpoint, "--reason", long, "--json")
+        print(f"\n{done.stdout}{done.stderr}")
+        assert done.returncode == 0, done.stderr
+        reply = StopReply.model_validate_json(done.stdout)
+        assert reply.reason == ("x" * 130 + " " + "y" * 130)[:200]
+        assert reply.still and not reply.playing
+        assert "warning: the reason was cut to 200 of its 261 characters" in (
+            done.stderr
+        )
+        assert "control characters" in done.stderr
+        empty = _armplan("stop", "--connect", endpoint, "--reason", "")
+        assert empty.returncode == 0, empty.stderr
+        assert empty.stdout.startswith("nothing was playing; the arm is still")
+        assert "warning: the reason is empty" in empty.stderr

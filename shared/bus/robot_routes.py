@@ -4,10 +4,12 @@ With the default namespace ``armplan``:
 
 - ``armplan/bridge/execute``: an ``ExecuteRequest`` (a trajectory) in, the
   ``ExecuteReply`` (executed states and the tracking report) out;
-- ``armplan/bridge/stop``: a ``StopRequest`` (``{}``, perhaps a reason) in:
-  the movement playing is stopped at once, the follower's waiting
-  trajectories dropped; the ``StopReply`` (what was stopped, where) comes
-  once the arm is still. It has a worker of its own, so it is answered
+- ``armplan/bridge/stop``: any payload (a ``StopRequest``: ``{}``, perhaps
+  a reason; read leniently) in: the movement playing is stopped as the
+  query arrives, whatever its payload or deadline (``Endpoint.at_once``),
+  the follower's waiting trajectories dropped; the ``StopReply`` (what was
+  stopped, where, whether the arm is known still) comes once the stopped
+  execution has ended. It has a worker of its own, so it is answered
   while an execute query blocks (``Endpoint.own_worker``);
 - the bridge publishes on ``bridge/frames``, ``bridge/state`` and
   ``bridge/report`` (``shared.bus.topics``).
@@ -25,5 +27,5 @@ from shared.messages import ExecuteReply, ExecuteRequest, StopReply, StopRequest
 BRIDGE = "bridge"
 #: Play a trajectory on the robot and answer with what it did.
 EXECUTE = Route(BRIDGE, "bridge/execute", ExecuteRequest, ExecuteReply)
-#: Stop the movement playing now; answered once the arm is still.
+#: Stop the movement playing now; answered once it has ended.
 STOP = Route(BRIDGE, "bridge/stop", StopRequest, StopReply)

@@ -23,8 +23,8 @@ behind would lose an answer that costs little).
 A reply's Zenoh attachment is a ``ServiceTiming``: where the request's time
 went inside the service. A query's attachment is its caller's budget
 (``shared.bus.deadline``): a query still queued when its caller has stopped
-waiting is dropped unserved, so a flood of abandoned requests does not
-delay the next caller.
+waiting is dropped unserved (not an urgent endpoint's), so a flood of
+abandoned requests does not delay the next caller.
 """
 
 from __future__ import annotations
