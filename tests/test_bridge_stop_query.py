@@ -149,14 +149,20 @@ class Served:
 
 
 @contextlib.contextmanager
-def served(tmp_path: Path, sim: SimProcess, follow: bool = False) -> Iterator[Served]:
+def served(
+    tmp_path: Path, sim: SimProcess, follow: bool = False, queue_limit: int = 0
+) -> Iterator[Served]:
     config = load_config(endpoints=(free_endpoint(),))
     client = NaoqiClient(sim.url)
     try:
         with (
             (tmp_path / "router.log").open("w") as router_log,
             Launcher(config, [], log=router_log),
-            Bus.connect(replace(config, workers=1)) as bridge_bus,
+            Bus.connect(
+                replace(
+                    config, workers=1, queue_limit=queue_limit or config.queue_limit
+                )
+            ) as bridge_bus,
             Bus.connect(config) as bus,
         ):
             service = BridgeService(bridge_bus, RobotBridge(client))
@@ -536,3 +542,22 @@ def test_armplan_stop_cuts_a_long_reason_instead_of_refusing(
         assert empty.returncode == 0, empty.stderr
         assert empty.stdout.startswith("nothing was playing; the arm is still")
         assert "warning: the reason is empty" in empty.stderr
+
+
+def test_a_burst_of_stops_is_never_answered_busy(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """120 stops at once, the bridge's queue limit 4: every one is answered
+    with a StopReply (none ``service_busy``), all saying the same."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with served(tmp_path, sim, queue_limit=4) as there:
+        with ThreadPoolExecutor(40) as pool:
+            calls = [
+                pool.submit(there.bus.call, STOP, "{}", timeout=10.0)
+                for _ in range(120)
+            ]
+            replies = [call.result(20.0) for call in calls]
+        assert {(r.playing, r.stopped, r.still) for r in replies} == {
+            (False, False, True)
+        }
