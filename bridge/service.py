@@ -153,9 +153,8 @@ class BridgeService:
             raise
         order = StopOrder()
         if not self._slot.take(frames.duration, wait, order, since, frames.arm.value):
-            remaining = self._slot.left()
-            log.warning("execute: refused, the robot is busy (%.1f s left)", remaining)
-            raise RobotBusyError(self.robot.client.url, remaining)
+            # logged once, with the answer (``codec``): a caller's ordinary refusal
+            raise RobotBusyError(self.robot.client.url, self._slot.left())
         try:
             reply = self._play(request, frames, order)
         except ArmplanError as error:

@@ -535,9 +535,13 @@ class RequestTimeoutError(ArmplanError):
 
     kind = "request_timeout"
 
-    def __init__(self, service: str, *, key: str, timeout: float) -> None:
+    def __init__(
+        self, service: str, *, key: str, timeout: float, message: str | None = None
+    ) -> None:
+        """``message``: what happened, if not the caller's own wait that ran out."""
         super().__init__(
-            f"service {service!r} did not answer {key} within {timeout:.3f} s",
+            message
+            or f"service {service!r} did not answer {key} within {timeout:.3f} s",
             service=service,
             key=key,
             timeout=float(timeout),

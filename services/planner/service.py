@@ -64,10 +64,14 @@ def remote_planner(bus: Bus) -> Planner:
         result = plan(request, stages)
         due = current_due()
         if waiting.all_gone(request.request_id, due):  # a robot would move for no one
+            budget = 0.0 if due is None else due.budget
             raise RequestTimeoutError(
                 NAME,
                 key=PLAN.key(bus.config.namespace),
-                timeout=0.0 if due is None else due.budget,
+                timeout=budget,
+                message=f"the caller stopped waiting after {budget:.3f} s, before "
+                "the plan was ready: it was not published (a robot would have "
+                "moved for no one)",
             )
         publish_parts(bus, result)
         return result.trajectory
