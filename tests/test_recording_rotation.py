@@ -10,7 +10,12 @@ from mcap.reader import make_reader
 
 from shared.errors import InvalidInputError
 from shared.recording import read_records
-from shared.recording.rotation import RotatingWriter, RotationPolicy, part_path
+from shared.recording.rotation import (
+    RotatingWriter,
+    RotationPolicy,
+    part_path,
+    parts_named,
+)
 from shared.recording.writer import MessageWriter
 
 SCHEMA = {"type": "object"}
@@ -91,3 +96,11 @@ def test_a_bad_limit_is_refused(policy: dict[str, float], message: str) -> None:
     """Non-positive limits raise InvalidInputError naming the value."""
     with pytest.raises(InvalidInputError, match=message):
         RotationPolicy(**policy)  # type: ignore[arg-type]
+
+
+def test_many_parts_are_named_by_the_first_and_the_last() -> None:
+    """A day rotated every 5 minutes is 288 files: the last line named each."""
+    parts = [part_path(Path("s.mcap"), n) for n in range(1, 289)]
+    assert parts_named(parts) == "s-0001.mcap ... s-0288.mcap (288 files)"
+    assert parts_named(parts[:3]) == "s-0001.mcap, s-0002.mcap, s-0003.mcap"
+    assert parts_named([Path("s.mcap")]) == "s.mcap"

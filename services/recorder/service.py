@@ -42,6 +42,7 @@ from shared.bus.keys import alive_key
 from shared.bus.session import has_router_or_peer
 from shared.errors import RecordingError
 from shared.lifecycle import StartStop
+from shared.recording.rotation import parts_named
 
 NAME = "recorder"
 #: Period at which :meth:`Recorder.wait` checks the writer [s].
@@ -187,7 +188,7 @@ class Recorder(StartStop):
             "recorder stopped: %d messages from the bus%s in %s%s",
             self.sink.written,
             f" (and {derived} derived for Foxglove)" if derived else "",
-            ", ".join(map(str, paths)),
+            parts_named(paths),
             self.sink.behind_note(),
         )
         if self.sink.error is not None:

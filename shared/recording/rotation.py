@@ -68,6 +68,21 @@ def part_path(path: Path, number: int) -> Path:
     return path.with_name(f"{path.stem}-{number:04d}{path.suffix or '.mcap'}")
 
 
+#: Most files a message names one by one; beyond, the first and the last.
+NAMED_PARTS = 3
+
+
+def parts_named(paths: list[Path]) -> str:
+    """``paths`` for a message: all of a few, else ``first ... last (N files)``.
+
+    A day's recording rotated every 5 minutes is 288 files: listed whole, the
+    recorder's last line ran to 288 paths.
+    """
+    if len(paths) <= NAMED_PARTS:
+        return ", ".join(map(str, paths))
+    return f"{paths[0]} ... {paths[-1]} ({len(paths)} files)"
+
+
 def numbered_parts(path: Path) -> list[Path]:
     """The numbered files of a rotating recording at ``path`` now, in order."""
     stem, suffix = glob.escape(path.stem), glob.escape(path.suffix or ".mcap")

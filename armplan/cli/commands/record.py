@@ -24,6 +24,7 @@ from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
 from shared.bus.login import check_login
 from shared.errors import InvalidInputError
+from shared.recording.rotation import parts_named
 from shared.stop_signals import stop_on_signals
 
 ORDER = 90
@@ -68,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
         )
         recorder.wait(stop, args.duration)
     sink = recorder.sink
-    files = ", ".join(map(str, sink.paths))
+    files = parts_named(sink.paths)
     extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
     note = sink.behind_note()
     say(f"armplan record: {sink.written} messages{extra} in {files}{note}")
