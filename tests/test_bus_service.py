@@ -11,6 +11,7 @@ import threading
 import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor, as_completed
+from typing import Any
 
 import pytest
 import zenoh
@@ -657,3 +658,48 @@ def test_an_urgent_endpoint_acts_on_every_query_and_refuses_none(
         assert len(replies) == 1 and replies[0].ok is not None
     assert handler.ran[0] == "held"
     assert len(handler.ran) <= 3  # the rest joined a queued query
+
+
+def test_a_query_while_the_host_stops_is_answered_at_once(config: BusConfig) -> None:
+    """While ``ServiceHost.stop`` waits for a held worker, a query on the
+    urgent endpoint has its ``at_once`` run and is answered at once with
+    ``service_unavailable`` saying it was acted on (not left unanswered in
+    a queue no worker reads any more); so is an ordinary query."""
+    from shared.messages import ErrorReply
+
+    gate = Gate()
+    arrived: list[bytes] = []
+    endpoints: list[Endpoint[Any, Any]] = [
+        Endpoint(GATED, gate),
+        Endpoint(URGENT, lambda request: request, at_once=arrived.append),
+    ]
+    with Bus.connect(config) as service_bus, Bus.connect(config) as client:
+        host = ServiceHost(service_bus, "gated", endpoints).start()
+        assert client.wait_alive(["gated"], 5.0) == []
+        with ThreadPoolExecutor(2) as pool:
+            held = pool.submit(client.call, GATED, Text(text="held"), timeout=8.0)
+            assert gate.entered.wait(5.0)
+            stopping = pool.submit(host.stop)
+            time.sleep(0.3)  # stop() waits for the held worker
+            assert not stopping.done()
+            for route, payload in ((URGENT, b'{"text": "stop"}'), (GATED, b"{}")):
+                asked = time.monotonic()
+                replies = list(
+                    client.session.get(
+                        route.key(config.namespace),
+                        payload=payload,
+                        timeout=3.0,
+                    )
+                )
+                took = time.monotonic() - asked
+                assert len(replies) == 1 and replies[0].err is not None, route
+                body = replies[0].err.payload.to_bytes()
+                error = ErrorReply.model_validate_json(body)
+                assert error.kind == "service_unavailable", error
+                assert "stopping" in error.message and took < 1.0
+                if route is URGENT:
+                    assert "acted on as it arrived" in error.message
+            assert arrived == [b'{"text": "stop"}']
+            gate.release.set()
+            held.result(10.0)
+            stopping.result(10.0)

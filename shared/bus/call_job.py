@@ -31,6 +31,7 @@ class CallJob:
         key: Its full key, e.g. ``"armplan/plan"``.
         call: The caller's id for the call; ``None``: the query is its own
             call, and nothing joins it.
+        arrived: When its first query arrived [s, monotonic]; None: not said.
     """
 
     def __init__(
@@ -39,8 +40,10 @@ class CallJob:
         key: str,
         query: zenoh.Query,
         due: Due | None,
+        arrived: float | None = None,
     ) -> None:
         self.endpoint, self.key = endpoint, key
+        self.arrived = arrived
         self.call = None if due is None else due.call
         self._queries = [query]
         self._dues = [due]

@@ -19,7 +19,13 @@ else (no parsing, no queue, no deadline can keep it from running); its own
 worker then answers: a query that comes while another is queued joins it
 (one answer for both, whatever each asked), so its queue never fills, and
 it is never dropped for its caller's deadline (a caller whose clock is
-behind would lose an answer that costs little).
+behind would lose an answer that costs little), nor refused for its size
+(its payload is then read as empty: it was acted on all the same).
+Each query's arrival (monotonic, noted as Zenoh hands it over) is told to
+its handler and ``at_once`` (``shared.bus.arrival``). Once :meth:`stop`
+has begun, a query is answered at once with ``service_unavailable``
+(after an urgent endpoint's ``at_once`` has run): no worker is left to
+answer it from a queue.
 A reply's Zenoh attachment is a ``ServiceTiming``: where the request's time
 went inside the service. A query's attachment is its caller's budget
 (``shared.bus.deadline``): a query still queued when its caller has stopped
@@ -39,13 +45,14 @@ from typing import Any
 
 import zenoh
 
+from shared.bus.arrival import arrived_at
 from shared.bus.bus import Bus
 from shared.bus.call_job import CallJob
 from shared.bus.codec import Answer, answer, reply_error
 from shared.bus.deadline import Due, deadline_of, serving_until
 from shared.bus.keys import alive_key, check_name
 from shared.bus.route import Endpoint
-from shared.errors import ServiceBusyError
+from shared.errors import ArmplanError, ServiceBusyError, ServiceUnavailableError
 from shared.lifecycle import StartStop
 
 log = logging.getLogger("armplan.bus")
@@ -103,9 +110,11 @@ class ServiceHost(StartStop):
         self._queryables: list[zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
         self._last_answer = -REPLY_FLUSH  # [s, monotonic]: none yet
+        self._stopping = False  # set by stop(): nothing more is queued
 
     def start(self) -> ServiceHost:
         """Start workers, declare queryables, announce liveliness, run ``ready``."""
+        self._stopping = False
         for i in range(self._bus.config.workers):
             self._start_worker(self._lanes[""], f"{self.name}-worker-{i}")
         for lane, jobs in self._lanes.items():
@@ -131,21 +140,45 @@ class ServiceHost(StartStop):
         jobs = self._lanes[_lane(endpoint, key)]
 
         def enqueue(query: zenoh.Query) -> None:  # on Zenoh's thread: no waiting
+            arrived = time.monotonic()
             if endpoint.at_once is not None:
-                self._at_once(endpoint.at_once, key, query)
-            if not self._admit(endpoint, key, query, jobs):
+                self._at_once(endpoint.at_once, key, query, arrived)
+            admitted = self._admit(endpoint, key, query, jobs, arrived)
+            if admitted is None:  # stopping: no worker will read a queue
+                what = "acted on as it arrived, but " if endpoint.urgent else ""
+                self._refuse(
+                    query,
+                    ServiceUnavailableError(
+                        self.name,
+                        key=key,
+                        reason=f"{what}the service is stopping",
+                    ),
+                )
+            elif not admitted:
                 busy = ServiceBusyError(self.name, key=key, queued=jobs.qsize())
-                with query, contextlib.suppress(zenoh.ZError):  # caller gone
-                    query.reply_err(
-                        reply_error(busy), encoding=zenoh.Encoding.APPLICATION_JSON
-                    )
+                self._refuse(query, busy)
 
         return self._bus.session.declare_queryable(key, enqueue)
 
+    def _refuse(self, query: zenoh.Query, error: ArmplanError) -> None:
+        """Answer ``query`` with ``error`` at once (on Zenoh's thread)."""
+        with query, contextlib.suppress(zenoh.ZError):  # caller gone
+            query.reply_err(
+                reply_error(error), encoding=zenoh.Encoding.APPLICATION_JSON
+            )
+        self._last_answer = time.monotonic()  # see REPLY_FLUSH
+
     def _at_once(
-        self, at_once: Callable[[bytes], None], key: str, query: zenoh.Query
+        self,
+        at_once: Callable[[bytes], None],
+        key: str,
+        query: zenoh.Query,
+        arrived: float,
     ) -> None:
-        """Run an urgent endpoint's ``at_once`` on ``query``'s raw payload."""
+        """Run an urgent endpoint's ``at_once`` on ``query``'s raw payload.
+
+        Inside :func:`~shared.bus.arrival.arrived_at` its arrival.
+        """
         try:
             payload = query.payload
             size = 0 if payload is None else len(payload)
@@ -154,7 +187,8 @@ class ServiceHost(StartStop):
                 if payload is None or size > self._bus.config.max_payload
                 else payload.to_bytes()
             )
-            at_once(data)
+            with arrived_at(arrived):
+                at_once(data)
         except Exception:  # the query is still queued and answered
             log.exception("%s: failed to act on a query as it arrived", key)
 
@@ -164,22 +198,26 @@ class ServiceHost(StartStop):
         key: str,
         query: zenoh.Query,
         jobs: queue.Queue[CallJob | None],
-    ) -> bool:
+        arrived: float,
+    ) -> bool | None:
         """Queue ``query``, or join it to its call's first query; ``False``: full.
 
         A query asked again (its call id is that of a query queued or
         running) takes no place in the queue: refused busy, its error would
         be its caller's answer while the first query was still worked on.
+        ``None``: the host is stopping (:meth:`stop`), nothing is queued.
         """
-        due = deadline_of(query, time.monotonic())
+        due = deadline_of(query, arrived)
         call = None if due is None else due.call
         if endpoint.urgent:
-            return self._admit_urgent(endpoint, key, query, due, jobs)
+            return self._admit_urgent(endpoint, key, query, due, jobs, arrived)
         with self._lock:
+            if self._stopping:
+                return None
             job = None if call is None else self._calls.get((key, call))
             if job is not None and job.add(query, due):
                 return True
-            job = CallJob(endpoint, key, query, due)
+            job = CallJob(endpoint, key, query, due, arrived)
             try:
                 jobs.put_nowait(job)
             except queue.Full:
@@ -195,13 +233,19 @@ class ServiceHost(StartStop):
         query: zenoh.Query,
         due: Due | None,
         jobs: queue.Queue[CallJob | None],
-    ) -> bool:
-        """Join ``query`` to its key's job not yet begun, or queue a new one."""
+        arrived: float,
+    ) -> bool | None:
+        """Join ``query`` to its key's job not yet begun, or queue a new one.
+
+        ``None``: the host is stopping, nothing is queued.
+        """
         with self._lock:
+            if self._stopping:
+                return None
             job = self._waiting.get(key)
             if job is not None and job.add(query, due, same=False):
                 return True
-            job = CallJob(endpoint, key, query, due)
+            job = CallJob(endpoint, key, query, due, arrived)
             jobs.put_nowait(job)  # unbounded: never full
             self._waiting[key] = job
             return True
@@ -244,9 +288,12 @@ class ServiceHost(StartStop):
             )
             return None  # finished unanswered: no one waits for it
         first = job.first
-        payload = first.payload if first.payload is not None else b""
-        with serving_until(due):
-            return answer(job.endpoint, payload, job.key, self._bus.config.max_payload)
+        payload: Any = first.payload if first.payload is not None else b""
+        limit = self._bus.config.max_payload
+        if job.endpoint.urgent and len(payload) > limit:
+            payload = b""  # acted on as it arrived: answered, never refused
+        with serving_until(due), arrived_at(job.arrived):
+            return answer(job.endpoint, payload, job.key, limit)
 
     def _close(self, job: CallJob) -> list[zenoh.Query]:
         """``job``'s queries; a query of its call from now on is a new call."""
@@ -263,6 +310,8 @@ class ServiceHost(StartStop):
         for a request that had been served (a bridge's report of a
         trajectory it watched to its end as it stopped).
         """
+        with self._lock:  # a query from now on is answered at once
+            self._stopping = True
         if self._token is not None:
             self._token.undeclare()  # type: ignore[no-untyped-call]
             self._token = None
