@@ -149,3 +149,19 @@ def test_numbered_files_are_removed_all_or_none(tmp_path: Path) -> None:
             "r-0003.mcap",
             "r-0004.mcap",
         ]
+
+
+def test_overwrite_on_a_dangling_link_says_so(tmp_path: Path) -> None:
+    """--overwrite where a symbolic link points to nothing: refused naming
+    the link and its missing target (it used to say the file was being
+    written by another recorder); nothing is created where it points."""
+    out = tmp_path / "out.mcap"
+    target = tmp_path / "gone" / "away.mcap"
+    out.symlink_to(target)
+    with pytest.raises(RecordingError) as refused:
+        MessageWriter(out, chunked=False, overwrite=True)
+    print(f"\n{refused.value.message}")
+    assert "symbolic link" in refused.value.message
+    assert str(target) in refused.value.message
+    assert "another recorder" not in refused.value.message
+    assert out.is_symlink() and not target.exists()

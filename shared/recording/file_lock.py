@@ -47,6 +47,20 @@ def exists_error(path: Path) -> RecordingError:
     )
 
 
+def dangling_error(path: Path) -> RecordingError:
+    """The error for a symbolic link whose target does not exist."""
+    try:
+        target = os.readlink(path)
+    except OSError:
+        target = "?"
+    return RecordingError(
+        f"{path} is a symbolic link to {target}, which does not exist: "
+        "--overwrite does not create a file where a dangling link points; "
+        "remove the link or give another name",
+        path=str(path),
+    )
+
+
 def _lock(fd: int, path: Path) -> None:
     """Take the exclusive lock of ``fd`` without waiting; close it if held.
 
@@ -99,22 +113,33 @@ def _take_over(path: Path) -> int | None:
     descriptor.
 
     Raises:
-        RecordingError: if another writer holds it.
+        RecordingError: if another writer holds it, or it is a symbolic
+            link to nothing (:func:`dangling_error`).
         OSError: if it cannot be opened.
     """
     try:
-        regular = stat.S_ISREG(os.lstat(path).st_mode)
-        fd = os.open(path, os.O_RDONLY if regular else os.O_WRONLY)
+        mode = os.lstat(path).st_mode
     except FileNotFoundError:  # removed meanwhile: create it
         return None
-    _lock(fd, path)
-    if regular:
-        path.unlink(missing_ok=True)
-        os.close(fd)
+    regular = stat.S_ISREG(mode)
+    try:
+        fd = os.open(path, os.O_RDONLY if regular else os.O_WRONLY)
+    except FileNotFoundError:  # removed meanwhile, or a link to nothing
+        if stat.S_ISLNK(mode) and os.path.islink(path):
+            raise dangling_error(path) from None
         return None
-    if stat.S_ISREG(os.fstat(fd).st_mode):
-        os.ftruncate(fd, 0)
-    return fd
+    _lock(fd, path)
+    try:
+        if regular:
+            path.unlink(missing_ok=True)
+            return None
+        if stat.S_ISREG(os.fstat(fd).st_mode):
+            os.ftruncate(fd, 0)
+        kept, fd = fd, -1  # the caller's now
+        return kept
+    finally:
+        if fd >= 0:
+            os.close(fd)
 
 
 def open_locked(path: Path, *, overwrite: bool) -> IO[bytes]:
