@@ -53,9 +53,10 @@ STOP = f"ALMotion.{STOP_METHOD}"
 class Halted(str):
     """What :meth:`NaoqiClient.halt` came to, and whether the robot confirmed it.
 
-    Confirmed: the robot answered a stop, or answered the call (which has
-    then ended). Not: the stop was sent, or could not be, and the robot
-    said nothing of it.
+    Confirmed: the robot answered the call, which has then ended (after a
+    stop it answered, or before). Not: the stop was sent, or could not
+    be, or was answered while the call had not arrived or not ended (a
+    kill served before the call takes effect ends nothing).
     """
 
     confirmed: bool
@@ -196,7 +197,10 @@ class NaoqiClient:
 
         Returns:
             What came of it, to add to the reason the robot is given up;
-            ``confirmed`` if the robot answered the stop or the call.
+            ``confirmed`` only if the call is known to have ended: the robot
+            answered it (after the stop, if the call had arrived). A stop
+            answered while the call had not arrived, or had not ended,
+            confirms nothing: the stopper is still at work.
         """
         with self._lock:
             watch, command = self._watch.hand_over(), self._command.hand_over()
@@ -224,7 +228,9 @@ class NaoqiClient:
         self._stopper = Stopper(
             call, command, watch, names, arrived=arrived, limit=RETIRE_AFTER
         )
-        return Halted(f"{outcome}; {follow}", answered)
+        # not confirmed, answered or not: a kill served before the call took
+        # effect ends nothing, and the call is not known to have ended
+        return Halted(f"{outcome}; {follow}", False)
 
     def wait_stopped(self) -> bool:
         """Wait until the arm is no longer being stopped after a call given up on.

@@ -495,8 +495,8 @@ def _stopped(
     The arm is stopped as when the robot is given up (:func:`_give_up`):
     ``killTasksUsingResources`` on its joints, again until the call has
     ended; the robot is not declared lost. The error says the arm stopped
-    only if the robot confirmed it (it answered the stop or the call);
-    else that the stop was sent and the robot has not confirmed it.
+    only if the robot confirmed it (it answered the call, which has then
+    ended); else that the stop was sent and the robot has not confirmed it.
     """
     now = time.monotonic()
     outcome = client.halt(HALT_WAIT, call.names, future, arrival is not None)

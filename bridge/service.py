@@ -31,11 +31,14 @@ is ordered stopped (``bridge.stop_order``; a movement playing has its
 arm's motion tasks killed at once, ``ALMotion.killTasksUsingResources``),
 its caller gets the robot's usual "stopped" error, ``bridge/outcome`` says
 ``"stopped"`` (by ``bridge/stop``), and the follower's waiting trajectories
-are dropped. Then :meth:`BridgeService.answer_stop`, on a worker of its own
-(never queued behind an execute query, never refused busy), sends the
+are dropped; an execute query that arrived before the stop (queued, or
+being checked) is stopped as it takes the robot, nothing of it sent.
+Then :meth:`BridgeService.answer_stop`, on a worker of its own (never
+queued behind an execute query, never refused busy), sends the
 :class:`~shared.messages.StopReply` once the stopped execution has ended,
-saying whether the arm is known still (never when that is not known). A
-stop is not a latch: an execute query after it plays.
+saying whether the arm is known still (never when that is not known, nor
+while a trajectory that came after the stop holds the robot). A stop is
+not a latch: an execute query after it plays.
 
 Run it with ``python -m bridge.serve --robot URL`` (``armplan up
 --with-sim`` and ``armplan demo`` do); see :mod:`bridge.serve`.
@@ -60,6 +63,7 @@ from bridge.serving import Serving, Slot
 from bridge.stop_order import STOPPED_BY, StopOrder
 from bridge.stopping import STOP_LIMIT, stop_serving
 from shared.bus import Bus, Endpoint
+from shared.bus.arrival import current_arrival
 from shared.bus.deadline import REPLY_MARGIN, Due, current_due
 from shared.bus.robot_routes import EXECUTE, STOP
 from shared.bus.topics import (
@@ -110,9 +114,10 @@ class BridgeService:
         self.robot = robot
         self._slot = Slot()  # the request being served, and what it has sent
         self._on_halt: list[DropWaiting] = []
-        self._lock = threading.Lock()  # guards the three below
+        self._lock = threading.Lock()  # guards the four below
         self._orders: list[_Ordered] = []  # stops ordered, not yet answered
         self._last: _Ordered | None = None  # the stops the last reply answered
+        self._last_latest = -float("inf")  # [s, monotonic] the last of them
         #: The arm of an execution that ended with an error mid-movement and
         #: has not been read still since: a stop does not say it is still.
         self._unsure: str | None = None
@@ -132,6 +137,10 @@ class BridgeService:
                 follower's way), instead of refusing this one.
             since: When the trajectory arrived [s, monotonic] (the
                 follower's): a ``bridge/stop`` after that stops it too.
+                None: the execute query's arrival
+                (:func:`~shared.bus.arrival.current_arrival`): a stop that
+                came while it waited in the queue or was checked stops it,
+                nothing of it sent.
 
         Raises:
             RobotBusyError: another trajectory is playing (``wait`` False).
@@ -145,6 +154,8 @@ class BridgeService:
             RobotStateError: a ``bridge/stop`` stopped it (``stopped``).
             RobotUnavailableError, RobotCommandError: from the robot.
         """
+        if since is None:
+            since = current_arrival()
         self.robot.refuse_if_stopping("nothing was sent")
         try:  # a trajectory over a limit is refused as such, busy or not
             frames = self.robot.frames(request.trajectory, request.rate)
@@ -187,9 +198,12 @@ class BridgeService:
         :func:`~shared.messages.stop.read_stop_request`) and whatever the
         caller's time left, the arm is stopped; only the reply (its wait
         for the arm to be still) is queued. Only a lock and an event: it
-        never waits for the robot.
+        never waits for the robot. The stop's time is the query's arrival
+        (:func:`~shared.bus.arrival.current_arrival`): a request that
+        arrived before it is stopped, one after it is not.
         """
-        at = time.monotonic()
+        arrived = current_arrival()
+        at = time.monotonic() if arrived is None else arrived
         try:
             request, notes = read_stop_request(payload)
         except Exception:  # never keeps the arm from being stopped
@@ -247,11 +261,20 @@ class BridgeService:
         queued while another was answered) get one reply. Idempotent; not
         a latch: the next execute query plays.
         """
+        arrived = current_arrival()  # this reply's first query's
         with self._lock:
             batch, self._orders = self._orders, []
+        if arrived is not None:  # a stop whose query was never answered here
+            stale = [o for o in batch if o.at < arrived]  # (e.g. refused)
+            batch = [o for o in batch if o.at >= arrived]
+            if stale:
+                log.warning("stop: %d earlier stops had no reply", len(stale))
         if not batch:  # answered with an earlier reply's batch
             with self._lock:
                 last = self._last
+                latest = self._last_latest
+            if last is not None and arrived is not None and latest < arrived:
+                last = None  # earlier queries' only, not this one's
             if last is None:  # called without order_stop: order it now
                 self._order(request.reason, [], time.monotonic())
                 with self._lock:
@@ -261,6 +284,7 @@ class BridgeService:
         stop = _merged(batch)
         with self._lock:
             self._last = stop
+            self._last_latest = max(self._last_latest, *(o.at for o in batch))
         due = current_due()
         if due is not None and due.passed:  # gone, or its clock is behind:
             due = None  # a full answer, for one that still waits
@@ -276,12 +300,17 @@ class BridgeService:
         arm: str | None = None
         ended = True
         stopped = False
+        after: Serving | None = None  # what holds the robot after the stopped
         if serving is not None:
             give_up = stop.at + HALT_END_WAIT
             if due is not None:
                 give_up = min(give_up, due.at - REPLY_MARGIN - SETTLE_WAIT)
-            left = self._slot.wait_free(lambda _serving, _now: give_up)
+            left = self._slot.wait_free(
+                lambda _serving, _now: give_up, gone=serving.order
+            )
             ended = left is None or left.order is not serving.order
+            if left is not None and ended:  # another took the robot since
+                after = left
             outcome = serving.order.outcome
             arm = serving.arm
             if ended and outcome is not None:
@@ -310,9 +339,20 @@ class BridgeService:
                     fields = {"phase": "trajectory", "phase_duration": serving.duration}
                 elif serving.moving:
                     fields = {"phase": "approach"}
-        still, why = self._still(arm, ended, due)
-        if why:
-            notes.append(why)
+        if after is not None:  # it moves the arm, or may: never "still"
+            still = False
+            notes.append(
+                "a trajectory that came after the stop is playing"
+                if not after.order.ordered
+                else "another execution the stop ended had not ended yet"
+            )
+        else:
+            still, why = self._still(arm, ended, due)
+            now = self._slot.serving  # one that came after: moves the arm
+            if not still and _another(now, serving):
+                why = "a trajectory that came after the stop is playing"
+            if why:
+                notes.append(why)
         note = "; ".join(notes) or None
         if note is not None and len(note) > MAX_NOTE:
             note = note[: MAX_NOTE - 3] + "..."
@@ -494,6 +534,13 @@ def _merged(batch: list[_Ordered]) -> _Ordered:
         next((o.reason for o in batch if o.reason is not None), None),
         notes,
     )
+
+
+def _another(now: Serving | None, stopped: Serving | None) -> bool:
+    """Whether ``now`` is an execution other than ``stopped``, not ordered stopped."""
+    if now is None or now.order.ordered:
+        return False
+    return stopped is None or now.order is not stopped.order
 
 
 def _stop_request(data: bytes) -> StopRequest:

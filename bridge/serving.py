@@ -20,8 +20,8 @@ duration + ``OVERRUN`` of leaving, then its duration.
 Each request carries its :class:`~bridge.stop_order.StopOrder`: an
 operator's ``bridge/stop`` orders the one holding the slot (:meth:`Slot.halt`),
 under the same lock, so it never stops the next request instead. A
-follower's trajectory that arrived before a stop is stopped as it takes the
-slot (``since``): the stop meant it too.
+follower's trajectory, or an execute query, that arrived before a stop is
+stopped as it takes the slot (``since``): the stop meant it too.
 """
 
 from __future__ import annotations
@@ -73,6 +73,7 @@ class Slot:
         self._changed = threading.Condition()
         self._serving: Serving | None = None
         self._last_stop = -float("inf")  # [s, monotonic]: the last halt's
+        self._last_reason: str | None = None  # its reason
 
     def take(
         self,
@@ -88,9 +89,10 @@ class Slot:
             duration: The trajectory's length [s].
             wait: Wait for the request being served to end instead.
             order: The request's order to stop; None: one of its own.
-            since: When its trajectory arrived [s, monotonic] (the
-                follower's); a :meth:`halt` after that orders it stopped
-                now. None: only a halt from now on stops it.
+            since: When its request arrived [s, monotonic] (the follower's
+                trajectory, an execute query); a :meth:`halt` after that
+                orders it stopped now. None: only a halt from now on stops
+                it.
             arm: The arm it moves (what a stop says it stopped).
         """
         order = StopOrder() if order is None else order
@@ -99,7 +101,7 @@ class Slot:
                 return False
             self._changed.wait_for(lambda: self._serving is None)
             if since is not None and since <= self._last_stop:
-                order.order(None, self._last_stop)
+                order.order(self._last_reason, self._last_stop)
             self._serving = Serving(
                 duration, time.monotonic() + duration, order=order, arm=arm
             )
@@ -112,7 +114,8 @@ class Slot:
             What it had done when ordered; None if no request was served.
         """
         with self._changed:
-            self._last_stop = max(self._last_stop, at)
+            if at >= self._last_stop:
+                self._last_stop, self._last_reason = at, reason
             serving = self._serving
             if serving is not None:
                 serving.order.order(reason, at)
@@ -158,7 +161,10 @@ class Slot:
             self._changed.notify_all()
 
     def wait_free(
-        self, deadline: Callable[[Serving, float], float], poll: float = 0.1
+        self,
+        deadline: Callable[[Serving, float], float],
+        poll: float = 0.1,
+        gone: StopOrder | None = None,
     ) -> Serving | None:
         """Wait for the slot to be free, at most until ``deadline``.
 
@@ -167,13 +173,20 @@ class Slot:
                 request does and the time [s, monotonic]; asked again at
                 each change, and every ``poll`` [s].
             poll: Longest time between two looks [s].
+            gone: Wait only for the request of this order to give the
+                slot back: a request not ordered stopped that took it then
+                (the follower's next trajectory) ends the wait too.
 
         Returns:
-            None if the slot is free; else what the request being served
-            had done at the deadline.
+            None if the slot is free; else what the request holding it has
+            done (at the deadline, or the new one holding it).
         """
         with self._changed:
             while self._serving is not None:
+                serving = self._serving
+                new = gone is not None and serving.order is not gone
+                if new and not serving.order.ordered:  # the next, not stopped
+                    return serving
                 now = time.monotonic()
                 left = deadline(self._serving, now) - now
                 if left <= 0.0:

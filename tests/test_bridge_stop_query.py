@@ -121,13 +121,17 @@ class Served:
             if e["event"] == "call" and e.get("method") == method
         )
 
-    def execute_in_background(self, trajectory: Trajectory) -> dict[str, Any]:
+    def execute_in_background(
+        self, trajectory: Trajectory, rate: float | None = None
+    ) -> dict[str, Any]:
         """Ask ``bridge/execute`` from a thread; the dict gets "reply" or "error"."""
         outcome: dict[str, Any] = {}
 
         def call() -> None:
             try:
                 request = ExecuteRequest(trajectory=trajectory)
+                if rate is not None:
+                    request = ExecuteRequest(trajectory=trajectory, rate=rate)
                 outcome["reply"] = self.bus.call(EXECUTE, request, timeout=30.0)
             except ArmplanError as error:
                 outcome["error"] = error
@@ -150,17 +154,25 @@ class Served:
 
 @contextlib.contextmanager
 def served(
-    tmp_path: Path, sim: SimProcess, follow: bool = False, queue_limit: int = 0
+    tmp_path: Path,
+    sim: SimProcess,
+    follow: bool = False,
+    queue_limit: int = 0,
+    max_payload: int = 0,
+    url: str | None = None,
 ) -> Iterator[Served]:
     config = load_config(endpoints=(free_endpoint(),))
-    client = NaoqiClient(sim.url)
+    client = NaoqiClient(url or sim.url)
     try:
         with (
             (tmp_path / "router.log").open("w") as router_log,
             Launcher(config, [], log=router_log),
             Bus.connect(
                 replace(
-                    config, workers=1, queue_limit=queue_limit or config.queue_limit
+                    config,
+                    workers=1,
+                    queue_limit=queue_limit or config.queue_limit,
+                    max_payload=max_payload or config.max_payload,
                 )
             ) as bridge_bus,
             Bus.connect(config) as bus,
@@ -564,3 +576,145 @@ def test_a_burst_of_stops_is_never_answered_busy(
         assert {(r.playing, r.stopped, r.still) for r in replies} == {
             (False, False, True)
         }
+
+
+def test_an_execute_query_queued_before_a_stop_is_stopped_too(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """A second execute query waits in the queue (the one worker plays the
+    first) when the operator's stop comes: the stop meant it too. It is
+    refused "stopped", nothing of it sent (it played after the stop, the
+    arm moving while ``armplan stop`` had said it was still)."""
+    with served(tmp_path, sim) as there:
+        first = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(0.8)
+        queued = there.execute_in_background(_reach(1.0))
+        time.sleep(0.5)  # it has arrived, and waits for the worker
+        reply = there.bus.call(STOP, StopRequest(reason="e-stop"), timeout=10.0)
+        print(f"\n{reply.to_json()}")
+        first["thread"].join(10.0)
+        queued["thread"].join(10.0)
+        assert (reply.playing, reply.stopped, reply.still) == (True, True, True)
+        assert first["error"].evidence["stopped_by"] == "bridge/stop"
+        error = queued.get("error")
+        assert error is not None, queued.get("reply")
+        print(error.message)
+        assert error.evidence["stopped_by"] == "bridge/stop"
+        assert error.evidence["stop_reason"] == "e-stop"
+        assert "nothing was sent" in str(error.evidence.get("outcome", ""))
+        time.sleep(0.5)
+        assert there.sim_calls("angleInterpolation") == 1  # the first alone
+        _assert_stopped_mid_way(there)
+        _wait("two outcomes", lambda: len(there.outcomes) == 2)
+        assert [o.outcome for o in there.outcomes] == ["stopped", "stopped"]
+
+
+def test_an_oversized_stop_is_answered_and_the_next_reply_is_its_own(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """A stop whose payload is over the bridge's size limit stops the arm
+    and gets a StopReply (never payload_too_large); a stop whose reply was
+    never built (ordered, then its query lost) is not reported by the next
+    stop's reply: that one says only what it found (nothing playing)."""
+    from shared.bus.arrival import arrived_at
+
+    limit = len(ExecuteRequest(trajectory=_reach(LONG)).to_json()) + 100
+    with served(tmp_path, sim, max_payload=limit) as there:
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(0.8)
+        big = '{"reason": "' + "x" * limit + '"}'
+        reply = there.bus.call(STOP, big, timeout=10.0)
+        print(f"\n{reply.to_json()}")
+        running["thread"].join(10.0)
+        assert (reply.playing, reply.stopped, reply.still) == (True, True, True)
+        _assert_stopped_mid_way(there)
+        running = there.execute_in_background(_reach(1.0))  # back to rest
+        running["thread"].join(15.0)
+        assert "reply" in running, running.get("error")
+        # a stop ordered on the bridge whose answer never runs
+        with arrived_at(time.monotonic()):
+            there.service.order_stop(b'{"reason": "lost"}')
+        time.sleep(0.2)
+        reply = there.bus.call(STOP, "{}", timeout=10.0)
+        print(reply.to_json())
+        assert (reply.playing, reply.stopped, reply.still) == (False, False, True)
+        assert reply.reason is None and reply.waited < 0.5 and reply.arm is None
+
+
+def test_a_stop_is_answered_when_the_next_trajectory_takes_the_robot(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """``--follow``: a trajectory published right after the stop takes the
+    robot as soon as the stopped one gives it back, before the reply looks
+    (its thread run 0.6 s late, as on a loaded machine). The reply does not wait
+    for it to end (nor for HALT_END_WAIT): it comes at once, says the
+    stopped trajectory was stopped, and that the arm is not still (the new
+    one is playing)."""
+    from bridge.service import HALT_END_WAIT
+
+    with served(tmp_path, sim, follow=True) as there:
+        follower = there.follower
+        assert follower is not None
+        there.bus.publish(TRAJECTORY_TOPIC, _reach(LONG))
+        there.wait_for_state(0.8)
+        slot = there.service._slot
+        wait_free = slot.wait_free
+
+        def late(*args: Any, **kwargs: Any) -> Any:  # a reply thread run late
+            time.sleep(0.6)  # (a loaded machine): the next has taken the robot
+            return wait_free(*args, **kwargs)
+
+        slot.wait_free = late  # type: ignore[method-assign]
+        following = _reach(1.0)
+        asked = time.monotonic()
+        replies = there.bus.session.get(
+            STOP.key(there.bus.config.namespace), payload=b"{}", timeout=10.0
+        )
+        there.bus.publish(TRAJECTORY_TOPIC, following)  # right after the stop
+        answers = list(replies)
+        took = time.monotonic() - asked
+        assert len(answers) == 1 and answers[0].ok is not None
+        reply = StopReply.model_validate_json(answers[0].ok.payload.to_bytes())
+        print(f"\n{reply.to_json()} in {took:.2f} s")
+        assert (reply.playing, reply.stopped, reply.ended) == (True, True, True)
+        assert reply.phase == "trajectory" and reply.dropped == 0
+        assert not reply.still
+        assert reply.note is not None and "after the stop is playing" in reply.note
+        assert took < 1.0 < HALT_END_WAIT
+        _wait("the one published after the stop", lambda: follower.played == 1)
+        _wait("its outcome", lambda: len(there.outcomes) == 2)
+        assert [o.outcome for o in there.outcomes] == ["stopped", "completed"]
+
+
+def test_a_stop_answered_before_the_call_arrived_confirms_nothing(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """A stop while a 4 s call at 1000 fps is still on its way over an 80 kB/s
+    link: the robot answers the kill at once, but that ends nothing (the
+    call has not arrived). The caller is told the stop was sent, not
+    confirmed (it was told "the arm stopped where it was then" while the
+    stopper was still at work); the reply does not say the arm is still;
+    the call is ended as it takes effect."""
+    from tests.slow_link import SlowLink
+
+    link = SlowLink(int(sim.url.rsplit(":", 1)[1]), 80e3)
+    try:
+        with served(tmp_path, sim, url=link.url) as there:
+            running = there.execute_in_background(_reach(LONG), rate=1000.0)
+            time.sleep(1.0)  # no approach: the call is on its way
+            assert there.sim_calls("angleInterpolation") == 0
+            reply = there.bus.call(STOP, StopRequest(), timeout=10.0)
+            print(f"\n{reply.to_json()}")
+            running["thread"].join(10.0)
+            error = running["error"]
+            print(error.message)
+            assert error.evidence["stopped_by"] == "bridge/stop"
+            assert "the stop was sent; the robot has not confirmed it" in str(
+                error.evidence["outcome"]
+            )
+            assert "the arm stopped where it was then" not in error.message
+            assert reply.stopped and not reply.still
+            assert there.service.robot.client.wait_stopped()
+            assert there.sim_calls("killTasksUsingResources") >= 1
+    finally:
+        link.close()
