@@ -718,3 +718,34 @@ def test_a_stop_answered_before_the_call_arrived_confirms_nothing(
             assert there.sim_calls("killTasksUsingResources") >= 1
     finally:
         link.close()
+
+
+def test_armplan_stop_is_sent_even_without_the_bridges_token(tmp_path: Path) -> None:
+    """A queryable on ``bridge/stop`` whose liveliness token is not seen
+    (a bridge that lost it): ``armplan stop`` sends the stop all the same
+    and prints its answer; it used to refuse to send it at all."""
+    config = load_config(endpoints=(free_endpoint(),))
+    asked: list[bytes] = []
+    answer = StopReply(playing=False, stopped=False, dropped=0, still=True, waited=0)
+
+    def serve(query: zenoh.Query) -> None:
+        payload = query.payload
+        asked.append(b"" if payload is None else payload.to_bytes())
+        with query:
+            query.reply(query.key_expr, answer.to_json())
+
+    with (
+        (tmp_path / "router.log").open("w") as router_log,
+        Launcher(config, [], log=router_log),
+        Bus.connect(config) as bus,
+    ):
+        queryable = bus.session.declare_queryable(bus.key(STOP.path), serve)
+        try:
+            assert BRIDGE not in bus.alive()
+            done = _armplan("stop", "--connect", config.endpoint, "--reason", "r")
+        finally:
+            queryable.undeclare()  # type: ignore[no-untyped-call]
+    print(f"\n{done.stdout}{done.stderr}")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("nothing was playing; the arm is still")
+    assert len(asked) == 1 and b'"r"' in asked[0]

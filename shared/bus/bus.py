@@ -72,6 +72,7 @@ class Bus(Closes):
         *,
         timeout: float | None = None,
         repeat: bool | None = None,
+        unseen: bool = False,
     ) -> Rep:
         """Ask ``route``'s service; its typed reply, or its typed error raised.
 
@@ -82,13 +83,16 @@ class Bus(Closes):
             repeat: Ask once more after ``config.resend_after`` without an
                 answer; default ``route.repeatable``. Pass ``True`` only if
                 asking twice is harmless (e.g. a plan with a ``request_id``).
+            unseen: Ask even if the service's liveliness token is not seen
+                (``armplan stop``); its absence is said only if no reply
+                comes.
 
         Raises:
             ServiceUnavailableError: if the service is not running.
             RequestTimeoutError: if it does not answer in time.
             ArmplanError: the service's own error, rebuilt with its kind.
         """
-        reply, wait = self._ask(route, request, timeout, repeat)
+        reply, wait = self._ask(route, request, timeout, repeat, unseen)
         return read_reply(route, reply, route.key(self.config.namespace), wait)
 
     def call_timed(
@@ -112,6 +116,7 @@ class Bus(Closes):
         request: Message | str | bytes,
         timeout: float | None,
         repeat: bool | None,
+        unseen: bool = False,
     ) -> tuple[zenoh.Reply, float]:
         """Zenoh's reply to ``request``, and the wait allowed [s]."""
         wait = self.config.timeout if timeout is None else timeout
@@ -124,6 +129,7 @@ class Bus(Closes):
             wait,
             self.config.resend_after,
             route.repeatable if repeat is None else repeat,
+            unseen,
         )
         return reply, wait
 

@@ -81,6 +81,7 @@ def answered(
     timeout: float,
     resend_after: float | None = None,
     repeat: bool | None = None,
+    unseen: bool = False,
 ) -> zenoh.Reply:
     """Send ``request`` to ``route``; Zenoh's reply (an ``ok`` or an ``err``).
 
@@ -97,6 +98,9 @@ def answered(
         resend_after: Ask again once if no answer has come after this long
             [s] (if ``repeat``); ``None``: ask once.
         repeat: Whether asking twice is harmless; default ``route.repeatable``.
+        unseen: Send it even if the service's liveliness token is not seen
+            (an operator's stop: a bridge whose token is lost may still
+            serve); its absence is said only if no reply comes.
 
     Raises:
         ServiceUnavailableError: if the route's service is not running.
@@ -104,7 +108,7 @@ def answered(
     """
     key = route.key(namespace)
     start = time.monotonic()
-    if not alive.is_alive(route.service, min(QUERY_TIMEOUT, timeout)):
+    if not unseen and not alive.is_alive(route.service, min(QUERY_TIMEOUT, timeout)):
         raise ServiceUnavailableError(
             route.service, key=key, reason=_why_absent(session, namespace, route)
         )
@@ -113,6 +117,13 @@ def answered(
     reply = _ask(session, key, encode(request), start + timeout, resend)
     if reply is not None:
         return reply
+    if unseen and not alive.is_alive(route.service, QUERY_TIMEOUT):
+        why = _why_absent(session, namespace, route)
+        raise ServiceUnavailableError(
+            route.service,
+            key=key,
+            reason=f"{why}; the query was sent all the same: nothing answered",
+        )
     if time.monotonic() - start >= 0.9 * timeout:
         raise RequestTimeoutError(route.service, key=key, timeout=timeout)
     alive.forget(route.service)

@@ -14,7 +14,10 @@ The bridge orders the stop as the query arrives, whatever the caller's
 time left; the reply waits for the stopped execution to end and says
 whether the arm is known still. This prints what was stopped (``--json``:
 the :class:`~shared.messages.StopReply`) and the bridge's note, if any.
-Exit code 0 once the arm is known still; 1 with no bridge alive (or no
+The stop is sent even if the bridge's liveliness token is not seen (a
+bridge whose token was lost may still serve it); the token's absence is
+reported only if no answer comes.
+Exit code 0 once the arm is known still; 1 with no bridge answering (or no
 router), no answer within ``--timeout`` (the stop was sent all the same),
 or an arm not known still when the bridge answered: look at the robot.
 A reason with control characters has them removed, and one longer than
@@ -100,7 +103,8 @@ def run(args: argparse.Namespace) -> int:
     url = f"{config.namespace}/{STOP.path}"
     with Bus.connect(config) as bus:
         try:
-            reply = bus.call(STOP, request, timeout=timeout)
+            # sent even if the bridge's token is not seen: an e-stop
+            reply = bus.call(STOP, request, timeout=timeout, unseen=True)
         except RequestTimeoutError:
             sys.stderr.write(
                 f"armplan: the stop was sent to {url}; a bridge that got it "
