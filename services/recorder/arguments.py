@@ -6,12 +6,10 @@ Shared by ``python -m services.recorder`` and ``armplan record``.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import re
 from pathlib import Path
 
 from services.recorder.options import RecorderOptions, default_output
-from shared.bus import BusConfig, load_config
 from shared.bus.topics import topic_paths
 from shared.errors import InvalidInputError
 from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
@@ -119,32 +117,3 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         commanded_prefix=args.commanded_prefix,
         overwrite=args.overwrite,
     )
-
-
-def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--connect ENDPOINT`` and ``--namespace NS`` (``--config`` is added apart)."""
-    parser.add_argument(
-        "--connect",
-        action="append",
-        metavar="ENDPOINT",
-        help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
-    )
-    parser.add_argument(
-        "--namespace",
-        metavar="NS",
-        help="key namespace (default: the config's, armplan)",
-    )
-
-
-def bus_config(args: argparse.Namespace) -> BusConfig:
-    """The bus settings of ``--config``, ``--connect`` and ``--namespace``.
-
-    Raises:
-        BusConfigError: if the file, an endpoint or the namespace is malformed.
-    """
-    config = load_config(args.config, tuple(args.connect or ()))
-    if args.namespace is not None:
-        config = dataclasses.replace(
-            config, namespace=args.namespace, source=f"{config.source} + --namespace"
-        )
-    return config

@@ -23,14 +23,13 @@ import sys
 from collections.abc import Sequence
 
 from services.recorder.arguments import (
-    add_bus_arguments,
     add_recorder_arguments,
-    bus_config,
     options_from_args,
 )
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
 from shared.bus.login import check_login
+from shared.bus.options import add_connect_options, bus_config
 from shared.bus.process import add_common_arguments, start_process
 from shared.errors import ArmplanError, ServiceUnavailableError
 
@@ -81,7 +80,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     add_common_arguments(parser)
     add_recorder_arguments(parser)
-    add_bus_arguments(parser)
+    add_connect_options(parser)
     parser.add_argument(
         "--wait",
         type=float,

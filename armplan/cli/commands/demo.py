@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 from armplan.cli.output import say  # stdout gone (| head, closed terminal): quiet
+from shared.bus.options import add_config_option
 
 ORDER = 5
 HELP = "run the paper's handover task on the simulated NAO and write the results"
@@ -52,9 +53,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="ENDPOINT",
         help="the router's endpoint (default: a free port on 127.0.0.1)",
     )
-    parser.add_argument(
-        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
-    )
+    add_config_option(parser)
     parser.add_argument(
         "--no-record", action="store_true", help="do not record session.mcap"
     )

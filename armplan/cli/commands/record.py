@@ -15,14 +15,13 @@ import math
 
 from armplan.cli.output import say
 from services.recorder.arguments import (
-    add_bus_arguments,
     add_recorder_arguments,
-    bus_config,
     options_from_args,
 )
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
 from shared.bus.login import check_login
+from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.errors import InvalidInputError
 from shared.recording.rotation import parts_named
 from shared.stop_signals import stop_on_signals
@@ -35,10 +34,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     """Register ``record``."""
     parser = commands.add_parser("record", help=HELP, description=HELP)
     add_recorder_arguments(parser)
-    parser.add_argument(
-        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
-    )
-    add_bus_arguments(parser)
+    add_config_option(parser)
+    add_connect_options(parser)
     parser.add_argument(
         "--duration",
         type=float,

@@ -24,7 +24,6 @@ import time
 import zenoh
 
 from armplan.launch.catalog import unknown_hint
-from services.recorder.arguments import add_bus_arguments, bus_config
 from services.recorder.replay import Replay, check_speed, replay, replay_items
 from services.recorder.replay_login import (
     check_publishable,
@@ -35,6 +34,7 @@ from services.recorder.replay_login import (
 from services.recorder.replay_parts import matcher
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.login import login_user
+from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.bus.session import has_router_or_peer
 from shared.errors import InvalidInputError, RecordingError, ServiceUnavailableError
 from shared.stop_signals import stop_on_signals
@@ -98,10 +98,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="how long to wait for the router and --wait-for services [s] "
         "(default: %(default)g)",
     )
-    parser.add_argument(
-        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
-    )
-    add_bus_arguments(parser)
+    add_config_option(parser)
+    add_connect_options(parser)
     parser.set_defaults(run=run)
 
 

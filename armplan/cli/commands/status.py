@@ -17,8 +17,9 @@ from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
 from armplan.launch import SERVICES
 from armplan.launch.catalog import PROCESSES, ServiceSpec, unknown_hint
-from shared.bus import Bus, BusConfig, load_config
+from shared.bus import Bus, BusConfig
 from shared.bus.keys import alive_key, alive_pattern
+from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.errors import ServiceUnavailableError
 from shared.printable import printable, printable_lines
 
@@ -29,15 +30,8 @@ HELP = "list the services alive on the Zenoh router (liveliness tokens)"
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     """Register ``status``."""
     parser = commands.add_parser("status", help=HELP, description=HELP)
-    parser.add_argument(
-        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
-    )
-    parser.add_argument(
-        "--connect",
-        action="append",
-        metavar="ENDPOINT",
-        help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
-    )
+    add_config_option(parser)
+    add_connect_options(parser, namespace_help=None)
     parser.add_argument(
         "--require",
         nargs="+",
@@ -51,7 +45,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def run(args: argparse.Namespace) -> int:
     """Print every known service and whether it is alive."""
-    config = load_config(args.config, tuple(args.connect or ()))
+    config = bus_config(args)
     try:
         with Bus.connect(config) as bus:
             alive, error = bus.alive(), None

@@ -28,12 +28,12 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import replace
 
 from armplan.cli.output import print_json, say
 from armplan.cli.parsing import add_json
-from shared.bus import Bus, load_config
+from shared.bus import Bus
 from shared.bus.config import MAX_WAIT
+from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.bus.robot_routes import STOP
 from shared.errors import InvalidInputError, RequestTimeoutError
 from shared.messages import StopReply, StopRequest
@@ -50,19 +50,9 @@ DEFAULT_TIMEOUT = 10.0
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     """Register ``stop``."""
     parser = commands.add_parser("stop", help=HELP, description=HELP)
-    parser.add_argument(
-        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
-    )
-    parser.add_argument(
-        "--connect",
-        action="append",
-        metavar="ENDPOINT",
-        help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
-    )
-    parser.add_argument(
-        "--namespace",
-        metavar="NS",
-        help="the key namespace of the bridge (default: the config's, armplan)",
+    add_config_option(parser)
+    add_connect_options(
+        parser, "the key namespace of the bridge (default: the config's, armplan)"
     )
     parser.add_argument(
         "--timeout",
@@ -97,9 +87,7 @@ def run(args: argparse.Namespace) -> int:
         for problem in problems:
             sys.stderr.write(f"armplan: warning: {problem}\n")
     request = StopRequest(reason=reason)
-    config = load_config(args.config, tuple(args.connect or ()))
-    if args.namespace is not None:
-        config = replace(config, namespace=args.namespace)
+    config = bus_config(args)
     url = f"{config.namespace}/{STOP.path}"
     with Bus.connect(config) as bus:
         try:

@@ -14,6 +14,7 @@ from armplan.launch import SERVICES, Launcher
 from armplan.launch.robot import SIM_LISTEN, RobotStack
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.listen_clash import clashes
+from shared.bus.options import add_config_option
 from shared.bus.robot_routes import EXECUTE
 from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
@@ -29,9 +30,7 @@ EXITED_WHILE_RUNNING = 1
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     """Register ``up``."""
     parser = commands.add_parser("up", help=HELP, description=HELP)
-    parser.add_argument(
-        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
-    )
+    add_config_option(parser)
     parser.add_argument(
         "--listen",
         action="append",

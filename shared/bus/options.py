@@ -1,0 +1,58 @@
+"""The command-line options that say which router and namespace to use.
+
+Shared by the commands that join a running system (``armplan stop``,
+``status``, ``record``, ``replay``, ``python -m services.recorder``) and those
+that start one (``armplan up``, ``demo``: ``--config`` only), so each option
+reads and behaves the same everywhere.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+
+from shared.bus.config import BusConfig
+from shared.bus.config_file import load_config
+
+#: ``--namespace``'s help where a command does not say more.
+NAMESPACE_HELP = "key namespace (default: the config's, armplan)"
+
+
+def add_config_option(parser: argparse.ArgumentParser) -> None:
+    """``--config FILE``: the armplan Zenoh config."""
+    parser.add_argument(
+        "--config", metavar="FILE", help="armplan Zenoh config (default: the repo's)"
+    )
+
+
+def add_connect_options(
+    parser: argparse.ArgumentParser, namespace_help: str | None = NAMESPACE_HELP
+) -> None:
+    """``--connect ENDPOINT`` (repeatable) and ``--namespace NS``.
+
+    ``--namespace`` is left out when ``namespace_help`` is None; ``--config``
+    is added apart (:func:`add_config_option`).
+    """
+    parser.add_argument(
+        "--connect",
+        action="append",
+        metavar="ENDPOINT",
+        help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
+    )
+    if namespace_help is not None:
+        parser.add_argument("--namespace", metavar="NS", help=namespace_help)
+
+
+def bus_config(args: argparse.Namespace) -> BusConfig:
+    """The bus settings of ``--config``, ``--connect`` and ``--namespace``.
+
+    Raises:
+        BusConfigError: if the file, an endpoint or the namespace is malformed.
+    """
+    config = load_config(args.config, tuple(args.connect or ()))
+    namespace = getattr(args, "namespace", None)
+    if namespace is not None:
+        config = dataclasses.replace(
+            config, namespace=namespace, source=f"{config.source} + --namespace"
+        )
+    return config
