@@ -50,7 +50,9 @@ def add_arm(
 def add_json(parser: argparse.ArgumentParser) -> None:
     """``--json``: machine-readable output."""
     parser.add_argument(
-        "--json", action="store_true", help="print JSON instead of a table"
+        "--json",
+        action="store_true",
+        help="print JSON (machine-readable) instead of text",
     )
 
 
