@@ -120,7 +120,10 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
     Installs the handler for each signal (call it from the main thread, as
     :func:`signal.signal` requires). Every event made by this function is
     set by any of the signals installed, from then on. SIGHUP or SIGINT
-    ignored at start (``nohup``; a script's ``cmd &``) stays ignored.
+    ignored at start (``nohup``; a script's ``cmd &``) stays ignored. One
+    of ``signals`` blocked and pending when it is called (``armplan sim``
+    holds Ctrl-C while it becomes ``python -m bridge.sim``) is taken: the
+    request is set before this returns; each is unblocked.
 
     Args:
         signals: Signal numbers; default SIGTERM, SIGINT and SIGHUP.
@@ -135,4 +138,12 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
         if signum != signal.SIGTERM and signal.getsignal(signum) is signal.SIG_IGN:
             continue  # nohup, cmd &: that signal is not meant to stop it
         signal.signal(signum, relay.handler)
+        _take_held(signum, stop)
     return stop
+
+
+def _take_held(signum: int, stop: StopRequest) -> None:
+    """Set ``stop`` if ``signum`` is blocked and pending here; unblock it."""
+    if signal.sigtimedwait([signum], 0) is not None:
+        stop.request(signum)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, [signum])

@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import threading
 from collections.abc import Iterator
 
 import pytest
@@ -131,3 +132,17 @@ def test_a_signal_ignored_at_start_stays_ignored(name: str) -> None:
     )
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["True", "False", "True"]
+
+
+def test_a_signal_held_before_is_taken(own_signal: int) -> None:
+    """A stop signal blocked and pending when the request is made (``armplan
+    sim`` holds Ctrl-C across its exec) sets it at once, and is unblocked."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, [own_signal])
+    try:
+        signal.pthread_kill(threading.main_thread().ident or 0, own_signal)
+        stop = stop_on_signals([own_signal])
+        assert stop.is_set() and stop.signal == own_signal
+        assert own_signal not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    finally:
+        signal.sigtimedwait([own_signal], 0)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, [own_signal])

@@ -1,4 +1,9 @@
-"""Entry point of the ``armplan`` command."""
+"""Entry point of the ``armplan`` command.
+
+This module imports only the standard library and the CLI's own light
+modules: the commands, and the ``shared`` package (which loads libqi), load
+inside :func:`main` with Ctrl-C held (see :mod:`armplan.cli.held_interrupt`).
+"""
 
 from __future__ import annotations
 
@@ -14,8 +19,7 @@ from types import ModuleType
 
 from armplan import __version__
 from armplan.cli import commands as commands_package
-from armplan.cli.output import report_error
-from armplan.cli.parsing import ArgumentParser
+from armplan.cli.held_interrupt import held_interrupt
 from armplan.cli.stdout_guard import StdoutError, discard_stdout, guarded_stdout
 from armplan.cli.termination import (
     HUNG_UP_CODE,
@@ -24,7 +28,6 @@ from armplan.cli.termination import (
     signal_of,
     stopped_by,
 )
-from shared.errors import ArmplanError
 
 
 def command_modules() -> list[ModuleType]:
@@ -39,6 +42,8 @@ def command_modules() -> list[ModuleType]:
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser with every command registered."""
+    from armplan.cli.parsing import ArgumentParser
+
     parser = ArgumentParser(
         prog="armplan", description="Human-like arm movements for the NAO robot."
     )
@@ -57,9 +62,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     0 ok, 1 armplan error, 2 usage, 130 Ctrl-C, 143 SIGTERM, 129 SIGHUP
     (where the command stops on them as on Ctrl-C; the commands that record
-    or serve until stopped exit 0 on each).
+    or serve until stopped exit 0 on each). Ctrl-C while the commands load
+    exits 130 once they have loaded, without a traceback.
     """
-    args = build_parser().parse_args(argv)
+    with held_interrupt() as held:
+        args = build_parser().parse_args(argv)
+    if held.came:
+        return _stopped(signal.SIGINT)
     return run_command(args.run, args)
 
 
@@ -72,6 +81,9 @@ def run_command(
     signal: it is how the signal's exception came out (see
     :mod:`armplan.cli.termination`), not a failure of the command.
     """
+    from armplan.cli.output import report_error
+    from shared.errors import ArmplanError
+
     try:
         with guarded_stdout():
             code = int(run(args))

@@ -22,8 +22,6 @@ from __future__ import annotations
 import signal
 from types import FrameType
 
-from shared.stop_signals import StartInterrupted
-
 #: Exit codes: 128 + the signal's number.
 INTERRUPTED_CODE = 128 + signal.SIGINT
 TERMINATED_CODE = 128 + signal.SIGTERM
@@ -72,6 +70,8 @@ def signal_of(stop: KeyboardInterrupt) -> signal.Signals:
 
     A start it interrupted (``StartInterrupted``, ``armplan up``) says which.
     """
+    from shared.stop_signals import StartInterrupted  # loads libqi: not at import
+
     if isinstance(stop, Terminated):
         return signal.SIGTERM
     if isinstance(stop, StartInterrupted) and stop.signal is not None:

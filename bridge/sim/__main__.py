@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import threading
 from collections.abc import Sequence
@@ -17,7 +18,10 @@ from bridge.sim.log import check_log_file
 from bridge.sim.server import DEFAULT_LISTEN, serve
 from shared.errors import ArmplanError, InvalidInputError
 from shared.sim_options import add_sim_options, check_sim_options
-from shared.stop_signals import stop_on_signals
+from shared.stop_signals import StartInterrupted, stop_on_signals
+
+#: The exit code after Ctrl-C (128 + SIGINT), as ``armplan``'s.
+INTERRUPTED_CODE = 128 + signal.SIGINT
 
 
 def parser() -> argparse.ArgumentParser:
@@ -67,8 +71,15 @@ def run(
     limp_sag: float = 0.0,
     grip: float | None = None,
 ) -> int:
-    """Serve until SIGINT or SIGTERM (or stdin's end); returns the exit code."""
+    """Serve until SIGINT or SIGTERM (or stdin's end); returns the exit code.
+
+    Raises:
+        StartInterrupted: a Ctrl-C held while this process started (``armplan
+            sim`` holds it across its ``exec``); nothing was served.
+    """
     stop = stop_on_signals()
+    if stop.is_set():
+        raise StartInterrupted(stop.signal)
     if stop_on_eof:
         threading.Thread(target=_watch_stdin, args=(stop,), daemon=True).start()
     serve(listen, log, period, stop, killed_returns, limp_sag, grip)
@@ -80,7 +91,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     A malformed address or period, or a log file that cannot be written, is
     a usage error (exit 2); an address it cannot listen at exits 1 with the
-    reason on one line.
+    reason on one line. Ctrl-C held while it started exits 130, saying
+    ``interrupted``.
     """
     p = parser()
     args = p.parse_args(argv)
@@ -106,6 +118,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ArmplanError as error:  # e.g. the address is in use
         sys.stderr.write(f"{p.prog}: error: {error.message}\n")
         return 1
+    except StartInterrupted:
+        sys.stderr.write(f"{p.prog}: interrupted\n")
+        return INTERRUPTED_CODE
 
 
 def exit_now(code: int) -> None:

@@ -38,8 +38,11 @@ def run(args: argparse.Namespace) -> int:
     loaded already (see shared/libqi.py). The address (well formed, free,
     local), the period, the sag, the grip and the log file are checked here
     first, so that a bad one is this command's typed error and nothing
-    starts.
+    starts. Ctrl-C is held across the ``exec`` (see
+    :mod:`armplan.cli.held_interrupt`): the sim takes it once it can stop,
+    and exits 130 ("interrupted") without a traceback.
     """
+    from armplan.cli.held_interrupt import hold_interrupt
     from bridge.address import check_listen_url
     from bridge.sim.cycle import check_period
     from bridge.sim.listen import check_can_listen
@@ -58,5 +61,6 @@ def run(args: argparse.Namespace) -> int:
     argv += sim_argv(args)
     sys.stdout.flush()
     sys.stderr.flush()
+    hold_interrupt()
     os.execv(sys.executable, argv)
     return 0  # pragma: no cover (execv does not return)

@@ -1,0 +1,51 @@
+"""Ctrl-C held while the commands load (armplan.cli.held_interrupt)."""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Iterator
+
+import pytest
+
+from armplan.cli.held_interrupt import held_interrupt
+
+
+def _ctrl_c() -> None:
+    """SIGINT to this (main) thread only: no other thread can take it."""
+    signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGINT)
+
+
+@pytest.fixture
+def unblocked() -> Iterator[None]:
+    """SIGINT neither blocked nor pending here afterwards, whatever happened."""
+    yield
+    signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGINT])
+    signal.sigtimedwait([signal.SIGINT], 0)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+
+
+def test_a_ctrl_c_inside_is_taken_not_raised(unblocked: None) -> None:
+    """No KeyboardInterrupt inside or after the block; ``came`` says it came."""
+    with held_interrupt() as held:
+        _ctrl_c()
+        assert not held.came
+    assert held.came
+    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+
+
+def test_no_ctrl_c_leaves_nothing_held(unblocked: None) -> None:
+    """Without a Ctrl-C, ``came`` is false and SIGINT is unblocked again."""
+    with held_interrupt() as held:
+        pass
+    assert not held.came
+    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+
+
+def test_a_ctrl_c_blocked_before_stays_blocked(unblocked: None) -> None:
+    """SIGINT blocked by whoever started the process is left blocked, pending."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGINT])
+    with held_interrupt() as held:
+        _ctrl_c()
+    assert not held.came
+    assert signal.SIGINT in signal.sigpending()
