@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 import time
@@ -381,3 +382,78 @@ def test_a_closed_pipe_ends_the_table_quietly_with_exit_0(session: Path) -> None
     assert process.wait(timeout=60) == 0
     assert process.stderr.read() == b""
     process.stderr.close()
+
+
+def test_the_docs_list_every_damage_code() -> None:
+    """The docs' table of `damage_code` names every code the reader can give
+    (it lacked `not_json` and `foreign`), and no other."""
+    from shared.recording.reader import DAMAGE_CODES, FOREIGN
+
+    docs = (Path(__file__).parents[1] / "docs" / "recording.md").read_text()
+    row = next(line for line in docs.splitlines() if line.startswith("| `damage_code`"))
+    named = set(re.findall(r"`([a-z_0-9]+)` \(", row))
+    assert named == {*DAMAGE_CODES.values(), FOREIGN}
+
+
+def _text_not_utf8(path: Path, where: bytes) -> Path:
+    """A JSON message, then a channel whose ``where`` (topic or schema name)
+    is not UTF-8, and a message on it (unchunked: the bytes are changed
+    in place, before any checksum is read)."""
+    from mcap.writer import Writer
+
+    with path.open("wb") as stream:
+        writer = Writer(stream, use_chunking=False)
+        writer.start(profile="", library="test")
+        ours = writer.register_channel("armplan/misc/note", "json", 0)
+        writer.add_message(ours, log_time=1, publish_time=1, data=b'{"n": 1}')
+        schema = writer.register_schema("Qqqq", "jsonschema", b"{}")
+        theirs = writer.register_channel("/zzzz", "json", schema)
+        writer.add_message(theirs, log_time=2, publish_time=2, data=b'{"n": 2}')
+        writer.finish()
+    path.write_bytes(path.read_bytes().replace(where, b"\xff\xfe\xfd\xfc"))
+    return path
+
+
+@pytest.mark.parametrize("where", [b"zzzz", b"Qqqq"], ids=["topic", "schema"])
+def test_text_not_utf8_in_a_record_is_not_called_a_message(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], where: bytes
+) -> None:
+    """A channel's topic or a schema's name that is not UTF-8 was "a message
+    in it is not UTF-8 JSON" (`not_json`): it names the records, `not_utf8`."""
+    path = _text_not_utf8(tmp_path / "x.mcap", where)
+    said = "a channel, schema or metadata record in it holds text that is not UTF-8"
+    assert main(["inspect", str(path)]) == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {path} is damaged after 1 readable messages: {said}; "
+        "--recover (or recover=True) reads those messages\n"
+    )
+    assert main(["inspect", str(path), "--recover", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert (data["damage"], data["damage_code"]) == (said, "not_utf8")
+
+
+def test_messages_replay_does_not_send_are_not_said_to_be_sent(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Messages that are not JSON on a `/...` channel (another tool's, or a
+    Foxglove one): replay sends no such channel, and the note said it sent
+    them as they are."""
+    from mcap.writer import Writer
+
+    path = tmp_path / "camera.mcap"
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="test")
+        ours = writer.register_channel("armplan/misc/note", "json", 0)
+        camera = writer.register_channel("/camera/info", "json", 0)
+        for i, (channel, data) in enumerate(
+            [(ours, b""), (camera, b"\xff"), (camera, b"")], start=1
+        ):
+            writer.add_message(channel, log_time=i, publish_time=i, data=data)
+        writer.finish()
+    assert main(["inspect", str(path)]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert (
+        "armplan replay sends the 1 on its keys as they are, not the 2 on "
+        "channels named /..."
+    ) in out

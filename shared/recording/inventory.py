@@ -49,6 +49,16 @@ class ChannelStats:
         """Time from the first to the last message [s]."""
         return (self.last - self.first) / 1e9
 
+    @property
+    def replayed(self) -> bool:
+        """Whether ``armplan replay`` sends its messages: not a ``/...`` topic.
+
+        A ``/...`` topic (the Foxglove channels the recorder derives, or
+        another tool's) is no Zenoh key: replay sends none of it
+        (``services.recorder.replay_parts.to_send``).
+        """
+        return not self.topic.startswith("/")
+
 
 @dataclass
 class Inventory:

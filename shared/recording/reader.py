@@ -25,6 +25,7 @@ CHANGED = "its checksum does not match: bytes were changed after it was written"
 NOT_JSON = "a message in it is not UTF-8 JSON"
 NOT_MCAP = "it holds bytes that are not MCAP records"
 NO_MAGIC = "no MCAP magic at its start"
+NOT_UTF8 = "a channel, schema or metadata record in it holds text that is not UTF-8"
 #: A stable name for each kind of damage (``Recording.damage_code``), for
 #: programs: the words above may change, these do not.
 DAMAGE_CODES = {
@@ -33,6 +34,7 @@ DAMAGE_CODES = {
     NOT_JSON: "not_json",
     NOT_MCAP: "not_mcap",
     NO_MAGIC: "no_magic",
+    NOT_UTF8: "not_utf8",
 }
 #: The damage code of a well-formed file with a channel that is not JSON.
 FOREIGN = "foreign"
@@ -52,15 +54,21 @@ def _parts_hint(path: Path) -> str:
 
 
 def describe_damage(error: Exception) -> str:
-    """What a reading error says about the file, in words (no library names)."""
+    """What a reading error says about the file, in words (no library names).
+
+    ``error`` comes from reading the records, never a message's bytes (see
+    ``Recording._record``): text that is not UTF-8 there is a channel's,
+    a schema's or metadata's, not a message's (it was said to be "a message
+    in it is not UTF-8 JSON").
+    """
     if isinstance(error, InvalidMagic):
         return NO_MAGIC
     if isinstance(error, CRCValidationError):
         return CHANGED
     if isinstance(error, (EndOfFile, struct.error)):
         return TRUNCATED
-    if isinstance(error, (UnicodeDecodeError, json.JSONDecodeError)):
-        return NOT_JSON
+    if isinstance(error, UnicodeDecodeError):  # messages are decoded apart
+        return NOT_UTF8
     return NOT_MCAP
 
 

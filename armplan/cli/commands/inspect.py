@@ -25,7 +25,7 @@ from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from shared.errors import RecordingError
 from shared.printable import printable, printable_lines
-from shared.recording.inventory import Inventory, take_inventory
+from shared.recording.inventory import ChannelStats, Inventory, take_inventory
 from shared.recording.reader import CHANGED, JSON
 
 ORDER = 92
@@ -166,13 +166,32 @@ def _unread_notes(inventory: Inventory) -> list[str]:
             f"JSON: {which}; armplan reads JSON messages only, and armplan "
             "replay refuses this file"
         )
-    unread = sum(c.unread for c in inventory.channels if c.encoding == JSON)
+    unread = [c for c in inventory.channels if c.encoding == JSON and c.unread]
     if unread:
+        count = sum(c.unread for c in unread)
         notes.append(
-            f"not read: {unread} messages on JSON channels that are not JSON, "
-            f"e.g. {inventory.unread[0]}; armplan replay sends them as they are"
+            f"not read: {count} messages on JSON channels that are not JSON, "
+            f"e.g. {inventory.unread[0]}; {_replayed(unread)}"
         )
     return notes
+
+
+def _replayed(unread: list[ChannelStats]) -> str:
+    """What ``armplan replay`` does with the messages not read on ``unread``.
+
+    It sends those of armplan's keys as they are, and nothing of a ``/...``
+    channel (it said it sent them all).
+    """
+    sent = sum(c.unread for c in unread if c.replayed)
+    kept = sum(c.unread for c in unread) - sent
+    if not kept:
+        return "armplan replay sends them as they are"
+    if not sent:
+        return "armplan replay does not send them (it sends no channel named /...)"
+    return (
+        f"armplan replay sends the {sent} on its keys as they are, not the "
+        f"{kept} on channels named /..."
+    )
 
 
 def _clock_notes(inventory: Inventory) -> list[str]:
