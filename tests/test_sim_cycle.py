@@ -7,7 +7,7 @@ import pytest
 
 from bridge.sim.cycle import ControlCycle, check_period, next_slot
 from bridge.sim.joints import joint_specs
-from bridge.sim.log import SimLog
+from bridge.sim.log import KEEP, SimLog
 from bridge.sim.robot import SimRobot
 from shared.errors import InvalidInputError
 
@@ -25,7 +25,7 @@ def test_next_slot_is_the_first_slot_of_the_schedule_after_now(late: float) -> N
 def test_state_lines_carry_the_time_the_positions_were_committed() -> None:
     """The cycle's clock, not the moment the line is written, stamps a state:
     with a clock that jumps (a late cycle), the logged speed stays the motor's."""
-    log = SimLog()
+    log = SimLog(keep=KEEP)
     now = [log.origin + 1.0]
     robot = SimRobot(log, {"RShoulderPitch": 1.0}, clock=lambda: now[0])
     robot.stiffen("setStiffnesses", now[0], "RShoulderPitch", [1.0], [0.001])

@@ -19,7 +19,7 @@ import pytest
 
 from bridge.qi_future import wait_future
 from bridge.sim import motion as sim_motion
-from bridge.sim.log import SimLog
+from bridge.sim.log import KEEP, SimLog
 from bridge.sim.motion import SimulatedMotion
 from bridge.sim.robot import SimRobot
 from bridge.sim.task import MotionTask
@@ -63,7 +63,7 @@ class _SlowToWrite(SimLog):
     """A log whose ``call`` lines take ``TAKES`` to write when asked to."""
 
     def __init__(self, sim: _Sim) -> None:
-        super().__init__()
+        super().__init__(keep=KEEP)
         self.sim = sim
         self.applied = threading.Event()
 

@@ -26,6 +26,12 @@ monotonic clock) and ``event``:
 
 If the file cannot be written (a full disk), the sim stops writing it with
 one warning on stderr naming it; its ALMotion calls go on.
+
+The log keeps no entry in memory unless asked to (``keep``): the sim's
+process never reads its own log back, and it kept the last 20 000 entries
+(tens of MB of ``state`` lines) whether ``--log`` was given or not. Code
+that runs the sim in-process (the tests) asks for the entries it reads
+with :meth:`SimLog.entries`.
 """
 
 from __future__ import annotations
@@ -41,7 +47,7 @@ from typing import Any, TextIO
 
 from shared.errors import InvalidInputError
 
-#: Entries kept in memory.
+#: Entries an in-process reader keeps by asking for them (``SimLog(keep=KEEP)``).
 KEEP = 20000
 
 
@@ -73,17 +79,22 @@ def check_log_file(path: str | Path) -> Path:
 
 
 class SimLog:
-    """A thread-safe JSON-lines log, flushed at every line, also kept in memory."""
+    """A thread-safe JSON-lines log, flushed at every line; the last few in memory."""
 
-    def __init__(self, path: str | Path | None = None) -> None:
-        """Start the log; ``path``: also append it to this file (else memory only).
+    def __init__(self, path: str | Path | None = None, keep: int = 0) -> None:
+        """Start the log.
+
+        Args:
+            path: Append it to this file (None: no file).
+            keep: Keep the last ``keep`` entries in memory, for
+                :meth:`entries` (0: none, as the sim's process does).
 
         Raises:
             InvalidInputError: if the file cannot be opened to append.
         """
         self._origin = time.monotonic()
         self._lock = threading.Lock()
-        self._entries: deque[dict[str, Any]] = deque(maxlen=KEEP)
+        self._entries: deque[dict[str, Any]] = deque(maxlen=keep)
         self._file = None if path is None else open_log(path)
 
     @property
@@ -117,7 +128,8 @@ class SimLog:
 
         A full disk (or a file size limit) must not fail the ALMotion call
         being logged (the bridge took it for a killed motion): the sim says
-        so once on stderr, naming the file, and keeps the log in memory.
+        so once on stderr, naming the file; later entries are kept only in
+        memory, if it keeps any.
         """
         assert self._file is not None
         try:
@@ -130,12 +142,12 @@ class SimLog:
             self._file = None
             sys.stderr.write(
                 f"sim: warning: stopped writing the sim log {name}: "
-                f"{error.strerror}; later entries are kept in memory only\n"
+                f"{error.strerror}; later entries are not written\n"
             )
             sys.stderr.flush()
 
     def entries(self) -> list[dict[str, Any]]:
-        """A copy of the entries kept in memory."""
+        """A copy of the entries kept in memory: the last ``keep`` written."""
         with self._lock:
             return list(self._entries)
 
