@@ -29,7 +29,7 @@ one warning on stderr naming it; its ALMotion calls go on.
 
 The log keeps no entry in memory unless asked to (``keep``): the sim's
 process never reads its own log back, and it kept the last 20 000 entries
-(tens of MB of ``state`` lines) whether ``--log`` was given or not. Code
+(13 MB of one arm's ``state`` lines) whether ``--log`` was given or not. Code
 that runs the sim in-process (the tests) asks for the entries it reads
 with :meth:`SimLog.entries`.
 """
