@@ -41,9 +41,6 @@ import zenoh
 
 from bridge.robot_bridge import RobotBridge
 from bridge.serving import Slot
-from bridge.settled import SETTLED as SETTLED
-from bridge.stop_desk import HALT_END_WAIT as HALT_END_WAIT
-from bridge.stop_desk import SETTLE_WAIT as SETTLE_WAIT
 from bridge.stop_desk import DropWaiting, StopDesk, stop_request
 from bridge.stop_order import StopOrder
 from bridge.stopping import STOP_LIMIT, stop_serving

@@ -75,13 +75,16 @@ class StopDesk:
         self.robot = robot
         self._slot = slot  # the service's: the request being served
         self._on_halt: list[DropWaiting] = []
-        self._lock = threading.Lock()  # guards the four below
+        self._lock = threading.Lock()  # guards the five below
         self._orders: list[OrderedStops] = []  # ordered, not yet answered
         self._last: OrderedStops | None = None  # what the last reply answered
         self._last_latest = -float("inf")  # [s, monotonic] the last of them
-        #: The arm of an execution that ended with an error mid-movement and
-        #: has not been read still since: a stop does not say it is still.
-        self._unsure: str | None = None
+        #: The arms of executions that ended with an error mid-movement and
+        #: have not been read still since (a stop does not say they are
+        #: still), each with the number of its mark: a read that began
+        #: before a newer mark does not clear it.
+        self._unsure: dict[str, int] = {}
+        self._marks = 0
 
     def on_halt(self, drop: DropWaiting) -> None:
         """Have every ``bridge/stop`` call ``drop`` (the follower's queue)."""
@@ -90,13 +93,13 @@ class StopDesk:
     def mark_unsure(self, arm: str) -> None:
         """An execution on ``arm`` ended with an error mid-movement: it may move on."""
         with self._lock:
-            self._unsure = arm
+            self._marks += 1
+            self._unsure[arm] = self._marks
 
     def mark_sure(self, arm: str) -> None:
         """An execution on ``arm`` played to its end: no longer unsure."""
         with self._lock:
-            if self._unsure == arm:
-                self._unsure = None
+            self._unsure.pop(arm, None)
 
     def order_stop(self, payload: bytes) -> None:
         """Order the stop a ``bridge/stop`` query asks, as it arrives.
@@ -284,8 +287,8 @@ class StopDesk:
         Not while the execution stopped has not ended, nor while the client
         still stops a call it gave up (the robot did not answer it: the call
         may yet move the arm). Else the measured angles of ``arm`` (and of
-        an arm whose execution ended with an error mid-movement and was not
-        seen still since; with neither, both arms) must settle: two
+        every arm whose execution ended with an error mid-movement and was
+        not seen still since; with neither, both arms) must settle: two
         readings :data:`READ_GAP` apart within
         :data:`~bridge.settled.SETTLED`, read for at most
         :data:`SETTLE_WAIT` (and no longer than the caller's time left
@@ -299,8 +302,9 @@ class StopDesk:
                 "the robot did not answer: it may still move"
             )
         with self._lock:
-            unsure = self._unsure
-        arms = {a for a in (arm, unsure) if a is not None} or {"right", "left"}
+            unsure = dict(self._unsure)
+        arms = ({arm} if arm is not None else set()) | set(unsure)
+        arms = arms or {"right", "left"}
         names = [n for a in sorted(arms) for n in Side.parse(a).joint_names]
         wait = SETTLE_WAIT
         if due is not None:
@@ -311,9 +315,10 @@ class StopDesk:
         if problem:
             log.warning("stop: the arm is not known still: %s", problem)
             return False, problem
-        with self._lock:
-            if self._unsure in arms:
-                self._unsure = None
+        with self._lock:  # the marks read still, not newer ones
+            for seen, mark in unsure.items():
+                if self._unsure.get(seen) == mark:
+                    del self._unsure[seen]
         return True, ""
 
 

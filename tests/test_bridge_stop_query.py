@@ -650,7 +650,7 @@ def test_a_stop_is_answered_when_the_next_trajectory_takes_the_robot(
     for it to end (nor for HALT_END_WAIT): it comes at once, says the
     stopped trajectory was stopped, and that the arm is not still (the new
     one is playing)."""
-    from bridge.service import HALT_END_WAIT
+    from bridge.stop_desk import HALT_END_WAIT
 
     with served(tmp_path, sim, follow=True) as there:
         follower = there.follower
@@ -749,3 +749,28 @@ def test_armplan_stop_is_sent_even_without_the_bridges_token(tmp_path: Path) -> 
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("nothing was playing; the arm is still")
     assert len(asked) == 1 and b'"r"' in asked[0]
+
+
+def test_a_stop_reads_every_arm_an_error_left_unsure(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """Executions on the left arm, then on the right, ended with an error
+    mid-movement: a stop with nothing playing says "still" only once BOTH
+    arms read settled. The left arm moving (another client's call) keeps it
+    from saying so; once the left is still, it does, and forgets both."""
+    left = list(Side.LEFT.joint_names)
+    with served(tmp_path, sim) as there:
+        desk = there.service._desk
+        desk.mark_unsure("left")
+        desk.mark_unsure("right")
+        away = [-0.5, 0.2, 0.3, -0.3, 0.3]  # [rad] within the left arm's ranges
+        target = [float(a) + d for a, d in zip(rest("left"), away, strict=True)]
+        moving = there._motion.angleInterpolation(left, target, 1.5, True, _async=True)
+        time.sleep(0.3)  # the left arm under way
+        reply = there.service.halt(StopRequest(reason="test"))
+        assert reply.still is False, reply.to_json()
+        assert reply.note is not None and "settle" in reply.note
+        moving.value(10000)  # [ms] the left arm's call has ended
+        reply = there.service.halt(StopRequest(reason="test"))
+        assert reply.still is True, reply.to_json()
+        assert desk._unsure == {}
