@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
-def _fmt_vec(values: Sequence[float]) -> str:
+def _fmt_vec(values: Sequence[float] | np.ndarray) -> str:
     """Format a short vector as ``(0.100, -0.120, 0.050)``."""
     return "(" + ", ".join(f"{float(v):.4g}" for v in values) + ")"
 
@@ -141,14 +144,14 @@ class UnreachableTargetError(ArmplanError):
 
     def __init__(
         self,
-        target: Sequence[float],
+        target: Sequence[float] | np.ndarray,
         *,
         arm: str,
         distance: float,
         reach: tuple[float, float],
         residual: float | None = None,
         at: str = "",
-        palm: Sequence[float] | None = None,
+        palm: Sequence[float] | np.ndarray | None = None,
         advice: str = "",
     ) -> None:
         prefix = f"{at}: " if at else ""
@@ -240,8 +243,8 @@ class PrimitiveCannotReachError(ArmplanError):
     def __init__(
         self,
         primitive: str,
-        target: Sequence[float],
-        nearest: Sequence[float],
+        target: Sequence[float] | np.ndarray,
+        nearest: Sequence[float] | np.ndarray,
         residual: float,
         reason: str,
     ) -> None:

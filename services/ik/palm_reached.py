@@ -23,7 +23,9 @@ from shared.messages import PalmReached
 from shared.robot.arm_model import ArmModel
 
 
-def palm_angle(normal: Sequence[float], wanted: Sequence[float]) -> float:
+def palm_angle(
+    normal: Sequence[float] | np.ndarray, wanted: Sequence[float] | np.ndarray
+) -> float:
     """Angle between a palm normal and a wanted direction [rad], 0 to pi.
 
     By ``atan2(|n x p|, n . p)``, exact near 0 and pi where ``acos`` is not.
@@ -50,7 +52,7 @@ def palm_reached(
     rotation = chain_for(arm).state(q).wrist_rotation
     normal = palm_normal(rotation, arm.side.sign)
     return PalmReached(
-        wanted=tuple(float(v) for v in wanted),  # type: ignore[arg-type]
-        normal=tuple(float(v) for v in normal),  # type: ignore[arg-type]
+        wanted=tuple(float(v) for v in wanted),
+        normal=tuple(float(v) for v in normal),
         angle_deg=math.degrees(palm_angle(normal, wanted)),
     )

@@ -34,7 +34,9 @@ def palm_normal(wrist_rotation: np.ndarray, sign: float) -> np.ndarray:
     return sign * np.asarray(wrist_rotation)[:, 1]
 
 
-def roll_error(wrist_rotation: Any, sign: float, palm: Sequence[float]) -> float:
+def roll_error(
+    wrist_rotation: Any, sign: float, palm: Sequence[float] | np.ndarray
+) -> float:
     """Roll about the forearm that best turns the palm towards ``palm`` [rad].
 
     Positive about the forearm axis (wrist frame x). Zero when ``palm`` lies

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure, NoMeasure
@@ -15,6 +16,9 @@ from services.ik.measures.swivel_goal import SwivelGoal
 from services.ik.measures.tpe import TotalPotentialEnergy
 from shared.messages.method import Method
 from shared.primitives import IKMethod, Primitive
+
+if TYPE_CHECKING:
+    import numpy as np
 
 #: Builds a measure from the posture where its phase of the movement starts.
 MeasureFactory = Callable[[ChainState], Measure]
@@ -29,7 +33,7 @@ def ntpe(params: MeasureParams) -> WristDiscomfortEnergy:
 
 def for_primitive(
     primitive: Primitive,
-    goal: Sequence[float],
+    goal: Sequence[float] | np.ndarray,
     params: MeasureParams,
     swivel: float | None = None,
 ) -> MeasureFactory:

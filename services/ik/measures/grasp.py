@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from services.ik.kernel.chain import ChainState
 from services.ik.measures.base import Measure
 from services.ik.measures.elbow_travel import ElbowTravel
 from services.ik.measures.ntpe import WristDiscomfortEnergy
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 class GraspBlend(Measure):
@@ -33,7 +37,7 @@ class GraspBlend(Measure):
         self,
         travel: ElbowTravel,
         ntpe: WristDiscomfortEnergy,
-        target: Sequence[float],
+        target: Sequence[float] | np.ndarray,
         start_distance: float,
         k1: float,
         k2: float,
