@@ -94,4 +94,4 @@ def _palm_axis(kin: Kinematics | ChainState) -> Sequence[float]:
     if isinstance(kin, ChainState):
         rows = kin.rot
         return (rows[0][1], rows[1][1], rows[2][1])
-    return kin.wrist_rotation[:, 1].tolist()  # type: ignore[no-any-return]
+    return kin.wrist_rotation[:, 1].tolist()

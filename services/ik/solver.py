@@ -101,7 +101,7 @@ def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
     return IKResult(
         arm=arm.side,
         joints=dict(zip(arm.joint_names, (float(v) for v in solution.q), strict=False)),
-        wrist=tuple(float(v) for v in solution.wrist),  # type: ignore[arg-type]
+        wrist=tuple(float(v) for v in solution.wrist),
         target=request.target,
         error=solution.error,
         primitive=solution.primitive,
