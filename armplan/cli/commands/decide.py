@@ -128,7 +128,7 @@ def run(args: argparse.Namespace) -> int:
     plot = _plot_file(args.plot)
 
     def decide(times: np.ndarray, positions: np.ndarray, start: np.ndarray) -> Any:
-        if remote:
+        if model is None:  # --remote: the decide service decides with its model
             return _decide_remote(args, arm, times, positions, start, palm)
         decision, tracked = decide_path(
             model, arm, positions, start, palm=palm, times=times
@@ -248,8 +248,8 @@ def _path(
     duration = args.duration
     if duration is None:
         duration = _human_pace(arm, start, target, palm, decide)
-    path = reach_path(arm, start, target, duration, RATE)
-    return path.times, path.positions, start
+    reach = reach_path(arm, start, target, duration, RATE)
+    return reach.times, reach.positions, start
 
 
 def _human_pace(
