@@ -85,7 +85,7 @@ def _unlisted(out: Path, names: Sequence[str]) -> tuple[set[str], str]:
         look = _look(out, names)
     except OSError as error:
         return set(), f"cannot be told from a file of yours ({error.strerror})"
-    if look.other is None and look.count >= OLD_RUN_FILES:
+    if look.other is None and look.files >= OLD_RUN_FILES:
         return set(names), ""  # written before the demo listed its files
     if look.other is not None:
         return set(), (
@@ -94,7 +94,7 @@ def _unlisted(out: Path, names: Sequence[str]) -> tuple[set[str], str]:
         )
     return set(), (
         f"is not known to be from an earlier armplan demo: the folder has no "
-        f"{LIST_FILE} list of the demo's files, and {look.count} of them (fewer "
+        f"{LIST_FILE} list of the demo's files, and {look.files} of them (fewer "
         f"than {OLD_RUN_FILES}) do not tell"
     )
 
@@ -111,7 +111,7 @@ def _listed(out: Path) -> set[str]:
 class _Look(NamedTuple):
     """What a folder without the list holds: the demo's files, and the first other."""
 
-    count: int
+    files: int
     other: Path | None
 
 

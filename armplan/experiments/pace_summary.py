@@ -11,7 +11,7 @@ perhaps much), every ratio, and the refusals' messages.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -48,7 +48,7 @@ def kind_summary(runs: Sequence[PaceRun]) -> dict[str, Any]:
 
 
 def summary(
-    runs: dict[str, Sequence[PaceRun]], protocol: dict[str, Any]
+    runs: Mapping[str, Sequence[PaceRun]], protocol: dict[str, Any]
 ) -> dict[str, Any]:
     """The experiment's JSON: ``runs`` maps each method's name to its runs."""
     out: dict[str, Any] = {

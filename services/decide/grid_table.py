@@ -169,7 +169,8 @@ def runs(labels: Sequence[str]) -> list[tuple[str, int]]:
 
 def sequence(labels: Sequence[str], min_points: int = 1) -> tuple[list[str], int]:
     """(primitives in order, runs shorter than ``min_points``) of ``labels``."""
-    kept, short = [], 0
+    kept: list[str] = []
+    short = 0
     for label, count in runs(labels):
         if count < min_points:
             short += 1

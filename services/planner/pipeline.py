@@ -155,7 +155,8 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
         return _follow_given(arm, request, request.wrist_path, start, stages)
     for target in request.targets:
         check_reachable(arm, np.array(target.position))
-    paths, decisions, joints, segments = [], [], [], []
+    paths, joints, segments = [], [], []
+    decisions: list[Decision] = []
     q = start
     for target in request.targets:
         path = reach_wrist_path(arm, q, target)
