@@ -131,10 +131,16 @@ def test_a_good_file_reads_as_ezc3d_reads_it(reach: pathlib.Path) -> None:
 
 
 def _children(pid: int) -> list[int]:
-    """The PIDs of ``pid``'s children (Linux's /proc)."""
+    """The PIDs of ``pid``'s children (Linux's /proc).
+
+    A thread that ends between the listing and the read is skipped.
+    """
     found: list[int] = []
     for task in pathlib.Path(f"/proc/{pid}/task").iterdir():
-        found += [int(c) for c in (task / "children").read_text().split()]
+        try:
+            found += [int(c) for c in (task / "children").read_text().split()]
+        except FileNotFoundError:  # that thread ended
+            continue
     return found
 
 
