@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import fcntl
 import time
 from pathlib import Path
 
@@ -104,3 +105,89 @@ def test_many_parts_are_named_by_the_first_and_the_last() -> None:
     assert parts_named(parts) == "s-0001.mcap ... s-0288.mcap (288 files)"
     assert parts_named(parts[:3]) == "s-0001.mcap, s-0002.mcap, s-0003.mcap"
     assert parts_named([Path("s.mcap")]) == "s.mcap"
+
+
+def rotate_parts(writer: RotatingWriter, parts: int) -> None:
+    """Write until ``parts`` files have been started (2000-byte limit)."""
+    i = 0
+    while writer.started < parts:
+        writer.write("t", "json", SCHEMA, payload(i), i, i)
+        i += 1
+
+
+def test_keep_parts_leaves_the_newest_parts_whole(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """keep_parts=2 over 6 parts: the newest 2 on disk, each with its summary."""
+    path = tmp_path / "s.mcap"
+    policy = RotationPolicy(max_bytes=2000, keep_parts=2)
+    caplog.set_level("INFO", logger="armplan.recording")
+    with RotatingWriter(path, policy) as writer:
+        rotate_parts(writer, 6)
+    assert writer.paths == [part_path(path, 5), part_path(path, 6)]
+    assert writer.pruned == [part_path(path, n) for n in range(1, 5)]
+    assert sorted(tmp_path.iterdir()) == writer.paths
+    for p in writer.paths:
+        assert has_summary(p), p
+    removed = [
+        r.getMessage() for r in caplog.records if "removed old part" in r.message
+    ]
+    assert len(removed) == 4
+    assert str(part_path(path, 1)) in removed[0] and "bytes" in removed[0]
+
+
+def test_keep_parts_removes_only_files_it_wrote(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A stranger's file at a part's path, a link, a held part: all left, warned."""
+    path = tmp_path / "s.mcap"
+    stranger = part_path(path, 9)  # named like a part, not this run's
+    target = tmp_path / "target.mcap"
+    target.write_bytes(b"keep me")
+    policy = RotationPolicy(max_bytes=2000, keep_parts=2)
+    with RotatingWriter(path, policy) as writer:
+        writer.open()
+        stranger.write_bytes(b"earlier run")
+        rotate_parts(writer, 3)  # part 1 removed as 3 starts
+        part_path(path, 2).unlink()  # replaced by another file
+        part_path(path, 2).write_bytes(b"someone else's")
+        rotate_parts(writer, 4)
+        part_path(path, 3).unlink()  # replaced by a link
+        part_path(path, 3).symlink_to(target)
+        rotate_parts(writer, 5)
+        with part_path(path, 4).open("rb") as held:  # another recorder's lock
+            fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            rotate_parts(writer, 6)
+        part_path(path, 5).unlink()  # gone already
+        rotate_parts(writer, 8)
+    assert writer.pruned == [part_path(path, 1), part_path(path, 6)]
+    assert writer.paths == [part_path(path, 7), part_path(path, 8)]
+    assert stranger.read_bytes() == b"earlier run"
+    assert part_path(path, 2).read_bytes() == b"someone else's"
+    assert part_path(path, 3).is_symlink() and target.read_bytes() == b"keep me"
+    for n in (4, 7, 8):
+        assert has_summary(part_path(path, n)), n
+    left = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    assert len(left) == 4
+    for n, why in (
+        (2, "no longer the file"),
+        (3, "Too many levels of symbolic links"),
+        (4, "another recorder holds it"),
+        (5, "No such file"),
+    ):
+        assert any(str(part_path(path, n)) in m and why in m for m in left), (n, left)
+
+
+@pytest.mark.parametrize(
+    ("policy", "message"),
+    [
+        ({"max_bytes": 2000, "keep_parts": 0}, "--keep-parts must be a whole number"),
+        ({"max_bytes": 2000, "keep_parts": 1.5}, "--keep-parts must be a whole number"),
+        ({"keep_parts": 2}, "--keep-parts needs --rotate-size or --rotate-duration"),
+    ],
+)
+def test_a_bad_keep_parts_is_refused(policy: dict[str, float], message: str) -> None:
+    """Below 1, not whole, or without rotation: InvalidInputError on keep_parts."""
+    with pytest.raises(InvalidInputError, match=message) as error:
+        RotationPolicy(**policy)  # type: ignore[arg-type]
+    assert error.value.field == "keep_parts"

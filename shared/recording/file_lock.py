@@ -176,6 +176,19 @@ def hold(stream: IO[bytes]) -> int:
     return os.dup(stream.fileno())
 
 
+def try_hold(fd: int) -> bool:
+    """Take the lock of ``fd`` without waiting; False if another writer holds it.
+
+    Raises:
+        OSError: if the file system takes no lock.
+    """
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return False
+    return True
+
+
 @contextmanager
 def locked_all(paths: Sequence[Path]) -> Iterator[None]:
     """Hold the lock of every one of ``paths`` (none held by another writer).

@@ -4,7 +4,8 @@ Without a limit the recording is one file, exactly the path given. With a
 size or duration limit it is ``<stem>-0001.mcap``, ``<stem>-0002.mcap``, ...
 beside that path: when the current file has reached ``max_bytes`` or has been
 open for ``max_seconds``, it is closed properly (its summary written) and
-the next message starts the next file. Every file is complete on its own:
+the next message starts the next file. With ``keep_parts`` N, the parts
+before the newest N are then removed (``retention``). Every file is complete on its own:
 the ``on_open`` hook writes what each file needs first (metadata, the robot
 description), and channels and schemas are registered again in each file.
 """
@@ -22,6 +23,7 @@ from typing import Any
 from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import Closes
 from shared.recording.file_lock import locked_all
+from shared.recording.retention import OwnPart, parts_to_remove, remove_part
 from shared.recording.writer import MessageWriter, refuse_folder
 
 #: Default longest time between flushes of a live file [s].
@@ -30,17 +32,21 @@ FLUSH_EVERY = 0.2
 
 @dataclass(frozen=True)
 class RotationPolicy:
-    """When to start a new file.
+    """When to start a new file, and how many to keep.
 
     Attributes:
         max_bytes: Start a new file once the current one holds this much
             [bytes]; ``None`` for no size limit.
         max_seconds: Start a new file once the current one has been open this
             long [s]; ``None`` for no time limit.
+        keep_parts: Keep only the newest this many parts (the one being
+            written counted), removing older ones of this recording as new
+            ones start; ``None`` keeps them all. Only with a limit.
     """
 
     max_bytes: int | None = None
     max_seconds: float | None = None
+    keep_parts: int | None = None
 
     def __post_init__(self) -> None:
         if self.max_bytes is not None and self.max_bytes <= 0:
@@ -52,6 +58,23 @@ class RotationPolicy:
             raise InvalidInputError(
                 f"rotation duration must be positive, got {self.max_seconds} s",
                 field="max_seconds",
+            )
+        if self.keep_parts is not None:
+            self._check_keep_parts(self.keep_parts)
+
+    def _check_keep_parts(self, keep: int) -> None:
+        """Refuse a count below 1, or a count without a limit to rotate by."""
+        if isinstance(keep, bool) or not isinstance(keep, int) or keep < 1:
+            raise InvalidInputError(
+                "--keep-parts must be a whole number of files, at least 1, "
+                f"got {keep!r}",
+                field="keep_parts",
+            )
+        if not self.rotates:
+            raise InvalidInputError(
+                "--keep-parts needs --rotate-size or --rotate-duration: without "
+                "rotation the recording is one file",
+                field="keep_parts",
             )
 
     @property
@@ -105,11 +128,15 @@ class RotatingWriter(Closes):
             its numbered files, all of them removed on opening); if False, an
             existing one is refused. Either way a recording another writer
             is still writing is refused (``file_lock``): the first file stays
-            held for the whole recording, the current one while it is
-            written; the files after the first are created exclusively.
+            held for the whole recording (with ``keep_parts``, until it is
+            removed; then the part started then, and so on), the current
+            one while it is written; the files after the first are created
+            exclusively.
 
     Attributes:
-        paths: Every file started so far, in order.
+        paths: Every file started so far and not removed, in order.
+        pruned: Parts removed by ``policy.keep_parts`` so far, in order.
+        pruned_bytes: Their sizes together [bytes].
     """
 
     def __init__(
@@ -125,12 +152,22 @@ class RotatingWriter(Closes):
         self.overwrite = overwrite
         self.policy = policy or RotationPolicy()
         self.paths: list[Path] = []
+        self.pruned: list[Path] = []
+        self.pruned_bytes = 0
+        self._own: list[OwnPart] = []  # the parts in paths, as created
+        self._number = 0  # of the last file started
         self._on_open = on_open
         self._flush_every = flush_every
         self._writer: MessageWriter | None = None
         self._opened = 0.0
         self._claim: int | None = None  # holds the first file until close
+        self._claimed: Path | None = None  # the file it holds
         self.closed = False
+
+    @property
+    def started(self) -> int:
+        """How many files were started so far, removed ones included."""
+        return self._number
 
     @property
     def writer(self) -> MessageWriter:
@@ -189,7 +226,7 @@ class RotatingWriter(Closes):
         """Close the current file (if any) and open the next one."""
         if self._writer is not None:
             self._writer.close()
-        number = len(self.paths) + 1
+        number = self._number + 1
         if number == 1:
             refuse_folder(self.path)  # its parts would go beside it, not in it
             self._clear_earlier()
@@ -201,11 +238,39 @@ class RotatingWriter(Closes):
             overwrite=self.overwrite and number == 1,  # the rest were removed
         )
         if number == 1 and self.policy.rotates:
-            self._claim = self._writer.hold()
+            self._claim, self._claimed = self._writer.hold(), path
+        self._number = number
         self._opened = time.monotonic()
         self.paths.append(path)
+        self._own.append(OwnPart(path, *self._writer.identity))
         if self._on_open is not None:
             self._on_open(self._writer, number)
+        self._prune()
+
+    def _prune(self) -> None:
+        """Remove the parts before the newest ``policy.keep_parts``.
+
+        The hold on the recording (first on part 1) moves to the part just
+        started first: a part this writer holds itself would look held by
+        another.
+        """
+        keep = self.policy.keep_parts
+        if keep is None:
+            return
+        old = parts_to_remove(self._own, keep)
+        if not old:
+            return
+        assert self._writer is not None
+        if self._claim is not None and any(p.path == self._claimed for p in old):
+            self._release()
+            self._claim, self._claimed = self._writer.hold(), self.paths[-1]
+        for part in old:
+            size = remove_part(part)
+            if size is not None:
+                self.pruned.append(part.path)
+                self.pruned_bytes += size
+        del self._own[: len(old)]
+        del self.paths[: len(old)]
 
     def write(
         self,

@@ -16,6 +16,7 @@ Two layouts:
 from __future__ import annotations
 
 import json
+import os
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
@@ -222,6 +223,12 @@ class MessageWriter(Closes):
             and time.monotonic() - self._last_flush >= self._flush_every
         ):
             self.flush()
+
+    @property
+    def identity(self) -> tuple[int, int]:
+        """The file's device and inode (``st_dev``, ``st_ino``)."""
+        info = os.fstat(self._file.fileno())
+        return info.st_dev, info.st_ino
 
     def hold(self) -> int:
         """A second descriptor of the file, holding it against other writers.
