@@ -17,6 +17,7 @@ from shared.recording.writer import refuse_folder
 
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kKmMgG]?)i?[bB]?\s*$")
 _UNITS = {"": 1, "k": 1024, "m": 1024**2, "g": 1024**3}
+_WHOLE = re.compile(r"^\s*\d+\s*$")
 
 
 def parse_size(text: str) -> int:
@@ -32,6 +33,33 @@ def parse_size(text: str) -> int:
             field="rotate_size",
         )
     return int(float(match.group(1)) * _UNITS[match.group(2).lower()])
+
+
+def parse_keep_parts(text: str) -> int:
+    """The number of parts ``--keep-parts`` keeps, e.g. ``"24"`` -> 24.
+
+    Raises:
+        InvalidInputError: if ``text`` is not a whole number of at least 1.
+    """
+    if not _WHOLE.match(text) or int(text) < 1:
+        raise InvalidInputError(
+            f"--keep-parts must be a whole number of files, at least 1, got {text!r}",
+            field="keep_parts",
+        )
+    return int(text)
+
+
+def check_usage(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """Exit with a usage error (code 2) for options that need others.
+
+    ``--keep-parts`` needs ``--rotate-size`` or ``--rotate-duration``.
+    """
+    rotates = args.rotate_size is not None or args.rotate_duration is not None
+    if args.keep_parts is not None and not rotates:
+        parser.error(
+            "--keep-parts needs --rotate-size or --rotate-duration "
+            "(without rotation the recording is one file)"
+        )
 
 
 def add_recorder_arguments(parser: argparse.ArgumentParser) -> None:
@@ -65,6 +93,13 @@ def add_recorder_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         metavar="S",
         help="start a new file after this many seconds (default: never)",
+    )
+    parser.add_argument(
+        "--keep-parts",
+        metavar="N",
+        help="with rotation, keep only the newest N files (the one being written "
+        "counted): older files of this recording are removed as new ones start "
+        "(default: keep all)",
     )
     parser.add_argument(
         "--flush-every",
@@ -103,6 +138,9 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
     rotation = RotationPolicy(
         max_bytes=None if args.rotate_size is None else parse_size(args.rotate_size),
         max_seconds=args.rotate_duration,
+        keep_parts=None
+        if args.keep_parts is None
+        else parse_keep_parts(args.keep_parts),
     )
     output = Path(args.output) if args.output else default_output()
     refuse_folder(output)  # before connecting: no router fixes this

@@ -44,7 +44,7 @@ from shared.bus import BusConfig
 from shared.bus.lifeline import PARENT_ENV
 from shared.errors import RecordingError
 from shared.lifecycle import Closes
-from shared.recording.rotation import part_path
+from shared.recording.rotation import numbered_parts, part_path
 
 #: Longest wait for the recorder to be ready [s].
 START_TIMEOUT = 30.0
@@ -72,6 +72,8 @@ def recorder_command(config: BusConfig, options: RecorderOptions) -> list[str]:
         command += ["--rotate-size", str(options.rotation.max_bytes)]
     if options.rotation.max_seconds is not None:
         command += ["--rotate-duration", str(options.rotation.max_seconds)]
+    if options.rotation.keep_parts is not None:
+        command += ["--keep-parts", str(options.rotation.keep_parts)]
     if not options.foxglove:
         command.append("--no-foxglove")
     command += [
@@ -195,7 +197,9 @@ class RecorderProcess(Closes):
         output = self.options.output
         if not self.options.rotation.rotates:
             return [output] if output.exists() else []
-        found, number = [], 1
+        numbers = [_part_number(p) for p in numbered_parts(output)]
+        first = numbers[0] if numbers else 1  # later with --keep-parts
+        found, number = [], first
         while (path := part_path(output, number)).exists():
             found.append(path)
             number += 1
@@ -275,6 +279,11 @@ class RecorderProcess(Closes):
     def close(self) -> None:
         """Stop the recorder (what leaving the ``with`` does)."""
         self.stop()
+
+
+def _part_number(path: Path) -> int:
+    """The number of a numbered part: ``s-0003.mcap`` -> 3."""
+    return int(path.stem.rsplit("-", 1)[1])
 
 
 def _signal_name(signum: int) -> str:

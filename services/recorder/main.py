@@ -1,7 +1,7 @@
 """``python -m services.recorder``: the recorder process.
 
 Usage: ``python -m services.recorder [-o FILE.mcap] [--keys KEY ...]
-[--rotate-size SIZE] [--rotate-duration S] [--config FILE]
+[--rotate-size SIZE] [--rotate-duration S] [--keep-parts N] [--config FILE]
 [--connect ENDPOINT] [--namespace NS] [--wait S]``. It connects to the
 router, records until SIGTERM, SIGINT or SIGHUP, then closes its file with
 its summary and exits 0 (at once, also while it still waits for the router).
@@ -24,6 +24,7 @@ from collections.abc import Sequence
 
 from services.recorder.arguments import (
     add_recorder_arguments,
+    check_usage,
     options_from_args,
 )
 from services.recorder.service import NAME, Recorder
@@ -42,7 +43,9 @@ FAILED_PREFIX = "failed: "
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Record until asked to stop; returns the exit code."""
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args = parser.parse_args(argv)
+    check_usage(parser, args)
     stop = start_process(args.log_level)
     try:
         config = bus_config(args)

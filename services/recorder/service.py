@@ -42,7 +42,6 @@ from shared.bus.keys import alive_key
 from shared.bus.session import has_router_or_peer
 from shared.errors import RecordingError
 from shared.lifecycle import StartStop
-from shared.recording.rotation import parts_named
 
 NAME = "recorder"
 #: Period at which :meth:`Recorder.wait` checks the writer [s].
@@ -168,7 +167,8 @@ class Recorder(StartStop):
         """Withdraw the token and subscriptions, write out the rest, close.
 
         Returns:
-            The files written, in order.
+            The files written, in order (without the older parts
+            ``--keep-parts`` removed).
 
         Raises:
             RecordingError: if the file system refused a write: the reason,
@@ -188,7 +188,7 @@ class Recorder(StartStop):
             "recorder stopped: %d messages from the bus%s in %s%s",
             self.sink.written,
             f" (and {derived} derived for Foxglove)" if derived else "",
-            parts_named(paths),
+            self.sink.files_note(),
             self.sink.behind_note(),
         )
         if self.sink.error is not None:

@@ -46,7 +46,7 @@ from shared.messages import MotionModel
 from shared.recording.foxglove import FoxgloveChannels, description_message
 from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
-from shared.recording.rotation import RotatingWriter
+from shared.recording.rotation import RotatingWriter, parts_named
 from shared.recording.writer import MessageWriter
 
 log = logging.getLogger("armplan.recorder")
@@ -136,8 +136,28 @@ class RecordingSink:
 
     @property
     def paths(self) -> list[Path]:
-        """The files written so far, in order."""
+        """The files written so far and not removed (``--keep-parts``), in order."""
         return list(self._files.paths)
+
+    @property
+    def pruned(self) -> list[Path]:
+        """The older parts removed so far (``--keep-parts``), in order."""
+        return list(self._files.pruned)
+
+    def files_note(self) -> str:
+        """The files on disk, and how many older ones were removed if any.
+
+        E.g. ``s-0004.mcap, s-0005.mcap (3 older parts removed, --keep-parts 2)``.
+        """
+        files = parts_named(self.paths)
+        pruned = len(self._files.pruned)
+        if not pruned:
+            return files
+        keep = self.options.rotation.keep_parts
+        return (
+            f"{files} ({pruned} older part{'s' if pruned != 1 else ''} removed, "
+            f"--keep-parts {keep})"
+        )
 
     def start(self) -> RecordingSink:
         """Create the first file and start the writer thread.

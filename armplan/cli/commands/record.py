@@ -11,11 +11,13 @@ See ``docs/recording.md`` for the channels and how to open them in Foxglove.
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 
 from armplan.cli.output import say
 from services.recorder.arguments import (
     add_recorder_arguments,
+    check_usage,
     options_from_args,
 )
 from services.recorder.service import NAME, Recorder
@@ -23,7 +25,6 @@ from shared.bus import Bus
 from shared.bus.login import check_login
 from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.errors import InvalidInputError
-from shared.recording.rotation import parts_named
 from shared.stop_signals import stop_on_signals
 
 ORDER = 90
@@ -42,11 +43,16 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="S",
         help="stop after this many seconds (default: at Ctrl-C or SIGTERM)",
     )
-    parser.set_defaults(run=run)
+    parser.set_defaults(run=functools.partial(run, parser=parser))
 
 
-def run(args: argparse.Namespace) -> int:
-    """Record until stopped; print the files and what they hold."""
+def run(args: argparse.Namespace, parser: argparse.ArgumentParser | None = None) -> int:
+    """Record until stopped; print the files and what they hold.
+
+    ``parser`` reports a usage error (``--keep-parts`` without rotation).
+    """
+    if parser is not None:
+        check_usage(parser, args)
     if args.duration is not None and not (
         math.isfinite(args.duration) and args.duration > 0
     ):
@@ -66,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         )
         recorder.wait(stop, args.duration)
     sink = recorder.sink
-    files = parts_named(sink.paths)
+    files = sink.files_note()
     extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
     note = sink.behind_note()
     say(f"armplan record: {sink.written} messages{extra} in {files}{note}")
