@@ -70,13 +70,16 @@ def test_a_map_in_mm_on_data_in_metres_is_refused_with_a_units_hint(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """A 0.3 mm upper arm names the length found and the units declared."""
-    path = write_csv(tmp_path / "mocap.csv", arm_rows(0))
+    rows = arm_rows(0)
+    path = write_csv(tmp_path / "mocap.csv", rows)
     code, out = _import(tmp_path, path, {**MAP, "units": "mm"})
     assert code == 1
+    lines = f"lines 2-{len(rows) + 1}"  # line k + 2 holds rows[k]
     assert capsys.readouterr().err == (
-        f"armplan: error: {path}: subject 'mocap', trial 0: the upper arm ('RSHO' "
-        "to 'RELB') is 0.3 mm long (median of 30 frames), but a human's is 5 cm "
-        'to 1 m; coordinates were read in mm, as the marker map\'s "units" '
+        f"armplan: error: {path}: subject 'mocap', trial 0 ({lines}): the upper "
+        "arm ('RSHO' to 'RELB') is 0.3 mm long (median of 30 frames), but a "
+        "human's is 5 cm to 1 m; coordinates were read in mm, as the marker "
+        'map\'s "units" '
         "declares: are the units right?\n"
     )
     assert not out.exists()
@@ -123,7 +126,10 @@ def test_a_shoulder_column_scaled_by_a_million_is_refused(
     with pytest.raises(DemoFileError) as caught:
         read_csv(path, MarkerMap.model_validate(MAP))
     message = caught.value.message
-    assert message.startswith(f"{path}: marker 'RSHO' at frame 0 is at ")
+    assert message.startswith(
+        f"{path}: subject 'mocap', trial 0 (lines 2-{len(rows) + 1}): marker "
+        "'RSHO' at frame 0 is at "
+    )
     assert message.endswith(
         "not a position (line 2); so are most of its frames: coordinates were "
         'read in m, the file\'s default (the marker map has no "units"): are '

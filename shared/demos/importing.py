@@ -14,7 +14,7 @@ that marker).
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from shared.demos.marker_gaps import LONGEST_GAP, fill_gaps
 from shared.demos.markers import UNIT_SCALE, MarkerMap
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, unit
+from shared.demos.sample_lines import line_evidence, sample_line, trial_span
 from shared.demos.thumb_marker import check_thumb, check_turns
 from shared.demos.trial import MIN_SAMPLES, Trial
 from shared.errors import DemoFileError
@@ -71,10 +72,7 @@ class MarkerTracks(NamedTuple):
 
     def span(self) -> str:
         """The trial's lines for a message, `` (lines 2-31)``; ``""`` without."""
-        if not self.lines:
-            return ""
-        first, last = self.lines[0], self.lines[-1]
-        return f" (line {first})" if first == last else f" (lines {first}-{last})"
+        return trial_span(self.lines)
 
     def frame(self, k: int) -> str:
         """Frame ``k`` named for a message: ``frame 4 (t = 0.04 s, line 7)``.
@@ -82,17 +80,11 @@ class MarkerTracks(NamedTuple):
         A frame of a missing row names the rows around it:
         ``frame 5 (t = 0.05 s, no row: between lines 7 and 8)``.
         """
-        return f"frame {k} (t = {self.times[k]:g} s{self._line(k)})"
+        return f"frame {k} (t = {self.times[k]:g} s{sample_line(self.lines, k)})"
 
-    def _line(self, k: int) -> str:
-        """Frame ``k``'s line for a message, ``", line 7"``; ``""`` without."""
-        if self.lines is None:
-            return ""
-        if self.lines[k] is not None:
-            return f", line {self.lines[k]}"
-        before = next(n for n in reversed(self.lines[:k]) if n is not None)
-        after = next(n for n in self.lines[k:] if n is not None)
-        return f", no row: between lines {before} and {after}"
+    def evidence(self, first: int, last: int | None = None) -> dict[str, Any]:
+        """The lines of frames ``first``..``last`` as evidence (``line_evidence``)."""
+        return line_evidence(self.lines, first, last)
 
 
 def trial_from_tracks(
@@ -131,13 +123,15 @@ def trial_from_tracks(
         role: markers.to_torso_axes(p * tracks.scale)
         for role, p in tracks.points.items()
     }
-    _check_near(points, markers, tracks, path)
-    whole = np.all([np.isfinite(p).all(axis=1) for p in points.values()], axis=0)
     named = f"subject {subject!r}, trial {trial}"
-    _check_enough(whole, tracks, markers, named, path, trial=trial)
     where = f"{named}{tracks.span()}"
+    _check_near(points, markers, tracks, where, path)
+    whole = np.all([np.isfinite(p).all(axis=1) for p in points.values()], axis=0)
+    _check_enough(whole, tracks, markers, named, path, trial=trial)
     names = {role: markers.names[role] for role in points}
-    points, filled = fill_gaps(points, tracks.times, names, tracks.frame, where, path)
+    points, filled = fill_gaps(
+        points, tracks.times, names, tracks.frame, where, path, lines=tracks.lines
+    )
     _report_gaps(whole, filled, tracks, trial, path, report)
     check_segments(points, np.arange(len(whole)), tracks, markers, named, path)
     times = tracks.times - tracks.times[0]
@@ -155,9 +149,20 @@ def trial_from_tracks(
     frames = None
     if "thumb" in points:
         thumb = points["thumb"]
-        check_thumb(human.elbow, human.wrist, thumb, tracks.frame, names, where, path)
+        check_thumb(
+            human.elbow,
+            human.wrist,
+            thumb,
+            tracks.frame,
+            names,
+            where,
+            path,
+            lines=tracks.lines,
+        )
         frames = wrist_frames(human.elbow, human.wrist, thumb)
-        check_turns(frames, tracks.times, tracks.frame, names, where, path)
+        check_turns(
+            frames, tracks.times, tracks.frame, names, where, path, lines=tracks.lines
+        )
     made = Trial(
         subject=subject,
         trial=trial,
@@ -170,6 +175,7 @@ def trial_from_tracks(
         wrist_frame=frames,
         target=nao.wrist[-1].copy(),
         labels=None,
+        lines=tracks.lines,
     )
     return made, person
 
@@ -223,11 +229,16 @@ def check_segments(
     for segment, start, end in SEGMENTS:
         lengths = np.linalg.norm(points[end][kept] - points[start][kept], axis=1)
         ends = f"{markers.names[start]!r} to {markers.names[end]!r}"
-        problem = _segment_problem(
-            lengths, kept, tracks, markers, f"{segment} ({ends})"
-        )
-        if problem is not None:
-            raise DemoFileError(path, f"{trial}{problem}", segment=segment, trial=trial)
+        found = _segment_problem(lengths, kept, tracks, markers, f"{segment} ({ends})")
+        if found is not None:
+            problem, frames = found
+            raise DemoFileError(
+                path,
+                f"{trial}{problem}",
+                segment=segment,
+                trial=trial,
+                **tracks.evidence(*frames),
+            )
 
 
 def _segment_problem(
@@ -236,31 +247,41 @@ def _segment_problem(
     tracks: MarkerTracks,
     markers: MarkerMap,
     segment: str,
-) -> str | None:
-    """What is wrong with one segment's lengths [m], shape (m,), or ``None``."""
+) -> tuple[str, tuple[int, int]] | None:
+    """What is wrong with one segment's lengths [m], shape (m,), or ``None``.
+
+    With the problem, the first and last frame it is at: one frame, or for
+    a median the trial's first and last (a CSV message names their lines).
+    """
     low, high = SEGMENT_RANGE
     span = f"a human's is {100 * low:g} cm to {high:g} m"
     zero = np.flatnonzero(lengths < COINCIDENT)
     if zero.size:
-        frame = tracks.frame(int(kept[zero[0]]))
-        return f", {frame}: degenerate arm, zero-length {segment}: the markers coincide"
+        k = int(kept[zero[0]])
+        return (
+            f", {tracks.frame(k)}: degenerate arm, zero-length {segment}: the "
+            "markers coincide",
+            (k, k),
+        )
     median = float(np.median(lengths))
     if not low <= median <= high:
         return (
-            f": the {segment} is {_length(median)} long (median of {len(lengths)} "
-            f"frames), but {span}; coordinates were read in "
-            f"{_units_read(tracks, markers)}: are the units right?"
+            f"{tracks.span()}: the {segment} is {_length(median)} long (median of "
+            f"{len(lengths)} frames), but {span}; coordinates were read in "
+            f"{_units_read(tracks, markers)}: are the units right?",
+            (0, len(tracks.times) - 1),
         )
     off = np.abs(lengths / median - 1.0) > SEGMENT_SPREAD
     odd = np.flatnonzero(off | (lengths < low) | (lengths > high))
     if not odd.size:
         return None
-    k = int(odd[0])
+    k = int(kept[odd[0]])
     return (
-        f", {tracks.frame(int(kept[k]))}: the {segment} is {_length(lengths[k])} "
+        f", {tracks.frame(k)}: the {segment} is {_length(lengths[odd[0]])} "
         f"long, its median {_length(median)} ({span}): a marker is misplaced "
         "or mislabelled there (empty cells would have it filled from the frames "
-        "around, for a gap of a few frames)"
+        "around, for a gap of a few frames)",
+        (k, k),
     )
 
 
@@ -312,6 +333,7 @@ def _check_enough(
         trial=trial,
         frames=len(whole),
         whole=count,
+        **tracks.evidence(0, len(whole) - 1),
     )
 
 
@@ -335,9 +357,16 @@ def _report_gaps(
 
 
 def _check_near(
-    points: dict[str, FloatArray], markers: MarkerMap, tracks: MarkerTracks, path: str
+    points: dict[str, FloatArray],
+    markers: MarkerMap,
+    tracks: MarkerTracks,
+    where: str,
+    path: str,
 ) -> None:
-    """Raise DemoFileError naming the first marker and frame beyond ``FARTHEST``.
+    """Refuse a marker beyond ``FARTHEST`` from the origin (not a position).
+
+    The error names the trial, the first such marker and frame and, for
+    CSV, its line (also in the evidence).
 
     Non-finite values are missing samples (filled or refused by
     ``fill_gaps``), not positions too far away.
@@ -354,7 +383,10 @@ def _check_near(
                 )
             raise DemoFileError(
                 path,
-                f"marker {markers.names[role]!r} at frame {k} is at "
+                f"{where}: marker {markers.names[role]!r} at frame {k} is at "
                 f"{np.array2string(p[k], precision=4)} m, more than "
                 f"{FARTHEST:g} m from the origin: not a position{line}",
+                marker=markers.names[role],
+                frame=k,
+                **tracks.evidence(k),
             )

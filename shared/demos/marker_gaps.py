@@ -24,11 +24,13 @@ goal) and the first its start; neither can be guessed from one side.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from shared.demos.gap_fill import filled_track, marker_noise
 from shared.demos.rotations import FloatArray
+from shared.demos.sample_lines import Lines, line_evidence
 from shared.errors import DemoFileError
 
 #: Longest gap [s] (missing frames times the median step) that is filled:
@@ -53,6 +55,8 @@ def fill_gaps(
     frame: Callable[[int], str],
     where: str,
     path: str,
+    *,
+    lines: Lines = None,
 ) -> tuple[dict[str, FloatArray], int]:
     """The tracks with their short gaps filled; how many frames were filled.
 
@@ -64,9 +68,12 @@ def fill_gaps(
         frame: Frame ``k`` named for a message (time, CSV line).
         where: The trial named for messages, e.g. ``"subject 'P01', trial 0"``.
         path: The file, for messages.
+        lines: Each frame's line in a CSV file (``sample_lines``), for the
+            evidence, or ``None``.
 
     Raises:
-        DemoFileError: naming the file, trial, marker and frames, if a marker
+        DemoFileError: naming the file, trial, marker and frames (and in
+            the evidence, with ``lines``, their lines), if a marker
             is missing at the trial's first or last frame, or for longer
             than ``LONGEST_GAP``.
     """
@@ -76,7 +83,8 @@ def fill_gaps(
     for role, track in points.items():
         missing = np.asarray(~np.isfinite(track).all(axis=1))
         for first, last in gap_runs(missing):
-            _check_gap(first, last, len(times), step, names[role], frame, where, path)
+            gap = Gap(first, last, names[role], line_evidence(lines, first, last))
+            _check_gap(gap, len(times), step, frame, where, path)
         out[role] = track
         if missing.any():
             gaps = gap_runs(missing)
@@ -85,19 +93,28 @@ def fill_gaps(
     return out, int(filled.sum())
 
 
+class Gap(NamedTuple):
+    """A marker's missing frames ``first``..``last``, and their lines' evidence."""
+
+    first: int
+    last: int
+    marker: str
+    lines: dict[str, Any]
+
+
 def _check_gap(
-    first: int,
-    last: int,
+    gap: Gap,
     frames: int,
     step: float,
-    marker: str,
     frame: Callable[[int], str],
     where: str,
     path: str,
 ) -> None:
-    """Refuse a gap (frames ``first``..``last``) at an end or too long."""
+    """Refuse a gap at an end of the trial's ``frames`` or too long."""
+    first, last, marker = gap.first, gap.last, gap.marker
     span = f"from {frame(first)} to {frame(last)}"
     evidence = {"marker": marker, "first_frame": first, "last_frame": last}
+    evidence |= gap.lines
     if first == 0 or last == frames - 1:
         end = "first" if first == 0 else "last"
         meaning = "its start" if first == 0 else "the reach's goal"

@@ -18,6 +18,7 @@ from collections.abc import Callable
 import numpy as np
 
 from shared.demos.rotations import FloatArray, unit
+from shared.demos.sample_lines import Lines, line_evidence
 from shared.errors import DemoFileError
 
 #: Nearest and farthest the thumb-side marker may be from the forearm's axis
@@ -52,6 +53,8 @@ def check_thumb(
     names: dict[str, str],
     where: str,
     path: str,
+    *,
+    lines: Lines = None,
 ) -> None:
     """Refuse a thumb-side marker too near or far from the forearm's axis.
 
@@ -63,14 +66,23 @@ def check_thumb(
         names: The markers' names by role (``wrist``, ``thumb``).
         where: The trial named for messages, e.g. ``"subject 'P01', trial 0"``.
         path: The file, for messages.
+        lines: Each frame's line in a CSV file (``sample_lines``), for the
+            evidence, or ``None``.
 
     Raises:
         DemoFileError: naming the trial, the frame and the offset found.
     """
     offsets = np.linalg.norm(_across(elbow, wrist, thumb), axis=1)
-    problem = _offset_problem(offsets, frame, names)
-    if problem is not None:
-        raise DemoFileError(path, f"{where}{problem}", marker=names["thumb"])
+    found = _offset_problem(offsets, frame, names)
+    if found is not None:
+        problem, k = found
+        raise DemoFileError(
+            path,
+            f"{where}{problem}",
+            marker=names["thumb"],
+            frame=k,
+            **line_evidence(lines, k),
+        )
 
 
 def _across(elbow: FloatArray, wrist: FloatArray, thumb: FloatArray) -> FloatArray:
@@ -82,8 +94,11 @@ def _across(elbow: FloatArray, wrist: FloatArray, thumb: FloatArray) -> FloatArr
 
 def _offset_problem(
     offsets: FloatArray, frame: FrameName, names: dict[str, str]
-) -> str | None:
-    """What is wrong with the thumb's offsets [m], shape (n,), or ``None``."""
+) -> tuple[str, int] | None:
+    """What is wrong with the thumb's offsets [m], shape (n,), or ``None``.
+
+    With the problem, the frame it is at.
+    """
     low, high = THUMB_OFFSET
     marker = f"the thumb-side marker {names['thumb']!r}"
     axis = f"the forearm's axis through the wrist marker {names['wrist']!r}"
@@ -94,7 +109,8 @@ def _offset_problem(
         return (
             f", {frame(k)}: {marker} is {1000 * offsets[k]:.1f} mm from {axis} "
             f"(it must be {span}), so the forearm's roll is undefined there: is it "
-            "on the wrist marker, or on the forearm?"
+            "on the wrist marker, or on the forearm?",
+            k,
         )
     median = float(np.median(offsets))
     odd = np.flatnonzero(
@@ -106,7 +122,8 @@ def _offset_problem(
     return (
         f", {frame(k)}: {marker} is {1000 * offsets[k]:.1f} mm from {axis}, its "
         f"median {1000 * median:.1f} mm (it must be {span}): a marker is misplaced "
-        "or mislabelled there"
+        "or mislabelled there",
+        k,
     )
 
 
@@ -117,6 +134,8 @@ def check_turns(
     names: dict[str, str],
     where: str,
     path: str,
+    *,
+    lines: Lines = None,
 ) -> None:
     """Refuse a wrist frame that turns between two frames faster than a forearm.
 
@@ -130,6 +149,8 @@ def check_turns(
         names: The markers' names by role (``wrist``, ``thumb``).
         where: The trial named for messages, e.g. ``"subject 'P01', trial 0"``.
         path: The file, for messages.
+        lines: Each frame's line in a CSV file (``sample_lines``), for the
+            evidence, or ``None``.
 
     Raises:
         DemoFileError: naming the trial, both frames, the turn and its speed.
@@ -153,6 +174,7 @@ def check_turns(
         marker=names["thumb"],
         frame=k + 1,
         turn=degrees,
+        **line_evidence(lines, k, k + 1),
     )
 
 

@@ -33,6 +33,9 @@ class Trial(NamedTuple):
         labels: The primitive moving the arm at each sample, or ``None``.
         source: The demonstration file it was read from, for messages; ``""``
             if it was made here (synthesised, imported).
+        lines: The line of the CSV file each sample was read from (from 1;
+            ``None`` for a frame of a missing row), for messages, or ``None``
+            (not read from a CSV file; not kept in demonstration files).
     """
 
     subject: str
@@ -47,6 +50,7 @@ class Trial(NamedTuple):
     target: FloatArray
     labels: list[str] | None
     source: str = ""
+    lines: list[int | None] | None = None
 
     @property
     def palm_goal(self) -> FloatArray | None:
