@@ -48,15 +48,22 @@ def test_a_reach_then_minutes_still_is_refused(
 ) -> None:
     """A reach and then 60 s still was imported as one trial, and the fit made
     a model of the stillness."""
-    code, out = _import(tmp_path, _held(60.0))
+    rows = _held(60.0)
+    code, out = _import(tmp_path, rows)
     assert code == 1
+    times = [row[0] for row in rows]  # line k + 2 holds rows[k]
+    moves, arrives, last = (
+        2 + times.index("0.01"),
+        2 + times.index("0.29"),
+        1 + len(rows),
+    )
     assert capsys.readouterr().err == (
-        f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' lasts "
-        "60.3 s, its wrist still for 60.0 s at its goal (at most 3 s; the wrist "
-        "moves from 0.01 s to 0.29 s): a trial must be one reach, from its start "
-        "to its "
-        "goal, and armplan fit would count the stillness as reaching. Crop it "
-        "to the reach, or give --allow-long to import it as it is\n"
+        f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' (lines "
+        f"2-{last}) lasts 60.3 s, its wrist still for 60.0 s at its goal, lines "
+        f"{arrives}-{last} (at most 3 s; the wrist moves from 0.01 s (line {moves}) "
+        f"to 0.29 s (line {arrives})): a trial must be one reach, from its start "
+        "to its goal, and armplan fit would count the stillness as reaching. Crop "
+        "it to the reach, or give --allow-long to import it as it is\n"
     )
     assert not out.exists()
 
@@ -115,14 +122,15 @@ def test_a_still_take_is_no_reach_and_refused(
     """A 2 s take with the arm held (a static calibration take) passed, being
     under 3 s still: 8 beside 16 reaches doubled every rate of the fit.
     ``--allow-long`` does not let it in: it is no reach at all."""
-    code, out = _import(tmp_path, _still(2.0), *more)
+    rows = _still(2.0)
+    code, out = _import(tmp_path, rows, *more)
     assert code == 1
     assert capsys.readouterr().err == (
-        f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' lasts "
-        "1.99 s, and its wrist ends 0.0 mm from where it starts (a reach goes at "
-        "least 16.2 mm, 0.1 of NAO's arm): a still take (e.g. a calibration) or "
-        "a hand shifting, not a reach. A trial must be one reach, from its start "
-        "to its goal: leave this one out\n"
+        f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' (lines "
+        f"2-{len(rows) + 1}) lasts 1.99 s, and its wrist ends 0.0 mm from where "
+        "it starts (a reach goes at least 16.2 mm, 0.1 of NAO's arm): a still "
+        "take (e.g. a calibration) or a hand shifting, not a reach. A trial must "
+        "be one reach, from its start to its goal: leave this one out\n"
     )
     assert not out.exists()
 
@@ -143,7 +151,8 @@ def test_a_trial_moving_under_a_tenth_of_a_second_is_refused(
         refused
     )
     if frames == 2:
-        assert "lasts 0.01 s, and its wrist moves for 0.00 s (from 0.01 s to " in err
+        assert "(lines 2-3) lasts 0.01 s, and its wrist moves for 0.00 s (from " in err
+        assert "(from 0.01 s (line 3) to 0.01 s (line 3))" in err
 
 
 def test_a_csv_trial_is_refused_by_its_own_number(
@@ -156,4 +165,8 @@ def test_a_csv_trial_is_refused_by_its_own_number(
     code, _ = _import(tmp_path, arm_rows(3) + long, "--first-trial", "100")
     assert code == 1
     err = capsys.readouterr().err
-    assert f"{tmp_path / 'rec.csv'}: trial 15 of subject 'rec' lasts 60.3 s" in err
+    first, last = 2 + 30, 1 + 30 + len(long)  # line k + 2 holds rows[k]
+    assert (
+        f"{tmp_path / 'rec.csv'}: trial 15 of subject 'rec' (lines {first}-{last}) "
+        "lasts 60.3 s"
+    ) in err

@@ -67,15 +67,19 @@ def test_two_reaches_with_a_hold_between_are_refused(
 ) -> None:
     """A reach, 0.8 s still, a second reach: imported as one trial, it made
     the fit's W_R rate 2.80 /rad instead of about 5.7."""
-    code, out = _import(tmp_path, _two_moves(0.8))
+    rows = _two_moves(0.8)
+    code, out = _import(tmp_path, rows)
     assert code == 1
+    times = [row[0] for row in rows]  # line k + 2 holds rows[k]
+    stops, restarts = 2 + times.index("0.81"), 2 + times.index("1.79")
     assert capsys.readouterr().err == (
-        f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' lasts "
-        "2.6 s, and its wrist stops on its way for 0.98 s, from 0.81 s to 1.79 s, "
-        "94.4 mm from its start and 96.5 mm from its goal (a reach stops for "
-        "under 0.5 s on its way): two reaches, not one; split the trial where "
-        "the wrist stops (0.81 s) and restarts (1.79 s). Crop it to the reach, "
-        "or give --allow-long to import it as it is\n"
+        f"armplan: error: {tmp_path / 'rec.csv'}: trial 0 of subject 'rec' (lines "
+        f"2-{len(rows) + 1}) lasts 2.6 s, and its wrist stops on its way for 0.98 "
+        f"s, from 0.81 s (line {stops}) to 1.79 s (line {restarts}), 94.4 mm from "
+        "its start and 96.5 mm from its goal (a reach stops for under 0.5 s on its "
+        "way): two reaches, not one; split the trial where the wrist stops (0.81 "
+        f"s, line {stops}) and restarts (1.79 s, line {restarts}). Crop it to the "
+        "reach, or give --allow-long to import it as it is\n"
     )
     assert not out.exists()
 

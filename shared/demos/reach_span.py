@@ -32,6 +32,7 @@ import numpy as np
 from shared.demos.reach_pause import PAUSE_LIMIT, mid_pause
 from shared.demos.retarget import nao_arm_size
 from shared.demos.rotations import FloatArray
+from shared.demos.sample_lines import lines_of, sample_line, trial_span
 from shared.demos.trial import Trial
 from shared.robot.side import Side
 
@@ -98,7 +99,7 @@ def not_a_reach_problem(trial: Trial) -> str | None:
     Times [s] and positions [m] are the retargeted trial's.
     """
     duration = float(trial.times[-1] - trial.times[0])
-    named = f"trial {trial.trial} of subject {trial.subject!r} lasts {duration:.2f} s"
+    named = f"{_trial_named(trial)} lasts {duration:.2f} s"
     travel = float(np.linalg.norm(trial.wrist[-1] - trial.wrist[0]))
     least = SHORTEST_TRAVEL * _arm_length(trial.arm)
     if travel < least:
@@ -112,7 +113,8 @@ def not_a_reach_problem(trial: Trial) -> str | None:
     if end - start < SHORTEST_MOVE:
         return (
             f"{named}, and its wrist moves for {end - start:.2f} s (from "
-            f"{start:.2f} s to {end:.2f} s), far more briefly than a person "
+            f"{_at(trial, start)} to {_at(trial, end)}), far more briefly than a "
+            "person "
             f"reaches (at least {SHORTEST_MOVE:g} s; the paper's subjects took "
             "0.55 to 1.01 s): a fragment of a reach, or no reach"
         )
@@ -136,14 +138,15 @@ def long_trial_problem(trial: Trial) -> str | None:
     """
     duration = float(trial.times[-1] - trial.times[0])
     start, end = moving_span(trial.times, trial.wrist)
-    named = f"trial {trial.trial} of subject {trial.subject!r} lasts {duration:.1f} s"
-    moves = f"the wrist moves from {start:.2f} s to {end:.2f} s"
+    named = f"{_trial_named(trial)} lasts {duration:.1f} s"
+    moves = f"the wrist moves from {_at(trial, start)} to {_at(trial, end)}"
     ends = (
-        (start - float(trial.times[0]), "before it moves"),
-        (float(trial.times[-1]) - end, "at its goal"),
+        (start - float(trial.times[0]), "before it moves", (trial.times[0], start)),
+        (float(trial.times[-1]) - end, "at its goal", (end, trial.times[-1])),
     )
-    for still, where in ends:
+    for still, where, (first, last) in ends:
         if still > STILL_LIMIT:
+            where += _between(trial, float(first), float(last))
             return (
                 f"{named}, its wrist still for {still:.1f} s {where} (at most "
                 f"{STILL_LIMIT:g} s; {moves}): a trial must be one reach, from its "
@@ -171,10 +174,49 @@ def _pause_problem(trial: Trial, named: str) -> str | None:
     goal = float(np.linalg.norm(pause.place - trial.wrist[-1]))
     return (
         f"{named}, and its wrist stops on its way for "
-        f"{pause.restarts - pause.stops:.2f} s, from {pause.stops:.2f} s to "
-        f"{pause.restarts:.2f} s, {1000 * start:.1f} mm from its start and "
+        f"{pause.restarts - pause.stops:.2f} s, from {_at(trial, pause.stops)} to "
+        f"{_at(trial, pause.restarts)}, {1000 * start:.1f} mm from its start and "
         f"{1000 * goal:.1f} mm from its goal (a reach stops for under "
         f"{PAUSE_LIMIT:g} s on its way): two reaches, not one; split the trial "
-        f"where the wrist stops ({pause.stops:.2f} s) and restarts "
-        f"({pause.restarts:.2f} s)"
+        f"where the wrist stops ({_when(trial, pause.stops)}) and restarts "
+        f"({_when(trial, pause.restarts)})"
     )
+
+
+def _trial_named(trial: Trial) -> str:
+    """``trial`` for a message: ``"trial 3 of subject 'P01' (lines 2-31)"``.
+
+    Its lines for a trial read from a CSV file (``sample_lines``).
+    """
+    return f"trial {trial.trial} of subject {trial.subject!r}{trial_span(trial.lines)}"
+
+
+def _at(trial: Trial, seconds: float) -> str:
+    """The sample of ``trial`` at ``seconds`` [s]: ``"0.50 s (line 52)"``.
+
+    ``"0.50 s"`` for a trial without lines.
+    """
+    line = _line(trial, seconds)
+    return f"{seconds:.2f} s ({line[2:]})" if line else f"{seconds:.2f} s"
+
+
+def _when(trial: Trial, seconds: float) -> str:
+    """The sample of ``trial`` at ``seconds`` [s]: ``"0.50 s, line 52"``."""
+    return f"{seconds:.2f} s{_line(trial, seconds)}"
+
+
+def _line(trial: Trial, seconds: float) -> str:
+    """The line of ``trial``'s sample at ``seconds`` [s], ``", line 52"``."""
+    k = int(np.argmin(np.abs(trial.times - seconds)))
+    return sample_line(trial.lines, k)
+
+
+def _between(trial: Trial, first: float, last: float) -> str:
+    """The lines of ``trial``'s samples from ``first`` to ``last`` [s].
+
+    For a message, ``", lines 2-402"``; ``""`` for a trial without lines.
+    """
+    if not trial.lines:
+        return ""
+    low, high = np.searchsorted(trial.times, (first, last))
+    return f", {lines_of(trial.lines, int(low), int(high))}"

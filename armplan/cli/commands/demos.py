@@ -19,7 +19,7 @@ trial's errors and notes name its number in the file), refuses a
 trial that is no reach (its wrist ends near its start, or moves for under
 0.1 s) and one that is more than one reach (mostly still, over 10 s, or
 its wrist stopping on its way; ``shared/demos/reach_span.py``) unless
-``--allow-long``, and notes on stderr
+``--allow-long`` (a CSV trial's refusals name its lines), and notes on stderr
 how many frames it filled where a marker was missing (a gap at a trial's
 end, or over 0.1 s, is refused: ``shared/demos/marker_gaps.py``) and a goal
 NAO cannot reach (``shared/demos/goal_reach.py``).
@@ -175,11 +175,14 @@ def _check_one_reach(trial: Trial, name: str, allow: bool) -> None:
     """Refuse a trial that is no reach, or (unless ``allow``) more than one.
 
     Raises:
-        DemoFileError: naming the file, subject, trial, its length and its
-            wrist's travel, moving time or stillness.
+        DemoFileError: naming the file, subject, trial (and for a CSV its
+            lines, in the evidence too), its length and its wrist's travel,
+            moving time or stillness.
     """
     from shared.demos.reach_span import long_trial_problem, not_a_reach_problem
+    from shared.demos.sample_lines import line_evidence
 
+    lines = line_evidence(trial.lines, 0, len(trial.times) - 1)
     problem = not_a_reach_problem(trial)
     if problem is not None:
         raise DemoFileError(
@@ -188,6 +191,7 @@ def _check_one_reach(trial: Trial, name: str, allow: bool) -> None:
             "leave this one out",
             trial=trial.trial,
             subject=trial.subject,
+            **lines,
         )
     problem = long_trial_problem(trial)
     if problem is None:
@@ -200,6 +204,7 @@ def _check_one_reach(trial: Trial, name: str, allow: bool) -> None:
         f"{problem}. Crop it to the reach, or give --allow-long to import it as it is",
         trial=trial.trial,
         subject=trial.subject,
+        **lines,
     )
 
 
