@@ -315,9 +315,11 @@ def test_import_refuses_a_copy_under_another_name(
     out = tmp_path / "x.mcap"
     argv = ["demos", "import", "--markers", str(markers), "-o", str(out)]
     assert main([*argv, str(csv_path), str(copy)]) == 1
+    lines = f"lines 2-{1 + len(arm_rows(0))}"  # line k + 2 holds row k
     assert _error(capsys) == (
-        f"armplan: error: {copy}: trial 1 of subject 'copy' holds the samples of "
-        f"trial 0 of subject 'mc2' in {csv_path} (positions within 0.1 mm): one "
+        f"armplan: error: {copy}: trial 1 of subject 'copy' ({lines}) holds the "
+        f"samples of trial 0 of subject 'mc2' ({lines}) in {csv_path} (positions "
+        "within 0.1 mm): one "
         "recording given twice (a copy, or two exports of one session) would "
         "count twice\n"
     )

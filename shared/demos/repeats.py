@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from shared.demos.sample_lines import line_evidence, trial_span
 from shared.demos.trial import Trial
 from shared.errors import DemoFileError
 
@@ -64,6 +65,8 @@ class Register:
                 subject's trial number of this arm was, naming both files.
         """
         named = f"trial {trial.trial} of subject {trial.subject!r}"
+        named += trial_span(trial.lines)
+        lines = line_evidence(trial.lines, 0, len(trial.times) - 1)
         arm = trial.arm.value
         twins = self._by_count.setdefault(len(trial.times), [])
         for first, there in twins:
@@ -71,12 +74,14 @@ class Register:
                 raise DemoFileError(
                     where,
                     f"{named} holds the samples of trial {first.trial} of subject "
-                    f"{first.subject!r} {self._in(there, where)} (positions within "
+                    f"{first.subject!r}{trial_span(first.lines)} "
+                    f"{self._in(there, where)} (positions within "
                     f"{SAME_SAMPLES * 1000:g} mm): one recording given twice (a "
                     "copy, or two exports of one session) would count twice",
                     trial=trial.trial,
                     subject=trial.subject,
                     duplicate=there,
+                    **lines,
                 )
         key = (trial.subject, arm, trial.trial)
         if key in self._by_name:
@@ -89,6 +94,7 @@ class Register:
                 trial=trial.trial,
                 subject=trial.subject,
                 duplicate=there,
+                **lines,
             )
         self._by_name[key] = where
         twins.append((trial, where))
