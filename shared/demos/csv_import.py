@@ -29,6 +29,10 @@ A file is one subject's: a trial whose upper arm or forearm differs from
 the first trial's by more than ``SAME_ARM`` (10 %) is refused, naming the
 trials, as two C3D files of one name are (``same_person``).
 OptiTrack's own CSV export has several header rows: flatten it to this form.
+Every refusal of a trial names the lines (from 1) of the rows at fault, or
+the trial's lines for a fault of the whole trial, in its message and its
+evidence (``sample_lines``); each trial keeps its rows' lines (``Trial.lines``)
+for the checks of ``armplan demos import``.
 """
 
 from __future__ import annotations
@@ -196,7 +200,9 @@ def _check_times(
     missing = np.flatnonzero(~np.isfinite(times))
     if missing.size:
         line = rows[int(missing[0])].line
-        raise DemoFileError(path, f"{what}: line {line} has none", line=line)
+        raise DemoFileError(
+            path, f"{what}: line {line} has none", trial=trial, line=line
+        )
     back = np.flatnonzero(np.diff(times) <= 0)
     if back.size:
         k = int(back[0]) + 1
@@ -204,7 +210,9 @@ def _check_times(
             path,
             f"{what}: line {rows[k].line} has t = {times[k]:g} s, line "
             f"{rows[k - 1].line} t = {times[k - 1]:g} s",
+            trial=trial,
             line=rows[k].line,
+            previous_line=rows[k - 1].line,
         )
     span = f"trial {trial} (lines {rows[0].line}-{rows[-1].line})"
     if unit != "s":
@@ -214,5 +222,10 @@ def _check_times(
         check_capture_rate(times, span)
     except InvalidInputError as exc:
         raise DemoFileError(
-            path, exc.message, trial=trial, line=rows[0].line, **exc.evidence
+            path,
+            exc.message,
+            trial=trial,
+            line=rows[0].line,
+            last_line=rows[-1].line,
+            **exc.evidence,
         ) from None
