@@ -395,15 +395,16 @@ def test_the_docs_list_every_damage_code() -> None:
     assert named == {*DAMAGE_CODES.values(), FOREIGN}
 
 
-def _text_not_utf8(path: Path, where: bytes) -> Path:
-    """A JSON message, then a channel whose ``where`` (topic or schema name)
-    is not UTF-8, and a message on it (unchunked: the bytes are changed
-    in place, before any checksum is read)."""
-    from mcap.writer import Writer
+def _text_not_utf8(path: Path, where: bytes, chunked: bool) -> Path:
+    """A JSON message, then a channel whose ``where`` (topic, schema name,
+    the header's library, or the chunks' compression) is not UTF-8, and a
+    message on it (unchunked: the bytes are changed in place, before any
+    checksum is read)."""
+    from mcap.writer import CompressionType, Writer
 
     with path.open("wb") as stream:
-        writer = Writer(stream, use_chunking=False)
-        writer.start(profile="", library="test")
+        writer = Writer(stream, use_chunking=chunked, compression=CompressionType.ZSTD)
+        writer.start(profile="", library="Llll")
         ours = writer.register_channel("armplan/misc/note", "json", 0)
         writer.add_message(ours, log_time=1, publish_time=1, data=b'{"n": 1}')
         schema = writer.register_schema("Qqqq", "jsonschema", b"{}")
@@ -414,18 +415,36 @@ def _text_not_utf8(path: Path, where: bytes) -> Path:
     return path
 
 
-@pytest.mark.parametrize("where", [b"zzzz", b"Qqqq"], ids=["topic", "schema"])
+@pytest.mark.parametrize(
+    ("where", "chunked", "readable"),
+    [
+        (b"zzzz", False, 1),
+        (b"Qqqq", False, 1),
+        (b"Llll", False, 0),
+        (b"zstd", True, 0),
+    ],
+    ids=["topic", "schema", "header", "chunk"],
+)
 def test_text_not_utf8_in_a_record_is_not_called_a_message(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], where: bytes
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    where: bytes,
+    chunked: bool,
+    readable: int,
 ) -> None:
     """A channel's topic or a schema's name that is not UTF-8 was "a message
-    in it is not UTF-8 JSON" (`not_json`): it names the records, `not_utf8`."""
-    path = _text_not_utf8(tmp_path / "x.mcap", where)
-    said = "a channel, schema or metadata record in it holds text that is not UTF-8"
+    in it is not UTF-8 JSON" (`not_json`): it names the records, `not_utf8`;
+    not only channels, schemas and metadata (the header's library and a
+    chunk's compression were said to be one of those)."""
+    path = _text_not_utf8(tmp_path / "x.mcap", where, chunked)
+    said = (
+        "a record in it other than a message (its header, a channel, a schema, "
+        "metadata, a chunk or an index) holds text that is not UTF-8"
+    )
     assert main(["inspect", str(path)]) == 1
     assert capsys.readouterr().err == (
-        f"armplan: error: {path} is damaged after 1 readable messages: {said}; "
-        "--recover (or recover=True) reads those messages\n"
+        f"armplan: error: {path} is damaged after {readable} readable messages: "
+        f"{said}; --recover (or recover=True) reads those messages\n"
     )
     assert main(["inspect", str(path), "--recover", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)

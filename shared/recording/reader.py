@@ -25,7 +25,10 @@ CHANGED = "its checksum does not match: bytes were changed after it was written"
 NOT_JSON = "a message in it is not UTF-8 JSON"
 NOT_MCAP = "it holds bytes that are not MCAP records"
 NO_MAGIC = "no MCAP magic at its start"
-NOT_UTF8 = "a channel, schema or metadata record in it holds text that is not UTF-8"
+NOT_UTF8 = (
+    "a record in it other than a message (its header, a channel, a schema, "
+    "metadata, a chunk or an index) holds text that is not UTF-8"
+)
 #: A stable name for each kind of damage (``Recording.damage_code``), for
 #: programs: the words above may change, these do not.
 DAMAGE_CODES = {
@@ -57,9 +60,10 @@ def describe_damage(error: Exception) -> str:
     """What a reading error says about the file, in words (no library names).
 
     ``error`` comes from reading the records, never a message's bytes (see
-    ``Recording._record``): text that is not UTF-8 there is a channel's,
-    a schema's or metadata's, not a message's (it was said to be "a message
-    in it is not UTF-8 JSON").
+    ``Recording._record``): text that is not UTF-8 there is another
+    record's (the header's profile or library, a channel's topic, a
+    schema's name, metadata, a chunk's compression, an index's names), not
+    a message's (it was said to be "a message in it is not UTF-8 JSON").
     """
     if isinstance(error, InvalidMagic):
         return NO_MAGIC
