@@ -123,7 +123,8 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
     ignored at start (``nohup``; a script's ``cmd &``) stays ignored. One
     of ``signals`` blocked and pending when it is called (``armplan sim``
     holds Ctrl-C while it becomes ``python -m bridge.sim``) is taken: the
-    request is set before this returns; each is unblocked.
+    request is set before this returns; each is unblocked (an ignored one
+    too: held, it is dropped, not left blocked for the process's life).
 
     Args:
         signals: Signal numbers; default SIGTERM, SIGINT and SIGHUP.
@@ -136,7 +137,10 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
     relay.events.add(stop)
     for signum in signals:
         if signum != signal.SIGTERM and signal.getsignal(signum) is signal.SIG_IGN:
-            continue  # nohup, cmd &: that signal is not meant to stop it
+            # nohup, cmd &: that signal is not meant to stop it; one held
+            # (armplan sim's exec) is dropped, not left blocked for good
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, [signum])
+            continue
         signal.signal(signum, relay.handler)
         _take_held(signum, stop)
     return stop

@@ -146,3 +146,26 @@ def test_a_signal_held_before_is_taken(own_signal: int) -> None:
     finally:
         signal.sigtimedwait([own_signal], 0)
         signal.pthread_sigmask(signal.SIG_UNBLOCK, [own_signal])
+
+
+def test_an_ignored_signal_held_before_is_unblocked() -> None:
+    """``armplan sim &`` in a script: Ctrl-C ignored, and held by ``armplan
+    sim`` across its exec. It stays ignored (no stop), but is no longer
+    blocked: it was, for the sim's whole life (and any child's)."""
+    script = textwrap.dedent(
+        """
+        import signal
+        from shared.stop_signals import stop_on_signals
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # as the shell starts it
+        signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGINT])  # held
+        signal.raise_signal(signal.SIGINT)  # a Ctrl-C while it was held
+        stop = stop_on_signals()
+        print(signal.SIGINT in signal.pthread_sigmask(signal.SIG_BLOCK, []))
+        print(signal.SIGINT in signal.sigpending(), stop.is_set(), flush=True)
+        """
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "False", "False"]
