@@ -19,9 +19,9 @@ while a trajectory that came after the stop holds the robot). A stop is
 not a latch: an execute query after it plays.
 
 :class:`StopDesk` owns the stop's state: the stops ordered and not yet
-answered, the last reply's batch and time, and the arm not known still
-since an execution ended with an error mid-movement (the execute path
-marks it, :meth:`StopDesk.mark_unsure` and :meth:`StopDesk.mark_sure`).
+answered, the last reply's batch and time, and every arm not known still
+since an execution on it ended with an error mid-movement (the execute
+path marks each, :meth:`StopDesk.mark_unsure` and :meth:`StopDesk.mark_sure`).
 The stops one reply answers are :mod:`bridge.ordered_stops`; the arm is
 read settled by :mod:`bridge.settled`.
 """
