@@ -49,3 +49,18 @@ def test_a_ctrl_c_blocked_before_stays_blocked(unblocked: None) -> None:
         _ctrl_c()
     assert not held.came
     assert signal.SIGINT in signal.sigpending()
+
+
+def test_an_ignored_ctrl_c_is_not_taken(unblocked: None) -> None:
+    """``armplan record &`` in a script ignores SIGINT: the script's Ctrl-C
+    while it loads is not for it. Held, the ignored signal stayed pending
+    (blocked signals are kept, ignored or not) and came out as a Ctrl-C."""
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with held_interrupt() as held:
+            _ctrl_c()
+        assert not held.came
+        assert signal.SIGINT not in signal.sigpending()
+        assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    finally:
+        signal.signal(signal.SIGINT, before)

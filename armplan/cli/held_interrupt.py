@@ -52,9 +52,14 @@ def held_interrupt() -> Iterator[Held]:
     """Hold Ctrl-C inside the block; ``Held.came`` says, after it, if one came.
 
     A SIGINT blocked before the block (by whoever started this process)
-    is left so.
+    is left so. One ignored (a script's ``cmd &``: its Ctrl-C is not for
+    this command) is not held: held, it stayed pending and was taken as a
+    Ctrl-C, so the script's Ctrl-C ended the command it had left running.
     """
     held = Held()
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        yield held
+        return
     if hold_interrupt():
         yield held
         return
