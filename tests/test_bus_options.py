@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+import logging
+import os
+import pwd
+from pathlib import Path
+
 import pytest
 
 from armplan.cli.main import build_parser
+from shared.bus.named_files import check_named_files
 from shared.bus.options import bus_config
+from shared.bus.zenoh_config import client_config
 from shared.errors import BusConfigError
 
 #: Commands that join a running system, and whether they take --namespace.
@@ -38,13 +45,14 @@ def test_namespace_is_taken_only_where_it_is_offered(command: str) -> None:
         return
     config = bus_config(parser.parse_args([command, "--namespace", "lab1", *extra]))
     assert config.namespace == "lab1"
-    assert config.source.endswith("+ --namespace")
+    assert config.namespace_from == "--namespace"
 
 
 def test_without_namespace_the_configs_is_kept() -> None:
     config = bus_config(build_parser().parse_args(["stop"]))
     assert config.namespace == "armplan"
     assert "--namespace" not in config.source
+    assert config.namespace_from == ""
 
 
 @pytest.mark.parametrize("namespace", ["lab/*", "", "a//b", "lab?"])
@@ -54,3 +62,35 @@ def test_a_malformed_namespace_is_a_config_error_naming_it(namespace: str) -> No
         bus_config(args)
     assert raised.value.setting == "namespace"
     assert "--namespace" in raised.value.source
+
+
+def _config_with_password(folder: Path) -> Path:
+    """The repo's config with a client password, copied at mode 0644."""
+    text = (Path(__file__).parents[1] / "config" / "zenoh.json5").read_text()
+    login = '"transport/auth/usrpwd/user": "u", "transport/auth/usrpwd/password": "p"'
+    path = folder / "client.json5"
+    path.write_text(text.replace("client: {}", "client: {" + login + "}"))
+    path.chmod(0o644)
+    return path
+
+
+@pytest.mark.parametrize("command", ["stop", "record", "replay"])
+def test_namespace_keeps_the_config_file_known(
+    command: str, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """With --namespace the settings still name their file: a config file
+    holding a password that others may read is warned of, and a recorder
+    started on these settings gets the file (`source` became "FILE +
+    --namespace", no file: the warning was skipped)."""
+    path = _config_with_password(tmp_path)
+    extra = ["x.mcap"] if command == "replay" else []
+    args = [command, "--config", str(path), "--namespace", "lab1", *extra]
+    config = bus_config(build_parser().parse_args(args))
+    assert (config.namespace, config.file) == ("lab1", str(path))
+    caplog.set_level(logging.WARNING, logger="armplan.bus")
+    check_named_files(client_config(config), config)
+    assert [r.getMessage() for r in caplog.records] == [
+        f"{path} holds a password and is open to other users (mode 0644, "
+        f"owner {pwd.getpwuid(os.geteuid()).pw_name}): make it readable by its "
+        f"owner only: chmod 600 {path}"
+    ]

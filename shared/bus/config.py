@@ -99,6 +99,9 @@ class BusConfig:
             ``None`` for the built-in defaults.
         endpoints_from: The option the endpoints came from
             (``with_endpoints``), or ``""`` if from ``source``.
+        namespace_from: The option the namespace came from
+            (``--namespace``), or ``""`` if from ``source`` (which stays
+            the file's name: :attr:`file`, its secrets' check).
     """
 
     endpoints: tuple[str, ...] = (DEFAULT_ENDPOINT,)
@@ -112,6 +115,7 @@ class BusConfig:
     source: str = "built-in defaults"
     router_text: str | None = None
     endpoints_from: str = ""
+    namespace_from: str = ""
 
     def __post_init__(self) -> None:
         if not self.endpoints:
@@ -123,8 +127,9 @@ class BusConfig:
         try:
             check_path(self.namespace, "namespace")
         except InvalidInputError as error:
+            given = f" + {self.namespace_from}" if self.namespace_from else ""
             raise BusConfigError(
-                error.message, source=self.source, setting="namespace"
+                error.message, source=f"{self.source}{given}", setting="namespace"
             ) from None
         self._check_positive("max_payload", self.max_payload)
         self._check_wait("timeout", self.timeout)

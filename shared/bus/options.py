@@ -51,8 +51,8 @@ def bus_config(args: argparse.Namespace) -> BusConfig:
     """
     config = load_config(args.config, tuple(args.connect or ()))
     namespace = getattr(args, "namespace", None)
-    if namespace is not None:
+    if namespace is not None:  # the source stays the file (its checks, --config)
         config = dataclasses.replace(
-            config, namespace=namespace, source=f"{config.source} + --namespace"
+            config, namespace=namespace, namespace_from="--namespace"
         )
     return config
