@@ -439,6 +439,45 @@ class RecordingError(ArmplanError):
         self.readable = readable
 
 
+class BridgeAppearedError(ArmplanError):
+    """A bridge came alive in the namespace during a replay of every key.
+
+    The replay stopped: the rest of its ``plan/*`` and ``bridge/*``
+    messages would have gone to the bridge (one with ``--follow`` plays
+    each trajectory on the robot) and mixed with the live ones.
+
+    Attributes:
+        namespace: The replay's namespace.
+        sent: Messages sent before it stopped.
+        total: Messages the replay would have sent.
+        held: Each live key with messages left unsent -> how many.
+    """
+
+    kind = "bridge_appeared"
+
+    def __init__(
+        self, *, namespace: str, sent: int, total: int, held: dict[str, int]
+    ) -> None:
+        kept = ", ".join(f"{key} ({n} left)" for key, n in held.items()) or "none"
+        super().__init__(
+            f"a bridge came alive in namespace {namespace!r} during the replay: "
+            f"it stopped after {sent} of {total} messages, holding back the "
+            f"recorded {kept} (a bridge with --follow would move the robot again, "
+            "and they would mix with the live messages); a message already on "
+            "its way when the bridge was seen cannot be recalled. To replay into "
+            "a live robot on purpose, choose the keys with --keys, e.g. --keys "
+            "plan/trajectory --wait-for bridge",
+            namespace=namespace,
+            sent=sent,
+            total=total,
+            held=held,
+        )
+        self.namespace = namespace
+        self.sent = sent
+        self.total = total
+        self.held = held
+
+
 class RemoteError(ArmplanError):
     """An error a remote armplan process reported, of a kind this side lacks."""
 

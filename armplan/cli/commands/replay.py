@@ -10,21 +10,33 @@ subscribed to ``plan/trajectory`` drives the (simulated) NAO from the
 replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
 --wait-for bridge``. Without ``--keys``, a recording holding ``plan/*`` or
 ``bridge/*`` messages is refused while a bridge is alive in the namespace
-(nothing is sent). Messages sent while no router or peer was connected
-reach nobody: the summary counts them, and the replay then exits 1.
+(nothing is sent), and stopped, exit 1, if one comes alive while it runs
+(``services.recorder.bridge_watch``). Messages sent while no router or peer
+was connected reach nobody: the summary counts them, and the replay then exits 1.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import sys
+import threading
 import time
+from collections import Counter
+from collections.abc import Iterator
 
 import zenoh
 
 from armplan.launch.catalog import unknown_hint
-from services.recorder.replay import Replay, check_speed, replay, replay_items
+from services.recorder.bridge_watch import BRIDGE, BridgeWatch
+from services.recorder.replay import (
+    Replay,
+    ReplayStats,
+    check_speed,
+    replay,
+    replay_items,
+)
 from services.recorder.replay_login import (
     check_publishable,
     check_rules_namespace,
@@ -36,7 +48,12 @@ from shared.bus import Bus, BusConfig, load_config
 from shared.bus.login import login_user
 from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.bus.session import has_router_or_peer
-from shared.errors import InvalidInputError, RecordingError, ServiceUnavailableError
+from shared.errors import (
+    BridgeAppearedError,
+    InvalidInputError,
+    RecordingError,
+    ServiceUnavailableError,
+)
 from shared.stop_signals import stop_on_signals
 
 ORDER = 91
@@ -138,7 +155,31 @@ def _check_wait(wait: float) -> None:
         )
 
 
-def _check_no_live_bridge(bus: Bus, items: Replay) -> None:
+def _live_keys(items: Replay) -> list[str]:
+    """The keys of ``items`` a live bridge acts on or mixes with (``LIVE_CHUNKS``)."""
+    return [key for key in items.counts if key.split("/")[0] in LIVE_CHUNKS]
+
+
+@contextlib.contextmanager
+def _bridge_watch(
+    bus: Bus, live: list[str], stop: threading.Event
+) -> Iterator[BridgeWatch | None]:
+    """A watch for a bridge coming alive (``None`` if ``live`` is empty).
+
+    Its first sight of the bridge sets ``stop``, which wakes the replay's
+    wait at once; it is undeclared on leaving, before the session closes.
+    """
+    if not live:
+        yield None
+        return
+    watch = BridgeWatch(bus.session, bus.config.namespace, stop.set)
+    try:
+        yield watch
+    finally:
+        watch.close()
+
+
+def _check_no_live_bridge(bus: Bus, live: list[str]) -> None:
     """Raise: a bridge is alive and the whole recording would go to it.
 
     A replay of every recorded key into a live system played the recorded
@@ -146,11 +187,15 @@ def _check_no_live_bridge(bus: Bus, items: Replay) -> None:
     old ``bridge/*`` messages into the live recording, with no word and
     exit 0. Replaying into a live robot is done on purpose, with ``--keys``.
 
+    Args:
+        bus: The replay's open bus.
+        live: The keys to send that a bridge acts on or mixes with (empty
+            with ``--keys``: the user chose them).
+
     Raises:
         InvalidInputError: naming the keys and how to replay them anyway.
     """
-    live = [key for key in items.counts if key.split("/")[0] in LIVE_CHUNKS]
-    if not live or "bridge" not in bus.alive():
+    if not live or BRIDGE not in bus.alive():
         return
     raise InvalidInputError(
         f"a bridge is alive in namespace {bus.config.namespace!r}: the recorded "
@@ -222,43 +267,10 @@ def run(args: argparse.Namespace) -> int:
                 ", ".join(missing),
                 reason=f"not alive after {args.wait:g} s{unknown_hint(missing)}",
             )
-        if args.keys is None:
-            _check_no_live_bridge(bus, items)
-
-        sent = offline = 0
-        connected: bool | None = None  # known from the first message on
-        began = True  # whether a router or peer was connected at the first
-
-        def publish(path: str, payload: bytes, encoding: str) -> None:
-            nonlocal sent, offline, connected, began
-            now = has_router_or_peer(bus.session)
-            if now != connected:
-                if connected is None:
-                    began = now
-                _say_link(now, connected is None, config)
-                connected = now
-            if not connected:  # the put reaches nobody: see _say_link
-                offline += 1
-            bus.session.put(
-                bus.key(path),
-                payload,
-                encoding=zenoh.Encoding(encoding),
-                congestion_control=zenoh.CongestionControl.BLOCK,
-            )
-            sent += 1
-
-        try:
-            stats = replay(items, publish, speed=args.speed, stop=stop)
-        except RecordingError:  # a message found bad only when read to be sent
-            sys.stdout.write(
-                f"armplan replay: sent {sent} of {len(items)} messages, then "
-                f"stopped at a message it could not read{_offline(offline, items)}\n"
-            )
-            if sent:
-                time.sleep(LINGER)  # see LINGER
-            raise
-        if stats.sent:
-            time.sleep(LINGER)  # see LINGER
+        live = [] if args.keys is not None else _live_keys(items)  # --keys: asked
+        with _bridge_watch(bus, live, stop) as watch:  # before the check: no gap
+            _check_no_live_bridge(bus, live)
+            stats, offline, began = _send(bus, items, args.speed, watch, stop)
     dropped = (
         f"; a secured router drops the {sum(refused.values())} user {user!r} may "
         "not publish"
@@ -285,6 +297,94 @@ def run(args: argparse.Namespace) -> int:
             "router or peer was connected, and reached nobody",
         )
     return 0
+
+
+def _send(
+    bus: Bus,
+    items: Replay,
+    speed: float,
+    watch: BridgeWatch | None,
+    stop: threading.Event,
+) -> tuple[ReplayStats, int, bool]:
+    """Send ``items``; stats, how many went out with no router, link at first.
+
+    Returns the replay's stats, the messages sent while no router or peer
+    was connected, and whether one was connected at the first message.
+    With a ``watch``, its flag is checked immediately before each put: once
+    a bridge is seen, nothing more is sent (a put already made cannot be
+    recalled), and :func:`_halted` ends the replay.
+
+    Raises:
+        BridgeAppearedError: if the watch saw a bridge (see :func:`_halted`).
+        RecordingError: if a message cannot be read to be sent (after saying
+            how many were sent).
+    """
+    config = bus.config
+    sent = offline = 0
+    done: Counter[str] = Counter()  # messages sent per relative key
+    connected: bool | None = None  # known from the first message on
+    began = True  # whether a router or peer was connected at the first
+
+    def publish(path: str, payload: bytes, encoding: str) -> None:
+        nonlocal sent, offline, connected, began
+        now = has_router_or_peer(bus.session)
+        if now != connected:
+            if connected is None:
+                began = now
+            _say_link(now, connected is None, config)
+            connected = now
+        if watch is not None and watch.appeared.is_set():  # right before the put
+            raise _halted(bus, items, sent, done, offline)
+        if not connected:  # the put reaches nobody: see _say_link
+            offline += 1
+        bus.session.put(
+            bus.key(path),
+            payload,
+            encoding=zenoh.Encoding(encoding),
+            congestion_control=zenoh.CongestionControl.BLOCK,
+        )
+        sent += 1
+        done[path] += 1
+
+    try:
+        stats = replay(items, publish, speed=speed, stop=stop)
+    except RecordingError:  # a message found bad only when read to be sent
+        sys.stdout.write(
+            f"armplan replay: sent {sent} of {len(items)} messages, then "
+            f"stopped at a message it could not read{_offline(offline, items)}\n"
+        )
+        if sent:
+            time.sleep(LINGER)  # see LINGER
+        raise
+    if watch is not None and watch.appeared.is_set():  # woke the wait: stop set
+        raise _halted(bus, items, sent, done, offline)
+    if stats.sent:
+        time.sleep(LINGER)  # see LINGER
+    return stats, offline, began
+
+
+def _halted(
+    bus: Bus, items: Replay, sent: int, done: Counter[str], offline: int
+) -> BridgeAppearedError:
+    """Say how far the replay got before a bridge came alive; the error.
+
+    The messages sent before get ``LINGER`` to leave, as at a replay's end.
+    """
+    namespace = bus.config.namespace
+    sys.stdout.write(
+        f"armplan replay: sent {sent} of {len(items)} messages, then stopped: a "
+        f"bridge came alive in namespace {namespace!r}{_offline(offline, items)}\n"
+    )
+    if sent:
+        time.sleep(LINGER)  # see LINGER
+    held = {
+        key: items.counts[key] - done[key]
+        for key in _live_keys(items)
+        if items.counts[key] > done[key]
+    }
+    return BridgeAppearedError(
+        namespace=namespace, sent=sent, total=len(items), held=held
+    )
 
 
 def _refused(

@@ -1,0 +1,200 @@
+"""A replay of every key stops when a bridge comes alive while it runs.
+
+The refusal of an unkeyed replay into a live bridge was checked once,
+before the first message: a bridge started during a long replay received
+the rest of the recorded trajectories (and, with ``--follow``, played them
+on the arm). Here ``armplan replay`` (a real process) sends a recording of
+``COUNT`` trajectories ``GAP`` apart through a real router; once some have
+arrived, a second session declares the bridge's token as a bridge does
+(``ServiceHost``), and an observer session counts the trajectories that
+arrive after it sees the token.
+
+The bound: the observer and the replay each get the token from the router,
+one hop away. The replay checks its flag immediately before each put, so
+after it sees the token nothing more passes; what can still arrive after
+the observer saw it is the put that had passed the check when the token
+came (in flight): at most one, as long as the replay sees the token less
+than ``GAP`` (100 ms) after the observer does (well under 1 ms on loopback;
+100 ms of slack for two busy CPUs). The old code sent all ``COUNT``.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import zenoh
+from native_processes import ROOT
+
+from armplan.launch import free_endpoint
+from services.recorder.options import RecorderOptions
+from services.recorder.routing import Incoming
+from services.recorder.sink import RecordingSink
+from shared.bus import Bus, BusConfig, ServiceHost, open_router
+from shared.bus.keys import alive_key
+from shared.messages import Trajectory
+from shared.robot import Side
+
+NAMESPACE = "bridgeappears"
+#: Trajectories in the recording, and the time between two [s].
+COUNT, GAP = 30, 0.1
+#: Trajectories that arrive before the bridge comes alive.
+BEFORE_BRIDGE = 5
+
+
+def trajectory(i: int) -> Trajectory:
+    """A short trajectory, told from the others by its first angle."""
+    n = 5
+    rows = [[0.001 * i, -0.1, 0.3, 0.4 + 0.01 * k, 0.0] for k in range(n)]
+    zeros = [[0.0] * 5 for _ in range(n)]
+    return Trajectory(
+        arm=Side.RIGHT,
+        joint_names=list(Side.RIGHT.joint_names),
+        times=[0.01 * k for k in range(n)],
+        positions=rows,
+        velocities=zeros,
+        accelerations=zeros,
+        primitives=["S_R E_P W_P"] * n,
+        wrist_path=[(0.1, -0.1, 0.0)] * n,
+    )
+
+
+@pytest.fixture(scope="module")
+def config() -> Iterator[BusConfig]:
+    config = BusConfig(endpoints=(free_endpoint(),), namespace=NAMESPACE)
+    with open_router(config):
+        yield config
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """``COUNT`` trajectories on ``plan/trajectory``, ``GAP`` apart."""
+    path = tmp_path_factory.mktemp("bridge") / "s.mcap"
+    sink = RecordingSink(RecorderOptions(output=path, keys=("**",)), NAMESPACE)
+    sink.start()
+    start = time.time_ns()
+    for i in range(COUNT):
+        t = start + int(i * GAP * 1e9)
+        body = trajectory(i).model_dump_json().encode()
+        key = f"{NAMESPACE}/plan/trajectory"
+        sink.put(Incoming(key, body, "application/json", t, t))
+    sink.stop()
+    return path
+
+
+class Observer:
+    """Trajectories arriving, and when this session saw the bridge's token."""
+
+    def __init__(self, bus: Bus) -> None:
+        self.got: list[tuple[float, float]] = []  # (first angle, arrival [s])
+        self.bridge_seen: float | None = None
+        self._lock = threading.Lock()
+        key = bus.key("plan/trajectory")
+        self._sub = bus.session.declare_subscriber(key, self._on)
+        token = alive_key(NAMESPACE, "bridge")
+        self._live = bus.session.liveliness().declare_subscriber(token, self._alive)
+
+    def _on(self, sample: zenoh.Sample) -> None:
+        angle = Trajectory.model_validate_json(sample.payload.to_bytes())
+        with self._lock:
+            self.got.append((angle.positions[0][0], time.monotonic()))
+
+    def _alive(self, sample: zenoh.Sample) -> None:
+        if sample.kind == zenoh.SampleKind.PUT and self.bridge_seen is None:
+            self.bridge_seen = time.monotonic()
+
+    def wait(self, n: int, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        while len(self.got) < n and time.monotonic() < deadline:
+            time.sleep(0.01)
+
+    def after_bridge(self) -> int:
+        """Trajectories that arrived after the token was seen here."""
+        assert self.bridge_seen is not None, "the observer never saw the bridge"
+        return sum(when > self.bridge_seen for _, when in self.got)
+
+    def close(self) -> None:
+        self._sub.undeclare()
+        self._live.undeclare()  # type: ignore[no-untyped-call]
+
+
+def replay_while_a_bridge_starts(
+    config: BusConfig, path: Path, *args: str
+) -> tuple[subprocess.CompletedProcess[str], Observer]:
+    """Run ``armplan replay``; start a bridge's token after ``BEFORE_BRIDGE``."""
+    command = [sys.executable, "-m", "armplan", "replay", str(path), *args]
+    command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    with Bus.connect(config) as bus, Bus.connect(config) as bridge:
+        observer = Observer(bus)
+        try:
+            process = subprocess.Popen(
+                command,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+                env=env,
+            )
+            try:
+                observer.wait(BEFORE_BRIDGE, timeout=30)
+                assert len(observer.got) >= BEFORE_BRIDGE, "the replay sent nothing"
+                with ServiceHost(bridge, "bridge", []):
+                    stdout, stderr = process.communicate(timeout=30)
+                    time.sleep(0.3)  # anything still on its way arrives
+            finally:
+                if process.poll() is None:
+                    process.kill()
+                    process.wait()
+        finally:
+            observer.close()
+    done = subprocess.CompletedProcess(command, process.returncode, stdout, stderr)
+    return done, observer
+
+
+def test_a_bridge_that_comes_alive_stops_an_unkeyed_replay(
+    config: BusConfig, recording: Path
+) -> None:
+    """A bridge's token declared mid-replay: at most the one trajectory in
+    flight arrives after it is seen; exit 1 saying how many were sent and
+    how many trajectories were held back, and that --keys replays on purpose;
+    the summary's count is what arrived."""
+    out, observer = replay_while_a_bridge_starts(config, recording)
+    assert out.returncode == 1, (out.stdout, out.stderr)
+    assert observer.after_bridge() <= 1, observer.got
+    sent = len(observer.got)
+    assert BEFORE_BRIDGE <= sent < COUNT
+    assert out.stdout == (
+        f"armplan replay: sent {sent} of {COUNT} messages, then stopped: a "
+        f"bridge came alive in namespace {NAMESPACE!r}\n"
+    )
+    assert out.stderr == (
+        f"armplan: error: a bridge came alive in namespace {NAMESPACE!r} during "
+        f"the replay: it stopped after {sent} of {COUNT} messages, holding back "
+        f"the recorded plan/trajectory ({COUNT - sent} left) (a bridge with "
+        "--follow would move the robot again, and they would mix with the live "
+        "messages); a message already on its way when the bridge was seen cannot "
+        "be recalled. To replay into a live robot on purpose, choose the keys "
+        "with --keys, e.g. --keys plan/trajectory --wait-for bridge\n"
+    )
+    angles = [angle for angle, _ in observer.got]
+    assert angles == [trajectory(i).positions[0][0] for i in range(sent)]
+
+
+def test_a_keyed_replay_goes_on_when_a_bridge_comes_alive(
+    config: BusConfig, recording: Path
+) -> None:
+    """--keys plan/trajectory: the user asked, so a bridge coming alive
+    mid-replay changes nothing: every trajectory arrives, exit 0."""
+    out, observer = replay_while_a_bridge_starts(
+        config, recording, "--keys", "plan/trajectory", "--speed", "2"
+    )
+    assert out.returncode == 0, out.stderr
+    assert observer.after_bridge() > 1
+    assert len(observer.got) == COUNT
+    assert out.stdout.startswith(f"armplan replay: sent {COUNT} of {COUNT} messages")
