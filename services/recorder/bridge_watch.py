@@ -1,4 +1,4 @@
-"""Watch for a bridge coming alive while a replay of every key runs.
+"""A replay of every key and a live bridge: the check before, the watch during.
 
 A replay without ``--keys`` is refused when a bridge is alive in its
 namespace (``armplan replay``), but that check is made once, before the
@@ -16,16 +16,24 @@ liveliness query of the check made just after returned no tokens.
 
 from __future__ import annotations
 
+import contextlib
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import zenoh
 
+from services.recorder.replay import Replay
+from shared.bus import Bus
 from shared.bus.keys import alive_key
+from shared.errors import InvalidInputError
 from shared.lifecycle import Closes
 
 #: The service whose liveliness token is watched.
 BRIDGE = "bridge"
+#: First key chunks a live bridge acts on (``plan/trajectory``: a bridge
+#: with ``--follow`` plays it) or whose messages would mix with the live
+#: ones (the planner's ``plan/*``, the bridge's own ``bridge/*``).
+LIVE_CHUNKS = ("plan", "bridge")
 
 
 class BridgeWatch(Closes):
@@ -67,3 +75,55 @@ class BridgeWatch(Closes):
     def close(self) -> None:
         """Stop watching (before the session closes)."""
         self._subscriber.undeclare()  # type: ignore[no-untyped-call]
+
+
+def live_keys(items: Replay) -> list[str]:
+    """The keys of ``items`` a live bridge acts on or mixes with (``LIVE_CHUNKS``)."""
+    return [key for key in items.counts if key.split("/")[0] in LIVE_CHUNKS]
+
+
+@contextlib.contextmanager
+def bridge_watch(
+    bus: Bus, live: list[str], stop: threading.Event
+) -> Iterator[BridgeWatch | None]:
+    """A watch for a bridge coming alive (``None`` if ``live`` is empty).
+
+    Its first sight of the bridge sets ``stop``, which wakes the replay's
+    wait at once; it is undeclared on leaving, before the session closes.
+    """
+    if not live:
+        yield None
+        return
+    watch = BridgeWatch(bus.session, bus.config.namespace, stop.set)
+    try:
+        yield watch
+    finally:
+        watch.close()
+
+
+def check_no_live_bridge(bus: Bus, live: list[str]) -> None:
+    """Raise: a bridge is alive and the whole recording would go to it.
+
+    A replay of every recorded key into a live system played the recorded
+    trajectories again on the robot (a bridge with ``--follow``) and mixed
+    old ``bridge/*`` messages into the live recording, with no word and
+    exit 0. Replaying into a live robot is done on purpose, with ``--keys``.
+
+    Args:
+        bus: The replay's open bus.
+        live: The keys to send that a bridge acts on or mixes with (empty
+            with ``--keys``: the user chose them).
+
+    Raises:
+        InvalidInputError: naming the keys and how to replay them anyway.
+    """
+    if not live or BRIDGE not in bus.alive():
+        return
+    raise InvalidInputError(
+        f"a bridge is alive in namespace {bus.config.namespace!r}: the recorded "
+        f"{', '.join(live)} would go to it (a bridge with --follow moves the "
+        "robot again) and mix with the live messages; nothing was sent. To "
+        "replay into a live robot on purpose, choose the keys with --keys, "
+        "e.g. --keys plan/trajectory --wait-for bridge",
+        field="keys",
+    )

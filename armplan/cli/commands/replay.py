@@ -18,18 +18,21 @@ was connected reach nobody: the summary counts them, and the replay then exits 1
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 import sys
 import threading
 import time
 from collections import Counter
-from collections.abc import Iterator
 
 import zenoh
 
 from armplan.launch.catalog import unknown_hint
-from services.recorder.bridge_watch import BRIDGE, BridgeWatch
+from services.recorder.bridge_watch import (
+    BridgeWatch,
+    bridge_watch,
+    check_no_live_bridge,
+    live_keys,
+)
 from services.recorder.replay import (
     Replay,
     ReplayStats,
@@ -63,10 +66,6 @@ HELP = "publish a recording's messages again over Zenoh with their timing"
 #: replays on its way through a second router, though the first had it;
 #: Zenoh has no flush to wait for. A mitigation, not a proven cure.
 LINGER = 0.5
-#: First key chunks a live bridge acts on (``plan/trajectory``: a bridge
-#: with ``--follow`` plays it) or whose messages would mix with the live
-#: ones (the planner's ``plan/*``, the bridge's own ``bridge/*``).
-LIVE_CHUNKS = ("plan", "bridge")
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -155,58 +154,6 @@ def _check_wait(wait: float) -> None:
         )
 
 
-def _live_keys(items: Replay) -> list[str]:
-    """The keys of ``items`` a live bridge acts on or mixes with (``LIVE_CHUNKS``)."""
-    return [key for key in items.counts if key.split("/")[0] in LIVE_CHUNKS]
-
-
-@contextlib.contextmanager
-def _bridge_watch(
-    bus: Bus, live: list[str], stop: threading.Event
-) -> Iterator[BridgeWatch | None]:
-    """A watch for a bridge coming alive (``None`` if ``live`` is empty).
-
-    Its first sight of the bridge sets ``stop``, which wakes the replay's
-    wait at once; it is undeclared on leaving, before the session closes.
-    """
-    if not live:
-        yield None
-        return
-    watch = BridgeWatch(bus.session, bus.config.namespace, stop.set)
-    try:
-        yield watch
-    finally:
-        watch.close()
-
-
-def _check_no_live_bridge(bus: Bus, live: list[str]) -> None:
-    """Raise: a bridge is alive and the whole recording would go to it.
-
-    A replay of every recorded key into a live system played the recorded
-    trajectories again on the robot (a bridge with ``--follow``) and mixed
-    old ``bridge/*`` messages into the live recording, with no word and
-    exit 0. Replaying into a live robot is done on purpose, with ``--keys``.
-
-    Args:
-        bus: The replay's open bus.
-        live: The keys to send that a bridge acts on or mixes with (empty
-            with ``--keys``: the user chose them).
-
-    Raises:
-        InvalidInputError: naming the keys and how to replay them anyway.
-    """
-    if not live or BRIDGE not in bus.alive():
-        return
-    raise InvalidInputError(
-        f"a bridge is alive in namespace {bus.config.namespace!r}: the recorded "
-        f"{', '.join(live)} would go to it (a bridge with --follow moves the "
-        "robot again) and mix with the live messages; nothing was sent. To "
-        "replay into a live robot on purpose, choose the keys with --keys, "
-        "e.g. --keys plan/trajectory --wait-for bridge",
-        field="keys",
-    )
-
-
 def _no_key_matches(args: argparse.Namespace, items: Replay) -> None:
     """Raise: ``--keys`` matched nothing; name the keys the recording holds.
 
@@ -267,9 +214,9 @@ def run(args: argparse.Namespace) -> int:
                 ", ".join(missing),
                 reason=f"not alive after {args.wait:g} s{unknown_hint(missing)}",
             )
-        live = [] if args.keys is not None else _live_keys(items)  # --keys: asked
-        with _bridge_watch(bus, live, stop) as watch:  # before the check: no gap
-            _check_no_live_bridge(bus, live)
+        live = [] if args.keys is not None else live_keys(items)  # --keys: asked
+        with bridge_watch(bus, live, stop) as watch:  # before the check: no gap
+            check_no_live_bridge(bus, live)
             stats, offline, began = _send(bus, items, args.speed, watch, stop)
     dropped = (
         f"; a secured router drops the {sum(refused.values())} user {user!r} may "
@@ -379,7 +326,7 @@ def _halted(
         time.sleep(LINGER)  # see LINGER
     held = {
         key: items.counts[key] - done[key]
-        for key in _live_keys(items)
+        for key in live_keys(items)
         if items.counts[key] > done[key]
     }
     return BridgeAppearedError(
