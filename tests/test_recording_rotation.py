@@ -9,11 +9,12 @@ from pathlib import Path
 import pytest
 from mcap.reader import make_reader
 
-from shared.errors import InvalidInputError
+from shared.errors import InvalidInputError, RecordingError
 from shared.recording import read_records
 from shared.recording.rotation import (
     RotatingWriter,
     RotationPolicy,
+    numbered_parts,
     part_path,
     parts_named,
 )
@@ -191,3 +192,29 @@ def test_a_bad_keep_parts_is_refused(policy: dict[str, float], message: str) -> 
     with pytest.raises(InvalidInputError, match=message) as error:
         RotationPolicy(**policy)  # type: ignore[arg-type]
     assert error.value.field == "keep_parts"
+
+
+def test_parts_past_9999_are_still_the_recordings(tmp_path: Path) -> None:
+    """s-10000.mcap on is a part: refused, held against --overwrite, in order.
+
+    --keep-parts lets a recorder run for weeks (10M parts at 740 MB an hour
+    pass 9999 in under 6 days); a new recorder at that path saw no part of
+    it and wrote beside the live one.
+    """
+    path = tmp_path / "s.mcap"
+    late = [part_path(path, n) for n in (9999, 10000, 10001)]
+    assert late[1].name == "s-10000.mcap"
+    for p in late[1:]:
+        p.write_bytes(b"a live run")
+    (tmp_path / "s-10000x.mcap").write_bytes(b"not a part")
+    assert numbered_parts(path) == late[1:]
+    with pytest.raises(RecordingError, match=r"s-10000\.mcap and 1 more numbered"):
+        RotatingWriter(path, RotationPolicy(max_bytes=2000)).open()
+    with late[2].open("rb") as held:  # the live recorder's part
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(RecordingError, match="being written by another"):
+            RotatingWriter(path, RotationPolicy(max_bytes=2000), overwrite=True).open()
+    assert [p.read_bytes() for p in late[1:]] == [b"a live run"] * 2
+    assert not part_path(path, 1).exists()
+    late[0].write_bytes(b"a live run")
+    assert numbered_parts(path) == late  # by number, not by name

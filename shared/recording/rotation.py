@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import glob
 import os
+import re
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -107,10 +108,20 @@ def parts_named(paths: list[Path]) -> str:
 
 
 def numbered_parts(path: Path) -> list[Path]:
-    """The numbered files of a rotating recording at ``path`` now, in order."""
-    stem, suffix = glob.escape(path.stem), glob.escape(path.suffix or ".mcap")
-    pattern = f"{stem}-[0-9][0-9][0-9][0-9]{suffix}"
-    return sorted(path.parent.glob(pattern))
+    """The numbered files of a rotating recording at ``path`` now, in order.
+
+    Four digits or more, in the order of their numbers: part 10000 follows
+    9999 (``--keep-parts`` lets a recorder run that long), although its name
+    sorts before it.
+    """
+    suffix = path.suffix or ".mcap"
+    pattern = f"{glob.escape(path.stem)}-[0-9][0-9][0-9][0-9]*{glob.escape(suffix)}"
+    name = re.compile(f"{re.escape(path.stem)}-([0-9]{{4,}}){re.escape(suffix)}")
+    found = []
+    for part in path.parent.glob(pattern):
+        if match := name.fullmatch(part.name):
+            found.append((int(match.group(1)), part))
+    return [part for _, part in sorted(found)]
 
 
 class RotatingWriter(Closes):
