@@ -147,15 +147,19 @@ class RecordingSink:
     def files_note(self) -> str:
         """The files on disk, and how many older ones were removed if any.
 
-        E.g. ``s-0004.mcap, s-0005.mcap (3 older parts removed, --keep-parts 2)``.
+        E.g. ``5 parts, the newest 2 kept: s-0004.mcap, s-0005.mcap (3 older
+        parts removed, --keep-parts 2)``: the messages counted before it are
+        the whole recording's, most of them in the parts removed.
         """
-        files = parts_named(self.paths)
+        paths = self.paths
+        files = parts_named(paths)
         pruned = len(self._files.pruned)
         if not pruned:
             return files
         keep = self.options.rotation.keep_parts
         return (
-            f"{files} ({pruned} older part{'s' if pruned != 1 else ''} removed, "
+            f"{self._files.started} parts, the newest {len(paths)} kept: {files} "
+            f"({pruned} older part{'s' if pruned != 1 else ''} removed, "
             f"--keep-parts {keep})"
         )
 
