@@ -98,8 +98,8 @@ def add_recorder_arguments(parser: argparse.ArgumentParser) -> None:
         "--keep-parts",
         metavar="N",
         help="with rotation, keep only the newest N files (the one being written "
-        "counted): older files of this recording are removed as new ones start "
-        "(default: keep all)",
+        "counted, so 1 keeps no finished file): older files of this recording "
+        "are removed as new ones start (default: keep all)",
     )
     parser.add_argument(
         "--flush-every",
