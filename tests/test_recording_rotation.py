@@ -218,3 +218,28 @@ def test_parts_past_9999_are_still_the_recordings(tmp_path: Path) -> None:
     assert not part_path(path, 1).exists()
     late[0].write_bytes(b"a live run")
     assert numbered_parts(path) == late  # by number, not by name
+
+
+def test_keep_parts_leaves_a_new_file_that_took_a_removed_parts_inode(
+    tmp_path: Path,
+) -> None:
+    """A part deleted by someone, a file put at its name: left, inode reused or not.
+
+    ext4 gives a freed inode to the next file made: device and inode alone
+    took such a file (a user's restored copy) for the part and removed it.
+    """
+    path = tmp_path / "s.mcap"
+    policy = RotationPolicy(max_bytes=2000, keep_parts=2)
+    with RotatingWriter(path, policy) as writer:
+        rotate_parts(writer, 3)
+        second = part_path(path, 2)
+        inode = second.stat().st_ino
+        second.unlink()  # deleted by someone else
+        for n in range(200):  # a new file, on the same inode if it comes back
+            (spare := tmp_path / f"spare-{n}").write_bytes(b"a user's copy")
+            if spare.stat().st_ino == inode:
+                break
+        spare.rename(second)
+        rotate_parts(writer, 4)
+    assert second.read_bytes() == b"a user's copy"
+    assert writer.paths == [part_path(path, 3), part_path(path, 4)]

@@ -5,9 +5,18 @@ of parts to keep, each time a part is closed and the next one started, the
 parts before the newest ``keep`` (the one being written counted) are
 removed. Only files the writer created itself in this run are removed: each
 part is remembered by its device and inode when it is created (exclusively),
-and removed only if its path still names that very file, is not a symbolic
-link, and no other writer holds it (``file_lock``). A removal that fails is
-a warning naming the file; it never stops the recording.
+and by its size and modification time when it is closed with its summary
+(both by its descriptor, never by name), and removed only if it was closed
+and its path still names that very file, is not a symbolic link, and no
+other writer holds it (``file_lock``). The inode alone is not enough: ext4
+gives a freed inode to the next file made, so a part someone deleted and a
+file then put at its name (a restored copy) would look the same. A removal
+that fails is a warning naming the file; it never stops the recording.
+
+Between the last check and the unlink (by name: there is no unlink by
+descriptor) the part is locked, so no armplan writer can replace it; only
+a rename onto that name by another program in that instant could be
+removed instead.
 """
 
 from __future__ import annotations
@@ -31,15 +40,23 @@ class OwnPart:
         path: The part's path.
         device: The file's device (``st_dev``).
         inode: The file's inode (``st_ino``).
+        closed: The file as closed with its summary (``MessageWriter.final``);
+            ``None`` while it is written.
     """
 
     path: Path
     device: int
     inode: int
+    closed: os.stat_result | None = None
 
     def names(self, info: os.stat_result) -> bool:
-        """Whether ``info`` is the file this part was created as."""
-        return (info.st_dev, info.st_ino) == (self.device, self.inode)
+        """Whether ``info`` is the file this part was created and closed as."""
+        closed = self.closed
+        return (
+            closed is not None
+            and (info.st_dev, info.st_ino) == (self.device, self.inode)
+            and (info.st_size, info.st_mtime_ns) == (closed.st_size, closed.st_mtime_ns)
+        )
 
 
 def parts_to_remove(parts: list[OwnPart], keep: int) -> list[OwnPart]:
@@ -50,10 +67,13 @@ def parts_to_remove(parts: list[OwnPart], keep: int) -> list[OwnPart]:
 def remove_part(part: OwnPart) -> int | None:
     """Remove ``part`` if it is still the file created; its size [bytes], else None.
 
-    Left in place (a warning naming it): a path that is gone, is a symbolic
-    link, names another file now, is held by another writer, or whose
-    removal the file system refuses.
+    Left in place (a warning naming it): a part not closed with its summary,
+    a path that is gone, is a symbolic link, names another file now, is held
+    by another writer, or whose removal the file system refuses.
     """
+    if part.closed is None:  # never so for a part before the newest
+        _left(part.path, "it was not closed with its summary")
+        return None
     try:
         fd = os.open(part.path, os.O_RDONLY | os.O_NOFOLLOW)
     except OSError as error:

@@ -17,7 +17,7 @@ import os
 import re
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -237,6 +237,8 @@ class RotatingWriter(Closes):
         """Close the current file (if any) and open the next one."""
         if self._writer is not None:
             self._writer.close()
+            last = self._own[-1]  # known by its size and time from now on
+            self._own[-1] = replace(last, closed=self._writer.final)
         number = self._number + 1
         if number == 1:
             refuse_folder(self.path)  # its parts would go beside it, not in it

@@ -224,6 +224,10 @@ class MessageWriter(Closes):
         ):
             self.flush()
 
+    #: The file as closed with its summary (size, modification time), by its
+    #: descriptor; ``None`` until then.
+    final: os.stat_result | None = None
+
     @property
     def identity(self) -> tuple[int, int]:
         """The file's device and inode (``st_dev``, ``st_ino``)."""
@@ -252,6 +256,8 @@ class MessageWriter(Closes):
         with self._writing():
             try:
                 self._writer.finish()  # type: ignore[no-untyped-call]
+                self._file.flush()
+                self.final = os.fstat(self._file.fileno())
             finally:
                 self._file.close()
 
