@@ -206,7 +206,9 @@ def test_parts_past_9999_are_still_the_recordings(tmp_path: Path) -> None:
     assert late[1].name == "s-10000.mcap"
     for p in late[1:]:
         p.write_bytes(b"a live run")
-    (tmp_path / "s-10000x.mcap").write_bytes(b"not a part")
+    others = ["s-10000x.mcap", "s-20261127.mcap", "s-01234.mcap"]
+    for name in others:  # no part's names: a date, a leading zero
+        (tmp_path / name).write_bytes(b"not a part")
     assert numbered_parts(path) == late[1:]
     with pytest.raises(RecordingError, match=r"s-10000\.mcap and 1 more numbered"):
         RotatingWriter(path, RotationPolicy(max_bytes=2000)).open()
@@ -218,6 +220,10 @@ def test_parts_past_9999_are_still_the_recordings(tmp_path: Path) -> None:
     assert not part_path(path, 1).exists()
     late[0].write_bytes(b"a live run")
     assert numbered_parts(path) == late  # by number, not by name
+    with RotatingWriter(path, RotationPolicy(max_bytes=2000), overwrite=True):
+        pass
+    for name in others:
+        assert (tmp_path / name).read_bytes() == b"not a part", name
 
 
 def test_keep_parts_leaves_a_new_file_that_took_a_removed_parts_inode(

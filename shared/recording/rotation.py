@@ -110,13 +110,16 @@ def parts_named(paths: list[Path]) -> str:
 def numbered_parts(path: Path) -> list[Path]:
     """The numbered files of a rotating recording at ``path`` now, in order.
 
-    Four digits or more, in the order of their numbers: part 10000 follows
-    9999 (``--keep-parts`` lets a recorder run that long), although its name
-    sorts before it.
+    Four digits, or five for parts 10000 to 99999, in the order of their
+    numbers: part 10000 follows 9999 (``--keep-parts`` lets a recorder run
+    that long), although its name sorts before it. No more digits: a file
+    named with a date (``s-20261127.mcap``) is not taken for a part, to be
+    refused or removed by ``--overwrite``.
     """
     suffix = path.suffix or ".mcap"
     pattern = f"{glob.escape(path.stem)}-[0-9][0-9][0-9][0-9]*{glob.escape(suffix)}"
-    name = re.compile(f"{re.escape(path.stem)}-([0-9]{{4,}}){re.escape(suffix)}")
+    number = "[0-9]{4}|[1-9][0-9]{4}"
+    name = re.compile(f"{re.escape(path.stem)}-({number}){re.escape(suffix)}")
     found = []
     for part in path.parent.glob(pattern):
         if match := name.fullmatch(part.name):
