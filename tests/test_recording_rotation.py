@@ -249,3 +249,19 @@ def test_keep_parts_leaves_a_new_file_that_took_a_removed_parts_inode(
         rotate_parts(writer, 4)
     assert second.read_bytes() == b"a user's copy"
     assert writer.paths == [part_path(path, 3), part_path(path, 4)]
+
+
+def test_a_recording_whose_first_part_was_removed_is_still_held(
+    tmp_path: Path,
+) -> None:
+    """keep_parts=1: part 1 gone, the hold moved on; --overwrite still refused."""
+    path = tmp_path / "s.mcap"
+    with RotatingWriter(path, RotationPolicy(max_bytes=2000, keep_parts=1)) as writer:
+        for parts in (2, 3):
+            rotate_parts(writer, parts)
+            assert numbered_parts(path) == [part_path(path, parts)]
+            other = RotatingWriter(path, RotationPolicy(max_bytes=2000), overwrite=True)
+            with pytest.raises(RecordingError, match="being written by another"):
+                other.open()
+            assert part_path(path, parts).exists()
+    assert has_summary(part_path(path, 3))
