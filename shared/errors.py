@@ -450,7 +450,8 @@ class BridgeAppearedError(ArmplanError):
         namespace: The replay's namespace.
         sent: Messages sent before it stopped.
         total: Messages the replay would have sent.
-        held: Each live key with messages left unsent -> how many.
+        held: Each live key with messages left unsent -> how many (empty
+            if every live message had been sent: the rest is other keys).
     """
 
     kind = "bridge_appeared"
@@ -458,15 +459,22 @@ class BridgeAppearedError(ArmplanError):
     def __init__(
         self, *, namespace: str, sent: int, total: int, held: dict[str, int]
     ) -> None:
-        kept = ", ".join(f"{key} ({n} left)" for key, n in held.items()) or "none"
-        super().__init__(
+        kept = ", ".join(f"{key} ({n} left)" for key, n in held.items())
+        stopped = (
             f"a bridge came alive in namespace {namespace!r} during the replay: "
             f"it stopped after {sent} of {total} messages, holding back the "
-            f"recorded {kept} (a bridge with --follow would move the robot again, "
-            "and they would mix with the live messages); a message already on "
-            "its way when the bridge was seen cannot be recalled. To replay into "
-            "a live robot on purpose, choose the keys with --keys, e.g. --keys "
-            "plan/trajectory --wait-for bridge",
+        )
+        super().__init__(
+            f"{stopped}recorded {kept} (a bridge with --follow would move the "
+            "robot again, and they would mix with the live messages); a message "
+            "already on its way when the bridge was seen cannot be recalled. To "
+            "replay into a live robot on purpose, choose the keys with --keys, "
+            "e.g. --keys plan/trajectory --wait-for bridge"
+            if held
+            # every plan/* and bridge/* message had gone: none is held back
+            else f"{stopped}other {total - sent}; every recorded plan/* and "
+            "bridge/* message had been sent before it came alive. To replay the "
+            "rest, choose its keys with --keys",
             namespace=namespace,
             sent=sent,
             total=total,

@@ -73,6 +73,25 @@ def config() -> Iterator[BusConfig]:
 
 
 @pytest.fixture(scope="module")
+def trajectories_first(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """``BEFORE_BRIDGE`` trajectories, then ``COUNT`` ``misc/x`` messages;
+    all ``GAP`` apart."""
+    path = tmp_path_factory.mktemp("first") / "s.mcap"
+    sink = RecordingSink(RecorderOptions(output=path, keys=("**",)), NAMESPACE)
+    sink.start()
+    start = time.time_ns()
+    for i in range(BEFORE_BRIDGE + COUNT):
+        t = start + int(i * GAP * 1e9)
+        if i < BEFORE_BRIDGE:
+            key, body = "plan/trajectory", trajectory(i).model_dump_json().encode()
+        else:
+            key, body = "misc/x", b"{}"
+        sink.put(Incoming(f"{NAMESPACE}/{key}", body, "application/json", t, t))
+    sink.stop()
+    return path
+
+
+@pytest.fixture(scope="module")
 def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """``COUNT`` trajectories on ``plan/trajectory``, ``GAP`` apart."""
     path = tmp_path_factory.mktemp("bridge") / "s.mcap"
@@ -198,3 +217,25 @@ def test_a_keyed_replay_goes_on_when_a_bridge_comes_alive(
     assert observer.after_bridge() > 1
     assert len(observer.got) == COUNT
     assert out.stdout.startswith(f"armplan replay: sent {COUNT} of {COUNT} messages")
+
+
+def test_the_error_says_so_when_no_live_message_was_left(
+    config: BusConfig, trajectories_first: Path
+) -> None:
+    """The bridge comes alive after every recorded trajectory went: the
+    replay still stops (nothing more is sent), but does not claim to hold
+    back trajectories; it said "holding back the recorded none (a bridge
+    with --follow would move the robot again ...)"."""
+    out, observer = replay_while_a_bridge_starts(config, trajectories_first)
+    assert out.returncode == 1, (out.stdout, out.stderr)
+    assert len(observer.got) == BEFORE_BRIDGE
+    sent = int(out.stdout.split()[3])
+    assert BEFORE_BRIDGE <= sent < BEFORE_BRIDGE + COUNT
+    total = BEFORE_BRIDGE + COUNT
+    assert out.stderr == (
+        f"armplan: error: a bridge came alive in namespace {NAMESPACE!r} during "
+        f"the replay: it stopped after {sent} of {total} messages, holding back "
+        f"the other {total - sent}; every recorded plan/* and bridge/* message "
+        "had been sent before it came alive. To replay the rest, choose its "
+        "keys with --keys\n"
+    )

@@ -303,7 +303,8 @@ def _send(
         if sent:
             time.sleep(LINGER)  # see LINGER
         raise
-    if watch is not None and watch.appeared.is_set():  # woke the wait: stop set
+    # woke the wait (stop set); seen only after the last put: the replay is whole
+    if watch is not None and watch.appeared.is_set() and stats.sent < len(items):
         raise _halted(bus, items, sent, done, offline)
     if stats.sent:
         time.sleep(LINGER)  # see LINGER
