@@ -33,13 +33,16 @@ import zenoh
 from native_processes import ROOT
 
 from armplan.launch import free_endpoint
+from services.recorder.bridge_watch import check_no_live_bridge
 from services.recorder.options import RecorderOptions
 from services.recorder.routing import Incoming
 from services.recorder.sink import RecordingSink
 from shared.bus import Bus, BusConfig, ServiceHost, open_router
 from shared.bus.keys import alive_key
+from shared.errors import InvalidInputError, ServiceUnavailableError
 from shared.messages import Trajectory
 from shared.robot import Side
+from tests.slow_link import SlowLink
 
 NAMESPACE = "bridgeappears"
 #: Trajectories in the recording, and the time between two [s].
@@ -239,3 +242,45 @@ def test_the_error_says_so_when_no_live_message_was_left(
         "had been sent before it came alive. To replay the rest, choose its "
         "keys with --keys\n"
     )
+
+
+def test_a_router_that_does_not_answer_the_check_refuses_the_replay(
+    config: BusConfig,
+) -> None:
+    """A bridge alive before the replay connects, and the router's answer to
+    the check's liveliness query held up (a slow or stalled link): the
+    query timed out, Zenoh's "Timeout" reply was skipped as no token, and
+    the check let the whole recording go to the bridge (the watch, declared
+    without history, does not see a token older than itself). Now the check
+    refuses when the router does not answer."""
+    port = int(config.endpoint.rsplit(":", 1)[1])
+    link = SlowLink(port, bandwidth=1e9)
+    through = BusConfig(
+        endpoints=(link.url.replace("tcp://", "tcp/"),),
+        namespace=NAMESPACE,
+        timeout=1.0,  # the check's wait for the router's answer
+    )
+    try:
+        with (
+            Bus.connect(config) as bridge,
+            ServiceHost(bridge, "bridge", []),
+            Bus.connect(through, wait=10) as bus,
+        ):
+            assert check_no_live_bridge_refuses(bus), "the bridge was not seen"
+            link.hold_answers(0)  # the replay's connection: answers held up
+            try:
+                with pytest.raises(ServiceUnavailableError, match="did not answer"):
+                    check_no_live_bridge(bus, ["plan/trajectory"])
+            finally:
+                link.release_answers(0)
+    finally:
+        link.close()
+
+
+def check_no_live_bridge_refuses(bus: Bus) -> bool:
+    """Whether the check refuses with an answering router (it must)."""
+    try:
+        check_no_live_bridge(bus, ["plan/trajectory"])
+    except InvalidInputError:
+        return True
+    return False

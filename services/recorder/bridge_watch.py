@@ -25,7 +25,7 @@ import zenoh
 from services.recorder.replay import Replay
 from shared.bus import Bus
 from shared.bus.keys import alive_key
-from shared.errors import InvalidInputError
+from shared.errors import InvalidInputError, ServiceUnavailableError
 from shared.lifecycle import Closes
 
 #: The service whose liveliness token is watched.
@@ -114,10 +114,34 @@ def check_no_live_bridge(bus: Bus, live: list[str]) -> None:
         live: The keys to send that a bridge acts on or mixes with (empty
             with ``--keys``: the user chose them).
 
+    The router's answer is waited for up to ``bus.config.timeout``; a
+    query it did not answer in time ended with Zenoh's "Timeout" reply
+    alone, which read as "no bridge": over a stalled link the whole
+    recording went to a bridge alive before the replay (the watch, declared
+    without history, sees only tokens newer than itself). No answer now
+    refuses the replay too.
+
     Raises:
         InvalidInputError: naming the keys and how to replay them anyway.
+        ServiceUnavailableError: if the router did not answer in time.
     """
-    if not live or BRIDGE not in bus.alive():
+    if not live:
+        return
+    namespace = bus.config.namespace
+    timeout = bus.config.timeout
+    replies = list(
+        bus.session.liveliness().get(alive_key(namespace, BRIDGE), timeout=timeout)
+    )
+    alive = any(reply.ok is not None for reply in replies)
+    if not alive and replies:  # only Zenoh's "Timeout": no answer
+        raise ServiceUnavailableError(
+            "router",
+            reason=f"it did not answer within {timeout:g} s whether a bridge is "
+            f"alive in namespace {namespace!r}, and a replay of the recorded "
+            f"{', '.join(live)} is refused while one is; nothing was sent. To "
+            "replay on purpose, choose the keys with --keys",
+        )
+    if not alive:
         return
     raise InvalidInputError(
         f"a bridge is alive in namespace {bus.config.namespace!r}: the recorded "
