@@ -32,6 +32,7 @@ from armplan.secure import (
 )
 from bridge.claim import claim_key, sole_bridge
 from services.recorder import RecorderOptions
+from services.recorder.bridge_watch import LIVE_CHUNKS
 from services.recorder.service import Recorder
 from shared.bus import Bus, BusConfig, ServiceHost, load_config
 from shared.bus.robot_routes import EXECUTE, STOP
@@ -103,6 +104,22 @@ def test_only_the_bridge_is_on_the_robot_keys() -> None:
                 assert allowed is (
                     user == "bridge" and message != "delete" and (message != "query")
                 ), (user, message, key)
+
+
+def test_every_login_that_may_publish_to_a_bridge_may_watch_for_one() -> None:
+    """A replay of every key stops when a bridge comes alive: it watches the
+    bridge's token (``services.recorder.bridge_watch``). A login that may put
+    a ``plan/*`` or ``bridge/*`` key but not see that token would see no
+    bridge, and send a whole recording to a live robot."""
+    token = f"{NS}/alive/bridge"
+    paths = [t.path for t in TOPICS if t.path.split("/")[0] in LIVE_CHUNKS]
+    publishers = {
+        u for u in USERS for p in paths if ACL.allows(u, "put", "ingress", f"{NS}/{p}")
+    }
+    assert "planner" in publishers and "bridge" in publishers
+    for user in sorted(publishers):
+        for message in ("liveliness_query", "declare_liveliness_subscriber"):
+            assert ACL.allows(user, message, "ingress", token), (user, message)
 
 
 def test_only_the_client_may_ask_the_bridge_to_stop() -> None:
