@@ -306,3 +306,50 @@ def test_the_parts_of_a_rotated_recording_replay_as_one(tmp_path: Path) -> None:
     items = replay_items(parts)
     assert (len(items), items.counts) == (3, {"misc/x": 3})
     assert [i.payload for i in items] == [b'{"i": 0}', b'{"i": 1}', b'{"i": 2}']
+
+
+def record_parts(out: Path, messages: int) -> list[Path]:
+    """The sink's parts of one recording at ``out``, a message per part."""
+    out.parent.mkdir(exist_ok=True)
+    options = RecorderOptions(
+        output=out, keys=("**",), rotation=RotationPolicy(max_bytes=1)
+    )
+    sink = RecordingSink(options, NS).start()
+    for i in range(messages):
+        t = time.time_ns()
+        sink.put(Incoming(f"{NS}/misc/x", b'{"i": %d}' % i, "zenoh/bytes", t, t))
+        time.sleep(0.01)
+    return sink.stop()
+
+
+def test_parts_of_two_recordings_are_refused_though_numbered_in_turn(
+    tmp_path: Path,
+) -> None:
+    """A lab's two sessions, both ``-o s.mcap`` in two folders: session 1's
+    part 2 and session 2's part 3 were started in order, numbered in turn and
+    do not overlap, so they replayed as one, waiting through the hole between
+    the sessions (100 s of nothing in the lab). Each part now notes its
+    recording's start: a part after the first follows its own recording's."""
+    one = record_parts(tmp_path / "a" / "r.mcap", 3)
+    two = record_parts(tmp_path / "b" / "r.mcap", 3)
+    assert len(one) >= 3 and len(two) >= 3
+    with pytest.raises(
+        RecordingError,
+        match=r"b/r-0003\.mcap is part 3 of another recording than "
+        r".*a/r-0002\.mcap \(its part 2\)",
+    ):
+        replay_items([one[1], two[2]])
+    assert len(replay_items([*one, *two])) == 6  # two whole recordings in turn
+
+
+def test_a_part_after_one_of_a_higher_number_says_two_recordings(
+    tmp_path: Path,
+) -> None:
+    """Part 4 of one recording after part 4 of another (files of an older
+    recorder, without the recording's start) was refused as 'part 5 is
+    missing': no part was missing; they are of two recordings."""
+    four = {"part": "4", "started_ns": "1000"}
+    parts = rotated_parts(tmp_path, [four, four | {"started_ns": "2000"}])
+    with pytest.raises(RecordingError, match=r"not of one recording") as raised:
+        replay_items(parts)
+    assert "is missing" not in str(raised.value)

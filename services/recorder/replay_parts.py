@@ -262,10 +262,13 @@ def _noted_number(path: Path, noted: dict[str, str], name: str) -> int | None:
 def check_order(looked: list[Looked]) -> None:
     """Refuse files that are not the parts of recordings, once each, in order.
 
-    Each part is stamped with the time it started (``started_ns``) and its
-    number (``part``). Parts given out of order, parts of two recordings
-    mixed, a file given twice or a part left out would play messages out of
-    their order, twice, or with a hole.
+    Each part is stamped with the time it started (``started_ns``), its
+    number (``part``) and, since the recorder noted it, the time its
+    recording's part 1 started (``recording_ns``). Parts given out of order,
+    parts of two recordings mixed, a file given twice or a part left out
+    would play messages out of their order, twice, or with a hole. A part
+    after the first follows the part before it of its own recording; part 1
+    (a recording that does not rotate, too) may follow any file.
 
     Raises:
         RecordingError: naming the files, or a file whose stamps are not
@@ -278,6 +281,9 @@ def check_order(looked: list[Looked]) -> None:
             raise RecordingError(f"{each.path} is given twice", path=str(each.path))
     started = [_noted_number(each.path, each.noted, "started_ns") for each in looked]
     parts = [_noted_number(each.path, each.noted, "part") for each in looked]
+    recordings = [
+        _noted_number(each.path, each.noted, "recording_ns") for each in looked
+    ]
     for k in range(1, len(looked)):
         before, now = looked[k - 1].path, looked[k].path
         was, is_ = started[k - 1], started[k]
@@ -289,6 +295,21 @@ def check_order(looked: list[Looked]) -> None:
                 path=str(now),
             )
         part, previous = parts[k] or 1, parts[k - 1] or 0
+        ours, theirs = recordings[k], recordings[k - 1]
+        if part > 1 and ours is not None and theirs is not None and ours != theirs:
+            raise RecordingError(
+                f"{now} is part {part} of another recording than {before} "
+                f"(its part {previous}): give the numbered files of one "
+                "recording, in order",
+                path=str(now),
+            )
+        if part > 1 and part <= previous:
+            raise RecordingError(
+                f"{now} is part {part} of its recording but follows {before}, "
+                f"part {previous}, started before it: they are not of one "
+                "recording; give the numbered files of one recording, in order",
+                path=str(now),
+            )
         if part > 1 and part != previous + 1:
             raise RecordingError(
                 f"{now} is part {part} of its recording but follows "

@@ -114,6 +114,7 @@ class RecordingSink:
         self.broken = threading.Event()
         self._queue: queue.SimpleQueue[Incoming | None] = queue.SimpleQueue()
         self._model: bytes | None = None  # the last model written, its JSON
+        self._recording_ns: int | None = None  # when part 1 started [ns]
         self._files = RotatingWriter(
             options.output,
             options.rotation,
@@ -365,6 +366,8 @@ class RecordingSink:
         file stands alone, its decisions' model with it.
         """
         now = time.time_ns()
+        if self._recording_ns is None:
+            self._recording_ns = now
         writer.add_metadata(
             ARMPLAN_METADATA,
             {
@@ -372,6 +375,8 @@ class RecordingSink:
                 "keys": ",".join(self.options.keys),
                 "part": str(number),
                 "started_ns": str(now),
+                # the recording's, in every part: replay tells two apart
+                "recording_ns": str(self._recording_ns),
                 "log_time": "zenoh timestamp of the sample, else its receipt time",
             },
         )
