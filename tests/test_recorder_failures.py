@@ -223,11 +223,12 @@ def test_an_existing_recording_is_refused_unless_overwrite(tmp_path: Path) -> No
 
 
 def test_two_writers_cannot_share_a_file(tmp_path: Path) -> None:
-    """Created exclusively: the second writer of one path is refused."""
+    """Created exclusively: the second writer of one path is refused, told
+    the first is writing it (not sent to --overwrite, refused as well)."""
     out = tmp_path / "one.mcap"
     with (
         MessageWriter(out, chunked=False, overwrite=False),
-        pytest.raises(RecordingError, match="exists"),
+        pytest.raises(RecordingError, match="is being written by another recorder"),
     ):
         MessageWriter(out, chunked=False, overwrite=False)
 

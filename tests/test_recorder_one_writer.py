@@ -165,3 +165,36 @@ def test_overwrite_on_a_dangling_link_says_so(tmp_path: Path) -> None:
     assert str(target) in refused.value.message
     assert "another recorder" not in refused.value.message
     assert out.is_symlink() and not target.exists()
+
+
+def test_a_recording_being_written_is_named_so_without_overwrite(
+    tmp_path: Path,
+) -> None:
+    """A second recorder on the first's -o, without --overwrite, was told the
+    file 'exists: give another name, or --overwrite to replace it' (rotating:
+    'of an earlier recording exists'), and --overwrite was then refused: it
+    is being written by another recorder, as it now says at once."""
+    out = tmp_path / "s.mcap"
+    with (
+        MessageWriter(out, chunked=False, overwrite=False),
+        pytest.raises(RecordingError) as refused,
+    ):
+        MessageWriter(out, chunked=False, overwrite=False)
+    assert "being written by another recorder" in refused.value.message
+    assert "--overwrite to replace" not in refused.value.message
+    with pytest.raises(RecordingError, match="exists: give another name, or --ov"):
+        MessageWriter(out, chunked=False, overwrite=False)  # closed: an old one
+
+    path = tmp_path / "r.mcap"
+    policy = RotationPolicy(max_bytes=10_000)
+    first = RotatingWriter(path, policy, overwrite=False).open()
+    try:
+        with pytest.raises(RecordingError) as refused:
+            RotatingWriter(path, policy, overwrite=False).open()
+    finally:
+        first.close()
+    assert refused.value.message.startswith(
+        f"{part_path(path, 1)} is being written by another recorder"
+    )
+    with pytest.raises(RecordingError, match="of an earlier recording exists"):
+        RotatingWriter(path, policy, overwrite=False).open()

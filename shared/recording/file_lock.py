@@ -47,6 +47,30 @@ def exists_error(path: Path) -> RecordingError:
     )
 
 
+def held_by_another(path: Path) -> bool:
+    """Whether another writer holds the existing ``path`` (it is recording).
+
+    Used to say so when an existing file is refused without ``--overwrite``:
+    "exists: ... --overwrite to replace it" sent the user to an option that
+    is refused too. The lock is tried, and let go at once if taken.
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError:  # gone, a link to nothing, unreadable: not known held
+        return False
+    try:
+        return not try_hold(fd)
+    except OSError:  # the file system takes no lock
+        return False
+    finally:
+        os.close(fd)
+
+
+def refuse_existing(path: Path) -> RecordingError:
+    """The error for an existing ``path`` not to be replaced: busy or exists."""
+    return busy_error(path) if held_by_another(path) else exists_error(path)
+
+
 def dangling_error(path: Path) -> RecordingError:
     """The error for a symbolic link whose target does not exist."""
     try:
@@ -161,7 +185,7 @@ def open_locked(path: Path, *, overwrite: bool) -> IO[bytes]:
             return os.fdopen(_create(path), "wb")
         except FileExistsError:
             if not overwrite:
-                raise exists_error(path) from None
+                raise refuse_existing(path) from None
         fd = _take_over(path)
         if fd is not None:
             return os.fdopen(fd, "wb")

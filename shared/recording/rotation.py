@@ -23,7 +23,7 @@ from typing import Any
 
 from shared.errors import InvalidInputError, RecordingError
 from shared.lifecycle import Closes
-from shared.recording.file_lock import locked_all
+from shared.recording.file_lock import busy_error, held_by_another, locked_all
 from shared.recording.retention import OwnPart, parts_to_remove, remove_part
 from shared.recording.writer import MessageWriter, refuse_folder
 
@@ -213,6 +213,10 @@ class RotatingWriter(Closes):
         writer holds one of them (it is still recording).
         """
         earlier = self._earlier_parts()
+        if not self.overwrite:
+            for part in earlier:  # still recording: not "an earlier recording"
+                if held_by_another(part):
+                    raise busy_error(part)
         if earlier and not self.overwrite:
             more = len(earlier) - 1
             which = (
