@@ -3,6 +3,7 @@ and helpers: a random posture, a long moving trajectory."""
 
 from __future__ import annotations
 
+import signal
 import socket
 from collections.abc import Iterator
 from pathlib import Path
@@ -17,6 +18,22 @@ from shared.robot import ArmModel, Side, load_arm
 
 if TYPE_CHECKING:
     from bridge.sim import SimProcess
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Give the tests, and every process they start, Ctrl-C and hang-ups back.
+
+    A suite started in the background of a script (``cmd &``: SIGINT
+    ignored) or under ``nohup`` (SIGHUP ignored) passes that on to each
+    process a test starts, and armplan keeps an ignored stop signal ignored
+    (as ``nohup`` means): the tests that stop a process with SIGINT or SIGHUP
+    would wait for it in vain. A handler (not ``SIG_IGN``) is reset to the
+    default in a child at ``exec``.
+    """
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    if signal.getsignal(signal.SIGHUP) is signal.SIG_IGN:
+        signal.signal(signal.SIGHUP, signal.SIG_DFL)
 
 
 @pytest.fixture(params=[Side.RIGHT, Side.LEFT], ids=["right", "left"])
