@@ -701,7 +701,15 @@ def test_a_stop_answered_before_the_call_arrived_confirms_nothing(
     try:
         with served(tmp_path, sim, url=link.url) as there:
             running = there.execute_in_background(_reach(LONG), rate=1000.0)
-            time.sleep(1.0)  # no approach: the call is on its way
+
+            def on_its_way() -> bool:
+                serving = there.service._slot.serving
+                return serving is not None and serving.sent is not None
+
+            # no approach; the checks and the stiffening take longer on a
+            # loaded machine: the stop must come once the call has left
+            _wait("the trajectory's call leaves", on_its_way)
+            time.sleep(0.2)  # on its way: about 2 s over this link
             assert there.sim_calls("angleInterpolation") == 0
             reply = there.bus.call(STOP, StopRequest(), timeout=10.0)
             print(f"\n{reply.to_json()}")
