@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
+from functools import partial
 from typing import Any
 
 import zenoh
@@ -180,7 +181,7 @@ class BridgeService:
             on_state=self._publish_state,
             on_play=self._publish_frames,
             until=None if due is None else due.at - REPLY_MARGIN,
-            on_approach=self._slot.approaching,
+            on_approach=partial(self._approaching, frames),
             on_arrival=self._slot.arrived,
             frames=frames,
             stop=order,
@@ -189,6 +190,20 @@ class BridgeService:
         worst = max(reply.report.tracking_rms_deg.values(), default=0.0)
         log.info("played; worst joint RMS %.3f deg", worst)
         return reply
+
+    def _approaching(self, frames: CommandFrames, approach: float) -> None:
+        """Mark and log the approach, ``approach`` [s] long, about to be sent.
+
+        The arm moves from where it is to ``frames``' start before they
+        play: the log says so, or an operator sees it move unannounced.
+        """
+        self._slot.approaching(approach)
+        log.info(
+            "approaching the trajectory's start (%.2f s, %s arm) on %s",
+            approach,
+            frames.arm.value,
+            self.robot.client.url,
+        )
 
     def _publish_frames(self, frames: CommandFrames) -> None:
         """Publish and log the frames about to be sent (every check passed).

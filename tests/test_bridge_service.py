@@ -76,10 +76,11 @@ def over_speed(trajectory: Trajectory) -> Trajectory:
 class Stack:
     """A router, a bridge aimed at ``url``, and a client bus."""
 
-    def __init__(self, config: BusConfig, url: str, bus: Bus) -> None:
+    def __init__(self, config: BusConfig, url: str, bus: Bus, log: Path) -> None:
         self.config = config
         self.url = url
         self.bus = bus
+        self.log = log  # the bridge's log file
 
     def execute(self, trajectory: Trajectory, timeout: float = 30.0) -> ExecuteReply:
         return self.bus.call(
@@ -99,7 +100,7 @@ def stack(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Stack]:
         RobotStack(config, robot=url, follow=True, log=bridge_log),
         Bus.connect(config) as bus,
     ):
-        yield Stack(config, url, bus)
+        yield Stack(config, url, bus, logs / "bridge.log")
 
 
 @pytest.fixture
@@ -276,6 +277,28 @@ def test_the_approach_states_are_published_before_the_trajectorys(
     np.testing.assert_allclose(before[0].positions, rest("right"), atol=0.05)
     np.testing.assert_allclose(before[-1].positions, forward("right"), atol=0.05)
     assert len(states) - len(before) >= reply.report.samples
+
+
+def test_the_bridge_log_announces_the_approach_before_the_frames(
+    stack: Stack, sim: SimProcess
+) -> None:
+    """An operator reading the bridge's log learns the arm is about to move
+    to the trajectory's start, and for how long, before the frames play;
+    with the arm already there, no approach is announced."""
+    away = minimum_jerk_trajectory("right", [forward("right"), rest("right")], [1.0])
+    there = minimum_jerk_trajectory("right", [rest("right"), forward("right")], [1.0])
+    before = stack.log.read_text().splitlines()
+    moved = stack.execute(away)
+    stayed = stack.execute(there)
+    lines = stack.log.read_text().splitlines()[len(before) :]
+    told = [k for k, line in enumerate(lines) if "approaching" in line]
+    played = [k for k, line in enumerate(lines) if "playing" in line]
+    assert len(told) == 1 and len(played) == 2, lines
+    assert played[0] > told[0] and stayed.approach_duration == 0.0
+    assert (
+        f"({moved.approach_duration:.2f} s, right arm) on {stack.url}"
+        in (lines[told[0]])
+    )
 
 
 def test_a_published_trajectory_is_followed(
