@@ -556,22 +556,35 @@ class ServiceUnavailableError(ArmplanError):
         service: The missing service, e.g. ``"ik"`` (``"router"`` if no router).
         key: The key expression the request was for, if any.
         reason: What showed it was missing.
+        elsewhere: The other namespaces where a missing service is alive on
+            the same router, by service (``{"bridge": ["lab1"]}``; ``{}``:
+            none seen, or not asked). ``reason`` says so too.
     """
 
     kind = "service_unavailable"
 
-    def __init__(self, service: str, *, key: str = "", reason: str = "") -> None:
+    def __init__(
+        self,
+        service: str,
+        *,
+        key: str = "",
+        reason: str = "",
+        elsewhere: dict[str, list[str]] | None = None,
+    ) -> None:
         at = f" for {key}" if key else ""
         why = f": {reason}" if reason else ""
+        found = {name: list(spaces) for name, spaces in (elsewhere or {}).items()}
         super().__init__(
             f"service {service!r} is unavailable{at}{why}",
             service=service,
             key=key,
             reason=reason,
+            elsewhere=found,
         )
         self.service = service
         self.key = key
         self.reason = reason
+        self.elsewhere = found
 
 
 class RequestTimeoutError(ArmplanError):

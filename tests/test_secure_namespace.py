@@ -22,8 +22,10 @@ from armplan.cli.main import main
 from armplan.launch import catalog, free_endpoint
 from armplan.secure import AccessControl, Bundle, write_bundle
 from shared.bus import Bus, load_config
-from shared.bus.routes import ROUTES, TRAJECTORY_TOPIC
+from shared.bus.routes import IK_SOLVE, ROUTES, TRAJECTORY_TOPIC
 from shared.bus.topics import TOPICS
+from shared.errors import ServiceUnavailableError
+from shared.messages import IKRequest
 
 NS = "lab/nao1"
 #: How long a message that should not come is waited for [s].
@@ -125,3 +127,19 @@ def test_the_secured_router_serves_the_namespace(
             time.sleep(0.1)
         token.undeclare()  # type: ignore[no-untyped-call]
         subscriber.undeclare()  # type: ignore[no-untyped-call]
+
+
+def test_a_refused_look_elsewhere_leaves_the_hint_out(
+    bundle: Bundle, router: Native
+) -> None:
+    """The client may not ask for ``**/alive/ik``: the error for an ik not
+    running is the plain one, not another error, and comes at once."""
+    with (
+        Bus.connect(load_config(bundle.clients["client"]), wait=30) as client,
+        pytest.raises(ServiceUnavailableError) as info,
+    ):
+        client.call(IK_SOLVE, IKRequest(target=(0.12, -0.13, 0.05)), timeout=2.0)
+    assert info.value.elsewhere == {}
+    assert info.value.reason == (
+        f"no liveliness token at {NS}/alive/ik (is it started, e.g. by `armplan up`?)"
+    )

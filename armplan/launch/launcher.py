@@ -202,9 +202,7 @@ class Launcher(StartStop):
         while missing := bus.wait_alive(wanted, POLL):
             self._check_running()
             if time.monotonic() > deadline:
-                raise ServiceUnavailableError(
-                    ", ".join(missing), reason=f"not alive after {timeout:.0f} s"
-                )
+                raise bus.not_alive(missing, timeout)
 
     def _check_running(self) -> None:
         if self._stop.is_set():

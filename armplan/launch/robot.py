@@ -178,12 +178,10 @@ class RobotStack(StartStop):
     def _wait_bridge(self, timeout: float) -> None:
         deadline = time.monotonic() + timeout
         with Bus.connect(self.config) as bus:
-            while bus.wait_alive([BRIDGE.name], POLL):
+            while missing := bus.wait_alive([BRIDGE.name], POLL):
                 self._check_running()
                 if time.monotonic() > deadline:
-                    raise ServiceUnavailableError(
-                        BRIDGE.name, reason=f"not alive after {timeout:.0f} s"
-                    )
+                    raise bus.not_alive(missing, timeout)
 
     def _check_running(self) -> None:
         if self._stop.is_set():

@@ -22,6 +22,7 @@ from typing import Any
 
 from shared.bus import Bus, Route
 from shared.bus.deadline import REPLY_MARGIN, current_due
+from shared.bus.elsewhere import elsewhere_hint
 from shared.bus.routes import DECIDE, IK_PATH, TIMING
 from shared.errors import ServiceUnavailableError
 from shared.messages import (
@@ -92,11 +93,14 @@ class RemoteStages:
         missing = [r for r in routes if not self._bus.is_alive(r.service)]
         if missing:
             names = ", ".join(repr(r.service) for r in missing)
+            elsewhere = self._bus.alive_elsewhere(r.service for r in missing)
             raise ServiceUnavailableError(
                 missing[0].service,
                 key=missing[0].key(namespace),
                 reason=f"the planner needs {names} and finds no liveliness token "
-                f"under {namespace}/alive/ (is it started, e.g. by `armplan up`?)",
+                f"under {namespace}/alive/ (is it started, e.g. by `armplan up`?)"
+                f"{elsewhere_hint(elsewhere)}",
+                elsewhere=elsewhere,
             )
 
     def decide(self, request: DecideRequest) -> Decision:

@@ -18,10 +18,12 @@ import zenoh
 
 from shared.bus.caller import answered, join_forwarders, read_reply, service_timing
 from shared.bus.config import BusConfig
+from shared.bus.elsewhere import alive_elsewhere, not_alive_error
 from shared.bus.keys import service_key
 from shared.bus.liveness import AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
+from shared.errors import ServiceUnavailableError
 from shared.lifecycle import Closes
 from shared.messages import Message, ServiceTiming
 
@@ -178,6 +180,25 @@ class Bus(Closes):
             if not missing or time.monotonic() >= deadline or stop.is_set():
                 return missing
             stop.wait(min(WAIT_POLL, max(deadline - time.monotonic(), 0.0)))
+
+    def alive_elsewhere(self, services: Iterable[str]) -> dict[str, list[str]]:
+        """The other namespaces where each of ``services`` is alive (best effort).
+
+        One short liveliness query per service: ask only once a wait has
+        failed. See :mod:`shared.bus.elsewhere`.
+        """
+        return alive_elsewhere(self.session, self.config.namespace, services)
+
+    def not_alive(
+        self, missing: list[str], waited: float, note: str = ""
+    ) -> ServiceUnavailableError:
+        """The error for ``missing`` after :meth:`wait_alive` waited ``waited`` [s].
+
+        It names the token keys watched and where else the services are alive.
+        """
+        return not_alive_error(
+            self.session, self.config.namespace, missing, waited, note
+        )
 
     def close(self) -> None:
         """Close the session (after undeclaring what this bus declared).

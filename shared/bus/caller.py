@@ -43,6 +43,7 @@ import zenoh
 
 from shared.bus.config import MAX_WAIT
 from shared.bus.deadline import budget_attachment
+from shared.bus.elsewhere import alive_elsewhere, elsewhere_hint
 from shared.bus.keys import alive_key
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices
 from shared.bus.route import Rep, Route
@@ -109,20 +110,18 @@ def answered(
     key = route.key(namespace)
     start = time.monotonic()
     if not unseen and not alive.is_alive(route.service, min(QUERY_TIMEOUT, timeout)):
-        raise ServiceUnavailableError(
-            route.service, key=key, reason=_why_absent(session, namespace, route)
-        )
+        raise _absent(session, namespace, route)
     repeatable = route.repeatable if repeat is None else repeat
     resend = resend_after if repeatable else None
     reply = _ask(session, key, encode(request), start + timeout, resend)
     if reply is not None:
         return reply
     if unseen and not alive.is_alive(route.service, QUERY_TIMEOUT):
-        why = _why_absent(session, namespace, route)
-        raise ServiceUnavailableError(
-            route.service,
-            key=key,
-            reason=f"{why}; the query was sent all the same: nothing answered",
+        raise _absent(
+            session,
+            namespace,
+            route,
+            "; the query was sent all the same: nothing answered",
         )
     if time.monotonic() - start >= 0.9 * timeout:
         raise RequestTimeoutError(route.service, key=key, timeout=timeout)
@@ -288,11 +287,25 @@ def _is_busy(reply: zenoh.Reply) -> bool:
     return error.kind == ServiceBusyError.kind
 
 
-def _why_absent(session: zenoh.Session, namespace: str, route: Route[Any, Any]) -> str:
-    """Why a service looks absent: no router connection, or no token."""
-    return _router_lost(session) or (
-        f"no liveliness token at {alive_key(namespace, route.service)} "
-        "(is it started, e.g. by `armplan up`?)"
+def _absent(
+    session: zenoh.Session, namespace: str, route: Route[Any, Any], then: str = ""
+) -> ServiceUnavailableError:
+    """The error for ``route``'s service without a token: why, and ``then``.
+
+    Why: no router connection, or no token at its key; then (with a router)
+    the other namespaces where the service is alive, if any.
+    """
+    key = route.key(namespace)
+    lost = _router_lost(session)
+    if lost:
+        return ServiceUnavailableError(route.service, key=key, reason=lost + then)
+    found = alive_elsewhere(session, namespace, [route.service])
+    return ServiceUnavailableError(
+        route.service,
+        key=key,
+        reason=f"no liveliness token at {alive_key(namespace, route.service)} "
+        f"(is it started, e.g. by `armplan up`?){then}{elsewhere_hint(found)}",
+        elsewhere=found,
     )
 
 

@@ -57,6 +57,24 @@ def alive_pattern(namespace: str) -> str:
     return f"{namespace}/{ALIVE}/*"
 
 
+def alive_anywhere(service: str) -> str:
+    """The key expression matching ``service``'s token in every namespace.
+
+    E.g. ``**/alive/bridge``: asked once a wait has failed, to say where else
+    the service is alive (another ``--namespace``).
+    """
+    return f"**/{ALIVE}/{service}"
+
+
+def namespace_from_alive_key(key: str, service: str) -> str:
+    """The namespace of a token key of ``service`` (``lab1/alive/bridge``: ``lab1``).
+
+    ``""`` if ``key`` is not such a key (e.g. ``alive/bridge``, without one).
+    """
+    suffix = f"/{ALIVE}/{service}"
+    return key.removesuffix(suffix) if key.endswith(suffix) else ""
+
+
 def service_from_alive_key(namespace: str, key: str) -> str:
     """The service name in a liveliness token key (inverse of :func:`alive_key`)."""
     return key.removeprefix(f"{namespace}/{ALIVE}/")

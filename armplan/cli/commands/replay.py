@@ -210,10 +210,7 @@ def run(args: argparse.Namespace) -> int:
         if stop.is_set():
             return _interrupted()
         if missing:
-            raise ServiceUnavailableError(
-                ", ".join(missing),
-                reason=f"not alive after {args.wait:g} s{unknown_hint(missing)}",
-            )
+            raise bus.not_alive(missing, args.wait, unknown_hint(missing))
         live = [] if args.keys is not None else live_keys(items)  # --keys: asked
         with bridge_watch(bus, live, stop) as watch:  # before the check: no gap
             check_no_live_bridge(bus, live)

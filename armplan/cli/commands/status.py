@@ -18,6 +18,7 @@ from armplan.cli.parsing import add_json
 from armplan.launch import SERVICES
 from armplan.launch.catalog import PROCESSES, ServiceSpec, unknown_hint
 from shared.bus import Bus, BusConfig
+from shared.bus.elsewhere import elsewhere_hint
 from shared.bus.keys import alive_key, alive_pattern
 from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.errors import ServiceUnavailableError
@@ -49,12 +50,14 @@ def run(args: argparse.Namespace) -> int:
     try:
         with Bus.connect(config) as bus:
             alive, error = bus.alive(), None
+            elsewhere = bus.alive_elsewhere(set(args.require) - set(alive))
     except ServiceUnavailableError as no_router:
         if not args.json:
             raise
         alive, error = [], no_router  # the document still, every service absent
+        elsewhere = {}
     rows = _rows(alive, config.namespace)
-    error = error or _missing(args.require, alive, config)
+    error = error or _missing(args.require, alive, config, elsewhere)
     if not args.json:
         sys.stdout.write(f"router {config.endpoint}, namespace {config.namespace}\n")
         table = [(printable(n), state, ", ".join(k) or "-") for n, state, k in rows]
@@ -78,12 +81,16 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _missing(
-    required: list[str], alive: list[str], config: BusConfig
+    required: list[str],
+    alive: list[str],
+    config: BusConfig,
+    elsewhere: dict[str, list[str]],
 ) -> ServiceUnavailableError | None:
     """The error for the ``required`` services not ``alive``; ``None`` if none.
 
     Its key is the liveliness token looked for (``armplan/alive/ik``), or the
-    pattern of every token (``armplan/alive/*``) for several services.
+    pattern of every token (``armplan/alive/*``) for several services; it
+    says where else a missing one is alive (``elsewhere``, by service).
     """
     missing = [name for name in required if name not in alive]
     if not missing:
@@ -92,7 +99,9 @@ def _missing(
     return ServiceUnavailableError(
         ", ".join(missing),
         key=alive_key(ns, missing[0]) if len(missing) == 1 else alive_pattern(ns),
-        reason=f"not alive on {config.endpoint}{unknown_hint(missing)}",
+        reason=f"not alive on {config.endpoint}{unknown_hint(missing)}"
+        f"{elsewhere_hint(elsewhere)}",
+        elsewhere=elsewhere,
     )
 
 
