@@ -10,6 +10,7 @@ import re
 from pathlib import Path
 
 from services.recorder.options import RecorderOptions, default_output
+from services.recorder.size_floor import warn_if_small
 from shared.bus.topics import topic_paths
 from shared.errors import InvalidInputError
 from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
@@ -131,6 +132,9 @@ def add_recorder_arguments(parser: argparse.ArgumentParser) -> None:
 def options_from_args(args: argparse.Namespace) -> RecorderOptions:
     """The recorder options the command line asks for.
 
+    A ``--rotate-size`` below what a part weighs on its own is warned about
+    (:mod:`services.recorder.size_floor`), not refused.
+
     Raises:
         InvalidInputError: naming the option that is wrong.
         RecordingError: ``-o`` names a folder.
@@ -142,6 +146,7 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         if args.keep_parts is None
         else parse_keep_parts(args.keep_parts),
     )
+    warn_if_small(args.rotate_size, rotation.max_bytes, not args.no_foxglove)
     output = Path(args.output) if args.output else default_output()
     refuse_folder(output)  # before connecting: no router fixes this
     return RecorderOptions(
