@@ -58,6 +58,7 @@ from bridge.timeline_keys import (
 from shared.errors import InvalidInputError
 from shared.messages import CommandFrames
 from shared.output_paths import write_output_text
+from shared.text.counted import counted
 
 __all__ = [
     "DECIMALS",
@@ -234,7 +235,10 @@ def behavior_xml(
     timeline_fps(frames.rate)
     _check_frame_numbers(frames)
     keys = timeline_keys(frames, velocities)
-    tip = f"{frames.arm.value} arm trajectory from armplan: {len(frames.times)} frames"
+    tip = (
+        f"{frames.arm.value} arm trajectory from armplan: "
+        f"{counted(len(frames.times), 'frame')}"
+    )
     d = "    "
     return (
         '<?xml version="1.0" encoding="UTF-8" ?>\n'

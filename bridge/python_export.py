@@ -30,6 +30,7 @@ from bridge.play_runner import runner_source
 from bridge.script_stiffen import STIFFEN_SOURCE
 from shared.messages import CommandFrames
 from shared.output_paths import write_output_text
+from shared.text.counted import counted
 
 #: Fraction of the speed limits used to reach the start posture.
 START_SPEED = 0.2
@@ -49,7 +50,8 @@ def python_script(frames: CommandFrames) -> str:
     columns = list(zip(*frames.positions, strict=True))
     lines = [
         "# Choregraphe simplified export in Python.",
-        f"# Written by armplan: {frames.arm.value} arm, {len(frames.times)} frames "
+        f"# Written by armplan: {frames.arm.value} arm, "
+        f"{counted(len(frames.times), 'frame')} "
         f"at {frames.rate:g} fps, {frames.duration:.3f} s.",
         "# Angles in radians, times in seconds from the start posture.",
         "names = list()",

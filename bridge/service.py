@@ -65,6 +65,7 @@ from shared.messages import (
     StopReply,
     StopRequest,
 )
+from shared.text.counted import counted
 
 log = logging.getLogger("armplan.bridge")
 
@@ -215,8 +216,8 @@ class BridgeService:
         self._slot.sending()
         self.bus.publish(BRIDGE_FRAMES_TOPIC, frames)
         log.info(
-            "playing %d frames (%.2f s, %s arm) on %s",
-            len(frames.times),
+            "playing %s (%.2f s, %s arm) on %s",
+            counted(len(frames.times), "frame"),
             frames.duration,
             frames.arm.value,
             self.robot.client.url,

@@ -459,10 +459,13 @@ class BridgeAppearedError(ArmplanError):
     def __init__(
         self, *, namespace: str, sent: int, total: int, held: dict[str, int]
     ) -> None:
+        from shared.text.counted import counted  # it imports this module
+
         kept = ", ".join(f"{key} ({n} left)" for key, n in held.items())
         stopped = (
             f"a bridge came alive in namespace {namespace!r} during the replay: "
-            f"it stopped after {sent} of {total} messages, holding back the "
+            f"it stopped after {sent} of {counted(total, 'message')}, holding back "
+            "the "
         )
         super().__init__(
             f"{stopped}recorded {kept} (a bridge with --follow would move the "

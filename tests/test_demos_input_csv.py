@@ -155,7 +155,7 @@ def test_empty_marker_cells_are_filled_and_the_cli_says_so(
     out = tmp_path / "gaps.mcap"
     assert import_cli(path, out) == 0
     captured = capsys.readouterr()
-    assert f"{out}: 1 subjects, 2 trials, 60 samples" in captured.out
+    assert f"{out}: 1 subject, 2 trials, 60 samples" in captured.out
     notes = captured.err.splitlines()
     assert notes == [
         f"armplan: note: {path}: trial 0: filled 1 of 30 frames where a marker "

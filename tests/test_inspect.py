@@ -143,7 +143,7 @@ def test_validate_reports_a_message_that_does_not_match_its_schema(
     assert main(["inspect", str(path)]) == 0  # without --validate: just counted
     assert main(["inspect", str(path), "--validate"]) == 1
     err = capsys.readouterr().err
-    assert "1 messages do not match their channel's schema" in err
+    assert "1 message does not match its channel's schema" in err
     assert "armplan/bridge/state (JointState): joint_names: Field required" in err
 
 
@@ -244,7 +244,7 @@ def test_a_well_formed_foreign_recording_is_listed_not_read(tmp_path: Path) -> N
         row = next(line for line in out.stdout.splitlines() if "/chatter" in line)
         cells = ["std_msgs/String", "cdr", "2", "0.000", "0.000", "-", "2"]
         assert row.split()[2::2] == cells  # the last: not read
-        assert "not read: 2 messages on 1 channels that are not JSON: /chatter " in (
+        assert "not read: 2 messages on 1 channel that is not JSON: /chatter " in (
             out.stdout
         )
         assert "armplan replay refuses this file" in out.stdout
@@ -342,11 +342,11 @@ def test_a_message_that_is_not_json_is_counted_not_damage(
     path = _json_channel(tmp_path / "x.mcap", b'{"n": 1}', data, b'{"n": 3}')
     assert main(["inspect", str(path)]) == 0
     out = capsys.readouterr().out
-    assert f"{path}: 3 messages on 1 channels" in out and "damaged" not in out
+    assert f"{path}: 3 messages on 1 channel" in out and "damaged" not in out
     row = next(line for line in out.splitlines() if "armplan/misc/note" in line)
     assert row.split()[-1] == "1"  # not read
     said = "message 2 of the file (channel armplan/misc/note, log time 2 ns) " + why
-    assert "not read: 1 messages on JSON channels that are not JSON, e.g. " in out
+    assert "not read: 1 message on JSON channels that is not JSON, e.g. " in out
     assert said in " ".join(out.split())
     assert main(["inspect", str(path), "--validate"]) == 1
     assert "armplan/misc/note: " + why.removeprefix("is ") in capsys.readouterr().err
@@ -360,7 +360,7 @@ def test_a_channel_without_messages_is_listed(
     path = _mcap(tmp_path / "quiet.mcap", "json", 0)
     assert main(["inspect", str(path)]) == 0
     out = capsys.readouterr().out
-    assert f"{path}: 0 messages on 1 channels" in out
+    assert f"{path}: 0 messages on 1 channel," in out
     row = next(line for line in out.splitlines() if "armplan/bridge/state" in line)
     assert row.split()[2::2] == ["JointState", "0", "-", "-", "-"]
     assert main(["inspect", str(path), "--json"]) == 0
@@ -441,10 +441,11 @@ def test_text_not_utf8_in_a_record_is_not_called_a_message(
         "a record in it other than a message (its header, a channel, a schema, "
         "metadata, a chunk or an index) holds text that is not UTF-8"
     )
+    noun, those = {0: ("messages", "those"), 1: ("message", "that")}[readable]
     assert main(["inspect", str(path)]) == 1
     assert capsys.readouterr().err == (
-        f"armplan: error: {path} is damaged after {readable} readable messages: "
-        f"{said}; --recover (or recover=True) reads those messages\n"
+        f"armplan: error: {path} is damaged after {readable} readable {noun}: "
+        f"{said}; --recover (or recover=True) reads {those} {noun}\n"
     )
     assert main(["inspect", str(path), "--recover", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)

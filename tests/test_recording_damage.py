@@ -228,9 +228,9 @@ def test_a_message_that_is_not_json_is_named(
     with pytest.raises(RecordingError) as raised:
         list(read_records(path))
     assert raised.value.message == (
-        f"{path} is damaged after 1 readable messages: a message in it is not "
+        f"{path} is damaged after 1 readable message: a message in it is not "
         "UTF-8 JSON: message 2 of the file (channel armplan/misc/note, log time "
-        f"2 ns) {why}; --recover (or recover=True) reads those messages"
+        f"2 ns) {why}; --recover (or recover=True) reads that message"
     )
     assert [r.data for r in read_records(path, recover=True)] == [{"n": 1}]
     recording = Recording(path)

@@ -10,6 +10,7 @@ from armplan.demo.session import DemoResult
 from armplan.demo.task import Phase
 from shared.messages.hand import HandAction
 from shared.recording.reader import summarize
+from shared.text.counted import counted
 
 
 def summary_lines(result: DemoResult) -> list[str]:
@@ -73,7 +74,7 @@ def execution_lines(run: Execution) -> list[str]:
         f"trajectory: {trajectory.duration:.2f} s, {len(trajectory.times)} samples; "
         f"primitives {primitives}",
         *hand_lines(run),
-        f"played on {where} at {run.robot}: {reply.frames} frames at "
+        f"played on {where} at {run.robot}: {counted(reply.frames, 'frame')} at "
         f"{run.rate:g} fps after a {reply.approach_duration:.2f} s approach "
         "to the start posture",
     ]
@@ -140,4 +141,4 @@ FAILED_NOTE = " (FAILED: incomplete, without its summary; see the error below)"
 def _recording_note(path: Path) -> str:
     channels = summarize(path).channels
     count = sum(n for _, n, _, _ in channels.values())
-    return f" ({count} messages on {len(channels)} channels)"
+    return f" ({counted(count, 'message')} on {counted(len(channels), 'channel')})"

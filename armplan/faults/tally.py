@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from armplan.faults.outcome import Outcome, Result
+from shared.text.counted import counted
 
 
 @dataclass
@@ -148,7 +149,8 @@ def _recorder_unmet(facts: Mapping[str, Any]) -> list[str]:
         after = max(facts.get("planned_after", 1), 1)
         if facts["new_file"] < after:
             broken.append(
-                f"the new recorder's file holds {facts['new_file']} trajectories, "
+                "the new recorder's file holds "
+                f"{counted(facts['new_file'], 'trajectory', 'trajectories')}, "
                 f"not the {after} planned after the restart"
             )
     return broken

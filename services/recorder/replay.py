@@ -44,6 +44,7 @@ from shared.bus.config import DEFAULT_NAMESPACE
 from shared.errors import InvalidInputError, RecordingError
 from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
 from shared.recording.survey import Stamp, Survey
+from shared.text.counted import counted
 
 #: Encoding of the JSON messages of a recording that did not note theirs
 #: (made before the recorder noted it in the channel's metadata).
@@ -128,7 +129,7 @@ def _read(part: Part, first: int, by_receipt: bool) -> Iterator[ReplayItem]:
     if not part.damaged:  # a damaged file's prefix may read shorter here
         raise RecordingError(
             f"{part.path} changed while it was replayed: {read} of its "
-            f"{part.count} messages to send could be read again",
+            f"{counted(part.count, 'message')} to send could be read again",
             path=str(part.path),
             readable=read,
         )

@@ -42,6 +42,7 @@ from shared.bus.keys import alive_key
 from shared.bus.session import has_router_or_peer
 from shared.errors import RecordingError
 from shared.lifecycle import StartStop
+from shared.text.counted import counted
 
 NAME = "recorder"
 #: Period at which :meth:`Recorder.wait` checks the writer [s].
@@ -158,9 +159,9 @@ class Recorder(StartStop):
         else:
             log.warning(
                 "recorder: lost the router at %s; nothing is recorded until it "
-                "is back (%d messages so far)",
+                "is back (%s so far)",
                 endpoints,
-                self.sink.written,
+                counted(self.sink.written, "message"),
             )
 
     def stop(self) -> list[Path]:
@@ -185,8 +186,8 @@ class Recorder(StartStop):
         paths = self.sink.stop()
         derived = self.sink.derived
         log.info(
-            "recorder stopped: %d messages from the bus%s in %s%s",
-            self.sink.written,
+            "recorder stopped: %s from the bus%s in %s%s",
+            counted(self.sink.written, "message"),
             f" (and {derived} derived for Foxglove)" if derived else "",
             self.sink.files_note(),
             self.sink.behind_note(),
@@ -194,8 +195,9 @@ class Recorder(StartStop):
         if self.sink.error is not None:
             error = self.sink.error
             raise RecordingError(
-                f"{error.message}; recording stopped after {self.sink.written} "
-                f"messages; armplan inspect --recover {error.path} reads them "
+                f"{error.message}; recording stopped after "
+                f"{counted(self.sink.written, 'message')}; "
+                f"armplan inspect --recover {error.path} reads them "
                 "(the file lacks its summary)",
                 path=error.path,
                 readable=self.sink.written,

@@ -48,6 +48,7 @@ from shared.recording.metadata import ARMPLAN_METADATA
 from shared.recording.raw_payload import ZENOH_ENCODING, RawPayload
 from shared.recording.rotation import RotatingWriter, parts_named
 from shared.recording.writer import MessageWriter
+from shared.text.counted import counted
 
 log = logging.getLogger("armplan.recorder")
 #: Longest wait for the writer thread to write the queue out when stopping [s].
@@ -160,7 +161,7 @@ class RecordingSink:
         keep = self.options.rotation.keep_parts
         return (
             f"{self._files.started} parts, the newest {len(paths)} kept: {files} "
-            f"({pruned} older part{'s' if pruned != 1 else ''} removed, "
+            f"({counted(pruned, 'older part')} removed, "
             f"--keep-parts {keep})"
         )
 
@@ -198,7 +199,7 @@ class RecordingSink:
         """``"; the writer fell behind: ..."`` with what it cost, or ``""``."""
         lost = []
         if self.dropped:
-            lost.append(f"{self.dropped} samples dropped")
+            lost.append(f"{counted(self.dropped, 'sample')} dropped")
         if self.shed:
             lost.append(f"{self.shed} written without Foxglove poses")
         return f"; the writer fell behind: {', '.join(lost)}" if lost else ""
@@ -211,7 +212,8 @@ class RecordingSink:
             if self._dropping and self._backlog < self._max_backlog // 2:
                 self._dropping = False
                 log.warning(
-                    "recorder: caught up; %d samples dropped so far", self.dropped
+                    "recorder: caught up; %s dropped so far",
+                    counted(self.dropped, "sample"),
                 )
         if behind != self._shedding:
             self._shedding = behind
@@ -223,9 +225,8 @@ class RecordingSink:
                 )
             else:
                 log.warning(
-                    "recorder: caught up; %d samples written without Foxglove "
-                    "poses so far",
-                    self.shed,
+                    "recorder: caught up; %s written without Foxglove poses so far",
+                    counted(self.shed, "sample"),
                 )
         return behind
 
@@ -243,7 +244,7 @@ class RecordingSink:
                 self._fail(
                     RecordingError(
                         f"the writer was still busy {timeout:.0f} s after the stop, "
-                        f"about {self._queue.qsize()} messages unwritten",
+                        f"about {counted(self._queue.qsize(), 'message')} unwritten",
                         path=str(self.paths[-1]),
                     )
                 )
@@ -266,7 +267,9 @@ class RecordingSink:
         if self.error is None:
             self.error = error
             log.error(
-                "recorder: %s; stopped after %d messages", error.message, self.written
+                "recorder: %s; stopped after %s",
+                error.message,
+                counted(self.written, "message"),
             )
         self.broken.set()
 

@@ -33,6 +33,7 @@ from shared.output_paths import check_output_file, replaced_when_done
 from shared.recording import MessageWriter
 from shared.recording.reader import Recording
 from shared.robot.side import Side
+from shared.text.counted import agreeing
 
 SUBJECT_TOPIC = "demo/subject"
 SAMPLE_TOPIC = "demo/sample"
@@ -236,7 +237,8 @@ def _read_one(path: Path) -> tuple[DemoSet, bool]:
             )
         raise DemoFileError(
             str(path),
-            f"truncated or damaged after {recording.count} readable messages "
+            f"truncated or damaged after {recording.count} readable "
+            f"{agreeing(recording.count, 'message')} "
             f"({recording.damage})",
             readable=recording.count,
         )

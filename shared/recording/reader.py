@@ -15,6 +15,7 @@ from mcap.stream_reader import CRCValidationError, StreamReader
 from shared.errors import RecordingError
 from shared.printable import printable
 from shared.recording.rotation import numbered_parts
+from shared.text.counted import agreeing, counted
 
 #: What each kind of damage means, for messages (``describe_damage``).
 TRUNCATED = (
@@ -359,15 +360,18 @@ class Recording:
             )
         if self.damage == CHANGED:  # found at the end: which message, unknown
             return RecordingError(
-                f"{self.path}: {CHANGED}, somewhere in its {self.count} messages "
+                f"{self.path}: {CHANGED}, somewhere in its "
+                f"{counted(self.count, 'message')} "
                 "(which cannot be told); --recover (or recover=True) reads them "
                 "all, the changed bytes included",
                 path=str(self.path),
                 readable=self.count,
             )
         return RecordingError(
-            f"{self.path} is damaged after {self.count} readable messages: "
-            f"{self.damage}; --recover (or recover=True) reads those messages",
+            f"{self.path} is damaged after {self.count} readable "
+            f"{agreeing(self.count, 'message')}: {self.damage}; --recover (or "
+            f"recover=True) reads {agreeing(self.count, 'that', 'those')} "
+            f"{agreeing(self.count, 'message')}",
             path=str(self.path),
             readable=self.count,
         )

@@ -42,6 +42,7 @@ from armplan.cli.remote import add_remote, is_remote
 from shared.errors import DemoFileError, InvalidInputError
 from shared.messages.base import unit_direction
 from shared.output_paths import check_output_file
+from shared.text.counted import agreeing, counted
 
 if TYPE_CHECKING:
     from services.decide.grid_table import DemoRow, LeftOut
@@ -413,7 +414,9 @@ def _demo_table(path: str | None, arm: str) -> tuple[list[DemoRow], LeftOut | No
         held = " and ".join(s.value for s in present)
         raise DemoFileError(
             path,
-            f"its {len(demos.trials)} reaches are of the {held} arm, none of the "
+            f"its {counted(len(demos.trials), 'reach', 'reaches')} "
+            f"{agreeing(len(demos.trials), 'is', 'are')} of the {held} arm, "
+            "none of the "
             f"{side.value} arm the table is for (--arm {side.value})",
             arms=[s.value for s in present],
             arm=side.value,
@@ -422,7 +425,8 @@ def _demo_table(path: str | None, arm: str) -> tuple[list[DemoRow], LeftOut | No
     if left.total == left.of:
         raise DemoFileError(
             path,
-            f"none of its {left.of} reaches can enter the grid table: "
+            f"none of its {counted(left.of, 'reach', 'reaches')} can enter the "
+            "grid table: "
             f"{left.describe()}; --demos needs labelled reaches on the 16 grid "
             "points (as armplan demos synth writes)",
             no_point=left.no_point,

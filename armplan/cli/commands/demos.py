@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_json
 from shared.errors import DemoFileError, InvalidInputError
+from shared.text.counted import counted
 
 if TYPE_CHECKING:
     from shared.demos import Subject, Trial
@@ -117,8 +118,8 @@ def run_synth(args: argparse.Namespace) -> int:
     demos = synthesize(args.seed, subjects=args.subjects, trials=args.trials)
     count = write_demos(args.output, demos, source=f"{SYNTHETIC}{args.seed}")
     sys.stdout.write(
-        f"{args.output}: {len(demos.subjects)} subjects, {len(demos.trials)} "
-        f"trials, {count} samples (seed {args.seed})\n"
+        f"{args.output}: {counted(len(demos.subjects), 'subject')}, "
+        f"{counted(len(demos.trials), 'trial')}, {count} samples (seed {args.seed})\n"
     )
     return 0
 
@@ -165,7 +166,8 @@ def run_import(args: argparse.Namespace) -> int:
         args.output, DemoSet(subjects, trials), source=", ".join(args.files)
     )
     sys.stdout.write(
-        f"{args.output}: {len(subjects)} subjects, {len(trials)} trials, "
+        f"{args.output}: {counted(len(subjects), 'subject')}, "
+        f"{counted(len(trials), 'trial')}, "
         f"{count} samples, retargeted to NAO's {markers.arm.value} arm\n"
     )
     return 0
@@ -275,7 +277,8 @@ def run_info(args: argparse.Namespace) -> int:
         print_json(summary)
         return 0
     sys.stdout.write(
-        f"{len(demos.subjects)} subjects, {len(demos.trials)} trials, "
+        f"{counted(len(demos.subjects), 'subject')}, "
+        f"{counted(len(demos.trials), 'trial')}, "
         f"{demos.samples} samples\n"
     )
     print_table(("primitive label", "samples"), labels.most_common())

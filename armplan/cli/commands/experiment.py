@@ -48,6 +48,7 @@ from armplan.cli.parsing import (
 )
 from shared.errors import InvalidInputError
 from shared.output_paths import check_output_folder
+from shared.text.counted import counted
 
 ORDER = 70
 HELP = (
@@ -353,7 +354,8 @@ def _demos(args: argparse.Namespace) -> tuple[Any, str]:
     )
     return (
         demos,
-        f"synthetic, seed {args.seed}, {args.subjects} subjects, {args.trials} trials",
+        f"synthetic, seed {args.seed}, {counted(args.subjects, 'subject')}, "
+        f"{counted(args.trials, 'trial')}",
     )
 
 

@@ -13,6 +13,7 @@ from shared.input_files import read_at_most
 from shared.messages import Trajectory, parse
 from shared.messages.base import MAX_RATE, MIN_RATE
 from shared.output_paths import check_output_file
+from shared.text.counted import counted
 
 ORDER = 60
 HELP = "write a trajectory as a Choregraphe behavior (.xar) or Python script"
@@ -121,7 +122,8 @@ def run(args: argparse.Namespace) -> int:
         print_json(summary)
     else:
         print(
-            f"wrote {path}: {summary['frames']} frames at {frames.rate:g} fps "
+            f"wrote {path}: {counted(len(frames.times), 'frame')} "
+            f"at {frames.rate:g} fps "
             f"({frames.duration:.3f} s, {summary['arm']} arm)"
         )
     return 0

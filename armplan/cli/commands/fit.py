@@ -49,6 +49,7 @@ from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
 from armplan.cli.remote import add_remote, is_remote
 from shared.errors import InvalidInputError, RequestTimeoutError
+from shared.text.counted import counted
 
 ORDER = 40
 #: How long ``--remote`` waits for the fit service's fit by default [s].
@@ -253,7 +254,7 @@ def _print_served(model: Any, json: bool, *, fitted: bool) -> None:
     sys.stdout.write(
         f"{what} model {digest(model)}: {model.samples} samples of "
         f"{', '.join(model.sources) or 'no named file'} "
-        f"({len(model.subjects)} subjects; primitives "
+        f"({counted(len(model.subjects), 'subject')}; primitives "
         f"{', '.join(model.primitives)}; {model.bins} states per variable)\n"
     )
 
@@ -281,7 +282,8 @@ def _check_decidable(model: Any, args: argparse.Namespace) -> None:
 def _split(names: list[str], hold_out: int) -> tuple[list[str], list[str]]:
     if not 0 <= hold_out < len(names):
         raise InvalidInputError(
-            f"--hold-out must be 0..{len(names) - 1} ({len(names)} subjects), "
+            f"--hold-out must be 0..{len(names) - 1} "
+            f"({counted(len(names), 'subject')}), "
             f"got {hold_out}",
             field="hold_out",
         )
@@ -363,9 +365,9 @@ def _print(
 
     console.print("network arrows: " + "; ".join(describe()))
     console.print(
-        f"network: {len(model.primitives)} primitives "
+        f"network: {counted(len(model.primitives), 'primitive')} "
         f"({', '.join(model.primitives)}), {model.bins} states per variable; "
-        f"fitted on {len(model.subjects)} subjects; written to {output}"
+        f"fitted on {counted(len(model.subjects), 'subject')}; written to {output}"
     )
     console.print(_weights_line(model.weights))
     if agreement is not None:

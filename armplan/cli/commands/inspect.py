@@ -27,6 +27,7 @@ from shared.errors import RecordingError
 from shared.printable import printable, printable_lines
 from shared.recording.inventory import ChannelStats, Inventory, take_inventory
 from shared.recording.reader import CHANGED, JSON
+from shared.text.counted import agreeing, counted
 
 ORDER = 92
 HELP = "show a recording's channels, message counts and time range"
@@ -74,8 +75,10 @@ def _invalid(inventory: Inventory) -> RecordingError | None:
     if not invalid:
         return None
     return RecordingError(
-        f"{inventory.path}: {invalid} messages do not match their channel's "
-        f"schema, e.g. {inventory.problems[0]}",
+        f"{inventory.path}: {counted(invalid, 'message')} "
+        f"{agreeing(invalid, 'does', 'do')} not match "
+        f"{agreeing(invalid, 'its', 'their')} channel's schema, "
+        f"e.g. {inventory.problems[0]}",
         path=str(inventory.path),
     )
 
@@ -130,8 +133,10 @@ def _print(inventory: Inventory, validate: bool) -> None:
     span = 0.0 if first is None or last is None else (last - first) / 1e9
     namespace = inventory.metadata.get("armplan", {}).get("namespace", "-")
     console.print(
-        f"[bold]{_text(str(inventory.path))}[/bold]: {inventory.count} messages "
-        f"on {len(inventory.channels)} channels, namespace {_text(namespace)}\n"
+        f"[bold]{_text(str(inventory.path))}[/bold]: "
+        f"{counted(inventory.count, 'message')} on "
+        f"{counted(len(inventory.channels), 'channel')}, "
+        f"namespace {_text(namespace)}\n"
         f"from {_clock(first)} to {_clock(last)} ({span:.3f} s)"
     )
     console.print(_table(inventory, validate))
@@ -139,12 +144,15 @@ def _print(inventory: Inventory, validate: bool) -> None:
         console.print(f"[yellow]{_text(note)}[/yellow]")
     if inventory.damage == CHANGED:
         console.print(
-            f"[yellow]{escape(CHANGED)}, somewhere in these {inventory.count} "
-            "messages (which cannot be told): shown with the changed bytes[/yellow]"
+            f"[yellow]{escape(CHANGED)}, somewhere in "
+            f"{agreeing(inventory.count, 'this', 'these')} "
+            f"{counted(inventory.count, 'message')} (which cannot be told): "
+            "shown with the changed bytes[/yellow]"
         )
     elif inventory.damage is not None:
         console.print(
-            f"[yellow]damaged after {inventory.count} readable messages "
+            f"[yellow]damaged after {inventory.count} readable "
+            f"{agreeing(inventory.count, 'message')} "
             f"({_text(inventory.damage)}); shown: the readable prefix[/yellow]"
         )
 
@@ -162,7 +170,9 @@ def _unread_notes(inventory: Inventory) -> list[str]:
         which = ", ".join(f"{c.topic} ({c.encoding or '(none)'})" for c in foreign)
         count = sum(c.count for c in foreign)
         notes.append(
-            f"not read: {count} messages on {len(foreign)} channels that are not "
+            f"not read: {counted(count, 'message')} on "
+            f"{counted(len(foreign), 'channel')} that "
+            f"{agreeing(len(foreign), 'is', 'are')} not "
             f"JSON: {which}; armplan reads JSON messages only, and armplan "
             "replay refuses this file"
         )
@@ -170,7 +180,8 @@ def _unread_notes(inventory: Inventory) -> list[str]:
     if unread:
         count = sum(c.unread for c in unread)
         notes.append(
-            f"not read: {count} messages on JSON channels that are not JSON, "
+            f"not read: {counted(count, 'message')} on JSON channels that "
+            f"{agreeing(count, 'is', 'are')} not JSON, "
             f"e.g. {inventory.unread[0]}; {_replayed(unread)}"
         )
     return notes

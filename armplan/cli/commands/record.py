@@ -26,6 +26,7 @@ from shared.bus.login import check_login
 from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
+from shared.text.counted import counted
 
 ORDER = 90
 HELP = "record Zenoh key expressions to an MCAP file until Ctrl-C"
@@ -75,5 +76,5 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser | None = None)
     files = sink.files_note()
     extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
     note = sink.behind_note()
-    say(f"armplan record: {sink.written} messages{extra} in {files}{note}")
+    say(f"armplan record: {counted(sink.written, 'message')}{extra} in {files}{note}")
     return 0

@@ -58,6 +58,7 @@ from shared.errors import (
     ServiceUnavailableError,
 )
 from shared.stop_signals import stop_on_signals
+from shared.text.counted import counted
 
 ORDER = 91
 HELP = "publish a recording's messages again over Zenoh with their timing"
@@ -222,7 +223,7 @@ def run(args: argparse.Namespace) -> int:
         else ""
     )
     sys.stdout.write(
-        f"armplan replay: sent {stats.sent} of {len(items)} messages in "
+        f"armplan replay: sent {stats.sent} of {counted(len(items), 'message')} in "
         f"{stats.duration:.3f} s (speed {args.speed:g}, at most "
         f"{stats.late * 1000:.1f} ms late){dropped}{_offline(offline, items)}\n"
     )
@@ -237,8 +238,8 @@ def run(args: argparse.Namespace) -> int:
         )
         raise ServiceUnavailableError(
             "router",
-            reason=f"{why}: {offline} of {len(items)} messages went out while no "
-            "router or peer was connected, and reached nobody",
+            reason=f"{why}: {offline} of {counted(len(items), 'message')} went "
+            "out while no router or peer was connected, and reached nobody",
         )
     return 0
 
@@ -294,7 +295,7 @@ def _send(
         stats = replay(items, publish, speed=speed, stop=stop)
     except RecordingError:  # a message found bad only when read to be sent
         sys.stdout.write(
-            f"armplan replay: sent {sent} of {len(items)} messages, then "
+            f"armplan replay: sent {sent} of {counted(len(items), 'message')}, then "
             f"stopped at a message it could not read{_offline(offline, items)}\n"
         )
         if sent:
@@ -317,8 +318,9 @@ def _halted(
     """
     namespace = bus.config.namespace
     sys.stdout.write(
-        f"armplan replay: sent {sent} of {len(items)} messages, then stopped: a "
-        f"bridge came alive in namespace {namespace!r}{_offline(offline, items)}\n"
+        f"armplan replay: sent {sent} of {counted(len(items), 'message')}, then "
+        f"stopped: a bridge came alive in namespace {namespace!r}"
+        f"{_offline(offline, items)}\n"
     )
     if sent:
         time.sleep(LINGER)  # see LINGER
@@ -388,8 +390,8 @@ def _offline(offline: int, items: Replay) -> str:
     if not offline:
         return ""
     return (
-        f"; {offline} of {len(items)} messages went out while no router or peer "
-        "was connected"
+        f"; {offline} of {counted(len(items), 'message')} went out while no "
+        "router or peer was connected"
     )
 
 
