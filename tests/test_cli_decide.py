@@ -256,7 +256,7 @@ def test_a_wrist_path_starts_at_its_first_sample(
     path = tmp_path / "one.csv"
     path.write_text("t,x,y,z\n0,0.15,-0.1,0.1\n")
     assert main(["decide", "--wrist-path", str(path)]) == 0
-    assert "1 points; wrist 0.000 mm from the goal" in capsys.readouterr().out
+    assert "1 point; wrist 0.000 mm from the goal" in capsys.readouterr().out
     assert main(["decide", "--wrist-path", str(path), "--duration", "1"]) == 1
     assert "--wrist-path keeps its own times" in capsys.readouterr().err
 

@@ -31,7 +31,7 @@ def test_the_benchmark_reports_every_load_beside_in_process() -> None:
     rows = result.table()
     assert [row[0] for row in rows] == [
         "in-process",
-        "services, 1 clients",
+        "services, 1 client",
         "services, 2 clients",
     ]
     assert np.all(np.isfinite(np.array([row[1:] for row in rows])))

@@ -15,6 +15,7 @@ from typing import Any
 
 from armplan.bench.service_latency import PER_CLIENT
 from armplan.cli.output import print_table
+from shared.text.counted import counted
 
 #: The bars the issues set [ms]: a one-second reach planned in-process, and
 #: through the services on loopback (p50).
@@ -126,7 +127,8 @@ def print_services(f: Figures, clients: list[int]) -> None:
         _service_row("in-process", "in_process", f)
     ]
     rows += [
-        _service_row(f"services, {k} clients", f"services_{k}", f) for k in clients
+        _service_row(f"services, {counted(k, 'client')}", f"services_{k}", f)
+        for k in clients
     ]
     _table(
         ("plans", "p50 [ms]", "p99 [ms]", "plans/s", "p50 / in-process p50"),

@@ -41,6 +41,7 @@ from shared.bus.routes import PLAN
 from shared.demos.nao_grid import nao_grid
 from shared.messages import PlanRequest
 from shared.robot import Side
+from shared.text.counted import counted
 
 #: Concurrent clients measured by default.
 CLIENTS = (1, 8, 50)
@@ -106,7 +107,7 @@ class ServiceLatency(NamedTuple):
         rows = [("in-process", *_ms(ours), 1.0 / ours.mean, 1.0)]
         rows += [
             (
-                f"services, {x.clients} clients",
+                f"services, {counted(x.clients, 'client')}",
                 *_ms(x.latency),
                 x.per_second,
                 self.ratio(x),
@@ -131,7 +132,9 @@ class ServiceLatency(NamedTuple):
             "cpus": float(os.cpu_count() or 0),
         }
         for what, p50, p99, rate, ratio in self.table():
-            name = what.replace("services, ", "services_").replace(" clients", "")
+            # "services, 8 clients" / "services, 1 client" -> services_8 / _1
+            name = what.replace("services, ", "services_")
+            name = name.removesuffix(" clients").removesuffix(" client")
             name = name.replace("-", "_")
             out |= {
                 f"{name}_plans": float(self._plans(what)),

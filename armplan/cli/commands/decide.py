@@ -329,7 +329,8 @@ def _print_runs(decision: Any, wrist_end: np.ndarray, positions: np.ndarray) -> 
     print_table(("primitive", "from [s]", "to [s]", "points"), rows)
     error = float(np.linalg.norm(wrist_end - positions[-1]))
     sys.stdout.write(
-        f"{len(decision.times)} points; wrist {error * 1000:.3f} mm from the goal "
+        f"{counted(len(decision.times), 'point')}; "
+        f"wrist {error * 1000:.3f} mm from the goal "
         "at the end\n"
     )
 
