@@ -12,6 +12,8 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from shared.text.counted import counted
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -459,8 +461,6 @@ class BridgeAppearedError(ArmplanError):
     def __init__(
         self, *, namespace: str, sent: int, total: int, held: dict[str, int]
     ) -> None:
-        from shared.text.counted import counted  # it imports this module
-
         kept = ", ".join(f"{key} ({n} left)" for key, n in held.items())
         stopped = (
             f"a bridge came alive in namespace {namespace!r} during the replay: "
