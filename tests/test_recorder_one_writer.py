@@ -112,7 +112,8 @@ def test_overwrite_refuses_the_parts_a_rotating_recorder_writes(
     finally:
         paths = first.stop()
     assert code == 1, stderr
-    assert stderr.startswith(
+    error = stderr[stderr.find("armplan: error:") :]  # after the size's warning
+    assert error.startswith(
         f"armplan: error: {part_path(out, 1)} is being written by another recorder"
     ), stderr
     assert len(paths) > 3
