@@ -16,7 +16,7 @@ from shared.bus.zenoh_config import client_config
 from shared.errors import BusConfigError
 
 #: Commands that join a running system, and whether they take --namespace.
-JOINING = {"stop": True, "status": False, "record": True, "replay": True}
+JOINING = {"stop": True, "status": True, "record": True, "replay": True}
 
 
 @pytest.mark.parametrize("command", sorted(JOINING))

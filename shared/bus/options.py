@@ -1,9 +1,13 @@
 """The command-line options that say which router and namespace to use.
 
 Shared by the commands that join a running system (``armplan stop``,
-``status``, ``record``, ``replay``, ``python -m services.recorder``) and those
-that start one (``armplan up``, ``demo``: ``--config`` only), so each option
-reads and behaves the same everywhere.
+``status``, ``record``, ``replay``, ``python -m services.recorder``, the
+service processes ``python -m services.<name>`` and ``python -m
+bridge.serve``), the client commands' ``--remote`` options
+(``armplan.cli.remote``: ``--namespace`` and :func:`with_namespace`) and
+those that start one (``armplan up``: ``--config`` and ``--namespace``;
+``demo``: ``--config`` only), so each option reads and behaves the same
+everywhere.
 """
 
 from __future__ import annotations
@@ -40,7 +44,14 @@ def add_connect_options(
         help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
     )
     if namespace_help is not None:
-        parser.add_argument("--namespace", metavar="NS", help=namespace_help)
+        add_namespace_option(parser, namespace_help)
+
+
+def add_namespace_option(
+    parser: argparse.ArgumentParser, help_text: str = NAMESPACE_HELP
+) -> None:
+    """``--namespace NS``: the key namespace instead of the config's."""
+    parser.add_argument("--namespace", metavar="NS", help=help_text)
 
 
 def bus_config(args: argparse.Namespace) -> BusConfig:
@@ -50,9 +61,20 @@ def bus_config(args: argparse.Namespace) -> BusConfig:
         BusConfigError: if the file, an endpoint or the namespace is malformed.
     """
     config = load_config(args.config, tuple(args.connect or ()))
-    namespace = getattr(args, "namespace", None)
-    if namespace is not None:  # the source stays the file (its checks, --config)
-        config = dataclasses.replace(
-            config, namespace=namespace, namespace_from="--namespace"
-        )
-    return config
+    return with_namespace(config, getattr(args, "namespace", None))
+
+
+def with_namespace(config: BusConfig, namespace: str | None) -> BusConfig:
+    """``config`` with the namespace of ``--namespace``; unchanged for ``None``.
+
+    The source stays the file (its checks, the ``--config`` a child gets);
+    ``namespace_from`` names the option, so an error names both.
+
+    Raises:
+        BusConfigError: if ``namespace`` is malformed (e.g. ``lab/*``).
+    """
+    if namespace is None:
+        return config
+    return dataclasses.replace(
+        config, namespace=namespace, namespace_from="--namespace"
+    )

@@ -1,8 +1,10 @@
 """``armplan status``: which services are alive on the router.
 
-``--json`` prints one document: ``router``, ``namespace`` and ``services``,
-each ``{"service", "state", "keys"}`` with ``keys`` a list of the key
-expressions it answers (``[]`` for none); docs/services.md has the fields.
+``--namespace NS`` asks about another namespace than the config's (two
+systems sharing one router). ``--json`` prints one document: ``router``,
+``namespace`` and ``services``, each ``{"service", "state", "keys"}`` with
+``keys`` a list of the key expressions it answers (``[]`` for none);
+docs/services.md has the fields.
 Without a router it is the same document, every service absent, with the
 error added.
 """
@@ -32,7 +34,11 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     """Register ``status``."""
     parser = commands.add_parser("status", help=HELP, description=HELP)
     add_config_option(parser)
-    add_connect_options(parser, namespace_help=None)
+    add_connect_options(
+        parser,
+        namespace_help="list the services alive in this key namespace "
+        "(default: the config's, armplan)",
+    )
     parser.add_argument(
         "--require",
         nargs="+",
