@@ -4,7 +4,9 @@
 computing it in-process; ``--connect tcp/HOST:PORT`` says where the router is
 (and implies ``--remote``); ``--zenoh-config FILE`` names the armplan Zenoh
 configuration (namespace, limits; default ``config/zenoh.json5``) and also
-implies ``--remote``: it configures only the connection to the services.
+implies ``--remote``: it configures only the connection to the services;
+``--namespace NS`` asks the services of namespace ``NS`` instead of the
+config's (``armplan up --namespace NS``) and implies ``--remote`` too.
 """
 
 from __future__ import annotations
@@ -12,10 +14,11 @@ from __future__ import annotations
 import argparse
 
 from shared.bus import DEFAULT_ENDPOINT, Bus, load_config
+from shared.bus.options import add_namespace_option, with_namespace
 
 
 def add_remote(parser: argparse.ArgumentParser) -> None:
-    """Add ``--remote``, ``--connect`` and ``--zenoh-config`` to ``parser``."""
+    """Add ``--remote``, ``--connect``, ``--zenoh-config`` and ``--namespace``."""
     parser.add_argument(
         "--remote",
         action="store_true",
@@ -32,11 +35,18 @@ def add_remote(parser: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="armplan Zenoh config (JSON5), implies --remote",
     )
+    add_namespace_option(
+        parser,
+        "key namespace of the services, implies --remote (default: the "
+        "config's, armplan)",
+    )
 
 
 def is_remote(args: argparse.Namespace) -> bool:
-    """Whether the command should go to the services (``--zenoh-config`` too)."""
-    return bool(args.remote or args.connect or args.zenoh_config)
+    """Whether the command goes to the services (``--namespace`` too)."""
+    return bool(
+        args.remote or args.connect or args.zenoh_config or args.namespace is not None
+    )
 
 
 def connect(args: argparse.Namespace) -> Bus:
@@ -44,7 +54,7 @@ def connect(args: argparse.Namespace) -> Bus:
 
     Raises:
         ServiceUnavailableError: if no router answers there.
-        BusConfigError: if the configuration or endpoint is malformed.
+        BusConfigError: if the configuration, endpoint or namespace is malformed.
     """
     config = load_config(args.zenoh_config, tuple(args.connect or ()))
-    return Bus.connect(config)
+    return Bus.connect(with_namespace(config, args.namespace))
