@@ -1,7 +1,8 @@
 """``python -m bridge.serve``: the robot bridge as a Zenoh service process.
 
 Usage: ``python -m bridge.serve [--robot tcp://IP:9559] [--follow]
-[--config FILE] [--connect tcp/HOST:PORT] [--rate HZ] [--allow-not-awake]``.
+[--config FILE] [--connect tcp/HOST:PORT] [--namespace NS] [--rate HZ]
+[--allow-not-awake]``.
 
 It connects to the router (waiting up to ``--wait`` seconds), answers
 ``<ns>/bridge/execute`` and ``<ns>/bridge/stop`` (the operator's stop:
@@ -37,8 +38,9 @@ from bridge.frames import DEFAULT_RATE, check_rate
 from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
-from shared.bus import Bus, ServiceHost, load_config
+from shared.bus import Bus, ServiceHost
 from shared.bus.login import check_login
+from shared.bus.options import add_connect_options, bus_config
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.robot_routes import BRIDGE
 from shared.errors import ArmplanError, ServiceUnavailableError
@@ -53,12 +55,7 @@ def parser() -> argparse.ArgumentParser:
         description="The armplan robot bridge on Zenoh.",
     )
     add_common_arguments(p)
-    p.add_argument(
-        "--connect",
-        action="append",
-        metavar="ENDPOINT",
-        help="router endpoint, e.g. tcp/127.0.0.1:7447 (default: the config's)",
-    )
+    add_connect_options(p)
     p.add_argument(
         "--wait",
         type=float,
@@ -95,7 +92,7 @@ def run(args: argparse.Namespace) -> None:
     stop = start_process(args.log_level)
     check_rate(args.rate)
     url = robot_url(args.robot)
-    config = load_config(args.config, tuple(args.connect or ()))
+    config = bus_config(args)
     check_login(config, BRIDGE)  # another user's file: cut off, yet moving the robot
     with NaoqiClient(url) as client:  # at its end, waits for the stops
         try:

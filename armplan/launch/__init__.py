@@ -1,5 +1,6 @@
 """``armplan up``: start the router and every service, watch them, stop them all.
 
+- ``bus_args.py``: the arguments that put a child on the launcher's bus.
 - ``catalog.py``: which processes make up armplan and how each is started.
 - ``child.py``: one child process in its own process group, stopped for sure.
 - ``launcher.py``: start in order, wait for liveliness, stop in reverse order.

@@ -23,6 +23,7 @@ import time
 from collections.abc import Mapping, Sequence
 from typing import IO
 
+from armplan.launch.bus_args import bus_args
 from armplan.launch.catalog import (
     ROUTER_MODULE,
     SERVICES,
@@ -124,23 +125,20 @@ class Launcher(StartStop):
 
     def start_router(self) -> Child:
         """Start (or restart) the router on the configured endpoints; does not wait."""
-        args = [*self._args("--listen"), "--id", self.router_id]
+        args = [] if self.config.file is None else ["--config", self.config.file]
+        for endpoint in self.config.endpoints:
+            args += ["--listen", endpoint]
+        args += ["--id", self.router_id]
         self.router = Child.start("router", ROUTER_MODULE, args, self._log)
         return self.router
 
     def start_service(self, name: str) -> Child:
-        """Start (or restart) service ``name``; does not wait for it."""
+        """Start (or restart) service ``name`` in the namespace; does not wait."""
         spec = service_spec(name)
-        args = [*self._args("--connect"), *self._service_args.get(spec.name, ())]
+        args = [*bus_args(self.config), *self._service_args.get(spec.name, ())]
         child = Child.start(spec.name, spec.module, args, self._log)
         self.services[spec.name] = child
         return child
-
-    def _args(self, endpoint_option: str) -> list[str]:
-        args = [] if self.config.file is None else ["--config", self.config.file]
-        for endpoint in self.config.endpoints:
-            args += [endpoint_option, endpoint]
-        return args
 
     def _connect(self, timeout: float) -> Bus:
         """A session on this launcher's own router, once it answers.

@@ -25,6 +25,7 @@ import time
 from pathlib import Path
 from typing import IO, TYPE_CHECKING
 
+from armplan.launch.bus_args import bus_args
 from armplan.launch.catalog import BRIDGE
 from armplan.launch.child import Child, stop_all
 from shared.bus import Bus, BusConfig
@@ -167,10 +168,7 @@ class RobotStack(StartStop):
             raise RobotUnavailableError(self._sim_listen, str(error)) from None
 
     def _bridge_args(self) -> list[str]:
-        args = [] if self.config.file is None else ["--config", self.config.file]
-        for endpoint in self.config.endpoints:
-            args += ["--connect", endpoint]
-        args += ["--robot", self.url]
+        args = [*bus_args(self.config), "--robot", self.url]
         if self._allow_not_awake:
             args.append("--allow-not-awake")
         return [*args, "--follow"] if self._follow else args

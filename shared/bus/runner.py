@@ -1,12 +1,13 @@
 """The main function of every service process (``python -m services.<name>``).
 
-Usage: ``python -m services.ik [--config FILE] [--connect tcp/HOST:PORT]``.
-It connects to the router (waiting up to ``--wait`` seconds for it), serves
-the service's endpoints until SIGTERM or SIGINT (then runs its ``stopped``
-hook, before the session closes), and exits 0 (at once, also
-while it still waits for the router); it exits 1 with
-the error on stderr if the configuration is wrong (a login other than the
-service's own user included) or no router answers.
+Usage: ``python -m services.ik [--config FILE] [--connect tcp/HOST:PORT]
+[--namespace NS]``. It connects to the router (waiting up to ``--wait``
+seconds for it), serves the service's endpoints under the namespace (the
+config's, or ``--namespace``'s) until SIGTERM or SIGINT (then runs its
+``stopped`` hook, before the session closes), and exits 0 (at once, also
+while it still waits for the router); it exits 1 with the error on stderr
+if the configuration is wrong (a malformed ``--namespace``, a login other
+than the service's own user included) or no router answers.
 """
 
 from __future__ import annotations
@@ -18,8 +19,8 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from shared.bus.bus import Bus
-from shared.bus.config_file import load_config
 from shared.bus.login import check_login
+from shared.bus.options import add_connect_options, bus_config
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.route import Endpoint
 from shared.bus.service import ServiceHost
@@ -89,7 +90,7 @@ def serve(
         factory = (
             endpoints.endpoints(args) if isinstance(endpoints, Options) else endpoints
         )
-        config = load_config(args.config, tuple(args.connect or ()))
+        config = bus_config(args)
         check_login(config, name)
         with Bus.connect(config, wait=args.wait, stop=stop) as bus:
             built = factory(bus)
@@ -115,12 +116,7 @@ def _parser(name: str) -> argparse.ArgumentParser:
         description=f"The armplan {name} service on Zenoh.",
     )
     add_common_arguments(parser)
-    parser.add_argument(
-        "--connect",
-        action="append",
-        metavar="ENDPOINT",
-        help="router endpoint, e.g. tcp/127.0.0.1:7447 (default: the config's)",
-    )
+    add_connect_options(parser)
     parser.add_argument(
         "--wait",
         type=float,

@@ -1,4 +1,8 @@
-"""``armplan up``: start the router and every service; stop them all on a signal."""
+"""``armplan up``: start the router and every service; stop them all on a signal.
+
+``--namespace NS`` runs them all (services, bridge) under ``NS`` instead of
+the config's namespace, e.g. a second system on a router another one uses.
+"""
 
 from __future__ import annotations
 
@@ -14,7 +18,7 @@ from armplan.launch import SERVICES, Launcher
 from armplan.launch.robot import SIM_LISTEN, RobotStack
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.listen_clash import clashes
-from shared.bus.options import add_config_option
+from shared.bus.options import add_config_option, add_namespace_option, with_namespace
 from shared.bus.robot_routes import EXECUTE
 from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
@@ -36,6 +40,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         action="append",
         metavar="ENDPOINT",
         help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
+    )
+    add_namespace_option(
+        parser,
+        "key namespace of every process started (default: the config's, armplan)",
     )
     parser.add_argument(
         "--only",
@@ -97,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
         0, or ``EXITED_WHILE_RUNNING`` (1) if a child exited while running
         (reported then, not restarted), named on the last line.
     """
-    config = load_config(args.config)
+    config = with_namespace(load_config(args.config), args.namespace)
     check_unsecured(config, "up")  # the file's own endpoints, before --listen
     if args.listen:
         check_plain_listen(args.listen, "up")
