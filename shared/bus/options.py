@@ -30,12 +30,12 @@ def add_config_option(parser: argparse.ArgumentParser) -> None:
 
 
 def add_connect_options(
-    parser: argparse.ArgumentParser, namespace_help: str | None = NAMESPACE_HELP
+    parser: argparse.ArgumentParser, namespace_help: str = NAMESPACE_HELP
 ) -> None:
     """``--connect ENDPOINT`` (repeatable) and ``--namespace NS``.
 
-    ``--namespace`` is left out when ``namespace_help`` is None; ``--config``
-    is added apart (:func:`add_config_option`).
+    ``namespace_help`` is ``--namespace``'s help; ``--config`` is added
+    apart (:func:`add_config_option`).
     """
     parser.add_argument(
         "--connect",
@@ -43,8 +43,7 @@ def add_connect_options(
         metavar="ENDPOINT",
         help="router endpoint (default tcp/127.0.0.1:7447, from the config)",
     )
-    if namespace_help is not None:
-        add_namespace_option(parser, namespace_help)
+    add_namespace_option(parser, namespace_help)
 
 
 def add_namespace_option(
