@@ -206,11 +206,16 @@ def test_status_without_a_router_names_the_endpoint() -> None:
 
 
 def test_a_port_in_use_is_reported(tmp_path: pathlib.Path, busy_port: int) -> None:
-    """The router cannot listen: armplan up exits 1 naming the router."""
+    """The router cannot listen: armplan up exits 1 naming the router, and
+    points at its output above (on the terminal, there is no log file: it
+    said "see its log"), which says why."""
     out = armplan("up", "--listen", f"tcp/127.0.0.1:{busy_port}", "--only", "ik")
     assert out.returncode == 1
-    assert "service 'router' is unavailable" in out.stderr
-    assert "exited with code 1 while starting" in out.stderr
+    last = out.stderr.splitlines()[-1]
+    assert last.startswith("armplan: error: service 'router' is unavailable")
+    assert last.endswith("exited with code 1 while starting (see its output above)")
+    above = out.stderr[: out.stderr.index(last)]
+    assert "Address already in use" in above
 
 
 def test_a_second_up_on_the_same_port_fails_and_leaves_the_first_alone(

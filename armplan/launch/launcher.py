@@ -32,6 +32,7 @@ from armplan.launch.catalog import (
     service_specs,
 )
 from armplan.launch.child import Child, stop_all
+from armplan.launch.quoted_log import log_pointer
 from shared.bus import Bus, BusConfig
 from shared.errors import ServiceUnavailableError
 from shared.lifecycle import StartStop
@@ -211,7 +212,7 @@ class Launcher(StartStop):
                 raise ServiceUnavailableError(
                     child.name,
                     reason=f"its process exited with code {code} while starting "
-                    "(see its log)",
+                    f"{log_pointer(self._log)}",
                 )
 
     def children(self) -> list[Child]:

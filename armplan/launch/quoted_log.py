@@ -14,15 +14,27 @@ import contextlib
 import re
 from collections.abc import Iterator
 from pathlib import Path
+from typing import IO
 
 from shared.errors import ArmplanError, error_from_wire
 
 #: What a start failure says about its output (``Launcher``, ``RobotStack``).
 SEE_LOG = "(see its log)"
+#: The same when the output went to this process's stderr (``armplan up``):
+#: there is no log file, the output is on the terminal.
+SEE_ABOVE = "(see its output above)"
 #: The level word of an error line of armplan's logging.
 ERROR = " ERROR "
 #: Terminal colour codes (Zenoh's own log lines carry them).
 COLOURS = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def log_pointer(log: IO[str] | int | None) -> str:
+    """Where a start failure points for a child's output sent to ``log``.
+
+    :data:`SEE_ABOVE` for ``None`` (this process's stderr), else :data:`SEE_LOG`.
+    """
+    return SEE_ABOVE if log is None else SEE_LOG
 
 
 def last_words(path: Path) -> str:

@@ -28,6 +28,7 @@ from typing import IO, TYPE_CHECKING
 from armplan.launch.bus_args import bus_args
 from armplan.launch.catalog import BRIDGE
 from armplan.launch.child import Child, stop_all
+from armplan.launch.quoted_log import log_pointer
 from shared.bus import Bus, BusConfig
 from shared.errors import (
     InvalidInputError,
@@ -188,7 +189,7 @@ class RobotStack(StartStop):
             raise ServiceUnavailableError(
                 name,
                 reason=f"its process {pid} exited with code {code} while starting "
-                "(see its log)",
+                f"{log_pointer(self._log)}",
             )
 
     def processes(self) -> dict[str, int]:
