@@ -15,15 +15,16 @@ from shared.errors import InvalidInputError
 
 #: One key chunk: letters, digits, ``_`` and ``-`` (no wildcards, no ``$``).
 _CHUNK = r"[A-Za-z0-9_\-]+"
-_PATH = re.compile(rf"^{_CHUNK}(/{_CHUNK})*$")
-_NAME = re.compile(rf"^{_CHUNK}$")
+#: Matched whole (``fullmatch``): ``$`` would let a trailing newline through.
+_PATH = re.compile(rf"{_CHUNK}(/{_CHUNK})*")
+_NAME = re.compile(_CHUNK)
 #: The chunk under which liveliness tokens live.
 ALIVE = "alive"
 
 
 def check_path(path: str, what: str) -> str:
     """``path`` if it is plain chunks joined by ``/``; else ``InvalidInputError``."""
-    if not _PATH.match(path):
+    if not _PATH.fullmatch(path):
         raise InvalidInputError(
             f"{what} {path!r} must be chunks of letters, digits, '_' or '-' "
             "joined by '/', without wildcards",
@@ -34,7 +35,7 @@ def check_path(path: str, what: str) -> str:
 
 def check_name(name: str) -> str:
     """``name`` if it is a valid service name (one chunk, e.g. ``"ik"``)."""
-    if not _NAME.match(name):
+    if not _NAME.fullmatch(name):
         raise InvalidInputError(
             f"service name {name!r} must be one chunk of letters, digits, '_' or '-'",
             field="service",
