@@ -39,9 +39,9 @@ from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
 from shared.bus import Bus, ServiceHost
-from shared.bus.login import check_login
-from shared.bus.options import add_connect_options, bus_config
+from shared.bus.options import add_connect_options
 from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.process_config import process_config
 from shared.bus.robot_routes import BRIDGE
 from shared.errors import ArmplanError, ServiceUnavailableError
 
@@ -92,8 +92,8 @@ def run(args: argparse.Namespace) -> None:
     stop = start_process(args.log_level)
     check_rate(args.rate)
     url = robot_url(args.robot)
-    config = bus_config(args)
-    check_login(config, BRIDGE)  # another user's file: cut off, yet moving the robot
+    # another user's file, or another namespace: cut off, yet moving the robot
+    config = process_config(args, BRIDGE)
     with NaoqiClient(url) as client:  # at its end, waits for the stops
         try:
             bus = Bus.connect(config, wait=args.wait, stop=stop)

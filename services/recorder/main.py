@@ -29,9 +29,9 @@ from services.recorder.arguments import (
 )
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
-from shared.bus.login import check_login
-from shared.bus.options import add_connect_options, bus_config
+from shared.bus.options import add_connect_options
 from shared.bus.process import add_common_arguments, start_process
+from shared.bus.process_config import process_config
 from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.recorder")
@@ -48,8 +48,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     check_usage(parser, args)
     stop = start_process(args.log_level)
     try:
-        config = bus_config(args)
-        check_login(config, NAME)
+        config = process_config(args, NAME)
         options = options_from_args(args)
         with (
             Bus.connect(config, wait=args.wait, stop=stop) as bus,

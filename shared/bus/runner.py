@@ -19,9 +19,9 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from shared.bus.bus import Bus
-from shared.bus.login import check_login
-from shared.bus.options import add_connect_options, bus_config
+from shared.bus.options import add_connect_options
 from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.process_config import process_config
 from shared.bus.route import Endpoint
 from shared.bus.service import ServiceHost
 from shared.errors import ArmplanError, ServiceUnavailableError
@@ -90,8 +90,7 @@ def serve(
         factory = (
             endpoints.endpoints(args) if isinstance(endpoints, Options) else endpoints
         )
-        config = bus_config(args)
-        check_login(config, name)
+        config = process_config(args, name)
         with Bus.connect(config, wait=args.wait, stop=stop) as bus:
             built = factory(bus)
             served = built if isinstance(built, Served) else Served(built)

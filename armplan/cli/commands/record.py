@@ -22,8 +22,8 @@ from services.recorder.arguments import (
 )
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
-from shared.bus.login import check_login
-from shared.bus.options import add_config_option, add_connect_options, bus_config
+from shared.bus.options import add_config_option, add_connect_options
+from shared.bus.process_config import process_config
 from shared.errors import InvalidInputError
 from shared.stop_signals import stop_on_signals
 from shared.text.counted import counted
@@ -62,8 +62,7 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser | None = None)
             "(leave it out to record until Ctrl-C)",
             field="duration",
         )
-    config = bus_config(args)
-    check_login(config, NAME)
+    config = process_config(args, NAME)
     options = options_from_args(args)
     stop = stop_on_signals()
     with Bus.connect(config) as bus, Recorder(bus, options) as recorder:
