@@ -43,7 +43,7 @@ import zenoh
 
 from shared.bus.config import MAX_WAIT
 from shared.bus.deadline import budget_attachment
-from shared.bus.elsewhere import alive_elsewhere, elsewhere_hint
+from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, elsewhere_hint
 from shared.bus.keys import alive_key
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices
 from shared.bus.route import Rep, Route
@@ -110,7 +110,7 @@ def answered(
     key = route.key(namespace)
     start = time.monotonic()
     if not unseen and not alive.is_alive(route.service, min(QUERY_TIMEOUT, timeout)):
-        raise _absent(session, namespace, route)
+        raise _absent(session, namespace, route, start + timeout)
     repeatable = route.repeatable if repeat is None else repeat
     resend = resend_after if repeatable else None
     reply = _ask(session, key, encode(request), start + timeout, resend)
@@ -121,6 +121,7 @@ def answered(
             session,
             namespace,
             route,
+            start + timeout,
             "; the query was sent all the same: nothing answered",
         )
     if time.monotonic() - start >= 0.9 * timeout:
@@ -288,18 +289,26 @@ def _is_busy(reply: zenoh.Reply) -> bool:
 
 
 def _absent(
-    session: zenoh.Session, namespace: str, route: Route[Any, Any], then: str = ""
+    session: zenoh.Session,
+    namespace: str,
+    route: Route[Any, Any],
+    due: float,
+    then: str = "",
 ) -> ServiceUnavailableError:
     """The error for ``route``'s service without a token: why, and ``then``.
 
     Why: no router connection, or no token at its key; then (with a router)
-    the other namespaces where the service is alive, if any.
+    the other namespaces where the service is alive, if any, asked for only
+    until ``due`` (``time.monotonic()`` [s]), the call's own deadline: the
+    hint never makes a call late (a stage of the planner's, under its
+    caller's deadline), it is left out instead.
     """
     key = route.key(namespace)
     lost = _router_lost(session)
     if lost:
         return ServiceUnavailableError(route.service, key=key, reason=lost + then)
-    found = alive_elsewhere(session, namespace, [route.service])
+    left = min(HINT_TIMEOUT, due - time.monotonic())
+    found = alive_elsewhere(session, namespace, [route.service], left)
     return ServiceUnavailableError(
         route.service,
         key=key,
