@@ -10,15 +10,20 @@ gone. A real router and a real session holding ik's token elsewhere.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 
 import pytest
 from test_alive_elsewhere import OTHER, REQUEST, hold_token
+from test_planner_remote import PATH
 
 from armplan.launch import free_endpoint
+from services.planner.remote import RemoteStages
 from shared.bus import Bus, BusConfig, open_router
+from shared.bus.deadline import Due, serving_until
 from shared.bus.routes import IK_SOLVE
 from shared.errors import ServiceUnavailableError
+from shared.messages import PlanRequest
 
 #: A timeout already gone once the token has been looked for [s].
 SPENT = 1e-9
@@ -54,3 +59,22 @@ def test_a_spent_timeout_leaves_the_hint_out(
         bus.call(IK_SOLVE, REQUEST, timeout=SPENT)
     assert caught.value.elsewhere == {}
     assert "lab2/alive/ik" in caught.value.message
+
+
+def test_the_planners_check_keeps_the_hint_within_its_callers_time(
+    config: BusConfig, ik_elsewhere: None
+) -> None:
+    """The planner's check of the stages it needs asked the hint its whole
+    0.5 s whatever its caller had left; now only within that time (here
+    already gone: no hint), and the whole hint with no caller's deadline."""
+    request = PlanRequest(wrist_path=PATH, method="least-norm")  # needs ik only
+    with Bus.connect(config) as bus:
+        stages = RemoteStages(bus)
+        with pytest.raises(ServiceUnavailableError) as free:
+            stages.require(request)
+        gone = Due(at=time.monotonic() - 1.0, budget=1.0)
+        with serving_until(gone), pytest.raises(ServiceUnavailableError) as late:
+            stages.require(request)
+    assert free.value.elsewhere == {"ik": [OTHER]}
+    assert late.value.elsewhere == {}
+    assert "finds no liveliness token under lab2/alive/" in late.value.message

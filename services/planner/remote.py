@@ -22,7 +22,7 @@ from typing import Any
 
 from shared.bus import Bus, Route
 from shared.bus.deadline import REPLY_MARGIN, current_due
-from shared.bus.elsewhere import elsewhere_hint
+from shared.bus.elsewhere import HINT_TIMEOUT, elsewhere_hint
 from shared.bus.routes import DECIDE, IK_PATH, TIMING
 from shared.errors import ServiceUnavailableError
 from shared.messages import (
@@ -93,7 +93,9 @@ class RemoteStages:
         missing = [r for r in routes if not self._bus.is_alive(r.service)]
         if missing:
             names = ", ".join(repr(r.service) for r in missing)
-            elsewhere = self._bus.alive_elsewhere(r.service for r in missing)
+            elsewhere = self._bus.alive_elsewhere(
+                (r.service for r in missing), self._hint_time()
+            )
             raise ServiceUnavailableError(
                 missing[0].service,
                 key=missing[0].key(namespace),
@@ -102,6 +104,18 @@ class RemoteStages:
                 f"{elsewhere_hint(elsewhere)}",
                 elsewhere=elsewhere,
             )
+
+    def _hint_time(self) -> float:
+        """How long the "alive elsewhere" hint may take [s]: within the caller's time.
+
+        At most ``HINT_TIMEOUT``, and no longer than the caller of the query
+        being served has left, less :func:`stage_margin` (0: no hint).
+        """
+        due = current_due()
+        if due is None:
+            return HINT_TIMEOUT
+        left = due.at - time.monotonic() - stage_margin(due.budget)
+        return min(HINT_TIMEOUT, left)
 
     def decide(self, request: DecideRequest) -> Decision:
         return self._bus.call(DECIDE, request, timeout=self._wait())

@@ -18,7 +18,7 @@ import zenoh
 
 from shared.bus.caller import answered, join_forwarders, read_reply, service_timing
 from shared.bus.config import BusConfig
-from shared.bus.elsewhere import alive_elsewhere, not_alive_error
+from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, not_alive_error
 from shared.bus.keys import service_key
 from shared.bus.liveness import AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
@@ -181,13 +181,16 @@ class Bus(Closes):
                 return missing
             stop.wait(min(WAIT_POLL, max(deadline - time.monotonic(), 0.0)))
 
-    def alive_elsewhere(self, services: Iterable[str]) -> dict[str, list[str]]:
+    def alive_elsewhere(
+        self, services: Iterable[str], timeout: float = HINT_TIMEOUT
+    ) -> dict[str, list[str]]:
         """The other namespaces where each of ``services`` is alive (best effort).
 
-        One short liveliness query per service: ask only once a wait has
-        failed. See :mod:`shared.bus.elsewhere`.
+        One short liveliness query per service, all within ``timeout`` [s]
+        (none if it is 0 or less): ask only once a wait has failed. See
+        :mod:`shared.bus.elsewhere`.
         """
-        return alive_elsewhere(self.session, self.config.namespace, services)
+        return alive_elsewhere(self.session, self.config.namespace, services, timeout)
 
     def not_alive(
         self, missing: list[str], waited: float, note: str = ""
