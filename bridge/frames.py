@@ -82,7 +82,12 @@ def frames_from_trajectory(
     Returns:
         Frames 1..m at ``k / rate`` [s] with the trajectory's angles there
         [rad], and its first posture as the start (frame 0), held in
-        ``within`` as the frames are.
+        ``within`` as the frames are. A trajectory of one sample gives its
+        posture held for one frame: the planner makes one for a task with
+        nothing to move and no dwell (the arm stays where it starts,
+        docs/planning.md), so it is not refused here; a wrist path of one
+        sample, which made one far from the start, is refused where it is
+        read (``shared.messages.wrist_path.MIN_SAMPLES``).
     """
     times = frame_times(trajectory.duration, rate)
     start = np.asarray(trajectory.positions[0], dtype=float)

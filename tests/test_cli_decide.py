@@ -251,12 +251,17 @@ def test_a_palm_of_huge_parts_is_the_same_direction(
 def test_a_wrist_path_starts_at_its_first_sample(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """A one-sample path 21 cm from the resting wrist: the arm starts on it, as
-    ``armplan plan`` does (it once reported the wrist 212 mm from the goal)."""
-    path = tmp_path / "one.csv"
-    path.write_text("t,x,y,z\n0,0.15,-0.1,0.1\n")
+    """A still path 21 cm from the resting wrist: the arm starts on it, as
+    ``armplan plan`` does (it once reported the wrist 212 mm from the goal).
+    A path of one sample is refused, as by ``armplan plan``."""
+    path = tmp_path / "still.csv"
+    path.write_text("t,x,y,z\n0,0.15,-0.1,0.1\n0.01,0.15,-0.1,0.1\n")
     assert main(["decide", "--wrist-path", str(path)]) == 0
-    assert "1 point; wrist 0.000 mm from the goal" in capsys.readouterr().out
+    assert "2 points; wrist 0.000 mm from the goal" in capsys.readouterr().out
+    one = tmp_path / "one.csv"
+    one.write_text("t,x,y,z\n0,0.15,-0.1,0.1\n")
+    assert main(["decide", "--wrist-path", str(one)]) == 1
+    assert f"at least 2 samples, {one} has 1" in capsys.readouterr().err
     assert main(["decide", "--wrist-path", str(path), "--duration", "1"]) == 1
     assert "--wrist-path keeps its own times" in capsys.readouterr().err
 

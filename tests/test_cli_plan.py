@@ -330,6 +330,10 @@ def _bad_paths(folder: pathlib.Path) -> dict[str, tuple[pathlib.Path, str]]:
         "nan": (header + "0,0.1,-0.1,0\n0.1,nan,-0.1,0\n", "line 3: x = nan"),
         "inf": (header + "0,0.1,-0.1,0\ninf,0.1,-0.1,0\n", "line 3: t = inf"),
         "empty": (header, "the wrist path is empty"),
+        "one": (
+            header + "0,0.12,-0.13,0.05\n",
+            f"a wrist path needs at least 2 samples, {folder / 'one.csv'} has 1",
+        ),
         "order": (header + "0,0.1,-0.1,0\n0.2,0.1,-0.1,0\n0.2,0.1,-0.1,0\n", "line 4"),
         "blank": (
             header + "\n0,0.1,-0.1,0\n\n0.2,0.1,-0.1,0\n\n0.2,0.1,-0.1,0\n",
@@ -348,15 +352,26 @@ def _bad_paths(folder: pathlib.Path) -> dict[str, tuple[pathlib.Path, str]]:
 
 @pytest.mark.parametrize(
     "case",
-    ["missing", "header", "word", "nan", "inf", "empty", "order", "blank", "reach"],
+    [
+        "missing",
+        "header",
+        "word",
+        "nan",
+        "inf",
+        "empty",
+        "one",
+        "order",
+        "blank",
+        "reach",
+    ],
 )
 def test_a_bad_wrist_path_is_a_clear_error(
     case: str, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Missing file, wrong header, a non-number, NaN, inf, no samples, times
-    not increasing, a sample out of reach: exit 1 and an error naming the
-    line or sample (and the JSON error with --json). Lines are the file's,
-    blank ones counted."""
+    """Missing file, wrong header, a non-number, NaN, inf, no samples, one
+    sample (it was planned as a 0 s trajectory), times not increasing, a
+    sample out of reach: exit 1 and an error naming the line or sample (and
+    the JSON error with --json). Lines are the file's, blank ones counted."""
     file, message = _bad_paths(tmp_path)[case]
     assert main(["plan", "--wrist-path", str(file), "--json"]) == 1
     captured = capsys.readouterr()

@@ -253,6 +253,21 @@ def test_empty_path_and_empty_task_are_refused() -> None:
         parse(PlanRequest, {"targets": []})
 
 
+def test_a_path_of_one_sample_is_refused() -> None:
+    """One sample has no step: it was planned as a 0 s trajectory, a single
+    far posture. Refused naming the times, as a PlanRequest over the bus
+    reads it too."""
+    one = {"times": [0.0], "positions": [(0.12, -0.13, 0.05)]}
+    with pytest.raises(InvalidInputError) as refused:
+        parse(PlanRequest, {"wrist_path": one})
+    assert refused.value.field == "wrist_path.times"
+    assert "a wrist path needs at least 2 samples, this one has 1" in str(
+        refused.value.message
+    )
+    two = {"times": [0.0, 0.01], "positions": [(0.12, -0.13, 0.05)] * 2}
+    assert len(parse(WristPath, two).times) == 2
+
+
 def test_palm_direction_is_normalised_and_nonzero() -> None:
     """A palm direction is stored with unit length; the zero vector is refused."""
     assert parse(ReachTarget, {"position": [0, 0, 0], "palm": [0, 0, 2]}).palm == (

@@ -433,6 +433,25 @@ def test_bad_stage_requests_get_typed_errors(
     assert bus.call(PLAN, REACH).to_json() == in_process(REACH)
 
 
+@pytest.mark.parametrize(
+    "route,key", [(PLAN, "wrist_path"), (DECIDE, "path")], ids=["plan", "decide"]
+)
+def test_a_one_sample_wrist_path_is_refused_over_the_bus(
+    bus: Bus, route: Route[Any, Any], key: str
+) -> None:
+    """A path of one sample (no step: it was planned as a 0 s trajectory)
+    sent as JSON: invalid_input naming its times, as ``armplan plan`` of a
+    one-row CSV; the planner plans on."""
+    body = f'{{"{key}": {{"times": [0], "positions": [[0.12, -0.13, 0.05]]}}}}'
+    with pytest.raises(InvalidInputError) as refused:
+        bus.call(route, body.encode())
+    assert refused.value.field == f"{key}.times"
+    assert "a wrist path needs at least 2 samples, this one has 1" in (
+        refused.value.message
+    )
+    assert bus.call(PLAN, REACH).to_json() == in_process(REACH)
+
+
 def test_a_nan_in_a_stage_request_is_named(bus: Bus) -> None:
     """A NaN inside a wrist path sent to decide: invalid_input naming the field."""
     body = b'{"path": {"arm": "right", "times": [0, 0.01], '

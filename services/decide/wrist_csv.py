@@ -16,6 +16,7 @@ from pathlib import Path
 from shared.errors import InvalidInputError
 from shared.input_files import read_at_most
 from shared.messages import WristPath, parse
+from shared.messages.wrist_path import too_few_samples
 from shared.robot.side import Side
 
 HEADER = ["t", "x", "y", "z"]
@@ -27,7 +28,7 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
     Raises:
         InvalidInputError: naming the file, and the line or field that is
             wrong (missing file, wrong header, a cell that is not a number or
-            not finite, no samples, a first time other than 0, times that do
+            not finite, no samples or only one, a first time other than 0, times that do
             not increase, too many points).
     """
     path = Path(path)
@@ -71,6 +72,8 @@ def read_wrist_csv(path: str | Path, arm: Side | str = Side.RIGHT) -> WristPath:
             f"{path}: the wrist path is empty: no samples after the header",
             field="wrist_path",
         )
+    if problem := too_few_samples(len(times), str(path)):
+        raise InvalidInputError(problem, field="wrist_path")
     try:
         return parse(
             WristPath, {"arm": Side.parse(arm), "times": times, "positions": positions}
