@@ -12,6 +12,7 @@ WristYaw origin); NAO's wrist reaches 0.114-0.162 m from its shoulder.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,6 +30,12 @@ from shared.robot.side import SideAnyCase
 
 #: The shipped task: the paper's handover experiment.
 DEFAULT_TASK = Path(__file__).with_name("handover_task.json")
+#: The error's pointer to the form a task file takes: the shipped task's
+#: real path (in the installed package too), not its name alone.
+FORM = f"see {DEFAULT_TASK} for the form"
+#: A PlanRequest's keys a demo task has none of (``armplan plan --task``'s
+#: form): a file holding one and no ``phases`` is a PlanRequest.
+PLAN_REQUEST_KEYS = frozenset(PlanRequest.model_fields) - {"arm", "start"}
 #: Named start postures a task file may use instead of five angles.
 POSTURES = {"forward": forward, "rest": rest}
 #: Joint angles in a start posture given as numbers.
@@ -151,8 +158,10 @@ def load_task(path: str | Path = DEFAULT_TASK) -> Task:
         InvalidInputError: naming the file and what is wrong in it.
     """
     path = Path(path)
+    text = b""
     try:
-        data = parse(TaskFile, _read(path))
+        text = _read(path)
+        data = parse(TaskFile, text)
         start = data.start
         angles = POSTURES[start](data.arm) if isinstance(start, str) else start
         phases = tuple(
@@ -166,9 +175,30 @@ def load_task(path: str | Path = DEFAULT_TASK) -> Task:
         return task
     except (InvalidInputError, JointLimitError) as error:
         raise InvalidInputError(
-            f"{path}: {error.message} (see {DEFAULT_TASK.name} for the form)",
+            f"{path}: {error.message} ({_plan_request_hint(text)}{FORM})",
             field="task",
         ) from None
+
+
+def _plan_request_hint(text: bytes) -> str:
+    """A pointer to ``armplan plan --task`` when the file is a PlanRequest.
+
+    ``plan --task`` takes one ``PlanRequest`` (``targets`` or a
+    ``wrist_path``, ...); a demo task holds ``phases`` of targets. Given to
+    ``demo --task``, a PlanRequest read "phases: Field required" alone.
+    """
+    try:
+        fields = json.loads(text)
+    except ValueError:
+        return ""
+    if not isinstance(fields, dict) or "phases" in fields:
+        return ""
+    if not PLAN_REQUEST_KEYS & set(fields):
+        return ""
+    return (
+        "this file is a PlanRequest, for `armplan plan --task FILE`; "
+        "`demo --task` takes a demo task of phases: "
+    )
 
 
 def _check_reach(task: Task) -> None:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from armplan.demo.task import DEFAULT_TASK, Task
+from armplan.demo.task import FORM, Task
 from shared.errors import (
     ArmplanError,
     InvalidInputError,
@@ -82,6 +82,4 @@ def demo_advice(message: str) -> str:
 
 def _named(path: Path, message: str) -> InvalidInputError:
     """The error for the task file ``path``, worded as ``load_task``'s."""
-    return InvalidInputError(
-        f"{path}: {message} (see {DEFAULT_TASK.name} for the form)", field="task"
-    )
+    return InvalidInputError(f"{path}: {message} ({FORM})", field="task")
