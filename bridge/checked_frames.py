@@ -8,10 +8,11 @@ from functools import partial
 import numpy.typing as npt
 
 from bridge.bezier_curve import check_played_curve, played_curve
-from bridge.checks import check_frames, check_sample_range
+from bridge.checks import check_frames, check_sample_range, refused_as_held
 from bridge.fidelity import ATTEMPTS, check_follows, follow_tolerance, offer_rate
 from bridge.frames import frame_velocities, frames_from_trajectory
 from bridge.hand import hand_inside, with_hand
+from bridge.held_rate import held_advice
 from bridge.limits import FrameLimits
 from bridge.timeline_keys import KEY_INSET, played_frames, timeline_keys
 from bridge.velocity_agreement import check_velocities
@@ -45,7 +46,9 @@ def checked_frames(
     and follow the trajectory between keys within a degree, or a fast
     joint's chord gap at 25 fps (:mod:`bridge.fidelity`). A refusal for a
     frame rate too low offers one whose frames, made and checked here in the
-    same way, pass (``bridge.fidelity.offer_rate``). A trajectory's hand
+    same way, pass (``bridge.fidelity.offer_rate``); so does a refusal of
+    frames too close for their 32-bit times (``bridge.held_rate``), with a
+    lower rate. A trajectory's hand
     channel is one more joint of the frames, after the arm's, held to the
     hand's range and limits (``bridge.hand``).
 
@@ -77,6 +80,8 @@ def checked_frames(
     try:
         frames = _frames_at(trajectory, rate, limits)
     except TrajectoryRefusedError as refusal:
+        if refused_as_held(refusal):
+            raise refusal.adding(f": {held_advice(make, rate)}") from None
         if refusal.quantity != "frame_rate":
             raise
         advice = offer_rate(make, rate, refusal.value / refusal.limit)

@@ -33,6 +33,12 @@ from shared.messages import CommandFrames, Trajectory
 
 #: Slack on every comparison, relative to the limit: float round-off only.
 SLACK = 1e-9
+#: What a refusal of the frames as NAOqi holds them (32 bits) adds to its
+#: detail: the 64-bit frames passed (``bridge.held_rate`` offers a rate).
+HELD_WORDS = (
+    " (with the angles and times rounded to 32-bit floats, as NAOqi "
+    "holds them; frames further apart suffer less from it)"
+)
 #: Frames of rest seen before frame 0 and after the last frame: enough for
 #: every jerk window (four frames) that reaches into the rest.
 REST = 2
@@ -63,10 +69,12 @@ def check_frames(
     try:
         _check_rows(q32, t32, 1.0 / frames.rate, limits)
     except TrajectoryRefusedError as refusal:
-        raise refusal.adding(
-            " (with the angles and times rounded to 32-bit floats, as NAOqi "
-            "holds them; frames further apart suffer less from it)"
-        ) from None
+        raise refusal.adding(HELD_WORDS) from None
+
+
+def refused_as_held(refusal: TrajectoryRefusedError) -> bool:
+    """Whether :func:`check_frames` refused frames only as NAOqi holds them."""
+    return refusal.detail.endswith(HELD_WORDS)
 
 
 def _check_rows(
