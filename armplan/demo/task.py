@@ -189,7 +189,7 @@ def _plan_request_hint(text: bytes) -> str:
     """
     try:
         fields = json.loads(text)
-    except ValueError:
+    except (ValueError, RecursionError):  # read as "not valid JSON" already
         return ""
     if not isinstance(fields, dict) or "phases" in fields:
         return ""
