@@ -431,6 +431,18 @@ def test_bad_options_are_clear_errors(
     assert message in capsys.readouterr().err
 
 
+def test_a_task_nested_too_deeply_is_a_clear_error(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """100 000 nested lists: "not valid JSON", as `demo --task` says; the
+    demo task hint read the file again and its RecursionError escaped."""
+    path = tmp_path / "deep.json"
+    path.write_text("[" * 100_000 + "]" * 100_000)
+    assert main(["plan", "--task", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert "not valid JSON" in err and "Traceback" not in err
+
+
 def test_options_that_do_not_apply_to_a_wrist_path(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

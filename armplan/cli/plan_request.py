@@ -275,7 +275,7 @@ def _demo_task_hint(text: bytes) -> str:
     """
     try:
         fields = json.loads(text)
-    except ValueError:
+    except (ValueError, RecursionError):  # read as "not valid JSON" already
         return ""
     if isinstance(fields, dict) and "phases" in fields:
         return (
