@@ -49,6 +49,7 @@ from bridge.stopping import STOP_LIMIT, stop_serving
 from shared.bus.process import POLL, start_process
 from shared.errors import ArmplanError, InternalServiceError, InvalidInputError
 from shared.messages import ExecuteRequest, parse
+from shared.text.plain import plain_text
 
 log = logging.getLogger("armplan.bridge")
 #: Longest wait, once a stop finds no request served, for the line being
@@ -171,7 +172,9 @@ def _stop(
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; 0 at the end of stdin or after a stop signal, 1 on a bad address."""
-    parser = argparse.ArgumentParser(prog="python -m bridge", description=__doc__)
+    parser = argparse.ArgumentParser(
+        prog="python -m bridge", description=plain_text(__doc__)
+    )
     parser.add_argument(
         "--robot",
         metavar="URL",

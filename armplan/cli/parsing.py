@@ -8,6 +8,7 @@ import re
 from typing import TYPE_CHECKING, Any
 
 from shared.errors import InvalidInputError
+from shared.text.plain import plain_text
 
 if TYPE_CHECKING:
     from shared.messages.measure_params import MeasureParams
@@ -17,10 +18,17 @@ NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$"
 
 
 class ArgumentParser(argparse.ArgumentParser):
-    """An argparse parser that reads ``-0.12`` and ``-1e-3`` as numbers."""
+    """An argparse parser that reads ``-0.12`` and ``-1e-3`` as numbers.
+
+    Its description and epilog are shown as plain text: a command's module
+    docstring given as its description keeps no reST markup in ``--help``
+    (``shared.text.plain``).
+    """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
+        self.description = plain_text(self.description)
+        self.epilog = plain_text(self.epilog)
         self._negative_number_matcher = NEGATIVE_NUMBER
 
 
