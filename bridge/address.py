@@ -23,7 +23,7 @@ _URL = re.compile(r"^tcps?://[A-Za-z0-9_.\-]+:(\d{1,5})$")
 
 def check_robot_url(url: str) -> str:
     """``url`` if it is a NAOqi address ``tcp://HOST:PORT``; else InvalidInputError."""
-    match = _URL.match(url)
+    match = _URL.fullmatch(url)  # no trailing newline
     if match is None or not 0 < int(match.group(1)) < 65536:
         raise InvalidInputError(
             f"robot address {url!r} must look like tcp://HOST:PORT "
@@ -47,7 +47,7 @@ def check_listen_url(url: str) -> str:
             "of the one the bridge reaches (127.0.0.1 on one machine)",
             field="listen",
         )
-    match = _URL.match(url)
+    match = _URL.fullmatch(url)  # no trailing newline
     if match is None or not 0 <= int(match.group(1)) < 65536:
         raise InvalidInputError(
             f"listen address {url!r} must look like tcp://HOST:PORT with a port "

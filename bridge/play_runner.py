@@ -9,7 +9,8 @@ traceback), a port that accepted TCP but never answered hung it forever in
 (``play.py URL --help`` moved the arm). Now:
 
 - ``argparse`` (Python 2.7 and 3): one optional ``URL``
-  (``tcp://127.0.0.1:9559`` by default), ``--timeout SECONDS`` (the
+  (``tcp://127.0.0.1:9559`` by default; one not ``tcp://HOST:PORT`` is
+  refused as ``bridge.address`` refuses it), ``--timeout SECONDS`` (the
   connection's deadline, ``CONNECT_TIMEOUT`` by default), ``--help``
   (what it will play, nothing connected); anything else refused before
   connecting (exit 2); ``prog`` is the script's own file name.
@@ -19,6 +20,7 @@ traceback), a port that accepted TCP but never answered hung it forever in
   keys' last time; the move to the start's ``SPEED_PROFILE`` times its
   distance over its speed) and ``MARGIN`` more; then the arm is stopped and
   the script exits 1 naming the call.
+- Played: one line on stdout, ``played N frames (D s) on URL``, exit 0.
 - Ctrl-C, SIGTERM, SIGHUP: ``killTasksUsingResources`` on the script's
   joints every ``STOP_PERIOD`` until the running motion call has ended (a
   stop the robot serves before the call has taken effect ends nothing:
@@ -60,6 +62,9 @@ CONNECT_TIMEOUT, MARGIN, POLL = {connect_timeout!r}, {margin!r}, {poll!r}
 STOP_WAIT, STOP_PERIOD, STOP_SETTLE = {stop_wait!r}, {stop_period!r}, {stop_settle!r}
 SPEED_PROFILE = {speed_profile!r}
 MOVES = ("angleInterpolation", "angleInterpolationWithSpeed", "stiffnessInterpolation")
+HOST_CHARACTERS = (
+    "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-"
+)
 
 
 class Stopped(Exception):
@@ -232,6 +237,32 @@ def _seconds(text):
     return value
 
 
+def _robot_url(text):
+    """``text`` if it looks like ``tcp://HOST:PORT``; else a usage error.
+
+    Mirrors bridge/address.py's check_robot_url (its ``_URL`` pattern and
+    port range) without ``re``: a malformed address is refused before
+    anything connects, in the bridge's and the demo's words.
+    """
+    import argparse
+
+    scheme, _, rest = text.partition("://")
+    host, _, port = rest.rpartition(":")
+    if (
+        scheme not in ("tcp", "tcps")
+        or not host
+        or [c for c in host if c not in HOST_CHARACTERS]
+        or not 1 <= len(port) <= 5
+        or [c for c in port if c not in "0123456789"]
+        or not 0 < int(port) < 65536
+    ):
+        raise argparse.ArgumentTypeError(
+            "robot address %r must look like tcp://HOST:PORT "
+            "(a real NAO: tcp://IP:9559)" % text
+        )
+    return text
+
+
 def options(argv):
     """The parsed command line (``argparse`` exits 0 on --help, 2 on misuse)."""
     import argparse
@@ -253,6 +284,7 @@ def options(argv):
         "url",
         nargs="?",
         default=URL,
+        type=_robot_url,
         metavar="URL",
         help="the robot's NAOqi address (default %s)" % URL,
     )
@@ -304,7 +336,8 @@ def play(url, timeout):
 
 
 def main(argv=None):
-    """Run the script: the exit code; its one line of explanation on stderr."""
+    """Run the script: the exit code. One line: on stdout what it played,
+    else on stderr why not."""
     import os
     import signal
     import sys
@@ -316,6 +349,9 @@ def main(argv=None):
     code, line = play(args.url, args.timeout)
     if line:
         sys.stderr.write("%s: %s\\n" % (os.path.basename(sys.argv[0]), line))
+    elif code == 0:
+        frames = "%d frame%s" % (FRAMES, "" if FRAMES == 1 else "s")
+        sys.stdout.write("played %s (%.3f s) on %s\\n" % (frames, DURATION, args.url))
     return code
 
 

@@ -18,7 +18,8 @@ or ``qi``) and Python 3 (the ``qi`` package): connect to ALMotion
 robot not awake, stiffen the joints where they are (a limp arm's command
 first moved to where it hangs: ``bridge.script_stiffen``), move slowly to
 the start posture (``angleInterpolationWithSpeed``, 20 % of the speed
-limits), then play. A refusal prints ``play.py: error: ...`` and exits 1;
+limits), then play, and print ``played N frames (D s) on URL``. A refusal
+prints ``play.py: error: ...`` and exits 1 (a malformed URL: 2);
 Ctrl-C stops the arm where it is and exits 130.
 """
 

@@ -9,6 +9,7 @@ answered, and to move the arm for ``play.py URL --help``.
 
 from __future__ import annotations
 
+import argparse
 import glob
 import os
 import shutil
@@ -23,12 +24,14 @@ from typing import Any
 import numpy as np
 import pytest
 
+from bridge.address import check_robot_url
 from bridge.frames import frames_from_trajectory
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.play_runner import MARGIN, STOP_WAIT
 from bridge.python_export import write_python
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
+from shared.errors import InvalidInputError
 from shared.libqi import qi
 from shared.robot.postures import forward, rest
 
@@ -283,6 +286,86 @@ def test_an_unknown_argument_is_refused_before_connecting(
     assert calls(logged_sim) == []
 
 
+#: Robot addresses both checks accept.
+GOOD_URLS = [
+    "tcp://127.0.0.1:9559",
+    "tcps://nao.local:9503",
+    "tcp://my_nao-2.lab:1",
+    "tcp://h:65535",
+    "tcp://h:00080",
+]
+#: Robot addresses both checks refuse.
+BAD_URLS = [
+    "127.0.0.1",
+    "127.0.0.1:9559",
+    "tcp://127.0.0.1",
+    "tcp://:9559",
+    "tcp://h:0",
+    "tcp://h:65536",
+    "tcp://h:123456",
+    "tcp://h:95a9",
+    "tcp://h:+955",
+    "tcp://h:-1",
+    "udp://h:9559",
+    "TCP://h:9559",
+    "tcp://h:9559/",
+    "tcp://h:9559\n",
+    "tcp://[::1]:9559",
+    "tcp://h :9559",
+    "tcp://a://b:1",
+    "",
+]
+
+
+def accepted_by_the_bridge(url: str) -> bool:
+    try:
+        check_robot_url(url)
+    except InvalidInputError:
+        return False
+    return True
+
+
+def accepted_by_the_script(check: Callable[[str], str], url: str) -> bool:
+    try:
+        check(url)
+    except argparse.ArgumentTypeError:
+        return False
+    return True
+
+
+def test_the_scripts_address_check_agrees_with_the_bridges(tmp_path: Path) -> None:
+    """play.py copies bridge/address.py's check (it imports no ``re``): the
+    two accept and refuse the same addresses."""
+    names: dict[str, Any] = {"__name__": "play"}
+    exec(script(tmp_path).read_text(), names)  # defines, runs nothing
+    check = names["_robot_url"]
+    urls = GOOD_URLS + BAD_URLS
+    bridge = [accepted_by_the_bridge(url) for url in urls]
+    assert bridge == [url in GOOD_URLS for url in urls]
+    assert [accepted_by_the_script(check, url) for url in urls] == bridge
+
+
+def test_a_malformed_address_is_refused_before_connecting(tmp_path: Path) -> None:
+    """``play.py 127.0.0.1`` tried to connect (``cannot connect to 127.0.0.1:
+    Connect error: 111``); now it is refused at once in the bridge's words."""
+    done = run(script(tmp_path), "127.0.0.1")
+    assert done.returncode == 2
+    with pytest.raises(InvalidInputError) as bridge:
+        check_robot_url("127.0.0.1")
+    lines = done.stderr.splitlines()
+    assert lines[0].startswith("usage: play.py")
+    assert lines[-1] == f"play.py: error: argument URL: {bridge.value.message}"
+    assert done.stdout == ""
+
+
+def test_a_play_says_what_it_played(tmp_path: Path, logged_sim: SimProcess) -> None:
+    """A successful play printed nothing; now one line on stdout, exit 0."""
+    done = run(script(tmp_path, duration=1.0), logged_sim.url)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == f"played 25 frames (1.000 s) on {logged_sim.url}\n"
+    assert len(calls(logged_sim, "angleInterpolation")) == 1
+
+
 def python2() -> str | None:
     """A Python 2.7 interpreter on this machine, or None."""
     home = os.path.expanduser("~/.pyenv/versions/2.7*/bin/python2.7")
@@ -304,9 +387,9 @@ def test_the_options_work_on_python_2(tmp_path: Path) -> None:
     path = script(tmp_path)
     ran = [
         subprocess.run([exe, str(path), *a], capture_output=True, text=True)
-        for a in (["--help"], ["--bogus"], ["tcp://127.0.0.1:1"])
+        for a in (["--help"], ["--bogus"], ["tcp://127.0.0.1:1"], ["127.0.0.1"])
     ]
-    assert [r.returncode for r in ran] == [0, 2, 1]
+    assert [r.returncode for r in ran] == [0, 2, 1, 2]
     assert "right arm's trajectory" in ran[0].stdout
     assert ran[2].stderr == (
         "play.py: error: neither the qi package nor NAOqi's naoqi module is installed\n"
