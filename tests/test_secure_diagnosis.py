@@ -190,5 +190,5 @@ def test_an_unsecured_client_is_told_of_a_secured_router(
         "start one with `armplan up`, or give the router's address with "
         "--connect. If a secured router (TLS) is there, it refuses this unsecured "
         "client: give the client file `armplan certs` wrote (--config "
-        "DIR/client.json5; --zenoh-config for --remote)"
+        "DIR/client.json5)"
     )

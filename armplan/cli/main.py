@@ -66,10 +66,31 @@ def main(argv: Sequence[str] | None = None) -> int:
     exits 130 once they have loaded, without a traceback.
     """
     with held_interrupt() as held:
-        args = build_parser().parse_args(argv)
+        parser = build_parser()
+        args = parser.parse_args(argv)
     if held.came:
         return _stopped(signal.SIGINT)
-    return run_command(args.run, args)
+    from shared.offered_options import offering
+
+    with offering(chosen_options(parser, args)):  # for the hints of its errors
+        return run_command(args.run, args)
+
+
+def chosen_options(
+    parser: argparse.ArgumentParser, args: argparse.Namespace
+) -> set[str]:
+    """The option strings of the command ``args`` chose (``--config``, ...).
+
+    Those of ``parser`` and of each subcommand parser on the way to it.
+    """
+    options: set[str] = set()
+    for action in parser._actions:
+        options.update(action.option_strings)
+        if isinstance(action, argparse._SubParsersAction):
+            chosen = action.choices.get(getattr(args, action.dest, None) or "")
+            if chosen is not None:
+                options |= chosen_options(chosen, args)
+    return options
 
 
 def run_command(

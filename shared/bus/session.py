@@ -17,6 +17,7 @@ from shared.bus.named_files import check_named_files
 from shared.bus.secured import secured_settings
 from shared.bus.zenoh_config import client_config, router_config
 from shared.errors import BusConfigError, ServiceUnavailableError
+from shared.offered_options import config_option, offered
 
 #: Pause between attempts to reach the router [s].
 RETRY_EVERY = 0.1
@@ -90,14 +91,16 @@ def _what_to_do(config: BusConfig) -> str:
     at all, so a secured client (TLS endpoints, a login) names both; and
     ``armplan up`` runs only the unsecured router. An unsecured client is
     refused just as silently by a secured router on its port (which ``armplan
-    up`` cannot replace: the port is taken), so it names that too.
+    up`` cannot replace: the port is taken), so it names that too. The hint
+    names only options the running command has (``shared.offered_options``).
     """
+    connect = "--connect" in offered()
     if not secured_settings(config):
         return (
-            "; start one with `armplan up`, or give the router's address with "
-            "--connect. If a secured router (TLS) is there, it refuses this "
-            "unsecured client: give the client file `armplan certs` wrote "
-            "(--config DIR/client.json5; --zenoh-config for --remote)"
+            "; start one with `armplan up`"
+            + (", or give the router's address with --connect" if connect else "")
+            + ". If a secured router (TLS) is there, it refuses this unsecured "
+            f"client: give the client file `armplan certs` wrote ({_client_file()})"
         )
     return (
         f", or one answers but refuses this client: check the user, password "
@@ -105,9 +108,15 @@ def _what_to_do(config: BusConfig) -> str:
         "must name the endpoint's host: `armplan certs --host`, and not have "
         "expired: the router logs an ERROR then), and the "
         "router's log; start the secured router with `python -m "
-        "shared.bus.router --config DIR/router.json5`, or give its address "
-        "with --connect"
+        "shared.bus.router --config DIR/router.json5`"
+        + (", or give its address with --connect" if connect else "")
     )
+
+
+def _client_file() -> str:
+    """How the running command is given the client file (its own option)."""
+    option = config_option()
+    return "DIR/client.json5" if option is None else f"{option} DIR/client.json5"
 
 
 def open_router(config: BusConfig, zid: str | None = None) -> zenoh.Session:
