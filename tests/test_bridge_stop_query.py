@@ -552,7 +552,7 @@ def test_armplan_stop_cuts_a_long_reason_instead_of_refusing(
         assert "warning: the reason was cut to 200 of its 261 characters" in (
             done.stderr
         )
-        assert "control characters" in done.stderr
+        assert "warning: 1 control character in the reason was removed" in done.stderr
         empty = _armplan("stop", "--connect", endpoint, "--reason", "")
         assert empty.returncode == 0, empty.stderr
         assert empty.stdout.startswith("nothing was playing; the arm is still")

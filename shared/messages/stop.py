@@ -20,6 +20,7 @@ from typing import Literal
 from pydantic import Field
 
 from shared.messages.base import Message, OptionalFieldsMessage
+from shared.text.counted import agreeing, counted
 
 #: Longest reason a stop carries [characters] (it is logged and published):
 #: a longer one is cut to it.
@@ -117,7 +118,8 @@ def clean_reason(text: str) -> tuple[str | None, list[str]]:
     )
     if unwanted:
         problems.append(
-            f"{len(unwanted)} control characters in the reason were removed"
+            f"{counted(len(unwanted), 'control character')} in the reason "
+            f"{agreeing(len(unwanted), 'was', 'were')} removed"
         )
     kept = kept.strip()
     if len(kept) > MAX_REASON:
