@@ -17,7 +17,8 @@ from pathlib import Path
 
 import pytest
 
-from armplan.demo.earlier_run import LIST_FILE
+from armplan.demo.earlier_run import LIST_FILE, replace_earlier_run
+from shared.errors import InvalidInputError
 
 #: Longest a demo whose router cannot start may take to fail [s].
 FAIL_TIMEOUT = 90.0
@@ -71,10 +72,10 @@ def test_a_file_no_demo_wrote_is_refused_and_kept(tmp_path: Path, name: str) -> 
     path.write_text("mine\n")
     result = demo(out)
     assert result.returncode == 1, result.stderr
-    assert (
-        f"armplan: error: cannot write into {out} (--out): {path} is not known to "
-        f"be from an earlier armplan demo: the folder has no {LIST_FILE} list of "
-        "the demo's files, and 1 of them (fewer than 3) do not tell" in result.stderr
+    assert result.stderr == (
+        f"armplan: error: {out} (--out) holds {name}, which the demo would "
+        f"replace, and no {LIST_FILE} list says the demo wrote it: move it or "
+        "choose another --out\n"
     )
     assert path.read_text() == "mine\n"
     files = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
@@ -93,7 +94,7 @@ def test_a_folder_an_older_demo_wrote_is_replaced(
     for name in ("trajectory.json", "report.json", "logs/services.log"):
         (out / name).write_text("{}\\n")
     result = demo(out, "--listen", busy_endpoint)  # fails fast, after the claim
-    assert "not from an earlier armplan demo" not in result.stderr
+    assert "which the demo would replace" not in result.stderr
     assert not (out / "report.json").exists()
     assert (out / LIST_FILE).exists()
 
@@ -102,10 +103,12 @@ def test_a_folder_an_older_demo_wrote_is_replaced(
     for name in ("trajectory.json", "report.json", "notes.txt"):
         (other / name).write_text("{}\\n")
     result = demo(other, "--listen", busy_endpoint)
+    assert result.returncode == 1, result.stderr
     assert (
-        "may be from an earlier armplan demo, but the folder has no "
-        f"{LIST_FILE} list of the demo's files and holds {other / 'notes.txt'} too, "
-        "so it cannot tell" in result.stderr
+        f"{other} (--out) holds trajectory.json, which the demo would replace, and no "
+        f"{LIST_FILE} list says the demo wrote it (the folder also holds "
+        "notes.txt, so it is not just an older demo's output): move it or choose "
+        "another --out" in result.stderr
     )
     assert (other / "report.json").read_text() == "{}\\n"
 
@@ -143,3 +146,34 @@ def test_a_partial_name_in_the_way_is_refused_before_anything_starts(
         "first; move it away or give another --out\n"
     )
     assert sorted(p.name for p in out.iterdir()) == ["report.json.partial"]
+
+
+def test_the_refusals_name_the_file_and_what_to_do(tmp_path: Path) -> None:
+    """A folder whose list lacks the file, and a folder where the demo
+    writes a file: one sentence each naming it and what to do; nothing
+    touched. They read "PATH is not from an earlier armplan demo, and the
+    demo would replace it; move it away ..." and "PATH is a folder, and ...".
+    """
+    names = ["trajectory.json", "play.py"]
+    listed = tmp_path / "listed"
+    listed.mkdir()
+    (listed / LIST_FILE).write_text("trajectory.json\n")
+    (listed / "play.py").write_text("mine\n")
+    with pytest.raises(InvalidInputError) as raised:
+        replace_earlier_run(listed, names)
+    assert raised.value.message == (
+        f"{listed} (--out) holds play.py, which the demo would replace, and its "
+        f"{LIST_FILE} list does not say the demo wrote it: move it or choose "
+        "another --out"
+    )
+    assert (listed / "play.py").read_text() == "mine\n"
+
+    folder = tmp_path / "folder"
+    (folder / "play.py").mkdir(parents=True)
+    with pytest.raises(InvalidInputError) as raised:
+        replace_earlier_run(folder, names, option="--into")
+    assert raised.value.message == (
+        f"{folder} (--into) holds a folder play.py, where the demo writes a file: "
+        "move it or choose another --into"
+    )
+    assert sorted(p.name for p in folder.iterdir()) == ["play.py"]

@@ -54,16 +54,19 @@ def replace_earlier_run(out: Path, names: Sequence[str], option: str = "--out") 
     _check_folders(out, names, option)
     leftovers = _earlier_partials(out, names, option)
     present = [name for name in names if _present(out / name)]
-    earlier, why = _listed(out), "is not from an earlier armplan demo"
+    earlier, why = _listed(out), f"its {LIST_FILE} list does not say the demo wrote it"
     if present and not (out / LIST_FILE).exists():
         earlier, why = _unlisted(out, names)
     for name in present:
         path = out / name
         if name not in earlier or path.is_dir():
-            reason = "is a folder" if path.is_dir() else why
+            held = (
+                f"a folder {name}, where the demo writes a file"
+                if path.is_dir()
+                else f"{name}, which the demo would replace, and {why}"
+            )
             raise InvalidInputError(
-                f"cannot write into {out} ({option}): {path} {reason}, and the demo "
-                f"would replace it; move it away or give another {option}",
+                f"{out} ({option}) holds {held}: move it or choose another {option}",
                 field=option.lstrip("-"),
                 path=str(path),
             )
@@ -79,24 +82,24 @@ def _unlisted(out: Path, names: Sequence[str]) -> tuple[set[str], str]:
 
     Returns:
         Those names (all of the demo's, or none), and why a file of the
-        demo's names is not taken for an earlier run's (for the error).
+        demo's names is not taken for an earlier run's: the end of the
+        error's sentence "OUT holds NAME, which the demo would replace, and
+        ...".
     """
+    unlisted = f"no {LIST_FILE} list says the demo wrote it"
     try:
         look = _look(out, names)
     except OSError as error:
-        return set(), f"cannot be told from a file of yours ({error.strerror})"
+        return set(), f"{unlisted} (the folder cannot be read: {error.strerror})"
     if look.other is None and look.files >= OLD_RUN_FILES:
         return set(names), ""  # written before the demo listed its files
     if look.other is not None:
+        other = look.other.relative_to(out).as_posix()
         return set(), (
-            f"may be from an earlier armplan demo, but the folder has no {LIST_FILE} "
-            f"list of the demo's files and holds {look.other} too, so it cannot tell"
+            f"{unlisted} (the folder also holds {other}, so it is not just an "
+            "older demo's output)"
         )
-    return set(), (
-        f"is not known to be from an earlier armplan demo: the folder has no "
-        f"{LIST_FILE} list of the demo's files, and {look.files} of them (fewer "
-        f"than {OLD_RUN_FILES}) do not tell"
-    )
+    return set(), unlisted
 
 
 def _listed(out: Path) -> set[str]:
