@@ -35,9 +35,6 @@ def test_one_removed_character_is_singular() -> None:
     assert done.stderr.startswith(
         "armplan: warning: 1 control character in the reason was removed\n"
     )
-
-
-def test_two_removed_characters_are_plural() -> None:
-    reason, problems = clean_reason("e-stop\r\nbutton")
+    reason, problems = clean_reason("e-stop\r\nbutton")  # two: plural, as before
     assert reason == "e-stop  button"
     assert problems == ["2 control characters in the reason were removed"]
