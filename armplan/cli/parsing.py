@@ -85,7 +85,6 @@ class ArgumentParser(argparse.ArgumentParser):
         known = self._option_string_actions
         name = arg.split("=", 1)[0]
         return name not in known and arg[:2] not in known
-        self._negative_number_matcher = NEGATIVE_NUMBER
 
 
 def finite(values: list[float] | None, name: str) -> list[float] | None:
