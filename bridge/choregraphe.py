@@ -5,8 +5,9 @@ The file is what Choregraphe 2.x saves as a project's ``behavior.xar``
 after the other:
 
 1. a Python script box (``bridge.start_box``), started by the root's
-   ``onStart``, that moves the arm to the trajectory's start posture at
-   20 % of its speed limits (``ALMotion.angleInterpolationWithSpeed``), so
+   ``onStart``, that moves the arm to the trajectory's start posture within
+   20 % of its limits (``ALMotion.angleInterpolation`` of minimum-jerk keys,
+   ``bridge.script_approach``), so
    the behavior may be played from any posture, then fires ``onStopped``;
 2. a *Timeline* box, started by it and ending the root through its
    ``onStopped``. Its ``Timeline`` element (``fps``, ``start_frame="1"``,

@@ -17,9 +17,8 @@ traceback), a port that accepted TCP but never answered hung it forever in
 - With ``qi``: the connection, the ALMotion service and every call are
   made with ``_async=True`` and their futures polled every ``POLL`` (so a
   signal is handled at once). A call may last its known duration (its
-  keys' last time; the move to the start's ``SPEED_PROFILE`` times its
-  distance over its speed) and ``MARGIN`` more; then the arm is stopped and
-  the script exits 1 naming the call.
+  keys' last time, the move to the start's too) and ``MARGIN`` more;
+  then the arm is stopped and the script exits 1 naming the call.
 - Played: one line on stdout, ``played N frames (D s) on URL``, exit 0.
 - Ctrl-C, SIGTERM, SIGHUP: ``killTasksUsingResources`` on the script's
   joints every ``STOP_PERIOD`` until the running motion call has ended (a
@@ -36,6 +35,8 @@ traceback), a port that accepted TCP but never answered hung it forever in
 
 from __future__ import annotations
 
+from bridge.script_approach import approach_source
+
 #: Longest wait for the robot to answer the connection, by default [s].
 CONNECT_TIMEOUT = 10.0
 #: How long a call may overrun its known duration before it counts as stalled [s].
@@ -49,9 +50,6 @@ STOP_PERIOD = 0.02
 STOP_SETTLE = 1.0
 #: Time between two looks at a pending call [s].
 POLL = 0.005
-#: The move to the start may take this many times its distance over its
-#: speed (a smooth profile's peak speed is up to 1.875 times its mean).
-SPEED_PROFILE = 2.0
 
 _SOURCE = '''
 
@@ -60,8 +58,7 @@ ARM, FRAMES, RATE, DURATION = {arm!r}, {frames!r}, {rate!r}, {duration!r}
 SPEED = {speed!r}
 CONNECT_TIMEOUT, MARGIN, POLL = {connect_timeout!r}, {margin!r}, {poll!r}
 STOP_WAIT, STOP_PERIOD, STOP_SETTLE = {stop_wait!r}, {stop_period!r}, {stop_settle!r}
-SPEED_PROFILE = {speed_profile!r}
-MOVES = ("angleInterpolation", "angleInterpolationWithSpeed", "stiffnessInterpolation")
+MOVES = ("angleInterpolation", "stiffnessInterpolation")
 HOST_CHARACTERS = (
     "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-"
 )
@@ -123,16 +120,11 @@ class Motion(object):
 
         return call
 
-    def move_to(self, targets, speed):
-        """angleInterpolationWithSpeed(names, targets, speed), bounded by the
-        distance over the speed (SPEED_PROFILE times it)."""
-        now = self.getAngles(names, False)
-        limits = [speed * self.getLimits(name)[0][2] for name in names]
-        known = max(
-            [0.0] + [abs(t - c) / v for t, c, v in zip(targets, now, limits) if v > 0]
-        )
-        args = (names, targets, speed)
-        self.call("angleInterpolationWithSpeed", args, SPEED_PROFILE * known)
+    def move_to(self, targets, share):
+        """Move from the command to ``targets`` [rad]: minimum-jerk keys
+        within ``share`` of the limits (approach_keys), angleInterpolation."""
+        keys, times = approach_keys(names, self.getAngles(names, False), targets, share)
+        self.angleInterpolation(names, keys, times, True)
 
     def call(self, method, args, known):
         """``method(*args)``'s result; Stalled after ``known`` + MARGIN [s]."""
@@ -274,7 +266,8 @@ def options(argv):
         description=(
             "Play the %s arm's trajectory (%d frames at %g fps, %.3f s; joints %s) "
             "on the NAO at URL: stiffen the joints where they are, move to the "
-            "start at %g %% of their speed limits, then play it. Ctrl-C (or "
+            "start within %g %% of their speed, acceleration and jerk limits, then "
+            "play it. Ctrl-C (or "
             "SIGTERM) stops the arm where it is and exits 130 (143); a refusal, "
             "a robot not answering or a stalled call exits 1."
             % (ARM, FRAMES, RATE, DURATION, ", ".join(names), 100 * SPEED)
@@ -368,10 +361,11 @@ def runner_source(
     """The runner's Python (2 and 3) for a script of ``frames`` keys.
 
     The keys come at ``rate`` [fps] and last ``duration`` [s]; the move to
-    the start goes at ``speed`` of the speed limits. The text follows the
-    script's lists and ``stiffen_where_it_is``.
+    the start (``bridge.script_approach``) keeps within ``speed`` of the
+    speed, acceleration and jerk limits. The text follows the script's
+    lists and ``stiffen_where_it_is``.
     """
-    return _SOURCE.format(
+    return approach_source(arm) + _SOURCE.format(
         arm=arm,
         frames=frames,
         rate=rate,
@@ -383,5 +377,4 @@ def runner_source(
         stop_wait=STOP_WAIT,
         stop_period=STOP_PERIOD,
         stop_settle=STOP_SETTLE,
-        speed_profile=SPEED_PROFILE,
     )

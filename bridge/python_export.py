@@ -17,9 +17,10 @@ or ``qi``) and Python 3 (the ``qi`` package): connect to ALMotion
 (``tcp://127.0.0.1:9559`` or the URL given, within ``--timeout``), refuse a
 robot not awake, stiffen the joints where they are (a limp arm's command
 first moved to where it hangs: ``bridge.script_stiffen``), move slowly to
-the start posture (``angleInterpolationWithSpeed``, 20 % of the speed
-limits), then play, and print ``played N frames (D s) on URL``. A refusal
-prints ``play.py: error: ...`` and exits 1 (a malformed URL: 2);
+the start posture (``angleInterpolation`` of minimum-jerk keys within 20 %
+of the speed, acceleration and jerk limits: ``bridge.script_approach``),
+then play, and print ``played N frames (D s) on URL``. A refusal prints
+``play.py: error: ...`` and exits 1 (a malformed URL: 2);
 Ctrl-C stops the arm where it is and exits 130.
 """
 
@@ -33,7 +34,7 @@ from shared.messages import CommandFrames
 from shared.output_paths import write_output_text
 from shared.text.counted import counted
 
-#: Fraction of the speed limits used to reach the start posture.
+#: Fraction of the speed, acceleration and jerk limits used to reach the start.
 START_SPEED = 0.2
 
 

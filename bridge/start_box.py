@@ -9,8 +9,9 @@ script box, as Choregraphe behaviors do, which stiffens the arm's joints (and
 the hand, for a trajectory that moves it: ``bridge.hand``) where they are (a
 limp arm's command first moved to where it hangs, so it does not snap back;
 a robot not awake refused: ``bridge.script_stiffen``), moves them to the
-start posture with ``ALMotion.angleInterpolationWithSpeed`` at
-``START_SPEED`` of their speed limits (as ``play.py`` does), then fires its
+start posture with ``ALMotion.angleInterpolation`` of minimum-jerk keys
+within ``START_SPEED`` of their speed, acceleration and jerk limits
+(``bridge.script_approach``, as ``play.py`` does), then fires its
 ``onStopped`` output, linked to the timeline box's ``onStart``. Refused,
 ``onInput_onStart`` raises ``RuntimeError`` (the runtime reports the box's
 error) and ``onStopped`` does not fire: the timeline never starts.
@@ -33,7 +34,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from bridge.python_export import START_SPEED
+from bridge.script_approach import approach_source
 from bridge.script_stiffen import STIFFEN_SOURCE
+from shared.robot import Side
 
 #: Time between the stops the box sends when stopped [s]: ALMotion's cycle.
 STOP_PERIOD = 0.02
@@ -64,9 +67,11 @@ _SCRIPT = '''class MyClass(GeneratedClass):
         try:
             stiffen_where_it_is(self.motion, self.joint_names)
             if not self.stopping:
-                self.motion.angleInterpolationWithSpeed(
-                    self.joint_names, self.first_key, {speed}
+                now = self.motion.getAngles(self.joint_names, False)
+                keys, times = approach_keys(
+                    self.joint_names, now, self.first_key, {speed}
                 )
+                self.motion.angleInterpolation(self.joint_names, keys, times, True)
         except Exception:  # ended by onInput_onStop, or refused
             if not self.stopping:
                 raise
@@ -92,8 +97,8 @@ def start_script(names: Sequence[str], start: Sequence[float]) -> str:
     """The box's Python: move ``names`` to ``start`` [rad], then ``onStopped``.
 
     Its ``onStop`` ends the move and keeps ``onStopped`` from firing. The
-    class is followed by the ``stiffen_where_it_is`` it calls
-    (``bridge.script_stiffen``).
+    class is followed by the ``stiffen_where_it_is`` and ``approach_keys``
+    it calls (``bridge.script_stiffen``, ``bridge.script_approach``).
     """
     box = _SCRIPT.format(
         names="[" + ", ".join(f'"{name}"' for name in names) + "]",
@@ -101,4 +106,5 @@ def start_script(names: Sequence[str], start: Sequence[float]) -> str:
         speed=START_SPEED,
         period=STOP_PERIOD,
     )
-    return box + STIFFEN_SOURCE
+    side = Side.LEFT if names[0].startswith("L") else Side.RIGHT
+    return box + STIFFEN_SOURCE + approach_source(side)

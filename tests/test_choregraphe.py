@@ -24,6 +24,7 @@ from bridge.choregraphe import (
 )
 from bridge.frames import frame_velocities, frames_from_trajectory
 from bridge.interpolation import positions_at
+from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
@@ -34,6 +35,7 @@ from shared.messages import CommandFrames, Trajectory
 from shared.robot import load_arm
 from shared.robot.postures import forward, rest
 from tests.limp_arm_run import let_go
+from tests.logged_motion import logged_peaks
 
 
 def script_box(xml: str, session: Any, on_stopped: Callable[[], None]) -> Any:
@@ -117,8 +119,10 @@ def test_the_file_is_a_start_box_then_a_timeline_box() -> None:
     script = (start_box.findtext("c:script/c:content", namespaces=ns) or "").strip()
     assert script.startswith("class MyClass(GeneratedClass):")
     compile(script, "start box", "exec")  # valid Python
-    assert "angleInterpolationWithSpeed(" in script
-    assert "self.joint_names, self.first_key, 0.2" in script
+    assert "self.joint_names, now, self.first_key, 0.2" in script
+    assert "self.motion.angleInterpolation(self.joint_names, keys, times, True)" in (
+        script
+    )
     assert start_box.find("c:Timeline", ns) is None
     timeline = timeline_box.find("c:Timeline", ns)
     assert timeline is not None
@@ -210,8 +214,11 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
     """The behavior played from NAO's rest posture: its script box, run as
     Choregraphe runs a box (``MyClass`` on the runtime's ``GeneratedClass``,
     ``ALProxy``) against the simulated NAO over libqi, moves the arm to the
-    timeline's first key at 20 % of the speed limits, and only then fires
-    ``onStopped`` (which starts the timeline)."""
+    timeline's first key within 20 % of the speed, acceleration and jerk
+    limits, and only then fires ``onStopped`` (which starts the timeline).
+    Its move used ``angleInterpolationWithSpeed`` (a straight line, its
+    speed stepping at once): at a 5 ms cycle 2.6 times the bridge's
+    acceleration limit and 28 times its jerk limit."""
     start = forward("right")
     trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
     xml = xml_of(trajectory, frames_from_trajectory(trajectory))
@@ -219,7 +226,7 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
         timeline_from_xml(xml).angles(name)[0] for name in trajectory.joint_names
     ]
     log = tmp_path / "sim.jsonl"
-    with SimProcess(log_path=log) as sim:
+    with SimProcess(log_path=log, period=0.005) as sim:
         session = qi.Session()
         session.connect(sim.url)
         motion = session.service("ALMotion")
@@ -239,9 +246,13 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
     calls = [e for e in read_log(log) if e["event"] == "call"]
     assert [c["method"] for c in calls] == [
         "stiffnessInterpolation",
-        "angleInterpolationWithSpeed",
+        "angleInterpolation",
     ]
-    assert calls[1]["fraction"] == 0.2
+    names = list(trajectory.joint_names)
+    peaks = logged_peaks(read_log(log), names, calls[1]["t"], float("inf"))
+    net = FrameLimits.for_arm("right")
+    share = peaks / np.array([net.velocity, net.acceleration, net.jerk])
+    assert share[0].max() > 0.15 and share.max() < 0.25
     assert [e["event"] for e in read_log(log)].count("refused") == 0
 
 
@@ -293,7 +304,7 @@ def test_the_start_box_stopped_on_the_way_ends_the_move_and_not_the_timeline(
     np.testing.assert_allclose(still, held, atol=1e-9)  # and holding there
     events = read_log(log)
     calls = [e["method"] for e in events if e["event"] == "call"]
-    assert calls[:2] == ["stiffnessInterpolation", "angleInterpolationWithSpeed"]
+    assert calls[:2] == ["stiffnessInterpolation", "angleInterpolation"]
     assert set(calls[2:]) == {"killTasksUsingResources"}
     assert not [e for e in events if e["event"] == "done"][1:]  # only stiffness
 

@@ -98,14 +98,14 @@ def test_the_script_plays_on_the_simulated_nao(tmp_path: Path) -> None:
         for e in entries
         if e["event"] == "call" and e["method"] == "angleInterpolation"
     ]
-    assert len(calls) == 1
-    assert np.allclose(np.array(calls[0]["angles"]).T, frames.positions, atol=1e-7)
+    assert len(calls) == 2  # the move to the start, then the keys
+    assert np.allclose(np.array(calls[1]["angles"]).T, frames.positions, atol=1e-7)
     done = [
         e
         for e in entries
         if e["event"] == "done" and e["method"] == "angleInterpolation"
     ]
-    assert len(done) == 1
+    assert len(done) == 2
 
 
 def test_the_script_holds_a_limp_arm_where_it_hangs(tmp_path: Path) -> None:
