@@ -372,7 +372,7 @@ def test_a_play_says_what_it_played(tmp_path: Path, logged_sim: SimProcess) -> N
     done = run(script(tmp_path, duration=1.0), logged_sim.url)
     assert done.returncode == 0, done.stderr
     assert done.stdout == f"played 25 frames (1.000 s) on {logged_sim.url}\n"
-    assert len(calls(logged_sim, "angleInterpolation")) == 1
+    assert len(calls(logged_sim, "angleInterpolation")) == 2  # approach, trajectory
 
 
 def python2() -> str | None:
