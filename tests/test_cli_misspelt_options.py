@@ -71,3 +71,21 @@ def test_no_parser_takes_abbreviations() -> None:
     found = list(parsers(build_parser()))
     assert len(found) > 20
     assert [p.prog for p in found if p.allow_abbrev] == []
+
+
+@pytest.mark.parametrize(
+    "value", ["-x y.json", "--odd name.json"], ids=["dash", "double-dash"]
+)
+def test_a_value_with_a_space_is_not_called_an_option(
+    value: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """argparse takes a dashed argument with a space for a value: ``decide
+    --model '-x y.json'`` with no target was refused as 'unrecognized
+    arguments: -x y.json', not for the target it lacks."""
+    with pytest.raises(SystemExit) as exited:
+        build_parser().parse_args(["decide", "--model", value])
+    assert exited.value.code == 2
+    assert capsys.readouterr().err.endswith(
+        "armplan decide: error: one of the arguments --target --wrist-path --grid "
+        "is required\n"
+    )

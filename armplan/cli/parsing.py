@@ -84,6 +84,8 @@ class ArgumentParser(argparse.ArgumentParser):
             return False  # a value
         known = self._option_string_actions
         name = arg.split("=", 1)[0]
+        if " " in arg and name not in known:
+            return False  # a value, as argparse reads it ("-x y.json")
         return name not in known and arg[:2] not in known
 
 
