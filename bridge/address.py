@@ -18,7 +18,7 @@ from shared.every_interface import names_every_interface
 ROBOT_ENV = "ARMPLAN_ROBOT"
 #: The simulated NAO's default address (``armplan sim``).
 DEFAULT_ROBOT = "tcp://127.0.0.1:9559"
-_URL = re.compile(r"^tcps?://[A-Za-z0-9_.\-]+:(\d{1,5})$")
+_URL = re.compile(r"^tcps?://[A-Za-z0-9_.\-]+:([0-9]{1,5})$")  # ASCII digits only
 
 
 def check_robot_url(url: str) -> str:

@@ -322,6 +322,8 @@ BAD_URLS = [
     "tcp://[::1]:9559",
     "tcp://h :9559",
     "tcp://a://b:1",
+    "tcp://h:\u0669\u0665\u0665\u0669",  # 9559 in Arabic-Indic digits
+    "tcp://h:\uff19\uff15\uff15\uff19",  # 9559 in fullwidth digits
     "",
 ]
 
