@@ -246,7 +246,8 @@ def test_the_exports_hold_the_trajectory(finished: Finished) -> None:
         assert times[0] == 0.0 and abs(angles[0] - frames.start[j]) < 1e-7
         error = np.degrees(np.abs(angles[1 : m + 1] - np.array(frames.positions)[:, j]))
         assert error.max() < 0.05
-    assert "self.joint_names, self.first_key, 0.2" in text
+    assert "approach_keys(" in text  # its start box goes there first
+    assert "self.joint_names, now, self.first_key, 0.2" in text
     script = (finished.out / "play.py").read_text()
     ast.parse(script)
     assert "names = list()" in script and "keys.append(" in script
