@@ -173,7 +173,9 @@ def _stop(
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; 0 at the end of stdin or after a stop signal, 1 on a bad address."""
     parser = argparse.ArgumentParser(
-        prog="python -m bridge", description=plain_text(__doc__)
+        allow_abbrev=False,  # an option only as spelt in full
+        prog="python -m bridge",
+        description=plain_text(__doc__),
     )
     parser.add_argument(
         "--robot",

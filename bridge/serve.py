@@ -51,6 +51,7 @@ log = logging.getLogger("armplan.bridge")
 def parser() -> argparse.ArgumentParser:
     """The bridge process's command line."""
     p = argparse.ArgumentParser(
+        allow_abbrev=False,  # an option only as spelt in full
         prog="python -m bridge.serve",
         description="The armplan robot bridge on Zenoh.",
     )

@@ -89,3 +89,29 @@ def test_a_value_with_a_space_is_not_called_an_option(
         "armplan decide: error: one of the arguments --target --wrist-path --grid "
         "is required\n"
     )
+
+
+@pytest.mark.parametrize(
+    "module",
+    [
+        "services.ik",
+        "bridge.serve",
+        "bridge",
+        "bridge.sim",
+        "services.recorder",
+        "shared.bus.router",
+    ],
+)
+def test_the_processes_take_options_only_as_spelt_in_full(module: str) -> None:
+    """`python -m services.ik --hel` printed the help (an abbreviation of
+    --help, as --conn was of --connect); like armplan's commands, the
+    processes now refuse an option not spelt in full."""
+    done = subprocess.run(
+        [sys.executable, "-m", module, "--hel"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 2, done.stdout
+    assert "unrecognized arguments: --hel" in done.stderr

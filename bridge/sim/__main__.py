@@ -27,6 +27,7 @@ INTERRUPTED_CODE = 128 + signal.SIGINT
 def parser() -> argparse.ArgumentParser:
     """The command line of the simulated NAO."""
     p = argparse.ArgumentParser(
+        allow_abbrev=False,  # an option only as spelt in full
         prog="python -m bridge.sim",
         description="A simulated NAO serving ALMotion over NAOqi (libqi).",
     )

@@ -77,6 +77,7 @@ def _tell_parent(line: str) -> None:
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
+        allow_abbrev=False,  # an option only as spelt in full
         prog="python -m services.recorder",
         description="The armplan recorder: Zenoh key expressions to MCAP.",
     )

@@ -54,7 +54,9 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="python -m shared.bus.router", description="armplan's Zenoh router."
+        allow_abbrev=False,  # an option only as spelt in full
+        prog="python -m shared.bus.router",
+        description="armplan's Zenoh router.",
     )
     add_common_arguments(parser)
     parser.add_argument(

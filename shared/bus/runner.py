@@ -111,6 +111,7 @@ def serve(
 
 def _parser(name: str) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
+        allow_abbrev=False,  # an option only as spelt in full
         prog=f"python -m services.{name}",
         description=f"The armplan {name} service on Zenoh.",
     )
