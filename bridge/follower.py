@@ -16,7 +16,10 @@ and answers with the count); a trajectory the worker had taken but not yet
 started is stopped as it starts (``since``).
 When more trajectories wait than ``QUEUE_LIMIT``, the oldest waiting one is
 dropped (with a warning): the robot falls behind by at most that many, and
-the newest command is kept.
+the newest command is kept. A payload larger than the bus's ``max_payload``
+is dropped unread as it arrives (with a warning), as ``bridge/execute``
+refuses it ``payload_too_large``: one 204 MB publication held 2.7 GB of the
+bridge's memory while it was parsed, and sixteen could wait.
 """
 
 from __future__ import annotations
@@ -98,6 +101,16 @@ class TrajectoryFollower:
         return self
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread
+        size, limit = len(sample.payload), self.bridge.bus.config.max_payload
+        if size > limit:  # sized before copying: never read
+            log.warning(
+                "follow: dropped a payload of %d bytes on %s, over the bus's "
+                "max_payload of %d bytes (not played)",
+                size,
+                sample.key_expr,
+                limit,
+            )
+            return
         item = (time.monotonic(), sample.payload.to_bytes())
         if offer_newest(self._queue, item):
             log.warning(
