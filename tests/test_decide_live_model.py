@@ -6,6 +6,8 @@ process (``LiveModel``) or the decide service as a process.
 
 from __future__ import annotations
 
+import dataclasses
+import logging
 import pathlib
 import time
 from collections.abc import Callable
@@ -20,6 +22,8 @@ from shared.bus.routes import MODEL_TOPIC
 from shared.demos import synthesize
 from shared.messages import MotionModel
 
+#: The router of the max_payload test (a fixed loopback port).
+SIZE_ROUTER = "tcp/127.0.0.1:54313"
 #: Longest wait for a publication to be taken up [s].
 FOLLOW_WAIT = 30.0
 
@@ -83,3 +87,38 @@ def test_the_decide_service_stops_following_before_its_session_closes(
     stopped = text.index("service decide stopped")
     assert text.index("stopped following the fit service's model") > stopped
     assert decide.exit_code() == 0
+
+
+def test_a_published_model_over_max_payload_is_ignored_unread(
+    lab_model: MotionModel, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A 60 MB publication on ``fit/model/update`` (a list of empty
+    objects) held over 10 GB of the decide service's memory while it was
+    parsed. One over the bus's ``max_payload`` is now ignored unread, with a
+    warning naming its size and the limit; the next model under it is
+    swapped in."""
+    large = fit_model(synthesize(9, subjects=3, trials=1), bins=20)
+    assert len(lab_model.to_json()) < len(large.to_json())
+    limit = len(large.to_json()) - 1
+    config = dataclasses.replace(
+        load_config(endpoints=(SIZE_ROUTER,)), max_payload=limit
+    )
+    with (
+        Launcher(config, []) as up,
+        Bus.connect(up.config) as bus,
+        Bus.connect(up.config) as fit,
+        caplog.at_level(logging.WARNING, logger="armplan.decide"),
+    ):
+        live = LiveModel(bus)
+        try:
+            fit.publish(MODEL_TOPIC, large)
+            fit.publish(MODEL_TOPIC, lab_model)
+            assert until(lambda: live.updates >= 1, FOLLOW_WAIT)
+            assert live.decider.model == lab_model
+            assert (live.compiled, live.updates) == (2, 1)  # the large one unread
+        finally:
+            live.close()
+    (warning,) = [
+        r.getMessage() for r in caplog.records if "max_payload" in r.getMessage()
+    ]
+    assert f"{len(large.to_json())} bytes" in warning and f"{limit} bytes" in warning

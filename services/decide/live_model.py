@@ -13,7 +13,10 @@ restarted): asked only once at start, a decide service started a moment
 before a fit service with a lab model used to decide with the shipped one
 for good. Each model published on the topic is validated, compiled
 (``Decider``) and swapped in between two requests, without a restart. A
-malformed publication is logged and ignored; the model in use stays. An
+malformed publication is logged and ignored; the model in use stays; so
+is one larger than the bus's ``max_payload``, unread (a 200 MB one held
+3.8 GB of the service's memory while parsed, a 60 MB list of empty
+objects over 10 GB). An
 answer of ``fit/model`` is dropped if a model was published after it was
 asked for (the published one is newer), and a model already served (by
 its digest) is not compiled again: a duplicate publication costs a hash,
@@ -92,6 +95,15 @@ class LiveModel:
             self._serve(default_model(), until, fallback=True)
 
     def _on_model(self, sample: zenoh.Sample) -> None:
+        size, limit = len(sample.payload), self._bus.config.max_payload
+        if size > limit:  # sized before copying: never read
+            log.warning(
+                "ignored a published model of %d bytes, over the bus's "
+                "max_payload of %d bytes",
+                size,
+                limit,
+            )
+            return
         try:
             model = parse(MotionModel, sample.payload.to_bytes())
             swapped = self._serve(model, str(sample.key_expr), published=True)
