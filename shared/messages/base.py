@@ -19,12 +19,15 @@ from pydantic import (
     AfterValidator,
     BaseModel,
     ConfigDict,
+    GetCoreSchemaHandler,
     SerializerFunctionWrapHandler,
     ValidationError,
     model_serializer,
 )
+from pydantic_core import CoreSchema
 
 from shared.errors import InvalidInputError
+from shared.messages.fail_fast import fail_fast
 
 
 class FieldError(ValueError):
@@ -44,6 +47,17 @@ class Message(BaseModel):
     """Base of every message exchanged between armplan processes."""
 
     model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
+
+    @classmethod
+    def __get_pydantic_core_schema__(
+        cls, source: type[BaseModel], handler: GetCoreSchemaHandler
+    ) -> CoreSchema:
+        """pydantic's schema, each list stopping at its first wrong item.
+
+        See ``shared.messages.fail_fast``: a list's every wrong item cost
+        its own error, gigabytes for a request within ``max_payload``.
+        """
+        return fail_fast(handler(source))
 
     def to_json(self) -> str:
         """The message as compact JSON (the wire format)."""
