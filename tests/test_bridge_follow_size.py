@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from armplan.launch import Launcher
+from armplan.launch import Launcher, free_endpoint
 from bridge.follower import TrajectoryFollower
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.naoqi_client import NaoqiClient
@@ -31,9 +31,6 @@ from shared.bus import Bus, load_config
 from shared.bus.routes import TRAJECTORY_TOPIC
 from shared.messages import Trajectory
 from shared.robot.postures import forward, rest
-
-ROUTER = "tcp/127.0.0.1:54310"
-ROBOT = "tcp://127.0.0.1:54311"
 
 
 def _reach(seconds: float) -> Trajectory:
@@ -75,8 +72,11 @@ def _wait(what: str, done: Callable[[], object], within: float = 20.0) -> None:
 
 @pytest.fixture
 def following(tmp_path: Path) -> Iterator[tuple[Bus, TrajectoryFollower, SimProcess]]:
-    config = dataclasses.replace(load_config(endpoints=(ROUTER,)), max_payload=LIMIT)
-    sim = SimProcess(listen=ROBOT, log_path=tmp_path / "sim.jsonl")
+    config = dataclasses.replace(
+        load_config(endpoints=(free_endpoint(),)), max_payload=LIMIT
+    )
+    robot = free_endpoint().replace("tcp/", "tcp://")
+    sim = SimProcess(listen=robot, log_path=tmp_path / "sim.jsonl")
     with (
         (tmp_path / "router.log").open("w") as router_log,
         Launcher(config, [], log=router_log),

@@ -17,12 +17,12 @@ from collections.abc import Iterator
 
 import pytest
 
+from armplan.launch import free_endpoint
 from shared.bus import Bus, BusConfig, Endpoint, ServiceHost, open_router
 from shared.bus.robot_routes import EXECUTE
 from shared.errors import InvalidInputError
 from shared.messages import ExecuteReply, ExecuteRequest
 
-ROUTER = "tcp/127.0.0.1:54314"
 #: Unknown keys in one object: about 2.4 MB of JSON, 14 s of work before.
 KEYS = 200_000
 #: Wrong items in one list.
@@ -37,7 +37,7 @@ def refuse(request: ExecuteRequest) -> ExecuteReply:
 @pytest.fixture(scope="module")
 def client() -> Iterator[Bus]:
     """A client of a host serving ``bridge/execute`` on a router of its own."""
-    config = BusConfig(endpoints=(ROUTER,), namespace="test", timeout=5.0)
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="test", timeout=5.0)
     with (
         open_router(config),
         Bus.connect(config) as service_bus,

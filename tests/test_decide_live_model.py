@@ -23,7 +23,6 @@ from shared.demos import synthesize
 from shared.messages import MotionModel
 
 #: The router of the max_payload test (a fixed loopback port).
-SIZE_ROUTER = "tcp/127.0.0.1:54313"
 #: Longest wait for a publication to be taken up [s].
 FOLLOW_WAIT = 30.0
 
@@ -101,7 +100,7 @@ def test_a_published_model_over_max_payload_is_ignored_unread(
     assert len(lab_model.to_json()) < len(large.to_json())
     limit = len(large.to_json()) - 1
     config = dataclasses.replace(
-        load_config(endpoints=(SIZE_ROUTER,)), max_payload=limit
+        load_config(endpoints=(free_endpoint(),)), max_payload=limit
     )
     with (
         Launcher(config, []) as up,

@@ -30,7 +30,7 @@ LAB = "lab2"
 IK = ["ik", "--target", "0.12", "-0.13", "0.05", "--json"]
 #: A robot address nothing listens on (in this suite's port range): the
 #: bridge starts without its robot and reaches it only on a request.
-NO_ROBOT = "tcp://127.0.0.1:53601"
+NO_ROBOT = free_endpoint().replace("tcp/", "tcp://")  # nothing listens
 
 
 @pytest.fixture(scope="module")
