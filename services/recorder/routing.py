@@ -13,8 +13,10 @@ lost), and gives each the most specific channel it fits:
 3. anything else (binary, text, JSON that is not an object, JSON not in
    UTF-8 or with a byte order mark, Python's NaN and Infinity, which JSON
    readers such as Foxglove's refuse or read otherwise;
-   ``shared.recording.json_object``): a ``RawPayload`` (base64 and the
-   Zenoh encoding) on the topic's ``RawPayload`` channel.
+   ``shared.recording.json_object``), and a payload larger than the bus's
+   ``max_payload``, unread (no service reads one: parsing a 200 MB
+   publication took the recorder to 7 GB): a ``RawPayload`` (base64 and
+   the Zenoh encoding) on the topic's ``RawPayload`` channel.
 
 The channel's topic is the sample's full key, e.g. ``armplan/plan/trajectory``.
 """
@@ -96,15 +98,18 @@ def _typed(cls: type[Message], payload: bytes) -> Message | None:
         return None
 
 
-def route(incoming: Incoming, namespace: str) -> Entry:
+def route(incoming: Incoming, namespace: str, max_payload: int | None = None) -> Entry:
     """The channel and message of one received sample (see the module docstring).
 
     Args:
         incoming: The sample.
         namespace: The bus namespace, e.g. ``"armplan"``.
+        max_payload: Larger payloads are kept raw, unread [bytes]; ``None``:
+            every payload is read.
     """
     key, payload = incoming.key, incoming.payload
-    if not is_json_object(payload):
+    too_large = max_payload is not None and len(payload) > max_payload
+    if too_large or not is_json_object(payload):
         raw = RawPayload.of(payload, incoming.encoding)
         return Entry(
             key,

@@ -74,7 +74,7 @@ class Recorder(StartStop):
         namespace = bus.config.namespace
         check_keys(self.options.keys, namespace)
         self.keys = [f"{namespace}/{key}" for key in self.options.keys]
-        self.sink = RecordingSink(self.options, namespace)
+        self.sink = RecordingSink(self.options, namespace, bus.config.max_payload)
         self._bus = bus
         self._exprs = [zenoh.KeyExpr(key) for key in self.keys]
         self._subscriber: zenoh.Subscriber[None] | None = None

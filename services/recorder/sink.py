@@ -77,6 +77,9 @@ class RecordingSink:
     Args:
         options: What to record and how.
         namespace: The bus namespace (topics are looked up relative to it).
+        max_payload: Payloads larger than this are recorded raw, unread
+            [bytes] (the bus's ``max_payload``: no service reads them);
+            ``None``: every payload is read.
 
     Attributes:
         received: Samples queued so far.
@@ -96,11 +99,13 @@ class RecordingSink:
         self,
         options: RecorderOptions,
         namespace: str,
+        max_payload: int | None = None,
         shed_backlog: int = SHED_BACKLOG,
         max_backlog: int = MAX_BACKLOG,
     ) -> None:
         self.options = options
         self.namespace = namespace
+        self.max_payload = max_payload
         self.received = 0
         self.written = 0
         self.derived = 0
@@ -295,7 +300,7 @@ class RecordingSink:
 
     def _write(self, sample: Incoming, behind: bool = False) -> None:
         try:
-            entry = route(sample, self.namespace)
+            entry = route(sample, self.namespace, self.max_payload)
             self._files.write(
                 entry.topic,
                 entry.schema_name,

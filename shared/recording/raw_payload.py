@@ -32,7 +32,7 @@ JSON_SCHEMA: dict[str, Any] = {
 
 
 class RawPayload(Message):
-    """A payload that is not a JSON object.
+    """A payload that is not a JSON object (or one the recorder left unread).
 
     Attributes:
         encoding: The Zenoh encoding it came with, e.g. ``"zenoh/bytes"``.
