@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import json
 import subprocess
-import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 import zenoh
+from armplan_cli import armplan
 
 from armplan.launch import free_endpoint
 from shared.bus import Bus, BusConfig, open_router
@@ -73,16 +73,6 @@ def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
     with MessageWriter(path, chunked=False) as writer:
         writer.write(f"{MINE}/misc/request", REQUEST, time.time_ns())
     return path
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def replay_waiting(config: BusConfig, path: Path) -> subprocess.CompletedProcess[str]:

@@ -9,18 +9,9 @@ import sys
 
 import numpy as np
 import pytest
+from armplan_cli import armplan
 
 from shared.robot import load_arm
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def test_fk_json_contract() -> None:

@@ -13,18 +13,9 @@ import sys
 from collections.abc import Iterator
 
 import pytest
+from armplan_cli import armplan
 
 from armplan.cli.main import build_parser
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def parsers(parser: argparse.ArgumentParser) -> Iterator[argparse.ArgumentParser]:

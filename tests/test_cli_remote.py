@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pathlib
 import subprocess
-import sys
 from collections.abc import Iterator
 
 import pytest
+from armplan_cli import armplan
 
 from armplan.launch import Launcher, free_endpoint
 from shared.bus import load_config
@@ -30,16 +30,6 @@ CASES = [
     ["--target", "0.12", "-0.13", "0.05", "--primitive", "X"],  # unknown primitive
     SWIVEL_SHORT,  # RElbowYaw meets its limit short of the swivel: the same error
 ]
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 @pytest.fixture(scope="module")

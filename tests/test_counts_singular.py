@@ -9,7 +9,6 @@ of it ``sent 1 of 1 message``, and a recording of it ``1 message in``.
 from __future__ import annotations
 
 import subprocess
-import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -17,6 +16,7 @@ from pathlib import Path
 
 import pytest
 import zenoh
+from armplan_cli import armplan
 from record_cli import record_command
 
 from armplan.launch import free_endpoint
@@ -46,16 +46,6 @@ def one_message(tmp_path: Path) -> Path:
         channel = writer.add_channel("misc/one", "json", JSON_SCHEMA)
         writer.write_raw(channel, b'{"i": 0}', 10**18)
     return path
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def test_inspect_says_one_message_on_one_channel(one_message: Path) -> None:

@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import pytest
+from armplan_cli import armplan
 
 from armplan.cli.main import main
 from services.recorder.options import RecorderOptions
@@ -41,16 +42,6 @@ def session(tmp_path_factory: pytest.TempPathFactory) -> Path:
         sink.put(Incoming(f"{NS}/misc/note", b'{"n": %d}' % i, "", t, t))
     sink.stop()
     return out
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def test_the_table_lists_channels_counts_and_times(

@@ -9,12 +9,11 @@ markup only) and in the errors naming the channel.
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
+from armplan_cli import armplan
 
 from armplan.cli.main import main
 from armplan.cli.output import report_error
@@ -29,16 +28,6 @@ from shared.recording import read_records
 EVIL = "armplan/x\x1b[2J\x1b[31mRED\x1b]0;TITLE\x07"
 #: How it prints.
 SHOWN = "armplan/x\\x1b[2J\\x1b[31mRED\\x1b]0;TITLE\\x07"
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def test_control_characters_are_escaped_and_the_rest_kept() -> None:

@@ -10,8 +10,6 @@ apart, were a 20.5 s session to ``inspect`` and took ``armplan replay``
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 import time
 from collections.abc import Iterator
 from datetime import UTC, datetime, timedelta
@@ -19,6 +17,7 @@ from pathlib import Path
 
 import pytest
 import zenoh
+from armplan_cli import armplan
 
 from armplan.launch import free_endpoint
 from services.recorder import RecorderOptions
@@ -58,16 +57,6 @@ def skewed(config: BusConfig, tmp_path_factory: pytest.TempPathFactory) -> Path:
             session.put(bus.key("misc/a"), json.dumps({"i": i}).encode())
         time.sleep(0.5)
     return out
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def test_replay_keeps_the_spacing_the_recorder_saw(skewed: Path) -> None:

@@ -8,25 +8,13 @@ and ``demo`` (no ``--connect``) to give the router's address with
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import pytest
+from armplan_cli import armplan
 
 from armplan.launch import free_endpoint
 from shared.bus import Bus, load_config
 from shared.errors import ServiceUnavailableError
 from shared.offered_options import offered, offering
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 def test_stop_names_its_config_option_and_not_remote() -> None:

@@ -13,22 +13,13 @@ import sys
 from collections.abc import Iterator
 
 import pytest
+from armplan_cli import armplan
 
 from armplan.launch import SERVICES, free_endpoint
 from shared.bus import Bus, load_config
 from shared.bus.keys import alive_key
 
 NS = "armplan"
-
-
-def armplan(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "armplan", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
 
 
 @pytest.fixture
