@@ -179,7 +179,7 @@ def test_the_behavior_and_the_python_export_carry_the_hand(grasp: Trajectory) ->
     slopes = keys.slopes("RHand")[: len(speed)]
     np.testing.assert_allclose(slopes[inside, 0], speed[inside], atol=1e-6)
     np.testing.assert_allclose(slopes[inside, 1], speed[inside], atol=1e-6)
-    assert '"RHand"]' in text and "self.joint_names, self.first_key" in text
+    assert '"RHand"]' in text and "self.joint_names, now, self.first_key" in text
     script = python_script(frames)
     module = ast.parse(script)
     assert 'names.append("RHand")' in script
