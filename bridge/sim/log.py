@@ -21,7 +21,10 @@ monotonic clock) and ``event``:
 - ``state``: each control cycle while a command runs: ``cycle`` and
   ``positions`` (joint -> measured angle [rad]) of the moving joints; its
   ``t`` is the time the cycle committed those positions, so a line written
-  late still gives the motor's true speed.
+  late still gives the motor's true speed. A kill (``killTasksUsingResources``,
+  ``killAll``, ``rest``) logs one more, at its own time, of the joints it
+  stopped while commanded, with ``stopped`` (the reason); the next cycle
+  logs them once more, where they hold, and then no more.
 - ``stop``: the sim is shutting down.
 
 If the file cannot be written (a full disk), the sim stops writing it with
