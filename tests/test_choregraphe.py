@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from logged_motion import logged_peaks
 
 from bridge.bezier_auto import auto_handles
 from bridge.choregraphe import (
@@ -35,7 +36,6 @@ from shared.messages import CommandFrames, Trajectory
 from shared.robot import load_arm
 from shared.robot.postures import forward, rest
 from tests.limp_arm_run import let_go
-from tests.logged_motion import logged_peaks
 
 
 def script_box(xml: str, session: Any, on_stopped: Callable[[], None]) -> Any:

@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from logged_motion import logged_peaks
 
 from bridge.frames import frames_from_trajectory
 from bridge.limits import FrameLimits
@@ -23,7 +24,6 @@ from bridge.python_export import write_python
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from shared.robot.postures import forward, rest
-from tests.logged_motion import logged_peaks
 
 
 def test_play_py_reaches_the_start_within_the_nets_limits(tmp_path: Path) -> None:

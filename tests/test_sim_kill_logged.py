@@ -18,12 +18,12 @@ import time
 from pathlib import Path
 
 import numpy as np
+from logged_motion import logged_peaks
 
 from bridge.limits import FrameLimits
 from bridge.naoqi_client import NaoqiClient
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
-from tests.logged_motion import logged_peaks
 
 NAMES = ["RShoulderPitch"]
 
