@@ -20,6 +20,7 @@ from armplan_cli import armplan
 
 from armplan.launch import free_endpoint
 from shared.bus import Bus, BusConfig, open_router
+from shared.bus.elsewhere import elsewhere_hint
 from shared.bus.keys import alive_anywhere, alive_key, namespace_from_alive_key
 from shared.bus.routes import IK_SOLVE
 from shared.errors import ServiceUnavailableError, error_from_wire
@@ -159,3 +160,17 @@ def test_status_require_names_the_namespace_where_it_is_alive(
     error = json.loads(document.stdout)["error"]
     assert error["evidence"]["elsewhere"] == {"bridge": [OTHER]}
     assert error["message"].endswith(HINT)
+
+
+def test_a_hint_names_at_most_three_namespaces_then_how_many_more() -> None:
+    """Names from the network: a router holding a service in thousands of
+    namespaces made a message thousands of names long."""
+    many = {"bridge": [f"lab{k:04d}" for k in range(2000)]}
+    hint = elsewhere_hint(many)
+    assert hint == (
+        "; 'bridge' is alive in namespaces 'lab0000', 'lab0001', 'lab0002' "
+        "and 1997 more (--namespace lab0000)"
+    )
+    assert elsewhere_hint({"ik": ["lab1"]}) == (
+        "; 'ik' is alive in namespace 'lab1' (--namespace lab1)"
+    )

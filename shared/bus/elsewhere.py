@@ -24,9 +24,12 @@ from shared.bus.keys import (
     namespace_from_alive_key,
 )
 from shared.errors import InvalidInputError, ServiceUnavailableError
+from shared.text.counted import agreeing
 
 #: Longest wait for the router's answers to the hint's queries, all together [s].
 HINT_TIMEOUT = 0.5
+#: Most namespaces a hint names for one service.
+HINT_NAMES = 3
 
 
 def alive_elsewhere(
@@ -84,12 +87,23 @@ def _valid(namespace: str) -> bool:
 
 
 def elsewhere_hint(found: dict[str, list[str]]) -> str:
-    """``"; 'bridge' is alive in namespace 'lab1' (--namespace lab1)"``, or ``""``."""
+    """``"; 'bridge' is alive in namespace 'lab1' (--namespace lab1)"``, or ``""``.
+
+    At most ``HINT_NAMES`` namespaces are named per service, then how many
+    more: the names come from the network, a router may hold thousands.
+    """
     return "".join(
-        f"; {service!r} is alive in namespace{'s' if len(spaces) > 1 else ''} "
-        f"{', '.join(repr(ns) for ns in spaces)} (--namespace {spaces[0]})"
+        f"; {service!r} is alive in {_names(spaces)} (--namespace {spaces[0]})"
         for service, spaces in found.items()
     )
+
+
+def _names(spaces: list[str]) -> str:
+    """``namespace 'lab1'``, ``namespaces 'a', 'b'``, ``... and 7 more``."""
+    shown = ", ".join(repr(ns) for ns in spaces[:HINT_NAMES])
+    more = len(spaces) - HINT_NAMES
+    rest = f" and {more} more" if more > 0 else ""
+    return f"{agreeing(len(spaces), 'namespace')} {shown}{rest}"
 
 
 def not_alive_error(
