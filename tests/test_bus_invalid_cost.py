@@ -27,6 +27,9 @@ from shared.messages import ExecuteReply, ExecuteRequest
 KEYS = 200_000
 #: Wrong items in one list.
 ITEMS = 200_000
+#: Unknown keys of LONG_KEY characters in one object: 4.8 MB of JSON, 13 s
+#: of difflib before keys that long were left out of the search.
+LONG_KEYS, LONG_KEY = 600, 8000
 
 
 def refuse(request: ExecuteRequest) -> ExecuteReply:
@@ -67,6 +70,21 @@ def test_an_object_of_unknown_keys_is_refused_within_the_timeout(
             "invalid ExecuteRequest: trajectory.arm: Field required; "
             f"and {KEYS + 7} more problems"
         )
+
+
+def test_an_object_of_long_unknown_keys_is_refused_within_the_timeout(
+    client: Bus,
+) -> None:
+    """Keys far longer than any field name are not compared with each
+    missing field (difflib's time grows with the key's length)."""
+    pattern = "joint_names_arm_times_positions_"
+    long = (pattern * (LONG_KEY // len(pattern) + 1))[:LONG_KEY]
+    keys = ",".join(f'"{i}{long}": 1' for i in range(LONG_KEYS))
+    message = _refusal(client, '{"trajectory": {' + keys + "}}")
+    assert message == (
+        "invalid ExecuteRequest: trajectory.arm: Field required; "
+        f"and {LONG_KEYS + 7} more problems"
+    )
 
 
 def test_a_list_stops_at_its_first_wrong_item(client: Bus) -> None:

@@ -185,7 +185,8 @@ def _misspelt_key(errors: Sequence[Any]) -> tuple[Any, Any] | None:
     one whose name is closest to the field's. An unrelated extra key (a
     ``comment`` beside a missing ``trajectory``) is no misspelling: then
     the errors are reported as they come. With more than
-    ``MISSPELT_SEARCH`` errors none is looked for.
+    ``MISSPELT_SEARCH`` errors none is looked for, and a key longer than
+    ``MISSPELT_KEY_LENGTH`` is none.
 
     Linear in the errors: the extra keys are grouped by object first (each
     missing field scanned them all: 4000 unknown objects in a list, a 32 kB
@@ -195,7 +196,10 @@ def _misspelt_key(errors: Sequence[Any]) -> tuple[Any, Any] | None:
         return None
     extras: dict[tuple[Any, ...], list[Any]] = {}
     for error in errors:
-        if error["type"] == "extra_forbidden":
+        if (
+            error["type"] == "extra_forbidden"
+            and len(str(error["loc"][-1])) <= MISSPELT_KEY_LENGTH
+        ):
             extras.setdefault(tuple(error["loc"][:-1]), []).append(error)
     if not extras:
         return None
@@ -212,6 +216,13 @@ def _misspelt_key(errors: Sequence[Any]) -> tuple[Any, Any] | None:
 #: is not one a person misspelt, and each key is compared with each missing
 #: field of its object (difflib).
 MISSPELT_SEARCH = 1000
+
+
+#: Longest key looked at as a misspelt field name [characters]: the longest
+#: field name has 18, and difflib's comparison of a long key with each
+#: missing field is slow (900 unknown keys of 16 000 characters, a 14 MB
+#: request within ``max_payload``, kept a worker 61 s).
+MISSPELT_KEY_LENGTH = 64
 
 
 #: Likeness from which a key is taken for a misspelt field name.
