@@ -13,10 +13,12 @@ about to play it, unwatched.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import threading
 import time
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -82,8 +84,45 @@ def when_sim_logs(sim: SimProcess, event: str, method: str) -> float:
 
 def last_moved(sim: SimProcess) -> float:
     """When the sim last logged a moving joint [s, this process's clock]
-    (-inf: never)."""
-    return max((float(e["at"]) for e in sim_events(sim, "state")), default=-math.inf)
+    (-inf: never): a ``state`` line with a joint not where its previous line
+    had it. The cycle after a kill logs the stopped joints once more, held
+    (``bridge.sim.log``): no movement, though a cycle after the kill."""
+    last, where = -math.inf, {}
+    for entry in sim_events(sim, "state"):
+        positions = entry["positions"]
+        if any(where.get(joint) != q for joint, q in positions.items()):
+            last = float(entry["at"])
+        where.update(positions)
+    return last
+
+
+def test_the_line_holding_a_killed_joint_is_no_movement(tmp_path: Path) -> None:
+    """A joint killed mid-move last moved at the kill's ``state`` line, not
+    at the next cycle's, which logs it held where it stopped."""
+    with SimProcess(log_path=tmp_path / "sim.jsonl", period=0.1) as sim:
+        client = NaoqiClient(sim.url)
+        try:
+            start = float(client.call("getAngles", ["RShoulderPitch"], True)[0])
+            args = (["RShoulderPitch"], [[start - 1.0]], [[2.0]], True)
+            moving = threading.Thread(target=_move, args=(client, *args))
+            moving.start()
+            time.sleep(0.35)
+            client.call("killTasksUsingResources", ["RArm"], timeout=5.0)
+            moving.join(5.0)
+            time.sleep(0.35)  # three cycles: the held line is logged
+        finally:
+            client.close()
+        states = sim_events(sim, "state")
+        stopped = [float(e["at"]) for e in states if "stopped" in e]
+        assert len(stopped) == 1
+        assert max(float(e["at"]) for e in states) > stopped[0]  # the held line
+        assert last_moved(sim) == stopped[0]
+
+
+def _move(client: NaoqiClient, *args: object) -> None:
+    """``angleInterpolation(*args)``; the kill makes it fail, as it should."""
+    with contextlib.suppress(Exception):  # the interrupted call's error
+        client.call("angleInterpolation", *args, timeout=5.0)
 
 
 def finished(sim: SimProcess) -> list[str]:
