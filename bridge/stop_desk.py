@@ -46,7 +46,7 @@ from shared.bus.arrival import current_arrival
 from shared.bus.deadline import REPLY_MARGIN, Due, current_due
 from shared.bus.robot_routes import STOP
 from shared.messages import ExecutionOutcome, StopReply, StopRequest
-from shared.messages.stop import MAX_NOTE, read_stop_request
+from shared.messages.stop import MAX_NOTE, NO_TIME_TO_READ, read_stop_request
 from shared.robot import Side
 
 log = logging.getLogger("armplan.bridge")
@@ -310,7 +310,7 @@ class StopDesk:
         if due is not None:
             wait = min(wait, due.at - REPLY_MARGIN - time.monotonic())
         if wait <= READ_GAP:
-            return False, "no time was left to read the arm settled"
+            return False, NO_TIME_TO_READ
         problem = not_settled(self.robot.client, names, wait)
         if problem:
             log.warning("stop: the arm is not known still: %s", problem)

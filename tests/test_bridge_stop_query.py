@@ -491,6 +491,31 @@ def test_a_stop_too_short_to_wait_says_ordered_not_confirmed(
         )
 
 
+def test_a_stop_with_nothing_playing_and_no_time_to_read_says_what_to_change(
+    tmp_path: Path, sim: SimProcess
+) -> None:
+    """Nothing playing, ``armplan stop --timeout 0.05``: the bridge has no time
+    to read the arm, so it is not known still (exit 1), and the CLI now says
+    the timeout was the cause and what to give (it said only "look at the
+    robot", alarming an e-stop script that set a tiny timeout); with the
+    default timeout the same stop reads the arm still and exits 0."""
+    with served(tmp_path, sim) as there:
+        endpoint = there.bus.config.endpoint
+        short = _armplan("stop", "--connect", endpoint, "--timeout", "0.05")
+        enough = _armplan("stop", "--connect", endpoint)
+    if short.returncode == 1 and "did not answer" in short.stderr:
+        pytest.skip("the CLI's 50 ms passed before the reply (a loaded machine)")
+    assert short.returncode == 1, short.stderr
+    assert "nothing was playing; the arm is NOT known still" in short.stdout
+    assert (
+        "known still (--timeout 0.05 s left it no time to read the arm; give it "
+        "more, e.g. the default 10 s): look at the robot"
+    ) in short.stderr
+    assert enough.returncode == 0, enough.stderr
+    assert "the arm is still" in enough.stdout
+    assert "--timeout" not in enough.stderr
+
+
 def test_a_stop_with_the_robot_frozen_never_says_still(
     tmp_path: Path, sim: SimProcess
 ) -> None:

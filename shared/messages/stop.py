@@ -27,6 +27,8 @@ from shared.text.counted import agreeing, counted
 MAX_REASON = 200
 #: Longest note a reply carries [characters].
 MAX_NOTE = 1000
+#: A reply's note when the caller's time left was too short to read the arm.
+NO_TIME_TO_READ = "no time was left to read the arm settled"
 
 
 class StopRequest(Message):

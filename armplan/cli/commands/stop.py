@@ -37,7 +37,7 @@ from shared.bus.options import add_config_option, add_connect_options, bus_confi
 from shared.bus.robot_routes import STOP
 from shared.errors import InvalidInputError, RequestTimeoutError
 from shared.messages import StopReply, StopRequest
-from shared.messages.stop import clean_reason
+from shared.messages.stop import NO_TIME_TO_READ, clean_reason
 
 ORDER = 82
 HELP = "stop the arm the bridge is moving, now (<ns>/bridge/stop)"
@@ -107,10 +107,23 @@ def run(args: argparse.Namespace) -> int:
     if not reply.still:
         sys.stderr.write(
             f"armplan: error: the bridge ({url}) answered before the arm was "
-            "known still: look at the robot\n"
+            f"known still{_too_short(reply, timeout)}: look at the robot\n"
         )
         return 1
     return 0
+
+
+def _too_short(reply: StopReply, timeout: float) -> str:
+    """What to change when ``--timeout`` [s] left the bridge no time to read the arm.
+
+    ``""`` otherwise: then the note says why the arm is not known still.
+    """
+    if NO_TIME_TO_READ not in (reply.note or ""):
+        return ""
+    return (
+        f" (--timeout {timeout:g} s left it no time to read the arm; give it "
+        f"more, e.g. the default {DEFAULT_TIMEOUT:g} s)"
+    )
 
 
 def describe(reply: StopReply) -> str:
