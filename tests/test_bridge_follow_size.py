@@ -18,13 +18,11 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
+from test_bridge_follow_stop import following_stack
 
-from armplan.launch import Launcher, free_endpoint
+from armplan.launch import free_endpoint
 from bridge.follower import TrajectoryFollower
 from bridge.minimum_jerk import minimum_jerk_trajectory
-from bridge.naoqi_client import NaoqiClient
-from bridge.robot_bridge import RobotBridge
-from bridge.service import BridgeService
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from shared.bus import Bus, load_config
@@ -76,22 +74,8 @@ def following(tmp_path: Path) -> Iterator[tuple[Bus, TrajectoryFollower, SimProc
         load_config(endpoints=(free_endpoint(),)), max_payload=LIMIT
     )
     robot = free_endpoint().replace("tcp/", "tcp://")
-    sim = SimProcess(listen=robot, log_path=tmp_path / "sim.jsonl")
-    with (
-        (tmp_path / "router.log").open("w") as router_log,
-        Launcher(config, [], log=router_log),
-    ):
-        sim.start()
-        try:
-            with Bus.connect(config, wait=10.0) as bus:
-                service = BridgeService(bus, RobotBridge(NaoqiClient(sim.url)))
-                follower = TrajectoryFollower(service).start()
-                try:
-                    yield bus, follower, sim
-                finally:
-                    follower.stop()
-        finally:
-            sim.stop()
+    with following_stack(config, robot, tmp_path) as stack:
+        yield stack
 
 
 def test_a_trajectory_over_max_payload_is_dropped_and_the_next_plays(

@@ -7,6 +7,7 @@ stops the arm the documented way (``ALMotion.killTasksUsingResources``).
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import threading
 import time
@@ -24,7 +25,7 @@ from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
-from shared.bus import Bus, load_config
+from shared.bus import Bus, BusConfig, load_config
 from shared.bus.routes import TRAJECTORY_TOPIC
 from shared.bus.topics import BRIDGE_OUTCOME_TOPIC, BRIDGE_REPORT_TOPIC
 from shared.libqi import qi
@@ -74,10 +75,19 @@ def _calls(log: Path, method: str) -> list[dict[str, Any]]:
 
 @pytest.fixture
 def following(tmp_path: Path) -> Iterator[tuple[Bus, TrajectoryFollower, SimProcess]]:
-    config = load_config(endpoints=(ROUTER,))
-    sim = SimProcess(listen=ROBOT, log_path=tmp_path / "sim.jsonl")
+    with following_stack(load_config(endpoints=(ROUTER,)), ROBOT, tmp_path) as stack:
+        yield stack
+
+
+@contextlib.contextmanager
+def following_stack(
+    config: BusConfig, robot: str, folder: Path
+) -> Iterator[tuple[Bus, TrajectoryFollower, SimProcess]]:
+    """A router on ``config``, the sim at ``robot``, a bridge following in
+    this process; their logs in ``folder``."""
+    sim = SimProcess(listen=robot, log_path=folder / "sim.jsonl")
     with (
-        (tmp_path / "router.log").open("w") as router_log,
+        (folder / "router.log").open("w") as router_log,
         Launcher(config, [], log=router_log),
     ):
         sim.start()
