@@ -23,6 +23,7 @@ from shared.bus.keys import service_key
 from shared.bus.liveness import AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
+from shared.bus.topics import droppable
 from shared.errors import ServiceUnavailableError
 from shared.lifecycle import Closes
 from shared.messages import Message, ServiceTiming
@@ -144,9 +145,21 @@ class Bus(Closes):
         return ask
 
     def publish(self, path: str, message: Message) -> None:
-        """Put ``message``'s JSON on ``<namespace>/<path>``."""
+        """Put ``message``'s JSON on ``<namespace>/<path>``.
+
+        With Zenoh's ``BLOCK`` congestion control, unless the topic is
+        :attr:`~shared.bus.topics.Topic.droppable` (``bridge/state``): a
+        congested link makes the put wait for room (at most Zenoh's
+        ``wait_before_close``, 5 s by default, then the link is closed)
+        instead of dropping it silently.
+        """
         self.session.put(
-            self.key(path), message.to_json(), encoding=zenoh.Encoding.APPLICATION_JSON
+            self.key(path),
+            message.to_json(),
+            encoding=zenoh.Encoding.APPLICATION_JSON,
+            congestion_control=zenoh.CongestionControl.DROP
+            if droppable(path)
+            else zenoh.CongestionControl.BLOCK,
         )
 
     def is_alive(self, service: str) -> bool:

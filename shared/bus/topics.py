@@ -60,11 +60,20 @@ class Topic:
         message: The message class of its payloads (its JSON schema is the
             channel's), or ``None`` while the class is not in ``shared/``.
         publisher: The process that publishes it, e.g. ``"planner"``.
+        droppable: Whether a publication may be dropped when the link is
+            congested (Zenoh's ``DROP``): only a stream whose next sample
+            soon replaces the last (``bridge/state``, 50 Hz), so its
+            publisher never waits. Every other topic is put with ``BLOCK``:
+            a burst waits for room rather than losing a trajectory the
+            follower should play or the recorder keep (with ``DROP``, 40
+            trajectories of 5 MB put at once to a busy subscriber arrived
+            35).
     """
 
     path: str
     message: type[Message] | None
     publisher: str
+    droppable: bool = False
 
     def __post_init__(self) -> None:
         check_path(self.path, "topic")
@@ -81,7 +90,7 @@ TOPICS: tuple[Topic, ...] = (
     Topic(JOINT_PATH_TOPIC, JointPath, "planner"),
     Topic(TRAJECTORY_TOPIC, Trajectory, "planner"),
     Topic(BRIDGE_FRAMES_TOPIC, CommandFrames, "bridge"),
-    Topic(BRIDGE_STATE_TOPIC, JointState, "bridge"),
+    Topic(BRIDGE_STATE_TOPIC, JointState, "bridge", droppable=True),
     Topic(BRIDGE_REPORT_TOPIC, TrackingReport, "bridge"),
     Topic(BRIDGE_OUTCOME_TOPIC, ExecutionOutcome, "bridge"),
     Topic(MODEL_TOPIC, MotionModel, "fit"),
@@ -98,6 +107,16 @@ def topic_paths() -> tuple[str, ...]:
 def find_topic(path: str) -> Topic | None:
     """The registered topic at ``path`` (relative to the namespace), if any."""
     return _BY_PATH.get(path)
+
+
+def droppable(path: str) -> bool:
+    """Whether publications on ``path`` may be dropped under congestion.
+
+    False for an unregistered path: what is not known to be replaced soon
+    is kept.
+    """
+    topic = _BY_PATH.get(path)
+    return topic is not None and topic.droppable
 
 
 def topic_message(path: str) -> type[Message] | None:
