@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import fcntl
 import os
 import shutil
 from collections.abc import Iterator, Sequence
@@ -196,6 +197,12 @@ def replaced_together(
     touched: an older set of these files stays whole, not half new. The
     partial files are removed in every case.
 
+    One process at a time writes sets into a folder (:func:`_one_writer_in`):
+    two runs writing the same set at once used to share its partial files,
+    so one renamed the other's and the other failed ("No such file or
+    directory"), leaving a set mixed of both runs. The second now waits
+    for the first's set to be written, and then replaces it whole.
+
     An ``OSError`` the block raises is this function's typed error if it
     names a partial file, or, without a file name (a failed ``write()``),
     if it came from :meth:`PartialFiles.write_text`.
@@ -209,9 +216,46 @@ def replaced_together(
             replaced (not its partial name), and the operating system's reason.
     """
     partials = PartialFiles([path.with_name(path.name + ".partial") for path in paths])
+    with (
+        _one_writer_in(paths[0].parent if paths else None),
+        _renamed(partials, paths, field),
+    ):
+        yield partials
+
+
+@contextlib.contextmanager
+def _one_writer_in(folder: Path | None) -> Iterator[None]:
+    """Hold ``folder`` for this block: an exclusive ``flock`` on the folder itself.
+
+    Another process holding it (writing its set) is waited for; the lock
+    goes with the block, or with the process however it ends, and leaves
+    no file behind. A folder that cannot be opened or locked (missing, a
+    file system without ``flock``) is written without it, as before.
+    """
+    try:
+        fd: int | None = (
+            os.open(folder, os.O_RDONLY | os.O_DIRECTORY) if folder else None
+        )
+    except OSError:
+        fd = None
+    try:
+        if fd is not None:
+            with contextlib.suppress(OSError):
+                fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)
+
+
+@contextlib.contextmanager
+def _renamed(
+    partials: PartialFiles, paths: Sequence[Path], field: str
+) -> Iterator[None]:
+    """:func:`replaced_together`'s renaming and clean-up, the folder held."""
     try:
         try:
-            yield partials
+            yield
         except OSError as exc:  # name the file asked for, not its partial
             final = dict(zip(map(str, partials), paths, strict=True))
             named = partials.writing if exc.filename is None else exc.filename

@@ -79,6 +79,39 @@ def test_a_failed_write_names_the_file_asked_for(older: list[Path]) -> None:
     assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES}
 
 
+def test_two_writers_of_one_set_take_turns(older: list[Path]) -> None:
+    """Two runs writing one set into one folder at once (two ``armplan
+    experiment handover --out DIR``): the second shared the first's partial
+    files, renamed them, and the first failed "No such file or directory",
+    the folder left with a mix of both runs. Now the second waits for the
+    first's set and replaces it whole; neither fails."""
+    written, go = threading.Event(), threading.Event()
+    failed: list[str] = []
+
+    def write(text: str, hold: bool) -> None:
+        try:
+            with replaced_together(older) as partials:
+                for partial in partials:
+                    partials.write_text(partial, text)
+                if hold:
+                    written.set()
+                    go.wait(timeout=60)
+        except InvalidInputError as error:
+            failed.append(f"{text}: {error.message}")
+
+    first = threading.Thread(target=write, args=("first", True))
+    first.start()
+    assert written.wait(timeout=60)
+    second = threading.Thread(target=write, args=("second", False))
+    second.start()
+    second.join(timeout=2)  # it used to be done by now, the first's files taken
+    go.set()
+    first.join(timeout=60)
+    second.join(timeout=60)
+    assert failed == []
+    assert contents(older[0].parent) == {n: "second" for n in NAMES}
+
+
 def _small_files() -> None:
     """In the child: files of at most 4 kB (``ulimit -f``), the signal ignored
     so that a longer write fails with EFBIG instead of killing it."""
