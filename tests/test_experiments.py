@@ -31,6 +31,7 @@ from shared.demos.posture_from_points import (
 )
 from shared.errors import InvalidInputError
 from shared.messages.measure_params import MeasureParams
+from shared.output_paths import check_output_folder
 from shared.robot import Side, load_arm
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -507,6 +508,34 @@ def test_an_output_folder_that_is_a_file_is_refused_before_the_work(
         capsys,
     )
     assert out.read_text() == "keep me"
+
+
+@pytest.mark.parametrize(
+    "experiment",
+    [["similarity", "--subjects", "1", "--trials", "1", "--points", "1"],
+     ["handover", "--movements", "1"],
+     ["pace", "--reaches", "1", "--chains", "0"]],
+    ids=["similarity", "handover", "pace"],
+)  # fmt: skip
+def test_an_output_folder_that_cannot_be_made_is_refused_before_the_work(
+    experiment: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out under /proc, which the check up front cannot foresee (as root,
+    /proc looks writable): the folder is made before any work, so the error
+    names --out and the OS's reason, and comes before the motion model is
+    read (a missing --model file here). It used to come after every reach
+    was planned, as "cannot make the output directory ...: [Errno 2] ..."."""
+    out = f"/proc/armplan-test-{tmp_path.name}/results"
+    try:
+        check_output_folder(out)
+    except InvalidInputError:
+        pytest.skip("/proc is not writable to this user: refused up front anyway")
+    assert_invalid_input(
+        ["experiment", *experiment, "--out", out,
+         "--model", str(tmp_path / "missing.json")],
+        f"cannot write into {out} (--out): No such file or directory",
+        capsys,
+    )  # fmt: skip
 
 
 @pytest.mark.parametrize(

@@ -20,8 +20,7 @@ from armplan.experiments.markdown_table import markdown_tables
 from armplan.experiments.similarity import ReachError
 from armplan.experiments.similarity_plots import plot_distribution, plot_point_means
 from armplan.experiments.similarity_summary import POSTURE
-from shared.errors import InvalidInputError
-from shared.output_paths import replaced_together
+from shared.output_paths import make_output_folder, replaced_together
 
 CM = 100.0
 Table = tuple[list[str], list[list[Any]]]
@@ -115,11 +114,4 @@ def write_report(
 
 def make_dir(path: str | Path) -> Path:
     """``path`` as a directory, made if missing; a typed error if impossible."""
-    path = Path(path)
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InvalidInputError(
-            f"cannot make the output directory {path}: {exc}", field="out"
-        ) from None
-    return path
+    return make_output_folder(path)

@@ -47,7 +47,7 @@ from armplan.cli.parsing import (
     measures_from_args,
 )
 from shared.errors import InvalidInputError
-from shared.output_paths import check_output_folder
+from shared.output_paths import check_output_folder, make_output_folder
 from shared.text.counted import counted
 
 ORDER = 70
@@ -194,7 +194,7 @@ def run_similarity(args: argparse.Namespace) -> int:
     from armplan.experiments.similarity_summary import summary
 
     demos, source = _demos(args)
-    check_output_folder(args.out)
+    _output_folder(args.out)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
     skipped: list[Skipped] = []
@@ -241,7 +241,7 @@ def run_handover(args: argparse.Namespace) -> int:
     task = load_task(args.task or DEFAULT_TASK)
     if args.movements is not None:
         _movements_within(args.movements, len(task.targets()))
-    check_output_folder(args.out)
+    _output_folder(args.out)
     starts = Starts(args.starts)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
@@ -287,7 +287,7 @@ def run_pace(args: argparse.Namespace) -> int:
 
     arm = load_arm(args.arm)
     tasks = random_tasks(arm, args.reaches, args.chains, args.seed)
-    check_output_folder(args.out)
+    _output_folder(args.out)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
     methods = list(dict.fromkeys(args.methods))
@@ -390,6 +390,20 @@ def _at_least(value: int, low: int, name: str) -> None:
         raise InvalidInputError(
             f"--{name} must be at least {low}, got {value}", field=name
         )
+
+
+def _output_folder(out: str) -> None:
+    """Check and make ``--out`` before any work.
+
+    Making it too finds what checking cannot foresee (``/proc``, ``/sys``):
+    such a folder used to fail once every reach was planned, in other words
+    ("cannot make the output directory ...: [Errno 2] ...").
+
+    Raises:
+        InvalidInputError: naming ``--out``, the folder and why.
+    """
+    check_output_folder(out)
+    make_output_folder(out)
 
 
 def _stages(model: str | None) -> Any:
