@@ -146,6 +146,63 @@ def test_the_docs_show_the_tables_the_commands_wrote() -> None:
         assert table.read_text() in text, table.name
 
 
+def documented_keys(name: str) -> set[str]:
+    """The names in backquotes in the row of docs/results.md's file table
+    for ``results/<name>...json``."""
+    rows = [
+        line
+        for line in DOCS.read_text().splitlines()
+        if line.startswith(f"| `results/{name}") and ".json`" in line.split("|")[1]
+    ]
+    assert len(rows) == 1, rows
+    return set(re.findall(r"`([a-z_]+)`", rows[0]))
+
+
+def json_keys(data: dict[str, Any]) -> set[str]:
+    """The keys of an experiment's JSON, its own and each method's (and, for
+    pace, of each method's reaches and chains); not the method names."""
+    methods = {str(m) for m in METHODS}
+    keys = set(data) - methods
+    for method in methods & set(data):
+        keys |= set(data[method])
+        for part in data[method].values():
+            if isinstance(part, dict) and not part.keys() & {"P1", "P16"}:
+                keys |= set(part)
+    return keys
+
+
+@pytest.mark.parametrize(
+    ("experiment", "name"),
+    [(["similarity", "--palm", "--subjects", "1", "--trials", "1", "--points", "1",
+       "--samples", "21"], "similarity"),
+     (["handover", "--movements", "1"], "handover"),
+     (["pace", "--reaches", "1", "--chains", "1", "--methods", "mp"], "pace")],
+    ids=["similarity", "handover", "pace"],
+)  # fmt: skip
+def test_the_json_keys_are_the_documented_ones(
+    experiment: list[str],
+    name: str,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Every key of the JSON file (and each method's) is named in
+    docs/results.md's file table, and --json prints that file with the
+    paths written added (``files``). The table named neither the
+    similarity's ``reaches`` nor where its counts by primitives are
+    (``by_mp_primitive_count``, ``by_human_primitive_count``), nor the
+    handover's ``samples``, nor pace's ``slow_short``, ``ratios``, ``errors``."""
+    printed = run_json(
+        ["experiment", *experiment, "--out", str(tmp_path), "--json"], capsys
+    )
+    files = printed.pop("files")
+    written = json.loads(Path(files[0]).read_text())
+    assert written == printed
+    assert json_keys(written) - documented_keys(name) == set()
+    assert "`--json` prints the JSON instead, with `files`" in " ".join(
+        DOCS.read_text().split()
+    )
+
+
 @pytest.mark.parametrize("command", SIMILARITY_COMMANDS)
 def test_similarity_command_json_tables_and_plots(
     command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
