@@ -125,6 +125,19 @@ def test_files_that_are_not_models(
         load_model(path)
 
 
+def test_a_binary_file_is_no_model(tmp_path: pathlib.Path) -> None:
+    """The demonstrations' MCAP given as the model (``--model demos.mcap``)
+    is named no motion model; it was "cannot read it ('utf-8' codec can't
+    decode byte 0x89 in position 0: invalid start byte)"."""
+    path = tmp_path / "demos.mcap"
+    path.write_bytes(b"\x89MCAP0\r\n" + bytes(range(256)))
+    with pytest.raises(ModelFileError) as caught:
+        load_model(path)
+    assert caught.value.message == (
+        f"{path}: not a motion model: a binary file, not the JSON armplan fit writes"
+    )
+
+
 def test_missing_file(tmp_path: pathlib.Path) -> None:
     """A missing model file names itself."""
     with pytest.raises(ModelFileError, match="no such motion-model file"):

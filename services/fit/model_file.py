@@ -43,14 +43,19 @@ def load_model(path: str | Path) -> MotionModel:
 
     Raises:
         ModelFileError: naming the file and the problem (missing, truncated,
-            not JSON, of another version, malformed).
+            not JSON, binary, of another version, malformed).
     """
     path = Path(path)
     try:
         text = read_at_most(path, MAX_MODEL_BYTES).decode()
     except FileNotFoundError:
         raise ModelFileError(str(path), "no such motion-model file") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError:  # an MCAP of demonstrations, say
+        raise ModelFileError(
+            str(path),
+            "not a motion model: a binary file, not the JSON armplan fit writes",
+        ) from None
+    except OSError as exc:
         raise ModelFileError(str(path), f"cannot read it ({exc})") from None
     if not text.strip():
         raise ModelFileError(str(path), "the motion-model file is empty")
