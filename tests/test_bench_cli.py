@@ -8,6 +8,7 @@ import io
 import json
 import math
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -113,6 +114,35 @@ def test_the_work_and_the_machine_are_recorded(figures: dict[str, float]) -> Non
         assert figures[name] >= 0.0
     assert figures["compiled"] == float(running_compiled())
     assert not [k for k in figures if k.startswith("services_8")]  # only 1 and 3
+
+
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "benchmarks.md"
+
+
+def documented_names() -> list[str]:
+    """docs/benchmarks.md's ``--json`` names as patterns: ``<a|b>`` one of
+    them, ``<part>`` any word, and a name begun with ``_`` the one before it
+    with another ending (``services_<clients>_p50_ms``, ``_p99_ms``)."""
+    text = DOCS.read_text().split("`--json` prints the same figures", 1)[1]
+    patterns: list[str] = []
+    stem = ""
+    for name in re.findall(r"`([a-z0-9_<>|]+)`", text):
+        if name.startswith("_"):
+            name = stem + name
+        else:
+            cut = name.rfind(">") + 1 or name.rfind("_")
+            stem = name[:cut]
+        name = re.sub(r"<([a-z|]+\|[a-z|]+)>", r"(\1)", name)
+        patterns.append(re.sub(r"<[a-z]+>", "[a-z0-9_]+", name))
+    return patterns
+
+
+def test_every_figure_is_named_in_the_docs(figures: dict[str, float]) -> None:
+    """Each key of ``--json`` is one docs/benchmarks.md names (``compiled``,
+    ``targets``, the reached fractions: 22 of them were not)."""
+    patterns = documented_names()
+    unnamed = [k for k in figures if not any(re.fullmatch(p, k) for p in patterns)]
+    assert unnamed == []
 
 
 def test_each_stage_is_timed_here_and_through_its_service(
