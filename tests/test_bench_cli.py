@@ -237,6 +237,18 @@ def test_a_negative_seed_is_refused_before_any_work(
     assert "--seed must be 0 or more, got -1" in capsys.readouterr().err
 
 
+def test_too_many_targets_are_refused_before_any_work(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """--targets 100000000 drew and prepared every target before the first
+    was timed, gigabytes and minutes without a sign: exit 1 at once, the
+    option and its range named."""
+    assert main(["bench", "--targets", "100000000", "--json"]) == 1
+    captured = capsys.readouterr()
+    assert "--targets must be 1..10000, got 100000000" in captured.err
+    assert json.loads(captured.out)["error"]["evidence"]["field"] == "targets"
+
+
 def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
     """--plans 0: exit 1, the option named."""
     assert main(["bench", "--plans", "0"]) == 1
