@@ -304,6 +304,14 @@ def test_figures_with_nothing_measured_print_as_a_dash(
     assert rows["TPE ours - SLSQP, both reached [J]"] == ["-", "-", "-"]
 
 
+def test_one_target_is_one_target(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--targets 1`` printed "IK of 1 random reachable targets"."""
+    print_ik(ik_cost.run(1, 7, lambda: None).figures())
+    assert capsys.readouterr().out.startswith(
+        "IK of 1 random reachable target, means:\n"
+    )
+
+
 def test_the_peers_are_compared_on_like_work(figures: dict[str, float]) -> None:
     """toppra beside our --fastest timing (the nearest part of ours, unlike
     work), with both trajectories' durations; ikpy's accuracy beside ours; the

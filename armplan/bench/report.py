@@ -44,7 +44,8 @@ def print_machine(f: Figures, processor: str) -> None:
 
 def print_ik(f: Figures) -> None:
     """The IK per target beside scipy SLSQP (same measure) and ikpy (position)."""
-    sys.stdout.write(f"IK of {f['targets']:.0f} random reachable targets, means:\n")
+    targets = counted(round(f["targets"]), "random reachable target")
+    sys.stdout.write(f"IK of {targets}, means:\n")
     ours = f["ik_per_target_ms"]
     _table(
         ("measure", "armplan", "peer", "peer / armplan"),
