@@ -110,6 +110,28 @@ def make_output_folder(out: str | Path, option: str = "--out") -> Path:
     return path
 
 
+def try_output_folder(out: str | Path, option: str = "--out") -> Path:
+    """Check that folder ``out`` can be made, and leave no trace of it.
+
+    :func:`check_output_folder`, then the folders missing on the way to
+    ``out`` are made (:func:`make_output_folder`, which finds what the check
+    cannot foresee: ``/proc``, ``/sys``) and removed again, deepest first,
+    so that a run that fails or is interrupted later leaves none behind.
+    The command makes the folder when it writes.
+
+    Raises:
+        InvalidInputError: as :func:`check_output_folder` and
+            :func:`make_output_folder` do.
+    """
+    path = check_output_folder(out, option)
+    missing = [p for p in (path, *path.parents) if not p.exists()]
+    make_output_folder(path, option)
+    for folder in missing:
+        with contextlib.suppress(OSError):  # another run wrote into it
+            folder.rmdir()
+    return path
+
+
 def write_output_text(path: str | Path, text: str, field: str = "output") -> Path:
     """Write ``text`` (UTF-8) to ``path``, whole or not at all; returns the path.
 

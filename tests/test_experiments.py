@@ -595,6 +595,20 @@ def test_an_output_folder_that_cannot_be_made_is_refused_before_the_work(
     )  # fmt: skip
 
 
+def test_a_run_that_fails_after_the_check_leaves_no_folder(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out new/results with a motion model that is missing: the error
+    names the model, and neither folder is left behind (the check up
+    front makes them to see that it can, and removes them again)."""
+    out = tmp_path / "new" / "results"
+    code = main(["experiment", "handover", "--movements", "1", "--out", str(out),
+                 "--model", str(tmp_path / "missing.json")])  # fmt: skip
+    assert code == 1
+    assert "no such motion-model file" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize(
     ("experiment", "files"),
     [(["similarity", "--subjects", "1", "--trials", "1", "--points", "1"],

@@ -47,7 +47,7 @@ from armplan.cli.parsing import (
     measures_from_args,
 )
 from shared.errors import InvalidInputError
-from shared.output_paths import check_output_folder, make_output_folder
+from shared.output_paths import try_output_folder
 from shared.text.counted import counted
 
 ORDER = 70
@@ -393,17 +393,17 @@ def _at_least(value: int, low: int, name: str) -> None:
 
 
 def _output_folder(out: str) -> None:
-    """Check and make ``--out`` before any work.
+    """Check that ``--out`` can be made and written, before any work.
 
-    Making it too finds what checking cannot foresee (``/proc``, ``/sys``):
+    Making it finds what checking alone cannot foresee (``/proc``, ``/sys``):
     such a folder used to fail once every reach was planned, in other words
-    ("cannot make the output directory ...: [Errno 2] ...").
+    ("cannot make the output directory ...: [Errno 2] ..."). The folder is
+    made for good only when the results are written.
 
     Raises:
         InvalidInputError: naming ``--out``, the folder and why.
     """
-    check_output_folder(out)
-    make_output_folder(out)
+    try_output_folder(out)
 
 
 def _stages(model: str | None) -> Any:
