@@ -315,10 +315,26 @@ def _file_problem(path: Path) -> str:
     elif not folder.is_dir():
         code = errno.ENOTDIR
     elif path.exists():
-        code = 0 if os.access(path, os.W_OK) else errno.EACCES
+        code = 0 if os.access(path, os.W_OK) else _denied(path)
     else:
-        code = 0 if os.access(folder, os.W_OK | os.X_OK) else errno.EACCES
+        code = 0 if os.access(folder, os.W_OK | os.X_OK) else _denied(folder)
     return os.strerror(code) if code else ""
+
+
+def _denied(path: Path) -> int:
+    """Why ``path`` may not be written: ``EROFS`` or ``EACCES``.
+
+    ``EROFS`` on a read-only file system (a read-only mount, as a
+    container's volume may be), else ``EACCES``.
+
+    ``os.access`` says only no; "Permission denied" on a read-only mount
+    sent the user to permissions that are not the cause.
+    """
+    try:
+        read_only = bool(os.statvfs(path).f_flag & os.ST_RDONLY)
+    except OSError:
+        read_only = False
+    return errno.EROFS if read_only else errno.EACCES
 
 
 def _folder_problem(path: Path) -> str:
@@ -337,5 +353,5 @@ def _folder_access_problem(path: Path) -> str:
     if not existing.is_dir():
         return f"{existing} is a file, not a folder"
     if not os.access(existing, os.W_OK | os.X_OK):
-        return f"{existing}: {os.strerror(errno.EACCES)}"
+        return f"{existing}: {os.strerror(_denied(existing))}"
     return ""

@@ -15,7 +15,12 @@ from pathlib import Path
 import pytest
 
 from shared.errors import InvalidInputError
-from shared.output_paths import replaced_together, write_output_text
+from shared.output_paths import (
+    check_output_file,
+    check_output_folder,
+    replaced_together,
+    write_output_text,
+)
 
 NAMES = ("result.json", "result.md", "result.png")
 
@@ -256,3 +261,40 @@ def test_a_full_disk_names_the_file(full_disk: Path) -> None:
         new.write_text(new[0], "x" * 200_000)
     assert caught.value.message == f"cannot write {paths[0]}: No space left on device"
     assert list(full_disk.iterdir()) == []
+
+
+@pytest.fixture
+def read_only(tmp_path: Path) -> Iterator[Path]:
+    """A folder on a read-only tmpfs, unmounted after; skipped where mounting
+    is not permitted."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs: {mounted.stderr.strip()}")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], timeout=30, check=True)
+
+
+def test_a_read_only_mount_is_named_so(read_only: Path) -> None:
+    """--out or -o on a read-only mount (a container's volume) said
+    "Permission denied", which no chmod mends; now the OS's words for it."""
+    with pytest.raises(InvalidInputError) as caught:
+        check_output_folder(read_only / "results")
+    assert caught.value.message == (
+        f"cannot write into {read_only / 'results'} (--out): "
+        f"{read_only}: Read-only file system"
+    )
+    with pytest.raises(InvalidInputError) as caught:
+        check_output_file(read_only / "model.json")
+    assert caught.value.message == (
+        f"cannot write {read_only / 'model.json'}: Read-only file system"
+    )
