@@ -688,3 +688,10 @@ def test_the_models_fitted_weights_are_every_methods(
     data = run_json([*base, "--omega", "0", "--out", str(tmp_path), "--json"], capsys)
     measures = data["protocol"]["measures"]
     assert (measures["mu"], measures["omega"]) == (0.5, 0.0)
+
+
+def test_the_default_output_folder_is_documented() -> None:
+    """docs/results.md says where the files go without --out (it did not)."""
+    from armplan.cli.commands.experiment import OUT
+
+    assert f"Without `--out` the files go into `./{OUT}/`" in DOCS.read_text()
