@@ -153,6 +153,24 @@ def test_the_marker_map_reader_refuses_a_shared_thumb(tmp_path: pathlib.Path) ->
         read_marker_map(path)
 
 
+def test_a_capture_given_as_the_marker_map_is_a_clear_error(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The C3D file given to --markers too (arguments swapped) ended the
+    import with a UnicodeDecodeError traceback; now exit 1 naming the map,
+    nothing written."""
+    from tests.test_demos_c3d import write_reach_c3d
+
+    capture = tmp_path / "reach.c3d"
+    write_reach_c3d(capture)
+    out = tmp_path / "x.mcap"
+    argv = ["demos", "import", str(capture), "--markers", str(capture)]
+    assert main([*argv, "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert f"{capture}: the marker map is not JSON text (byte " in err
+    assert not out.exists()
+
+
 def test_the_marker_maps_arm_is_read_in_any_case(tmp_path: pathlib.Path) -> None:
     """ "Left" was refused ('Input should be right or left') while --arm takes
     any case; a name that is no arm is still refused, saying which are."""

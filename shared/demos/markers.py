@@ -113,7 +113,7 @@ def read_marker_map(path: str | Path) -> MarkerMap:
     """The marker map in a JSON file.
 
     Raises:
-        DemoFileError: if the file is missing, not JSON, not a marker map
+        DemoFileError: if the file is missing, not JSON (or not text), not a marker map
             (naming the field that is wrong), or gives one marker to two roles.
     """
     path = Path(path)
@@ -122,6 +122,12 @@ def read_marker_map(path: str | Path) -> MarkerMap:
     except OSError as exc:
         raise DemoFileError(
             str(path), f"cannot read the marker map: {exc.strerror}"
+        ) from None
+    except UnicodeDecodeError as exc:  # a C3D or other binary file given as map
+        raise DemoFileError(
+            str(path),
+            f"the marker map is not JSON text (byte {exc.start} is not UTF-8): "
+            "give the JSON file that names the markers, not a capture",
         ) from None
     try:
         markers = parse(MarkerMap, json.loads(text))
