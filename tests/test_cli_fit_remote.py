@@ -108,6 +108,27 @@ def test_a_remote_fit_that_times_out_says_to_wait_longer(
     assert served(stack) == before
 
 
+def test_options_out_of_range_are_refused_before_asking(
+    stack: Launcher, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--bins 1 and --smoothing 0 raised pydantic's ValidationError building
+    the request, --timeout -5 a ValueError and --timeout nan another
+    ValidationError, each a traceback; now exit 1 naming the option, the
+    served model unchanged."""
+    before = served(stack)
+    where = ["--connect", stack.config.endpoint]
+    for option, value, words in (
+        ("--bins", "1", "bins must be 2..64, got 1"),
+        ("--smoothing", "0", "smoothing must be in (0, 1e+06], got 0.0"),
+        ("--timeout", "-5", "--timeout must be a positive number of seconds"),
+        ("--timeout", "nan", "--timeout must be a positive number of seconds"),
+    ):
+        code, out, err = run(capsys, DEMOS, *where, option, value)
+        assert (code, out) == (1, ""), option
+        assert words in err, err
+    assert served(stack) == before
+
+
 @pytest.mark.parametrize(
     "args,words",
     [

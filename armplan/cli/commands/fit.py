@@ -31,10 +31,11 @@ service logs) and the files it was fitted on. It waits ``--timeout`` seconds
 whose caller stopped waiting is not served. ``--show --remote`` prints the
 model the service serves now.
 
-The output is checked before any work: it must be a file name in an
-existing folder and none of the demonstration files (which it would
-overwrite); a demonstration file given twice is refused (its trials would
-count twice).
+The options and the output are checked before any work: ``--bins`` 2..64,
+``--smoothing`` in (0, 1e6], ``--timeout`` a positive number of seconds (up
+to a day); the output must be a file name in an existing folder and none of
+the demonstration files (which it would overwrite); a demonstration file
+given twice is refused (its trials would count twice).
 """
 
 from __future__ import annotations
@@ -151,6 +152,32 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _check_options(args: argparse.Namespace) -> None:
+    """Refuse an option out of range, ignored by the form chosen, or missing.
+
+    ``--bins``, ``--smoothing`` and ``--timeout`` are checked before any
+    demonstration is read or any router is asked; each error names the option.
+    """
+    from services.fit.fitting import check_options
+    from shared.bus.config import MAX_WAIT
+    from shared.messages.fit_request import MAX_FILES
+
+    check_options(args.bins, args.smoothing)
+    _check_form(args)
+    if args.timeout is not None and not 0.0 < args.timeout <= MAX_WAIT:  # NaN too
+        raise InvalidInputError(
+            f"--timeout must be a positive number of seconds up to {MAX_WAIT:g}, "
+            f"got {args.timeout}",
+            field="timeout",
+        )
+    if is_remote(args) and len(args.files) > MAX_FILES:
+        raise InvalidInputError(
+            f"the fit service reads at most {MAX_FILES} files in one fit, "
+            f"got {len(args.files)}",
+            field="files",
+        )
+
+
+def _check_form(args: argparse.Namespace) -> None:
     """Refuse options the chosen form would ignore, or a missing one, naming it."""
     if is_remote(args):
         for name, why in (
