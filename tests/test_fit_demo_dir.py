@@ -36,6 +36,14 @@ def test_only_mcap_files_are_read(tmp_path: pathlib.Path) -> None:
         demo_file("model.json", tmp_path)
 
 
+def test_a_name_with_a_nul_character_is_refused(tmp_path: pathlib.Path) -> None:
+    """A request naming "\\u0000.mcap" made the fit service answer
+    internal_error (ValueError: embedded null byte); now invalid_input."""
+    with pytest.raises(InvalidInputError, match="NUL character") as caught:
+        demo_file("a\0.mcap", tmp_path)
+    assert caught.value.evidence["field"] == "files"
+
+
 def test_the_directory_comes_from_the_environment(
     tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -27,12 +27,18 @@ def demo_file(name: str, root: Path) -> Path:
     """The file ``name`` inside ``root``.
 
     Raises:
-        InvalidInputError: if ``name`` is not an ``.mcap`` file name or leads
-            outside ``root``.
+        InvalidInputError: if ``name`` is not an ``.mcap`` file name, holds a
+            NUL character or leads outside ``root``.
     """
     if not name.endswith(".mcap"):
         raise InvalidInputError(
             f"demonstration file {name!r} must be an .mcap file", field="files"
+        )
+    if "\0" in name:  # no file has one; resolving it raised ValueError
+        raise InvalidInputError(
+            f"demonstration file {name!r} holds a NUL character, which no file "
+            "name can",
+            field="files",
         )
     path = (root / name).resolve()
     if not path.is_relative_to(root):
