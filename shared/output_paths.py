@@ -148,21 +148,35 @@ def write_output_text(path: str | Path, text: str, field: str = "output") -> Pat
             written.
     """
     path = Path(path)
-    target = Path(os.path.realpath(path))
     try:
-        if path.exists() and not path.is_file():  # followed as opened
-            with open(path, "w", encoding="utf-8") as stream:
-                stream.write(text)
-            return path
-        with replaced_when_done(target) as partial:
-            partial.write_text(text, encoding="utf-8")
-            with contextlib.suppress(FileNotFoundError):
-                shutil.copymode(target, partial)
+        write_whole(path, text)
     except OSError as exc:
         raise InvalidInputError(
             f"cannot write {path}: {exc.strerror}", field=field
         ) from None
     return path
+
+
+def write_whole(path: Path, text: str) -> None:
+    """:func:`write_output_text` raising the ``OSError``, for a caller's own error.
+
+    A regular file (or a link's target) is replaced when the text is
+    written, keeping its mode; anything else (``/dev/null``, ``/dev/full``,
+    a FIFO) is written into: ``armplan fit -o /dev/full``, run as root, put
+    a regular file in the device's place.
+
+    Raises:
+        OSError: the path cannot be written (``strerror`` says why).
+    """
+    target = Path(os.path.realpath(path))
+    if path.exists() and not path.is_file():  # followed as opened
+        with open(path, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        return
+    with replaced_when_done(target) as partial:
+        partial.write_text(text, encoding="utf-8")
+        with contextlib.suppress(FileNotFoundError):
+            shutil.copymode(target, partial)
 
 
 @contextlib.contextmanager

@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import json
+import os
 import pathlib
+import stat
+import threading
 
 import pytest
 
@@ -106,3 +109,38 @@ def test_fit_options_out_of_range_are_refused_before_reading(
     err = capsys.readouterr().err
     assert words in err and "truncated" not in err
     assert not out.exists()
+
+
+def test_fit_writes_into_a_fifo_not_over_it(
+    demos: pathlib.Path, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """-o naming no regular file is written into. The model was renamed over
+    it: run as root, ``-o /dev/full`` put a regular file in the device's
+    place and said "written to /dev/full" (a FIFO stands in for the device)."""
+    fifo = tmp_path / "model.pipe"
+    os.mkfifo(fifo)
+    got: list[str] = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_text()), daemon=True)
+    reader.start()
+    assert main(["fit", str(demos), "-o", str(fifo), "--json"]) == 0
+    reader.join(timeout=60)
+    assert stat.S_ISFIFO(fifo.stat().st_mode)
+    assert len(got) == 1 and json.loads(got[0])["version"] == 1
+    assert json.loads(capsys.readouterr().out)["model"] == str(fifo)
+
+
+def test_fit_through_a_link_replaces_its_target(
+    demos: pathlib.Path, tmp_path: pathlib.Path
+) -> None:
+    """-o latest.json, a link to a dated model: the link was replaced by a
+    regular file, the dated model left stale; now the link stays and its
+    target holds the new model, keeping its mode."""
+    dated = tmp_path / "model-2026-11.json"
+    dated.write_text("{}")
+    dated.chmod(0o640)
+    link = tmp_path / "latest.json"
+    link.symlink_to(dated.name)
+    assert main(["fit", str(demos), "-o", str(link), "--json"]) == 0
+    assert link.is_symlink()
+    assert load_model(dated).samples > 0
+    assert stat.S_IMODE(dated.stat().st_mode) == 0o640

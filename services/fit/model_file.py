@@ -15,7 +15,7 @@ from services.fit.model import MODEL_VERSION, MotionModel
 from shared.errors import InvalidInputError, ModelFileError
 from shared.input_files import read_at_most
 from shared.messages.base import parse
-from shared.output_paths import replaced_when_done
+from shared.output_paths import write_whole
 
 #: Largest motion-model file read [bytes] (the shipped one: about 270 kB).
 MAX_MODEL_BYTES = 128 * 1024 * 1024
@@ -23,6 +23,10 @@ MAX_MODEL_BYTES = 128 * 1024 * 1024
 
 def save_model(model: MotionModel, path: str | Path) -> None:
     """Write ``model`` as JSON to ``path`` (atomically: a reader never sees half).
+
+    A symbolic link's target is the file replaced, and a path that is no
+    regular file (``/dev/null``, a FIFO) is written into, not replaced
+    (``shared.output_paths.write_whole``).
 
     Raises:
         ModelFileError: if ``path`` is no file name or cannot be written; no
@@ -32,8 +36,7 @@ def save_model(model: MotionModel, path: str | Path) -> None:
     if not given or not path.name or path.name == "..":
         raise ModelFileError(repr(given), "not a file name for the motion model")
     try:
-        with replaced_when_done(path) as partial:
-            partial.write_text(model.model_dump_json(indent=None) + "\n")
+        write_whole(path, model.model_dump_json(indent=None) + "\n")
     except OSError as exc:
         raise ModelFileError(str(path), f"cannot write it: {exc.strerror}") from None
 
