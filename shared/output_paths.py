@@ -168,13 +168,26 @@ def write_whole(path: Path, text: str) -> None:
     Raises:
         OSError: the path cannot be written (``strerror`` says why).
     """
-    target = Path(os.path.realpath(path))
+    with written_whole(path) as out:
+        out.write_text(text, encoding="utf-8")
+
+
+@contextlib.contextmanager
+def written_whole(path: Path) -> Iterator[Path]:
+    """The file to write for ``path``: a partial one renamed over it, if any.
+
+    A regular file, or a link's target, is written under a ``.partial``
+    name renamed over it when the block ends (:func:`replaced_when_done`),
+    keeping its mode. A path that is no regular file (``/dev/null``, a FIFO,
+    ``/dev/stdout``) is itself yielded, to write into: replacing it would
+    put a regular file in its place.
+    """
     if path.exists() and not path.is_file():  # followed as opened
-        with open(path, "w", encoding="utf-8") as stream:
-            stream.write(text)
+        yield path
         return
+    target = Path(os.path.realpath(path))
     with replaced_when_done(target) as partial:
-        partial.write_text(text, encoding="utf-8")
+        yield partial
         with contextlib.suppress(FileNotFoundError):
             shutil.copymode(target, partial)
 

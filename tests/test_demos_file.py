@@ -229,3 +229,19 @@ def test_cli_reports_a_bad_file_without_traceback(tmp_path: pathlib.Path) -> Non
     assert out.returncode == 1
     assert "Traceback" not in out.stderr
     assert out.stderr.startswith(f"armplan: error: {path}")
+
+
+def test_writing_through_a_link_replaces_its_target(
+    tmp_path: pathlib.Path, small: DemoSet
+) -> None:
+    """``-o latest.mcap``, a link to a session's file: the link was replaced
+    by a regular file (and, run as root, ``-o /dev/null`` the device); now
+    the link stays and its target holds the demonstrations."""
+    session = tmp_path / "session-1.mcap"
+    session.write_bytes(b"older")
+    link = tmp_path / "latest.mcap"
+    link.symlink_to(session.name)
+    count = write_demos(link, small)
+    assert link.is_symlink()
+    assert read_demos(session).samples == count
+    assert sorted(p.name for p in tmp_path.iterdir()) == [link.name, session.name]

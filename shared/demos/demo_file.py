@@ -29,7 +29,7 @@ from shared.demos.trial import MIN_SAMPLES, DemoSet, Trial
 from shared.errors import DemoFileError, InvalidInputError, RecordingError
 from shared.messages.base import parse
 from shared.messages.demo import DemoSample, DemoSubject
-from shared.output_paths import check_output_file, replaced_when_done
+from shared.output_paths import check_output_file, written_whole
 from shared.recording import MessageWriter
 from shared.recording.reader import Recording
 from shared.robot.side import Side
@@ -50,7 +50,9 @@ def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
     """Write ``demos`` to an MCAP file; returns the number of samples written.
 
     The file is written under a ``.partial`` name and renamed when complete,
-    so a failure leaves no half-written file (and an older file intact).
+    so a failure leaves no half-written file (and an older file intact); a
+    link's target is the file replaced, and a path that is no regular file
+    (``/dev/null``) is written into (``shared.output_paths.written_whole``).
 
     Args:
         path: File to create (overwritten).
@@ -73,7 +75,7 @@ def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
         _check_nao_sized(trial, path)
     people = [_subject_message(s, source, path) for s in demos.subjects.values()]
     try:
-        with replaced_when_done(path) as partial:
+        with written_whole(path) as partial:  # a device or FIFO: into it
             count = _write(partial, people, demos.trials)
     except OSError as exc:
         raise RecordingError(
