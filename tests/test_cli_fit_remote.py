@@ -9,7 +9,11 @@ from __future__ import annotations
 
 import json
 import pathlib
+import signal
 import subprocess
+import sys
+import threading
+import time
 from collections.abc import Iterator
 
 import pytest
@@ -149,3 +153,40 @@ def test_options_that_do_not_go_together_are_refused(
     code, out, err = run(capsys, *args)
     assert (code, out) == (1, "")
     assert words in err
+
+
+def _interrupt_when_asking(main: threading.Thread) -> None:
+    """SIGINT to ``main`` once it waits for an answer in the bus's caller."""
+    for _ in range(6000):
+        frame = sys._current_frames().get(main.ident or 0)
+        while frame is not None and frame.f_code.co_name != "_ask":
+            frame = frame.f_back
+        if frame is not None and frame.f_code.co_filename.endswith("caller.py"):
+            time.sleep(0.2)  # the query is out
+            signal.pthread_kill(main.ident or 0, signal.SIGINT)
+            return
+        time.sleep(0.01)
+
+
+def test_ctrl_c_during_a_remote_fit_warns_that_it_goes_on(
+    stack: Launcher, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Ctrl-C while the service fits: exit 130 as before, but also the
+    warning that the service goes on and serves that model; it did, with
+    only "armplan: interrupted" said, and the lab took the fit as cancelled."""
+    before = served(stack)
+    where = ["--connect", stack.config.endpoint, "--timeout", "120"]
+    watcher = threading.Thread(
+        target=_interrupt_when_asking, args=(threading.main_thread(),)
+    )
+    watcher.start()
+    code, out, err = run(capsys, DEMOS, *where)
+    watcher.join()
+    assert (code, out) == (130, "")
+    assert "the fit service was not told to stop: it goes on" in err
+    assert err.rstrip().endswith("armplan: interrupted")
+    for _ in range(600):  # as warned: the fit ends and is served
+        if served(stack) != before:
+            break
+        time.sleep(0.2)
+    assert served(stack) != before

@@ -233,6 +233,9 @@ def _run_remote(args: argparse.Namespace) -> int:
             timeout = REMOTE_TIMEOUT if args.timeout is None else args.timeout
             try:
                 model = bus.call(FIT, request, timeout=timeout)
+            except KeyboardInterrupt:  # Ctrl-C, SIGTERM, SIGHUP
+                _say_fit_goes_on(timeout)
+                raise
             except InvalidInputError as error:
                 raise _where_files_are(error) from None
             except RequestTimeoutError as error:
@@ -243,6 +246,21 @@ def _run_remote(args: argparse.Namespace) -> int:
                 raise
     _print_served(model, args.json, fitted=not args.show)
     return 0
+
+
+def _say_fit_goes_on(timeout: float) -> None:
+    """Warn that a remote fit stopped waiting for goes on and may be served.
+
+    The fit service cannot tell that its caller left: it stops a fit only
+    at the caller's deadline. A lab that pressed Ctrl-C took the fit as
+    cancelled, and its model replaced the served one minutes later.
+    """
+    sys.stderr.write(
+        "armplan: warning: the fit service was not told to stop: it goes on "
+        f"with this fit and serves its model if it ends within {timeout:g} s "
+        "of the request (--timeout); 'armplan fit --show --remote' says which "
+        "model it serves\n"
+    )
 
 
 def _where_files_are(error: InvalidInputError) -> InvalidInputError:
