@@ -144,3 +144,21 @@ def test_fit_through_a_link_replaces_its_target(
     assert link.is_symlink()
     assert load_model(dated).samples > 0
     assert stat.S_IMODE(dated.stat().st_mode) == 0o640
+
+
+def test_fit_of_a_c3d_capture_says_to_import_it_first(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A C3D capture given to fit was "not an MCAP file", no more: the README
+    lists C3D beside `armplan fit`, and the lab did not learn the step it
+    missed. Now the error names `armplan demos import`; nothing is written."""
+    from tests.test_demos_c3d import write_reach_c3d
+
+    capture = tmp_path / "reach.c3d"
+    write_reach_c3d(capture)
+    out = tmp_path / "m.json"
+    assert main(["fit", str(capture), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert f"{capture}: not an MCAP file" in err
+    assert "is imported first, 'armplan demos import FILE --markers" in err
+    assert not out.exists()

@@ -46,6 +46,10 @@ _TRIAL_GAP_NS = 1_000_000_000
 SYNTHETIC = "synthetic, seed "
 
 
+#: Motion-capture file endings, which ``armplan demos import`` reads.
+CAPTURE_SUFFIXES = (".c3d", ".csv")
+
+
 def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
     """Write ``demos`` to an MCAP file; returns the number of samples written.
 
@@ -231,11 +235,15 @@ def _read_one(path: Path) -> tuple[DemoSet, bool]:
                     _parse(DemoSample, record.data, path, index, SAMPLE_TOPIC)
                 )
     except RecordingError as exc:
-        raise DemoFileError(str(path), _why(exc)) from None
+        why = _why(exc)
+        if "not an MCAP file" in why:  # not missing, a folder or unreadable
+            why += _capture_hint(path)
+        raise DemoFileError(str(path), why) from None
     if recording.damage is not None:
         if recording.not_mcap:
             raise DemoFileError(
-                str(path), "not an MCAP file (no MCAP magic at its start)"
+                str(path),
+                "not an MCAP file (no MCAP magic at its start)" + _capture_hint(path),
             )
         raise DemoFileError(
             str(path),
@@ -249,6 +257,21 @@ def _read_one(path: Path) -> tuple[DemoSet, bool]:
             str(path), f"holds no demonstration samples (topic {SAMPLE_TOPIC!r})"
         )
     return DemoSet(subjects, _trials(samples, subjects, path)), synthetic
+
+
+def _capture_hint(path: Path) -> str:
+    """What to do with a motion capture given as demonstrations, or ``""``.
+
+    ``armplan fit rec.c3d`` said only "not an MCAP file", and the README's
+    "demonstrations (synthetic, C3D, CSV)" suggests that fit reads them.
+    """
+    if path.suffix.lower() not in CAPTURE_SUFFIXES:
+        return ""
+    return (
+        f": a {path.suffix.lower()[1:].upper()} motion capture is imported "
+        "first, 'armplan demos import FILE --markers MAP.json -o demos.mcap' "
+        "(docs/decision.md), and the MCAP file it writes is the demonstrations"
+    )
 
 
 def _why(error: RecordingError) -> str:
