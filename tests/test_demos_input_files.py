@@ -127,6 +127,22 @@ def test_import_refuses_a_file_given_twice(
     assert not out.exists()
 
 
+def test_import_of_a_folder_says_to_give_its_files(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A folder of captures was "expected a .c3d or .csv file"; now the error
+    says it is a folder and to give the files in it. Nothing is written."""
+    _, markers = _import_setup(tmp_path)
+    out = tmp_path / "x.mcap"
+    argv = ["demos", "import", "--markers", str(markers), "-o", str(out)]
+    assert main([*argv, str(tmp_path)]) == 1
+    assert _error(capsys) == (
+        f"armplan: error: {tmp_path}: a folder, not a capture file: give the "
+        f"files in it (e.g. {tmp_path / '*.c3d'} or {tmp_path / '*.csv'})\n"
+    )
+    assert not out.exists()
+
+
 def test_synth_refuses_a_directory_as_output(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -137,10 +137,7 @@ def run_import(args: argparse.Namespace) -> int:
     check_distinct(args.files)
     check_output_file(args.output, [*args.files, args.markers])
     for name in args.files:
-        if Path(name).suffix.lower() not in (".c3d", ".csv"):
-            raise InvalidInputError(
-                f"{name}: expected a .c3d or .csv file", field="files"
-            )
+        _check_capture_name(Path(name))
     markers = read_marker_map(args.markers)
     subjects: dict[str, Subject] = {}
     trials: list[Trial] = []
@@ -171,6 +168,25 @@ def run_import(args: argparse.Namespace) -> int:
         f"{count} samples, retargeted to NAO's {markers.arm.value} arm\n"
     )
     return 0
+
+
+def _check_capture_name(path: Path) -> None:
+    """Refuse a path that is no .c3d or .csv file, naming what it is.
+
+    A folder of captures was "expected a .c3d or .csv file", which did not
+    say that the files in it are what to give.
+
+    Raises:
+        InvalidInputError: (field ``files``) naming the path.
+    """
+    if path.is_dir():
+        raise InvalidInputError(
+            f"{path}: a folder, not a capture file: give the files in it "
+            f"(e.g. {path / '*.c3d'} or {path / '*.csv'})",
+            field="files",
+        )
+    if path.suffix.lower() not in (".c3d", ".csv"):
+        raise InvalidInputError(f"{path}: expected a .c3d or .csv file", field="files")
 
 
 def _check_one_reach(trial: Trial, name: str, allow: bool) -> None:
