@@ -347,6 +347,26 @@ def test_a_point_rate_no_capture_uses_is_refused(
         read_c3d(path, MarkerMap.model_validate(MAP))
 
 
+def test_a_header_rate_below_any_capture_is_refused(
+    tmp_path: pathlib.Path, recorded: Recorded
+) -> None:
+    """A 100 Hz reach whose header says 10 Hz was imported as a 6.7 s reach
+    without a word (a CSV at 10 Hz is refused); now refused naming the
+    rate, as for a CSV."""
+    path = tmp_path / "rate.c3d"
+    zeros = np.zeros_like(recorded.wrist)
+    points = (zeros, recorded.elbow, recorded.wrist, recorded.thumb)
+    _write_c3d(
+        path, {n: _to_lab(p) for n, p in zip(MAP_NAMES, points, strict=True)}, 10.0
+    )
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d(path, MarkerMap.model_validate(MAP))
+    assert caught.value.message == (
+        f"{path}: its point rate is 10 Hz; motion capture samples at 20 Hz or "
+        "more: is the header's rate right? (a CSV sampled below it is refused too)"
+    )
+
+
 def test_two_people_under_one_subject_name_are_refused(
     tmp_path: pathlib.Path, c3d_file: pathlib.Path, recorded: Recorded
 ) -> None:

@@ -23,6 +23,7 @@ from shared.demos.c3d_layout import C3DLayout, check_c3d_layout
 from shared.demos.c3d_reading import read_c3d_file
 from shared.demos.importing import MarkerTracks, Report, trial_from_tracks
 from shared.demos.markers import UNIT_SCALE, MarkerMap
+from shared.demos.sample_rate import MIN_CAPTURE_RATE
 from shared.demos.trial import Trial
 from shared.errors import DemoFileError
 from shared.messages.motion_model import MAX_SAMPLE_RATE, MIN_SAMPLE_RATE
@@ -83,7 +84,9 @@ def _rate(path: Path, data: Any) -> float:
     The frames' times are counted at this rate, so a rate no capture of a
     reach uses (a corrupt header, or a field meant for another unit) would
     stretch or squeeze the whole trial; ``armplan fit`` would refuse it
-    later, the import names the file now.
+    later, the import names the file now. Nor below ``MIN_CAPTURE_RATE``,
+    as a CSV trial: a 100 Hz reach whose header said 10 Hz was imported as
+    a 6.7 s reach without a word.
     """
     rate = float(data["header"]["points"]["frame_rate"])
     if not (math.isfinite(rate) and MIN_SAMPLE_RATE <= rate <= MAX_SAMPLE_RATE):
@@ -91,6 +94,14 @@ def _rate(path: Path, data: Any) -> float:
             str(path),
             f"its point rate is {rate:g} Hz; demonstrations are sampled at "
             f"{MIN_SAMPLE_RATE:g} to {MAX_SAMPLE_RATE:g} Hz",
+            rate=rate,
+        )
+    if rate < MIN_CAPTURE_RATE:
+        raise DemoFileError(
+            str(path),
+            f"its point rate is {rate:g} Hz; motion capture samples at "
+            f"{MIN_CAPTURE_RATE:g} Hz or more: is the header's rate right? (a "
+            "CSV sampled below it is refused too)",
             rate=rate,
         )
     return rate
