@@ -29,7 +29,6 @@ shared/libqi.py).
 
 from __future__ import annotations
 
-import argparse
 import json
 import logging
 import os
@@ -47,6 +46,7 @@ from bridge.robot_bridge import RobotBridge
 from bridge.serving import Slot
 from bridge.stopping import STOP_LIMIT, stop_serving
 from shared.bus.process import POLL, start_process
+from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError, InternalServiceError, InvalidInputError
 from shared.messages import ExecuteRequest, parse
 from shared.text.plain import plain_text
@@ -172,8 +172,7 @@ def _stop(
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; 0 at the end of stdin or after a stop signal, 1 on a bad address."""
-    parser = argparse.ArgumentParser(
-        allow_abbrev=False,  # an option only as spelt in full
+    parser = ArgumentParser(
         prog="python -m bridge",
         description=plain_text(__doc__),
     )

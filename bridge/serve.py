@@ -43,6 +43,7 @@ from shared.bus.options import add_connect_options
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.process_config import process_config
 from shared.bus.robot_routes import BRIDGE
+from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.bridge")
@@ -50,8 +51,7 @@ log = logging.getLogger("armplan.bridge")
 
 def parser() -> argparse.ArgumentParser:
     """The bridge process's command line."""
-    p = argparse.ArgumentParser(
-        allow_abbrev=False,  # an option only as spelt in full
+    p = ArgumentParser(
         prog="python -m bridge.serve",
         description="The armplan robot bridge on Zenoh.",
     )

@@ -32,7 +32,8 @@ def test_a_misspelt_option_is_named_before_the_missing_one() -> None:
     assert done.returncode == 2
     assert done.stderr.startswith("usage: armplan plan")
     assert done.stderr.endswith(
-        "armplan plan: error: unrecognized arguments: --targt\n"
+        "armplan plan: error: unrecognized arguments: --targt "
+        "(did you mean --target?)\n"
     )
     alone = armplan("plan", "--arm", "left")  # nothing misspelt: as before
     assert alone.returncode == 2
@@ -45,8 +46,11 @@ def test_a_misspelt_option_is_named_before_the_missing_one() -> None:
 @pytest.mark.parametrize(
     ("args", "unknown"),
     [
-        (["plan", "--target", "0.12", "-0.13", "0.05", "--dwel", "0.5"], "--dwel 0.5"),
-        (["stop", "--reas", "x"], "--reas x"),
+        (
+            ["plan", "--target", "0.12", "-0.13", "0.05", "--dwel", "0.5"],
+            "--dwel 0.5 (did you mean --dwell?)",
+        ),
+        (["stop", "--reas", "x"], "--reas x (did you mean --reason?)"),
     ],
 )
 def test_an_abbreviated_option_is_refused(args: list[str], unknown: str) -> None:
@@ -55,7 +59,85 @@ def test_an_abbreviated_option_is_refused(args: list[str], unknown: str) -> None
     assert exited.value.code == 2
     done = armplan(*args)
     assert done.returncode == 2
-    assert done.stderr.endswith(f"error: unrecognized arguments: {unknown}\n")
+    assert done.stderr.endswith(
+        f"armplan {args[0]}: error: unrecognized arguments: {unknown}\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("args", "error"),
+    [
+        (
+            ["fit", "--timout", "5", "demos.mcap"],
+            "armplan fit: error: unrecognized arguments: --timout "
+            "(did you mean --timeout?)",
+        ),
+        (
+            ["demos", "import", "a.c3d", "--markrs", "m.json", "-o", "d.mcap"],
+            "armplan demos import: error: unrecognized arguments: --markrs "
+            "(did you mean --markers?)",
+        ),
+        (
+            ["plan", "--target", "0.1", "0", "0", "--dwel", "1", "--jsn"],
+            "armplan plan: error: unrecognized arguments: --dwel 1 --jsn "
+            "(did you mean --dwell for --dwel, --json for --jsn?)",
+        ),
+        (
+            ["fit", "--zzz", "demos.mcap"],
+            "armplan fit: error: unrecognized arguments: --zzz",
+        ),
+        (
+            ["--verison"],
+            "armplan: error: unrecognized arguments: --verison "
+            "(did you mean --version?)",
+        ),
+    ],
+    ids=["subcommand", "nested", "two", "none-close", "top"],
+)
+def test_a_misspelt_option_is_reported_by_its_command_with_the_closest(
+    args: list[str], error: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``armplan fit --timout 5`` said ``armplan: error: unrecognized
+    arguments: --timout`` under the bare ``armplan``'s usage: now the
+    command's usage and name, and the option it is closest to."""
+    with pytest.raises(SystemExit) as exited:
+        build_parser().parse_args(args)
+    assert exited.value.code == 2
+    err = capsys.readouterr().err
+    assert err.endswith(error + "\n")
+    command = error.split(": error:")[0]
+    assert err.startswith(f"usage: {command} ")
+
+
+@pytest.mark.parametrize(
+    ("module", "args", "error"),
+    [
+        (
+            "services.ik",
+            ["--wiat", "3"],
+            "python -m services.ik: error: unrecognized arguments: --wiat 3 "
+            "(did you mean --wait?)",
+        ),
+        (  # --prog is hidden: never offered
+            "bridge.sim",
+            ["--prot", "3"],
+            "python -m bridge.sim: error: unrecognized arguments: --prot 3",
+        ),
+    ],
+    ids=["service", "hidden"],
+)
+def test_a_process_names_the_option_closest_to_a_misspelt_one(
+    module: str, args: list[str], error: str
+) -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", module, *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 2
+    assert done.stderr.endswith(error + "\n")
 
 
 def test_no_parser_takes_abbreviations() -> None:

@@ -42,7 +42,7 @@ def command_modules() -> list[ModuleType]:
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser with every command registered."""
-    from armplan.cli.parsing import ArgumentParser
+    from shared.command_line import ArgumentParser
 
     parser = ArgumentParser(
         prog="armplan", description="Human-like arm movements for the NAO robot."

@@ -16,6 +16,7 @@ from bridge.address import check_listen_url
 from bridge.sim.cycle import PERIOD, check_period
 from bridge.sim.log import check_log_file
 from bridge.sim.server import DEFAULT_LISTEN, serve
+from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError, InvalidInputError
 from shared.sim_options import add_sim_options, check_sim_options
 from shared.stop_signals import StartInterrupted, stop_on_signals
@@ -26,8 +27,7 @@ INTERRUPTED_CODE = 128 + signal.SIGINT
 
 def parser() -> argparse.ArgumentParser:
     """The command line of the simulated NAO."""
-    p = argparse.ArgumentParser(
-        allow_abbrev=False,  # an option only as spelt in full
+    p = ArgumentParser(
         prog="python -m bridge.sim",
         description="A simulated NAO serving ALMotion over NAOqi (libqi).",
     )

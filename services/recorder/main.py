@@ -32,6 +32,7 @@ from shared.bus import Bus
 from shared.bus.options import add_connect_options
 from shared.bus.process import add_common_arguments, start_process
 from shared.bus.process_config import process_config
+from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.recorder")
@@ -76,8 +77,7 @@ def _tell_parent(line: str) -> None:
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        allow_abbrev=False,  # an option only as spelt in full
+    parser = ArgumentParser(
         prog="python -m services.recorder",
         description="The armplan recorder: Zenoh key expressions to MCAP.",
     )

@@ -27,6 +27,7 @@ from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.secured import secured_settings
 from shared.bus.session import open_router
 from shared.bus.zenoh_log import start_zenoh_log
+from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError
 
 log = logging.getLogger("armplan.bus")
@@ -53,8 +54,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        allow_abbrev=False,  # an option only as spelt in full
+    parser = ArgumentParser(
         prog="python -m shared.bus.router",
         description="armplan's Zenoh router.",
     )

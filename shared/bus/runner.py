@@ -24,6 +24,7 @@ from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.process_config import process_config
 from shared.bus.route import Endpoint
 from shared.bus.service import ServiceHost
+from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError, ServiceUnavailableError
 
 log = logging.getLogger("armplan.bus")
@@ -110,8 +111,7 @@ def serve(
 
 
 def _parser(name: str) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        allow_abbrev=False,  # an option only as spelt in full
+    parser = ArgumentParser(
         prog=f"python -m services.{name}",
         description=f"The armplan {name} service on Zenoh.",
     )
