@@ -129,6 +129,23 @@ def test_a_task_file_plans_what_the_options_plan(
     }
 
 
+def test_a_task_file_with_a_byte_order_mark_is_read(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A task file saved by Windows Notepad starts with a byte-order mark; it
+    was refused as "not valid JSON (... expected value at line 1 column 1)",
+    where the file shows nothing wrong. It plans as the same file without
+    one, as a wrist-path CSV with one does."""
+    task = json.dumps({"targets": [{"position": GOAL}]})
+    plain, marked = tmp_path / "plain.json", tmp_path / "marked.json"
+    plain.write_text(task)
+    marked.write_text(task, encoding="utf-8-sig")
+    assert marked.read_bytes().startswith(b"\xef\xbb\xbf")
+    assert plan_json(capsys, "--task", str(marked)) == plan_json(
+        capsys, "--task", str(plain)
+    )
+
+
 def test_the_arm_of_a_task_file_in_any_case_or_from_the_option(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -62,3 +62,13 @@ def test_a_demo_task_with_a_mistake_is_not_called_a_plan_request(
         load_task(path)
     assert "PlanRequest" not in refused.value.message
     assert refused.value.message.endswith(f"(see {DEFAULT_TASK} for the form)")
+
+
+def test_a_task_file_with_a_byte_order_mark_is_read(tmp_path: Path) -> None:
+    """The shipped task saved with a byte-order mark (Windows Notepad) was
+    refused as "not valid JSON (... line 1 column 1)"; it reads as the
+    shipped one."""
+    marked = tmp_path / "marked.json"
+    marked.write_text(DEFAULT_TASK.read_text(), encoding="utf-8-sig")
+    assert marked.read_bytes().startswith(b"\xef\xbb\xbf")
+    assert load_task(marked).phases == load_task(DEFAULT_TASK).phases

@@ -9,7 +9,7 @@ import threading
 
 import pytest
 
-from shared.input_files import read_at_most
+from shared.input_files import read_at_most, without_byte_order_mark
 
 
 def test_a_file_up_to_the_limit_is_read_and_one_byte_more_refused(
@@ -89,3 +89,9 @@ def test_a_marker_map_or_demo_task_without_end_is_refused() -> None:
         read_marker_map("/dev/zero")
     with pytest.raises(InvalidInputError, match="/dev/zero: more than"):
         load_task("/dev/zero")
+
+
+def test_a_byte_order_mark_is_dropped_and_nothing_else() -> None:
+    assert without_byte_order_mark(b"\xef\xbb\xbf{}") == b"{}"
+    assert without_byte_order_mark(b"{}") == b"{}"
+    assert without_byte_order_mark(b"\xef\xbb{}") == b"\xef\xbb{}"

@@ -34,7 +34,11 @@ from typing import Any
 
 from armplan.cli.parsing import measure_fields
 from shared.errors import InvalidInputError
-from shared.input_files import MAX_INPUT_BYTES, read_at_most
+from shared.input_files import (
+    MAX_INPUT_BYTES,
+    read_at_most,
+    without_byte_order_mark,
+)
 from shared.messages import PlanRequest, WristPath, parse
 from shared.robot.side import Side
 
@@ -238,7 +242,7 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
             field=args.steps[0][0][2:],
         )
     try:
-        text = read_at_most(path, MAX_TASK_BYTES)
+        text = without_byte_order_mark(read_at_most(path, MAX_TASK_BYTES))
     except OSError as exc:
         raise InvalidInputError(
             f"{path}: cannot read the task ({exc.strerror})", field="task"

@@ -21,7 +21,7 @@ import numpy as np
 from pydantic import Field, field_validator
 
 from shared.errors import InvalidInputError, JointLimitError, UnreachableTargetError
-from shared.input_files import read_at_most
+from shared.input_files import read_at_most, without_byte_order_mark
 from shared.messages import PlanRequest, ReachTarget, parse
 from shared.messages.base import Message
 from shared.robot import Side, load_arm
@@ -219,7 +219,7 @@ def _check_reach(task: Task) -> None:
 def _read(path: Path) -> bytes:
     """The file's bytes; InvalidInputError naming it if it cannot be read."""
     try:
-        return read_at_most(path)
+        return without_byte_order_mark(read_at_most(path))
     except OSError as error:
         raise InvalidInputError(
             f"cannot read task file {path}: {error.strerror}", field="task"
