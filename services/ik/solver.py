@@ -30,6 +30,7 @@ from services.ik.measures import MeasureParams
 from services.ik.measures import factory as measure_factory
 from services.ik.measures.factory import MeasureFactory
 from services.ik.palm_reached import palm_reached
+from services.ik.reach_advice import reach_advice
 from services.ik.swivel_reach import check_swivel
 from services.ik.task import WristTask
 from shared.errors import (
@@ -173,7 +174,11 @@ def check_reachable(arm: ArmModel, target: np.ndarray) -> None:
     low, high = arm.reach
     if not low - TOLERANCE <= distance <= high + TOLERANCE:
         raise UnreachableTargetError(
-            target, arm=arm.side.value, distance=distance, reach=arm.reach
+            target,
+            arm=arm.side.value,
+            distance=distance,
+            reach=arm.reach,
+            advice=reach_advice(arm, target),
         )
 
 

@@ -22,6 +22,7 @@ import math
 import numpy as np
 
 from services.ik.iterate import TOLERANCE
+from services.ik.reach_advice import reach_advice
 from shared.errors import UnreachableTargetError
 from shared.messages import WristPath
 from shared.robot.arm_model import ArmModel
@@ -66,6 +67,7 @@ def check_path_within_reach(
         distance=math.dist(path.positions[k], shoulder),  # no overflow for 1e308
         reach=arm.reach,
         at=f"wrist-path sample {k} (t = {path.times[k]:.3f} s)",
+        advice=reach_advice(arm, path.positions[k]),
     )
 
 
