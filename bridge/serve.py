@@ -39,7 +39,7 @@ from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
 from shared.bus import Bus, ServiceHost
-from shared.bus.options import add_connect_options
+from shared.bus.options import add_connect_options, add_router_wait_option
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.process_config import process_config
 from shared.bus.robot_routes import BRIDGE
@@ -57,13 +57,7 @@ def parser() -> argparse.ArgumentParser:
     )
     add_common_arguments(p)
     add_connect_options(p)
-    p.add_argument(
-        "--wait",
-        type=float,
-        default=10.0,
-        metavar="S",
-        help="how long to wait for the router at start [s] (default 10)",
-    )
+    add_router_wait_option(p)
     p.add_argument(
         "--robot",
         metavar="URL",

@@ -5,11 +5,14 @@ from __future__ import annotations
 import logging
 import os
 import pwd
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from armplan.cli.main import build_parser
+from armplan.launch import free_endpoint
 from shared.bus.named_files import check_named_files
 from shared.bus.options import bus_config
 from shared.bus.zenoh_config import client_config
@@ -90,3 +93,23 @@ def test_namespace_keeps_the_config_file_known(
         f"owner {pwd.getpwuid(os.geteuid()).pw_name}): make it readable by its "
         f"owner only: chmod 600 {path}"
     ]
+
+
+@pytest.mark.parametrize("module", ["services.ik", "bridge.serve", "services.recorder"])
+@pytest.mark.parametrize("wait", ["nan", "-1", "inf"])
+def test_a_wait_for_the_router_that_is_no_wait_is_refused(
+    module: str, wait: str
+) -> None:
+    """``--wait nan`` waited for ever with no router there, saying nothing
+    (no deadline is passed by NaN); ``-1`` tried once, as 0 does. Exit 2
+    naming the option, as for any malformed option. (The 60 s cap only
+    ends the old endless wait: the refusal takes no wait at all.)"""
+    argv = [sys.executable, "-m", module, "--connect", free_endpoint()]
+    done = subprocess.run(
+        [*argv, "--wait", wait], capture_output=True, text=True, timeout=60
+    )
+    assert done.returncode == 2
+    assert (
+        f"argument --wait: '{wait}' is not a number of seconds from 0 to 86400"
+        in done.stderr
+    )

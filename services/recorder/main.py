@@ -29,7 +29,7 @@ from services.recorder.arguments import (
 )
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
-from shared.bus.options import add_connect_options
+from shared.bus.options import add_connect_options, add_router_wait_option
 from shared.bus.process import add_common_arguments, start_process
 from shared.bus.process_config import process_config
 from shared.command_line import ArgumentParser
@@ -84,11 +84,5 @@ def _parser() -> argparse.ArgumentParser:
     add_common_arguments(parser)
     add_recorder_arguments(parser)
     add_connect_options(parser)
-    parser.add_argument(
-        "--wait",
-        type=float,
-        default=10.0,
-        metavar="S",
-        help="how long to wait for the router at start [s] (default 10)",
-    )
+    add_router_wait_option(parser)
     return parser

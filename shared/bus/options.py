@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 
-from shared.bus.config import BusConfig
+from shared.bus.config import MAX_WAIT, BusConfig
 from shared.bus.config_file import load_config
 
 #: ``--namespace``'s help where a command does not say more.
@@ -51,6 +51,37 @@ def add_namespace_option(
 ) -> None:
     """``--namespace NS``: the key namespace instead of the config's."""
     parser.add_argument("--namespace", metavar="NS", help=help_text)
+
+
+def add_router_wait_option(parser: argparse.ArgumentParser) -> None:
+    """``--wait S``: how long a process waits for the router at its start."""
+    parser.add_argument(
+        "--wait",
+        type=router_wait,
+        default=10.0,
+        metavar="S",
+        help="how long to wait for the router at start [s] (default 10)",
+    )
+
+
+def router_wait(text: str) -> float:
+    """``text`` as a wait for the router [s]: 0 (try once) up to ``MAX_WAIT``.
+
+    ``--wait nan`` waited for ever, saying nothing (no deadline is passed by
+    NaN), and ``--wait -1`` tried once as 0 does.
+
+    Raises:
+        argparse.ArgumentTypeError: naming ``text``, for anything else.
+    """
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 <= value <= MAX_WAIT:  # NaN too
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a number of seconds from 0 to {MAX_WAIT:g} (a day)"
+        )
+    return value
 
 
 def bus_config(args: argparse.Namespace) -> BusConfig:

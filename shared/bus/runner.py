@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from shared.bus.bus import Bus
-from shared.bus.options import add_connect_options
+from shared.bus.options import add_connect_options, add_router_wait_option
 from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.process_config import process_config
 from shared.bus.route import Endpoint
@@ -117,11 +117,5 @@ def _parser(name: str) -> argparse.ArgumentParser:
     )
     add_common_arguments(parser)
     add_connect_options(parser)
-    parser.add_argument(
-        "--wait",
-        type=float,
-        default=10.0,
-        metavar="S",
-        help="how long to wait for the router at start [s] (default 10)",
-    )
+    add_router_wait_option(parser)
     return parser
