@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
 import pathlib
+import signal
 import subprocess
 from collections.abc import Iterator
 
@@ -36,12 +38,18 @@ CASES = {
 
 
 @pytest.fixture(scope="module")
-def endpoint() -> Iterator[str]:
+def stack() -> Iterator[Launcher]:
     """A router and the planner's services on a free port."""
     config = load_config(endpoints=(free_endpoint(),))
     names = ["decide", "ik", "timing", "planner"]
-    with Launcher(config, names, log=subprocess.DEVNULL):
-        yield config.endpoint
+    with Launcher(config, names, log=subprocess.DEVNULL) as launched:
+        yield launched
+
+
+@pytest.fixture(scope="module")
+def endpoint(stack: Launcher) -> str:
+    """The router's endpoint of ``stack``."""
+    return stack.config.endpoint
 
 
 def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
@@ -102,3 +110,48 @@ def test_a_task_file_with_an_old_request_id_is_planned_anew(
     edited = run(capsys, "--task", str(task), "--json", "--connect", endpoint)
     assert edited[0] == 0, edited[2]
     assert json.loads(edited[1])["times"][-1] > json.loads(first[1])["times"][-1]
+
+
+def test_timeout_sets_the_wait_and_a_timeout_says_to_give_a_longer_one(
+    capsys: pytest.CaptureFixture[str], stack: Launcher
+) -> None:
+    """A 64-target task at 1000 Hz, asked by four clients at once, outlasted
+    the config's 5 s wait, with no option to wait longer ("service 'planner'
+    did not answer armplan/plan within 5.000 s"). --timeout sets the wait:
+    with the planner paused (SIGSTOP), a 1 s wait ends in request_timeout
+    telling to give a longer one; running, a minute plans as without it."""
+    where = ["--connect", stack.config.endpoint]
+    planner = stack.services["planner"].process.pid
+    os.kill(planner, signal.SIGSTOP)
+    try:
+        code, out, err = run(capsys, "--target", *AT_GOAL, *where, "--timeout", "1")
+    finally:
+        os.kill(planner, signal.SIGCONT)
+    assert (code, out) == (1, "")
+    assert err == (
+        "armplan: error: service 'planner' did not answer armplan/plan within "
+        "1.000 s; a long task or a busy planner takes longer: give a longer "
+        "--timeout (this call waited 1 s)\n"
+    )
+    waited = run(capsys, "--target", *AT_GOAL, "--json", *where, "--timeout", "60")
+    assert waited == run(capsys, "--target", *AT_GOAL, "--json", *where)
+    assert waited[0] == 0
+
+
+@pytest.mark.parametrize(
+    "args,words",
+    [
+        (["--timeout", "5"], "--timeout goes with --remote"),
+        (["--remote", "--timeout", "nan"], "got nan"),
+        (["--remote", "--timeout", "-1"], "got -1"),
+        (["--remote", "--timeout", "0"], "got 0"),
+    ],
+    ids=["in-process", "nan", "negative", "zero"],
+)
+def test_a_timeout_that_is_no_wait_is_refused_before_connecting(
+    capsys: pytest.CaptureFixture[str], args: list[str], words: str
+) -> None:
+    """No router runs here: refused before anything connects, naming it."""
+    code, out, err = run(capsys, "--target", *AT_GOAL, *args)
+    assert (code, out) == (1, "")
+    assert words in err and "Traceback" not in err

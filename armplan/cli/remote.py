@@ -14,7 +14,9 @@ from __future__ import annotations
 import argparse
 
 from shared.bus import DEFAULT_ENDPOINT, Bus, load_config
+from shared.bus.config import MAX_WAIT
 from shared.bus.options import add_namespace_option, with_namespace
+from shared.errors import InvalidInputError
 
 
 def add_remote(parser: argparse.ArgumentParser) -> None:
@@ -47,6 +49,24 @@ def is_remote(args: argparse.Namespace) -> bool:
     return bool(
         args.remote or args.connect or args.zenoh_config or args.namespace is not None
     )
+
+
+def check_timeout(timeout: float | None) -> None:
+    """Refuse a ``--timeout`` [s] that is no wait: NaN, 0, negative, over a day.
+
+    NaN and negative ones reached Zenoh and ended in a traceback
+    ("ValueError: negative timeout"); 0 sent a request its caller never
+    waited for. ``None``: not given.
+
+    Raises:
+        InvalidInputError: naming ``--timeout`` and the value.
+    """
+    if timeout is not None and not 0.0 < timeout <= MAX_WAIT:  # NaN too
+        raise InvalidInputError(
+            f"--timeout must be a positive number of seconds up to {MAX_WAIT:g}, "
+            f"got {timeout:g}",
+            field="--timeout",
+        )
 
 
 def connect(args: argparse.Namespace) -> Bus:

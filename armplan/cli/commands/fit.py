@@ -48,7 +48,7 @@ from typing import Any
 
 from armplan.cli.output import print_json
 from armplan.cli.parsing import add_json
-from armplan.cli.remote import add_remote, is_remote
+from armplan.cli.remote import add_remote, check_timeout, is_remote
 from shared.errors import InvalidInputError, RequestTimeoutError
 from shared.text.counted import counted
 
@@ -158,17 +158,11 @@ def _check_options(args: argparse.Namespace) -> None:
     demonstration is read or any router is asked; each error names the option.
     """
     from services.fit.fitting import check_options
-    from shared.bus.config import MAX_WAIT
     from shared.messages.fit_request import MAX_FILES
 
     check_options(args.bins, args.smoothing)
     _check_form(args)
-    if args.timeout is not None and not 0.0 < args.timeout <= MAX_WAIT:  # NaN too
-        raise InvalidInputError(
-            f"--timeout must be a positive number of seconds up to {MAX_WAIT:g}, "
-            f"got {args.timeout}",
-            field="timeout",
-        )
+    check_timeout(args.timeout)
     if is_remote(args) and len(args.files) > MAX_FILES:
         raise InvalidInputError(
             f"the fit service reads at most {MAX_FILES} files in one fit, "

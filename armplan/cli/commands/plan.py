@@ -31,8 +31,8 @@ import argparse
 from armplan.cli.parsing import add_arm, add_json, add_measure_options
 from armplan.cli.plan_output import show
 from armplan.cli.plan_request import StepAction, request_from_args
-from armplan.cli.remote import add_remote, is_remote
-from shared.errors import InvalidInputError
+from armplan.cli.remote import add_remote, check_timeout, is_remote
+from shared.errors import InvalidInputError, RequestTimeoutError
 from shared.messages import Method, MotionModel, PlanRequest, Trajectory
 from shared.messages.hand import HandAction
 
@@ -50,6 +50,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     _add_how(parser)
     add_json(parser)
     add_remote(parser)
+    parser.add_argument(
+        "--timeout",
+        type=float,
+        metavar="S",
+        help="with --remote: longest wait for the plan [s] (default: the "
+        "config's timeout, 5)",
+    )
     parser.set_defaults(run=run, steps=None)
 
 
@@ -175,6 +182,12 @@ def _add_limits(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Build the request, plan it (here, or by the planner with --remote), print."""
     remote = is_remote(args)
+    if not remote and args.timeout is not None:
+        raise InvalidInputError(
+            "--timeout goes with --remote (the running planner service)",
+            field="timeout",
+        )
+    check_timeout(args.timeout)
     if remote and args.model:
         raise InvalidInputError(
             "--model does not go with --remote: the planner decides with the "
@@ -230,4 +243,14 @@ def _plan_remote(args: argparse.Namespace, request: PlanRequest) -> Trajectory:
     from shared.messages.request_id import with_new_request_id
 
     with connect(args) as bus:
-        return bus.call(PLAN, with_new_request_id(request), repeat=True)
+        try:
+            return bus.call(
+                PLAN, with_new_request_id(request), timeout=args.timeout, repeat=True
+            )
+        except RequestTimeoutError as error:
+            waited = bus.config.timeout if args.timeout is None else args.timeout
+            error.message += (
+                f"; a long task or a busy planner takes longer: give a longer "
+                f"--timeout (this call waited {waited:g} s)"
+            )
+            raise
