@@ -146,6 +146,39 @@ def test_a_task_file_with_a_byte_order_mark_is_read(
     )
 
 
+@pytest.mark.parametrize(
+    "text,key",
+    [
+        (
+            '{"targets": [{"position": [0.12, -0.13, 0.05]}], '
+            '"targets": [{"position": [0.14, -0.06, 0.10]}]}',
+            "targets",
+        ),
+        (
+            '{"targets": [{"position": [0.12, -0.13, 0.05], '
+            '"dwell": 0.5, "dwell": 5}]}',
+            "dwell",
+        ),
+    ],
+    ids=["targets", "dwell"],
+)
+def test_a_task_file_with_a_key_written_twice_is_refused(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str], text: str, key: str
+) -> None:
+    """The second "targets" list was planned alone, the first dropped without
+    a word (JSON parsers keep a repeated key's last value); a target with two
+    dwells rested the last. Refused, naming the key, before any planning."""
+    file = tmp_path / "task.json"
+    file.write_text(text)
+    assert main(["plan", "--task", str(file)]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert captured.err == (
+        f"armplan: error: {file}: PlanRequest: key {key!r} is written twice in "
+        "one object; only the last would be read: keep one\n"
+    )
+
+
 def test_the_arm_of_a_task_file_in_any_case_or_from_the_option(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

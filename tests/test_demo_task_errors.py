@@ -72,3 +72,20 @@ def test_a_task_file_with_a_byte_order_mark_is_read(tmp_path: Path) -> None:
     marked.write_text(DEFAULT_TASK.read_text(), encoding="utf-8-sig")
     assert marked.read_bytes().startswith(b"\xef\xbb\xbf")
     assert load_task(marked).phases == load_task(DEFAULT_TASK).phases
+
+
+def test_a_task_file_with_a_key_written_twice_is_refused(tmp_path: Path) -> None:
+    """A phase's "targets" written twice was read as the last alone: the
+    robot would have played other targets than the file shows."""
+    text = json.dumps(json.loads(DEFAULT_TASK.read_text()))
+    first = '"targets": ['
+    assert text.count(first) > 1
+    extra = '"targets": [{"position": [0.12, -0.13, 0.05]}], '
+    path = tmp_path / "twice.json"
+    path.write_text(text.replace(first, extra + first, 1))
+    with pytest.raises(InvalidInputError) as refused:
+        load_task(path)
+    assert refused.value.message.startswith(
+        f"{path}: TaskFile: key 'targets' is written twice in one object; "
+        "only the last would be read: keep one"
+    )

@@ -40,6 +40,7 @@ from shared.input_files import (
     without_byte_order_mark,
 )
 from shared.messages import PlanRequest, WristPath, parse
+from shared.messages.repeated_keys import check_keys_once
 from shared.robot.side import Side
 
 #: Largest task file read [bytes] (the services' default payload limit).
@@ -248,6 +249,7 @@ def _from_task(args: argparse.Namespace) -> PlanRequest:
             f"{path}: cannot read the task ({exc.strerror})", field="task"
         ) from None
     try:
+        check_keys_once(text, PlanRequest.__name__)
         request = parse(PlanRequest, text)
     except InvalidInputError as exc:
         hint = _demo_task_hint(text)

@@ -24,6 +24,7 @@ from shared.errors import InvalidInputError, JointLimitError, UnreachableTargetE
 from shared.input_files import read_at_most, without_byte_order_mark
 from shared.messages import PlanRequest, ReachTarget, parse
 from shared.messages.base import Message
+from shared.messages.repeated_keys import check_keys_once
 from shared.robot import Side, load_arm
 from shared.robot.postures import forward, rest
 from shared.robot.side import SideAnyCase
@@ -161,6 +162,7 @@ def load_task(path: str | Path = DEFAULT_TASK) -> Task:
     text = b""
     try:
         text = _read(path)
+        check_keys_once(text, TaskFile.__name__)
         data = parse(TaskFile, text)
         start = data.start
         angles = POSTURES[start](data.arm) if isinstance(start, str) else start
