@@ -35,3 +35,23 @@ def test_a_request_is_abandoned_only_when_every_caller_is_too_late() -> None:
             assert not waiting.all_gone("id", None)
     assert waiting.all_gone(None, due_in(REPLY_MARGIN / 2))
     assert not waiting.all_gone(None, None)
+
+
+def test_a_caller_whose_session_ended_is_gone_whatever_its_deadline() -> None:
+    """A caller still within its deadline, but whose session has ended, waits
+    no more; one whose session is not known (not said, or not ended) waits
+    until its deadline; the request is abandoned only when every caller is
+    gone."""
+    ended = {"a1"}.__contains__
+    far = REPLY_MARGIN + 60.0
+    a1, b2 = due_in(far)._replace(session="a1"), due_in(far)._replace(session="b2")
+    waiting = Waiting()
+    with waiting.caller("id", a1):
+        assert waiting.all_gone("id", a1, ended)
+        assert not waiting.all_gone("id", a1)  # the ended sessions not known
+        with waiting.caller("id", b2):
+            assert not waiting.all_gone("id", a1, ended)
+        with waiting.caller("id", due_in(far)):  # its session not said
+            assert not waiting.all_gone("id", a1, ended)
+    assert waiting.all_gone(None, a1, ended)
+    assert not waiting.all_gone(None, b2, ended)

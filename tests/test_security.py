@@ -166,6 +166,17 @@ def test_each_process_holds_only_its_own_token() -> None:
             assert ACL.allows(user, "liveliness_token", "ingress", key) is mine
 
 
+def test_every_session_holds_a_caller_token_only_the_planner_watches() -> None:
+    """armplan/caller/<session id>: any login may hold one (each Bus does);
+    only the planner may watch them go (it publishes no plan for a caller
+    whose session ended); none may hold a service's token with it."""
+    key = f"{NS}/caller/8f3a09"
+    for user in PROCESS_USERS:
+        assert ACL.allows(user, "liveliness_token", "ingress", key)
+        watches = ACL.allows(user, "declare_liveliness_subscriber", "ingress", key)
+        assert watches is (user == "planner"), user
+
+
 def test_only_the_bridge_claims_the_robot() -> None:
     """Only the bridge may hold and look up a bridge's claim (bridge/claim.py)."""
     key = claim_key(NS, 1, "0a")
@@ -555,6 +566,28 @@ def test_a_service_holds_no_other_token(secured: Bundle) -> None:
         assert "bridge" not in client.alive()
         assert "planner" in client.alive()
         token.undeclare()  # type: ignore[no-untyped-call]
+
+
+def test_the_planner_sees_a_callers_session_end(secured: Bundle) -> None:
+    """A client's caller token goes when its session closes: a session
+    logged in as the planner sees it go; one logged in as ik may not watch."""
+    with (
+        Bus.connect(load_config(secured.clients["planner"])) as planner,
+        Bus.connect(load_config(secured.clients["ik"])) as ik,
+    ):
+        planner.caller_gone(None)  # the watches start
+        ik.caller_gone(None)
+        time.sleep(QUIET)
+        client = Bus.connect(load_config(secured.clients["client"]))
+        caller = str(client.session.zid())
+        time.sleep(QUIET)
+        assert not planner.caller_gone(caller)
+        client.close()
+        deadline = time.monotonic() + 10.0
+        while not planner.caller_gone(caller) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert planner.caller_gone(caller)
+        assert not ik.caller_gone(caller)
 
 
 # ---- a second machine's router ----------------------------------------------

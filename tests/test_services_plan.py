@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import signal
+import subprocess
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -22,7 +24,7 @@ from services.planner.stages import LocalStages
 from services.planner.wrist_path import reach_path
 from shared.bus import Bus, Route, load_config
 from shared.bus.routes import DECIDE, IK_PATH, PLAN, TIMING, TRAJECTORY_TOPIC
-from shared.bus.topics import find_topic
+from shared.bus.topics import PLAN_REQUEST_TOPIC, find_topic
 from shared.demos.nao_grid import nao_grid
 from shared.errors import (
     InvalidInputError,
@@ -528,3 +530,55 @@ def test_a_stopped_service_is_named_within_2_s_and_a_restart_heals(
     assert bus.wait_alive([service], 60.0) == []
     assert bus.call(PLAN, REACH, timeout=60.0).to_json() == in_process(REACH)
     assert {n: c.pid for n, c in stack.services.items() if n != service} == others
+
+
+@pytest.mark.parametrize(
+    ("stop", "code"),
+    [(signal.SIGINT, 130), (signal.SIGKILL, -signal.SIGKILL)],
+    ids=["ctrl-c", "killed"],
+)
+def test_a_plan_whose_caller_was_interrupted_is_not_published(
+    stack: Launcher, bus: Bus, stop: signal.Signals, code: int
+) -> None:
+    """``armplan plan --remote --timeout 60`` interrupted with Ctrl-C (or
+    killed) while the planner waits for a stage (timing paused): its
+    deadline had not passed, so the planner published the plan when timing
+    came back, and a following bridge would have played it for no one. The
+    client's caller token goes with its session: the plan is not published.
+    A plan asked afterwards by a caller still there is."""
+    published: list[bytes] = []
+    asked = threading.Event()
+    key = f"{NAMESPACE}/{TRAJECTORY_TOPIC}"
+    trajectories = bus.session.declare_subscriber(
+        key, lambda sample: published.append(sample.payload.to_bytes())
+    )
+    requests = bus.session.declare_subscriber(
+        f"{NAMESPACE}/{PLAN_REQUEST_TOPIC}", lambda _sample: asked.set()
+    )
+    timing = stack.services["timing"]
+    try:
+        time.sleep(0.5)  # the router learns of the subscribers
+        timing.signal(signal.SIGSTOP)
+        try:
+            where = ["--connect", stack.config.endpoint, "--namespace", NAMESPACE]
+            reach = ["--target", "0.12", "-0.10", "0.05", "--timeout", "60"]
+            client = subprocess.Popen(
+                [sys.executable, "-m", "armplan", "plan", "--remote", *where, *reach],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            assert asked.wait(30.0), "the planner never got the request"
+            client.send_signal(stop)
+            _, err = client.communicate(timeout=30.0)
+            assert client.returncode == code, err
+        finally:
+            timing.signal(signal.SIGCONT)
+        time.sleep(3.0)  # timing answers; the plan is done well within this
+        assert published == []
+        reply = bus.call(PLAN, REACH, timeout=60.0)
+        time.sleep(0.5)  # the publication follows the reply closely
+    finally:
+        requests.undeclare()  # type: ignore[no-untyped-call]
+        trajectories.undeclare()  # type: ignore[no-untyped-call]
+    assert published == [reply.to_json().encode()]

@@ -34,7 +34,7 @@ from services.planner.pipeline import PlanResult, plan
 from services.planner.remote import RemoteStages
 from services.planner.waiting import Waiting
 from shared.bus import Bus, Endpoint
-from shared.bus.deadline import current_due
+from shared.bus.deadline import Due, current_due
 from shared.bus.routes import PLAN, TRAJECTORY_TOPIC
 from shared.bus.topics import DECISION_TOPIC, JOINT_PATH_TOPIC, PLAN_REQUEST_TOPIC
 from shared.errors import RequestTimeoutError
@@ -57,22 +57,15 @@ def remote_planner(bus: Bus) -> Planner:
         PlanRequest.to_json, weight=samples, budget=KEPT_SAMPLES
     )
     waiting = Waiting()
+    bus.caller_gone(None)  # watch callers' sessions end from the start
 
     def plan_and_publish(request: PlanRequest) -> Trajectory:
         bus.publish(PLAN_REQUEST_TOPIC, request)
         stages.require(request)
         result = plan(request, stages)
         due = current_due()
-        if waiting.all_gone(request.request_id, due):  # a robot would move for no one
-            budget = 0.0 if due is None else due.budget
-            raise RequestTimeoutError(
-                NAME,
-                key=PLAN.key(bus.config.namespace),
-                timeout=budget,
-                message=f"the caller stopped waiting after {budget:.3f} s, before "
-                "the plan was ready: it was not published (a robot would have "
-                "moved for no one)",
-            )
+        if waiting.all_gone(request.request_id, due, bus.caller_gone):
+            raise _gone_error(bus, due)  # a robot would move for no one
         publish_parts(bus, result)
         return result.trajectory
 
@@ -94,6 +87,23 @@ def remote_planner(bus: Bus) -> Planner:
             )
 
     return plan_remotely
+
+
+def _gone_error(bus: Bus, due: Due | None) -> RequestTimeoutError:
+    """The error of a plan not published: its callers were gone when it was ready."""
+    budget = 0.0 if due is None else due.budget
+    why = (
+        "the caller's session ended (interrupted or killed) before the plan was ready"
+        if due is not None and not due.too_late and bus.caller_gone(due.session)
+        else f"the caller stopped waiting after {budget:.3f} s, before the plan "
+        "was ready"
+    )
+    return RequestTimeoutError(
+        NAME,
+        key=PLAN.key(bus.config.namespace),
+        timeout=budget,
+        message=f"{why}: it was not published (a robot would have moved for no one)",
+    )
 
 
 def samples(trajectory: Trajectory) -> int:

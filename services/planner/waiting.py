@@ -5,56 +5,70 @@ the first caller's thread (``answer_once``), while the repeats wait for it.
 The planner publishes a finished plan only if some caller still waits for
 it (a following robot would otherwise move for no one), so it must know the
 deadlines of all of them, not only the first's: a repeat sent because the
-first call timed out still waits.
+first call timed out still waits. A caller whose session has ended (its
+``armplan plan`` interrupted with Ctrl-C, or killed) waits no more, whatever
+its deadline (``shared.bus.gone_callers``).
 """
 
 from __future__ import annotations
 
 import threading
-import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
-from shared.bus.deadline import REPLY_MARGIN, Due
+from shared.bus.deadline import Due
+
+#: Whether the session of this id (``Due.session``) has ended; ``None``: not said.
+Ended = Callable[[str | None], bool]
+
+
+def _never(_session: str | None) -> bool:
+    return False
 
 
 class Waiting:
-    """The deadlines of the callers now waiting, per request id."""
+    """The callers now waiting, per request id: their deadlines and sessions."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._ats: dict[str, list[float | None]] = {}
+        self._dues: dict[str, list[Due | None]] = {}
 
     @contextmanager
     def caller(self, key: str | None, due: Due | None) -> Iterator[None]:
         """Count a caller of ``key`` as waiting, for the duration of the block.
 
-        ``due`` is when it stops waiting (``None``: it never does).
+        ``due`` is when it stops waiting and its session (``None``: it never
+        stops, and its session is not known).
         """
-        at = None if due is None else due.at
         if key is not None:
             with self._lock:
-                self._ats.setdefault(key, []).append(at)
+                self._dues.setdefault(key, []).append(due)
         try:
             yield
         finally:
             if key is not None:
                 with self._lock:
-                    ats = self._ats[key]
-                    ats.remove(at)
-                    if not ats:
-                        del self._ats[key]
+                    dues = self._dues[key]
+                    dues.remove(due)
+                    if not dues:
+                        del self._dues[key]
 
-    def all_gone(self, key: str | None, due: Due | None) -> bool:
-        """Whether every caller of ``key`` stops waiting before an answer.
+    def all_gone(self, key: str | None, due: Due | None, ended: Ended = _never) -> bool:
+        """Whether every caller of ``key`` is gone before an answer.
 
-        That is: each is past its deadline or within ``REPLY_MARGIN`` of it
-        (an answer sent now may not reach it in time). Without a ``key``:
-        whether the one caller, due by ``due``, does.
+        That is: each is past its deadline or within
+        :data:`~shared.bus.deadline.REPLY_MARGIN` of it
+        (an answer sent now may not reach it in time), or its session has
+        ended (``ended``: its process was interrupted or killed). Without a
+        ``key``: whether the one caller, due by ``due``, is.
         """
         if key is None:
-            return due is not None and due.too_late
-        late = time.monotonic() + REPLY_MARGIN
+            return due is not None and _gone(due, ended)
         with self._lock:
-            ats = list(self._ats.get(key, []))
-        return bool(ats) and all(at is not None and late > at for at in ats)
+            dues = list(self._dues.get(key, []))
+        return bool(dues) and all(d is not None and _gone(d, ended) for d in dues)
+
+
+def _gone(due: Due, ended: Ended) -> bool:
+    """Whether the caller due by ``due`` stops waiting before an answer."""
+    return due.too_late or ended(due.session)

@@ -19,7 +19,8 @@ import zenoh
 from shared.bus.caller import answered, join_forwarders, read_reply, service_timing
 from shared.bus.config import BusConfig
 from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, not_alive_error
-from shared.bus.keys import service_key
+from shared.bus.gone_callers import GoneCallers
+from shared.bus.keys import caller_key, service_key
 from shared.bus.liveness import AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
@@ -46,6 +47,13 @@ class Bus(Closes):
         self.session = session
         self.config = config
         self._alive = AliveServices(session, config.namespace)
+        # Held while open: a service sees this caller's session end
+        # (shared.bus.gone_callers); every query names the session.
+        self._caller = session.liveliness().declare_token(
+            caller_key(config.namespace, str(session.zid()))
+        )
+        self._gone: GoneCallers | None = None
+        self._gone_lock = threading.Lock()
 
     @classmethod
     def connect(
@@ -162,6 +170,19 @@ class Bus(Closes):
             else zenoh.CongestionControl.BLOCK,
         )
 
+    def caller_gone(self, session: str | None) -> bool:
+        """Whether the caller whose session id is ``session`` has gone.
+
+        Its caller token was seen removed: its session ended (interrupted or
+        killed) since this bus first asked (:mod:`shared.bus.gone_callers`;
+        the first call starts the watch). ``None`` (not said): False.
+        """
+        with self._gone_lock:
+            if self._gone is None:
+                self._gone = GoneCallers(self.session, self.config.namespace)
+            gone = self._gone
+        return gone.gone(session)
+
     def is_alive(self, service: str) -> bool:
         """Whether ``service`` holds its liveliness token (cached; fast)."""
         return self._alive.is_alive(service)
@@ -224,5 +245,9 @@ class Bus(Closes):
         :func:`shared.bus.caller.join_forwarders`.
         """
         self._alive.close()
+        with self._gone_lock:
+            if self._gone is not None:
+                self._gone.close()
+        self._caller.undeclare()  # type: ignore[no-untyped-call]
         self.session.close()  # type: ignore[no-untyped-call]
         join_forwarders(self.session, FORWARDERS_GRACE)

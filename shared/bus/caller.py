@@ -157,6 +157,7 @@ def _ask(
     deadline = min(deadline, time.monotonic() + MAX_WAIT)
     inbox: queue.SimpleQueue[_Item] = queue.SimpleQueue()
     call = uuid.uuid4().hex  # the same on both queries: see CallerBudget.call
+    caller = str(session.zid())  # whose caller token says it is still there
     open_queries: set[int] = set()
     numbers = itertools.count()
 
@@ -167,7 +168,7 @@ def _ask(
             payload=body,
             encoding=zenoh.Encoding.APPLICATION_JSON,
             timeout=left,
-            attachment=budget_attachment(left, call=call),
+            attachment=budget_attachment(left, call=call, session=caller),
         )
         number = next(numbers)
         open_queries.add(number)

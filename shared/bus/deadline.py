@@ -47,12 +47,15 @@ class Due(NamedTuple):
             clocks [s], at least 0.
         call: The caller's id for the call, shared by a query and the one it
             asks again (``CallerBudget.call``); ``None``: not said.
+        session: The caller's Zenoh session id (``CallerBudget.session``);
+            ``None``: not said.
     """
 
     at: float
     budget: float
     transit: float = 0.0
     call: str | None = None
+    session: str | None = None
 
     @property
     def passed(self) -> bool:
@@ -69,18 +72,23 @@ class Due(NamedTuple):
 
 
 def budget_attachment(
-    seconds: float, sent: float | None = None, call: str | None = None
+    seconds: float,
+    sent: float | None = None,
+    call: str | None = None,
+    session: str | None = None,
 ) -> bytes:
     """The attachment of a query whose caller waits ``seconds`` [s] more.
 
     Clamped to a millisecond .. a day (``MAX_BUDGET``): a longer wait is
     told as a day. ``sent``: the sending's wall-clock time [s since the
     epoch], default now. ``call``: the caller's id for the call, the same on
-    a query asked again (``CallerBudget.call``).
+    a query asked again (``CallerBudget.call``). ``session``: the caller's
+    Zenoh session id (``CallerBudget.session``).
     """
     budget = min(max(seconds, 1e-3), MAX_BUDGET)
     when = time.time() if sent is None else sent
-    return CallerBudget(timeout=budget, sent=when, call=call).to_json().encode()
+    told = CallerBudget(timeout=budget, sent=when, call=call, session=session)
+    return told.to_json().encode()
 
 
 def deadline_of(
@@ -114,7 +122,7 @@ def deadline_of(
         now = time.time() if arrived is None else arrived
         transit = max(now - budget.sent, 0.0)
     at = received + budget.timeout - transit
-    return Due(at, budget.timeout, transit, budget.call)
+    return Due(at, budget.timeout, transit, budget.call, budget.session)
 
 
 @contextmanager

@@ -4,7 +4,10 @@ A namespace is one or more plain chunks (``armplan``, ``robots/nao1``), so two
 robots can share a router with namespaces ``nao1`` and ``nao2``. Under it:
 
 - ``<ns>/<path>``: a service's queryable, e.g. ``armplan/ik/solve``;
-- ``<ns>/alive/<service>``: the liveliness token of a running service.
+- ``<ns>/alive/<service>``: the liveliness token of a running service;
+- ``<ns>/caller/<session id>``: the liveliness token of every open bus, so a
+  service can tell that a caller's session has ended (its process
+  interrupted or killed) before it publishes what only that caller wanted.
 """
 
 from __future__ import annotations
@@ -20,6 +23,8 @@ _PATH = re.compile(rf"{_CHUNK}(/{_CHUNK})*")
 _NAME = re.compile(_CHUNK)
 #: The chunk under which liveliness tokens live.
 ALIVE = "alive"
+#: The chunk under which each open bus's caller token lives.
+CALLER = "caller"
 
 
 def check_path(path: str, what: str) -> str:
@@ -79,3 +84,16 @@ def namespace_from_alive_key(key: str, service: str) -> str:
 def service_from_alive_key(namespace: str, key: str) -> str:
     """The service name in a liveliness token key (inverse of :func:`alive_key`)."""
     return key.removeprefix(f"{namespace}/{ALIVE}/")
+
+
+def caller_key(namespace: str, session: str) -> str:
+    """The caller token of the session ``session`` (its Zenoh id, hex).
+
+    E.g. ``armplan/caller/8f3a...``.
+    """
+    return f"{namespace}/{CALLER}/{session}"
+
+
+def caller_pattern(namespace: str) -> str:
+    """The key expression matching every open bus's caller token."""
+    return f"{namespace}/{CALLER}/*"

@@ -32,8 +32,13 @@ class CallerBudget(Message):
             query it asks again (``caller.answered``); the service answers
             both from one piece of work, never ``service_busy`` to the second
             while the first waits or runs. ``None``: a call asked once.
+        session: The caller's Zenoh session id (hex), whose caller token
+            (``<ns>/caller/<session>``) goes when the caller's session ends:
+            a service may then drop what only that caller wanted (the
+            planner does not publish its plan). ``None``: not said.
     """
 
     timeout: float = Field(gt=0.0, le=MAX_BUDGET)
     sent: float | None = Field(default=None, gt=0.0)
     call: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
+    session: str | None = Field(default=None, pattern=r"^[0-9a-f]{1,32}$")
