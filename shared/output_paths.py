@@ -180,16 +180,35 @@ def written_whole(path: Path) -> Iterator[Path]:
     name renamed over it when the block ends (:func:`replaced_when_done`),
     keeping its mode. A path that is no regular file (``/dev/null``, a FIFO,
     ``/dev/stdout``) is itself yielded, to write into: replacing it would
-    put a regular file in its place.
+    put a regular file in its place. So is a path through ``/proc`` (a
+    ``/dev/stdout`` redirected to a file, ``/dev/fd/3``): the file already
+    open there was replaced, and what the shell wrote to it afterwards lost.
     """
-    if path.exists() and not path.is_file():  # followed as opened
-        yield path
+    if path.exists() and (not path.is_file() or _an_open_file(path)):
+        yield path  # followed as opened
         return
     target = Path(os.path.realpath(path))
     with replaced_when_done(target) as partial:
         yield partial
         with contextlib.suppress(FileNotFoundError):
             shutil.copymode(target, partial)
+
+
+def _an_open_file(path: Path) -> bool:
+    """Whether ``path`` or a link on the way leads into ``/proc`` (``/dev/stdout``).
+
+    ``/proc/self/fd/1`` reads as the file it is open on, a redirected
+    ``>> run.log`` for one: renaming a new file over that replaced the log,
+    and the lines the shell wrote after went to the replaced one.
+    """
+    hop = path
+    for _ in range(40):  # the kernel's limit of links followed
+        if Path(os.path.realpath(hop.parent)).is_relative_to("/proc"):
+            return True
+        if not hop.is_symlink():
+            return False
+        hop = hop.parent / os.readlink(hop)
+    return False
 
 
 @contextlib.contextmanager

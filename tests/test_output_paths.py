@@ -197,6 +197,28 @@ def test_dev_stdout_into_a_pipe_is_written() -> None:
     assert (done.returncode, done.stdout) == (0, "keys\n"), done.stderr
 
 
+def test_dev_stdout_redirected_to_a_file_is_written_into(tmp_path: Path) -> None:
+    """``-o /dev/stdout >> run.log``: the link leads to the log through
+    ``/proc``; a new file was renamed over the log, and what the shell wrote
+    after went to the replaced one, lost. Now the log is written into, as by
+    any program: it stays the file the shell holds."""
+    log = tmp_path / "run.log"
+    log.write_text("earlier\n")
+    inode = log.stat().st_ino
+    code = (
+        "from shared.output_paths import write_output_text; "
+        "write_output_text('/dev/stdout', 'keys\\n'); print('after')"
+    )
+    with log.open("a") as stream:
+        done = subprocess.run(
+            [sys.executable, "-c", code], stdout=stream, text=True, timeout=60
+        )
+    assert done.returncode == 0
+    assert log.stat().st_ino == inode
+    assert log.read_text().endswith("keys\nafter\n")
+    assert [p.name for p in tmp_path.iterdir()] == [log.name]
+
+
 def test_a_write_cut_short_in_a_set_names_the_file(older: list[Path]) -> None:
     """The second of three files, 10 kB, in a process allowed 4 kB files:
     write() fails with EFBIG and no file name (as on a full disk). It was
