@@ -15,6 +15,7 @@ import errno
 import fcntl
 import os
 import shutil
+import threading
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -295,25 +296,40 @@ def replaced_together(
 def _one_writer_in(folder: Path | None) -> Iterator[None]:
     """Hold ``folder`` for this block: an exclusive ``flock`` on the folder itself.
 
-    Another process holding it (writing its set) is waited for; the lock
-    goes with the block, or with the process however it ends, and leaves
-    no file behind. A folder that cannot be opened or locked (missing, a
-    file system without ``flock``) is written without it, as before.
+    Another process or thread holding it (writing its set) is waited for;
+    the lock goes with the block, or with the process however it ends, and
+    leaves no file behind. A folder that cannot be opened or locked
+    (missing, a file system without ``flock``) is written without it, as
+    before. A folder this thread already holds (a set written while
+    writing another into it) is not locked again: its second ``flock``
+    waited for the first, forever.
     """
+    held: set[tuple[int, int]] = vars(_HELD).setdefault("folders", set())
     try:
         fd: int | None = (
             os.open(folder, os.O_RDONLY | os.O_DIRECTORY) if folder else None
         )
     except OSError:
         fd = None
+    key: tuple[int, int] | None = None
     try:
         if fd is not None:
-            with contextlib.suppress(OSError):
-                fcntl.flock(fd, fcntl.LOCK_EX)
+            info = os.fstat(fd)
+            if (info.st_dev, info.st_ino) not in held:
+                with contextlib.suppress(OSError):
+                    fcntl.flock(fd, fcntl.LOCK_EX)
+                key = (info.st_dev, info.st_ino)
+                held.add(key)
         yield
     finally:
+        if key is not None:
+            held.discard(key)
         if fd is not None:
             os.close(fd)
+
+
+#: Per thread, the folders (device, inode) :func:`_one_writer_in` holds.
+_HELD = threading.local()
 
 
 @contextlib.contextmanager

@@ -124,6 +124,35 @@ def _small_files() -> None:
     resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
 
 
+def test_a_set_written_while_writing_another_in_its_folder(
+    older: list[Path],
+) -> None:
+    """One process writing a second set into the folder while it writes a
+    first: the second waited for the folder lock the first held, forever.
+    Now both are written."""
+    code = (
+        "import sys; from pathlib import Path; "
+        "from shared.output_paths import replaced_together\n"
+        "a, b = Path(sys.argv[1]), Path(sys.argv[2])\n"
+        "with replaced_together([a]) as outer:\n"
+        "    outer.write_text(outer[0], 'outer')\n"
+        "    with replaced_together([b]) as inner:\n"
+        "        inner.write_text(inner[0], 'inner')\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(older[0]), str(older[1])],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.returncode == 0, done.stderr
+    assert contents(older[0].parent) == {
+        NAMES[0]: "outer",
+        NAMES[1]: "inner",
+        NAMES[2]: f"older {NAMES[2]}",
+    }
+
+
 def test_a_text_cut_short_leaves_the_older_file_whole(tmp_path: Path) -> None:
     """write_output_text of 10 kB in a process allowed 4 kB files: the error
     names the file and the reason, the older file keeps its text, and no
