@@ -117,7 +117,8 @@ def try_output_folder(out: str | Path, option: str = "--out") -> Path:
     :func:`check_output_folder`, then the folders missing on the way to
     ``out`` are made (:func:`make_output_folder`, which finds what the check
     cannot foresee: ``/proc``, ``/sys``) and removed again, deepest first,
-    so that a run that fails or is interrupted later leaves none behind.
+    so that a run that fails or is interrupted later leaves none behind;
+    so are those made before a deeper one failed (no inode left, say).
     The command makes the folder when it writes.
 
     Raises:
@@ -126,10 +127,12 @@ def try_output_folder(out: str | Path, option: str = "--out") -> Path:
     """
     path = check_output_folder(out, option)
     missing = [p for p in (path, *path.parents) if not p.exists()]
-    make_output_folder(path, option)
-    for folder in missing:
-        with contextlib.suppress(OSError):  # another run wrote into it
-            folder.rmdir()
+    try:
+        make_output_folder(path, option)  # may fail below folders it made
+    finally:
+        for folder in missing:
+            with contextlib.suppress(OSError):  # another run wrote into it
+                folder.rmdir()
     return path
 
 

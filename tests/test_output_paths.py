@@ -19,6 +19,7 @@ from shared.output_paths import (
     check_output_file,
     check_output_folder,
     replaced_together,
+    try_output_folder,
     write_output_text,
 )
 
@@ -300,6 +301,33 @@ def full_disk(tmp_path: Path) -> Iterator[Path]:
         pytest.skip(f"cannot mount a tmpfs: {mounted.stderr.strip()}")
     try:
         yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], timeout=30, check=True)
+
+
+def test_a_folder_tried_leaves_none_of_its_parents(tmp_path: Path) -> None:
+    """``--out tiny/a/b/c`` on a file system with inodes for two folders:
+    the check up front made ``a`` and ``b``, failed at ``c`` and left both
+    behind, though it promises to leave no trace."""
+    folder = tmp_path / "tiny"
+    folder.mkdir()
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=64k,nr_inodes=3", "tmpfs", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs: {mounted.stderr.strip()}")
+    try:
+        out = folder / "a" / "b" / "c"
+        with pytest.raises(InvalidInputError) as caught:
+            try_output_folder(out)
+        assert caught.value.message == (
+            f"cannot write into {out} (--out): No space left on device"
+        )
+        assert list(folder.iterdir()) == []
     finally:
         subprocess.run(["umount", str(folder)], timeout=30, check=True)
 
