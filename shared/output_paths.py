@@ -44,8 +44,8 @@ def check_output_file(
 
     Raises:
         InvalidInputError: ``output`` is no file name, is a folder, lies in
-            a folder that does not exist or cannot be written, or is one of
-            ``inputs``.
+            a folder that does not exist or cannot be written (a link's
+            target, for a link to no file yet), or is one of ``inputs``.
     """
     path = Path(output)
     if not str(output) or path.name in ("", ".", ".."):
@@ -53,6 +53,10 @@ def check_output_file(
             f"output {str(output)!r} is not a file name", field=field
         )
     problem = _file_problem(path)
+    if not problem and path.is_symlink() and not path.exists():  # dangling
+        target = Path(os.path.realpath(path))  # written through the link
+        problem = _file_problem(target)
+        problem = f"{problem} (it links to {target})" if problem else ""
     if problem:
         raise InvalidInputError(f"cannot write {output}: {problem}", field=field)
     for name in inputs:

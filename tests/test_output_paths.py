@@ -183,6 +183,24 @@ def test_a_text_cut_short_leaves_the_older_file_whole(tmp_path: Path) -> None:
     assert sorted(p.name for p in tmp_path.iterdir()) == ["play.py"]
 
 
+def test_a_link_to_a_file_in_no_folder_is_refused_up_front(tmp_path: Path) -> None:
+    """``-o latest.mcap``, a link to ``gone/run.mcap`` whose folder is
+    missing: the check passed, the work ran, and the write through the link
+    failed naming its partial file ("cannot create .../gone/run.mcap.partial").
+    A link to a file yet to be made in an existing folder is written."""
+    link = tmp_path / "latest.mcap"
+    link.symlink_to(Path("gone") / "run.mcap")
+    with pytest.raises(InvalidInputError) as caught:
+        check_output_file(link)
+    target = tmp_path / "gone" / "run.mcap"
+    assert caught.value.message == (
+        f"cannot write {link}: No such file or directory (it links to {target})"
+    )
+    (tmp_path / "gone").mkdir()
+    write_output_text(check_output_file(link), "newer")
+    assert link.is_symlink() and target.read_text() == "newer"
+
+
 def test_a_replaced_file_keeps_its_mode_and_its_link(tmp_path: Path) -> None:
     """An executable play.py reached through a symbolic link: the new text
     replaces the file the link names, which keeps its mode (0o750), and
