@@ -186,7 +186,10 @@ def written_whole(path: Path) -> Iterator[Path]:
 
     A regular file, or a link's target, is written under a ``.partial``
     name renamed over it when the block ends (:func:`replaced_when_done`),
-    keeping its mode. A path that is no regular file (``/dev/null``, a FIFO,
+    keeping its mode. The folder is held meanwhile (:func:`_one_writer_in`):
+    two runs writing one file at once shared its partial file, and one
+    failed "No such file or directory" or renamed the other's half-written
+    one into place. A path that is no regular file (``/dev/null``, a FIFO,
     ``/dev/stdout``) is itself yielded, to write into: replacing it would
     put a regular file in its place. So is a path through ``/proc`` (a
     ``/dev/stdout`` redirected to a file, ``/dev/fd/3``): the file already
@@ -196,8 +199,8 @@ def written_whole(path: Path) -> Iterator[Path]:
         yield path  # followed as opened
         return
     target = Path(os.path.realpath(path))
-    with replaced_when_done(target) as partial:
-        yield partial
+    with _one_writer_in(target.parent), replaced_when_done(target) as partial:
+        yield partial  # another run's partial file is not this one's
         with contextlib.suppress(FileNotFoundError):
             shutil.copymode(target, partial)
 

@@ -154,6 +154,30 @@ def test_a_set_written_while_writing_another_in_its_folder(
     }
 
 
+def test_two_writers_of_one_file_take_turns(tmp_path: Path) -> None:
+    """Two runs writing one file at once (two ``armplan fit -o model.json``)
+    shared ``model.json.partial``: one renamed the other's, half written,
+    into place, and the other failed "No such file or directory"."""
+    path = tmp_path / "model.json"
+    failed: list[str] = []
+
+    def write(text: str) -> None:
+        for _ in range(20):
+            try:
+                write_output_text(path, text * 1_000_000)
+            except InvalidInputError as error:
+                failed.append(error.message)
+
+    writers = [threading.Thread(target=write, args=(c,)) for c in "ab"]
+    for writer in writers:
+        writer.start()
+    for writer in writers:
+        writer.join(timeout=120)
+    assert failed == []
+    assert path.read_text() in ("a" * 1_000_000, "b" * 1_000_000)
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]
+
+
 def test_a_text_cut_short_leaves_the_older_file_whole(tmp_path: Path) -> None:
     """write_output_text of 10 kB in a process allowed 4 kB files: the error
     names the file and the reason, the older file keeps its text, and no
