@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
+import logging
 import os
 import shutil
 import threading
@@ -20,6 +21,8 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from shared.errors import InvalidInputError
+
+log = logging.getLogger("armplan.output")
 
 
 def same_file(a: str | Path, b: str | Path) -> bool:
@@ -326,8 +329,7 @@ def _one_writer_in(folder: Path | None) -> Iterator[None]:
         if fd is not None:
             info = os.fstat(fd)
             if (info.st_dev, info.st_ino) not in held:
-                with contextlib.suppress(OSError):
-                    fcntl.flock(fd, fcntl.LOCK_EX)
+                _lock(fd, folder)
                 key = (info.st_dev, info.st_ino)
                 held.add(key)
         yield
@@ -340,6 +342,24 @@ def _one_writer_in(folder: Path | None) -> Iterator[None]:
 
 #: Per thread, the folders (device, inode) :func:`_one_writer_in` holds.
 _HELD = threading.local()
+
+
+def _lock(fd: int, folder: Path | None) -> None:
+    """Take ``folder``'s lock (its open ``fd``); say so if another holds it.
+
+    A wait is announced (a warning on stderr), or a writer suspended with
+    Ctrl-Z in the same folder would hold this one up without a word. A file
+    system without ``flock`` leaves the folder unlocked.
+    """
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return
+    except BlockingIOError:
+        log.warning("waiting for another armplan run writing into %s to finish", folder)
+    except OSError:
+        return
+    with contextlib.suppress(OSError):
+        fcntl.flock(fd, fcntl.LOCK_EX)
 
 
 @contextlib.contextmanager

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import resource
 import signal
@@ -85,12 +86,14 @@ def test_a_failed_write_names_the_file_asked_for(older: list[Path]) -> None:
     assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES}
 
 
-def test_two_writers_of_one_set_take_turns(older: list[Path]) -> None:
+def test_two_writers_of_one_set_take_turns(
+    older: list[Path], caplog: pytest.LogCaptureFixture
+) -> None:
     """Two runs writing one set into one folder at once (two ``armplan
     experiment handover --out DIR``): the second shared the first's partial
     files, renamed them, and the first failed "No such file or directory",
     the folder left with a mix of both runs. Now the second waits for the
-    first's set and replaces it whole; neither fails."""
+    first's set, saying so, and replaces it whole; neither fails."""
     written, go = threading.Event(), threading.Event()
     failed: list[str] = []
 
@@ -116,6 +119,9 @@ def test_two_writers_of_one_set_take_turns(older: list[Path]) -> None:
     second.join(timeout=60)
     assert failed == []
     assert contents(older[0].parent) == {n: "second" for n in NAMES}
+    waits = [r.getMessage() for r in caplog.records if r.name == "armplan.output"]
+    folder = older[0].parent
+    assert waits == [f"waiting for another armplan run writing into {folder} to finish"]
 
 
 def _small_files() -> None:
@@ -326,14 +332,14 @@ def test_a_write_cut_short_in_a_set_names_the_file(older: list[Path]) -> None:
     assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES}
 
 
-@pytest.fixture
-def full_disk(tmp_path: Path) -> Iterator[Path]:
-    """A folder on a 64 kB tmpfs, unmounted after; skipped where mounting is
-    not permitted (no root, a container without the privilege)."""
-    folder = tmp_path / "tiny"
+@contextlib.contextmanager
+def tmpfs(folder: Path, options: str) -> Iterator[Path]:
+    """``folder`` made and a tmpfs mounted on it with ``options``, unmounted
+    after; skipped where mounting is not permitted (no root, a container
+    without the privilege)."""
     folder.mkdir()
     mounted = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(folder)],
+        ["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(folder)],
         capture_output=True,
         text=True,
         timeout=30,
@@ -347,22 +353,18 @@ def full_disk(tmp_path: Path) -> Iterator[Path]:
         subprocess.run(["umount", str(folder)], timeout=30, check=True)
 
 
+@pytest.fixture
+def full_disk(tmp_path: Path) -> Iterator[Path]:
+    """A folder on a 64 kB tmpfs."""
+    with tmpfs(tmp_path / "tiny", "size=64k") as folder:
+        yield folder
+
+
 def test_a_folder_tried_leaves_none_of_its_parents(tmp_path: Path) -> None:
     """``--out tiny/a/b/c`` on a file system with inodes for two folders:
     the check up front made ``a`` and ``b``, failed at ``c`` and left both
     behind, though it promises to leave no trace."""
-    folder = tmp_path / "tiny"
-    folder.mkdir()
-    mounted = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", "size=64k,nr_inodes=3", "tmpfs", str(folder)],
-        capture_output=True,
-        text=True,
-        timeout=30,
-        check=False,
-    )
-    if mounted.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs: {mounted.stderr.strip()}")
-    try:
+    with tmpfs(tmp_path / "tiny", "size=64k,nr_inodes=3") as folder:
         out = folder / "a" / "b" / "c"
         with pytest.raises(InvalidInputError) as caught:
             try_output_folder(out)
@@ -370,8 +372,6 @@ def test_a_folder_tried_leaves_none_of_its_parents(tmp_path: Path) -> None:
             f"cannot write into {out} (--out): No space left on device"
         )
         assert list(folder.iterdir()) == []
-    finally:
-        subprocess.run(["umount", str(folder)], timeout=30, check=True)
 
 
 def test_a_full_disk_names_the_file(full_disk: Path) -> None:
@@ -386,23 +386,9 @@ def test_a_full_disk_names_the_file(full_disk: Path) -> None:
 
 @pytest.fixture
 def read_only(tmp_path: Path) -> Iterator[Path]:
-    """A folder on a read-only tmpfs, unmounted after; skipped where mounting
-    is not permitted."""
-    folder = tmp_path / "ro"
-    folder.mkdir()
-    mounted = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(folder)],
-        capture_output=True,
-        text=True,
-        timeout=30,
-        check=False,
-    )
-    if mounted.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs: {mounted.stderr.strip()}")
-    try:
+    """A folder on a read-only tmpfs."""
+    with tmpfs(tmp_path / "ro", "ro,size=64k") as folder:
         yield folder
-    finally:
-        subprocess.run(["umount", str(folder)], timeout=30, check=True)
 
 
 def test_a_read_only_mount_is_named_so(read_only: Path) -> None:
