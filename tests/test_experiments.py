@@ -544,13 +544,17 @@ def test_synthetic_options_with_demonstration_files_are_clear_errors(
     )
 
 
-@pytest.mark.parametrize(
+#: Each experiment at its smallest, for the checks made before any work.
+SMALLEST = pytest.mark.parametrize(
     "experiment",
     [["similarity", "--subjects", "1", "--trials", "1", "--points", "1"],
      ["handover", "--movements", "1"],
      ["pace", "--reaches", "1", "--chains", "0"]],
     ids=["similarity", "handover", "pace"],
 )  # fmt: skip
+
+
+@SMALLEST
 def test_an_output_folder_that_is_a_file_is_refused_before_the_work(
     experiment: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -567,13 +571,7 @@ def test_an_output_folder_that_is_a_file_is_refused_before_the_work(
     assert out.read_text() == "keep me"
 
 
-@pytest.mark.parametrize(
-    "experiment",
-    [["similarity", "--subjects", "1", "--trials", "1", "--points", "1"],
-     ["handover", "--movements", "1"],
-     ["pace", "--reaches", "1", "--chains", "0"]],
-    ids=["similarity", "handover", "pace"],
-)  # fmt: skip
+@SMALLEST
 def test_an_output_folder_that_cannot_be_made_is_refused_before_the_work(
     experiment: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
