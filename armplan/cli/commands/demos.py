@@ -185,7 +185,9 @@ def _check_capture_name(path: Path) -> None:
             f"(e.g. {path / '*.c3d'} or {path / '*.csv'})",
             field="files",
         )
-    if path.suffix.lower() not in (".c3d", ".csv"):
+    from shared.demos.demo_file import CAPTURE_SUFFIXES
+
+    if path.suffix.lower() not in CAPTURE_SUFFIXES:
         raise InvalidInputError(f"{path}: expected a .c3d or .csv file", field="files")
 
 
