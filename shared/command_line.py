@@ -66,7 +66,8 @@ class ArgumentParser(argparse.ArgumentParser):
         if unknown and message.startswith(MISSING):
             message = f"{UNRECOGNIZED}{' '.join(unknown)}"
         if message.startswith(UNRECOGNIZED):
-            command = self._command_parser()
+            # one given to this parser, before the subcommand: ours to report
+            command = None if unknown else self._command_parser()
             if command is not None:
                 command.error(message)
             message += self._did_you_mean(message[len(UNRECOGNIZED) :].split())
@@ -85,7 +86,12 @@ class ArgumentParser(argparse.ArgumentParser):
         return None
 
     def _did_you_mean(self, args: Sequence[str]) -> str:
-        """`` (did you mean --x?)`` for the unknown options close to one of ours."""
+        """`` (did you mean --x?)`` for the unknown options close to one of ours.
+
+        Only those before ``--``: what follows it is a value, never an option.
+        """
+        if "--" in args:
+            args = args[: list(args).index("--")]
         ours = [  # not the hidden ones
             option
             for option, action in self._option_string_actions.items()

@@ -91,8 +91,16 @@ def test_an_abbreviated_option_is_refused(args: list[str], unknown: str) -> None
             "armplan: error: unrecognized arguments: --verison "
             "(did you mean --version?)",
         ),
+        (  # given to armplan, not to fit: fit's --timeout is not armplan's
+            ["--timout", "fit", "demos.mcap"],
+            "armplan: error: unrecognized arguments: --timout",
+        ),
+        (  # after '--' a value, never a misspelt option
+            ["plan", "--target", "0.1", "0", "0", "--", "--dwel"],
+            "armplan plan: error: unrecognized arguments: -- --dwel",
+        ),
     ],
-    ids=["subcommand", "nested", "two", "none-close", "top"],
+    ids=["subcommand", "nested", "two", "none-close", "top", "before-command", "--"],
 )
 def test_a_misspelt_option_is_reported_by_its_command_with_the_closest(
     args: list[str], error: str, capsys: pytest.CaptureFixture[str]
