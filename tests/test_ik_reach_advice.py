@@ -90,3 +90,45 @@ def test_the_command_line_prints_the_advice(capsys: pytest.CaptureFixture[str]) 
     err = capsys.readouterr().err
     assert "183.7513 m from the right shoulder" in err
     assert "it looks like millimetres: (0.12, -0.13, 0.05) m" in err
+
+
+def test_no_other_arm_for_a_target_inside_the_chest() -> None:
+    """(0, -0.05, 0.05), too near the right shoulder, lies in the left arm's
+    shell of reach, but 0.07 m from the torso's centre: it was "ask for the
+    left arm, or for the right arm at its mirror image (0, 0.05, 0.05) m"."""
+    error = refusal("right", (0.0, -0.05, 0.05))
+    assert error.evidence["advice"] == ""
+
+
+def path_of(arm: str, positions: list[list[float]]) -> WristPath:
+    times = [0.5 * k for k in range(len(positions))]
+    return WristPath(arm=load_arm(arm).side, times=times, positions=positions)
+
+
+@pytest.mark.parametrize(
+    "arm,positions",
+    [
+        ("right", [[0.12, -0.13, 0.05], [120.0, -130.0, 50.0], [0.11, -0.12, 0.04]]),
+        ("left", [[0.12, 0.1, 0.05], [0.12, -0.13, 0.05]]),
+    ],
+    ids=["one-sample-mistyped", "crossing-the-midline"],
+)
+def test_no_advice_for_a_path_that_it_fits_at_one_sample_only(
+    arm: str, positions: list[list[float]]
+) -> None:
+    """A path in metres with one sample typed 120 was "it looks like
+    millimetres (divide by 1000)"; one from the left arm's side across the
+    midline was "ask for the right arm", whose reach its start is out of."""
+    with pytest.raises(UnreachableTargetError) as refused:
+        check_path_within_reach(load_arm(arm), path_of(arm, positions))
+    assert refused.value.evidence["advice"] == ""
+
+
+def test_a_path_of_the_other_arm_says_to_negate_every_y() -> None:
+    path = path_of("left", [[0.12, -0.13, 0.05], [0.11, -0.12, 0.04]])
+    with pytest.raises(UnreachableTargetError) as refused:
+        check_path_within_reach(load_arm("left"), path)
+    assert refused.value.evidence["advice"] == (
+        "it is within the right arm's reach (torso frame: y points to NAO's "
+        "left); ask for the right arm, or for the left arm with every y negated"
+    )

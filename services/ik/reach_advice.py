@@ -30,47 +30,61 @@ UNITS = (("millimetres", 1e-3), ("centimetres", 1e-2))
 NEAREST_TARGET = 0.1
 
 
-def reach_advice(arm: ArmModel, target: Sequence[float] | np.ndarray) -> str:
+def reach_advice(
+    arm: ArmModel,
+    target: Sequence[float] | np.ndarray,
+    path: Sequence[Sequence[float]] | np.ndarray | None = None,
+) -> str:
     """The likely fix for ``target`` [m], shape (3,), out of ``arm``'s reach, or "".
 
     Args:
         arm: The arm asked for.
         target: The wrist target in the torso frame [m], shape (3,); out of
             the arm's reach (not checked).
+        path: Every position of the wrist path ``target`` is a sample of
+            [m], shape (n, 3), or None for a lone target: the fix is named
+            only if it fits every sample (a path in metres with one sample
+            mistyped 120 is not in millimetres; one crossing the midline is
+            not the other arm's).
     """
-    point = [float(v) for v in target]
-    found = _unit_within_reach(arm, point)
-    if found is not None:
-        unit, size, scaled = found
-        return (
-            f"positions are in metres; it looks like {unit}: "
-            f"{_shown(scaled)} m is within reach (divide by {round(1 / size)})"
+    point = np.asarray(target, dtype=float)
+    points = point[np.newaxis] if path is None else np.asarray(path, dtype=float)
+    for unit, size in UNITS:
+        if _all_fit(arm, points * size):
+            return (
+                f"positions are in metres; it looks like {unit}: "
+                f"{_shown(point * size)} m is within reach "
+                f"(divide by {round(1 / size)})"
+            )
+    other = load_arm(Side.LEFT if arm.side is Side.RIGHT else Side.RIGHT)
+    if _all_fit(other, points):
+        instead = (
+            f"at its mirror image {_shown(point * (1.0, -1.0, 1.0))} m"
+            if path is None
+            else "with every y negated"
         )
-    other = Side.LEFT if arm.side is Side.RIGHT else Side.RIGHT
-    if within_reach(load_arm(other), point):
-        mirror = [point[0], -point[1], point[2]]
         return (
-            f"it is within the {other.value} arm's reach (torso frame: y points "
-            f"to NAO's left); ask for the {other.value} arm, or for the "
-            f"{arm.side.value} arm at its mirror image {_shown(mirror)} m"
+            f"it is within the {other.side.value} arm's reach (torso frame: y "
+            f"points to NAO's left); ask for the {other.side.value} arm, or for "
+            f"the {arm.side.value} arm {instead}"
         )
     return ""
 
 
-def _unit_within_reach(
-    arm: ArmModel, point: list[float]
-) -> tuple[str, float, list[float]] | None:
-    """The unit ``point`` looks written in, its size [m] and ``point`` in m.
+def _all_fit(arm: ArmModel, points: np.ndarray) -> bool:
+    """Whether every point [m], shape (n, 3), is in reach and outside the chest.
 
-    Only a point that, read in that unit, is within reach and at least
-    ``NEAREST_TARGET`` from the torso's centre: (12, -13, 5) read in
-    millimetres is within the shell of reach too, but inside NAO's chest.
+    At least ``NEAREST_TARGET`` from the torso's centre: (12, -13, 5) read
+    in millimetres is within the shell of reach too, and (0, -0.05, 0.05)
+    is within the left arm's, but both are inside NAO's chest.
     """
-    for unit, size in UNITS:
-        scaled = [v * size for v in point]
-        if math.hypot(*scaled) >= NEAREST_TARGET and within_reach(arm, scaled):
-            return unit, size, scaled
-    return None
+    low, high = arm.reach
+    with np.errstate(over="ignore", invalid="ignore"):  # 1e308 is out
+        distance = np.linalg.norm(points - _shoulder(arm), axis=1)
+        centre = np.linalg.norm(points, axis=1)
+    return bool(
+        np.all((centre >= NEAREST_TARGET) & (low <= distance) & (distance <= high))
+    )
 
 
 def within_reach(arm: ArmModel, point: Sequence[float]) -> bool:
@@ -84,7 +98,7 @@ def _shoulder(arm: ArmModel) -> np.ndarray:
     return arm.fk(rest(arm.side)).shoulder
 
 
-def _shown(point: Sequence[float]) -> str:
+def _shown(point: Sequence[float] | np.ndarray) -> str:
     """``point`` [m] as ``(0.12, -0.13, 0.05)``."""
     return "(" + ", ".join(f"{v:.4g}" for v in point) + ")"
 

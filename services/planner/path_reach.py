@@ -67,7 +67,7 @@ def check_path_within_reach(
         distance=math.dist(path.positions[k], shoulder),  # no overflow for 1e308
         reach=arm.reach,
         at=f"wrist-path sample {k} (t = {path.times[k]:.3f} s)",
-        advice=reach_advice(arm, path.positions[k]),
+        advice=reach_advice(arm, path.positions[k], path.positions),
     )
 
 
