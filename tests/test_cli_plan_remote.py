@@ -138,6 +138,25 @@ def test_timeout_sets_the_wait_and_a_timeout_says_to_give_a_longer_one(
     assert waited[0] == 0
 
 
+def test_a_stage_that_times_out_is_not_told_to_give_a_longer_timeout(
+    capsys: pytest.CaptureFixture[str], stack: Launcher
+) -> None:
+    """The planner waits at most the config's 5 s for each stage: a paused
+    timing service ended a 20 s plan in 5 s with "service 'timing' did not
+    answer ...; give a longer --timeout (this call waited 20 s)", which a
+    longer one does not change. Only the planner's own timeout says so."""
+    where = ["--connect", stack.config.endpoint]
+    timing = stack.services["timing"].process.pid
+    os.kill(timing, signal.SIGSTOP)
+    try:
+        code, out, err = run(capsys, "--target", *AT_GOAL, *where, "--timeout", "20")
+    finally:
+        os.kill(timing, signal.SIGCONT)
+    assert (code, out) == (1, "")
+    assert "service 'timing' did not answer" in err
+    assert "--timeout" not in err
+
+
 @pytest.mark.parametrize(
     "args,words",
     [

@@ -248,6 +248,8 @@ def _plan_remote(args: argparse.Namespace, request: PlanRequest) -> Trajectory:
                 PLAN, with_new_request_id(request), timeout=args.timeout, repeat=True
             )
         except RequestTimeoutError as error:
+            if error.key != PLAN.key(bus.config.namespace):
+                raise  # a stage's, relayed: the planner waits it the config's
             waited = bus.config.timeout if args.timeout is None else args.timeout
             error.message += (
                 f"; a long task or a busy planner takes longer: give a longer "
