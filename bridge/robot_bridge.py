@@ -240,7 +240,9 @@ class RobotBridge:
                 False, an arm away from the start refuses the trajectory.
             on_state: Called with each measured state during the movement.
             on_play: Called with the frames once every check has passed and
-                the arm is at their start, just before they are sent.
+                the arm is at their start, just before they are sent; the
+                time, the bridge's stop and ``stop`` are checked again after
+                it (publishing the frames may wait for the network).
             until: When the caller stops waiting for the answer [s,
                 monotonic clock]; ``None``: no deadline. A movement that
                 would end later is not started (``bridge.in_time``).
@@ -327,8 +329,11 @@ class RobotBridge:
         check_in_time(url, until, 0.0, duration, ARRIVED, overhead)
         self.refuse_if_stopping(ARRIVED if move is not None else sent)
         order.check(url, ARRIVED if move is not None else sent)
-        if on_play is not None:
+        if on_play is not None:  # may wait: a bus put blocks up to 5 s (Bus.publish)
             on_play(frames)
+            check_in_time(url, until, 0.0, duration, ARRIVED, overhead)
+            self.refuse_if_stopping(ARRIVED if move is not None else sent)
+            order.check(url, ARRIVED if move is not None else sent)
         call = angle_interpolation_call(frames)
         # last, so that nothing but the call's own sending comes after it
         check_connection(

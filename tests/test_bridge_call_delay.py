@@ -78,3 +78,22 @@ def test_the_delay_is_latency_plus_size() -> None:
     delay.learn(50, 0.003)  # a lower latency
     assert delay.estimate(0) == pytest.approx(0.003)
     assert AFTER > 0.0
+
+
+def test_a_slow_frames_callback_is_counted_against_the_caller(sim: SimProcess) -> None:
+    """``on_play`` publishes the frames on the bus, where a put waits for
+    room up to 5 s when a subscriber stopped reading (``Bus.publish``'s
+    BLOCK). The caller's time was checked before it only: a trajectory
+    then played past the caller's deadline. It is checked after it too."""
+    robot = RobotBridge(NaoqiClient(sim.url))
+    there = minimum_jerk_trajectory("right", [rest("right"), AWAY], [1.0])
+    robot.execute(there, approach=True)  # at the start: no approach below
+    back = minimum_jerk_trajectory("right", [AWAY, rest("right")], [1.0])
+    played = _calls(sim)
+    with pytest.raises(CallerDeadlineError):
+        robot.execute(
+            back,
+            on_play=lambda frames: time.sleep(3.0),
+            until=time.monotonic() + 1.0 + 2.0,
+        )
+    assert _calls(sim) == played  # nothing of the trajectory sent
