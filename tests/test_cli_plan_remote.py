@@ -174,3 +174,23 @@ def test_a_timeout_that_is_no_wait_is_refused_before_connecting(
     code, out, err = run(capsys, "--target", *AT_GOAL, *args)
     assert (code, out) == (1, "")
     assert words in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["fit", "--remote", "--timeout", "nan", "demos.mcap"],
+        ["plan", "--remote", "--timeout", "-1", "--target", *AT_GOAL],
+        ["plan", "--timeout", "5", "--target", *AT_GOAL],
+    ],
+    ids=["fit", "plan", "plan-in-process"],
+)
+def test_a_refused_timeout_names_the_field_timeout(
+    capsys: pytest.CaptureFixture[str], args: list[str]
+) -> None:
+    """fit's refusal named the field ``timeout`` until the check moved to
+    ``armplan.cli.remote``, which said ``--timeout``; plan's "goes with
+    --remote" said ``timeout``: one option, one field name."""
+    assert main([*args, "--json"]) == 1
+    error = json.loads(capsys.readouterr().out)["error"]
+    assert error["evidence"]["field"] == "timeout"

@@ -59,13 +59,14 @@ def check_timeout(timeout: float | None) -> None:
     waited for. ``None``: not given.
 
     Raises:
-        InvalidInputError: naming ``--timeout`` and the value.
+        InvalidInputError: naming ``--timeout`` and the value; field
+            ``timeout``, as fit's was and plan's "goes with --remote" is.
     """
     if timeout is not None and not 0.0 < timeout <= MAX_WAIT:  # NaN too
         raise InvalidInputError(
             f"--timeout must be a positive number of seconds up to {MAX_WAIT:g}, "
             f"got {timeout:g}",
-            field="--timeout",
+            field="timeout",
         )
 
 
