@@ -136,7 +136,6 @@ class BridgeService:
             if serving is not None and serving.moving:  # it may move on
                 self._desk.mark_unsure(frames.arm.value)
             order.outcome = ended_by(frames, error)
-            self._publish_outcome(order.outcome)
             raise
         else:  # before the slot is free: a stop waiting for it reads it
             order.outcome = ExecutionOutcome(
@@ -145,7 +144,10 @@ class BridgeService:
             self._desk.mark_sure(frames.arm.value)  # it played to its end
         finally:
             self._slot.give_back()
-        self._publish_outcome(order.outcome)
+            # once free: the put may wait up to 5 s (BLOCK), and a stop's
+            # reply waits for the slot, not for the bus
+            if order.outcome is not None:
+                self._publish_outcome(order.outcome)
         return reply
 
     def order_stop(self, payload: bytes) -> None:

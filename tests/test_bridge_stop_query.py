@@ -807,3 +807,31 @@ def test_a_stop_reads_every_arm_an_error_left_unsure(
         reply = there.service.halt(StopRequest(reason="test"))
         assert reply.still is True, reply.to_json()
         assert desk._unsure == {}
+
+
+def test_an_outcome_put_that_waits_does_not_hold_the_stop_reply(
+    tmp_path: Path, sim: SimProcess, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``bridge/outcome`` is put with Zenoh's BLOCK, which waits up to 5 s
+    for room when a subscriber stopped reading (a recorder suspended with
+    Ctrl-Z). A stopped execution published its outcome before freeing the
+    robot, which the stop's reply waits for (3.25 s at most): the reply
+    said "not yet confirmed", not still, though the arm had stopped at once."""
+    with served(tmp_path, sim) as there:
+        bridge_bus, publish = there.service.bus, there.service.bus.publish
+
+        def put_waiting_for_room(path: str, message: Any) -> None:
+            if path == BRIDGE_OUTCOME_TOPIC:
+                time.sleep(5.0)  # BLOCK's longest wait before the link closes
+            publish(path, message)
+
+        monkeypatch.setattr(bridge_bus, "publish", put_waiting_for_room)
+        running = there.execute_in_background(_reach(LONG))
+        there.wait_for_state(1.0)
+        asked = time.monotonic()
+        reply = there.bus.call(STOP, StopRequest(reason="test"), timeout=10.0)
+        took = time.monotonic() - asked
+        running["thread"].join(15.0)
+        assert (reply.stopped, reply.still, reply.phase) == (True, True, "trajectory")
+        assert took < 2.5
+        _wait("the outcome", lambda: len(there.outcomes) == 1)
