@@ -23,8 +23,9 @@ from services.planner.pipeline import plan
 from services.planner.stages import LocalStages
 from services.planner.wrist_path import reach_path
 from shared.bus import Bus, Route, load_config
+from shared.bus.deadline import Due, serving_until
 from shared.bus.routes import DECIDE, IK_PATH, PLAN, TIMING, TRAJECTORY_TOPIC
-from shared.bus.topics import PLAN_REQUEST_TOPIC, find_topic
+from shared.bus.topics import JOINT_PATH_TOPIC, PLAN_REQUEST_TOPIC, find_topic
 from shared.demos.nao_grid import nao_grid
 from shared.errors import (
     InvalidInputError,
@@ -259,6 +260,39 @@ def test_a_plan_its_caller_left_is_not_published(bus: Bus) -> None:
     finally:
         subscriber.undeclare()  # type: ignore[no-untyped-call]
     assert published == [reply.to_json().encode()]
+
+
+def test_a_caller_gone_while_the_joint_paths_were_put_gets_no_trajectory(
+    bus: Bus, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The planner's own code, in this process: a put waits up to 5 s for a
+    subscriber that stopped reading (``Bus.publish``'s BLOCK), here 1.5 s on
+    the joint path. The caller, due 1 s after asking, had gone by the time
+    the trajectory was put: it was published all the same, for no one."""
+    planner = planner_service.remote_planner(bus)
+    publish, published = bus.publish, []
+
+    def put_waiting_for_room(path: str, message: Any) -> None:
+        if path == JOINT_PATH_TOPIC:
+            time.sleep(1.5)
+        publish(path, message)
+
+    monkeypatch.setattr(bus, "publish", put_waiting_for_room)
+    subscriber = bus.session.declare_subscriber(
+        f"{NAMESPACE}/{TRAJECTORY_TOPIC}",
+        lambda sample: published.append(sample.payload.to_bytes()),
+    )
+    try:
+        time.sleep(0.5)  # let the router learn of the subscriber
+        with (
+            serving_until(Due(at=time.monotonic() + 1.0, budget=1.0)),
+            pytest.raises(RequestTimeoutError, match="while its joint paths"),
+        ):
+            planner(with_request_id(REACH))
+        time.sleep(0.5)  # a publication would have come by now
+    finally:
+        subscriber.undeclare()  # type: ignore[no-untyped-call]
+    assert published == []
 
 
 def test_callers_told_they_timed_out_get_no_published_plan(

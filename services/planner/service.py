@@ -64,9 +64,18 @@ def remote_planner(bus: Bus) -> Planner:
         stages.require(request)
         result = plan(request, stages)
         due = current_due()
-        if waiting.all_gone(request.request_id, due, bus.caller_gone):
-            raise _gone_error(bus, due)  # a robot would move for no one
-        publish_parts(bus, result)
+
+        def refuse_if_gone(when: str) -> None:
+            """Raise if every caller has gone: a robot would move for no one."""
+            if waiting.all_gone(request.request_id, due, bus.caller_gone):
+                raise _gone_error(bus, due, when)
+
+        refuse_if_gone("before the plan was ready")
+        publish_parts(
+            bus,
+            result,
+            lambda: refuse_if_gone("while its joint paths were published"),
+        )
         return result.trajectory
 
     def plan_again(request: PlanRequest) -> Trajectory:
@@ -89,20 +98,23 @@ def remote_planner(bus: Bus) -> Planner:
     return plan_remotely
 
 
-def _gone_error(bus: Bus, due: Due | None) -> RequestTimeoutError:
-    """The error of a plan not published: its callers were gone when it was ready."""
+def _gone_error(bus: Bus, due: Due | None, when: str) -> RequestTimeoutError:
+    """The error of a plan not published: its callers had gone ``when``.
+
+    ``when``: e.g. "before the plan was ready".
+    """
     budget = 0.0 if due is None else due.budget
     why = (
-        "the caller's session ended (interrupted or killed) before the plan was ready"
+        "the caller's session ended (interrupted or killed)"
         if due is not None and not due.too_late and bus.caller_gone(due.session)
-        else f"the caller stopped waiting after {budget:.3f} s, before the plan "
-        "was ready"
+        else f"the caller stopped waiting after {budget:.3f} s,"
     )
     return RequestTimeoutError(
         NAME,
         key=PLAN.key(bus.config.namespace),
         timeout=budget,
-        message=f"{why}: it was not published (a robot would have moved for no one)",
+        message=f"{why} {when}: it was not published (a robot would have moved "
+        "for no one)",
     )
 
 
@@ -111,8 +123,15 @@ def samples(trajectory: Trajectory) -> int:
     return len(trajectory.times)
 
 
-def publish_parts(bus: Bus, result: PlanResult) -> None:
+def publish_parts(
+    bus: Bus, result: PlanResult, before_trajectory: Callable[[], None] = lambda: None
+) -> None:
     """Publish a plan's joint paths, trajectory and decisions, in that order.
+
+    ``before_trajectory`` runs after the joint paths, and may raise to
+    publish no trajectory: a put may wait up to 5 s for a subscriber that
+    stopped reading (``Bus.publish``'s BLOCK), long enough for the caller
+    to stop waiting meanwhile.
 
     The decisions come right after the trajectory: a recording places each
     decision point at its decision's arrival plus when the trajectory
@@ -123,6 +142,7 @@ def publish_parts(bus: Bus, result: PlanResult) -> None:
     """
     for joint_path in result.joint_paths:
         bus.publish(JOINT_PATH_TOPIC, joint_path)
+    before_trajectory()
     bus.publish(TRAJECTORY_TOPIC, result.trajectory)
     for decision in result.decisions:
         bus.publish(DECISION_TOPIC, decision)
