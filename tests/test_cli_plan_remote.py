@@ -7,6 +7,7 @@ import os
 import pathlib
 import signal
 import subprocess
+import threading
 from collections.abc import Iterator
 
 import pytest
@@ -141,20 +142,40 @@ def test_timeout_sets_the_wait_and_a_timeout_says_to_give_a_longer_one(
 def test_a_stage_that_times_out_is_not_told_to_give_a_longer_timeout(
     capsys: pytest.CaptureFixture[str], stack: Launcher
 ) -> None:
-    """The planner waits at most the config's 5 s for each stage: a paused
-    timing service ended a 20 s plan in 5 s with "service 'timing' did not
+    """A paused timing service ended a plan with "service 'timing' did not
     answer ...; give a longer --timeout (this call waited 20 s)", which a
     longer one does not change. Only the planner's own timeout says so."""
     where = ["--connect", stack.config.endpoint]
     timing = stack.services["timing"].process.pid
     os.kill(timing, signal.SIGSTOP)
     try:
-        code, out, err = run(capsys, "--target", *AT_GOAL, *where, "--timeout", "20")
+        code, out, err = run(capsys, "--target", *AT_GOAL, *where, "--timeout", "2")
     finally:
         os.kill(timing, signal.SIGCONT)
     assert (code, out) == (1, "")
     assert "service 'timing' did not answer" in err
     assert "--timeout" not in err
+
+
+def test_a_stage_slower_than_the_configs_timeout_is_waited_for(
+    capsys: pytest.CaptureFixture[str], stack: Launcher
+) -> None:
+    """The planner gave each stage at most the configuration's 5 s, whatever
+    its caller waited: with timing held up 7 s, a --timeout 30 plan failed
+    at 5 s ("service 'timing' did not answer"). Now the stage waits what
+    the caller has left, and the plan is the one asked without a pause."""
+    where = ["--connect", stack.config.endpoint]
+    timing = stack.services["timing"].process.pid
+    os.kill(timing, signal.SIGSTOP)
+    resume = threading.Timer(7.0, os.kill, (timing, signal.SIGCONT))
+    resume.start()
+    try:
+        held = run(capsys, "--target", *AT_GOAL, "--json", *where, "--timeout", "30")
+    finally:
+        resume.join()
+        os.kill(timing, signal.SIGCONT)
+    assert held[0] == 0, held[2]
+    assert held == run(capsys, "--target", *AT_GOAL, "--json", *where)
 
 
 @pytest.mark.parametrize(

@@ -7,12 +7,15 @@ plan made through the services equals the in-process one. Before planning,
 :meth:`RemoteStages.require` checks the liveliness of every service the
 request needs, so an absent one is named at once, before any work is done.
 
-Each stage waits at most what the planner's caller has left, less
+Each stage waits what the planner's caller has left, less
 :func:`stage_margin`: a stage service that stalls (a paused process) is
 then named to the caller by the planner's answer ("service 'timing' did
 not answer ..."), which arrives before the caller stops waiting. With the
 bus's whole timeout for each stage, the caller's own timeout came first,
-and it was told that the planner did not answer.
+and it was told that the planner did not answer. A caller who waits longer
+than the bus's timeout (``armplan plan --remote --timeout 60``) gives the
+stages that long too: capped at the bus's 5 s, a stage queued behind other
+clients' plans failed the call at 5 s though its caller still waited.
 """
 
 from __future__ import annotations
@@ -69,12 +72,13 @@ class RemoteStages:
 
     Args:
         bus: The planner's bus.
-        timeout: Longest wait for each stage's reply [s]; default the bus's.
-            Either way no longer than the caller of the query being served
-            (``current_due``) has left, less :func:`stage_margin`, while it
-            has time left: once it has gone, the plan goes on for a repeat
-            of the request that waits for it (``answer_once``), and each
-            stage waits the whole timeout again.
+        timeout: Longest wait for each stage's reply [s] while no caller
+            with time left is served; default the bus's. While the caller
+            of the query being served (``current_due``) has time left, each
+            stage waits that, less :func:`stage_margin`, longer or shorter
+            than ``timeout``; once it has gone, the plan goes on for a
+            repeat of the request that waits for it (``answer_once``), and
+            each stage waits ``timeout`` again.
     """
 
     def __init__(self, bus: Bus, timeout: float | None = None) -> None:
@@ -135,4 +139,4 @@ class RemoteStages:
         left = due.at - time.monotonic() - stage_margin(due.budget)
         if left <= 0.0:  # its caller has gone; a repeat may wait for the plan
             return wait
-        return min(wait, left)
+        return left  # however long the caller waits: it said so
