@@ -19,9 +19,12 @@ seconds to arrive; :class:`CallDelay` estimates that from the calls before
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
-from shared.errors import CallerDeadlineError
+from shared.errors import CallerDeadlineError, CallerGoneError
 
+#: Whether the caller of the execution has gone (its session ended).
+CallerGone = Callable[[], bool]
 #: Time a finished movement's answer still needs: the last readings, the
 #: stiffness check, the report and its encoding [s].
 AFTER = 0.1
@@ -68,8 +71,12 @@ def check_in_time(
     duration: float,
     outcome: str,
     overhead: float = 0.0,
+    gone: CallerGone | None = None,
 ) -> None:
     """Raise unless the movement (and its answer) ends by ``until``.
+
+    Nor if its caller's session has ended (``gone``): interrupted or killed
+    while it waited, it will read no answer either.
 
     Args:
         url: The robot's NAOqi address (for the error).
@@ -82,10 +89,15 @@ def check_in_time(
         overhead: The call's expected way to the robot and the answer's
             making [s] (:class:`CallDelay`, :data:`AFTER`).
 
+        gone: Whether the caller's session has ended; None: not known.
+
     Raises:
         CallerDeadlineError: the caller's time left is shorter than the
             approach, the trajectory and the overhead.
+        CallerGoneError: its session has ended (same kind).
     """
+    if gone is not None and gone():
+        raise CallerGoneError(url, outcome=outcome)
     if until is None:
         return
     left = until - time.monotonic()

@@ -64,7 +64,7 @@ from bridge.checks import check_frames
 from bridge.cut import Cut
 from bridge.frames import DEFAULT_RATE, check_rate
 from bridge.hand import with_hand
-from bridge.in_time import AFTER, CallDelay, check_in_time
+from bridge.in_time import AFTER, CallDelay, CallerGone, check_in_time
 from bridge.limits import FrameLimits
 from bridge.limp_arm import hold_command, limp_posture
 from bridge.naoqi_client import NaoqiClient
@@ -202,6 +202,7 @@ class RobotBridge:
         on_arrival: ArrivalCallback | None = None,
         frames: CommandFrames | None = None,
         stop: StopOrder | None = None,
+        gone: CallerGone | None = None,
     ) -> ExecuteReply:
         """Answer an execute request (see :meth:`execute`)."""
         return self.execute(
@@ -215,6 +216,7 @@ class RobotBridge:
             on_arrival=on_arrival,
             frames=frames,
             stop=stop,
+            gone=gone,
         )
 
     def execute(
@@ -230,6 +232,7 @@ class RobotBridge:
         on_arrival: ArrivalCallback | None = None,
         frames: CommandFrames | None = None,
         stop: StopOrder | None = None,
+        gone: CallerGone | None = None,
     ) -> ExecuteReply:
         """Play ``trajectory`` on the robot and report how well it followed.
 
@@ -256,13 +259,16 @@ class RobotBridge:
             stop: The operator's order to stop this execution
                 (``bridge/stop``): seen between two checks, and between two
                 readings while a movement plays (the arm is stopped at once).
+            gone: Whether the caller's session has ended (interrupted or
+                killed); checked with ``until``: no movement is started for
+                a caller who is gone. None: not known (the follower).
 
         Raises:
             TrajectoryRefusedError: a frame breaks a limit, or the velocities
                 disagree with the positions (nothing sent).
-            CallerDeadlineError: the movement would end after ``until``:
-                nothing sent, or (found after the approach) nothing of the
-                trajectory.
+            CallerDeadlineError: the movement would end after ``until``, or
+                the caller's session ended (``CallerGoneError``): nothing
+                sent, or (found after the approach) nothing of the trajectory.
             ServiceUnavailableError: the bridge is stopping (:meth:`stop`):
                 nothing sent, or nothing after the approach; or it stopped
                 the arm mid-movement (:meth:`cut_short`).
@@ -292,7 +298,7 @@ class RobotBridge:
         url, duration = self.client.url, frames.duration
         keys = len(frames.times) * len(frames.joint_names)
         overhead = self._call_delay.estimate(keys) + AFTER
-        check_in_time(url, until, None, duration, "nothing was sent", overhead)
+        check_in_time(url, until, None, duration, "nothing was sent", overhead, gone)
         self.refuse_if_stopping("nothing was sent")
         order.check(url, "nothing was sent")
         self.client.refuse_while_stopping()
@@ -318,7 +324,7 @@ class RobotBridge:
             current = angles_at_rest(self.client, names)
             move = self._start_move(frames, current, limits, approach, False, sent)
         approach_time = 0.0 if move is None else move.duration
-        check_in_time(url, until, approach_time, duration, sent, overhead)
+        check_in_time(url, until, approach_time, duration, sent, overhead, gone)
         self.refuse_if_stopping(sent)
         order.check(url, sent)
         if move is not None:
@@ -326,12 +332,12 @@ class RobotBridge:
             if on_approach is not None:
                 on_approach(move.duration)
             self._approach(frames, move, on_state, order)
-        check_in_time(url, until, 0.0, duration, ARRIVED, overhead)
+        check_in_time(url, until, 0.0, duration, ARRIVED, overhead, gone)
         self.refuse_if_stopping(ARRIVED if move is not None else sent)
         order.check(url, ARRIVED if move is not None else sent)
         if on_play is not None:  # may wait: a bus put blocks up to 5 s (Bus.publish)
             on_play(frames)
-            check_in_time(url, until, 0.0, duration, ARRIVED, overhead)
+            check_in_time(url, until, 0.0, duration, ARRIVED, overhead, gone)
             self.refuse_if_stopping(ARRIVED if move is not None else sent)
             order.check(url, ARRIVED if move is not None else sent)
         call = angle_interpolation_call(frames)

@@ -83,6 +83,7 @@ class BridgeService:
         self.robot = robot
         self._slot = Slot()  # the request being served, and what it has sent
         self._desk = StopDesk(bus, robot, self._slot)  # bridge/stop's answers
+        bus.caller_gone(None)  # watch callers' sessions end from the start
 
     def on_halt(self, drop: DropWaiting) -> None:
         """Have every ``bridge/stop`` call ``drop`` (the follower's queue)."""
@@ -179,6 +180,7 @@ class BridgeService:
         self, request: ExecuteRequest, frames: CommandFrames, order: StopOrder
     ) -> ExecuteReply:
         due = current_due()  # the query's caller's; None for the follower
+        caller = None if due is None else due.session
         reply = self.robot.handle(
             request,
             on_state=self._publish_state,
@@ -188,6 +190,7 @@ class BridgeService:
             on_arrival=self._slot.arrived,
             frames=frames,
             stop=order,
+            gone=None if caller is None else partial(self.bus.caller_gone, caller),
         )
         self.bus.publish(BRIDGE_REPORT_TOPIC, reply.report)
         worst = max(reply.report.tracking_rms_deg.values(), default=0.0)

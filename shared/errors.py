@@ -58,7 +58,8 @@ class ArmplanError(Exception):
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        ArmplanError.registry[cls.kind] = cls
+        if "kind" in cls.__dict__:  # a subclass of the same kind leaves it
+            ArmplanError.registry[cls.kind] = cls
 
     def to_wire(self) -> dict[str, Any]:
         """The error as a JSON-ready dict: ``{"kind", "message", "evidence"}``."""
@@ -972,6 +973,34 @@ class CallerDeadlineError(ArmplanError):
         self.duration = float(duration)
         self.outcome = outcome
         self.overhead = float(overhead)
+
+
+class CallerGoneError(CallerDeadlineError):
+    """The caller's session ended before the movement: it is not started.
+
+    Its process was interrupted (Ctrl-C) or killed while it waited: its
+    caller token went (``shared.bus.gone_callers``). Told apart from a
+    deadline by its message alone: the same kind, ``caller_deadline``.
+
+    Attributes:
+        url: The robot's NAOqi address.
+        outcome: What became of the movement, e.g. ``"nothing was sent"``.
+    """
+
+    def __init__(self, url: str, *, outcome: str) -> None:
+        ArmplanError.__init__(
+            self,
+            f"the robot at {url}: the caller's session ended (interrupted or "
+            f"killed) before the movement started; {outcome}",
+            url=url,
+            outcome=outcome,
+        )
+        self.url = url
+        self.left = 0.0
+        self.approach = None
+        self.duration = 0.0
+        self.outcome = outcome
+        self.overhead = 0.0
 
 
 class RobotCommandError(ArmplanError):

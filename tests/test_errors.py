@@ -94,3 +94,17 @@ def test_a_joint_just_outside_its_range_does_not_read_as_its_bound() -> None:
     )
     far = str(JointLimitError("RElbowRoll", 2.0, 0.0349066, 1.54462))
     assert "RElbowRoll = 2.00000 rad is outside its range [0.03491, 1.54462]" in far
+
+
+def test_a_subclass_of_the_same_kind_leaves_the_kind_to_its_parent() -> None:
+    """CallerGoneError is a caller_deadline too (its own message): read from
+    the wire, a caller_deadline is a CallerDeadlineError; it used to be
+    rebuilt as whichever subclass was defined last."""
+    from shared.errors import CallerDeadlineError, CallerGoneError, error_from_wire
+
+    gone = CallerGoneError("tcp://127.0.0.1:9559", outcome="nothing was sent")
+    assert gone.kind == "caller_deadline"
+    back = error_from_wire(gone.to_wire())
+    assert type(back) is CallerDeadlineError
+    assert back.message == gone.message
+    assert "the caller's session ended (interrupted or killed)" in back.message

@@ -166,15 +166,15 @@ def test_each_process_holds_only_its_own_token() -> None:
             assert ACL.allows(user, "liveliness_token", "ingress", key) is mine
 
 
-def test_every_session_holds_a_caller_token_only_the_planner_watches() -> None:
+def test_every_session_holds_a_caller_token_the_planner_and_bridge_watch() -> None:
     """armplan/caller/<session id>: any login may hold one (each Bus does);
-    only the planner may watch them go (it publishes no plan for a caller
-    whose session ended); none may hold a service's token with it."""
+    only the planner and the bridge may watch them go (they publish no plan,
+    and start no movement, for a caller whose session ended)."""
     key = f"{NS}/caller/8f3a09"
     for user in PROCESS_USERS:
         assert ACL.allows(user, "liveliness_token", "ingress", key)
         watches = ACL.allows(user, "declare_liveliness_subscriber", "ingress", key)
-        assert watches is (user == "planner"), user
+        assert watches is (user in ("planner", "bridge")), user
 
 
 def test_only_the_bridge_claims_the_robot() -> None:
