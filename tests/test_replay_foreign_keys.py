@@ -28,6 +28,7 @@ from native_processes import ROOT
 from armplan.launch import free_endpoint
 from services.recorder.replay import replay_items
 from shared.bus import Bus, BusConfig, open_router
+from shared.bus.keys import alive_key
 
 NAMESPACE = "foreignns"
 #: (topic, payload) of the foreign file, 0.05 s apart.
@@ -133,3 +134,58 @@ def test_keys_of_a_foreign_file_are_relative_to_the_replays_namespace(
     assert [item.payload for item in chosen] == [b'{"i": 0}', b'{"i": 2}']
     elsewhere = replay_items(path, namespace="nao1")
     assert f"{NAMESPACE}/plan/trajectory" in elsewhere.recorded
+
+
+def test_a_recorded_wildcard_key_is_not_put_into_a_live_bridge(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """A topic ``*/trajectory`` (another tool's file, or a put on a wildcard
+    that armplan's recorder recorded) went out as ``<ns>/*/trajectory``,
+    which reaches the bridge's ``<ns>/plan/trajectory`` subscriber: the
+    live-bridge check, which looks at the first chunk, let it through and
+    a bridge with --follow played it (exit 0). A put on a wildcard reaches
+    every key it matches, so such a key is refused before anything is
+    sent, as a key that is not a Zenoh key is; --keys leave it out."""
+    path = tmp_path / "wild.mcap"
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="another tool")
+        for i, topic in enumerate(["misc/raw", "*/trajectory", "**"]):
+            channel = writer.register_channel(
+                topic=topic, message_encoding="json", schema_id=0
+            )
+            t = 10**18 + i * 10**7
+            writer.add_message(
+                channel_id=channel, log_time=t, data=b'{"i": %d}' % i, publish_time=t
+            )
+        writer.finish()
+    command = [sys.executable, "-m", "armplan", "replay", str(path)]
+    command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
+    with Bus.connect(config) as bus:
+        token = bus.session.liveliness().declare_token(alive_key(NAMESPACE, "bridge"))
+        everything = Everything(bus)
+        try:
+            done = run(command)
+            chosen = run([*command, "--keys", "misc/**"])
+            everything.wait(1, 10.0)
+            time.sleep(0.5)  # nothing more comes
+        finally:
+            token.undeclare()  # type: ignore[no-untyped-call]
+        got = list(everything.got)
+    assert done.returncode == 1, done.stdout
+    assert "its channel '*/trajectory' is not a Zenoh key" in done.stderr
+    assert "no wildcard" in done.stderr
+    assert chosen.returncode == 0, chosen.stderr
+    assert got == [(f"{NAMESPACE}/misc/raw", b'{"i": 0}')]
+
+
+def run(command: list[str]) -> subprocess.CompletedProcess[str]:
+    """``command`` run with this repository's code; its output as text."""
+    return subprocess.run(
+        command,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )

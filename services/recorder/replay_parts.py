@@ -122,12 +122,18 @@ def check_damage(looked: Looked, recover: bool) -> None:
 
 @cache
 def is_key(path: str) -> bool:
-    """Whether ``path`` is a Zenoh key, relative (``plan/trajectory``)."""
+    """Whether ``path`` is a Zenoh key, relative (``plan/trajectory``).
+
+    A key expression with a wildcard (``*/trajectory``, ``**``, ``a$*``) is
+    not one: a put on it reaches every subscriber of a key it matches (a
+    bridge's ``plan/trajectory`` included), past the live-bridge check,
+    which reads the key's first chunk.
+    """
     try:
         zenoh.KeyExpr(f"r/{path}")
     except zenoh.ZError:
         return False
-    return True
+    return "*" not in path  # in a valid key expression, '*' is a wildcard
 
 
 def matcher(keys: Sequence[str] | None) -> Matcher:
@@ -226,7 +232,8 @@ def to_send(looked: Looked, wanted: Matcher, keys_given: bool, namespace: str) -
         span = looked.spans[bad[0]]
         raise RecordingError(
             f"{looked.path}: its channel {bad[0]!r} is not a Zenoh key (no '#' "
-            "or '?', no empty chunk, no '/' at either end), so its "
+            "or '?', no wildcard '*', which a put sends to every key it "
+            "matches, no empty chunk, no '/' at either end), so its "
             f"{span.count} message{'' if span.count == 1 else 's'} cannot be "
             "sent again; --keys can choose the other keys",
             path=str(looked.path),
