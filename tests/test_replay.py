@@ -595,3 +595,24 @@ def test_ctrl_c_while_waiting_ends_the_replay_at_once(
     assert process.returncode == 130, stderr
     assert time.monotonic() - sent < 20.0, "the wait was not ended"
     assert "interrupted" in stderr
+
+
+def test_a_key_not_under_a_namespace_gets_no_namespace_hint(
+    recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--keys fit/** on a recording without fit/*: the hint took any first
+    chunk for a namespace and said "keys are relative to the namespace:
+    give **" (which replays everything). Only a key under the file's or the
+    replay's namespace gets it."""
+    from armplan.cli.main import main
+
+    path, _ = recording
+    argv = ["replay", str(path), "--keys", "fit/**", "--connect", free_endpoint()]
+    assert main(argv) == 1
+    assert capsys.readouterr().err == (
+        "armplan: error: no recorded message matches --keys fit/**; the recording "
+        "holds bridge/state, misc/raw, plan/request, plan/trajectory\n"
+    )
+    argv[3] = "armplan/plan/*"  # the replay's namespace (the file's: NAMESPACE)
+    assert main(argv) == 1
+    assert "relative to the namespace: give plan/*" in capsys.readouterr().err

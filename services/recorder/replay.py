@@ -190,6 +190,11 @@ class Replay:
         return counts
 
     @property
+    def namespaces(self) -> set[str]:
+        """The namespaces the files were recorded in (as armplan's recorder noted)."""
+        return {part.namespace for part in self.parts if part.namespace is not None}
+
+    @property
     def recorded(self) -> list[str]:
         """Every relative key recorded in the files, sent or not, sorted."""
         return sorted(set().union(*(part.recorded for part in self.parts)))

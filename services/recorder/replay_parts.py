@@ -164,6 +164,8 @@ class Part:
         spans: Every topic's span (the derived ``/...`` ones too).
         recorded: Every recorded relative key (sent or not).
         damaged: Whether it is read up to damage (``recover``).
+        namespace: The namespace armplan's recorder noted in it (``None``
+            in another tool's file).
     """
 
     path: Path
@@ -171,6 +173,7 @@ class Part:
     spans: dict[str, TopicSpan]
     recorded: frozenset[str]
     damaged: bool
+    namespace: str | None = None
 
     @property
     def count(self) -> int:
@@ -244,6 +247,7 @@ def to_send(looked: Looked, wanted: Matcher, keys_given: bool, namespace: str) -
         looked.spans,
         frozenset(relative.values()),
         looked.damaged is not None,
+        recorded,
     )
 
 

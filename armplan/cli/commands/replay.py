@@ -155,28 +155,34 @@ def _check_wait(wait: float) -> None:
         )
 
 
-def _no_key_matches(args: argparse.Namespace, items: Replay) -> None:
+def _no_key_matches(args: argparse.Namespace, items: Replay, namespace: str) -> None:
     """Raise: ``--keys`` matched nothing; name the keys the recording holds.
 
     A key given with its namespace (``armplan/plan/trajectory``, as
-    ``inspect`` prints it) is named in its relative form, as ``armplan
-    record`` does.
+    ``inspect`` prints it; the file's or the replay's ``namespace``) is
+    named in its relative form, as ``armplan record`` does.
     """
     held = items.recorded
+    namespaces = items.namespaces | {namespace}
     raise InvalidInputError(
         f"no recorded message matches --keys {' '.join(args.keys)}; the recording "
         f"holds {', '.join(held) if held else 'no messages'}"
-        f"{_relative_hint(args.keys, held)}",
+        f"{_relative_hint(args.keys, held, namespaces)}",
         field="keys",
     )
 
 
-def _relative_hint(keys: list[str], held: list[str]) -> str:
-    """``"; keys are relative ..."`` if a key less its first chunk matches."""
+def _relative_hint(keys: list[str], held: list[str], namespaces: set[str]) -> str:
+    """``"; keys are relative ..."`` if a key less its namespace matches.
+
+    Only a key under one of ``namespaces`` (the files' or the replay's):
+    ``fit/**`` is no namespaced ``**``.
+    """
     for key in keys:
-        rest = key.partition("/")[2]
-        if rest and any(map(matcher([rest]), held)):
-            return f"; keys are relative to the namespace: give {rest}"
+        for namespace in sorted(namespaces):
+            rest = key.removeprefix(f"{namespace}/")
+            if rest not in ("", key) and any(map(matcher([rest]), held)):
+                return f"; keys are relative to the namespace: give {rest}"
     return ""
 
 
@@ -195,7 +201,7 @@ def run(args: argparse.Namespace) -> int:
         args.files, keys=args.keys, recover=args.recover, namespace=config.namespace
     )
     if args.keys and not items:
-        _no_key_matches(args, items)
+        _no_key_matches(args, items, config.namespace)
     check_speed(args.speed, items.latest)
     user = login_user(config)
     refused = {} if user is None else _refused(args, config, items, user)
