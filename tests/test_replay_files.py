@@ -353,3 +353,30 @@ def test_a_part_after_one_of_a_higher_number_says_two_recordings(
     with pytest.raises(RecordingError, match=r"not of one recording") as raised:
         replay_items(parts)
     assert "is missing" not in str(raised.value)
+
+
+def test_a_recovered_replay_says_the_file_was_damaged(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """replay --recover of a killed recording said only "sent 3 of 3
+    messages", exit 0, as for a whole one: nothing told that the rest was
+    lost. It now warns first, naming the file, how many messages were
+    readable and what is wrong (as inspect --recover does); a whole file
+    gets no such warning."""
+    from armplan.cli.main import main
+
+    whole = tmp_path / "whole.mcap"
+    write_session(whole, 10)
+    cut = tmp_path / "killed.mcap"
+    data = whole.read_bytes()
+    cut.write_bytes(data[: data.index(b'{"i": 6,') + 4])  # inside message 6
+    base = ["--recover", "--wait", "0", "--connect", free_endpoint()]
+    assert main(["replay", str(cut), *base]) == 1  # no router there
+    err = " ".join(capsys.readouterr().err.split())
+    assert (
+        f"armplan replay: warning: {cut} is damaged after 6 readable messages "
+        "(it ends in the middle of a record"
+    ) in err
+    assert "replaying those 6 (3 of them to send); what came after is lost" in err
+    assert main(["replay", str(whole), *base]) == 1
+    assert "damaged" not in capsys.readouterr().err

@@ -166,6 +166,9 @@ class Part:
         damaged: Whether it is read up to damage (``recover``).
         namespace: The namespace armplan's recorder noted in it (``None``
             in another tool's file).
+        damage: With ``recover``, what is wrong with a damaged file, in
+            words; ``None`` if it is whole.
+        readable: Its messages (every channel) before the damage.
     """
 
     path: Path
@@ -174,6 +177,8 @@ class Part:
     recorded: frozenset[str]
     damaged: bool
     namespace: str | None = None
+    damage: str | None = None
+    readable: int = 0
 
     @property
     def count(self) -> int:
@@ -248,6 +253,8 @@ def to_send(looked: Looked, wanted: Matcher, keys_given: bool, namespace: str) -
         frozenset(relative.values()),
         looked.damaged is not None,
         recorded,
+        None if looked.damaged is None else looked.damaged.damage,
+        0 if looked.damaged is None else looked.damaged.count,
     )
 
 

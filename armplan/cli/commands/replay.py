@@ -58,7 +58,7 @@ from shared.errors import (
     ServiceUnavailableError,
 )
 from shared.stop_signals import stop_on_signals
-from shared.text.counted import counted
+from shared.text.counted import agreeing, counted
 
 ORDER = 91
 HELP = "publish a recording's messages again over Zenoh with their timing"
@@ -155,6 +155,22 @@ def _check_wait(wait: float) -> None:
         )
 
 
+def _say_damage(items: Replay) -> None:
+    """Warn of each damaged file replayed (``--recover``): its rest is lost.
+
+    Its summary, ``sent N of N messages``, read as a whole recording's.
+    """
+    for part in items.parts:
+        if part.damage is not None:
+            sys.stderr.write(
+                f"armplan replay: warning: {part.path} is damaged after "
+                f"{counted(part.readable, 'readable message')} ({part.damage}); "
+                f"replaying {agreeing(part.readable, 'it', 'those')} "
+                f"{part.readable} ({part.count} of them to send); what came "
+                "after is lost\n"
+            )
+
+
 def _no_key_matches(args: argparse.Namespace, items: Replay, namespace: str) -> None:
     """Raise: ``--keys`` matched nothing; name the keys the recording holds.
 
@@ -202,6 +218,7 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.keys and not items:
         _no_key_matches(args, items, config.namespace)
+    _say_damage(items)
     check_speed(args.speed, items.latest)
     user = login_user(config)
     refused = {} if user is None else _refused(args, config, items, user)
