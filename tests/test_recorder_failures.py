@@ -117,6 +117,48 @@ def test_a_full_file_stops_the_recorder_at_once_with_the_reason(
     assert os.path.getsize(out) <= FILE_LIMIT
 
 
+def test_a_full_part_of_a_rotating_recording_names_where_the_messages_are(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """Rotating at 16 kB, files capped at 64 kB: a 100 kB message fails in a
+    later part. The error said "--recover r-0004.mcap reads them" of every
+    message of the recording, most of them in the earlier parts (whole);
+    it now says how many parts there are and that only the last one lacks
+    its summary."""
+    out = tmp_path / "r.mcap"
+    process = record(config, out, "--rotate-size", "16k", limit=FILE_LIMIT)
+    try:
+        assert process.stdout is not None
+        assert "armplan record: recording" in process.stdout.readline()
+        small = json.dumps({"pad": "x" * 2000}).encode()
+        with Bus.connect(config) as bus:
+            deadline = time.monotonic() + 30.0
+            while not part_path(out, 3).exists():  # two whole parts
+                assert time.monotonic() < deadline, "no third part"
+                bus.session.put(bus.key("misc/x"), small)
+                time.sleep(0.005)
+            bus.session.put(bus.key("misc/x"), json.dumps({"pad": "x" * 10**5}))
+        _, stderr = process.communicate(timeout=30)
+    finally:
+        process.kill()
+        process.wait(30)
+    print("\n" + stderr)
+    assert process.returncode == 1
+    last = sorted(tmp_path.glob("r-*.mcap"))[-1]
+    number = int(last.stem.split("-")[1])
+    assert number >= 3
+    line = stderr.strip().splitlines()[-1]
+    assert line.startswith(f"armplan: error: cannot write {last}: File too large;")
+    assert line.endswith(
+        f"messages in {number} parts: the earlier parts are whole, and armplan "
+        f"inspect --recover {last} reads what it holds (it lacks its summary)"
+    )
+    for whole in range(1, number):
+        assert list(read_records(part_path(out, whole)))  # whole: no error
+    with pytest.raises(RecordingError, match="damaged after"):
+        list(read_records(last))
+
+
 def test_a_recorder_process_that_failed_makes_stop_raise(
     config: BusConfig, tmp_path: Path
 ) -> None:

@@ -193,13 +193,28 @@ class Recorder(StartStop):
             self.sink.behind_note(),
         )
         if self.sink.error is not None:
-            error = self.sink.error
-            raise RecordingError(
-                f"{error.message}; recording stopped after "
-                f"{counted(self.sink.written, 'message')}; "
-                f"armplan inspect --recover {error.path} reads them "
-                "(the file lacks its summary)",
-                path=error.path,
-                readable=self.sink.written,
-            )
+            raise self._failed(self.sink.error)
         return paths
+
+    def _failed(self, error: RecordingError) -> RecordingError:
+        """The error of a recording the file system stopped: where its messages are.
+
+        With rotation only the last part lacks its summary; it was said to
+        hold them all ("--recover r-0006.mcap reads them" of 45 messages in
+        6 parts, 3 of them in r-0006).
+        """
+        written = counted(self.sink.written, "message")
+        started = self.sink.started
+        where = (
+            f"; armplan inspect --recover {error.path} reads them "
+            "(the file lacks its summary)"
+            if started <= 1
+            else f" in {started} parts: the earlier parts are whole, and armplan "
+            f"inspect --recover {error.path} reads what it holds (it lacks its "
+            "summary)"
+        )
+        return RecordingError(
+            f"{error.message}; recording stopped after {written}{where}",
+            path=error.path,
+            readable=self.sink.written,
+        )

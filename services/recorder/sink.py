@@ -147,6 +147,11 @@ class RecordingSink:
         return list(self._files.paths)
 
     @property
+    def started(self) -> int:
+        """Files started so far, removed ones included (1 without rotation)."""
+        return self._files.started
+
+    @property
     def pruned(self) -> list[Path]:
         """The older parts removed so far (``--keep-parts``), in order."""
         return list(self._files.pruned)
