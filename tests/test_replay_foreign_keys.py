@@ -189,3 +189,50 @@ def run(command: list[str]) -> subprocess.CompletedProcess[str]:
         check=False,
         env={**os.environ, "PYTHONPATH": str(ROOT)},
     )
+
+
+def test_a_recorded_model_is_not_replayed_into_a_live_decide_service(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """A recording holding fit/model/update (fit publishes its model at start,
+    and after each fit) replayed without --keys into `armplan up` swapped
+    the live decide service's model for the recorded one ("swapped in model
+    ... from armplan/fit/model/update"), exit 0: every later plan was
+    decided with it, while fit served another. With a decide service alive
+    it is refused before anything is sent, naming the key; --keys sends it
+    on purpose."""
+    path = tmp_path / "model.mcap"
+    with path.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="another tool")
+        for i, topic in enumerate(["misc/raw", "fit/model/update"]):
+            channel = writer.register_channel(
+                topic=topic, message_encoding="json", schema_id=0
+            )
+            t = 10**18 + i * 10**7
+            writer.add_message(
+                channel_id=channel, log_time=t, data=b'{"i": %d}' % i, publish_time=t
+            )
+        writer.finish()
+    command = [sys.executable, "-m", "armplan", "replay", str(path)]
+    command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
+    with Bus.connect(config) as bus:
+        token = bus.session.liveliness().declare_token(alive_key(NAMESPACE, "decide"))
+        everything = Everything(bus)
+        try:
+            done = run(command)
+            time.sleep(0.5)  # nothing comes
+            refused = list(everything.got)
+            chosen = run([*command, "--keys", "fit/model/update"])
+            everything.wait(1, 10.0)
+        finally:
+            token.undeclare()  # type: ignore[no-untyped-call]
+        got = list(everything.got)
+    assert done.returncode == 1, done.stdout
+    assert (
+        f"a decide service is alive in namespace {NAMESPACE!r}: the recorded "
+        "fit/model/update would replace the model it decides with"
+    ) in " ".join(done.stderr.split())
+    assert refused == []
+    assert chosen.returncode == 0, chosen.stderr
+    assert got == [(f"{NAMESPACE}/fit/model/update", b'{"i": 1}')]

@@ -101,6 +101,36 @@ def bridge_watch(
         watch.close()
 
 
+def service_alive(bus: Bus, service: str, keys: list[str]) -> bool:
+    """Whether ``service``'s liveliness token is on the router now.
+
+    Args:
+        bus: The replay's open bus.
+        service: The service's name (``bridge``, ``decide``).
+        keys: The recorded keys a live one would take (for the error).
+
+    Raises:
+        ServiceUnavailableError: if the router did not answer within the
+            bus ``timeout`` (no answer must not read as "not alive").
+    """
+    namespace = bus.config.namespace
+    timeout = bus.config.timeout
+    replies = list(
+        bus.session.liveliness().get(alive_key(namespace, service), timeout=timeout)
+    )
+    alive = any(reply.ok is not None for reply in replies)
+    if not alive and replies:  # only Zenoh's "Timeout": no answer
+        article = "an" if service[0] in "aeiou" else "a"
+        raise ServiceUnavailableError(
+            "router",
+            reason=f"it did not answer within {timeout:g} s whether {article} "
+            f"{service} is alive in namespace {namespace!r}, and a replay of the "
+            f"recorded {', '.join(keys)} is refused while one is; nothing was "
+            "sent. To replay on purpose, choose the keys with --keys",
+        )
+    return alive
+
+
 def check_no_live_bridge(bus: Bus, live: list[str]) -> None:
     """Raise: a bridge is alive and the whole recording would go to it.
 
@@ -125,23 +155,7 @@ def check_no_live_bridge(bus: Bus, live: list[str]) -> None:
         InvalidInputError: naming the keys and how to replay them anyway.
         ServiceUnavailableError: if the router did not answer in time.
     """
-    if not live:
-        return
-    namespace = bus.config.namespace
-    timeout = bus.config.timeout
-    replies = list(
-        bus.session.liveliness().get(alive_key(namespace, BRIDGE), timeout=timeout)
-    )
-    alive = any(reply.ok is not None for reply in replies)
-    if not alive and replies:  # only Zenoh's "Timeout": no answer
-        raise ServiceUnavailableError(
-            "router",
-            reason=f"it did not answer within {timeout:g} s whether a bridge is "
-            f"alive in namespace {namespace!r}, and a replay of the recorded "
-            f"{', '.join(live)} is refused while one is; nothing was sent. To "
-            "replay on purpose, choose the keys with --keys",
-        )
-    if not alive:
+    if not live or not service_alive(bus, BRIDGE, live):
         return
     raise InvalidInputError(
         f"a bridge is alive in namespace {bus.config.namespace!r}: the recorded "

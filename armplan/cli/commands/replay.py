@@ -33,6 +33,7 @@ from services.recorder.bridge_watch import (
     check_no_live_bridge,
     live_keys,
 )
+from services.recorder.model_check import check_no_live_decide, model_keys
 from services.recorder.replay import (
     Replay,
     ReplayStats,
@@ -236,6 +237,7 @@ def run(args: argparse.Namespace) -> int:
         if missing:
             raise bus.not_alive(missing, args.wait, unknown_hint(missing))
         live = [] if args.keys is not None else live_keys(items)  # --keys: asked
+        check_no_live_decide(bus, [] if args.keys is not None else model_keys(items))
         with bridge_watch(bus, live, stop) as watch:  # before the check: no gap
             check_no_live_bridge(bus, live)
             stats, offline, began = _send(bus, items, args.speed, watch, stop)
