@@ -476,3 +476,45 @@ def test_overwrite_finds_the_parts_of_a_name_with_glob_characters(
     with RotatingWriter(path, policy, overwrite=True).open():
         pass
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r[1]-0001.mcap"]
+
+
+def test_a_stop_with_a_backlog_says_it_is_writing_it_out(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """Ctrl-C with six 20 000-sample trajectories queued (each makes 40 000
+    Foxglove messages): the recorder wrote for seconds with no word, and a
+    second Ctrl-C did nothing visible. It now says at once that it writes
+    out the queue, and still closes the file whole (exit 0)."""
+    out = tmp_path / "backlog.mcap"
+    payload = trajectory([i * 0.01 for i in range(20_000)]).to_json().encode()
+    process = subprocess.Popen(
+        [*record_command(config, out), "--keys", "plan/trajectory"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "ARMPLAN_ZENOH_CONFIG": ""},
+    )
+    try:
+        assert process.stdout is not None
+        assert "armplan record: recording" in process.stdout.readline()
+        with Bus.connect(config) as bus:
+            for _ in range(6):
+                bus.session.put(
+                    bus.key("plan/trajectory"),
+                    payload,
+                    congestion_control=zenoh.CongestionControl.BLOCK,
+                )
+            time.sleep(0.3)  # they reach the recorder; writing one takes ~1 s
+        process.send_signal(signal.SIGINT)
+        time.sleep(0.2)
+        process.send_signal(signal.SIGINT)  # the impatient second Ctrl-C
+        stdout, stderr = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        process.wait(30)
+    print("\n" + stderr)
+    assert process.returncode == 0, stderr
+    assert "armplan record: stopping; writing out " in stderr
+    assert "messages still queued (at most 30 s), then closing the file whole" in stderr
+    assert "armplan record: 6 messages" in stdout
+    assert len([r for r in read_records(out) if r.topic.endswith("trajectory")]) == 6

@@ -147,6 +147,11 @@ class RecordingSink:
         return list(self._files.paths)
 
     @property
+    def queued(self) -> int:
+        """Samples received and not yet written (with their Foxglove messages)."""
+        return self._queue.qsize()
+
+    @property
     def started(self) -> int:
         """Files started so far, removed ones included (1 without rotation)."""
         return self._files.started

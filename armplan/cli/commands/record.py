@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import functools
 import math
+import sys
 
 from armplan.cli.output import say
 from services.recorder.arguments import (
@@ -21,6 +22,7 @@ from services.recorder.arguments import (
     options_from_args,
 )
 from services.recorder.service import NAME, Recorder
+from services.recorder.sink import STOP_TIMEOUT, RecordingSink
 from shared.bus import Bus
 from shared.bus.options import add_config_option, add_connect_options
 from shared.bus.process_config import process_config
@@ -71,9 +73,27 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser | None = None)
             f"{recorder.sink.paths[0]}; Ctrl-C stops"
         )
         recorder.wait(stop, args.duration)
+        _say_stopping(recorder.sink)
     sink = recorder.sink
     files = sink.files_note()
     extra = f" (and {sink.derived} derived for Foxglove)" if sink.derived else ""
     note = sink.behind_note()
     say(f"armplan record: {counted(sink.written, 'message')}{extra} in {files}{note}")
     return 0
+
+
+def _say_stopping(sink: RecordingSink) -> None:
+    """Say on stderr that a backlog is being written out, if there is one.
+
+    Large trajectories each make thousands of Foxglove messages: six of
+    20 000 samples took 6.5 s to write out after Ctrl-C, with no word, and a
+    second Ctrl-C (ignored: the file is closed whole) did nothing visible.
+    """
+    if sink.broken.is_set() or not (queued := sink.queued):
+        return
+    sys.stderr.write(
+        f"armplan record: stopping; writing out {counted(queued, 'message')} "
+        f"still queued (at most {STOP_TIMEOUT:.0f} s), then closing the file "
+        "whole\n"
+    )
+    sys.stderr.flush()
