@@ -20,7 +20,7 @@ from armplan.launch import free_endpoint
 from services.recorder import RecorderProcess
 from services.recorder.options import RecorderOptions
 from services.recorder.replay import replay_items
-from services.recorder.size_floor import EMPTY_PART
+from services.recorder.size_floor import EMPTY_PART, size_note
 from shared.bus import BusConfig, open_router
 from shared.recording.rotation import RotationPolicy
 from tests.record_cli import record_command
@@ -122,3 +122,11 @@ def test_armplan_record_warns_on_stderr_and_records(
         return
     [line] = [line for line in stderr.splitlines() if WARNING in line]
     assert line.startswith(f"recorder: --rotate-size {size} {warned}")
+
+
+def test_a_one_byte_size_is_named_in_the_singular() -> None:
+    """--rotate-size 1 was warned about as "(1 bytes)"."""
+    note = size_note("1", 1, foxglove=True)
+    assert note is not None
+    assert note.startswith("recorder: --rotate-size 1 (1 byte) is less than a part")
+    assert "(2 bytes)" in (size_note("2", 2, foxglove=False) or "")

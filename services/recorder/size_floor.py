@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import logging
 
+from shared.text.counted import counted
+
 log = logging.getLogger("armplan.recorder")
 
 #: What an empty part weighs, closed [bytes], by whether it has the
@@ -48,7 +50,8 @@ def size_note(given: str, max_bytes: int, foxglove: bool) -> str | None:
         return None
     channels = "with the Foxglove channels" if foxglove else "with --no-foxglove"
     return (
-        f"recorder: --rotate-size {given} ({max_bytes} bytes) is less than a part "
+        f"recorder: --rotate-size {given} ({counted(max_bytes, 'byte')}) is less "
+        "than a part "
         f"needs: an empty part already weighs {EMPTY_PART[foxglove]} bytes "
         f"{channels}, more with its first messages' schemas, so nearly every "
         f"message will start a new file; a sane size is at least "
