@@ -212,6 +212,31 @@ def test_a_recorder_process_killed_by_someone_else_makes_stop_raise(
     )
 
 
+def test_a_killed_rotating_recorder_names_the_part_it_was_writing(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """With rotation the files are killed-0001.mcap ...: stop() said
+    "killed.mcap lacks its summary", a file that does not exist."""
+    out = tmp_path / "killed.mcap"
+    options = RecorderOptions(rotation=RotationPolicy(max_seconds=3600.0))
+    recorder = RecorderProcess.start(
+        config, out, keys=["misc/*"], options=options, log=subprocess.DEVNULL
+    )
+    try:
+        os.kill(recorder.pid, signal.SIGKILL)
+        recorder.process.wait(30)
+        with pytest.raises(RecordingError) as caught:
+            recorder.stop()
+    finally:
+        recorder.kill()
+    part = part_path(out, 1)
+    assert part.exists() and not out.exists()
+    assert caught.value.message == (
+        f"the recorder of {out} was killed by SIGKILL; {part} lacks its summary; "
+        "see its log"
+    )
+
+
 def test_a_recorder_process_gets_its_own_time_to_write_out() -> None:
     """RecorderProcess waits longer than the recorder's own bound for
     writing out its queue (it killed it after 15 s, the bound being 30)."""

@@ -205,6 +205,16 @@ class RecorderProcess(Closes):
             number += 1
         return found
 
+    def _open_file(self) -> Path:
+        """The file being written when it ended: the last part if it rotates.
+
+        (The earlier parts were finished whole; the output path itself,
+        ``s.mcap``, is no file of a rotating recording: its parts are
+        ``s-0001.mcap`` ...)
+        """
+        parts = self.paths if self.options.rotation.rotates else []
+        return parts[-1] if parts else self.options.output
+
     def stop(self, timeout: float = STOP_TIMEOUT) -> list[Path]:
         """SIGTERM, wait for the files to be closed; the files written.
 
@@ -224,7 +234,7 @@ class RecorderProcess(Closes):
             self.kill()
             raise RecordingError(
                 f"the recorder did not stop within {timeout:.0f} s and was killed; "
-                f"{self.options.output} is readable up to its last flush "
+                f"{self._open_file()} is readable up to its last flush "
                 "(armplan inspect --recover)",
                 path=str(self.options.output),
             ) from None
@@ -246,7 +256,7 @@ class RecorderProcess(Closes):
         else:
             how = f"failed (exit code {code})"
         reason = self._reason()
-        said = f": {reason}" if reason else f"; {self.options.output} lacks its summary"
+        said = f": {reason}" if reason else f"; {self._open_file()} lacks its summary"
         raise RecordingError(
             f"the recorder of {self.options.output} {how}{said}; {self._see_log()}",
             path=str(self.options.output),
