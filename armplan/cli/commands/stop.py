@@ -31,11 +31,11 @@ import sys
 
 from armplan.cli.output import print_json, say
 from armplan.cli.parsing import add_json
+from armplan.cli.remote import check_timeout
 from shared.bus import Bus
-from shared.bus.config import MAX_WAIT
 from shared.bus.options import add_config_option, add_connect_options, bus_config
 from shared.bus.robot_routes import STOP
-from shared.errors import InvalidInputError, RequestTimeoutError
+from shared.errors import RequestTimeoutError
 from shared.messages import StopReply, StopRequest
 from shared.messages.stop import NO_TIME_TO_READ, clean_reason
 
@@ -73,12 +73,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def run(args: argparse.Namespace) -> int:
     """Ask the bridge to stop; print what it stopped."""
     timeout = float(args.timeout)
-    if not 0.0 < timeout <= MAX_WAIT:  # NaN too
-        raise InvalidInputError(
-            f"--timeout must be a positive number of seconds up to {MAX_WAIT:g}, "
-            f"got {args.timeout}",
-            field="--timeout",
-        )
+    check_timeout(timeout)
     reason = None
     if args.reason is not None:
         reason, problems = clean_reason(args.reason)
