@@ -88,7 +88,6 @@ def check_in_time(
         outcome: What became of the movement, for the error.
         overhead: The call's expected way to the robot and the answer's
             making [s] (:class:`CallDelay`, :data:`AFTER`).
-
         gone: Whether the caller's session has ended; None: not known.
 
     Raises:
@@ -97,7 +96,9 @@ def check_in_time(
         CallerGoneError: its session has ended (same kind).
     """
     if gone is not None and gone():
-        raise CallerGoneError(url, outcome=outcome)
+        raise CallerGoneError(
+            url, approach, duration, outcome=outcome, overhead=overhead
+        )
     if until is None:
         return
     left = until - time.monotonic()

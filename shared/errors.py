@@ -976,31 +976,52 @@ class CallerDeadlineError(ArmplanError):
 
 
 class CallerGoneError(CallerDeadlineError):
-    """The caller's session ended before the movement: it is not started.
+    """The caller's session ended before the trajectory: it is not played.
 
     Its process was interrupted (Ctrl-C) or killed while it waited: its
     caller token went (``shared.bus.gone_callers``). Told apart from a
-    deadline by its message alone: the same kind, ``caller_deadline``.
+    deadline by its message alone: the same kind, ``caller_deadline``, and
+    the same evidence (``left`` 0), so that read from the wire it has every
+    attribute of a :class:`CallerDeadlineError`.
 
     Attributes:
         url: The robot's NAOqi address.
+        left: 0 [s]: the caller waits no more.
+        approach: The approach move's length [s]; ``None`` if not yet
+            known, 0 if none is needed or it was played.
+        duration: The trajectory's length [s].
         outcome: What became of the movement, e.g. ``"nothing was sent"``.
+        overhead: The time counted for the call's way to the robot and the
+            answer's making [s].
     """
 
-    def __init__(self, url: str, *, outcome: str) -> None:
+    def __init__(
+        self,
+        url: str,
+        approach: float | None,
+        duration: float,
+        *,
+        outcome: str,
+        overhead: float = 0.0,
+    ) -> None:
+        """See the class's attributes."""
         ArmplanError.__init__(
             self,
             f"the robot at {url}: the caller's session ended (interrupted or "
-            f"killed) before the movement started; {outcome}",
+            f"killed) before the trajectory was played; {outcome}",
             url=url,
+            left=0.0,
+            approach=None if approach is None else float(approach),
+            duration=float(duration),
             outcome=outcome,
+            overhead=float(overhead),
         )
         self.url = url
         self.left = 0.0
-        self.approach = None
-        self.duration = 0.0
+        self.approach = None if approach is None else float(approach)
+        self.duration = float(duration)
         self.outcome = outcome
-        self.overhead = 0.0
+        self.overhead = float(overhead)
 
 
 class RobotCommandError(ArmplanError):

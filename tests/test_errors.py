@@ -102,9 +102,37 @@ def test_a_subclass_of_the_same_kind_leaves_the_kind_to_its_parent() -> None:
     rebuilt as whichever subclass was defined last."""
     from shared.errors import CallerDeadlineError, CallerGoneError, error_from_wire
 
-    gone = CallerGoneError("tcp://127.0.0.1:9559", outcome="nothing was sent")
+    gone = CallerGoneError(
+        "tcp://127.0.0.1:9559", None, 2.0, outcome="nothing was sent", overhead=0.1
+    )
     assert gone.kind == "caller_deadline"
     back = error_from_wire(gone.to_wire())
     assert type(back) is CallerDeadlineError
     assert back.message == gone.message
     assert "the caller's session ended (interrupted or killed)" in back.message
+
+
+def test_a_gone_callers_error_read_from_the_wire_is_a_whole_deadline_error() -> None:
+    """Read from the wire, a CallerGoneError is a CallerDeadlineError: it
+    has the attributes that class documents (it lacked ``left``,
+    ``approach``, ``duration`` and ``overhead``: an AttributeError for a
+    script reading them), and its message does not say that nothing moved
+    after the approach had played."""
+    from shared.errors import CallerDeadlineError, CallerGoneError, error_from_wire
+
+    outcome = "the arm is at the trajectory's start; nothing of the trajectory was sent"
+    gone = CallerGoneError("tcp://x:9559", 0.0, 2.0, outcome=outcome, overhead=0.1)
+    back = error_from_wire(gone.to_wire())
+    assert isinstance(back, CallerDeadlineError)
+    assert (back.left, back.approach, back.duration, back.overhead) == (
+        0.0,
+        0.0,
+        2.0,
+        0.1,
+    )
+    assert (
+        back.evidence.keys()
+        == CallerDeadlineError("u", 1.0, 0.0, 2.0, outcome="o").evidence.keys()
+    )
+    assert "before the movement started" not in back.message
+    assert f"before the trajectory was played; {outcome}" in back.message
