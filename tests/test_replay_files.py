@@ -380,3 +380,22 @@ def test_a_recovered_replay_says_the_file_was_damaged(
     assert "replaying those 6 (3 of them to send); what came after is lost" in err
     assert main(["replay", str(whole), *base]) == 1
     assert "damaged" not in capsys.readouterr().err
+
+
+def test_a_recovered_replay_of_one_readable_message_says_it_in_the_singular(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A damaged file with one readable message was told "replaying it 1 (1
+    of them to send)"."""
+    from armplan.cli.main import main
+
+    whole = tmp_path / "whole.mcap"
+    write_session(whole, 4)
+    cut = tmp_path / "killed.mcap"
+    data = whole.read_bytes()
+    cut.write_bytes(data[: data.index(b'{"i": 1,') + 4])  # inside message 1
+    base = ["--recover", "--wait", "0", "--connect", free_endpoint()]
+    assert main(["replay", str(cut), *base]) == 1  # no router there
+    err = " ".join(capsys.readouterr().err.split())
+    assert "is damaged after 1 readable message (" in err
+    assert "replaying it (1 to send); what came after is lost" in err

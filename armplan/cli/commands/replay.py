@@ -59,7 +59,7 @@ from shared.errors import (
     ServiceUnavailableError,
 )
 from shared.stop_signals import stop_on_signals
-from shared.text.counted import agreeing, counted
+from shared.text.counted import counted
 
 ORDER = 91
 HELP = "publish a recording's messages again over Zenoh with their timing"
@@ -163,12 +163,15 @@ def _say_damage(items: Replay) -> None:
     """
     for part in items.parts:
         if part.damage is not None:
+            which = (
+                f"it ({part.count} to send)"  # not "it 1 (1 of them to send)"
+                if part.readable == 1
+                else f"those {part.readable} ({part.count} of them to send)"
+            )
             sys.stderr.write(
                 f"armplan replay: warning: {part.path} is damaged after "
                 f"{counted(part.readable, 'readable message')} ({part.damage}); "
-                f"replaying {agreeing(part.readable, 'it', 'those')} "
-                f"{part.readable} ({part.count} of them to send); what came "
-                "after is lost\n"
+                f"replaying {which}; what came after is lost\n"
             )
 
 
