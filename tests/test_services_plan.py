@@ -266,15 +266,16 @@ def test_a_caller_gone_while_the_joint_paths_were_put_gets_no_trajectory(
     bus: Bus, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The planner's own code, in this process: a put waits up to 5 s for a
-    subscriber that stopped reading (``Bus.publish``'s BLOCK), here 1.5 s on
-    the joint path. The caller, due 1 s after asking, had gone by the time
-    the trajectory was put: it was published all the same, for no one."""
+    subscriber that stopped reading (``Bus.publish``'s BLOCK), here 4 s on
+    the joint path. The caller, due 3 s after asking (time for the plan
+    itself on a loaded machine), had gone by the time the trajectory was
+    put: it was published all the same, for no one."""
     planner = planner_service.remote_planner(bus)
     publish, published = bus.publish, []
 
     def put_waiting_for_room(path: str, message: Any) -> None:
         if path == JOINT_PATH_TOPIC:
-            time.sleep(1.5)
+            time.sleep(4.0)
         publish(path, message)
 
     monkeypatch.setattr(bus, "publish", put_waiting_for_room)
@@ -285,7 +286,7 @@ def test_a_caller_gone_while_the_joint_paths_were_put_gets_no_trajectory(
     try:
         time.sleep(0.5)  # let the router learn of the subscriber
         with (
-            serving_until(Due(at=time.monotonic() + 1.0, budget=1.0)),
+            serving_until(Due(at=time.monotonic() + 3.0, budget=3.0)),
             pytest.raises(RequestTimeoutError, match="while its joint paths"),
         ):
             planner(with_request_id(REACH))
