@@ -13,9 +13,10 @@ then named to the caller by the planner's answer ("service 'timing' did
 not answer ..."), which arrives before the caller stops waiting. With the
 bus's whole timeout for each stage, the caller's own timeout came first,
 and it was told that the planner did not answer. A caller who waits longer
-than the bus's timeout (``armplan plan --remote --timeout 60``) gives the
-stages that long too: capped at the bus's 5 s, a stage queued behind other
-clients' plans failed the call at 5 s though its caller still waited.
+than the bus's timeout (``armplan plan --remote --timeout 30``) gives the
+stages that long too, up to :data:`STAGE_LIMIT` each: capped at the bus's
+5 s, a stage queued behind other clients' plans failed the call at 5 s
+though its caller still waited.
 """
 
 from __future__ import annotations
@@ -56,6 +57,11 @@ def needed_routes(request: PlanRequest) -> list[Route[Any, Any]]:
 #: Most time kept back from a stage's wait for the planner's answer to
 #: travel to its caller [s].
 STAGE_MARGIN = 0.25
+#: Longest wait for one stage however long the caller waits [s] (unless the
+#: bus's timeout is longer): a stage service that hangs while connected
+#: holds a planner worker that long at most, not for a caller's day-long
+#: timeout (the planner does not see its caller go while it waits).
+STAGE_LIMIT = 60.0
 
 
 def stage_margin(budget: float) -> float:
@@ -76,7 +82,8 @@ class RemoteStages:
             with time left is served; default the bus's. While the caller
             of the query being served (``current_due``) has time left, each
             stage waits that, less :func:`stage_margin`, longer or shorter
-            than ``timeout``; once it has gone, the plan goes on for a
+            than ``timeout`` (but at most :data:`STAGE_LIMIT` or
+            ``timeout``, the longer); once it has gone, the plan goes on for a
             repeat of the request that waits for it (``answer_once``), and
             each stage waits ``timeout`` again.
     """
@@ -139,4 +146,4 @@ class RemoteStages:
         left = due.at - time.monotonic() - stage_margin(due.budget)
         if left <= 0.0:  # its caller has gone; a repeat may wait for the plan
             return wait
-        return left  # however long the caller waits: it said so
+        return min(left, max(wait, STAGE_LIMIT))  # longer than the bus's: asked
