@@ -191,13 +191,21 @@ def test_a_recorder_process_that_failed_makes_stop_raise(
         list(read_records(out))
 
 
+@pytest.mark.parametrize("rotates", [False, True], ids=["one-file", "rotating"])
 def test_a_recorder_process_killed_by_someone_else_makes_stop_raise(
-    config: BusConfig, tmp_path: Path
+    config: BusConfig, tmp_path: Path, rotates: bool
 ) -> None:
-    """SIGKILL from outside (the OOM killer): stop() names the signal."""
+    """SIGKILL from outside (the OOM killer): stop() names the signal and
+    the file left without its summary: with rotation the part it was
+    writing (killed-0001.mcap; it said "killed.mcap", which does not exist)."""
     out = tmp_path / "killed.mcap"
+    rotation = RotationPolicy(max_seconds=3600.0) if rotates else RotationPolicy()
     recorder = RecorderProcess.start(
-        config, out, keys=["misc/*"], log=subprocess.DEVNULL
+        config,
+        out,
+        keys=["misc/*"],
+        options=RecorderOptions(rotation=rotation),
+        log=subprocess.DEVNULL,
     )
     try:
         os.kill(recorder.pid, signal.SIGKILL)
@@ -206,33 +214,10 @@ def test_a_recorder_process_killed_by_someone_else_makes_stop_raise(
             recorder.stop()
     finally:
         recorder.kill()
+    left = part_path(out, 1) if rotates else out
+    assert left.exists()
     assert caught.value.message == (
-        f"the recorder of {out} was killed by SIGKILL; {out} lacks its summary; "
-        "see its log"
-    )
-
-
-def test_a_killed_rotating_recorder_names_the_part_it_was_writing(
-    config: BusConfig, tmp_path: Path
-) -> None:
-    """With rotation the files are killed-0001.mcap ...: stop() said
-    "killed.mcap lacks its summary", a file that does not exist."""
-    out = tmp_path / "killed.mcap"
-    options = RecorderOptions(rotation=RotationPolicy(max_seconds=3600.0))
-    recorder = RecorderProcess.start(
-        config, out, keys=["misc/*"], options=options, log=subprocess.DEVNULL
-    )
-    try:
-        os.kill(recorder.pid, signal.SIGKILL)
-        recorder.process.wait(30)
-        with pytest.raises(RecordingError) as caught:
-            recorder.stop()
-    finally:
-        recorder.kill()
-    part = part_path(out, 1)
-    assert part.exists() and not out.exists()
-    assert caught.value.message == (
-        f"the recorder of {out} was killed by SIGKILL; {part} lacks its summary; "
+        f"the recorder of {out} was killed by SIGKILL; {left} lacks its summary; "
         "see its log"
     )
 
