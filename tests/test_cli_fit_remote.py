@@ -173,15 +173,22 @@ def test_ctrl_c_during_a_remote_fit_warns_that_it_goes_on(
 ) -> None:
     """Ctrl-C while the service fits: exit 130 as before, but also the
     warning that the service goes on and serves that model; it did, with
-    only "armplan: interrupted" said, and the lab took the fit as cancelled."""
+    only "armplan: interrupted" said, and the lab took the fit as cancelled.
+    The fit service is paused (SIGSTOP) until the client has been
+    interrupted: a quick fit could otherwise end before the Ctrl-C."""
     before = served(stack)
     where = ["--connect", stack.config.endpoint, "--timeout", "120"]
     watcher = threading.Thread(
         target=_interrupt_when_asking, args=(threading.main_thread(),)
     )
-    watcher.start()
-    code, out, err = run(capsys, DEMOS, *where)
-    watcher.join()
+    fit = stack.services["fit"]
+    fit.signal(signal.SIGSTOP)
+    try:
+        watcher.start()
+        code, out, err = run(capsys, DEMOS, *where)
+        watcher.join()
+    finally:
+        fit.signal(signal.SIGCONT)
     assert (code, out) == (130, "")
     assert "the fit service was not told to stop: it goes on" in err
     assert err.rstrip().endswith("armplan: interrupted")
