@@ -189,7 +189,7 @@ def test_ctrl_c_during_a_remote_fit_warns_that_it_goes_on(
         watcher.join()
     finally:
         fit.signal(signal.SIGCONT)
-    assert (code, out) == (130, "")
+    assert (code, out) == (130, ""), err
     assert "the fit service was not told to stop: it goes on" in err
     assert err.rstrip().endswith("armplan: interrupted")
     for _ in range(600):  # as warned: the fit ends and is served
