@@ -41,24 +41,31 @@ MESSAGES = [
 ]
 
 
-def foreign_file(path: Path) -> Path:
-    """``MESSAGES`` written with the ``mcap`` library: JSON, no schema, no
-    armplan metadata."""
+def foreign_file(
+    path: Path, messages: list[tuple[str, bytes]], spacing: float = 0.05
+) -> Path:
+    """``messages`` (topic, payload) written with the ``mcap`` library,
+    ``spacing`` [s] apart: JSON, no schema, no armplan metadata."""
     with path.open("wb") as stream:
         writer = Writer(stream)
         writer.start(profile="", library="another tool")
         channels: dict[str, int] = {}
-        for i, (topic, payload) in enumerate(MESSAGES):
+        for i, (topic, payload) in enumerate(messages):
             if topic not in channels:
                 channels[topic] = writer.register_channel(
                     topic=topic, message_encoding="json", schema_id=0
                 )
-            t = 10**18 + i * 5 * 10**7
+            t = 10**18 + i * round(spacing * 1e9)
             writer.add_message(
                 channel_id=channels[topic], log_time=t, data=payload, publish_time=t
             )
         writer.finish()
     return path
+
+
+def numbered(topics: list[str]) -> list[tuple[str, bytes]]:
+    """Each topic with the payload ``{"i": <its index>}``."""
+    return [(topic, b'{"i": %d}' % i) for i, topic in enumerate(topics)]
 
 
 @pytest.fixture(scope="module")
@@ -91,19 +98,10 @@ def test_a_foreign_files_keys_under_the_namespace_go_out_unchanged(
     config: BusConfig, tmp_path: Path
 ) -> None:
     """Keys under the namespace as recorded, the others under it; exit 0."""
-    path = foreign_file(tmp_path / "foreign.mcap")
+    path = foreign_file(tmp_path / "foreign.mcap", MESSAGES)
     with Bus.connect(config) as bus:
         everything = Everything(bus)
-        command = [sys.executable, "-m", "armplan", "replay", str(path)]
-        command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
-        done = subprocess.run(
-            command,
-            capture_output=True,
-            text=True,
-            timeout=60,
-            check=False,
-            env={**os.environ, "PYTHONPATH": str(ROOT)},
-        )
+        done = run(replay_command(path, config))
         assert done.returncode == 0, done.stderr
         everything.wait(len(MESSAGES), 10.0)
         time.sleep(0.5)  # nothing more comes
@@ -122,7 +120,7 @@ def test_keys_of_a_foreign_file_are_relative_to_the_replays_namespace(
 ) -> None:
     """--keys and the recorded keys name them relative to the namespace;
     under another namespace the file's topics are all relative."""
-    path = foreign_file(tmp_path / "foreign.mcap")
+    path = foreign_file(tmp_path / "foreign.mcap", MESSAGES)
     items = replay_items(path, namespace=NAMESPACE)
     assert items.recorded == [
         "misc/raw",
@@ -146,21 +144,9 @@ def test_a_recorded_wildcard_key_is_not_put_into_a_live_bridge(
     a bridge with --follow played it (exit 0). A put on a wildcard reaches
     every key it matches, so such a key is refused before anything is
     sent, as a key that is not a Zenoh key is; --keys leave it out."""
-    path = tmp_path / "wild.mcap"
-    with path.open("wb") as stream:
-        writer = Writer(stream)
-        writer.start(profile="", library="another tool")
-        for i, topic in enumerate(["misc/raw", "*/trajectory", "**"]):
-            channel = writer.register_channel(
-                topic=topic, message_encoding="json", schema_id=0
-            )
-            t = 10**18 + i * 10**7
-            writer.add_message(
-                channel_id=channel, log_time=t, data=b'{"i": %d}' % i, publish_time=t
-            )
-        writer.finish()
-    command = [sys.executable, "-m", "armplan", "replay", str(path)]
-    command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
+    topics = ["misc/raw", "*/trajectory", "**"]
+    path = foreign_file(tmp_path / "wild.mcap", numbered(topics), spacing=0.01)
+    command = replay_command(path, config)
     with Bus.connect(config) as bus:
         token = bus.session.liveliness().declare_token(alive_key(NAMESPACE, "bridge"))
         everything = Everything(bus)
@@ -177,6 +163,12 @@ def test_a_recorded_wildcard_key_is_not_put_into_a_live_bridge(
     assert "no wildcard" in done.stderr
     assert chosen.returncode == 0, chosen.stderr
     assert got == [(f"{NAMESPACE}/misc/raw", b'{"i": 0}')]
+
+
+def replay_command(path: Path, config: BusConfig) -> list[str]:
+    """``armplan replay`` of ``path`` onto the test's router and namespace."""
+    command = [sys.executable, "-m", "armplan", "replay", str(path)]
+    return [*command, "--connect", config.endpoint, "--namespace", NAMESPACE]
 
 
 def run(command: list[str]) -> subprocess.CompletedProcess[str]:
@@ -201,21 +193,9 @@ def test_a_recorded_model_is_not_replayed_into_a_live_decide_service(
     decided with it, while fit served another. With a decide service alive
     it is refused before anything is sent, naming the key; --keys sends it
     on purpose."""
-    path = tmp_path / "model.mcap"
-    with path.open("wb") as stream:
-        writer = Writer(stream)
-        writer.start(profile="", library="another tool")
-        for i, topic in enumerate(["misc/raw", "fit/model/update"]):
-            channel = writer.register_channel(
-                topic=topic, message_encoding="json", schema_id=0
-            )
-            t = 10**18 + i * 10**7
-            writer.add_message(
-                channel_id=channel, log_time=t, data=b'{"i": %d}' % i, publish_time=t
-            )
-        writer.finish()
-    command = [sys.executable, "-m", "armplan", "replay", str(path)]
-    command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
+    topics = ["misc/raw", "fit/model/update"]
+    path = foreign_file(tmp_path / "model.mcap", numbered(topics), spacing=0.01)
+    command = replay_command(path, config)
     with Bus.connect(config) as bus:
         token = bus.session.liveliness().declare_token(alive_key(NAMESPACE, "decide"))
         everything = Everything(bus)
