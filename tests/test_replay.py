@@ -616,3 +616,39 @@ def test_a_key_not_under_a_namespace_gets_no_namespace_hint(
     argv[3] = "armplan/plan/*"  # the replay's namespace (the file's: NAMESPACE)
     assert main(argv) == 1
     assert "relative to the namespace: give plan/*" in capsys.readouterr().err
+
+
+def test_a_recording_of_nothing_is_not_replayed_as_a_whole_one(
+    config: BusConfig, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A recorder stopped before anything was published writes a file with
+    no messages: its replay said "sent 0 of 0 messages", exit 0, which a
+    script takes for a replayed session. It is refused, naming the files,
+    before any router is looked for (no router listens at the endpoint),
+    as is a file holding only a channel derived for Foxglove and the
+    model the recorder asked for at its start."""
+    from mcap.writer import Writer
+
+    from armplan.cli.main import main
+
+    empty = tmp_path / "empty.mcap"
+    with RecorderProcess.start(config, empty, keys=["misc/*"]):
+        time.sleep(0.3)
+    derived = tmp_path / "derived.mcap"
+    with derived.open("wb") as stream:
+        writer = Writer(stream)
+        writer.start(profile="", library="another tool")
+        for time_ns, topic in enumerate(["/tf/arm", "fit/model"], start=1):
+            channel = writer.register_channel(topic, "json", schema_id=0)
+            writer.add_message(channel, time_ns, data=b"{}", publish_time=time_ns)
+        writer.finish()
+    connect = ["--connect", free_endpoint(), "--wait", "0"]
+    assert main(["replay", str(empty), *connect]) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert f"nothing to replay: {empty} holds no recorded Zenoh messages" in err
+    assert main(["replay", str(derived), str(empty), *connect]) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert (
+        f"{derived}, {empty} hold no recorded Zenoh messages but the recorder's "
+        "own questions' answers (fit/model), which no service publishes"
+    ) in err

@@ -192,6 +192,31 @@ def _no_key_matches(args: argparse.Namespace, items: Replay, namespace: str) -> 
     )
 
 
+def _nothing_to_replay(items: Replay) -> None:
+    """Raise: the files hold no message a replay sends.
+
+    An empty recording (a ``record`` stopped before anything was published,
+    or one of keys nobody published) said "sent 0 of 0 messages", exit 0,
+    as a script's proof that a session was replayed. The channels derived
+    for Foxglove (``/robot_description``, ``/tf/...``) are not named.
+    """
+    files = ", ".join(str(part.path) for part in items.parts)
+    verb = "holds" if len(items.parts) == 1 else "hold"
+    answers = sorted(
+        {t for part in items.parts for t in part.spans if not t.startswith("/")}
+    )
+    but = (
+        f" but the recorder's own questions' answers ({', '.join(answers)}), "
+        "which no service publishes"
+        if answers
+        else ""
+    )
+    raise InvalidInputError(
+        f"nothing to replay: {files} {verb} no recorded Zenoh messages{but}",
+        field="files",
+    )
+
+
 def _relative_hint(keys: list[str], held: list[str], namespaces: set[str]) -> str:
     """``"; keys are relative ..."`` if a key less its namespace matches.
 
@@ -223,6 +248,8 @@ def run(args: argparse.Namespace) -> int:
     if args.keys and not items:
         _no_key_matches(args, items, config.namespace)
     _say_damage(items)
+    if not items:
+        _nothing_to_replay(items)
     check_speed(args.speed, items.latest)
     user = login_user(config)
     refused = {} if user is None else _refused(args, config, items, user)
