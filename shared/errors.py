@@ -490,6 +490,52 @@ class BridgeAppearedError(ArmplanError):
         self.held = held
 
 
+class DecideAppearedError(ArmplanError):
+    """A decide service came alive during a replay of recorded models.
+
+    The replay stopped: the rest of its ``fit/*`` messages (the fit
+    service's ``fit/model/update``) would have replaced the model the new
+    decide service decides with.
+
+    Attributes:
+        namespace: The replay's namespace.
+        sent: Messages sent before it stopped.
+        total: Messages the replay would have sent.
+        held: Each ``fit/*`` key with messages left unsent -> how many
+            (empty if every one had been sent: the rest is other keys).
+    """
+
+    kind = "decide_appeared"
+
+    def __init__(
+        self, *, namespace: str, sent: int, total: int, held: dict[str, int]
+    ) -> None:
+        kept = ", ".join(f"{key} ({n} left)" for key, n in held.items())
+        stopped = (
+            f"a decide service came alive in namespace {namespace!r} during the "
+            f"replay: it stopped after {sent} of {counted(total, 'message')}, "
+            "holding back the "
+        )
+        super().__init__(
+            f"{stopped}recorded {kept} (it would replace the model the decide "
+            "service decides with, for every later plan); a message already on "
+            "its way when the service was seen cannot be recalled. To replay it "
+            f"on purpose, choose the keys with --keys, e.g. --keys {next(iter(held))}"
+            if held
+            else f"{stopped}other {total - sent}; every recorded fit/* message had "
+            "been sent before it came alive. To replay the rest, choose its keys "
+            "with --keys",
+            namespace=namespace,
+            sent=sent,
+            total=total,
+            held=held,
+        )
+        self.namespace = namespace
+        self.sent = sent
+        self.total = total
+        self.held = held
+
+
 class RemoteError(ArmplanError):
     """An error a remote armplan process reported, of a kind this side lacks."""
 

@@ -1,4 +1,4 @@
-"""A replay of every key stops when a bridge comes alive while it runs.
+"""A replay of every key stops when a bridge (or a decide service) comes alive.
 
 The refusal of an unkeyed replay into a live bridge was checked once,
 before the first message: a bridge started during a long replay received
@@ -111,21 +111,27 @@ def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 class Observer:
-    """Trajectories arriving, and when this session saw the bridge's token."""
+    """Messages arriving on ``path``, and when this session saw ``service``'s
+    token (a bridge's: trajectories; a decide service's: models)."""
 
-    def __init__(self, bus: Bus) -> None:
-        self.got: list[tuple[float, float]] = []  # (first angle, arrival [s])
+    def __init__(
+        self, bus: Bus, path: str = "plan/trajectory", service: str = "bridge"
+    ) -> None:
+        self.got: list[tuple[bytes, float]] = []  # (payload, arrival [s])
         self.bridge_seen: float | None = None
         self._lock = threading.Lock()
-        key = bus.key("plan/trajectory")
-        self._sub = bus.session.declare_subscriber(key, self._on)
-        token = alive_key(NAMESPACE, "bridge")
+        self._sub = bus.session.declare_subscriber(bus.key(path), self._on)
+        token = alive_key(NAMESPACE, service)
         self._live = bus.session.liveliness().declare_subscriber(token, self._alive)
 
     def _on(self, sample: zenoh.Sample) -> None:
-        angle = Trajectory.model_validate_json(sample.payload.to_bytes())
         with self._lock:
-            self.got.append((angle.positions[0][0], time.monotonic()))
+            self.got.append((sample.payload.to_bytes(), time.monotonic()))
+
+    def angles(self) -> list[float]:
+        """The first angle of each trajectory that arrived."""
+        read = Trajectory.model_validate_json
+        return [read(payload).positions[0][0] for payload, _ in self.got]
 
     def _alive(self, sample: zenoh.Sample) -> None:
         if sample.kind == zenoh.SampleKind.PUT and self.bridge_seen is None:
@@ -147,14 +153,19 @@ class Observer:
 
 
 def replay_while_a_bridge_starts(
-    config: BusConfig, path: Path, *args: str
+    config: BusConfig,
+    path: Path,
+    *args: str,
+    watched: tuple[str, str] = ("plan/trajectory", "bridge"),
 ) -> tuple[subprocess.CompletedProcess[str], Observer]:
-    """Run ``armplan replay``; start a bridge's token after ``BEFORE_BRIDGE``."""
+    """Run ``armplan replay``; start a bridge's token after ``BEFORE_BRIDGE``
+    (or ``watched``'s service's, counting its key's messages)."""
     command = [sys.executable, "-m", "armplan", "replay", str(path), *args]
     command += ["--connect", config.endpoint, "--namespace", NAMESPACE]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    path_watched, service = watched
     with Bus.connect(config) as bus, Bus.connect(config) as bridge:
-        observer = Observer(bus)
+        observer = Observer(bus, path_watched, service)
         try:
             process = subprocess.Popen(
                 command,
@@ -166,7 +177,7 @@ def replay_while_a_bridge_starts(
             try:
                 observer.wait(BEFORE_BRIDGE, timeout=30)
                 assert len(observer.got) >= BEFORE_BRIDGE, "the replay sent nothing"
-                with ServiceHost(bridge, "bridge", []):
+                with ServiceHost(bridge, service, []):
                     stdout, stderr = process.communicate(timeout=30)
                     time.sleep(0.3)  # anything still on its way arrives
             finally:
@@ -204,8 +215,7 @@ def test_a_bridge_that_comes_alive_stops_an_unkeyed_replay(
         "be recalled. To replay into a live robot on purpose, choose the keys "
         "with --keys, e.g. --keys plan/trajectory --wait-for bridge\n"
     )
-    angles = [angle for angle, _ in observer.got]
-    assert angles == [trajectory(i).positions[0][0] for i in range(sent)]
+    assert observer.angles() == [trajectory(i).positions[0][0] for i in range(sent)]
 
 
 def test_a_keyed_replay_goes_on_when_a_bridge_comes_alive(
@@ -241,6 +251,55 @@ def test_the_error_says_so_when_no_live_message_was_left(
         f"the other {total - sent}; every recorded plan/* and bridge/* message "
         "had been sent before it came alive. To replay the rest, choose its "
         "keys with --keys\n"
+    )
+
+
+@pytest.fixture(scope="module")
+def models(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """``COUNT`` models on ``fit/model/update``, ``GAP`` apart (bodies numbered:
+    the replay sends bytes, whatever they hold)."""
+    path = tmp_path_factory.mktemp("models") / "s.mcap"
+    sink = RecordingSink(RecorderOptions(output=path, keys=("**",)), NAMESPACE)
+    sink.start()
+    start = time.time_ns()
+    for i in range(COUNT):
+        t = start + int(i * GAP * 1e9)
+        key = f"{NAMESPACE}/fit/model/update"
+        sink.put(Incoming(key, b'{"i": %d}' % i, "application/json", t, t))
+    sink.stop()
+    return path
+
+
+def test_a_decide_service_that_comes_alive_stops_an_unkeyed_replay_of_models(
+    config: BusConfig, models: Path
+) -> None:
+    """A decide service swaps in each fit/model/update it receives: the check
+    that refused a recording of models while one was alive was made once,
+    and a decide service started mid-replay took the rest of the recorded
+    models (the last replaced the model every later plan used). Now it is
+    watched as a bridge is: at most the one in flight arrives after its
+    token is seen; exit 1 naming what was held back."""
+    watched = ("fit/model/update", "decide")
+    out, observer = replay_while_a_bridge_starts(config, models, watched=watched)
+    assert out.returncode == 1, (out.stdout, out.stderr)
+    assert observer.after_bridge() <= 1, observer.got
+    sent = len(observer.got)
+    assert BEFORE_BRIDGE <= sent < COUNT
+    assert [payload for payload, _ in observer.got] == [
+        b'{"i": %d}' % i for i in range(sent)
+    ]
+    assert out.stdout == (
+        f"armplan replay: sent {sent} of {COUNT} messages, then stopped: a "
+        f"decide service came alive in namespace {NAMESPACE!r}\n"
+    )
+    assert out.stderr == (
+        f"armplan: error: a decide service came alive in namespace {NAMESPACE!r} "
+        f"during the replay: it stopped after {sent} of {COUNT} messages, holding "
+        f"back the recorded fit/model/update ({COUNT - sent} left) (it would "
+        "replace the model the decide service decides with, for every later "
+        "plan); a message already on its way when the service was seen cannot "
+        "be recalled. To replay it on purpose, choose the keys with --keys, e.g. "
+        "--keys fit/model/update\n"
     )
 
 

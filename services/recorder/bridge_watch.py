@@ -4,11 +4,13 @@ A replay without ``--keys`` is refused when a bridge is alive in its
 namespace (``armplan replay``), but that check is made once, before the
 first message: a bridge started during a long replay received the rest of
 the recorded trajectories and, with ``--follow``, played them on the arm.
-:class:`BridgeWatch` declares a liveliness subscriber on the bridge's token
-(``<ns>/alive/bridge``) before that check, so a bridge appearing between the
-check and the first message is seen too, and flags the first appearance.
-The replay checks the flag immediately before each put; a put already made
-when the token arrives cannot be recalled.
+A :class:`ServiceWatch` declares a liveliness subscriber on the bridge's
+token (``<ns>/alive/bridge``) before that check, so a bridge appearing
+between the check and the first message is seen too, and flags the first
+appearance. The replay checks the flag immediately before each put; a put
+already made when the token arrives cannot be recalled. A decide service
+is watched the same way while recorded models are to be sent
+(``services.recorder.model_check``).
 
 Declared without ``history`` (see ``shared.bus.liveness``): with it, the
 liveliness query of the check made just after returned no tokens.
@@ -36,31 +38,39 @@ BRIDGE = "bridge"
 LIVE_CHUNKS = ("plan", "bridge")
 
 
-class BridgeWatch(Closes):
-    """Whether a bridge's token has appeared since this was built.
+class ServiceWatch(Closes):
+    """Whether a service's token has appeared since this was built.
 
     Args:
         session: The replay's open session (close this first).
         namespace: The replay's namespace.
+        service: The service watched (``bridge``, ``decide``).
+        keys: The recorded keys it would take, sent or not (for the error).
         on_appear: Called once, on Zenoh's thread, when the token first
             appears, e.g. to wake the replay's wait (it must not block).
 
     Attributes:
+        service: As given.
+        keys: As given.
         appeared: Set on the token's first appearance; never cleared (a
-            bridge that came and went may come back).
+            service that came and went may come back).
     """
 
     def __init__(
         self,
         session: zenoh.Session,
         namespace: str,
+        service: str,
+        keys: list[str],
         on_appear: Callable[[], None] = lambda: None,
     ) -> None:
+        self.service = service
+        self.keys = keys
         self.appeared = threading.Event()
         self._on_appear = on_appear
         self._lock = threading.Lock()
         self._subscriber = session.liveliness().declare_subscriber(
-            alive_key(namespace, BRIDGE), self._on_sample
+            alive_key(namespace, service), self._on_sample
         )
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
@@ -83,22 +93,34 @@ def live_keys(items: Replay) -> list[str]:
 
 
 @contextlib.contextmanager
-def bridge_watch(
-    bus: Bus, live: list[str], stop: threading.Event
-) -> Iterator[BridgeWatch | None]:
-    """A watch for a bridge coming alive (``None`` if ``live`` is empty).
+def service_watches(
+    bus: Bus, guarded: dict[str, list[str]], stop: threading.Event
+) -> Iterator[list[ServiceWatch]]:
+    """A watch for each service of ``guarded`` with keys to send.
 
-    Its first sight of the bridge sets ``stop``, which wakes the replay's
-    wait at once; it is undeclared on leaving, before the session closes.
+    Args:
+        bus: The replay's open bus.
+        guarded: Service -> the recorded keys to send that a live one would
+            take (empty: not watched).
+        stop: Set at a service's first sight: it wakes the replay's wait at
+            once.
+
+    The watches are undeclared on leaving, before the session closes.
     """
-    if not live:
-        yield None
-        return
-    watch = BridgeWatch(bus.session, bus.config.namespace, stop.set)
-    try:
-        yield watch
-    finally:
-        watch.close()
+    namespace = bus.config.namespace
+    with contextlib.ExitStack() as stack:
+        yield [
+            stack.enter_context(
+                ServiceWatch(bus.session, namespace, service, keys, stop.set)
+            )
+            for service, keys in guarded.items()
+            if keys
+        ]
+
+
+def appeared(watches: list[ServiceWatch]) -> ServiceWatch | None:
+    """The first of ``watches`` whose service has come alive, if any."""
+    return next((watch for watch in watches if watch.appeared.is_set()), None)
 
 
 def service_alive(bus: Bus, service: str, keys: list[str]) -> bool:

@@ -9,8 +9,9 @@ log and exit 0: every later plan was decided with it, while fit served
 another. As for a live bridge (``bridge_watch``), it is refused; with
 ``--keys`` the chosen keys go out.
 
-Checked once, before the first message (a decide service starting during
-the replay asks fit for its model, then takes a later publication too).
+Checked before the first message; a decide service that comes alive
+during the replay (it asks fit for its model, then takes every later
+publication) stops it, as a bridge does (``bridge_watch.ServiceWatch``).
 """
 
 from __future__ import annotations

@@ -11,8 +11,10 @@ replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
 --wait-for bridge``. Without ``--keys``, a recording holding ``plan/*`` or
 ``bridge/*`` messages is refused while a bridge is alive in the namespace
 (nothing is sent), and stopped, exit 1, if one comes alive while it runs
-(``services.recorder.bridge_watch``). Messages sent while no router or peer
-was connected reach nobody: the summary counts them, and the replay then exits 1.
+(``services.recorder.bridge_watch``); a recording of ``fit/*`` messages is
+refused, or stopped, for a live decide service the same way. Messages sent
+while no router or peer was connected reach nobody: the summary counts
+them, and the replay then exits 1.
 """
 
 from __future__ import annotations
@@ -28,12 +30,14 @@ import zenoh
 
 from armplan.launch.catalog import unknown_hint
 from services.recorder.bridge_watch import (
-    BridgeWatch,
-    bridge_watch,
+    BRIDGE,
+    ServiceWatch,
+    appeared,
     check_no_live_bridge,
     live_keys,
+    service_watches,
 )
-from services.recorder.model_check import check_no_live_decide, model_keys
+from services.recorder.model_check import DECIDE, check_no_live_decide, model_keys
 from services.recorder.replay import (
     Replay,
     ReplayStats,
@@ -54,6 +58,7 @@ from shared.bus.options import add_config_option, add_connect_options, bus_confi
 from shared.bus.session import has_router_or_peer
 from shared.errors import (
     BridgeAppearedError,
+    DecideAppearedError,
     InvalidInputError,
     RecordingError,
     ServiceUnavailableError,
@@ -267,10 +272,12 @@ def run(args: argparse.Namespace) -> int:
         if missing:
             raise bus.not_alive(missing, args.wait, unknown_hint(missing))
         live = [] if args.keys is not None else live_keys(items)  # --keys: asked
-        check_no_live_decide(bus, [] if args.keys is not None else model_keys(items))
-        with bridge_watch(bus, live, stop) as watch:  # before the check: no gap
+        models = [] if args.keys is not None else model_keys(items)
+        guarded = {BRIDGE: live, DECIDE: models}
+        with service_watches(bus, guarded, stop) as watches:  # before: no gap
+            check_no_live_decide(bus, models)
             check_no_live_bridge(bus, live)
-            stats, offline, began = _send(bus, items, args.speed, watch, stop)
+            stats, offline, began = _send(bus, items, args.speed, watches, stop)
     dropped = (
         f"; a secured router drops the {sum(refused.values())} user {user!r} may "
         "not publish"
@@ -303,19 +310,21 @@ def _send(
     bus: Bus,
     items: Replay,
     speed: float,
-    watch: BridgeWatch | None,
+    watches: list[ServiceWatch],
     stop: threading.Event,
 ) -> tuple[ReplayStats, int, bool]:
     """Send ``items``; stats, how many went out with no router, link at first.
 
     Returns the replay's stats, the messages sent while no router or peer
     was connected, and whether one was connected at the first message.
-    With a ``watch``, its flag is checked immediately before each put: once
-    a bridge is seen, nothing more is sent (a put already made cannot be
-    recalled), and :func:`_halted` ends the replay.
+    The ``watches``' flags are checked immediately before each put: once a
+    watched service (a bridge, a decide service) is seen, nothing more is
+    sent (a put already made cannot be recalled), and :func:`_halted` ends
+    the replay.
 
     Raises:
-        BridgeAppearedError: if the watch saw a bridge (see :func:`_halted`).
+        BridgeAppearedError: if a bridge was seen (see :func:`_halted`).
+        DecideAppearedError: if a decide service was seen.
         RecordingError: if a message cannot be read to be sent (after saying
             how many were sent).
     """
@@ -333,8 +342,9 @@ def _send(
                 began = now
             _say_link(now, connected is None, config)
             connected = now
-        if watch is not None and watch.appeared.is_set():  # right before the put
-            raise _halted(bus, items, sent, done, offline)
+        seen = appeared(watches)  # right before the put
+        if seen is not None:
+            raise _halted(bus, items, sent, done, offline, seen)
         if not connected:  # the put reaches nobody: see _say_link
             offline += 1
         bus.session.put(
@@ -357,36 +367,42 @@ def _send(
             time.sleep(LINGER)  # see LINGER
         raise
     # woke the wait (stop set); seen only after the last put: the replay is whole
-    if watch is not None and watch.appeared.is_set() and stats.sent < len(items):
-        raise _halted(bus, items, sent, done, offline)
+    seen = appeared(watches)
+    if seen is not None and stats.sent < len(items):
+        raise _halted(bus, items, sent, done, offline, seen)
     if stats.sent:
         time.sleep(LINGER)  # see LINGER
     return stats, offline, began
 
 
 def _halted(
-    bus: Bus, items: Replay, sent: int, done: Counter[str], offline: int
-) -> BridgeAppearedError:
-    """Say how far the replay got before a bridge came alive; the error.
+    bus: Bus,
+    items: Replay,
+    sent: int,
+    done: Counter[str],
+    offline: int,
+    seen: ServiceWatch,
+) -> BridgeAppearedError | DecideAppearedError:
+    """Say how far the replay got before ``seen``'s service came alive; the error.
 
     The messages sent before get ``LINGER`` to leave, as at a replay's end.
     """
     namespace = bus.config.namespace
+    article = "a decide service" if seen.service == DECIDE else f"a {seen.service}"
     sys.stdout.write(
         f"armplan replay: sent {sent} of {counted(len(items), 'message')}, then "
-        f"stopped: a bridge came alive in namespace {namespace!r}"
+        f"stopped: {article} came alive in namespace {namespace!r}"
         f"{_offline(offline, items)}\n"
     )
     if sent:
         time.sleep(LINGER)  # see LINGER
     held = {
         key: items.counts[key] - done[key]
-        for key in live_keys(items)
+        for key in seen.keys
         if items.counts[key] > done[key]
     }
-    return BridgeAppearedError(
-        namespace=namespace, sent=sent, total=len(items), held=held
-    )
+    error = DecideAppearedError if seen.service == DECIDE else BridgeAppearedError
+    return error(namespace=namespace, sent=sent, total=len(items), held=held)
 
 
 def _refused(
