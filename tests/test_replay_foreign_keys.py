@@ -13,6 +13,8 @@ every key (``**``) in this test; ``armplan replay`` a real process.
 from __future__ import annotations
 
 import os
+import queue
+import signal
 import subprocess
 import sys
 import threading
@@ -216,3 +218,40 @@ def test_a_recorded_model_is_not_replayed_into_a_live_decide_service(
     assert refused == []
     assert chosen.returncode == 0, chosen.stderr
     assert got == [(f"{NAMESPACE}/fit/model/update", b'{"i": 1}')]
+
+
+@pytest.mark.parametrize(
+    ("spacing", "said"),
+    [(2 * 365.25 * 86400, "takes 8 years (2.52461e+08 s"), (5400.0, "takes 6 hours")],
+)
+def test_a_replay_that_would_take_years_says_so_at_once(
+    config: BusConfig, tmp_path: Path, spacing: float, said: str
+) -> None:
+    """Another tool's file whose log times are years apart (two clocks)
+    replayed with no word, silent for years between two messages. A replay
+    over an hour is announced with its length (here 5 messages ``spacing``
+    [s] apart: 4 gaps), before the first is sent; Ctrl-C ends it (130)."""
+    path = foreign_file(tmp_path / "long.mcap", MESSAGES, spacing=spacing)
+    process = subprocess.Popen(
+        replay_command(path, config),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
+    lines: queue.Queue[str] = queue.Queue()
+    stream = process.stderr
+    assert stream is not None
+    threading.Thread(target=lambda: lines.put(stream.readline()), daemon=True).start()
+    try:
+        line = lines.get(timeout=30)  # the old code said nothing (for years)
+        process.send_signal(signal.SIGINT)
+        process.wait(timeout=30)
+        rest = stream.read()
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    assert line.startswith(f"armplan replay: warning: this replay {said}"), line
+    assert "--speed shortens it, Ctrl-C stops it" in line
+    assert process.returncode == 130, rest

@@ -180,6 +180,29 @@ def _say_damage(items: Replay) -> None:
             )
 
 
+#: Replays longer than this are announced [s].
+LONG = 3600.0
+#: Units a long replay's length is said in: (name, seconds), longest first.
+_SPANS = (("years", 365.25 * 86400.0), ("days", 86400.0), ("hours", 3600.0))
+
+
+def _say_long(duration: float) -> None:
+    """Warn that the replay will take ``duration`` [s], if over ``LONG``.
+
+    A file whose log times are years apart (another tool's, stamped from
+    two clocks) replayed for years with no word: the replay sat silent
+    between two messages. A long recording replays as long, said once.
+    """
+    if duration <= LONG:
+        return
+    name, seconds = next(span for span in _SPANS if duration >= span[1])
+    sys.stderr.write(
+        f"armplan replay: warning: this replay takes {duration / seconds:.3g} "
+        f"{name} ({duration:.6g} s from its first message to its last); "
+        "--speed shortens it, Ctrl-C stops it\n"
+    )
+
+
 def _no_key_matches(args: argparse.Namespace, items: Replay, namespace: str) -> None:
     """Raise: ``--keys`` matched nothing; name the keys the recording holds.
 
@@ -256,6 +279,7 @@ def run(args: argparse.Namespace) -> int:
     if not items:
         _nothing_to_replay(items)
     check_speed(args.speed, items.latest)
+    _say_long(items.latest / args.speed)
     user = login_user(config)
     refused = {} if user is None else _refused(args, config, items, user)
     stop = stop_on_signals()
