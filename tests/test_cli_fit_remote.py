@@ -24,8 +24,10 @@ from services.fit import default_model
 from services.fit.demo_dir import DEMOS_DIR_ENV
 from services.fit.model_state import digest
 from shared.bus import Bus, NoArguments, load_config
-from shared.bus.routes import FIT_MODEL
+from shared.bus.routes import FIT, FIT_MODEL
 from shared.demos import synthesize, write_demos
+from shared.errors import DemoFileError, ServiceBusyError
+from shared.messages import FitRequest
 
 DEMOS = "demos.mcap"
 
@@ -168,14 +170,15 @@ def _interrupt_when_asking(main: threading.Thread) -> None:
         time.sleep(0.01)
 
 
-def test_ctrl_c_during_a_remote_fit_warns_that_it_goes_on(
+def test_ctrl_c_during_a_remote_fit_abandons_it(
     stack: Launcher, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Ctrl-C while the service fits: exit 130 as before, but also the
-    warning that the service goes on and serves that model; it did, with
-    only "armplan: interrupted" said, and the lab took the fit as cancelled.
-    The fit service is paused (SIGSTOP) until the client has been
-    interrupted: a quick fit could otherwise end before the Ctrl-C."""
+    """Ctrl-C while the service fits: exit 130, the warning that the service
+    abandons the fit, and it does: once it is no longer fitting, the model
+    served is the one before. (The service used to go on and serve that
+    model, and the command warned that it would.) The fit service is paused
+    (SIGSTOP) until the client has been interrupted: a quick fit could
+    otherwise end before the Ctrl-C."""
     before = served(stack)
     where = ["--connect", stack.config.endpoint, "--timeout", "120"]
     watcher = threading.Thread(
@@ -190,10 +193,24 @@ def test_ctrl_c_during_a_remote_fit_warns_that_it_goes_on(
     finally:
         fit.signal(signal.SIGCONT)
     assert (code, out) == (130, ""), err
-    assert "the fit service was not told to stop: it goes on" in err
+    assert "the fit service abandons this fit" in err
     assert err.rstrip().endswith("armplan: interrupted")
-    for _ in range(600):  # as warned: the fit ends and is served
-        if served(stack) != before:
-            break
-        time.sleep(0.2)
-    assert served(stack) != before
+    wait_not_fitting(stack)
+    assert served(stack) == before
+
+
+def wait_not_fitting(stack: Launcher) -> None:
+    """Return once the fit service runs no fit (a probe is not refused busy).
+
+    The probe names a missing file: refused without any fit when none runs.
+    """
+    with Bus.connect(stack.config) as bus:
+        for _ in range(1200):
+            try:
+                bus.call(FIT, FitRequest(files=["missing.mcap"]), timeout=60.0)
+            except ServiceBusyError:
+                time.sleep(0.1)
+                continue
+            except DemoFileError:
+                return
+        raise AssertionError("the fit service was still fitting after 2 minutes")

@@ -20,12 +20,19 @@ to its end: such a fit used to hold the one-fit lock for 11 s after its
 caller's 4 s timeout, refusing the caller's retry as busy with "its model
 is served when it ends", which it never was. A fit refused while one past
 its deadline still runs says that model will not be served.
+
+A fit whose caller's session has ended (its ``armplan fit --remote``
+interrupted with Ctrl-C, or killed: its caller token went,
+``shared.bus.gone_callers``) is abandoned at the same checks and before the
+model is installed, whatever its deadline: it used to run on and replace
+the served model minutes after the lab had taken it as cancelled.
 """
 
 from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Callable
 from pathlib import Path
 
 from services.fit.decidable import check_decidable
@@ -41,6 +48,9 @@ from shared.errors import InvalidInputError, RequestTimeoutError, ServiceBusyErr
 from shared.messages import FitRequest, MotionModel
 
 log = logging.getLogger("armplan.fit")
+
+#: Whether the session of this id (``Due.session``) has ended; ``None``: not said.
+CallerGone = Callable[[str | None], bool]
 
 
 class CurrentModel:
@@ -60,6 +70,7 @@ class CurrentModel:
             default_model(), f"shipped default {default_model_path()}"
         )
         self._bus = bus
+        bus.caller_gone(None)  # watch callers' sessions end from the start
         self._model = start.model
         self._state = state
         self._lock = threading.Lock()
@@ -100,7 +111,8 @@ class CurrentModel:
             DemoFileError: a file that is missing or not a demonstration file.
             ServiceBusyError: another fit is running (nothing done).
             RequestTimeoutError: the fit ended after its caller stopped
-                waiting (the model is not installed).
+                waiting, or its caller's session ended (the model is not
+                installed).
         """
         key = FIT.key(self._bus.config.namespace)
         if not self._fitting.acquire(blocking=False):
@@ -116,11 +128,11 @@ class CurrentModel:
     def _busy(self) -> str:
         """Why a fit is refused while another runs, and what becomes of that one."""
         running = self._running
-        if running is not None and running.too_late:
+        left = None if running is None else _caller_left(running, self._bus.caller_gone)
+        if left is not None:
             return (
-                f"a fit is running (one at a time) whose caller stopped waiting "
-                f"({running.budget:.1f} s): its model will not be served, and it "
-                "stops at its next step"
+                f"a fit is running (one at a time) whose {left}: its model will "
+                "not be served, and it stops at its next step"
             )
         return "a fit is running (one at a time); its model is served when it ends"
 
@@ -128,16 +140,19 @@ class CurrentModel:
         """:meth:`fit`, with the fitting lock held.
 
         Raises:
-            RequestTimeoutError: ``due`` passed after the demonstrations were
-                read, at a step of the fit, or by its end.
+            RequestTimeoutError: ``due`` passed, or the caller's session
+                ended, after the demonstrations were read, at a step of the
+                fit, or by its end.
         """
         root = demos_dir()
         paths = [demo_file(name, root) for name in request.files]
         demos = read_demos(paths)
-        _check_due(due, request, key, "reading the demonstrations")
+        gone = self._bus.caller_gone
+        _check_caller(due, gone, request, key, "reading the demonstrations")
 
         def progress(done: int, total: int) -> None:
-            _check_due(due, request, key, f"step {done} of {total} of the fit")
+            after = f"step {done} of {total} of the fit"
+            _check_caller(due, gone, request, key, after)
 
         model = fit_model(
             demos,
@@ -147,15 +162,15 @@ class CurrentModel:
             progress=None if due is None else progress,
         )
         _check_decidable(model, request)
-        if due is not None and due.too_late:
+        left = None if due is None else _caller_left(due, gone)
+        if due is not None and left is not None:
             log.warning(
-                "model %s fitted on %s after its caller stopped waiting (%.1f s): "
-                "not installed",
+                "model %s fitted on %s after its %s: not installed",
                 digest(model),
                 ", ".join(request.files),
-                due.budget,
+                left,
             )
-            raise RequestTimeoutError(FIT.service, key=key, timeout=due.budget)
+            raise _left_error(due, left, key, "fitting")
         with self._lock:  # current, kept and published stay in the same order
             self._model = model
             keep(model, self._state)
@@ -171,22 +186,57 @@ class CurrentModel:
         return model
 
 
-def _check_due(due: Due | None, request: FitRequest, key: str, after: str) -> None:
-    """Stop a fit whose caller stopped waiting; ``after``: the step just done.
+def _check_caller(
+    due: Due | None, gone: CallerGone, request: FitRequest, key: str, after: str
+) -> None:
+    """Stop a fit whose caller left; ``after``: the step just done.
+
+    ``gone``: whether a caller's session has ended (``Bus.caller_gone``).
 
     Raises:
-        RequestTimeoutError: ``due`` is (nearly) past; nothing is installed.
+        RequestTimeoutError: ``due`` is (nearly) past, or the caller's
+            session ended; nothing is installed.
     """
-    if due is None or not due.too_late:
+    left = None if due is None else _caller_left(due, gone)
+    if due is None or left is None:
         return
     log.warning(
-        "fit on %s stopped after %s: its caller stopped waiting (%.1f s); "
-        "no model installed",
+        "fit on %s stopped after %s: its %s; no model installed",
         ", ".join(request.files),
         after,
-        due.budget,
+        left,
     )
-    raise RequestTimeoutError(FIT.service, key=key, timeout=due.budget)
+    raise _left_error(due, left, key, after)
+
+
+def _caller_left(due: Due, gone: CallerGone) -> str | None:
+    """How the caller due by ``due`` left, e.g. "caller stopped waiting (5.0 s)".
+
+    ``None``: it still waits. Its session ended (Ctrl-C, killed) counts
+    first: its deadline may be far off.
+    """
+    if gone(due.session):
+        return "caller's session ended (interrupted or killed)"
+    if due.too_late:
+        return f"caller stopped waiting ({due.budget:.1f} s)"
+    return None
+
+
+def _left_error(due: Due, left: str, key: str, after: str) -> RequestTimeoutError:
+    """The error of a fit stopped after ``after`` because its caller ``left``.
+
+    A deadline passed keeps the plain timeout message the client adds its
+    advice to; a session ended says so (no one may read it).
+    """
+    if due.too_late:
+        return RequestTimeoutError(FIT.service, key=key, timeout=due.budget)
+    return RequestTimeoutError(
+        FIT.service,
+        key=key,
+        timeout=due.budget,
+        message=f"the {left} after {after}: the fit was abandoned and its "
+        "model is not served",
+    )
 
 
 def _check_decidable(model: MotionModel, request: FitRequest) -> None:

@@ -28,7 +28,8 @@ working directory), serves the model and publishes it to the decide
 service; the command prints the served model's digest (the one the
 service logs) and the files it was fitted on. It waits ``--timeout`` seconds
 (default ``REMOTE_TIMEOUT``): a fit of a large set takes a while, and one
-whose caller stopped waiting is not served. ``--show --remote`` prints the
+whose caller stopped waiting is not served; nor is one whose command was
+interrupted or killed (its session ended). ``--show --remote`` prints the
 model the service serves now.
 
 The options and the output are checked before any work: ``--bins`` 2..64,
@@ -228,7 +229,7 @@ def _run_remote(args: argparse.Namespace) -> int:
             try:
                 model = bus.call(FIT, request, timeout=timeout)
             except KeyboardInterrupt:  # Ctrl-C, SIGTERM, SIGHUP
-                _say_fit_goes_on(timeout)
+                _say_fit_abandoned()
                 raise
             except InvalidInputError as error:
                 raise _where_files_are(error) from None
@@ -242,18 +243,19 @@ def _run_remote(args: argparse.Namespace) -> int:
     return 0
 
 
-def _say_fit_goes_on(timeout: float) -> None:
-    """Warn that a remote fit stopped waiting for goes on and may be served.
+def _say_fit_abandoned() -> None:
+    """Say what becomes of a remote fit whose command was interrupted.
 
-    The fit service cannot tell that its caller left: it stops a fit only
-    at the caller's deadline. A lab that pressed Ctrl-C took the fit as
-    cancelled, and its model replaced the served one minutes later.
+    The fit service sees this command's session end (its caller token goes)
+    and abandons the fit at its next step, serving nothing from it. It used
+    to go on and serve the model minutes later, and the command said so: a
+    lab that pressed Ctrl-C had taken the fit as cancelled.
     """
     sys.stderr.write(
-        "armplan: warning: the fit service was not told to stop: it goes on "
-        f"with this fit and serves its model if it ends within {timeout:g} s "
-        "of the request (--timeout); 'armplan fit --show --remote' says which "
-        "model it serves\n"
+        "armplan: warning: the fit service abandons this fit once it sees "
+        "this command's session end (at its next step) and serves nothing "
+        "from it: the model it served stays; 'armplan fit --show --remote' "
+        "says which model it serves\n"
     )
 
 
