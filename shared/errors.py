@@ -442,43 +442,40 @@ class RecordingError(ArmplanError):
         self.readable = readable
 
 
-class BridgeAppearedError(ArmplanError):
-    """A bridge came alive in the namespace during a replay of every key.
+class ServiceAppearedError(ArmplanError):
+    """Base: a service came alive during a replay sending what it would take.
 
-    The replay stopped: the rest of its ``plan/*`` and ``bridge/*``
-    messages would have gone to the bridge (one with ``--follow`` plays
-    each trajectory on the robot) and mixed with the live ones.
+    The replay stopped: nothing more was sent. A subclass names the
+    service and what the held-back messages would have done to it.
 
     Attributes:
         namespace: The replay's namespace.
         sent: Messages sent before it stopped.
         total: Messages the replay would have sent.
-        held: Each live key with messages left unsent -> how many (empty
-            if every live message had been sent: the rest is other keys).
+        held: Each key the service takes with messages left unsent -> how
+            many (empty if every one had been sent: the rest is other keys).
     """
 
-    kind = "bridge_appeared"
+    #: Who came alive, e.g. "a bridge".
+    who: ClassVar[str]
+    #: The keys it takes, e.g. "plan/* and bridge/*".
+    takes: ClassVar[str]
 
     def __init__(
         self, *, namespace: str, sent: int, total: int, held: dict[str, int]
     ) -> None:
         kept = ", ".join(f"{key} ({n} left)" for key, n in held.items())
         stopped = (
-            f"a bridge came alive in namespace {namespace!r} during the replay: "
+            f"{self.who} came alive in namespace {namespace!r} during the replay: "
             f"it stopped after {sent} of {counted(total, 'message')}, holding back "
             "the "
         )
         super().__init__(
-            f"{stopped}recorded {kept} (a bridge with --follow would move the "
-            "robot again, and they would mix with the live messages); a message "
-            "already on its way when the bridge was seen cannot be recalled. To "
-            "replay into a live robot on purpose, choose the keys with --keys, "
-            "e.g. --keys plan/trajectory --wait-for bridge"
+            f"{stopped}recorded {kept} {self._harm(held)}"
             if held
-            # every plan/* and bridge/* message had gone: none is held back
-            else f"{stopped}other {total - sent}; every recorded plan/* and "
-            "bridge/* message had been sent before it came alive. To replay the "
-            "rest, choose its keys with --keys",
+            else f"{stopped}other {total - sent}; every recorded {self.takes} "
+            "message had been sent before it came alive. To replay the rest, "
+            "choose its keys with --keys",
             namespace=namespace,
             sent=sent,
             total=total,
@@ -489,51 +486,52 @@ class BridgeAppearedError(ArmplanError):
         self.total = total
         self.held = held
 
+    def _harm(self, held: dict[str, int]) -> str:
+        """What the ``held`` messages would have done, and how to send them."""
+        raise NotImplementedError
 
-class DecideAppearedError(ArmplanError):
+
+class BridgeAppearedError(ServiceAppearedError):
+    """A bridge came alive in the namespace during a replay of every key.
+
+    The rest of its ``plan/*`` and ``bridge/*`` messages would have gone to
+    the bridge (one with ``--follow`` plays each trajectory on the robot)
+    and mixed with the live ones.
+    """
+
+    kind = "bridge_appeared"
+    who = "a bridge"
+    takes = "plan/* and bridge/*"
+
+    def _harm(self, held: dict[str, int]) -> str:
+        return (
+            "(a bridge with --follow would move the robot again, and they would "
+            "mix with the live messages); a message already on its way when the "
+            "bridge was seen cannot be recalled. To replay into a live robot on "
+            "purpose, choose the keys with --keys, e.g. --keys plan/trajectory "
+            "--wait-for bridge"
+        )
+
+
+class DecideAppearedError(ServiceAppearedError):
     """A decide service came alive during a replay of recorded models.
 
-    The replay stopped: the rest of its ``fit/*`` messages (the fit
-    service's ``fit/model/update``) would have replaced the model the new
-    decide service decides with.
-
-    Attributes:
-        namespace: The replay's namespace.
-        sent: Messages sent before it stopped.
-        total: Messages the replay would have sent.
-        held: Each ``fit/*`` key with messages left unsent -> how many
-            (empty if every one had been sent: the rest is other keys).
+    The rest of its ``fit/*`` messages (the fit service's
+    ``fit/model/update``) would have replaced the model the new decide
+    service decides with.
     """
 
     kind = "decide_appeared"
+    who = "a decide service"
+    takes = "fit/*"
 
-    def __init__(
-        self, *, namespace: str, sent: int, total: int, held: dict[str, int]
-    ) -> None:
-        kept = ", ".join(f"{key} ({n} left)" for key, n in held.items())
-        stopped = (
-            f"a decide service came alive in namespace {namespace!r} during the "
-            f"replay: it stopped after {sent} of {counted(total, 'message')}, "
-            "holding back the "
+    def _harm(self, held: dict[str, int]) -> str:
+        return (
+            "(it would replace the model the decide service decides with, for "
+            "every later plan); a message already on its way when the service "
+            "was seen cannot be recalled. To replay it on purpose, choose the "
+            f"keys with --keys, e.g. --keys {next(iter(held))}"
         )
-        super().__init__(
-            f"{stopped}recorded {kept} (it would replace the model the decide "
-            "service decides with, for every later plan); a message already on "
-            "its way when the service was seen cannot be recalled. To replay it "
-            f"on purpose, choose the keys with --keys, e.g. --keys {next(iter(held))}"
-            if held
-            else f"{stopped}other {total - sent}; every recorded fit/* message had "
-            "been sent before it came alive. To replay the rest, choose its keys "
-            "with --keys",
-            namespace=namespace,
-            sent=sent,
-            total=total,
-            held=held,
-        )
-        self.namespace = namespace
-        self.sent = sent
-        self.total = total
-        self.held = held
 
 
 class RemoteError(ArmplanError):

@@ -61,6 +61,7 @@ from shared.errors import (
     DecideAppearedError,
     InvalidInputError,
     RecordingError,
+    ServiceAppearedError,
     ServiceUnavailableError,
 )
 from shared.stop_signals import stop_on_signals
@@ -406,16 +407,16 @@ def _halted(
     done: Counter[str],
     offline: int,
     seen: ServiceWatch,
-) -> BridgeAppearedError | DecideAppearedError:
+) -> ServiceAppearedError:
     """Say how far the replay got before ``seen``'s service came alive; the error.
 
     The messages sent before get ``LINGER`` to leave, as at a replay's end.
     """
     namespace = bus.config.namespace
-    article = "a decide service" if seen.service == DECIDE else f"a {seen.service}"
+    error = DecideAppearedError if seen.service == DECIDE else BridgeAppearedError
     sys.stdout.write(
         f"armplan replay: sent {sent} of {counted(len(items), 'message')}, then "
-        f"stopped: {article} came alive in namespace {namespace!r}"
+        f"stopped: {error.who} came alive in namespace {namespace!r}"
         f"{_offline(offline, items)}\n"
     )
     if sent:
@@ -425,7 +426,6 @@ def _halted(
         for key in seen.keys
         if items.counts[key] > done[key]
     }
-    error = DecideAppearedError if seen.service == DECIDE else BridgeAppearedError
     return error(namespace=namespace, sent=sent, total=len(items), held=held)
 
 
