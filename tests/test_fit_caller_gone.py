@@ -16,16 +16,12 @@ from collections.abc import Iterator
 
 import pytest
 
-from armplan.launch import Launcher, free_endpoint
-from services.fit.demo_dir import DEMOS_DIR_ENV
-from shared.bus import Bus, NoArguments, load_config
+from armplan.launch import Launcher
+from shared.bus import Bus, NoArguments
 from shared.bus.routes import FIT, FIT_MODEL
-from shared.demos import synthesize, write_demos
 from shared.errors import RequestTimeoutError, ServiceBusyError
 from shared.messages import FitRequest
-
-BIG = "big.mcap"  # 16 points x 5 subjects x 2 trials: seconds to fit
-SMALL = "small.mcap"
+from tests.fit_stack import BIG, SMALL, fit_stack
 
 
 @pytest.fixture()
@@ -33,13 +29,8 @@ def stack(
     tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
 ) -> Iterator[tuple[Launcher, pathlib.Path]]:
     """Router and fit service reading tmp_path; the service's log file."""
-    write_demos(tmp_path / BIG, synthesize(9, subjects=5, trials=2))
-    write_demos(tmp_path / SMALL, synthesize(9, subjects=1, trials=1))
-    monkeypatch.setenv(DEMOS_DIR_ENV, str(tmp_path))
-    log = tmp_path / "fit.log"
-    config = load_config(endpoints=(free_endpoint(),))
-    with log.open("w") as out, Launcher(config, ["fit"], log=out) as launched:
-        yield launched, log
+    with fit_stack(tmp_path, monkeypatch) as launched:
+        yield launched
 
 
 def test_a_fit_whose_caller_stopped_waiting_stops_and_frees_the_retry(

@@ -75,39 +75,37 @@ def config() -> Iterator[BusConfig]:
         yield config
 
 
-@pytest.fixture(scope="module")
-def trajectories_first(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """``BEFORE_BRIDGE`` trajectories, then ``COUNT`` ``misc/x`` messages;
-    all ``GAP`` apart."""
-    path = tmp_path_factory.mktemp("first") / "s.mcap"
+def recorded(path: Path, messages: list[tuple[str, bytes]]) -> Path:
+    """``messages`` (relative key, JSON body) recorded ``GAP`` apart."""
     sink = RecordingSink(RecorderOptions(output=path, keys=("**",)), NAMESPACE)
     sink.start()
     start = time.time_ns()
-    for i in range(BEFORE_BRIDGE + COUNT):
+    for i, (key, body) in enumerate(messages):
         t = start + int(i * GAP * 1e9)
-        if i < BEFORE_BRIDGE:
-            key, body = "plan/trajectory", trajectory(i).model_dump_json().encode()
-        else:
-            key, body = "misc/x", b"{}"
         sink.put(Incoming(f"{NAMESPACE}/{key}", body, "application/json", t, t))
     sink.stop()
     return path
 
 
+def trajectory_json(i: int) -> bytes:
+    """:func:`trajectory` as the bridge receives it."""
+    return trajectory(i).model_dump_json().encode()
+
+
+@pytest.fixture(scope="module")
+def trajectories_first(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """``BEFORE_BRIDGE`` trajectories, then ``COUNT`` ``misc/x`` messages;
+    all ``GAP`` apart."""
+    first = [("plan/trajectory", trajectory_json(i)) for i in range(BEFORE_BRIDGE)]
+    rest = [("misc/x", b"{}")] * COUNT
+    return recorded(tmp_path_factory.mktemp("first") / "s.mcap", first + rest)
+
+
 @pytest.fixture(scope="module")
 def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """``COUNT`` trajectories on ``plan/trajectory``, ``GAP`` apart."""
-    path = tmp_path_factory.mktemp("bridge") / "s.mcap"
-    sink = RecordingSink(RecorderOptions(output=path, keys=("**",)), NAMESPACE)
-    sink.start()
-    start = time.time_ns()
-    for i in range(COUNT):
-        t = start + int(i * GAP * 1e9)
-        body = trajectory(i).model_dump_json().encode()
-        key = f"{NAMESPACE}/plan/trajectory"
-        sink.put(Incoming(key, body, "application/json", t, t))
-    sink.stop()
-    return path
+    messages = [("plan/trajectory", trajectory_json(i)) for i in range(COUNT)]
+    return recorded(tmp_path_factory.mktemp("bridge") / "s.mcap", messages)
 
 
 class Observer:
@@ -258,16 +256,8 @@ def test_the_error_says_so_when_no_live_message_was_left(
 def models(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """``COUNT`` models on ``fit/model/update``, ``GAP`` apart (bodies numbered:
     the replay sends bytes, whatever they hold)."""
-    path = tmp_path_factory.mktemp("models") / "s.mcap"
-    sink = RecordingSink(RecorderOptions(output=path, keys=("**",)), NAMESPACE)
-    sink.start()
-    start = time.time_ns()
-    for i in range(COUNT):
-        t = start + int(i * GAP * 1e9)
-        key = f"{NAMESPACE}/fit/model/update"
-        sink.put(Incoming(key, b'{"i": %d}' % i, "application/json", t, t))
-    sink.stop()
-    return path
+    messages = [("fit/model/update", b'{"i": %d}' % i) for i in range(COUNT)]
+    return recorded(tmp_path_factory.mktemp("models") / "s.mcap", messages)
 
 
 def test_a_decide_service_that_comes_alive_stops_an_unkeyed_replay_of_models(
