@@ -334,13 +334,19 @@ class JointLimitError(ArmplanError):
     kind = "joint_limit"
 
     def __init__(
-        self, joint: str, value: float, lower: float, upper: float, where: str = ""
+        self,
+        joint: str,
+        value: float,
+        lower: float,
+        upper: float,
+        where: str = "",
+        hint: str = "",
     ) -> None:
         at = f" {where}" if where else ""
         n = _decimals_apart(value, (lower, upper))
         super().__init__(
             f"{joint} = {fixed(value, n)} rad{at} is outside its range "
-            f"[{lower:.{n}f}, {upper:.{n}f}] rad",
+            f"[{lower:.{n}f}, {upper:.{n}f}] rad{hint}",
             joint=joint,
             value=float(value),
             lower=float(lower),

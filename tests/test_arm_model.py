@@ -208,6 +208,37 @@ def test_limit_check_names_the_joint() -> None:
         arm.limits.check(q)
 
 
+def test_a_posture_in_degrees_is_named_as_such(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """A posture typed in degrees (``--start 90 -10 45 30 0``) was refused as
+    "90 rad" with no word of the likely slip. A random posture in range,
+    given in degrees, is refused with its radians, which lie in every range;
+    no hint when the degrees read as radians would not fit, nor when no
+    angle is beyond a turn (a posture slightly out of range)."""
+    checked = 0
+    for _ in range(20):
+        q = random_posture(arm, rng)
+        degrees = np.rad2deg(q)
+        if not np.any(np.abs(degrees) > 2.0 * np.pi):
+            continue
+        checked += 1
+        with pytest.raises(JointLimitError) as caught:
+            arm.limits.check(degrees, where="in the start posture")
+        said = caught.value.message.split("it looks like degrees: angles are in ")[1]
+        radians = said.split("(")[1].split(")")[0]
+        assert np.allclose([float(x) for x in radians.split(", ")], q, atol=1e-4)
+    assert checked >= 15
+    beyond = arm.limits.upper + 0.05  # out of range, but no angle beyond a turn
+    with pytest.raises(JointLimitError) as caught:
+        arm.limits.check(beyond)
+    assert "degrees" not in caught.value.message
+    unfit = np.rad2deg(arm.limits.upper) + 30.0  # degrees, out of range as such
+    with pytest.raises(JointLimitError) as caught:
+        arm.limits.check(unfit)
+    assert "degrees" not in caught.value.message
+
+
 def test_unknown_arm_is_a_typed_error() -> None:
     """A wrong arm name raises UnknownArmError naming it."""
     with pytest.raises(UnknownArmError, match="unknown arm 'middle'"):

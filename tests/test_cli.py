@@ -95,6 +95,21 @@ def test_ik_methods(method: str) -> None:
             ("fk", "--joints", "0", "0", "0", "3", "0"),
             "RElbowRoll = 3.00000 rad is outside",
         ),
+        (
+            (
+                "ik",
+                "--target",
+                "0.12",
+                "-0.1",
+                "0.05",
+                "--start",
+                *["90", "-10", "45", "30", "0"],
+            ),
+            "RShoulderPitch = 90.00000 rad in the start posture is outside its range "
+            "[-2.08567, 2.08567] rad; it looks like degrees: angles are in radians, "
+            "and (1.5708, -0.1745, 0.7854, 0.5236, 0.0000) rad is within every "
+            "joint's range",
+        ),
         (("sim", "--period", "0"), "control cycle 0.0 s must be 0.001..1 s"),
         (("sim", "--period", "nan"), "control cycle nan s must be"),
         (

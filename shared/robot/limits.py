@@ -56,7 +56,25 @@ class JointLimits(NamedTuple):
             self.names, q, self.lower, self.upper, strict=False
         ):
             if not low - POSITION_SLACK <= value <= high + POSITION_SLACK:
-                raise JointLimitError(name, value, low, high, where)
+                raise JointLimitError(name, value, low, high, where, self._hint(q))
+
+    def _hint(self, q: np.ndarray) -> str:
+        """``"; it looks like degrees ..."`` if ``q`` (shape (n,)) would fit so.
+
+        Said only if an angle is beyond a turn (no NAO joint's range is) and
+        every angle read as degrees lies in its range: ``--start 90 -10 45
+        30 0`` was refused as "90 rad" with no word of the likely slip.
+        """
+        if len(q) != len(self.names) or not np.any(np.abs(q) > 2.0 * np.pi):
+            return ""
+        radians = np.deg2rad(q)
+        if not self.contains(radians):
+            return ""
+        said = ", ".join(f"{x:.4f}" for x in radians)
+        return (
+            f"; it looks like degrees: angles are in radians, and ({said}) rad "
+            "is within every joint's range"
+        )
 
     def clip(self, q: np.ndarray) -> np.ndarray:
         """``q`` clipped into the ranges [rad], shape (..., n)."""
