@@ -26,7 +26,7 @@ from armplan.launch import Launcher
 from shared.bus import Bus, NoArguments
 from shared.bus.keys import caller_pattern
 from shared.bus.routes import FIT, FIT_MODEL, MODEL_TOPIC
-from shared.errors import DemoFileError, ServiceBusyError
+from shared.errors import DemoFileError, RequestTimeoutError, ServiceBusyError
 from shared.messages import FitRequest, MotionModel, parse
 from tests.fit_stack import BIG, SMALL, fit_stack
 
@@ -143,3 +143,50 @@ def test_a_fit_whose_caller_was_interrupted_is_abandoned(
     text = log.read_text()
     assert f"fit on {BIG} stopped after" in text, text
     assert "its caller's session ended (interrupted or killed)" in text, text
+
+
+def test_a_fit_whose_caller_timed_out_then_left_says_it_stopped_waiting(
+    stack: tuple[Launcher, pathlib.Path],
+) -> None:
+    """A caller that stopped waiting (its ``--timeout`` passed) and then
+    closed its session, as ``armplan fit --remote`` does when it exits 1 on
+    request_timeout, was logged as "interrupted or killed": the session's
+    end was said before the deadline that passed first. The service is
+    paused until both have happened, so its next check sees the two."""
+    launched, log = stack
+    with Bus.connect(launched.config) as bus:
+        callers = Callers(bus)
+        timed_out: list[BaseException] = []
+
+        def ask() -> None:
+            with Bus.connect(launched.config) as caller:
+                try:
+                    caller.call(FIT, FitRequest(files=[BIG]), timeout=3.0)
+                except RequestTimeoutError as error:
+                    timed_out.append(error)
+
+        asking = threading.Thread(target=ask)
+        try:
+            asking.start()
+            wait_for("saw the caller connect", lambda: callers.came)
+            time.sleep(0.5)  # its query is out: no probe takes the fit's turn
+            wait_for("saw the caller's fit run", lambda: fitting(bus))
+            fit = launched.services["fit"]
+            fit.signal(signal.SIGSTOP)
+            try:
+                asking.join(WAIT)
+                assert timed_out, "the caller did not time out"
+                token = callers.came[0]
+                with callers.changed:
+                    went = callers.changed.wait_for(lambda: token in callers.went, WAIT)
+                assert went, "the caller's token never went"
+            finally:
+                fit.signal(signal.SIGCONT)
+            wait_for("saw the fit end", lambda: not fitting(bus))
+        finally:
+            asking.join(WAIT)
+            callers.close()
+    text = log.read_text()
+    assert f"fit on {BIG} stopped after" in text, text
+    assert "its caller stopped waiting (3.0 s)" in text, text
+    assert "interrupted or killed" not in text, text

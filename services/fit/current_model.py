@@ -212,13 +212,16 @@ def _check_caller(
 def _caller_left(due: Due, gone: CallerGone) -> str | None:
     """How the caller due by ``due`` left, e.g. "caller stopped waiting (5.0 s)".
 
-    ``None``: it still waits. Its session ended (Ctrl-C, killed) counts
-    first: its deadline may be far off.
+    ``None``: it still waits. A deadline passed is said first: a caller
+    that stopped waiting then closes its session (``armplan fit --remote``
+    exits on request_timeout), and was said to be "interrupted or killed".
+    Its session ended (Ctrl-C, killed) before its deadline, which may be far
+    off, is said as such.
     """
-    if gone(due.session):
-        return "caller's session ended (interrupted or killed)"
     if due.too_late:
         return f"caller stopped waiting ({due.budget:.1f} s)"
+    if gone(due.session):
+        return "caller's session ended (interrupted or killed)"
     return None
 
 
