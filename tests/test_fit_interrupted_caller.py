@@ -188,5 +188,5 @@ def test_a_fit_whose_caller_timed_out_then_left_says_it_stopped_waiting(
             callers.close()
     text = log.read_text()
     assert f"fit on {BIG} stopped after" in text, text
-    assert "its caller stopped waiting (3.0 s)" in text, text
+    assert "its caller stopped waiting (3.0 s); no model installed" in text, text
     assert "interrupted or killed" not in text, text
