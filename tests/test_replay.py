@@ -652,3 +652,10 @@ def test_a_recording_of_nothing_is_not_replayed_as_a_whole_one(
         f"{derived}, {empty} hold no recorded Zenoh messages but the recorder's "
         "own questions' answers (fit/model), which no service publishes"
     ) in err
+    cut = tmp_path / "cut.mcap"  # its first message's record cut short
+    cut.write_bytes(derived.read_bytes()[:100])
+    assert main(["replay", str(cut), "--recover", *connect]) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert f"{cut} is damaged after 0 readable messages (" in err
+    assert "nothing of it is replayed; what came after is lost" in err
+    assert f"nothing to replay: {cut} holds no readable recorded Zenoh" in err

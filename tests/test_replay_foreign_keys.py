@@ -222,7 +222,11 @@ def test_a_recorded_model_is_not_replayed_into_a_live_decide_service(
 
 @pytest.mark.parametrize(
     ("spacing", "said"),
-    [(2 * 365.25 * 86400, "takes 8 years (2.52461e+08 s"), (5400.0, "takes 6 hours")],
+    [
+        (2 * 365.25 * 86400, "takes 8 years (2.52461e+08 s at speed 1)"),
+        (5400.0, "takes 6 hours (21600 s at speed 1)"),
+        (901.0, "takes 1 hour (3604 s at speed 1)"),
+    ],
 )
 def test_a_replay_that_would_take_years_says_so_at_once(
     config: BusConfig, tmp_path: Path, spacing: float, said: str

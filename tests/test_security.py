@@ -108,7 +108,7 @@ def test_only_the_bridge_is_on_the_robot_keys() -> None:
 
 def test_every_login_that_may_publish_to_a_bridge_may_watch_for_one() -> None:
     """A replay of every key stops when a bridge comes alive: it watches the
-    bridge's token (``services.recorder.bridge_watch``). A login that may put
+    bridge's token (``services.recorder.service_watch``). A login that may put
     a ``plan/*`` or ``bridge/*`` key but not see that token would see no
     bridge, and send a whole recording to a live robot."""
     token = f"{NS}/alive/bridge"

@@ -11,13 +11,13 @@ another. As for a live bridge (``bridge_watch``), it is refused; with
 
 Checked before the first message; a decide service that comes alive
 during the replay (it asks fit for its model, then takes every later
-publication) stops it, as a bridge does (``bridge_watch.ServiceWatch``).
+publication) stops it, as a bridge does (``service_watch``).
 """
 
 from __future__ import annotations
 
-from services.recorder.bridge_watch import service_alive
 from services.recorder.replay import Replay
+from services.recorder.service_watch import service_alive
 from shared.bus import Bus
 from shared.errors import InvalidInputError
 

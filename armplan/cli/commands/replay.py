@@ -11,7 +11,7 @@ replayed trajectories: ``armplan replay session.mcap --keys plan/trajectory
 --wait-for bridge``. Without ``--keys``, a recording holding ``plan/*`` or
 ``bridge/*`` messages is refused while a bridge is alive in the namespace
 (nothing is sent), and stopped, exit 1, if one comes alive while it runs
-(``services.recorder.bridge_watch``); a recording of ``fit/*`` messages is
+(``services.recorder.service_watch``); a recording of ``fit/*`` messages is
 refused, or stopped, for a live decide service the same way. Messages sent
 while no router or peer was connected reach nobody: the summary counts
 them, and the replay then exits 1.
@@ -29,14 +29,7 @@ from collections import Counter
 import zenoh
 
 from armplan.launch.catalog import unknown_hint
-from services.recorder.bridge_watch import (
-    BRIDGE,
-    ServiceWatch,
-    appeared,
-    check_no_live_bridge,
-    live_keys,
-    service_watches,
-)
+from services.recorder.bridge_watch import BRIDGE, check_no_live_bridge, live_keys
 from services.recorder.model_check import DECIDE, check_no_live_decide, model_keys
 from services.recorder.replay import (
     Replay,
@@ -52,6 +45,7 @@ from services.recorder.replay_login import (
     refused_warning,
 )
 from services.recorder.replay_parts import matcher
+from services.recorder.service_watch import ServiceWatch, appeared, service_watches
 from shared.bus import Bus, BusConfig, load_config
 from shared.bus.login import login_user
 from shared.bus.options import add_config_option, add_connect_options, bus_config
@@ -170,14 +164,16 @@ def _say_damage(items: Replay) -> None:
     for part in items.parts:
         if part.damage is not None:
             which = (
-                f"it ({part.count} to send)"  # not "it 1 (1 of them to send)"
+                "nothing of it is replayed"  # not "replaying those 0 (0 of them"
+                if part.readable == 0
+                else f"replaying it ({part.count} to send)"  # not "it 1 (1 of them"
                 if part.readable == 1
-                else f"those {part.readable} ({part.count} of them to send)"
+                else f"replaying those {part.readable} ({part.count} of them to send)"
             )
             sys.stderr.write(
                 f"armplan replay: warning: {part.path} is damaged after "
                 f"{counted(part.readable, 'readable message')} ({part.damage}); "
-                f"replaying {which}; what came after is lost\n"
+                f"{which}; what came after is lost\n"
             )
 
 
@@ -187,7 +183,7 @@ LONG = 3600.0
 _SPANS = (("years", 365.25 * 86400.0), ("days", 86400.0), ("hours", 3600.0))
 
 
-def _say_long(duration: float) -> None:
+def _say_long(duration: float, speed: float) -> None:
     """Warn that the replay will take ``duration`` [s], if over ``LONG``.
 
     A file whose log times are years apart (another tool's, stamped from
@@ -197,10 +193,12 @@ def _say_long(duration: float) -> None:
     if duration <= LONG:
         return
     name, seconds = next(span for span in _SPANS if duration >= span[1])
+    length = f"{duration / seconds:.3g}"
+    unit = name.removesuffix("s") if length == "1" else name
     sys.stderr.write(
-        f"armplan replay: warning: this replay takes {duration / seconds:.3g} "
-        f"{name} ({duration:.6g} s from its first message to its last); "
-        "--speed shortens it, Ctrl-C stops it\n"
+        f"armplan replay: warning: this replay takes {length} {unit} "
+        f"({duration:.6g} s at speed {speed:g}); --speed shortens it, Ctrl-C "
+        "stops it\n"
     )
 
 
@@ -231,6 +229,7 @@ def _nothing_to_replay(items: Replay) -> None:
     """
     files = ", ".join(str(part.path) for part in items.parts)
     verb = "holds" if len(items.parts) == 1 else "hold"
+    readable = " readable" if any(part.damage for part in items.parts) else ""
     answers = sorted(
         {t for part in items.parts for t in part.spans if not t.startswith("/")}
     )
@@ -241,7 +240,7 @@ def _nothing_to_replay(items: Replay) -> None:
         else ""
     )
     raise InvalidInputError(
-        f"nothing to replay: {files} {verb} no recorded Zenoh messages{but}",
+        f"nothing to replay: {files} {verb} no{readable} recorded Zenoh messages{but}",
         field="files",
     )
 
@@ -280,7 +279,7 @@ def run(args: argparse.Namespace) -> int:
     if not items:
         _nothing_to_replay(items)
     check_speed(args.speed, items.latest)
-    _say_long(items.latest / args.speed)
+    _say_long(items.latest / args.speed, args.speed)
     user = login_user(config)
     refused = {} if user is None else _refused(args, config, items, user)
     stop = stop_on_signals()
