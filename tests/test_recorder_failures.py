@@ -117,16 +117,20 @@ def test_a_full_file_stops_the_recorder_at_once_with_the_reason(
     assert os.path.getsize(out) <= FILE_LIMIT
 
 
+@pytest.mark.parametrize("keep", [None, 2], ids=["all-kept", "keep-parts-2"])
 def test_a_full_part_of_a_rotating_recording_names_where_the_messages_are(
-    config: BusConfig, tmp_path: Path
+    config: BusConfig, tmp_path: Path, keep: int | None
 ) -> None:
     """Rotating at 16 kB, files capped at 64 kB: a 100 kB message fails in a
     later part. The error said "--recover r-0004.mcap reads them" of every
     message of the recording, most of them in the earlier parts (whole);
     it now says how many parts there are and that only the last one lacks
-    its summary."""
+    its summary. With --keep-parts it said "the earlier parts are whole"
+    of parts it had removed; it now says they were removed, and which are
+    whole."""
     out = tmp_path / "r.mcap"
-    process = record(config, out, "--rotate-size", "16k", limit=FILE_LIMIT)
+    extra = [] if keep is None else ["--keep-parts", str(keep)]
+    process = record(config, out, "--rotate-size", "16k", *extra, limit=FILE_LIMIT)
     try:
         assert process.stdout is not None
         assert "armplan record: recording" in process.stdout.readline()
@@ -149,11 +153,21 @@ def test_a_full_part_of_a_rotating_recording_names_where_the_messages_are(
     assert number >= 3
     line = stderr.strip().splitlines()[-1]
     assert line.startswith(f"armplan: error: cannot write {last}: File too large;")
-    assert line.endswith(
-        f"messages in {number} parts: the earlier parts are whole, and armplan "
-        f"inspect --recover {last} reads what it holds (it lacks its summary)"
+    earlier = (
+        "the earlier parts are whole"
+        if keep is None
+        else f"the {'oldest part' if number == 3 else f'{number - 2} oldest parts'} "
+        f"removed (--keep-parts {keep}), {part_path(out, number - 1)} is whole"
     )
-    for whole in range(1, number):
+    assert line.endswith(
+        f"messages in {number} parts: {earlier}, and armplan inspect --recover "
+        f"{last} reads what it holds (it lacks its summary)"
+    )
+    first = 1 if keep is None else number - keep + 1
+    assert sorted(tmp_path.glob("r-*.mcap")) == [
+        part_path(out, n) for n in range(first, number + 1)
+    ]
+    for whole in range(first, number):
         assert list(read_records(part_path(out, whole)))  # whole: no error
     with pytest.raises(RecordingError, match="damaged after"):
         list(read_records(last))

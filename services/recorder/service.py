@@ -42,6 +42,7 @@ from shared.bus.keys import alive_key
 from shared.bus.session import has_router_or_peer
 from shared.errors import RecordingError
 from shared.lifecycle import StartStop
+from shared.recording.rotation import parts_named
 from shared.text.counted import counted
 
 NAME = "recorder"
@@ -201,20 +202,37 @@ class Recorder(StartStop):
 
         With rotation only the last part lacks its summary; it was said to
         hold them all ("--recover r-0006.mcap reads them" of 45 messages in
-        6 parts, 3 of them in r-0006).
+        6 parts, 3 of them in r-0006). With ``--keep-parts`` the parts
+        removed on purpose are said to be gone, not whole.
         """
         written = counted(self.sink.written, "message")
         started = self.sink.started
+        recover = (
+            f"armplan inspect --recover {error.path} reads what it holds (it "
+            "lacks its summary)"
+        )
         where = (
             f"; armplan inspect --recover {error.path} reads them "
             "(the file lacks its summary)"
             if started <= 1
-            else f" in {started} parts: the earlier parts are whole, and armplan "
-            f"inspect --recover {error.path} reads what it holds (it lacks its "
-            "summary)"
+            else f" in {started} parts: {self._earlier(error.path)}{recover}"
         )
         return RecordingError(
             f"{error.message}; recording stopped after {written}{where}",
             path=error.path,
             readable=self.sink.written,
         )
+
+    def _earlier(self, failed: str) -> str:
+        """What became of the parts before ``failed``: ``"... are whole, and "``."""
+        pruned = len(self.sink.pruned)
+        if not pruned:
+            return "the earlier parts are whole, and "
+        kept = [path for path in self.sink.paths if str(path) != failed]
+        oldest = "oldest part" if pruned == 1 else f"{pruned} oldest parts"
+        keep = self.sink.options.rotation.keep_parts
+        removed = f"the {oldest} removed (--keep-parts {keep})"
+        if not kept:
+            return f"{removed}; "
+        verb = "is" if len(kept) == 1 else "are"
+        return f"{removed}, {parts_named(kept)} {verb} whole, and "
