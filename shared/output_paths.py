@@ -35,6 +35,19 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return False
 
 
+def is_standard_output(path: str | Path) -> bool:
+    """Whether ``path`` is the file this process's standard output writes to.
+
+    ``-o /dev/stdout``, or the file or pipe stdout is redirected to: a
+    command that also prints there would mix its own lines into the file.
+    """
+    try:
+        ours, theirs = os.fstat(1), os.stat(path)
+    except OSError:  # stdout closed, or no such file yet
+        return False
+    return (ours.st_dev, ours.st_ino) == (theirs.st_dev, theirs.st_ino)
+
+
 def check_output_file(
     output: str | Path, inputs: Sequence[str | Path] = (), field: str = "output"
 ) -> Path:

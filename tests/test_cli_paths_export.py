@@ -6,6 +6,9 @@ exit code 1, and nothing written.
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -189,3 +192,31 @@ def test_a_plans_error_file_is_named_as_one(
         "0.5) m is 0.8761 m from the right shoulder"
     )
     assert not output.exists()
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+@pytest.mark.parametrize("json_summary", [False, True])
+def test_an_export_to_standard_output_holds_the_export_alone(
+    fmt: str, json_summary: bool, source: Path, tmp_path: Path
+) -> None:
+    """``-o /dev/stdout > play.py``: play.py holds the export as ``-o``
+    writes it, and the summary goes to standard error. The summary used to
+    go to standard output as well: into a pipe it trailed the script (a
+    Python syntax error), and into a file it overwrote the script's first
+    line, as the two opens of the file each wrote from its start."""
+    direct = tmp_path / "direct.out"
+    assert main(["export", fmt, str(source), "-o", str(direct)]) == 0
+    piped = tmp_path / "piped.out"
+    command = [sys.executable, "-m", "armplan", "export", fmt, str(source)]
+    command += ["-o", "/dev/stdout", *(["--json"] if json_summary else [])]
+    with piped.open("w") as out:
+        done = subprocess.run(
+            command, stdout=out, stderr=subprocess.PIPE, text=True, timeout=120
+        )
+    assert done.returncode == 0, done.stderr
+    assert piped.read_bytes() == direct.read_bytes()
+    summary = done.stderr
+    if json_summary:
+        assert json.loads(summary)["path"] == "/dev/stdout"
+    else:
+        assert summary.startswith("wrote /dev/stdout: 15 frames at 25 fps")

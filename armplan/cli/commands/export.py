@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import sys
 from typing import Any
 
 from armplan.cli.output import print_json
@@ -12,7 +14,7 @@ from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.input_files import read_at_most
 from shared.messages import Trajectory, parse
 from shared.messages.base import MAX_RATE, MIN_RATE
-from shared.output_paths import check_output_file
+from shared.output_paths import check_output_file, is_standard_output
 from shared.text.counted import counted
 
 ORDER = 60
@@ -105,6 +107,7 @@ def run(args: argparse.Namespace) -> int:
         frames = checked_frames(trajectory, args.rate, limits, behavior=behavior)
     except TrajectoryRefusedError as error:  # the bridge's words are "sent"
         raise error.instead("nothing was written") from None
+    to_stdout = is_standard_output(args.output)  # before the file is replaced
     if args.format == "choregraphe":
         velocities = frame_velocities(trajectory, frames)
         path = write_behavior(frames, args.output, velocities=velocities)
@@ -118,12 +121,20 @@ def run(args: argparse.Namespace) -> int:
         "rate": frames.rate,
         "duration": frames.duration,
     }
-    if args.json:
-        print_json(summary)
-    else:
-        print(
-            f"wrote {path}: {counted(len(frames.times), 'frame')} "
-            f"at {frames.rate:g} fps "
-            f"({frames.duration:.3f} s, {summary['arm']} arm)"
-        )
+    # The summary apart from the export: -o /dev/stdout > play.py held both.
+    stream = sys.stderr if to_stdout else sys.stdout
+    with contextlib.redirect_stdout(stream):
+        _print_summary(summary, args.json)
     return 0
+
+
+def _print_summary(summary: dict[str, Any], as_json: bool) -> None:
+    """Print what was written on stdout, as JSON or as one line."""
+    if as_json:
+        print_json(summary)
+        return
+    print(
+        f"wrote {summary['path']}: {counted(summary['frames'], 'frame')} "
+        f"at {summary['rate']:g} fps "
+        f"({summary['duration']:.3f} s, {summary['arm']} arm)"
+    )
