@@ -19,6 +19,9 @@ traceback), a port that accepted TCP but never answered hung it forever in
   signal is handled at once). A call may last its known duration (its
   keys' last time, the move to the start's too) and ``MARGIN`` more;
   then the arm is stopped and the script exits 1 naming the call.
+- The trajectory goes out only once the move to the start has brought the
+  arm's command there (``check_arrived``, ``bridge.script_approach``): a
+  move another client ended, its call returning without an error, exits 1.
 - Played: one line on stdout, ``played N frames (D s) on URL``, exit 0.
 - Ctrl-C, SIGTERM, SIGHUP: ``killTasksUsingResources`` on the script's
   joints every ``STOP_PERIOD`` until the running motion call has ended (a
@@ -122,9 +125,11 @@ class Motion(object):
 
     def move_to(self, targets, share):
         """Move from the command to ``targets`` [rad]: minimum-jerk keys
-        within ``share`` of the limits (approach_keys), angleInterpolation."""
+        within ``share`` of the limits (approach_keys), angleInterpolation;
+        then RuntimeError unless the command is there (check_arrived)."""
         keys, times = approach_keys(names, self.getAngles(names, False), targets, share)
         self.angleInterpolation(names, keys, times, True)
+        check_arrived(names, self.getAngles(names, False), targets)
 
     def call(self, method, args, known):
         """``method(*args)``'s result; Stalled after ``known`` + MARGIN [s]."""

@@ -17,7 +17,12 @@ net speed, acceleration and jerk limits, from the robot description) and
 ``target`` [rad] (at rest, acceleration zero, at both ends), lasting the
 shortest time (at least ``MIN_DURATION``) that keeps every joint's peak
 speed, acceleration and jerk within ``share`` of its limits, as
-``bridge.approach.approach_duration`` computes it.
+``bridge.approach.approach_duration`` computes it; and
+``check_arrived(names, commanded, target)``, which refuses to go on when
+the move ended short of the start (within ``bridge.start_gap.START_TOLERANCE``
+counts as there), as the bridge's ``bridge.arm_state.check_at_start`` does:
+both scripts used to play the trajectory from wherever a move killed by
+another client had left the arm.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from __future__ import annotations
 from bridge.approach import MIN_DURATION
 from bridge.limits import FrameLimits
 from bridge.minimum_jerk import PEAK_ACCELERATION, PEAK_JERK, PEAK_SPEED
+from bridge.start_gap import START_TOLERANCE
 from shared.robot import Side
 
 #: Keys per second of the move to the start [Hz]: ALMotion's 20 ms cycle.
@@ -62,6 +68,35 @@ def approach_keys(names, current, target, share):
     keys = [[a + (b - a) * f for f in blend] for a, b in zip(current, target)]
     times = [duration * k / count for k in range(1, count + 1)]
     return keys, [times] * len(keys)
+
+
+def check_arrived(names, commanded, target):
+    """Raise RuntimeError unless ``commanded`` [rad] is at ``target`` [rad].
+
+    After the move to the start: a move ended early (another client's
+    killAll or killTasksUsingResources, which NAOqi's blocking call may
+    return from without an error; a posted move the robot refused) leaves
+    the arm elsewhere, and the trajectory's first key would be a step from
+    there that no check passed. Within {tolerance!r} rad (a hand's open
+    fraction: as much) counts as there.
+    """
+    import math
+
+    gaps = [abs(here - there) for here, there in zip(commanded, target)]
+    gaps = [gap if gap == gap else float("inf") for gap in gaps]  # NaN: off
+    worst = gaps.index(max(gaps))
+    if gaps[worst] > {tolerance!r}:
+        name = names[worst]
+        if name.endswith("Hand"):
+            off = "%.4f (open fraction)" % gaps[worst]
+        else:
+            off = "%.2f deg" % math.degrees(gaps[worst])
+        raise RuntimeError(
+            "after the move to the start, %s is commanded at %.4f, %s from the "
+            "trajectory's start %.4f: the move did not arrive (stopped by another "
+            "client, or refused by the robot); nothing of the trajectory was sent"
+            % (name, commanded[worst], off, target[worst])
+        )
 '''
 
 
@@ -85,6 +120,7 @@ def approach_source(side: Side | str) -> str:
         peak_speed=PEAK_SPEED,
         peak_acceleration=PEAK_ACCELERATION,
         peak_jerk=PEAK_JERK,
+        tolerance=START_TOLERANCE,
     )
 
 

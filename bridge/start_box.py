@@ -11,8 +11,10 @@ limp arm's command first moved to where it hangs, so it does not snap back;
 a robot not awake refused: ``bridge.script_stiffen``), moves them to the
 start posture with ``ALMotion.angleInterpolation`` of minimum-jerk keys
 within ``START_SPEED`` of their speed, acceleration and jerk limits
-(``bridge.script_approach``, as ``play.py`` does), then fires its
-``onStopped`` output, linked to the timeline box's ``onStart``. Refused,
+(``bridge.script_approach``, as ``play.py`` does), then, once the arm's
+command is at the start (``check_arrived``: a move another client ended
+is refused), fires its ``onStopped`` output, linked to the timeline box's
+``onStart``. Refused,
 ``onInput_onStart`` raises ``RuntimeError`` (the runtime reports the box's
 error) and ``onStopped`` does not fire: the timeline never starts.
 
@@ -72,6 +74,8 @@ _SCRIPT = '''class MyClass(GeneratedClass):
                     self.joint_names, now, self.first_key, {speed}
                 )
                 self.motion.angleInterpolation(self.joint_names, keys, times, True)
+                now = self.motion.getAngles(self.joint_names, False)
+                check_arrived(self.joint_names, now, self.first_key)
         except Exception:  # ended by onInput_onStop, or refused
             if not self.stopping:
                 raise

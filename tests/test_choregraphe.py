@@ -494,3 +494,46 @@ def test_a_key_with_tangents_the_runtime_would_not_play_so_is_refused(
     assert caught.value.field == "Tangent"
     assert "RShoulderPitch's key at frame 1" in caught.value.message
     assert words in caught.value.message
+
+
+def test_the_start_box_whose_move_another_client_ends_starts_no_timeline(
+    tmp_path: Path,
+) -> None:
+    """Another client's killAll 0.3 s into the script box's move from rest
+    to the start, on a simulated NAO whose killed blocking calls return
+    without an error, as NAOqi's may (``killed_calls_return``): the box
+    raises, naming the joint furthest from the start, and onStopped, which
+    starts the timeline, never fires. It used to fire, and the timeline
+    played from wherever the arm had stopped."""
+    start = forward("right")
+    trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
+    xml = xml_of(trajectory, frames_from_trajectory(trajectory))
+    log = tmp_path / "sim.jsonl"
+    stopped: list[bool] = []
+    failed: list[BaseException] = []
+    with SimProcess(log_path=log, killed_calls_return=True) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        box = script_box(xml, session, lambda: stopped.append(True))
+
+        def start_box() -> None:
+            try:
+                box.onInput_onStart()
+            except BaseException as error:  # checked below
+                failed.append(error)
+
+        runner = threading.Thread(target=start_box)
+        runner.start()
+        deadline = time.monotonic() + 5.0
+        while not [e for e in read_log(log) if e["event"] == "motion"][1:]:
+            assert time.monotonic() < deadline, "the move never took effect"
+            time.sleep(0.01)
+        time.sleep(0.3)
+        motion.killAll()
+        runner.join(5.0)
+        session.close()
+    assert not runner.is_alive() and stopped == []
+    assert len(failed) == 1 and isinstance(failed[0], RuntimeError)
+    assert str(failed[0]).startswith("after the move to the start, R")
+    assert "nothing of the trajectory was sent" in str(failed[0])

@@ -412,3 +412,35 @@ def test_the_docs_show_the_scripts_own_usage(tmp_path: Path) -> None:
     usage = run(script(tmp_path), "--help").stdout.splitlines()[0]
     docs = Path(__file__).resolve().parents[1] / "docs" / "robot.md"
     assert f"    python {usage.removeprefix('usage: ')}\n" in docs.read_text()
+
+
+def test_a_move_to_the_start_another_client_ends_sends_nothing_more(
+    tmp_path: Path,
+) -> None:
+    """The arm held forward, far from the start; another client's killAll
+    ends the move to the start half-way, and the robot's blocking call
+    returns without an error, as NAOqi's may (the sim's
+    ``killed_calls_return``). The script used to play the trajectory from
+    there, its first key a step no check had passed; now it exits 1 naming
+    the joint furthest from the start, and sends nothing more."""
+    names = ["RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "RWristYaw"]
+    log = tmp_path / "sim.jsonl"
+    with SimProcess(log_path=log, killed_calls_return=True) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        motion.angleInterpolationWithSpeed(names, forward("right").tolist(), 0.5)
+        play = start(script(tmp_path), sim.url)
+        logged(sim, lambda e: e.get("method") == "angleInterpolation")
+        time.sleep(0.5)
+        motion.killAll()
+        code, err = ended(play, STOP_WAIT + 5.0)
+        session.close()
+        moves = calls(sim, "angleInterpolation")
+    assert code == 1, err
+    assert err.startswith("play.py: error: after the move to the start, R")
+    assert err.endswith(
+        "the move did not arrive (stopped by another client, or refused by the "
+        "robot); nothing of the trajectory was sent\n"
+    )
+    assert len(moves) == 1  # the move to the start, not the reach
