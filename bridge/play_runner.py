@@ -21,7 +21,9 @@ traceback), a port that accepted TCP but never answered hung it forever in
   then the arm is stopped and the script exits 1 naming the call.
 - The trajectory goes out only once the move to the start has brought the
   arm's command there (``check_arrived``, ``bridge.script_approach``): a
-  move another client ended, its call returning without an error, exits 1.
+  move another client ended, its call returning without an error, exits 1;
+  so does a trajectory that ended short of its last key (it printed
+  ``played``).
 - Played: one line on stdout, ``played N frames (D s) on URL``, exit 0.
 - Ctrl-C, SIGTERM, SIGHUP: ``killTasksUsingResources`` on the script's
   joints every ``STOP_PERIOD`` until the running motion call has ended (a
@@ -316,6 +318,15 @@ def play(url, timeout):
         stiffen_where_it_is(motion, names)
         motion.move_to(start, SPEED)
         motion.angleInterpolation(names, keys, times, True)
+        ends = [joint_keys[-1] for joint_keys in keys]
+        check_arrived(
+            names,
+            motion.getAngles(names, False),
+            ends,
+            "the trajectory",
+            "its last key",
+            "it was not played to its end",
+        )
         return 0, None
     except (Stopped, Stalled) as error:
         Stopped.raised = True

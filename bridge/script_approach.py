@@ -70,7 +70,14 @@ def approach_keys(names, current, target, share):
     return keys, [times] * len(keys)
 
 
-def check_arrived(names, commanded, target):
+def check_arrived(
+    names,
+    commanded,
+    target,
+    move="the move to the start",
+    goal="the trajectory's start",
+    outcome="nothing of the trajectory was sent",
+):
     """Raise RuntimeError unless ``commanded`` [rad] is at ``target`` [rad].
 
     After the move to the start: a move ended early (another client's
@@ -78,7 +85,8 @@ def check_arrived(names, commanded, target):
     return from without an error; a posted move the robot refused) leaves
     the arm elsewhere, and the trajectory's first key would be a step from
     there that no check passed. Within {tolerance!r} rad (a hand's open
-    fraction: as much) counts as there.
+    fraction: as much) counts as there. ``move``, ``goal`` and
+    ``outcome`` word the error for another move (the trajectory's end).
     """
     import math
 
@@ -92,10 +100,9 @@ def check_arrived(names, commanded, target):
         else:
             off = "%.2f deg" % math.degrees(gaps[worst])
         raise RuntimeError(
-            "after the move to the start, %s is commanded at %.4f, %s from the "
-            "trajectory's start %.4f: the move did not arrive (stopped by another "
-            "client, or refused by the robot); nothing of the trajectory was sent"
-            % (name, commanded[worst], off, target[worst])
+            "%s ended with %s commanded at %.4f, %s from %s %.4f (stopped by "
+            "another client, or refused by the robot); %s"
+            % (move, name, commanded[worst], off, goal, target[worst], outcome)
         )
 '''
 

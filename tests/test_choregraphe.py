@@ -535,5 +535,5 @@ def test_the_start_box_whose_move_another_client_ends_starts_no_timeline(
         session.close()
     assert not runner.is_alive() and stopped == []
     assert len(failed) == 1 and isinstance(failed[0], RuntimeError)
-    assert str(failed[0]).startswith("after the move to the start, R")
+    assert str(failed[0]).startswith("the move to the start ended with R")
     assert "nothing of the trajectory was sent" in str(failed[0])

@@ -438,9 +438,34 @@ def test_a_move_to_the_start_another_client_ends_sends_nothing_more(
         session.close()
         moves = calls(sim, "angleInterpolation")
     assert code == 1, err
-    assert err.startswith("play.py: error: after the move to the start, R")
+    assert err.startswith("play.py: error: the move to the start ended with R")
     assert err.endswith(
-        "the move did not arrive (stopped by another client, or refused by the "
-        "robot); nothing of the trajectory was sent\n"
+        "(stopped by another client, or refused by the robot); nothing of the "
+        "trajectory was sent\n"
     )
     assert len(moves) == 1  # the move to the start, not the reach
+
+
+def test_a_trajectory_another_client_ends_is_not_reported_played(
+    tmp_path: Path,
+) -> None:
+    """Another client's killAll 1 s into the 4 s reach, the robot's
+    blocking call returning without an error, as NAOqi's may: the script
+    printed ``played 100 frames`` and exited 0. Now it exits 1 saying the
+    trajectory ended short of its last key."""
+    with SimProcess(log_path=tmp_path / "sim.jsonl", killed_calls_return=True) as sim:
+        play = start(script(tmp_path), sim.url)
+        logged(sim, reach)
+        time.sleep(1.0)
+        session = qi.Session()
+        session.connect(sim.url)
+        session.service("ALMotion").killAll()
+        session.close()
+        code, err = ended(play, STOP_WAIT + 5.0)
+    assert code == 1, err
+    assert err.startswith("play.py: error: the trajectory ended with R")
+    assert "from its last key" in err
+    assert err.endswith(
+        "(stopped by another client, or refused by the robot); it was not "
+        "played to its end\n"
+    )
