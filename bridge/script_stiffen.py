@@ -12,7 +12,12 @@ the simulated NAO), on a robot the bridge would have refused as not awake.
 
 :data:`STIFFEN_SOURCE` is the Python (2 and 3) of one function,
 ``stiffen_where_it_is(motion, names)``: it raises ``RuntimeError`` (nothing
-sent) if ``ALMotion.robotIsWakeUp()`` is false; reads each joint's
+sent) if ``ALMotion.robotIsWakeUp()`` is false, or if the arm does not
+hold still, free of every motion task, within ``STILL_WAIT``
+(``wait_until_free``, as the bridge's ``bridge.at_rest``: the scripts
+used to cut another client's movement off mid-way, stopping the arm dead,
+on the simulated NAO, or start from where a NAO would not have it); reads
+each joint's
 stiffness, and for the limp ones (below ``LIMP``, as the bridge's
 ``arm_state.LIMP``) reads their sensors every ``SETTLE_GAP`` until two
 readings agree within ``SETTLED`` (an arm let go falls for about 0.3 s;
@@ -28,6 +33,7 @@ before.
 from __future__ import annotations
 
 from bridge.arm_state import LIMP
+from bridge.at_rest import READ_GAP, STILL, STILL_WAIT
 from bridge.limp_arm import HOLD_SHORTEST, HOLD_SPEED, SETTLE_GAP, SETTLE_WAIT, SETTLED
 
 #: Length of the stiffness ramp [s] (the bridge's ``NaoqiClient.stiffen``).
@@ -49,6 +55,7 @@ def stiffen_where_it_is(motion, names):
             "the robot is not awake (robotIsWakeUp() is false); nothing was "
             "sent: wake it up (ALMotion.wakeUp) and run this again"
         )
+    wait_until_free(motion, names)
     stiffness = motion.getStiffnesses(names)
     limp = [n for n, s in zip(names, stiffness) if not s >= {LIMP!r}]
     if limp:
@@ -80,6 +87,35 @@ def stiffen_where_it_is(motion, names):
             limp, [[a] for a in hangs], [[duration]] * len(limp), True
         )
     motion.stiffnessInterpolation(names, 1.0, {STIFFEN_TIME!r})
+
+
+def wait_until_free(motion, names):
+    """Return once ``names`` hold still, free of every motion task.
+
+    Their commands read {READ_GAP!r} s apart must agree and
+    areResourcesAvailable(names) be true, within {STILL_WAIT!r} s; else
+    RuntimeError, nothing sent. Another task's movement would be cut off
+    (a new command interrupts it) or would run first and leave the arm
+    elsewhere than read (a NAO postpones the new command).
+    """
+    import time
+
+    deadline = time.time() + {STILL_WAIT!r}
+    before = motion.getAngles(names, False)
+    while True:
+        time.sleep({READ_GAP!r})
+        now = motion.getAngles(names, False)
+        still = max(abs(a - b) for a, b in zip(now, before)) <= {STILL!r}
+        if still and motion.areResourcesAvailable(names):
+            return
+        if time.time() >= deadline:
+            raise RuntimeError(
+                "the arm is moving, or held by another motion task "
+                "(areResourcesAvailable is false), after %g s; nothing was "
+                "sent: let that movement end, or stop it, and run this again"
+                % {STILL_WAIT!r}
+            )
+        before = now
 '''
 
 __all__ = ["STIFFEN_SOURCE", "STIFFEN_TIME"]

@@ -537,3 +537,37 @@ def test_the_start_box_whose_move_another_client_ends_starts_no_timeline(
     assert len(failed) == 1 and isinstance(failed[0], RuntimeError)
     assert str(failed[0]).startswith("the move to the start ended with R")
     assert "nothing of the trajectory was sent" in str(failed[0])
+
+
+def test_the_start_box_leaves_an_arm_another_client_moves_alone(
+    tmp_path: Path,
+) -> None:
+    """Another client's 8 s angleInterpolation moves the arm as the box
+    starts: the box raises after 1 s without sending anything, onStopped
+    never fires, and the other movement plays to its end. The box's move
+    used to cut it off, the arm stopped dead on the simulated NAO."""
+    start = forward("right")
+    trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
+    xml = xml_of(trajectory, frames_from_trajectory(trajectory))
+    names = list(trajectory.joint_names)
+    log = tmp_path / "sim.jsonl"
+    stopped: list[bool] = []
+    with SimProcess(log_path=log) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        other = motion.angleInterpolation(
+            names, rest("right").tolist(), 8.0, True, _async=True
+        )
+        while not [e for e in read_log(log) if e["event"] == "motion"]:
+            time.sleep(0.01)
+        box = script_box(xml, session, lambda: stopped.append(True))
+        with pytest.raises(RuntimeError) as caught:
+            box.onInput_onStart()
+        sent = [e["method"] for e in read_log(log) if e["event"] == "call"]
+        other.wait(15000)
+        assert not other.hasError(), other.error()
+        session.close()
+    assert stopped == []
+    assert str(caught.value).startswith("the arm is moving, or held by another")
+    assert sent == ["angleInterpolation"]  # the other client's

@@ -469,3 +469,33 @@ def test_a_trajectory_another_client_ends_is_not_reported_played(
         "(stopped by another client, or refused by the robot); it was not "
         "played to its end\n"
     )
+
+
+def test_an_arm_another_client_moves_is_left_alone(tmp_path: Path) -> None:
+    """Another client's 8 s angleInterpolation moves the arm as the script
+    starts: the script waits up to 1 s for the arm to be free, then exits 1
+    and sends nothing; the other movement plays to its end. Its move to
+    the start used to cut that movement off, the arm stopped dead and
+    turned within one control cycle on the simulated NAO (a NAO would have
+    postponed it and started from elsewhere than it read)."""
+    names = ["RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "RWristYaw"]
+    with SimProcess(log_path=tmp_path / "sim.jsonl") as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        other = motion.angleInterpolation(
+            names, forward("right").tolist(), 8.0, True, _async=True
+        )
+        logged(sim, lambda e: e["event"] == "motion")
+        code, err = ended(start(script(tmp_path), sim.url), STARTUP + 5.0)
+        sent = calls(sim)
+        other.wait(15000)
+        assert not other.hasError(), other.error()
+        session.close()
+    assert code == 1, err
+    assert err == (
+        "play.py: error: the arm is moving, or held by another motion task "
+        "(areResourcesAvailable is false), after 1 s; nothing was sent: let "
+        "that movement end, or stop it, and run this again\n"
+    )
+    assert [c["method"] for c in sent] == ["angleInterpolation"]  # the other's
