@@ -7,11 +7,13 @@ import json
 import math
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from pathlib import Path
 from typing import Any
 
 from armplan.cli.stdout_guard import discard_stdout
 from shared.errors import ArmplanError
+from shared.output_paths import is_standard_output
 from shared.printable import printable_lines
 
 
@@ -30,6 +32,22 @@ def say(line: str) -> None:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # the rest (and exit's flush) lost
         os.close(devnull)
+
+
+@contextlib.contextmanager
+def apart_from(output: str | Path) -> Iterator[None]:
+    """Print on stderr, in the block, if ``output`` is where stdout goes.
+
+    ``-o /dev/stdout > file`` (or ``| next``): a command's own lines (its
+    summary, its tables) went into the file it wrote, over its first bytes
+    or after them (an MCAP's header overwritten by "/dev/stdout: 1 subject
+    ..."). Checked on entry, before the file is written or replaced.
+    """
+    if not is_standard_output(output):
+        yield
+        return
+    with contextlib.redirect_stdout(sys.stderr):
+        yield
 
 
 def print_json(data: Any) -> None:

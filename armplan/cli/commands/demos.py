@@ -33,7 +33,7 @@ from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from armplan.cli.output import print_json, print_table
+from armplan.cli.output import apart_from, print_json, print_table
 from armplan.cli.parsing import add_json
 from shared.errors import DemoFileError, InvalidInputError
 from shared.text.counted import counted
@@ -109,7 +109,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def run_synth(args: argparse.Namespace) -> int:
-    """Write the synthetic set."""
+    """Write the synthetic set (the summary apart from it: ``apart_from``)."""
+    with apart_from(args.output):
+        return _synth(args)
+
+
+def _synth(args: argparse.Namespace) -> int:
+    """Write the synthetic set; its summary on stdout."""
     from shared.demos import synthesize, write_demos
     from shared.demos.demo_file import SYNTHETIC
     from shared.output_paths import check_output_file
@@ -125,7 +131,13 @@ def run_synth(args: argparse.Namespace) -> int:
 
 
 def run_import(args: argparse.Namespace) -> int:
-    """Read motion capture, retarget, write MCAP."""
+    """Read motion capture, retarget, write MCAP (the summary apart from it)."""
+    with apart_from(args.output):
+        return _import(args)
+
+
+def _import(args: argparse.Namespace) -> int:
+    """Read motion capture, retarget, write MCAP; the summary on stdout."""
     from shared.demos import DemoSet, write_demos
     from shared.demos.c3d_import import read_c3d
     from shared.demos.csv_import import read_csv

@@ -3,18 +3,16 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
 import json
-import sys
 from typing import Any
 
-from armplan.cli.output import print_json
+from armplan.cli.output import apart_from, print_json
 from armplan.cli.parsing import add_json
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.input_files import read_at_most
 from shared.messages import Trajectory, parse
 from shared.messages.base import MAX_RATE, MIN_RATE
-from shared.output_paths import check_output_file, is_standard_output
+from shared.output_paths import check_output_file
 from shared.text.counted import counted
 
 ORDER = 60
@@ -81,8 +79,16 @@ def run(args: argparse.Namespace) -> int:
     """Check the frames against the limits, then write them.
 
     Whole or not at all: a write that fails part-way leaves an older file of
-    that name as it was (``shared.output_paths.write_output_text``).
+    that name as it was (``shared.output_paths.write_output_text``). The
+    summary goes to stderr when the export does to stdout (``apart_from``:
+    ``-o /dev/stdout > play.py`` held both).
     """
+    with apart_from(args.output):
+        return _export(args)
+
+
+def _export(args: argparse.Namespace) -> int:
+    """:func:`run`, its summary on stdout."""
     from bridge import (
         FrameLimits,
         checked_frames,
@@ -107,7 +113,6 @@ def run(args: argparse.Namespace) -> int:
         frames = checked_frames(trajectory, args.rate, limits, behavior=behavior)
     except TrajectoryRefusedError as error:  # the bridge's words are "sent"
         raise error.instead("nothing was written") from None
-    to_stdout = is_standard_output(args.output)  # before the file is replaced
     if args.format == "choregraphe":
         velocities = frame_velocities(trajectory, frames)
         path = write_behavior(frames, args.output, velocities=velocities)
@@ -121,10 +126,7 @@ def run(args: argparse.Namespace) -> int:
         "rate": frames.rate,
         "duration": frames.duration,
     }
-    # The summary apart from the export: -o /dev/stdout > play.py held both.
-    stream = sys.stderr if to_stdout else sys.stdout
-    with contextlib.redirect_stdout(stream):
-        _print_summary(summary, args.json)
+    _print_summary(summary, args.json)
     return 0
 
 

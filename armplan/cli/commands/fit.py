@@ -47,7 +47,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from armplan.cli.output import print_json
+from armplan.cli.output import apart_from, print_json
 from armplan.cli.parsing import add_json
 from armplan.cli.remote import add_remote, check_timeout, is_remote
 from shared.errors import InvalidInputError, RequestTimeoutError
@@ -113,6 +113,12 @@ def run(args: argparse.Namespace) -> int:
     _check_options(args)
     if is_remote(args):
         return _run_remote(args)
+    with apart_from(args.output):  # -o /dev/stdout: the model alone there
+        return _run_local(args)
+
+
+def _run_local(args: argparse.Namespace) -> int:
+    """Read, fit, write the model to ``args.output``, report."""
     from services.fit import fit_model, save_model
     from shared.demos import read_demos
     from shared.demos.paths import check_distinct
