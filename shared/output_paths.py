@@ -59,7 +59,8 @@ def check_output_file(
         field: The option's name, for the error's evidence.
 
     Raises:
-        InvalidInputError: ``output`` is no file name, is a folder, lies in
+        InvalidInputError: ``output`` is no file name (or ``-``, which
+            other tools take for standard output), is a folder, lies in
             a folder that does not exist or cannot be written (a link's
             target, for a link to no file yet), or is one of ``inputs``.
     """
@@ -67,6 +68,12 @@ def check_output_file(
     if not str(output) or path.name in ("", ".", ".."):
         raise InvalidInputError(
             f"output {str(output)!r} is not a file name", field=field
+        )
+    if str(output) == "-":  # the usual "standard output" wrote a file named -
+        raise InvalidInputError(
+            "output '-' would be a file named '-': give /dev/stdout to write "
+            "to standard output (or ./- for a file named -)",
+            field=field,
         )
     problem = _file_problem(path)
     if not problem and path.is_symlink() and not path.exists():  # dangling

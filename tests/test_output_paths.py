@@ -405,3 +405,17 @@ def test_a_read_only_mount_is_named_so(read_only: Path) -> None:
     assert caught.value.message == (
         f"cannot write {read_only / 'model.json'}: Read-only file system"
     )
+
+
+def test_a_dash_for_standard_output_is_refused_with_the_way_to_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``-o -`` (standard output, to most tools) wrote a file named ``-`` in
+    the working folder; it is refused, saying how to write to standard
+    output, and ``./-`` still names such a file on purpose."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(InvalidInputError, match="give /dev/stdout to") as caught:
+        check_output_file("-")
+    assert caught.value.field == "output"
+    assert check_output_file("./-") == Path("-")
+    assert not (tmp_path / "-").exists()
