@@ -209,6 +209,22 @@ def test_missing_or_malformed_file_is_a_typed_error(tmp_path: pathlib.Path) -> N
         load_config(bad)
 
 
+def test_a_file_that_is_no_utf8_text_or_has_no_end_is_a_typed_error(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A config saved as UTF-16 (Windows' "Unicode") ended in a
+    UnicodeDecodeError traceback, and ``--config /dev/zero`` read until a
+    MemoryError: both are a BusConfigError naming the file."""
+    utf16 = tmp_path / "utf16.json5"
+    utf16.write_bytes(pathlib.Path(write(tmp_path)).read_text().encode("utf-16"))
+    with pytest.raises(BusConfigError) as caught:
+        load_config(utf16)
+    assert str(utf16) in str(caught.value)
+    assert "not UTF-8 text (byte 0 is 0xff): save it as UTF-8" in str(caught.value)
+    with pytest.raises(BusConfigError, match=r"cannot read it \(\[Errno 27\] more"):
+        load_config("/dev/zero")
+
+
 def test_keys_live_under_the_namespace() -> None:
     """Routes and liveliness tokens are prefixed by the namespace."""
     assert PLAN.key("armplan") == "armplan/plan"

@@ -18,6 +18,7 @@ import zenoh
 
 from shared.bus.config import BusConfig
 from shared.errors import BusConfigError
+from shared.input_files import read_at_most
 
 #: Environment variable naming the configuration file.
 ENV_CONFIG = "ARMPLAN_ZENOH_CONFIG"
@@ -72,10 +73,7 @@ def load_config(
 
 def _read(path: Path) -> BusConfig:
     source = str(path)
-    try:
-        text = path.read_text()
-    except OSError as error:
-        raise BusConfigError(f"cannot read it ({error})", source=source) from None
+    text = _text(path, source)
     try:
         parsed = zenoh.Config.from_json5(text)
     except zenoh.ZError as error:
@@ -93,6 +91,26 @@ def _read(path: Path) -> BusConfig:
         router_text=text,
         **settings,
     )
+
+
+def _text(path: Path, source: str) -> str:
+    """The file's text: UTF-8, at most ``MAX_INPUT_BYTES`` (16 MiB) of it.
+
+    ``--config /dev/zero`` took memory until a ``MemoryError`` traceback, and
+    a file saved as UTF-16 ended in a ``UnicodeDecodeError`` one.
+    """
+    try:
+        data = read_at_most(path)
+    except OSError as error:
+        raise BusConfigError(f"cannot read it ({error})", source=source) from None
+    try:
+        return data.decode()
+    except UnicodeDecodeError as error:
+        raise BusConfigError(
+            f"not a valid Zenoh config: not UTF-8 text (byte {error.start} is "
+            f"{data[error.start]:#04x}): save it as UTF-8 JSON5",
+            source=source,
+        ) from None
 
 
 def _get(config: zenoh.Config, key: str) -> Any:
