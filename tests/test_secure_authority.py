@@ -102,6 +102,21 @@ def test_a_bad_password_line_is_named_before_any_file_is_written(
     assert [p.name for p in tmp_path.iterdir()] == ["passwords.txt"]
 
 
+def test_a_password_file_that_is_no_text_is_named_before_any_file_is_written(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A passwords.txt saved as UTF-16 ended `armplan certs` in a
+    UnicodeDecodeError traceback."""
+    passwords = tmp_path / "passwords.txt"
+    passwords.write_bytes("planner:abc\n".encode("utf-16"))
+    assert main(["certs", "--out", str(tmp_path)]) == 1
+    assert capsys.readouterr().err == (
+        f"armplan: error: {passwords} is not UTF-8 text (byte 0): it must hold "
+        "user:password lines\n"
+    )
+    assert [p.name for p in tmp_path.iterdir()] == ["passwords.txt"]
+
+
 def test_a_host_the_rerun_leaves_out_is_warned_of(
     tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -25,12 +25,13 @@ def read_passwords(path: Path) -> dict[str, str]:
     """The ``user:password`` lines of ``path`` (empty if it does not exist).
 
     Raises:
-        SecureSetupError: naming the line that is not ``user:password``.
+        SecureSetupError: naming the line that is not ``user:password``, or
+            the file when it cannot be read or is not UTF-8 text.
     """
     if not path.is_file():
         return {}
     passwords = {}
-    for number, line in enumerate(path.read_text().splitlines(), start=1):
+    for number, line in enumerate(_text(path).splitlines(), start=1):
         user, colon, password = line.partition(":")
         if not line.strip():
             continue
@@ -40,6 +41,22 @@ def read_passwords(path: Path) -> dict[str, str]:
             )
         passwords[user] = password
     return passwords
+
+
+def _text(path: Path) -> str:
+    """The file's text; a file saved as UTF-16 ended in a traceback."""
+    try:
+        return path.read_bytes().decode()
+    except OSError as error:
+        raise SecureSetupError(
+            f"cannot read {path}: {error.strerror}", path=str(path)
+        ) from None
+    except UnicodeDecodeError as error:
+        raise SecureSetupError(
+            f"{path} is not UTF-8 text (byte {error.start}): it must hold "
+            "user:password lines",
+            path=str(path),
+        ) from None
 
 
 def complete_passwords(known: dict[str, str], users: Iterable[str]) -> dict[str, str]:
