@@ -7,7 +7,8 @@ config's, or ``--namespace``'s) until SIGTERM or SIGINT (then runs its
 ``stopped`` hook, before the session closes), and exits 0 (at once, also
 while it still waits for the router); it exits 1 with the error on stderr
 if the configuration is wrong (a malformed ``--namespace``, a login other
-than the service's own user included) or no router answers.
+than the service's own user included), no router answers, or the service
+is alive in the namespace already (:mod:`shared.bus.service_alone`).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from shared.bus.process import add_common_arguments, start_process, wait_for
 from shared.bus.process_config import process_config
 from shared.bus.route import Endpoint
 from shared.bus.service import ServiceHost
+from shared.bus.service_alone import check_alone
 from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError, ServiceUnavailableError
 
@@ -93,6 +95,7 @@ def serve(
         )
         config = process_config(args, name)
         with Bus.connect(config, wait=args.wait, stop=stop) as bus:
+            check_alone(bus, name)
             built = factory(bus)
             served = built if isinstance(built, Served) else Served(built)
             try:
