@@ -174,3 +174,18 @@ def test_a_hint_names_at_most_three_namespaces_then_how_many_more() -> None:
     assert elsewhere_hint({"ik": ["lab1"]}) == (
         "; 'ik' is alive in namespace 'lab1' (--namespace lab1)"
     )
+
+
+def test_stop_without_a_bridge_names_the_commands_that_start_one(
+    config: BusConfig,
+) -> None:
+    """``armplan stop`` right after a plain ``armplan up`` (which starts no
+    bridge) asked "is it started, e.g. by `armplan up`?"."""
+    done = armplan("stop", "--connect", config.endpoint, "--namespace", MINE)
+    assert done.returncode == 1
+    assert done.stderr == (
+        f"armplan: error: service 'bridge' is unavailable for {MINE}/bridge/stop: "
+        f"no liveliness token at {MINE}/alive/bridge (is it started, e.g. by "
+        "`armplan up --with-sim` or `armplan up --robot URL`?); the query was "
+        "sent all the same: nothing answered\n"
+    )

@@ -46,6 +46,7 @@ from shared.bus.deadline import budget_attachment
 from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, elsewhere_hint
 from shared.bus.keys import alive_key
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices
+from shared.bus.robot_routes import BRIDGE
 from shared.bus.route import Rep, Route
 from shared.bus.session import has_router
 from shared.errors import (
@@ -314,9 +315,22 @@ def _absent(
         route.service,
         key=key,
         reason=f"no liveliness token at {alive_key(namespace, route.service)} "
-        f"(is it started, e.g. by `armplan up`?){then}{elsewhere_hint(found)}",
+        f"(is it started, e.g. by {_starter(route.service)}?){then}"
+        f"{elsewhere_hint(found)}",
         elsewhere=found,
     )
+
+
+def _starter(service: str) -> str:
+    """The command that starts ``service``, for a hint.
+
+    Plain ``armplan up`` starts no bridge: ``armplan stop`` right after it
+    asked "is it started, e.g. by `armplan up`?" of an operator who had
+    just run that.
+    """
+    if service == BRIDGE:
+        return "`armplan up --with-sim` or `armplan up --robot URL`"
+    return "`armplan up`"
 
 
 def _router_lost(session: zenoh.Session) -> str:
