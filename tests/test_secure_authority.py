@@ -134,3 +134,24 @@ def test_a_host_the_rerun_leaves_out_is_warned_of(
         r"named (.*), which the new one does not", capsys.readouterr().err
     )
     assert dropped is not None and dropped.group(1) == "nao-router"
+
+
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        ("--paths", "--paths is empty: name the folder of the files"),
+        ("--endpoint", "endpoint '' must read PROTO/HOST:PORT"),
+    ],
+)
+def test_an_empty_option_is_refused_not_taken_for_the_default(
+    tmp_path: pathlib.Path,
+    capsys: pytest.CaptureFixture[str],
+    option: str,
+    message: str,
+) -> None:
+    """``--paths "$DEST"`` with DEST unset wrote the --out folder's paths
+    into every configuration, and ``--endpoint ""`` made a bundle for
+    tls/127.0.0.1:7447, both without a word."""
+    assert main(["certs", "--out", str(tmp_path), option, ""]) == 1
+    assert message in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []

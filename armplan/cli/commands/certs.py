@@ -80,8 +80,14 @@ def run(args: argparse.Namespace) -> int:
 
     folder = check_output_folder(args.out)
     compose = bool(args.compose)
-    endpoint = args.endpoint or (TEMPLATE_ENDPOINT if compose else DEFAULT_ENDPOINT)
-    paths = args.paths or (TEMPLATE_PATHS if compose else None)
+    # an empty value given (`--paths "$DEST"`, DEST unset) is refused, not
+    # taken for the option left out
+    endpoint = args.endpoint
+    if endpoint is None:
+        endpoint = TEMPLATE_ENDPOINT if compose else DEFAULT_ENDPOINT
+    paths = args.paths
+    if paths is None and compose:
+        paths = TEMPLATE_PATHS
     bundle = write_bundle(
         folder,
         endpoint=endpoint,
