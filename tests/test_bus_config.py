@@ -223,6 +223,9 @@ def test_a_file_that_is_no_utf8_text_or_has_no_end_is_a_typed_error(
     assert "not UTF-8 text (byte 0 is 0xff): save it as UTF-8" in str(caught.value)
     with pytest.raises(BusConfigError, match=r"cannot read it \(\[Errno 27\] more"):
         load_config("/dev/zero")
+    # an empty name (`--config "$FILE"`, FILE unset) was the folder "."
+    with pytest.raises(BusConfigError, match="the file name given is empty"):
+        load_config("")
 
 
 def test_keys_live_under_the_namespace() -> None:

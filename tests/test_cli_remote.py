@@ -122,3 +122,15 @@ def test_a_swivel_a_joint_limit_stops_short_is_an_error() -> None:
     )
     assert "RElbowYaw is on its limit 2.08567 rad" in out.stderr
     assert '"kind": "swivel_not_reached"' in out.stdout
+
+
+def test_an_empty_zenoh_config_is_refused_not_run_in_process() -> None:
+    """``--zenoh-config "$FILE"`` with FILE unset implies --remote as any
+    file does: it solved in-process and exited 0, with no word."""
+    done = armplan("ik", "--target", "0.12", "-0.13", "0.05", "--zenoh-config", "")
+    assert done.returncode == 1
+    assert done.stdout == ""
+    assert done.stderr == (
+        "armplan: error: Zenoh configuration '': the file name given is empty: "
+        "name a JSON5 file, or leave the option out for the default\n"
+    )

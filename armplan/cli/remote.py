@@ -47,7 +47,10 @@ def add_remote(parser: argparse.ArgumentParser) -> None:
 def is_remote(args: argparse.Namespace) -> bool:
     """Whether the command goes to the services (``--namespace`` too)."""
     return bool(
-        args.remote or args.connect or args.zenoh_config or args.namespace is not None
+        args.remote
+        or args.connect
+        or args.zenoh_config is not None  # an empty name is refused, not local
+        or args.namespace is not None
     )
 
 

@@ -42,8 +42,19 @@ _KINDS: dict[type | tuple[type, ...], str] = {
 
 
 def config_path(path: str | Path | None = None) -> Path | None:
-    """The configuration file to read, or ``None`` for the built-in defaults."""
+    """The configuration file to read, or ``None`` for the built-in defaults.
+
+    Raises:
+        BusConfigError: ``path`` is an empty name (``--config "$FILE"``, FILE
+            unset), which ``Path`` reads as ``.``, the folder.
+    """
     if path is not None:
+        if not str(path).strip():
+            raise BusConfigError(
+                "the file name given is empty: name a JSON5 file, or leave the "
+                "option out for the default",
+                source="''",
+            )
         return Path(path)
     if os.environ.get(ENV_CONFIG):
         return Path(os.environ[ENV_CONFIG])
