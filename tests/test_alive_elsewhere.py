@@ -186,6 +186,6 @@ def test_stop_without_a_bridge_names_the_commands_that_start_one(
     assert done.stderr == (
         f"armplan: error: service 'bridge' is unavailable for {MINE}/bridge/stop: "
         f"no liveliness token at {MINE}/alive/bridge (is it started, e.g. by "
-        "`armplan up --with-sim` or `armplan up --robot URL`?); the query was "
-        "sent all the same: nothing answered\n"
+        "`armplan up --with-sim`, `armplan up --robot URL` or `python -m "
+        "bridge.serve`?); the query was sent all the same: nothing answered\n"
     )

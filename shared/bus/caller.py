@@ -326,10 +326,13 @@ def _starter(service: str) -> str:
 
     Plain ``armplan up`` starts no bridge: ``armplan stop`` right after it
     asked "is it started, e.g. by `armplan up`?" of an operator who had
-    just run that.
+    just run that; a secured bridge runs as ``python -m bridge.serve``.
     """
     if service == BRIDGE:
-        return "`armplan up --with-sim` or `armplan up --robot URL`"
+        return (
+            "`armplan up --with-sim`, `armplan up --robot URL` or "
+            "`python -m bridge.serve`"
+        )
     return "`armplan up`"
 
 
