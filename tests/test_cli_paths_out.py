@@ -150,12 +150,13 @@ def test_faults_overwrite_clears_an_earlier_runs_files_only(here: Path) -> None:
     assert left == ["logs", "notes.txt", "zenoh.json5"]
 
 
-@pytest.mark.parametrize("host", ["", "bad host", "under_score"])
+@pytest.mark.parametrize("host", ["", "bad host", "under_score", "999.1.1.1", "10.0.0"])
 def test_a_bad_host_writes_nothing(
     host: str, here: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """certs --host checks every name before the authority is made (ca.key
-    and ca.pem were left behind)."""
+    and ca.pem were left behind); a mistyped IPv4 address (999.1.1.1) was
+    taken for a DNS name."""
     code, err = armplan(capsys, "certs", "--out", "c3", "--host", host)
     assert code == 1
     assert err == (

@@ -53,7 +53,9 @@ def check_host(host: str) -> str:
     try:
         ipaddress.ip_address(host)
     except ValueError:
-        if not _HOSTNAME.match(host):
+        # a last label all digits is no DNS name (RFC 3696, 2): 999.1.1.1 is
+        # a mistyped address, which no client's name would ever match
+        if not _HOSTNAME.match(host) or host.rsplit(".", 1)[-1].isdigit():
             raise SecureSetupError(
                 f"host {host!r} is neither a DNS name nor an IP address"
             ) from None
