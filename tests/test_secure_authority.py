@@ -58,6 +58,24 @@ def test_a_key_without_its_ca_is_not_replaced(
     )
 
 
+@pytest.mark.parametrize("name", ["ca.pem", "ca.key"])
+def test_a_folder_in_the_authoritys_place_is_named_as_such(
+    name: str, tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A folder named ca.pem, ca.key beside it or not, was "ca.pem exists
+    without ca.key" (or, with both, a bundle signed by nothing openssl could
+    read); it is named for what it is, and nothing is written."""
+    out = tmp_path / "c"
+    (out / name).mkdir(parents=True)
+    assert main(["certs", "--out", str(out)]) == 1
+    what = "certificate" if name == "ca.pem" else "key"
+    assert capsys.readouterr().err == (
+        f"armplan: error: {out / name} is not a file (a folder?): it must be the "
+        f"authority's {what}; remove it or give another --out\n"
+    )
+    assert [p.name for p in out.iterdir()] == [name]
+
+
 def test_with_its_key_the_authority_is_kept(
     machine_b: pathlib.Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

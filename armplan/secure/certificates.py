@@ -138,8 +138,18 @@ def check_no_half_authority(certificate: Path, key: Path) -> None:
     a new authority, and that machine no longer trusted the others' routers.
 
     Raises:
-        SecureSetupError: naming the file that is there and the one missing.
+        SecureSetupError: naming the file that is there and the one missing,
+            or the one that is not a file (a folder ``ca.pem`` was "ca.pem
+            exists without ca.key", with ca.key beside it).
     """
+    for path in (certificate, key):
+        if path.exists() and not path.is_file():
+            raise SecureSetupError(
+                f"{path} is not a file (a folder?): it must be the authority's "
+                f"{'certificate' if path == certificate else 'key'}; remove it "
+                "or give another --out",
+                path=str(path),
+            )
     if certificate.exists() and not key.exists():
         raise SecureSetupError(
             f"{certificate} exists without {key.name}: its key is needed to sign "
