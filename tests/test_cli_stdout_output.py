@@ -61,6 +61,19 @@ def test_demos_written_to_a_redirected_stdout_are_the_file_alone(
     assert len(read_demos([redirected]).trials) == 16
 
 
+def test_demos_written_into_a_pipe_are_the_file_alone(
+    demos: Path, tmp_path: Path
+) -> None:
+    """Into a pipe (``-o /dev/stdout | ssh host 'cat > d.mcap'``): the same
+    bytes as ``-o FILE``. The MCAP writer's seek failed there: the pipe got
+    the file's first 39 bytes and the command exited 1, "cannot write
+    /dev/stdout: Illegal seek"."""
+    piped = armplan(*SYNTH, "-o", "/dev/stdout")
+    assert piped.returncode == 0, piped.stderr
+    assert piped.stdout == demos.read_bytes()
+    assert piped.stderr.decode().startswith("/dev/stdout: 1 subject, 16 trials")
+
+
 def test_a_model_fitted_into_a_pipe_is_the_model_alone(
     demos: Path, tmp_path: Path
 ) -> None:

@@ -13,6 +13,9 @@ is wrong.
 
 from __future__ import annotations
 
+import shutil
+import stat
+import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, TypeVar
@@ -56,7 +59,8 @@ def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
     The file is written under a ``.partial`` name and renamed when complete,
     so a failure leaves no half-written file (and an older file intact); a
     link's target is the file replaced, and a path that is no regular file
-    (``/dev/null``) is written into (``shared.output_paths.written_whole``).
+    (``/dev/null``) is written into (``shared.output_paths.written_whole``);
+    a pipe by way of a temporary file (``_write_into``).
 
     Args:
         path: File to create (overwritten).
@@ -80,11 +84,29 @@ def write_demos(path: str | Path, demos: DemoSet, source: str = "") -> int:
     people = [_subject_message(s, source, path) for s in demos.subjects.values()]
     try:
         with written_whole(path) as partial:  # a device or FIFO: into it
-            count = _write(partial, people, demos.trials)
+            count = _write_into(partial, people, demos.trials)
     except OSError as exc:
         raise RecordingError(
             f"cannot write {path}: {exc.strerror}", path=str(path)
         ) from None
+    return count
+
+
+def _write_into(path: Path, people: list[DemoSubject], trials: list[Trial]) -> int:
+    """:func:`_write` into ``path``; into a pipe, by way of a temporary file.
+
+    An MCAP writer seeks (``tell``) for its summary, which a pipe refuses:
+    ``demos synth -o /dev/stdout | cat > d.mcap`` sent the pipe the file's
+    first 39 bytes, then failed "cannot write /dev/stdout: Illegal seek".
+    The file is now written whole first, then copied into the pipe.
+    """
+    if not (path.exists() and stat.S_ISFIFO(path.stat().st_mode)):
+        return _write(path, people, trials)
+    with tempfile.TemporaryDirectory(prefix="armplan-demos-") as folder:
+        whole = Path(folder) / "demos.mcap"
+        count = _write(whole, people, trials)
+        with whole.open("rb") as source, path.open("wb") as sink:
+            shutil.copyfileobj(source, sink)
     return count
 
 
