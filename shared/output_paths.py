@@ -35,14 +35,15 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return False
 
 
-def is_standard_output(path: str | Path) -> bool:
+def is_standard_output(path: str | Path, fd: int = 1) -> bool:
     """Whether ``path`` is the file this process's standard output writes to.
 
     ``-o /dev/stdout``, or the file or pipe stdout is redirected to: a
     command that also prints there would mix its own lines into the file.
+    ``fd`` 2 asks it of standard error (``> play.py 2>&1``).
     """
     try:
-        ours, theirs = os.fstat(1), os.stat(path)
+        ours, theirs = os.fstat(fd), os.stat(path)
     except OSError:  # stdout closed, or no such file yet
         return False
     return (ours.st_dev, ours.st_ino) == (theirs.st_dev, theirs.st_ino)

@@ -220,3 +220,25 @@ def test_an_export_to_standard_output_holds_the_export_alone(
         assert json.loads(summary)["path"] == "/dev/stdout"
     else:
         assert summary.startswith("wrote /dev/stdout: 15 frames at 25 fps")
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_an_export_to_stdout_with_stderr_there_too_holds_the_export_alone(
+    fmt: str, source: Path, tmp_path: Path
+) -> None:
+    """``-o /dev/stdout > play.py 2>&1``: play.py holds the export alone.
+    The summary, moved to standard error, went into the file all the same,
+    over the script's first line (a syntax error); it is now dropped."""
+    direct = tmp_path / "direct.out"
+    assert main(["export", fmt, str(source), "-o", str(direct)]) == 0
+    both = tmp_path / "both.out"
+    command = [sys.executable, "-m", "armplan", "export", fmt, str(source)]
+    with both.open("w") as out:
+        done = subprocess.run(
+            [*command, "-o", "/dev/stdout"],
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            timeout=120,
+        )
+    assert done.returncode == 0
+    assert both.read_bytes() == direct.read_bytes()

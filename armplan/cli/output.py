@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import io
 import json
 import math
 import os
@@ -42,11 +43,14 @@ def apart_from(output: str | Path) -> Iterator[None]:
     summary, its tables) went into the file it wrote, over its first bytes
     or after them (an MCAP's header overwritten by "/dev/stdout: 1 subject
     ..."). Checked on entry, before the file is written or replaced.
+    With stderr there too (``-o /dev/stdout > play.py 2>&1``) the lines
+    are dropped: on stderr they overwrote the script's first line.
     """
     if not is_standard_output(output):
         yield
         return
-    with contextlib.redirect_stdout(sys.stderr):
+    both = is_standard_output(output, fd=2)
+    with contextlib.redirect_stdout(io.StringIO() if both else sys.stderr):
         yield
 
 
