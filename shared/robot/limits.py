@@ -61,11 +61,14 @@ class JointLimits(NamedTuple):
     def _hint(self, q: np.ndarray) -> str:
         """``"; it looks like degrees ..."`` if ``q`` (shape (n,)) would fit so.
 
-        Said only if an angle is beyond a turn (no NAO joint's range is) and
-        every angle read as degrees lies in its range: ``--start 90 -10 45
-        30 0`` was refused as "90 rad" with no word of the likely slip.
+        Said only if two angles or more are beyond a turn (no NAO joint's
+        range is) and every angle read as degrees lies in its range:
+        ``--start 90 -10 45 30 0`` was refused as "90 rad" with no word of
+        the likely slip. One such angle is a typo more likely than degrees
+        (``1.5 -0.2 0.5 8 0``: read as degrees, every angle but the elbow
+        roll's would be near 0).
         """
-        if len(q) != len(self.names) or not np.any(np.abs(q) > 2.0 * np.pi):
+        if len(q) != len(self.names) or np.sum(np.abs(q) > 2.0 * np.pi) < 2:
             return ""
         radians = np.deg2rad(q)
         if not self.contains(radians):
