@@ -5,11 +5,15 @@ Real router and service processes on a free loopback port.
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import sys
+import time
+from pathlib import Path
 
 from armplan.launch import Launcher, free_endpoint
-from shared.bus import Bus, load_config
+from services.recorder import RecorderProcess
+from shared.bus import Bus, BusConfig, load_config, open_router
 
 #: Longest wait for a service process to give up [s].
 EXIT_TIMEOUT = 60.0
@@ -39,3 +43,37 @@ def test_a_second_service_in_the_namespace_refuses_to_start() -> None:
         assert stack.exited() == []
         with Bus.connect(config) as bus:
             assert "timing" in bus.alive()
+
+
+def test_a_killed_service_started_again_at_once_is_not_refused() -> None:
+    """``armplan faults`` SIGKILLs a service and starts it again at once: the
+    router drops the dead one's token when its connection closes (about
+    20 ms on loopback), long before the new process has started and asks,
+    so the new one serves."""
+    config = load_config(None, (free_endpoint(),))
+    with Launcher(config, ["timing"]) as stack:
+        killed = stack.services["timing"]
+        killed.signal(signal.SIGKILL)
+        killed.process.wait(EXIT_TIMEOUT)
+        again = stack.start_service("timing")
+        with Bus.connect(config) as bus:
+            assert bus.wait_alive(["timing"], EXIT_TIMEOUT) == []
+            assert again.process.poll() is None
+            # it is the new one that holds the token, and it stays
+            time.sleep(1.0)
+            assert again.process.poll() is None
+            assert "timing" in bus.alive()
+
+
+def test_recorders_run_side_by_side_in_one_namespace(tmp_path: Path) -> None:
+    """The recorder answers no request and publishes nothing: a second one
+    (on machine B beside A's, each into its own file) is no duplicate
+    answer, so it does not go through ``check_alone``."""
+    config = BusConfig(endpoints=(free_endpoint(),))
+    with (
+        open_router(config),
+        RecorderProcess.start(config, tmp_path / "a.mcap") as first,
+        RecorderProcess.start(config, tmp_path / "b.mcap") as second,
+    ):
+        assert first.process.poll() is None
+        assert second.process.poll() is None
