@@ -40,6 +40,7 @@ def test_a_second_service_in_the_namespace_refuses_to_start() -> None:
             "(armplan/alive/timing is held by another process): two timing "
             "services in one namespace would each answer every request"
         ) in second.stderr
+        assert "planner" not in second.stderr  # it spoke of planners for all
         assert stack.exited() == []
         with Bus.connect(config) as bus:
             assert "timing" in bus.alive()

@@ -29,6 +29,12 @@ def check_alone(bus: Bus, name: str) -> None:
             name,
             key=alive_key(bus.config.namespace, name),
             why=f"two {name} services in one namespace would each answer every "
-            "request (two planners publish every plan twice for a following "
-            "robot)",
+            f"request{_HARM.get(name, '')}",
         )
+
+
+#: What two of a service would do beyond answering twice, by service.
+_HARM = {
+    "planner": " (and publish every plan twice for a following robot)",
+    "fit": " (and each fit and publish every model)",
+}
