@@ -141,5 +141,6 @@ def test_a_refused_look_elsewhere_leaves_the_hint_out(
         client.call(IK_SOLVE, IKRequest(target=(0.12, -0.13, 0.05)), timeout=2.0)
     assert info.value.elsewhere == {}
     assert info.value.reason == (
-        f"no liveliness token at {NS}/alive/ik (is it started, e.g. by `armplan up`?)"
+        f"no liveliness token at {NS}/alive/ik (is it started, e.g. by `armplan "
+        "up` or `python -m services.ik`?)"
     )

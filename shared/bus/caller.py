@@ -326,14 +326,16 @@ def _starter(service: str) -> str:
 
     Plain ``armplan up`` starts no bridge: ``armplan stop`` right after it
     asked "is it started, e.g. by `armplan up`?" of an operator who had
-    just run that; a secured bridge runs as ``python -m bridge.serve``.
+    just run that; a secured bridge runs as ``python -m bridge.serve``, and
+    a secured service as ``python -m services.<name>`` (``armplan up``
+    refuses a secured set).
     """
     if service == BRIDGE:
         return (
             "`armplan up --with-sim`, `armplan up --robot URL` or "
             "`python -m bridge.serve`"
         )
-    return "`armplan up`"
+    return f"`armplan up` or `python -m services.{service}`"
 
 
 def _router_lost(session: zenoh.Session) -> str:
