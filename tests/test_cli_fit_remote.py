@@ -20,6 +20,7 @@ import pytest
 
 from armplan.cli.main import main
 from armplan.launch import Launcher, free_endpoint
+from armplan.launch.child import Child
 from services.fit import default_model
 from services.fit.demo_dir import DEMOS_DIR_ENV
 from services.fit.model_state import digest
@@ -157,13 +158,21 @@ def test_options_that_do_not_go_together_are_refused(
     assert words in err
 
 
-def _interrupt_when_asking(main: threading.Thread) -> None:
-    """SIGINT to ``main`` once it waits for an answer in the bus's caller."""
+def _interrupt_when_asking(main: threading.Thread, fit: Child) -> None:
+    """SIGINT to ``main`` once it waits for an answer in the bus's caller.
+
+    The fit service is paused (SIGSTOP) first, so that a quick fit cannot
+    end before the Ctrl-C; only then, for 0.2 s and not from before the
+    client connects: paused for Zenoh's lease (10 s) under a loaded CI
+    machine, the service was taken for dead and the query ended with no
+    answer ("no queryable answered", exit 1).
+    """
     for _ in range(6000):
         frame = sys._current_frames().get(main.ident or 0)
         while frame is not None and frame.f_code.co_name != "_ask":
             frame = frame.f_back
         if frame is not None and frame.f_code.co_filename.endswith("caller.py"):
+            fit.signal(signal.SIGSTOP)
             time.sleep(0.2)  # the query is out
             signal.pthread_kill(main.ident or 0, signal.SIGINT)
             return
@@ -177,15 +186,14 @@ def test_ctrl_c_during_a_remote_fit_abandons_it(
     abandons the fit, and it does: once it is no longer fitting, the model
     served is the one before. (The service used to go on and serve that
     model, and the command warned that it would.) The fit service is paused
-    (SIGSTOP) until the client has been interrupted: a quick fit could
-    otherwise end before the Ctrl-C."""
+    (SIGSTOP) from the query until the client has been interrupted: a quick
+    fit could otherwise end before the Ctrl-C."""
     before = served(stack)
     where = ["--connect", stack.config.endpoint, "--timeout", "120"]
-    watcher = threading.Thread(
-        target=_interrupt_when_asking, args=(threading.main_thread(),)
-    )
     fit = stack.services["fit"]
-    fit.signal(signal.SIGSTOP)
+    watcher = threading.Thread(
+        target=_interrupt_when_asking, args=(threading.main_thread(), fit)
+    )
     try:
         watcher.start()
         code, out, err = run(capsys, DEMOS, *where)
