@@ -163,11 +163,13 @@ def test_a_stage_slower_than_the_configs_timeout_is_waited_for(
     """The planner gave each stage at most the configuration's 5 s, whatever
     its caller waited: with timing held up 7 s, a --timeout 30 plan failed
     at 5 s ("service 'timing' did not answer"). Now the stage waits what
-    the caller has left, and the plan is the one asked without a pause."""
+    the caller has left, and the plan is the one asked without a pause.
+    Held 6 s (it was 7): well inside Zenoh's 10 s lease, after which a
+    frozen service is taken for dead and its query ends unanswered."""
     where = ["--connect", stack.config.endpoint]
     timing = stack.services["timing"].process.pid
     os.kill(timing, signal.SIGSTOP)
-    resume = threading.Timer(7.0, os.kill, (timing, signal.SIGCONT))
+    resume = threading.Timer(6.0, os.kill, (timing, signal.SIGCONT))
     resume.start()
     try:
         held = run(capsys, "--target", *AT_GOAL, "--json", *where, "--timeout", "30")
