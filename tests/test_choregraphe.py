@@ -8,7 +8,7 @@ import time
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import pytest
@@ -256,6 +256,45 @@ def test_the_start_box_brings_the_arm_to_the_start_on_the_simulated_nao(
     assert [e["event"] for e in read_log(log)].count("refused") == 0
 
 
+class RunningBox(NamedTuple):
+    """A script box started on its own thread, and what it did.
+
+    Attributes:
+        box: The box.
+        runner: The thread running its ``onInput_onStart``.
+        stopped: One ``True`` per ``onStopped`` it fired (the timeline's start).
+        failed: What its ``onInput_onStart`` raised, if anything.
+    """
+
+    box: Any
+    runner: threading.Thread
+    stopped: list[bool]
+    failed: list[BaseException]
+
+
+def start_box_moving(xml: str, session: Any, log: Path) -> RunningBox:
+    """The box of ``xml`` started; returned 0.3 s after its move to the start
+    took effect on the simulated NAO logging to ``log``."""
+    stopped: list[bool] = []
+    failed: list[BaseException] = []
+    box = script_box(xml, session, lambda: stopped.append(True))
+
+    def start_box() -> None:
+        try:
+            box.onInput_onStart()
+        except BaseException as error:  # the caller checks it
+            failed.append(error)
+
+    runner = threading.Thread(target=start_box)
+    runner.start()
+    deadline = time.monotonic() + 5.0
+    while not [e for e in read_log(log) if e["event"] == "motion"][1:]:
+        assert time.monotonic() < deadline, "the move never took effect"
+        time.sleep(0.01)
+    time.sleep(0.3)
+    return RunningBox(box, runner, stopped, failed)
+
+
 def test_the_start_box_stopped_on_the_way_ends_the_move_and_not_the_timeline(
     tmp_path: Path,
 ) -> None:
@@ -271,35 +310,19 @@ def test_the_start_box_stopped_on_the_way_ends_the_move_and_not_the_timeline(
     names = list(trajectory.joint_names)
     first_key = [timeline_from_xml(xml).angles(name)[0] for name in names]
     log = tmp_path / "sim.jsonl"
-    stopped: list[bool] = []
-    failed: list[BaseException] = []
     with SimProcess(log_path=log) as sim:
         session = qi.Session()
         session.connect(sim.url)
         motion = session.service("ALMotion")
-
-        box = script_box(xml, session, lambda: stopped.append(True))
-
-        def start_box() -> None:
-            try:
-                box.onInput_onStart()
-            except BaseException as error:  # reported below
-                failed.append(error)
-
-        runner = threading.Thread(target=start_box)
-        runner.start()
-        deadline = time.monotonic() + 5.0
-        while not [e for e in read_log(log) if e["event"] == "motion"][1:]:
-            assert time.monotonic() < deadline, "the move never took effect"
-            time.sleep(0.01)
-        time.sleep(0.3)
-        box.onInput_onStop()
-        runner.join(5.0)
+        running = start_box_moving(xml, session, log)
+        running.box.onInput_onStop()
+        running.runner.join(5.0)
         held = motion.getAngles(names, False)
         time.sleep(0.2)
         still = motion.getAngles(names, False)
         session.close()
-    assert not runner.is_alive() and failed == [] and stopped == []
+    assert not running.runner.is_alive()
+    assert running.failed == [] and running.stopped == []
     assert np.abs(np.subtract(held, first_key)).max() > 0.3  # far from the start
     np.testing.assert_allclose(still, held, atol=1e-9)  # and holding there
     events = read_log(log)
@@ -509,31 +532,16 @@ def test_the_start_box_whose_move_another_client_ends_starts_no_timeline(
     trajectory = minimum_jerk_trajectory("right", [start, start + 0.2], [0.6])
     xml = xml_of(trajectory, frames_from_trajectory(trajectory))
     log = tmp_path / "sim.jsonl"
-    stopped: list[bool] = []
-    failed: list[BaseException] = []
     with SimProcess(log_path=log, killed_calls_return=True) as sim:
         session = qi.Session()
         session.connect(sim.url)
         motion = session.service("ALMotion")
-        box = script_box(xml, session, lambda: stopped.append(True))
-
-        def start_box() -> None:
-            try:
-                box.onInput_onStart()
-            except BaseException as error:  # checked below
-                failed.append(error)
-
-        runner = threading.Thread(target=start_box)
-        runner.start()
-        deadline = time.monotonic() + 5.0
-        while not [e for e in read_log(log) if e["event"] == "motion"][1:]:
-            assert time.monotonic() < deadline, "the move never took effect"
-            time.sleep(0.01)
-        time.sleep(0.3)
+        running = start_box_moving(xml, session, log)
         motion.killAll()
-        runner.join(5.0)
+        running.runner.join(5.0)
         session.close()
-    assert not runner.is_alive() and stopped == []
+    failed = running.failed
+    assert not running.runner.is_alive() and running.stopped == []
     assert len(failed) == 1 and isinstance(failed[0], RuntimeError)
     assert str(failed[0]).startswith("the move to the start ended with R")
     assert "nothing of the trajectory was sent" in str(failed[0])
