@@ -363,3 +363,25 @@ def test_a_default_state_dir_that_cannot_keep_the_model_is_warned_of(
         f"a fitted model will be served but not kept for a restart: {missing}: "
         "no such folder (give --state-dir DIR)" in out.stderr
     )
+
+
+def test_namespace_option_names_the_state_file(
+    fitted: MotionModel, tmp_path: pathlib.Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """``python -m services.fit --namespace lab/nao1`` (as ``armplan up
+    --namespace lab/nao1`` starts it) keeps its own state file: it read the
+    namespace from the file alone, so it served, and overwrote, the default
+    namespace's ``armplan-fit-model.json``."""
+    from services.fit.service import OPTIONS
+    from shared.bus.runner import _parser
+
+    save_model(fitted, tmp_path / STATE_FILE)
+    parser = _parser("fit")
+    OPTIONS.add(parser)
+    args = parser.parse_args(["--namespace", "lab/nao1", "--state-dir", str(tmp_path)])
+    with caplog.at_level("WARNING"):
+        OPTIONS.endpoints(args)
+    own = "armplan-fit-model.lab.nao1.json"
+    assert f"this fit service (namespace 'lab/nao1') keeps its model in {own}" in (
+        caplog.text
+    )

@@ -29,7 +29,8 @@ from services.fit.model_state import (
     start_model,
     state_file,
 )
-from shared.bus import Bus, Endpoint, load_config
+from shared.bus import Bus, Endpoint
+from shared.bus.options import bus_config
 from shared.bus.routes import FIT, FIT_MODEL
 from shared.bus.runner import EndpointsFactory, Options, Served
 
@@ -61,7 +62,7 @@ def factory(args: argparse.Namespace) -> EndpointsFactory:
         BusConfigError: the configuration (its namespace names the state
             file) is wrong.
     """
-    namespace = load_config(args.config).namespace
+    namespace = bus_config(args).namespace  # --namespace too, as up passes it
     state_dir = Path(args.state_dir) if args.state_dir else demos_dir()
     check_state_dir(state_dir, given=args.state_dir is not None)
     state = state_file(state_dir, namespace)
