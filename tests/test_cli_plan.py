@@ -337,6 +337,17 @@ def test_the_table_and_summary(capsys: pytest.CaptureFixture[str]) -> None:
     assert error is not None and float(error[1]) < 1.0
 
 
+def test_a_plan_with_nothing_to_move_is_one_sample(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A target where the arm already is gives one sample (the arm stays,
+    docs/planning.md); the summary said "1 samples"."""
+    arm = load_arm("right")
+    here = [str(float(v)) for v in arm.fk(rest("right")).wrist]
+    assert main(["plan", "--target", *here]) == 0
+    assert "duration 0.000 s, 1 sample (100 Hz" in capsys.readouterr().out
+
+
 def test_the_end_posture_line_is_the_next_plans_start(
     capsys: pytest.CaptureFixture[str],
 ) -> None:

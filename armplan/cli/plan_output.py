@@ -16,6 +16,7 @@ from armplan.cli.output import print_json, print_table
 from armplan.cli.palm_line import palm_line
 from shared.messages import PalmReached, PlanRequest, Trajectory
 from shared.robot import Side, load_arm
+from shared.text.counted import counted
 
 #: The table shows every ``EVERY``-th sample, and the last.
 EVERY = 10
@@ -132,7 +133,7 @@ def print_summary(
             speed += f", each reach lengthened to whole {period:g} s samples"
         pace = f"{request.rate:g} Hz, {speed}"
     lines = [
-        f"duration {summary.duration:.3f} s, {n} samples ({pace}); "
+        f"duration {summary.duration:.3f} s, {counted(n, 'sample')} ({pace}); "
         f"method {trajectory.method.value}",
         "primitives in order: " + " -> ".join(summary.primitives),
     ]
