@@ -233,7 +233,10 @@ def _run_remote(args: argparse.Namespace) -> int:
             )
             timeout = REMOTE_TIMEOUT if args.timeout is None else args.timeout
             try:
-                model = bus.call(FIT, request, timeout=timeout)
+                # repeat: a query that ended reaching no one (Zenoh's empty
+                # route just after a session starts) is asked again; one
+                # asked again while the fit runs joins it (its call id)
+                model = bus.call(FIT, request, timeout=timeout, repeat=True)
             except KeyboardInterrupt:  # Ctrl-C, SIGTERM, SIGHUP
                 _say_fit_abandoned()
                 raise
