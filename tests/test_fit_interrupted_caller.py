@@ -23,6 +23,7 @@ import pytest
 import zenoh
 
 from armplan.launch import Launcher
+from armplan.launch.child import Child
 from shared.bus import Bus, NoArguments
 from shared.bus.keys import caller_pattern
 from shared.bus.routes import FIT, FIT_MODEL, MODEL_TOPIC
@@ -86,6 +87,20 @@ def wait_for(condition: str, check: Callable[[], object]) -> None:
         time.sleep(0.1)
 
 
+def pause_when_fitting(launched: Launcher, bus: Bus, callers: Callers) -> Child:
+    """The fit service, paused (SIGSTOP) once its caller's fit runs.
+
+    The caller is seen connect first and given 0.5 s for its query to go
+    out: a probe sent before it would take the fit's turn.
+    """
+    wait_for("saw the caller connect", lambda: callers.came)
+    time.sleep(0.5)
+    wait_for("saw the caller's fit run", lambda: fitting(bus))
+    fit = launched.services["fit"]
+    fit.signal(signal.SIGSTOP)
+    return fit
+
+
 @pytest.mark.parametrize(
     ("stop", "code"),
     [(signal.SIGINT, 130), (signal.SIGKILL, -signal.SIGKILL)],
@@ -114,11 +129,7 @@ def test_a_fit_whose_caller_was_interrupted_is_abandoned(
                 stderr=subprocess.PIPE,
                 text=True,
             )
-            wait_for("saw the client connect", lambda: callers.came)
-            time.sleep(0.5)  # its query is out: no probe takes the fit's turn
-            wait_for("saw the client's fit run", lambda: fitting(bus))
-            fit = launched.services["fit"]
-            fit.signal(signal.SIGSTOP)
+            fit = pause_when_fitting(launched, bus, callers)
             try:
                 client.send_signal(stop)
                 _, err = client.communicate(timeout=WAIT)
@@ -168,11 +179,7 @@ def test_a_fit_whose_caller_timed_out_then_left_says_it_stopped_waiting(
         asking = threading.Thread(target=ask)
         try:
             asking.start()
-            wait_for("saw the caller connect", lambda: callers.came)
-            time.sleep(0.5)  # its query is out: no probe takes the fit's turn
-            wait_for("saw the caller's fit run", lambda: fitting(bus))
-            fit = launched.services["fit"]
-            fit.signal(signal.SIGSTOP)
+            fit = pause_when_fitting(launched, bus, callers)
             try:
                 asking.join(WAIT)
                 assert timed_out, "the caller did not time out"
