@@ -11,6 +11,7 @@ import signal
 import struct
 import subprocess
 import sys
+import threading
 import time
 
 import ezc3d
@@ -18,7 +19,7 @@ import numpy as np
 import pytest
 
 from shared.demos.c3d_import import read_c3d
-from shared.demos.c3d_reading import read_c3d_file
+from shared.demos.c3d_reading import CHILD, read_c3d_file
 from shared.demos.markers import MarkerMap
 from shared.errors import DemoFileError
 from tests.test_demos_c3d import MAP, MAP_NAMES, write_reach_c3d
@@ -185,3 +186,41 @@ def test_the_reader_ends_with_an_importer_killed_alone(tmp_path: pathlib.Path) -
         for child in children:  # an orphan of the old code, whoever adopted it
             if _alive(child):
                 os.kill(child, signal.SIGKILL)
+
+
+def test_the_reader_is_a_new_program_not_a_copy_of_the_importer(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A fork copies the locks the importer's other threads hold (this test
+    runner's, Zenoh's, libqi's) with no one left to free them: a forked
+    reader of a pytest-xdist worker answered nothing for 60 s. The reader
+    runs ``c3d_child.py`` in a new interpreter, here caught waiting on a
+    FIFO while this process runs another thread, then killed: named."""
+    fifo = tmp_path / "never.c3d"
+    os.mkfifo(fifo)
+    failed: list[DemoFileError] = []
+
+    def read() -> None:
+        with pytest.raises(DemoFileError) as caught:
+            read_c3d_file(fifo)
+        failed.append(caught.value)
+
+    before = set(_children(os.getpid()))  # a fixture's, say
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    deadline = time.monotonic() + 30
+    while not (children := sorted(set(_children(os.getpid())) - before)):
+        assert time.monotonic() < deadline, "no reader started"
+        time.sleep(0.05)
+    try:
+        command = pathlib.Path(f"/proc/{children[0]}/cmdline").read_bytes()
+        words = [word.decode() for word in command.split(b"\0") if word]
+        assert words[:4] == [sys.executable, "-I", str(CHILD), str(fifo)], words
+    finally:
+        os.kill(children[0], signal.SIGKILL)
+        reader.join(timeout=30)
+    assert not reader.is_alive()
+    assert [error.message for error in failed] == [
+        f"{fifo}: not a readable C3D file: the C3D reader (ezc3d) crashed on it "
+        "(SIGKILL), it is corrupt"
+    ]

@@ -1,40 +1,36 @@
-"""ezc3d, run in a child process of bounded memory and time.
+"""ezc3d, run in a program of its own of bounded memory and time.
 
 A corrupt C3D file that ``c3d_layout`` lets through can still make ezc3d
 crash (a segfault ended ``armplan demos import`` of a whole batch without a
 word) or allocate without bound (12.6 GB for an 8 kB file, which on a shared
-machine sets the OOM killer on other services). So ezc3d reads in a forked
-child whose address space may grow ``MEMORY_PER_BYTE`` times the file's size
-(at least ``MIN_MEMORY``) over what it starts with, and which has
-``TIMEOUT`` plus ``TIMEOUT_PER_MB`` per MB of file to answer; it sends back
-the part of what ezc3d read that the import uses. A crash, a refused
-allocation, an error or a timeout is a ``DemoFileError`` naming the file.
+machine sets the OOM killer on other services). So ezc3d reads in a child
+process (``c3d_child``) whose address space may grow ``MEMORY_PER_BYTE``
+times the file's size (at least ``MIN_MEMORY``) over what it starts with, and
+which has ``TIMEOUT`` plus ``TIMEOUT_PER_MB`` per MB of file to answer; it
+sends back the part of what ezc3d read that the import uses. A crash, a
+refused allocation, an error or a timeout is a ``DemoFileError`` naming the
+file.
 
-Forked, not started anew: the child has ezc3d and numpy loaded already, and
-costs 10 to 25 ms where a new interpreter importing ezc3d takes 250 ms. The
-import runs one thread, which makes the fork safe.
+A new program (a new interpreter, about 0.1 s), not a fork of the importer: a
+fork copies every lock the importer's other threads (Zenoh's, libqi's, a
+test runner's) hold at that moment, held by no one in the copy. A forked
+reader of a pytest-xdist worker once answered nothing for 60 s.
 """
 
 from __future__ import annotations
 
-import contextlib
-import faulthandler
-import math
 import os
 import pickle
-import resource
 import select
 import signal
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Any, NoReturn
-
-import ezc3d
-import numpy as np
+from typing import Any
 
 from shared.errors import DemoFileError
-from shared.parent_death import die_with_parent
 
 #: Address space the child may add per byte of the file: ezc3d and the
 #: arrays it gives took 14.5 bytes per byte of a float file (29 of an
@@ -48,8 +44,8 @@ TIMEOUT = 60.0
 TIMEOUT_PER_MB = 1.0
 #: Most characters of ezc3d's stderr quoted in an error.
 MAX_SAID = 300
-#: Parameter groups the import uses.
-GROUPS = ("POINT", "TRIAL")
+#: The child's program.
+CHILD = Path(__file__).with_name("c3d_child.py")
 
 
 def read_c3d_file(path: Path) -> dict[str, Any]:
@@ -70,23 +66,24 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
     seconds = TIMEOUT + TIMEOUT_PER_MB * size / 1e6
     with tempfile.TemporaryFile() as errors:
         reading, writing = os.pipe()
-        pid = os.fork()
-        if pid == 0:
+        try:
+            child = _start(path, memory, seconds, writing, errors.fileno())
+        except BaseException:
             os.close(reading)
-            _child(path, memory, seconds, writing, errors.fileno())
-        os.close(writing)
-        answer, status = _wait(pid, reading, seconds)
+            raise
+        finally:
+            os.close(writing)
+        answer, code = _wait(child, reading, seconds)
         errors.seek(0)
         said = " ".join(errors.read(MAX_SAID).decode(errors="replace").split())
     if answer:
         return _answer(path, answer, memory)
     if answer is None:
         problem = f"reading it took over {seconds:.0f} s"
-    elif os.WIFSIGNALED(status):
-        name = signal.Signals(os.WTERMSIG(status)).name
+    elif code < 0:
+        name = signal.Signals(-code).name
         problem = f"the C3D reader (ezc3d) crashed on it ({name}), it is corrupt"
     else:
-        code = os.waitstatus_to_exitcode(status)
         problem = f"the C3D reader (ezc3d) ended without an answer (exit {code})"
     said = f"; it said: {said}" if said else ""
     raise DemoFileError(str(path), f"not a readable C3D file: {problem}{said}")
@@ -107,19 +104,41 @@ def _answer(path: Path, answer: bytes, memory: int) -> dict[str, Any]:
     raise DemoFileError(str(path), f"not a readable C3D file ({detail})")
 
 
-def _wait(pid: int, reading: int, seconds: float) -> tuple[bytes | None, int]:
-    """The child's answer (``None`` if it took over ``seconds``) and status."""
-    status = None
+def _start(
+    path: Path, memory: int, seconds: float, writing: int, errors: int
+) -> subprocess.Popen[bytes]:
+    """The child reading ``path``, answering to ``writing``, talking to ``errors``."""
+    return subprocess.Popen(
+        [
+            *(sys.executable, "-I", CHILD, path),
+            *(str(memory), str(seconds), str(writing), str(os.getpid())),
+        ],
+        stdin=subprocess.DEVNULL,
+        stdout=errors,
+        stderr=errors,
+        pass_fds=(writing,),
+    )
+
+
+def _wait(
+    child: subprocess.Popen[bytes], reading: int, seconds: float
+) -> tuple[bytes | None, int]:
+    """The child's answer (``None`` if it took over ``seconds``) and exit code.
+
+    A negative exit code is the signal that ended the child.
+    """
+    code = None
     try:
         answer = _receive(reading, seconds)
         if answer is None:
-            os.kill(pid, signal.SIGKILL)
-        status = os.waitpid(pid, 0)[1]
+            child.kill()
+        code = child.wait()
     finally:
         os.close(reading)
-        if status is None:  # interrupted
-            _stop(pid)
-    return answer, status
+        if code is None:  # interrupted
+            child.kill()
+            child.wait()
+    return answer, code
 
 
 def _receive(reading: int, seconds: float) -> bytes | None:
@@ -134,88 +153,3 @@ def _receive(reading: int, seconds: float) -> bytes | None:
         if not chunk:
             return b"".join(chunks)
         chunks.append(chunk)
-
-
-def _stop(pid: int) -> None:
-    """End the child (it took too long, or the parent was interrupted)."""
-    with contextlib.suppress(ProcessLookupError):
-        os.kill(pid, signal.SIGKILL)
-    os.waitpid(pid, 0)
-
-
-def _child(
-    path: Path, memory: int, seconds: float, writing: int, errors: int
-) -> NoReturn:
-    """Read the file, write the outcome to ``writing``, exit; never returns.
-
-    ``errors`` gets what ezc3d writes to stderr (as it aborts, say); a
-    crash is left to the parent to name (no Python traceback of it).
-    """
-    try:
-        faulthandler.disable()
-        os.dup2(errors, 2)
-        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
-        _end_with_parent(seconds)
-        _limit_memory(memory)
-        try:
-            answer = pickle.dumps(("ok", _contents(ezc3d.c3d(str(path)))))
-        except MemoryError:
-            answer = pickle.dumps(("memory", ""))
-        except Exception as exc:  # anything ezc3d raises is the file's fault
-            kind = "memory" if "bad_alloc" in str(exc) else "error"
-            answer = pickle.dumps((kind, str(exc)))
-        with os.fdopen(writing, "wb") as out:
-            out.write(answer)
-    finally:
-        os._exit(0)
-
-
-def _end_with_parent(seconds: float) -> None:
-    """End this child with its parent, and after ``seconds`` of CPU [s].
-
-    A parent killed alone (``kill PID``) left the child reading, its time
-    limit gone with the parent that kept it: now the kernel sends SIGKILL
-    when the parent exits, and CPU time past the limit ends it anyway.
-    """
-    parent = os.getppid()
-    die_with_parent(signal.SIGKILL)
-    if os.getppid() != parent:  # the parent died before the request took
-        os._exit(1)
-    cpu = math.ceil(seconds)
-    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu))
-
-
-def _limit_memory(memory: int) -> None:
-    """Let the address space grow by ``memory`` bytes at most."""
-    try:
-        with open("/proc/self/statm") as statm:
-            used = int(statm.read().split()[0]) * resource.getpagesize()
-    except OSError:  # not Linux: no /proc
-        return
-    _, hard = resource.getrlimit(resource.RLIMIT_AS)
-    limit = used + memory
-    if hard != resource.RLIM_INFINITY:
-        limit = min(limit, hard)
-    resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
-
-
-def _contents(data: Any) -> dict[str, Any]:
-    """The part of ezc3d's reading the import uses, in plain types."""
-    header = data["header"]
-    parameters = data["parameters"]
-    return {
-        "header": {
-            part: {key: header[part][key] for key in ("size", "frame_rate")}
-            for part in ("points", "analogs")
-        },
-        "parameters": {
-            group: {
-                name: {"value": np.asarray(parameter["value"]).tolist()}
-                for name, parameter in parameters[group].items()
-                if name != "__METADATA__"
-            }
-            for group in GROUPS
-            if group in parameters
-        },
-        "data": {"points": np.array(data["data"]["points"][:3], dtype=float)},
-    }

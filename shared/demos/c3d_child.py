@@ -1,0 +1,112 @@
+"""ezc3d's reading of one C3D file, as a program of its own (``c3d_reading``).
+
+Run as ``python -I c3d_child.py FILE MEMORY SECONDS FD PARENT``: reads FILE
+with ezc3d, its address space grown by MEMORY bytes at most and its CPU time
+SECONDS at most, and writes a pickled ``(kind, detail)`` to file descriptor
+FD: ``("ok", contents)``, ``("memory", "")`` or ``("error", message)``. It
+ends when PARENT (a process id) does. A crash leaves no answer, for the
+parent to name.
+
+A script, not a module of the package: importing ``shared`` would load libqi
+and pinocchio for nothing (a new interpreter with numpy and ezc3d alone
+starts in about 0.1 s).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import os
+import pickle
+import resource
+import signal
+import sys
+from typing import Any, NoReturn
+
+import ezc3d
+import numpy as np
+
+#: Parameter groups the import uses.
+GROUPS = ("POINT", "TRIAL")
+#: Linux's ``prctl`` option: a signal when the parent ends.
+PR_SET_PDEATHSIG = 1
+
+
+def main(argv: list[str]) -> NoReturn:
+    """Read the file, write the outcome to the descriptor, exit; never returns.
+
+    What ezc3d writes (to stderr as it aborts, say) goes where this
+    program's stderr does.
+    """
+    try:
+        path, memory, seconds, writing, parent = argv
+        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+        _end_with_parent(int(parent), float(seconds))
+        _limit_memory(int(memory))
+        try:
+            answer = pickle.dumps(("ok", _contents(ezc3d.c3d(path))))
+        except MemoryError:
+            answer = pickle.dumps(("memory", ""))
+        except Exception as exc:  # anything ezc3d raises is the file's fault
+            kind = "memory" if "bad_alloc" in str(exc) else "error"
+            answer = pickle.dumps((kind, str(exc)))
+        with os.fdopen(int(writing), "wb") as out:
+            out.write(answer)
+    finally:
+        os._exit(0)
+
+
+def _end_with_parent(parent: int, seconds: float) -> None:
+    """End this program with ``parent``, and after ``seconds`` of CPU [s].
+
+    A parent killed alone (``kill PID``) would leave the reader reading, its
+    time limit gone with the parent that kept it: on Linux the kernel sends
+    SIGKILL when the parent ends, and CPU time past the limit ends it anyway.
+    """
+    if sys.platform.startswith("linux"):
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+    if os.getppid() != parent:  # the parent ended before the request took
+        os._exit(1)
+    cpu = math.ceil(seconds)
+    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu))
+
+
+def _limit_memory(memory: int) -> None:
+    """Let the address space grow by ``memory`` bytes at most."""
+    try:
+        with open("/proc/self/statm") as statm:
+            used = int(statm.read().split()[0]) * resource.getpagesize()
+    except OSError:  # not Linux: no /proc
+        return
+    _, hard = resource.getrlimit(resource.RLIMIT_AS)
+    limit = used + memory
+    if hard != resource.RLIM_INFINITY:
+        limit = min(limit, hard)
+    resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+
+
+def _contents(data: Any) -> dict[str, Any]:
+    """The part of ezc3d's reading the import uses, in plain types."""
+    header = data["header"]
+    parameters = data["parameters"]
+    return {
+        "header": {
+            part: {key: header[part][key] for key in ("size", "frame_rate")}
+            for part in ("points", "analogs")
+        },
+        "parameters": {
+            group: {
+                name: {"value": np.asarray(parameter["value"]).tolist()}
+                for name, parameter in parameters[group].items()
+                if name != "__METADATA__"
+            }
+            for group in GROUPS
+            if group in parameters
+        },
+        "data": {"points": np.array(data["data"]["points"][:3], dtype=float)},
+    }
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
