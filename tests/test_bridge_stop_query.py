@@ -671,7 +671,9 @@ def test_a_stop_is_answered_when_the_next_trajectory_takes_the_robot(
 ) -> None:
     """``--follow``: a trajectory published right after the stop takes the
     robot as soon as the stopped one gives it back, before the reply looks
-    (its thread run 0.6 s late, as on a loaded machine). The reply does not wait
+    (its thread run 0.6 s late, as on a loaded machine). Published from that
+    thread: one published by the caller just after asking may arrive first,
+    and is then rightly dropped by the stop (as CI once saw). The reply does not wait
     for it to end (nor for HALT_END_WAIT): it comes at once, says the
     stopped trajectory was stopped, and that the arm is not still (the new
     one is playing)."""
@@ -685,17 +687,21 @@ def test_a_stop_is_answered_when_the_next_trajectory_takes_the_robot(
         slot = there.service._slot
         wait_free = slot.wait_free
 
+        following = _reach(1.0)
+        published: list[float] = []
+
         def late(*args: Any, **kwargs: Any) -> Any:  # a reply thread run late
+            if not published:  # the next, right after the stop dropped
+                published.append(time.monotonic())  # what waited
+                there.bus.publish(TRAJECTORY_TOPIC, following)
             time.sleep(0.6)  # (a loaded machine): the next has taken the robot
             return wait_free(*args, **kwargs)
 
         slot.wait_free = late  # type: ignore[method-assign]
-        following = _reach(1.0)
         asked = time.monotonic()
         replies = there.bus.session.get(
             STOP.key(there.bus.config.namespace), payload=b"{}", timeout=10.0
         )
-        there.bus.publish(TRAJECTORY_TOPIC, following)  # right after the stop
         answers = list(replies)
         took = time.monotonic() - asked
         assert len(answers) == 1 and answers[0].ok is not None
