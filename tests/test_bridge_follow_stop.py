@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from armplan.launch import Launcher
+from armplan.launch import Launcher, free_endpoint
 from bridge.follower import TrajectoryFollower
 from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.naoqi_client import NaoqiClient
@@ -31,9 +31,6 @@ from shared.bus.topics import BRIDGE_OUTCOME_TOPIC, BRIDGE_REPORT_TOPIC
 from shared.libqi import qi
 from shared.messages import ExecutionOutcome, Trajectory
 from shared.robot.postures import forward, rest
-
-ROUTER = "tcp/127.0.0.1:52010"
-ROBOT = "tcp://127.0.0.1:52011"
 
 
 class Records(logging.Handler):
@@ -75,7 +72,11 @@ def _calls(log: Path, method: str) -> list[dict[str, Any]]:
 
 @pytest.fixture
 def following(tmp_path: Path) -> Iterator[tuple[Bus, TrajectoryFollower, SimProcess]]:
-    with following_stack(load_config(endpoints=(ROUTER,)), ROBOT, tmp_path) as stack:
+    """Ports free now (fixed ones were taken, now and then, by another
+    process's outgoing connection: the router exited while starting)."""
+    robot = f"tcp://127.0.0.1:{free_endpoint().rsplit(':', 1)[1]}"
+    config = load_config(endpoints=(free_endpoint(),))
+    with following_stack(config, robot, tmp_path) as stack:
         yield stack
 
 
