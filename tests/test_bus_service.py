@@ -206,15 +206,26 @@ class Swallower:
     """
 
     def __init__(
-        self, bus: Bus, route: Route[Text, Text], lose: int, end: bool = False
+        self,
+        bus: Bus,
+        route: Route[Text, Text],
+        lose: int,
+        end: bool = False,
+        end_after: float = 0.0,
+        die: bool = False,
     ) -> None:
+        """``end_after`` [s]: end those queries that long after they came;
+        ``die``: withdraw the token as the first is ended (a service that
+        dies with it)."""
         self.lose, self.count, self.end = lose, 0, end
+        self.end_after, self.die = end_after, die
         self.held: list[zenoh.Query] = []
         self._bus, self._route = bus, route
 
     def __enter__(self) -> Swallower:
         key = self._route.key(self._bus.config.namespace)
         self._queryable = self._bus.session.declare_queryable(key, self._on_query)
+        self._token: zenoh.LivelinessToken | None
         self._token = self._bus.session.liveliness().declare_token(
             f"{self._bus.config.namespace}/alive/{self._route.service}"
         )
@@ -223,7 +234,7 @@ class Swallower:
     def _on_query(self, query: zenoh.Query) -> None:
         self.count += 1
         if self.count <= self.lose and self.end:
-            query.drop()
+            threading.Timer(self.end_after, self._end, (query,)).start()
             return
         if self.count <= self.lose:
             self.held.append(query)
@@ -231,8 +242,15 @@ class Swallower:
         with query:
             query.reply(query.key_expr, Text(text="answered").to_json())
 
+    def _end(self, query: zenoh.Query) -> None:
+        if self.die and self._token is not None:
+            self._token.undeclare()  # type: ignore[no-untyped-call]
+            self._token = None
+        query.drop()
+
     def __exit__(self, *exc: object) -> None:
-        self._token.undeclare()  # type: ignore[no-untyped-call]
+        if self._token is not None:
+            self._token.undeclare()  # type: ignore[no-untyped-call]
         self._queryable.undeclare()  # type: ignore[no-untyped-call]
         self.held.clear()
 
@@ -308,28 +326,47 @@ def test_other_routes_and_twice_lost_queries_time_out(
         assert lossy.count == 3
 
 
-def test_a_query_ended_without_reply_is_asked_again_only_if_repeatable(
+def test_a_query_ended_at_once_without_reply_is_asked_again(
     quick_resend: tuple[Bus, Bus],
 ) -> None:
-    """An empty end (no route yet): a repeatable call asks again at once and
-    gets the answer; any other call says the service is unavailable, asked once."""
+    """An empty end at once (Zenoh's route still empty, as just after a
+    service or a session starts): the query reached no one, so any call,
+    repeatable or not (a robot's motion), is asked again at once and gets
+    the answer; one whose second query ends so too is unavailable."""
     service_bus, client = quick_resend
-    with Swallower(service_bus, LOSSY, lose=1, end=True) as lossy:
-        assert client.wait_alive(["lossy"], 5.0) == []
-        assert client.call(LOSSY, Text(text="x"), timeout=4.0).text == "answered"
-        assert lossy.count == 2
-    _wait_gone(client, "lossy")
-    with Swallower(service_bus, LOSSY_ONCE_ONLY, lose=1, end=True) as lossy:
-        assert client.wait_alive(["lossy"], 5.0) == []
-        with pytest.raises(ServiceUnavailableError, match="no queryable answered"):
-            client.call(LOSSY_ONCE_ONLY, Text(text="x"), timeout=4.0)
-        assert lossy.count == 1
-    _wait_gone(client, "lossy")
+    for route in (LOSSY, LOSSY_ONCE_ONLY):
+        with Swallower(service_bus, route, lose=1, end=True) as lossy:
+            assert client.wait_alive(["lossy"], 5.0) == []
+            assert client.call(route, Text(text="x"), timeout=4.0).text == "answered"
+            assert lossy.count == 2
+        _wait_gone(client, "lossy")
     with Swallower(service_bus, LOSSY, lose=2, end=True) as lossy:
         assert client.wait_alive(["lossy"], 5.0) == []
         with pytest.raises(ServiceUnavailableError, match="no queryable answered"):
             client.call(LOSSY, Text(text="x"), timeout=4.0)
         assert lossy.count == 2
+
+
+@pytest.mark.parametrize(
+    ("end_after", "die"), [(0.3, False), (0.0, True)], ids=["held", "died"]
+)
+def test_a_call_is_asked_once_if_its_query_may_have_reached_a_service(
+    quick_resend: tuple[Bus, Bus], end_after: float, die: bool
+) -> None:
+    """A query held 0.3 s and then ended without a reply (a service had it),
+    or ended at once by a service whose token went with it (it died with
+    the query): a call that is not repeatable is not asked for twice (a
+    robot would move twice); the service is unavailable, asked once."""
+    service_bus, client = quick_resend
+    with Swallower(
+        service_bus, LOSSY_ONCE_ONLY, lose=1, end=True, end_after=end_after, die=die
+    ) as lossy:
+        assert client.wait_alive(["lossy"], 5.0) == []
+        with pytest.raises(ServiceUnavailableError, match="'lossy'"):
+            client.call(LOSSY_ONCE_ONLY, Text(text="x"), timeout=4.0)
+        time.sleep(0.2)  # no second query on its way either
+        assert lossy.count == 1
+    _wait_gone(client, "lossy")
 
 
 NAP = Route("napper", "test/nap", Text, Text)

@@ -18,8 +18,16 @@ route to its queryable and the query reached no one (eclipse-zenoh issue
 2767: just after a queryable or a session starts, the route can be empty for
 a moment; we saw it twice in one CI run, right after a service restart and a
 client's first call). Our services answer every query they receive, so an
-empty end is not an answer lost. Only repeatable calls are asked again; any
-other call (a robot motion above all) reports the service unavailable.
+empty end is not an answer lost.
+
+A call that is not repeatable (a robot motion above all) is asked again
+only on the proof that its query reached no one: it ended without any reply
+within ``NO_ROUTE_END`` of being sent (a query Zenoh routes nowhere ends at
+once: under a millisecond measured; one a queryable got ends with a reply,
+or when its service's session ends), and the service's token is still
+there, asked of the router afresh (a service that died with the query ends
+it so, and takes its token with it). Any other empty end reports the
+service unavailable.
 
 Both queries carry one call id (``CallerBudget.call``): a service that
 still has the first queued or running answers the second from the same
@@ -37,6 +45,7 @@ import queue
 import threading
 import time
 import uuid
+from collections.abc import Callable
 from typing import Any
 
 import zenoh
@@ -62,6 +71,9 @@ from shared.messages import ErrorReply, Message, ServiceTiming, parse
 ZENOH_TIMEOUT = b"Timeout"
 #: Pause before asking again after a query ended without any reply [s].
 EMPTY_PAUSE = 0.05
+#: Longest time after which a query that ends without any reply surely
+#: reached no queryable [s] (Zenoh ends one it routes nowhere in under 1 ms).
+NO_ROUTE_END = 0.05
 #: Name of the threads that read a query's replies (``_forward``).
 FORWARDER = "zenoh-reply-forwarder"
 #: A query's number in its call (0: the first) and a reply to it, or
@@ -114,7 +126,13 @@ def answered(
         raise _absent(session, namespace, route, start + timeout)
     repeatable = route.repeatable if repeat is None else repeat
     resend = resend_after if repeatable else None
-    reply = _ask(session, key, encode(request), start + timeout, resend)
+
+    def still_there() -> bool:
+        """Whether the service's token is there, asked of the router afresh."""
+        alive.forget(route.service)
+        return alive.is_alive(route.service, QUERY_TIMEOUT)
+
+    reply = _ask(session, key, encode(request), start + timeout, resend, still_there)
     if reply is not None:
         return reply
     if unseen and not alive.is_alive(route.service, QUERY_TIMEOUT):
@@ -143,11 +161,15 @@ def _ask(
     body: bytes,
     deadline: float,
     resend_after: float | None,
+    still_there: Callable[[], bool] = lambda: False,
 ) -> zenoh.Reply | None:
     """The first answer to ``body`` at ``key`` before ``deadline`` (monotonic [s]).
 
     Asks again once after ``resend_after`` [s] without an answer, or at once
-    if the first query ends without any reply (``None``: never). Returns
+    if the first query ends without any reply (``None``: never). With
+    ``resend_after`` ``None``, asks again once only if the first query ended
+    without any reply within :data:`NO_ROUTE_END` and ``still_there()``
+    (the service's token is there): it reached no one. Returns
     ``None`` if every query ended without a reply; Zenoh's own timeout reply
     is returned only if no query got anything else, and a ``service_busy``
     to one query only once no other query is open (see the module's
@@ -175,11 +197,18 @@ def _ask(
         open_queries.add(number)
         _start_forwarder(id(session), number, replies, inbox)
 
+    first_sent = time.monotonic()
     send()
     timed_out = busy = None
     resend_at = (
         None if resend_after is None else min(time.monotonic() + resend_after, deadline)
     )
+
+    def reached_no_one(number: int) -> bool:
+        """Whether query ``number``, ended without a reply, surely reached no one."""
+        quick = number == 0 and time.monotonic() - first_sent < NO_ROUTE_END
+        return resend_after is None and quick and still_there()
+
     while open_queries:
         wait_until = deadline + 1.0 if resend_at is None else resend_at
         try:
@@ -193,7 +222,11 @@ def _ask(
             continue
         if item is None:
             open_queries.discard(number)
-            if not open_queries and resend_at is not None and not timed_out:
+            if (
+                not open_queries
+                and not timed_out
+                and (resend_at is not None or reached_no_one(number))
+            ):
                 # Ended without a reply: Zenoh found no route to a queryable
                 # (see the module's docstring) and the query reached no one.
                 # Ask again, once.
