@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import pathlib
+import resource
 import signal
 import struct
 import subprocess
@@ -224,3 +225,55 @@ def test_the_reader_is_a_new_program_not_a_copy_of_the_importer(
         f"{fifo}: not a readable C3D file: the C3D reader (ezc3d) crashed on it "
         "(SIGKILL), it is corrupt"
     ]
+
+
+def _read_under_cpu_limit(path: pathlib.Path, seconds: int) -> str:
+    """What an importer whose shell said ``ulimit -t seconds`` prints."""
+    code = (
+        "import pathlib, sys; from shared.demos.c3d_reading import read_c3d_file\n"
+        "from shared.errors import DemoFileError\n"
+        "try:\n"
+        "    data = read_c3d_file(pathlib.Path(sys.argv[1]))\n"
+        "    print('read', data['data']['points'].shape)\n"
+        "except DemoFileError as exc:\n"
+        "    print(exc.message)\n"
+    )
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_CPU, (seconds, seconds))
+
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=limit,
+        check=True,
+    )
+    return done.stdout.strip()
+
+
+def test_a_cpu_time_limit_of_the_shell_is_kept_not_raised(
+    reach: pathlib.Path,
+) -> None:
+    """Under ``ulimit -t 50`` (a shared lab machine's, a batch job's) the
+    reader asked for 61 s of CPU, above the hard limit, and failed before
+    reading: every good file was "not a readable C3D file: the C3D reader
+    (ezc3d) ended without an answer (exit 0)". It keeps the lower limit."""
+    frames = ezc3d.c3d(str(reach))["data"]["points"].shape[2]
+    assert _read_under_cpu_limit(reach, 50) == f"read (3, {len(MAP_NAMES)}, {frames})"
+
+
+def test_the_readers_own_failure_is_said_not_silent(tmp_path: pathlib.Path) -> None:
+    """A failure of the reader itself (here its arguments; before, setting
+    its CPU limit) ended it with status 0 and no word, and the importer
+    blamed the file. It says what failed, with status 1."""
+    done = subprocess.run(
+        [sys.executable, "-I", str(CHILD), str(tmp_path / "a.c3d")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 1
+    assert done.stderr.startswith("ValueError: not enough values to unpack"), done

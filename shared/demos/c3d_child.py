@@ -2,10 +2,11 @@
 
 Run as ``python -I c3d_child.py FILE MEMORY SECONDS FD PARENT``: reads FILE
 with ezc3d, its address space grown by MEMORY bytes at most and its CPU time
-SECONDS at most, and writes a pickled ``(kind, detail)`` to file descriptor
-FD: ``("ok", contents)``, ``("memory", "")`` or ``("error", message)``. It
-ends when PARENT (a process id) does. A crash leaves no answer, for the
-parent to name.
+SECONDS at most (less if a hard limit says so), and writes a pickled
+``(kind, detail)`` to file descriptor FD: ``("ok", contents)``,
+``("memory", "")`` or ``("error", message)``. It ends when PARENT (a process
+id) does. A crash leaves no answer, for the parent to name; a failure of its
+own (not ezc3d's) is one line on stderr and exit status 1.
 
 A script, not a module of the package: importing ``shared`` would load libqi
 and pinocchio for nothing (a new interpreter with numpy and ezc3d alone
@@ -36,8 +37,11 @@ def main(argv: list[str]) -> NoReturn:
     """Read the file, write the outcome to the descriptor, exit; never returns.
 
     What ezc3d writes (to stderr as it aborts, say) goes where this
-    program's stderr does.
+    program's stderr does, and so does this program's own failure (setting
+    its limits, say), which ends it with status 1: it used to end with 0 and
+    no word, blamed on the file.
     """
+    status = 0
     try:
         path, memory, seconds, writing, parent = argv
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
@@ -52,8 +56,11 @@ def main(argv: list[str]) -> NoReturn:
             answer = pickle.dumps((kind, str(exc)))
         with os.fdopen(int(writing), "wb") as out:
             out.write(answer)
+    except BaseException as exc:  # this program's failure, not the file's
+        print(f"{type(exc).__name__}: {exc}", file=sys.stderr, flush=True)
+        status = 1
     finally:
-        os._exit(0)
+        os._exit(status)
 
 
 def _end_with_parent(parent: int, seconds: float) -> None:
@@ -62,6 +69,9 @@ def _end_with_parent(parent: int, seconds: float) -> None:
     A parent killed alone (``kill PID``) would leave the reader reading, its
     time limit gone with the parent that kept it: on Linux the kernel sends
     SIGKILL when the parent ends, and CPU time past the limit ends it anyway.
+    A hard limit already set (``ulimit -t 50`` in the shell) is kept, not
+    raised: raising it failed, and every C3D file, however good, was "not
+    a readable C3D file: the C3D reader (ezc3d) ended without an answer".
     """
     if sys.platform.startswith("linux"):
         libc = ctypes.CDLL(None, use_errno=True)
@@ -69,6 +79,9 @@ def _end_with_parent(parent: int, seconds: float) -> None:
     if os.getppid() != parent:  # the parent ended before the request took
         os._exit(1)
     cpu = math.ceil(seconds)
+    _, hard = resource.getrlimit(resource.RLIMIT_CPU)
+    if hard != resource.RLIM_INFINITY:  # a shell's ``ulimit -t``: not raised
+        cpu = min(cpu, hard)
     resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu))
 
 

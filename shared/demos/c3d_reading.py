@@ -59,7 +59,8 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
     Raises:
         DemoFileError: if ezc3d fails, crashes (the error quotes what it
             wrote to stderr), or needs more memory or time than the file's
-            size allows.
+            size allows; or if the reader cannot run (its status 1: what
+            it said is quoted, and the file is not blamed).
     """
     size = path.stat().st_size
     memory = max(MIN_MEMORY, MEMORY_PER_BYTE * size)
@@ -78,6 +79,12 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
         said = " ".join(errors.read(MAX_SAID).decode(errors="replace").split())
     if answer:
         return _answer(path, answer, memory)
+    said = f"; it said: {said}" if said else ""
+    if answer is not None and code > 0:  # the reader's own failure
+        raise DemoFileError(
+            str(path),
+            f"cannot be read: the C3D reader could not run (exit {code}){said}",
+        )
     if answer is None:
         problem = f"reading it took over {seconds:.0f} s"
     elif code < 0:
@@ -85,7 +92,6 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
         problem = f"the C3D reader (ezc3d) crashed on it ({name}), it is corrupt"
     else:
         problem = f"the C3D reader (ezc3d) ended without an answer (exit {code})"
-    said = f"; it said: {said}" if said else ""
     raise DemoFileError(str(path), f"not a readable C3D file: {problem}{said}")
 
 
