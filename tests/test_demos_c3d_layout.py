@@ -147,3 +147,22 @@ def test_a_cut_header_is_named(tmp_path: pathlib.Path, reach: bytes) -> None:
     assert _refusal(path, reach[:100]) == (
         f"{path}: not a readable C3D file: 100 bytes, less than a C3D header"
     )
+
+
+@pytest.mark.parametrize("start", [b"", b"\xef\xbb\xbf"])
+@pytest.mark.parametrize("size", [100, 2000])
+def test_a_csv_named_c3d_is_said_to_be_text(
+    tmp_path: pathlib.Path, start: bytes, size: int
+) -> None:
+    """A CSV export named .c3d was refused for its second byte ("its second
+    byte is 0x69, a C3D file's is 0x50") or its size: it is said to be text,
+    quoting its first line, whatever its size or byte-order mark."""
+    header = "time,trial,RSHO_x,RSHO_y,RSHO_z"
+    row = "\n0.00,0," + ",".join(["1.5"] * 3)
+    text = (header + row * (size // len(row) + 1)).encode()[:size]
+    path = tmp_path / "capture.c3d"
+    assert _refusal(path, start + text) == (
+        f"{path}: not a readable C3D file: it is text, not C3D (it starts "
+        f"{header!r}): a CSV file named .c3d? Name a CSV file .csv to import "
+        "it as CSV"
+    )

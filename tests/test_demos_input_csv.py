@@ -14,6 +14,7 @@ from shared.demos import read_demos
 from shared.demos.csv_import import read_csv
 from shared.demos.markers import MarkerMap
 from shared.errors import DemoFileError
+from tests.test_demos_c3d import write_reach_c3d
 
 MARKERS = MarkerMap(shoulder="RSHO", elbow="RELB", wrist="RWRB")
 HEADER = ["time", "trial"] + [
@@ -285,3 +286,28 @@ def test_a_time_column_of_frame_numbers_is_refused_on_import(
         "number over the capture's rate)\n"
     )
     assert not out.exists()
+
+
+def test_a_c3d_file_named_csv_is_said_to_be_one(tmp_path: pathlib.Path) -> None:
+    """A C3D file named .csv was "not a CSV file ('utf-8' codec can't decode
+    byte 0x80 in position 14: invalid start byte)"; it is named a C3D file."""
+    write_reach_c3d(tmp_path / "capture.c3d")
+    path = (tmp_path / "capture.c3d").rename(tmp_path / "capture.csv")
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: not a CSV file: it is a C3D file (binary); name it .c3d to import it"
+    )
+
+
+def test_a_csv_file_not_in_utf8_is_said_to_be_so(tmp_path: pathlib.Path) -> None:
+    """A CSV saved as Latin-1 (a marker named Schulterä) is told to be saved
+    as UTF-8, not called a C3D file."""
+    path = write_csv(tmp_path / "latin.csv", arm_rows(0))
+    path.write_bytes(path.read_bytes().replace(b"RSHO", "Schulterä".encode("latin-1")))
+    with pytest.raises(DemoFileError) as caught:
+        read_csv(path, MARKERS)
+    assert caught.value.message == (
+        f"{path}: not a CSV file: byte 19 is not UTF-8 text; save the CSV as "
+        "UTF-8 (or it is not a CSV file)"
+    )

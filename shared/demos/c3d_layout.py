@@ -43,6 +43,10 @@ TYPE_SIZE = {-1: 1, 1: 1, 2: 2, 4: 4}
 MAX_DIMENSIONS = 7
 #: Longest record name quoted in an error as it is [characters].
 MAX_NAME = 32
+#: Bytes of a file's start looked at to tell text (a CSV) from C3D.
+TEXT_START = 64
+#: Bytes of text: printable ASCII, tab, line feed, carriage return.
+TEXT_BYTES = frozenset(range(0x20, 0x7F)) | {0x09, 0x0A, 0x0D}
 
 
 class C3DLayout(NamedTuple):
@@ -75,6 +79,7 @@ def check_c3d_layout(path: Path) -> C3DLayout:
     try:
         with path.open("rb") as file:
             size = path.stat().st_size
+            _refuse_text(path, file.read(TEXT_START))
             if size < BLOCK:
                 _refuse(path, f"{size} bytes, less than a C3D header")
             with mmap.mmap(file.fileno(), 0, access=mmap.ACCESS_READ) as data:
@@ -319,6 +324,23 @@ def _take(path: Path, data: mmap.mmap, at: int, count: int, what: str) -> bytes:
 def _corrupt(path: Path, problem: str) -> NoReturn:
     """Raise: the parameter section is corrupt."""
     _refuse(path, f"its parameter section is corrupt: {problem}")
+
+
+def _refuse_text(path: Path, start: bytes) -> None:
+    """Refuse a file whose ``start`` is text: a CSV export named ``.c3d``.
+
+    Its second byte (``KEY``) was all the error said of it, which left a
+    lab's engineer to guess what was wrong with the file.
+    """
+    start = start.removeprefix(b"\xef\xbb\xbf")  # Excel's BOM
+    if not start.strip() or not set(start) <= TEXT_BYTES:
+        return
+    line = start.decode().strip().splitlines()[0]
+    _refuse(
+        path,
+        f"it is text, not C3D (it starts {line!r}): a CSV file named .c3d? "
+        "Name a CSV file .csv to import it as CSV",
+    )
 
 
 def _refuse(path: Path, problem: str) -> NoReturn:

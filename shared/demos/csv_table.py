@@ -39,11 +39,33 @@ def read_table(path: Path) -> tuple[list[str], list[Row]]:
                 start = reader.line_num + 1
     except OSError as exc:
         raise DemoFileError(str(path), f"cannot read it: {exc.strerror}") from None
-    except (csv.Error, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError as exc:
+        raise DemoFileError(str(path), _not_text(path, exc.start)) from None
+    except csv.Error as exc:
         raise DemoFileError(str(path), f"not a CSV file ({exc})") from None
     if len(table) < 2:
         raise DemoFileError(str(path), "needs a header row and at least one data row")
     return [h.strip() for h in table[0].cells], table[1:]
+
+
+#: A C3D file's second byte (``c3d_layout.KEY``).
+C3D_KEY = 0x50
+
+
+def _not_text(path: Path, byte: int) -> str:
+    """Why a file that is not UTF-8 from ``byte`` on is no CSV file.
+
+    A C3D file named .csv was "not a CSV file ('utf-8' codec can't decode
+    byte 0x80 in position 14: invalid start byte)".
+    """
+    with open(path, "rb") as stream:
+        start = stream.read(2)
+    if len(start) == 2 and start[0] >= 2 and start[1] == C3D_KEY:
+        return "not a CSV file: it is a C3D file (binary); name it .c3d to import it"
+    return (
+        f"not a CSV file: byte {byte} is not UTF-8 text; save the CSV as UTF-8 "
+        "(or it is not a CSV file)"
+    )
 
 
 def columns_of(
