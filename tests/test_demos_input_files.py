@@ -15,6 +15,7 @@ from shared.demos import read_demos, synthesize, write_demos
 from shared.demos.demo_file import SYNTHETIC
 from shared.demos.trial import DemoSet
 from shared.errors import DemoFileError
+from tests.test_demos_c3d import write_reach_c3d
 from tests.test_demos_input_csv import arm_rows, write_csv
 
 
@@ -338,5 +339,37 @@ def test_import_refuses_a_copy_under_another_name(
         "within 0.1 mm): one "
         "recording given twice (a copy, or two exports of one session) would "
         "count twice\n"
+    )
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("suffix", [".c3d", ".csv"])
+def test_a_file_name_too_long_for_a_subject_is_refused_before_any_work(
+    tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str], suffix: str
+) -> None:
+    """A lab's take name of 80 characters became the subject's name (the map
+    had no "subject"), and the import read every file, then failed writing:
+    "out.mcap: not written, ... name: String should have at most 64
+    characters". It is refused before the files are read, saying what to
+    give; the first file, a good one, is not read (no note of its gaps)."""
+    good = write_csv(tmp_path / "good.csv", arm_rows(0))
+    long = tmp_path / (
+        "Session_2026_11_27_Participant_042_Fast_Reach_Point_13_Take_07" + "_x" * 8
+    )
+    write_csv(long.with_suffix(".csv"), arm_rows(1))
+    if suffix == ".c3d":
+        write_reach_c3d(long.with_suffix(".c3d"))
+    long = long.with_suffix(suffix)
+    markers = tmp_path / "map.json"
+    markers.write_text(
+        json.dumps({"shoulder": "RSHO", "elbow": "RELB", "wrist": "RWRB"})
+    )
+    out = tmp_path / "out.mcap"
+    args = ["demos", "import", str(good), str(long), "--markers", str(markers)]
+    assert main([*args, "-o", str(out)]) == 1
+    assert _error(capsys) == (
+        f"armplan: error: {long}: the subject's name would be the file's, "
+        f"{len(long.stem)} characters, over the 64 a subject's name may have: "
+        'give "subject" in the marker map (one map per subject)\n'
     )
     assert not out.exists()

@@ -55,6 +55,7 @@ def read_c3d(
             arm (``importing.check_segments``).
     """
     path = Path(path)
+    name = markers.subject_of(path)
     layout = check_c3d_layout(path)
     data = read_c3d_file(path)
     point = data["parameters"]["POINT"]
@@ -67,7 +68,6 @@ def read_c3d(
     times = np.arange(cloud.shape[2]) / rate
     points = {role: cloud[:, i, :].T for role, i in index.items()}
     units = markers.units or _units(point, str(path))
-    name = markers.subject or path.stem
     return trial_from_tracks(
         MarkerTracks(times, points, units),
         markers,

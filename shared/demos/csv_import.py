@@ -86,10 +86,10 @@ def read_csv(
             more than ``SAME_ARM`` (two people; naming the trials).
     """
     path = Path(path)
+    name = markers.subject_of(path)
     header, rows = read_table(path)
     columns = columns_of(header, markers, str(path))
     groups = trial_rows(rows, header, str(path))
-    name = markers.subject or path.stem
     trials, people = [], []
     for key, group in groups.items():
         tracks = _tracks(group, columns, header, markers, str(path), key)

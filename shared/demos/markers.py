@@ -18,7 +18,8 @@ A JSON file, read by ``armplan demos import ... --markers MAP.json``::
                                left and up, a leading "-" flips one; e.g.
                                ["-z", "-x", "y"] for a Y-up capture facing -z;
                                they must turn the capture, not mirror it
-      "subject": "P01",        optional: subject name (default the file name)
+      "subject": "P01",        optional: subject name (default the file name,
+                               which may have 64 characters at most)
       "stature": 1.72          optional: the subject's height [m]
     }
 
@@ -46,6 +47,8 @@ from shared.input_files import read_at_most
 from shared.messages.base import Message, parse
 from shared.robot.side import Side, SideAnyCase
 
+#: Longest subject name (``DemoSubject.name``) [characters].
+MAX_SUBJECT = 64
 #: Metres per unit.
 UNIT_SCALE = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 #: Seconds per time unit.
@@ -64,7 +67,7 @@ class MarkerMap(Message):
     units: Literal["m", "cm", "mm"] | None = None
     time_units: Literal["s", "ms"] = "s"
     axes: tuple[str, str, str] = ("x", "y", "z")
-    subject: str | None = Field(default=None, min_length=1, max_length=64)
+    subject: str | None = Field(default=None, min_length=1, max_length=MAX_SUBJECT)
     stature: float | None = Field(default=None, gt=0.0, le=3.0)
 
     @field_validator("axes")
@@ -90,6 +93,28 @@ class MarkerMap(Message):
         if self.thumb is not None:
             roles["thumb"] = self.thumb
         return roles
+
+    def subject_of(self, path: Path) -> str:
+        """The subject's name: the map's ``subject``, else the file's stem.
+
+        Raises:
+            DemoFileError: if the map has none and the file's name is longer
+                than a subject's may be (``MAX_SUBJECT``): a lab's long take
+                names (session, participant, condition, take) were read
+                whole, and the demonstration file was refused as it was
+                written, after every file had been imported.
+        """
+        if self.subject is not None:
+            return self.subject
+        if len(path.stem) > MAX_SUBJECT:
+            raise DemoFileError(
+                str(path),
+                f"the subject's name would be the file's, {len(path.stem)} "
+                f"characters, over the {MAX_SUBJECT} a subject's name may have: "
+                'give "subject" in the marker map (one map per subject)',
+                subject=path.stem,
+            )
+        return path.stem
 
     def to_torso_axes(self, points: FloatArray) -> FloatArray:
         """Points in the file's axes to forward/left/up axes, shape (..., 3)."""

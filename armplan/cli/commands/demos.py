@@ -151,6 +151,8 @@ def _import(args: argparse.Namespace) -> int:
     for name in args.files:
         _check_capture_name(Path(name))
     markers = read_marker_map(args.markers)
+    for name in args.files:  # a name too long for a subject, before any work
+        markers.subject_of(Path(name))
     subjects: dict[str, Subject] = {}
     trials: list[Trial] = []
     register = Register()
