@@ -476,3 +476,28 @@ def test_cli_imports_c3d_to_mcap_and_fits(
     model = fit_model(DemoSet(demos.subjects, demos.trials * MIN_TRIALS))
     assert model.samples == MIN_TRIALS * len(demos.trials[0].times)
     assert "S_R E_P W_P" in model.primitives
+
+
+def test_a_thumb_marker_lost_for_the_whole_take_is_named(
+    tmp_path: pathlib.Path, recorded: Recorded
+) -> None:
+    """A thumb marker that fell off before the take was told only as "0 of
+    its 100 frames have all of the markers RSHO, RELB, RWRB, RWRA", leaving
+    the lab to find which; it is named, and said to be optional."""
+    zeros = np.zeros_like(recorded.wrist)
+    tracks = [_to_lab(p) for p in (zeros, recorded.elbow, recorded.wrist)]
+    tracks.append(np.full_like(tracks[0], np.nan))
+    path = tmp_path / "thumbless.c3d"
+    _write_points(path, list(MAP_NAMES), tracks)
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d(path, MarkerMap.model_validate(MAP))
+    frames = len(recorded.wrist)
+    assert caught.value.message == (
+        f"{path}: subject 'P01', trial 0: 0 of its {frames} frames have all of "
+        "the markers RSHO, RELB, RWRB, RWRA (a frame with a missing marker is "
+        "filled only between frames that have it); a trial needs at least 2: "
+        "thumb 'RWRA' is in no frame (the thumb marker is optional: a map "
+        "without it imports the arm without the forearm's roll)"
+    )
+    plain = MarkerMap.model_validate({k: v for k, v in MAP.items() if k != "thumb"})
+    assert read_c3d(path, plain)[0].wrist_frame is None

@@ -329,12 +329,37 @@ def _check_enough(
         )
     raise DemoFileError(
         path,
-        f"{named}{tracks.span()}: {found}; a trial needs at least {MIN_SAMPLES}",
+        f"{named}{tracks.span()}: {found}; a trial needs at least {MIN_SAMPLES}"
+        + _never_seen(tracks, markers),
         trial=trial,
         frames=len(whole),
         whole=count,
         **tracks.evidence(0, len(whole) - 1),
     )
+
+
+def _never_seen(tracks: MarkerTracks, markers: MarkerMap) -> str:
+    """The mapped markers missing in every frame, for ``_check_enough``.
+
+    A thumb marker lost for a whole take was told only as "0 of its 88
+    frames have all of the markers RSHO, RELB, RWRB, RWRA", leaving which
+    one to guess; the thumb marker is optional.
+    """
+    absent = [
+        role
+        for role in markers.names
+        if np.isnan(tracks.points[role]).any(axis=1).all()
+    ]
+    if not absent:
+        return ""
+    named = ", ".join(f"{role} {markers.names[role]!r}" for role in absent)
+    said = f": {named} {'is' if len(absent) == 1 else 'are'} in no frame"
+    if "thumb" in absent:
+        said += (
+            " (the thumb marker is optional: a map without it imports the "
+            "arm without the forearm's roll)"
+        )
+    return said
 
 
 def _report_gaps(
