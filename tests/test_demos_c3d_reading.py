@@ -8,22 +8,25 @@ import json
 import os
 import pathlib
 import resource
+import select
 import signal
 import struct
 import subprocess
 import sys
 import threading
 import time
+from typing import Any
 
 import ezc3d
 import numpy as np
 import pytest
 
+from shared.demos import c3d_reading
 from shared.demos.c3d_import import read_c3d
 from shared.demos.c3d_reading import CHILD, read_c3d_file
 from shared.demos.markers import MarkerMap
 from shared.errors import DemoFileError
-from tests.test_demos_c3d import MAP, MAP_NAMES, write_reach_c3d
+from tests.test_demos_c3d import MAP, MAP_NAMES, _write_points, write_reach_c3d
 
 #: Where the reach's file (``write_reach_c3d``) holds these parameters' values.
 VALUES = {
@@ -277,3 +280,36 @@ def test_the_readers_own_failure_is_said_not_silent(tmp_path: pathlib.Path) -> N
     )
     assert done.returncode == 1
     assert done.stderr.startswith("ValueError: not enough values to unpack"), done
+
+
+def test_an_answer_cut_short_by_a_killed_reader_is_named_not_unpickled(
+    tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A reader killed while it wrote a large answer (here as the first
+    64 kB reach the importer) left part of one: unpickled, that was a
+    traceback (``UnpicklingError``). Now it is the reader's crash, named."""
+    path = tmp_path / "long.c3d"
+    frames = np.linspace(0.0, 1000.0, 20_000)[:, None] * np.ones(3)
+    _write_points(path, list(MAP_NAMES), [frames] * len(MAP_NAMES))  # 1.9 MB
+    started: list[subprocess.Popen[bytes]] = []
+    start, receive = c3d_reading._start, c3d_reading._receive
+
+    def start_and_keep(*args: Any) -> subprocess.Popen[bytes]:
+        started.append(start(*args))
+        return started[-1]
+
+    def receive_then_kill(reading: int, seconds: float) -> bytes | None:
+        assert select.select([reading], [], [], 60.0)[0]
+        first = os.read(reading, 1 << 16)
+        started[0].kill()
+        rest = receive(reading, seconds)
+        return None if rest is None else first + rest
+
+    monkeypatch.setattr(c3d_reading, "_start", start_and_keep)
+    monkeypatch.setattr(c3d_reading, "_receive", receive_then_kill)
+    with pytest.raises(DemoFileError) as caught:
+        read_c3d_file(path)
+    assert caught.value.message == (
+        f"{path}: not a readable C3D file: the C3D reader (ezc3d) crashed on it "
+        "(SIGKILL), it is corrupt"
+    )

@@ -77,7 +77,7 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
         answer, code = _wait(child, reading, seconds)
         errors.seek(0)
         said = " ".join(errors.read(MAX_SAID).decode(errors="replace").split())
-    if answer:
+    if answer and code == 0:  # a child killed as it wrote left part of one
         return _answer(path, answer, memory)
     said = f"; it said: {said}" if said else ""
     if answer is not None and code > 0:  # the reader's own failure
