@@ -62,3 +62,15 @@ def test_a_mirroring_map_file_is_refused_naming_it(tmp_path: pathlib.Path) -> No
     assert "flip the sign of the one axis that is wrong" in info.value.message
     path.write_text(json.dumps({**ROLES, "axes": ["-z", "-x", "y"]}))
     assert read_marker_map(path).axes == ("-z", "-x", "y")
+
+
+def test_an_unknown_axis_is_quoted_once(tmp_path: pathlib.Path) -> None:
+    """The axes check quotes what it got; the error no longer adds the same
+    value again ("got ('-z', '-x', 'w') (got ['-z', '-x', 'w'])")."""
+    path = tmp_path / "map.json"
+    path.write_text(json.dumps({**ROLES, "axes": ["-z", "-x", "w"]}))
+    with pytest.raises(DemoFileError) as caught:
+        read_marker_map(path)
+    message = caught.value.message
+    assert message.endswith("got ('-z', '-x', 'w')"), message
+    assert message.count("got ") == 1, message

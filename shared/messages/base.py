@@ -158,7 +158,8 @@ def _describe(errors: Sequence[Any]) -> tuple[str, str]:
     loc = _dotted(_location(first))
     problem = first["msg"].removeprefix("Value error, ")
     whole = not isinstance(first.get("ctx", {}).get("error"), FieldError)
-    if "input" in first and first["type"] not in ("missing",) and whole:
+    said = "got " in problem  # a validator's own "..., got (...)"
+    if "input" in first and first["type"] not in ("missing",) and whole and not said:
         # A FieldError's input is its whole message, not the field's value.
         shown = repr(first["input"])
         if len(shown) > 60:
