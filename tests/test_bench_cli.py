@@ -249,6 +249,27 @@ def test_too_many_targets_are_refused_before_any_work(
     assert json.loads(captured.out)["error"]["evidence"]["field"] == "targets"
 
 
+@pytest.mark.parametrize(
+    ("option", "why"),
+    [
+        ("--repeats", "every round's calls are made before the first is timed"),
+        ("--plans", "every plan's call is made before the first is timed"),
+    ],
+)
+def test_too_many_repeats_or_plans_are_refused_before_any_work(
+    option: str, why: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--repeats 100000000 made a list of every round's calls before timing
+    the first (gigabytes, no progress shown); --plans too, each plan's call
+    (with --no-services, unused, it ran the whole bench): exit 1 at once,
+    the option, its range and the reason named."""
+    argv = ["bench", "--targets", "1", option, "100000000", "--no-services"]
+    assert main([*argv, "--json"]) == 1
+    captured = capsys.readouterr()
+    assert f"{option} must be 1..10000, got 100000000: {why}" in captured.err
+    assert json.loads(captured.out)["error"]["evidence"]["field"] == option[2:]
+
+
 def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
     """--plans 0: exit 1, the option named."""
     assert main(["bench", "--plans", "0"]) == 1
@@ -264,8 +285,8 @@ def test_the_help_says_how_many_plans_go_through_the_services(
         main(["bench", "--help"])
     words = " ".join(capsys.readouterr().out.split())
     assert (
-        "--plans PLANS plans in-process (default 100); through the services, for "
-        f"each client count, PLANS but at least {PER_CLIENT} per client"
+        "--plans PLANS plans in-process, 1 to 10000 (default 100); through the "
+        f"services, for each client count, PLANS but at least {PER_CLIENT} per client"
     ) in words
     assert plans_for(100, 50) == 50 * PER_CLIENT and plans_for(100, 8) == 100
 

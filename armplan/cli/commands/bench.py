@@ -45,8 +45,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--repeats",
         type=int,
         default=20,
-        help="timed plans per method, toppra calls and calls per plan part "
-        "(default 20)",
+        help="timed plans per method, toppra calls and calls per plan part, "
+        f"1 to {MOST_REPEATS} (default 20)",
     )
     parser.add_argument(
         "--ikpy-passes",
@@ -58,8 +58,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--plans",
         type=int,
         default=100,
-        help="plans in-process (default 100); through the services, for each "
-        "client count, PLANS but at least 10 per client",
+        help=f"plans in-process, 1 to {MOST_PLANS} (default 100); through the "
+        "services, for each client count, PLANS but at least 10 per client",
     )
     parser.add_argument(
         "--clients",
@@ -89,6 +89,25 @@ MOST_CLIENTS = MOST_AT_ONCE
 #: gigabytes, no progress shown, before timing the first. 10000 take about
 #: 25 min with both peers.
 MOST_TARGETS = 10_000
+
+#: Most rounds of the in-process planning benchmark (``--repeats``) and most
+#: plans (``--plans``): every timed call is made into one list before the
+#: first is timed (a round is 11 calls; 16 bytes a call), so ``--repeats
+#: 100000000`` grew the process by gigabytes, no progress shown, before
+#: timing anything. 10000 rounds take 4-8 min, 10000 plans about 2 min a
+#: row through the services.
+MOST_REPEATS = 10_000
+MOST_PLANS = 10_000
+
+#: Per count option, its most and why there is one.
+MOST: dict[str, tuple[int, str]] = {
+    "targets": (
+        MOST_TARGETS,
+        "every target is drawn and prepared before the first is timed",
+    ),
+    "repeats": (MOST_REPEATS, "every round's calls are made before the first is timed"),
+    "plans": (MOST_PLANS, "every plan's call is made before the first is timed"),
+}
 
 
 def _client_counts(text: str) -> list[int]:
@@ -125,16 +144,7 @@ def run(args: argparse.Namespace) -> int:
     from armplan.bench import report
     from armplan.bench.extras import require
 
-    for name in ("targets", "repeats", "ikpy_passes", "plans"):
-        if getattr(args, name) < 1:
-            option = "--" + name.replace("_", "-")
-            raise InvalidInputError(f"{option} must be at least 1", field=name)
-    if args.targets > MOST_TARGETS:
-        raise InvalidInputError(
-            f"--targets must be 1..{MOST_TARGETS}, got {args.targets}: every "
-            "target is drawn and prepared before the first is timed",
-            field="targets",
-        )
+    _check_counts(args)
     if args.seed < 0:  # numpy's generators take none
         raise InvalidInputError(
             f"--seed must be 0 or more, got {args.seed}", field="seed"
@@ -152,6 +162,20 @@ def run(args: argparse.Namespace) -> int:
         report.print_services(figures, args.clients)
     report.print_bars(figures, args.clients if args.services else [])
     return 0
+
+
+def _check_counts(args: argparse.Namespace) -> None:
+    """Refuse a count below 1, or above its most (:data:`MOST`), naming it."""
+    for name in ("targets", "repeats", "ikpy_passes", "plans"):
+        if getattr(args, name) < 1:
+            option = "--" + name.replace("_", "-")
+            raise InvalidInputError(f"{option} must be at least 1", field=name)
+    for name, (most, why) in MOST.items():
+        if getattr(args, name) > most:
+            raise InvalidInputError(
+                f"--{name} must be 1..{most}, got {getattr(args, name)}: {why}",
+                field=name,
+            )
 
 
 def measure(args: argparse.Namespace) -> dict[str, float]:
