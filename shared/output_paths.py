@@ -21,6 +21,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from shared.errors import InvalidInputError
+from shared.held_signals import held_signals
 
 log = logging.getLogger("armplan.output")
 
@@ -298,7 +299,10 @@ def replaced_together(
     are they all renamed. If the block raises (a failed write, Ctrl-C), or
     a path cannot be replaced by a file (a folder stands there), no path is
     touched: an older set of these files stays whole, not half new. The
-    partial files are removed in every case.
+    partial files are removed in every case. The renames run with the stop
+    signals held (:mod:`shared.held_signals`): a Ctrl-C or SIGTERM that
+    comes between two of them (it left the set half new) takes effect
+    after the last one, the new set whole.
 
     One process at a time writes sets into a folder (:func:`_one_writer_in`):
     two runs writing the same set at once used to share its partial files,
@@ -405,13 +409,14 @@ def _renamed(
                 raise InvalidInputError(
                     f"cannot write {path}: {os.strerror(errno.EISDIR)}", field=field
                 )
-        for partial, path in zip(partials, paths, strict=True):
-            try:
-                os.replace(partial, path)
-            except OSError as exc:
-                raise InvalidInputError(
-                    f"cannot write {path}: {exc.strerror}", field=field
-                ) from None
+        with held_signals():  # Ctrl-C between two renames left a mixed set
+            for partial, path in zip(partials, paths, strict=True):
+                try:
+                    os.replace(partial, path)
+                except OSError as exc:
+                    raise InvalidInputError(
+                        f"cannot write {path}: {exc.strerror}", field=field
+                    ) from None
     finally:
         for partial in partials:
             with contextlib.suppress(OSError):

@@ -58,6 +58,28 @@ def test_a_failure_in_the_block_leaves_the_older_set(older: list[Path]) -> None:
     assert contents(older[0].parent) == {n: f"older {n}" for n in NAMES}
 
 
+def test_ctrl_c_between_two_renames_comes_after_the_last(
+    older: list[Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A real SIGINT to this process right after the first rename: it came
+    out there, the set left one file new and two older, claiming to be
+    whole; now it is taken after the last rename, the set all new."""
+    rename = os.replace
+
+    def rename_then_ctrl_c(source: str | Path, target: str | Path) -> None:
+        rename(source, target)
+        if Path(target).name == NAMES[0]:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(os, "replace", rename_then_ctrl_c)
+    with pytest.raises(KeyboardInterrupt), replaced_together(older) as partials:
+        for partial in partials:
+            partial.write_text("newer")
+    monkeypatch.undo()
+    assert contents(older[0].parent) == {n: "newer" for n in NAMES}
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
 def test_a_folder_in_a_files_place_leaves_the_older_set(older: list[Path]) -> None:
     """A folder where the last file goes: a typed error naming it, before any
     file is renamed, and no partial file left."""
