@@ -254,20 +254,27 @@ def test_too_many_targets_are_refused_before_any_work(
     [
         ("--repeats", "every round's calls are made before the first is timed"),
         ("--plans", "every plan's call is made before the first is timed"),
+        (
+            "--ikpy-passes",
+            "every pass's call is made before the first is timed, and each takes "
+            "seconds",
+        ),
     ],
 )
 def test_too_many_repeats_or_plans_are_refused_before_any_work(
     option: str, why: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """--repeats 100000000 made a list of every round's calls before timing
-    the first (gigabytes, no progress shown); --plans too, each plan's call
-    (with --no-services, unused, it ran the whole bench): exit 1 at once,
-    the option, its range and the reason named."""
-    argv = ["bench", "--targets", "1", option, "100000000", "--no-services"]
+    the first (gigabytes, no progress shown); --ikpy-passes too; --plans
+    too, each plan's call (with --no-services, unused, it ran the whole
+    bench): exit 1 at once, the option, its range and the reason named."""
+    argv = ["bench", "--targets", "1", option, "1000000000", "--no-services"]
     assert main([*argv, "--json"]) == 1
     captured = capsys.readouterr()
-    assert f"{option} must be 1..10000, got 100000000: {why}" in captured.err
-    assert json.loads(captured.out)["error"]["evidence"]["field"] == option[2:]
+    most = 100 if option == "--ikpy-passes" else 10000
+    assert f"{option} must be 1..{most}, got 1000000000: {why}" in captured.err
+    field = json.loads(captured.out)["error"]["evidence"]["field"]
+    assert field == option[2:].replace("-", "_")
 
 
 def test_zero_plans_are_refused(capsys: pytest.CaptureFixture[str]) -> None:

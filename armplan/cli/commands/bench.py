@@ -52,7 +52,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--ikpy-passes",
         type=int,
         default=1,
-        help="timed ikpy passes over the reach's path (default 1; each takes seconds)",
+        help=f"timed ikpy passes over the reach's path, 1 to {MOST_IKPY_PASSES} "
+        "(default 1; each takes seconds)",
     )
     parser.add_argument(
         "--plans",
@@ -98,6 +99,9 @@ MOST_TARGETS = 10_000
 #: row through the services.
 MOST_REPEATS = 10_000
 MOST_PLANS = 10_000
+#: Most ikpy passes: made into one list too, and each takes seconds (100
+#: about 8 min); ``--ikpy-passes 1000000000`` took gigabytes before the first.
+MOST_IKPY_PASSES = 100
 
 #: Per count option, its most and why there is one.
 MOST: dict[str, tuple[int, str]] = {
@@ -107,6 +111,10 @@ MOST: dict[str, tuple[int, str]] = {
     ),
     "repeats": (MOST_REPEATS, "every round's calls are made before the first is timed"),
     "plans": (MOST_PLANS, "every plan's call is made before the first is timed"),
+    "ikpy_passes": (
+        MOST_IKPY_PASSES,
+        "every pass's call is made before the first is timed, and each takes seconds",
+    ),
 }
 
 
@@ -172,8 +180,9 @@ def _check_counts(args: argparse.Namespace) -> None:
             raise InvalidInputError(f"{option} must be at least 1", field=name)
     for name, (most, why) in MOST.items():
         if getattr(args, name) > most:
+            option = "--" + name.replace("_", "-")
             raise InvalidInputError(
-                f"--{name} must be 1..{most}, got {getattr(args, name)}: {why}",
+                f"{option} must be 1..{most}, got {getattr(args, name)}: {why}",
                 field=name,
             )
 
