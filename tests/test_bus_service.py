@@ -369,6 +369,60 @@ def test_a_call_is_asked_once_if_its_query_may_have_reached_a_service(
     _wait_gone(client, "lossy")
 
 
+MOVE = Route("mover", "test/move", Text, Text)  # not repeatable, as a robot's
+#: A router whose access control lets every query through but refuses the
+#: replies on test/move: a query its service got ends at once, without one.
+NO_REPLY_ROUTER = """{
+  access_control: {
+    enabled: true,
+    default_permission: "deny",
+    rules: [
+      { id: "all_but_replies", flows: ["ingress", "egress"], permission: "allow",
+        messages: ["put", "delete", "declare_subscriber", "query",
+                   "declare_queryable", "liveliness_token", "liveliness_query",
+                   "declare_liveliness_subscriber"],
+        key_exprs: ["**"] },
+      { id: "other_replies", messages: ["reply"], flows: ["ingress", "egress"],
+        permission: "allow", key_exprs: ["test/alive/**", "@/**"] },
+    ],
+    subjects: [{ id: "loopback", interfaces: ["lo"] }],
+    policies: [{ rules: ["all_but_replies", "other_replies"],
+                 subjects: ["loopback"] }],
+  },
+}"""
+
+
+def test_a_call_whose_reply_is_refused_is_worked_on_once() -> None:
+    """A router refuses the service's reply: the query it got ends at once
+    without one, as if it had reached no one, and its token is there. The
+    call is asked again (the guess that it reached no one), but the service,
+    which had it, refuses the second query: the work (a robot's motion) is
+    done once, not twice."""
+    config = BusConfig(
+        endpoints=(free_endpoint(),),
+        namespace="test",
+        timeout=3.0,
+        router_text=NO_REPLY_ROUTER,
+    )
+    moves: list[str] = []
+
+    def move(request: Text) -> Text:
+        moves.append(request.text)
+        return request
+
+    with (
+        open_router(config),
+        Bus.connect(config) as service_bus,
+        ServiceHost(service_bus, "mover", [Endpoint(MOVE, move)]),
+        Bus.connect(config) as client,
+    ):
+        assert client.wait_alive(["mover"], 5.0) == []
+        with pytest.raises(ServiceUnavailableError, match="'mover'"):
+            client.call(MOVE, Text(text="x"))
+        time.sleep(0.3)  # no second query on its way either
+        assert moves == ["x"]
+
+
 NAP = Route("napper", "test/nap", Text, Text)
 
 

@@ -27,7 +27,11 @@ once: under a millisecond measured; one a queryable got ends with a reply,
 or when its service's session ends), and the service's token is still
 there, asked of the router afresh (a service that died with the query ends
 it so, and takes its token with it). Any other empty end reports the
-service unavailable.
+service unavailable. That is a guess, not a proof: a query a service got
+also ends so if its reply is lost (a router's access control that refuses
+the reply but not the query: the service's work was done twice). So the
+second query says it is asked only if the service never had the call
+(``CallerBudget.again``), and a service that had it refuses it.
 
 Both queries carry one call id (``CallerBudget.call``): a service that
 still has the first queued or running answers the second from the same
@@ -169,7 +173,8 @@ def _ask(
     if the first query ends without any reply (``None``: never). With
     ``resend_after`` ``None``, asks again once only if the first query ended
     without any reply within :data:`NO_ROUTE_END` and ``still_there()``
-    (the service's token is there): it reached no one. Returns
+    (the service's token is there): it likely reached no one, and the
+    second query says so (``CallerBudget.again``). Returns
     ``None`` if every query ended without a reply; Zenoh's own timeout reply
     is returned only if no query got anything else, and a ``service_busy``
     to one query only once no other query is open (see the module's
@@ -184,14 +189,15 @@ def _ask(
     open_queries: set[int] = set()
     numbers = itertools.count()
 
-    def send() -> None:
+    def send(again: bool = False) -> None:
         left = max(deadline - time.monotonic(), 1e-3)
+        told = budget_attachment(left, call=call, session=caller, again=again)
         replies = session.get(
             key,
             payload=body,
             encoding=zenoh.Encoding.APPLICATION_JSON,
             timeout=left,
-            attachment=budget_attachment(left, call=call, session=caller),
+            attachment=told,
         )
         number = next(numbers)
         open_queries.add(number)
@@ -229,11 +235,13 @@ def _ask(
             ):
                 # Ended without a reply: Zenoh found no route to a queryable
                 # (see the module's docstring) and the query reached no one.
-                # Ask again, once.
+                # Ask again, once; a call that is not repeatable only if the
+                # service never had it (CallerBudget.again).
+                once = resend_after is None
                 resend_at = None
                 time.sleep(EMPTY_PAUSE)
                 if time.monotonic() < deadline:
-                    send()
+                    send(again=once)
         elif _is_timeout(item):
             timed_out = item
         elif _is_busy(item) and open_queries - {number}:

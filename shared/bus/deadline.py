@@ -49,6 +49,8 @@ class Due(NamedTuple):
             asks again (``CallerBudget.call``); ``None``: not said.
         session: The caller's Zenoh session id (``CallerBudget.session``);
             ``None``: not said.
+        again: Asked again only if the service never had the call
+            (``CallerBudget.again``).
     """
 
     at: float
@@ -56,6 +58,7 @@ class Due(NamedTuple):
     transit: float = 0.0
     call: str | None = None
     session: str | None = None
+    again: bool = False
 
     @property
     def passed(self) -> bool:
@@ -76,6 +79,7 @@ def budget_attachment(
     sent: float | None = None,
     call: str | None = None,
     session: str | None = None,
+    again: bool = False,
 ) -> bytes:
     """The attachment of a query whose caller waits ``seconds`` [s] more.
 
@@ -83,11 +87,14 @@ def budget_attachment(
     told as a day. ``sent``: the sending's wall-clock time [s since the
     epoch], default now. ``call``: the caller's id for the call, the same on
     a query asked again (``CallerBudget.call``). ``session``: the caller's
-    Zenoh session id (``CallerBudget.session``).
+    Zenoh session id (``CallerBudget.session``). ``again``: asked again
+    only if the service never had the call (``CallerBudget.again``).
     """
     budget = min(max(seconds, 1e-3), MAX_BUDGET)
     when = time.time() if sent is None else sent
-    told = CallerBudget(timeout=budget, sent=when, call=call, session=session)
+    told = CallerBudget(
+        timeout=budget, sent=when, call=call, session=session, again=again
+    )
     return told.to_json().encode()
 
 
@@ -122,7 +129,7 @@ def deadline_of(
         now = time.time() if arrived is None else arrived
         transit = max(now - budget.sent, 0.0)
     at = received + budget.timeout - transit
-    return Due(at, budget.timeout, transit, budget.call, budget.session)
+    return Due(at, budget.timeout, transit, budget.call, budget.session, budget.again)
 
 
 @contextmanager

@@ -31,6 +31,11 @@ went inside the service. A query's attachment is its caller's budget
 (``shared.bus.deadline``): a query still queued when its caller has stopped
 waiting is dropped unserved (not an urgent endpoint's), so a flood of
 abandoned requests does not delay the next caller.
+A query that says it is asked only if the service never had its call
+(``CallerBudget.again``: a caller's guess that its first query reached no
+one) is refused ``service_unavailable`` if a query of that call came
+before (the last :data:`REMEMBERED` calls): a reply lost on its way never
+makes a robot move twice.
 """
 
 from __future__ import annotations
@@ -40,6 +45,7 @@ import logging
 import queue
 import threading
 import time
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -63,6 +69,9 @@ STOP_GRACE = 2.0
 #: trajectory it watched to its end as it stopped: its caller was told "no
 #: queryable answered", 3 times in 3 on a loaded machine).
 REPLY_FLUSH = 0.3
+#: Calls remembered as had, for a query asked again only if its call was
+#: not (``CallerBudget.again``); the oldest are forgotten first.
+REMEMBERED = 4096
 
 
 class ServiceHost(StartStop):
@@ -106,6 +115,7 @@ class ServiceHost(StartStop):
         self._waiting: dict[str, CallJob] = {}  # an urgent key's job not yet begun
         self._lock = threading.Lock()  # guards _calls and the jobs in it
         self._calls: dict[tuple[str, str], CallJob] = {}  # queued or running
+        self._had: OrderedDict[tuple[str, str], None] = OrderedDict()  # (key, call)
         self._workers: list[tuple[threading.Thread, queue.Queue[CallJob | None]]] = []
         self._queryables: list[zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
@@ -154,6 +164,14 @@ class ServiceHost(StartStop):
                         reason=f"{what}the service is stopping",
                     ),
                 )
+            elif admitted is _HAD:
+                had = ServiceUnavailableError(
+                    self.name,
+                    key=key,
+                    reason="it had this call's first query already, whose answer "
+                    "was lost on its way (not done twice)",
+                )
+                self._refuse(query, had)
             elif not admitted:
                 busy = ServiceBusyError(self.name, key=key, queued=jobs.qsize())
                 self._refuse(query, busy)
@@ -199,13 +217,15 @@ class ServiceHost(StartStop):
         query: zenoh.Query,
         jobs: queue.Queue[CallJob | None],
         arrived: float,
-    ) -> bool | None:
+    ) -> bool | object | None:
         """Queue ``query``, or join it to its call's first query; ``False``: full.
 
         A query asked again (its call id is that of a query queued or
         running) takes no place in the queue: refused busy, its error would
         be its caller's answer while the first query was still worked on.
         ``None``: the host is stopping (:meth:`stop`), nothing is queued.
+        ``_HAD``: the query is asked only if its call is new
+        (``Due.again``), and a query of it came before, now answered.
         """
         due = deadline_of(query, arrived)
         call = None if due is None else due.call
@@ -217,6 +237,8 @@ class ServiceHost(StartStop):
             job = None if call is None else self._calls.get((key, call))
             if job is not None and job.add(query, due):
                 return True
+            if due is not None and due.again and (key, call) in self._had:
+                return _HAD
             job = CallJob(endpoint, key, query, due, arrived)
             try:
                 jobs.put_nowait(job)
@@ -224,6 +246,9 @@ class ServiceHost(StartStop):
                 return False
             if call is not None and (key, call) not in self._calls:
                 self._calls[(key, call)] = job
+                self._had[(key, call)] = None
+                while len(self._had) > REMEMBERED:
+                    self._had.popitem(last=False)
             return True
 
     def _admit_urgent(
@@ -328,6 +353,11 @@ class ServiceHost(StartStop):
             queryable.undeclare()  # type: ignore[no-untyped-call]
         self._queryables.clear()
         log.info("service %s stopped", self.name)
+
+
+#: ``_admit``'s answer to a query asked only if its call is new, whose call
+#: the host has had.
+_HAD = object()
 
 
 def _lane(endpoint: Endpoint[Any, Any], key: str) -> str:

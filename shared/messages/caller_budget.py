@@ -36,9 +36,16 @@ class CallerBudget(Message):
             (``<ns>/caller/<session>``) goes when the caller's session ends:
             a service may then drop what only that caller wanted (the
             planner does not publish its plan). ``None``: not said.
+        again: The query asks the call again only on the guess that its
+            first query reached no one (it ended at once without a reply:
+            ``caller.answered``, a call that is not repeatable); the service
+            refuses it if it has had a query of the call, so that a wrong
+            guess (a reply lost, or refused by a router) never does the
+            work twice.
     """
 
     timeout: float = Field(gt=0.0, le=MAX_BUDGET)
     sent: float | None = Field(default=None, gt=0.0)
     call: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
     session: str | None = Field(default=None, pattern=r"^[0-9a-f]{1,32}$")
+    again: bool = False
