@@ -499,6 +499,18 @@ def test_requests_their_callers_left_are_dropped_unserved(config: BusConfig) -> 
     assert handler.late == [True, False]
 
 
+def test_again_is_said_only_when_true() -> None:
+    """A query asked only if its call is new says so; every other query's
+    budget leaves the field out, so a service older than it (which refuses
+    unknown fields) still reads that budget."""
+    from shared.bus.deadline import budget_attachment
+    from shared.messages import CallerBudget
+
+    assert b"again" not in budget_attachment(5.0, call="c")
+    told = budget_attachment(5.0, call="c", again=True)
+    assert CallerBudget.model_validate_json(told).again is True
+
+
 def test_a_day_long_timeout_is_told_as_a_day() -> None:
     """The budget sent is clamped into a millisecond .. a day, never refused."""
     from shared.bus.deadline import budget_attachment

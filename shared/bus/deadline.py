@@ -95,7 +95,9 @@ def budget_attachment(
     told = CallerBudget(
         timeout=budget, sent=when, call=call, session=session, again=again
     )
-    return told.to_json().encode()
+    # said only when true: a service older than the field, which refuses
+    # unknown fields, still reads every other query's budget
+    return told.model_dump_json(exclude=None if again else {"again"}).encode()
 
 
 def deadline_of(
