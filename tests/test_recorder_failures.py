@@ -15,6 +15,7 @@ import logging
 import os
 import resource
 import signal
+import stat
 import subprocess
 import time
 from collections.abc import Iterator
@@ -274,6 +275,35 @@ def test_a_device_that_takes_nothing_is_one_line(
         assert process.returncode == 1, stderr
         assert stderr.startswith(said), stderr
         assert "Traceback" not in stderr
+
+
+@pytest.mark.parametrize("reader", [False, True])
+def test_a_named_pipe_is_refused_not_waited_on(
+    config: BusConfig, tmp_path: Path, reader: bool
+) -> None:
+    """-o FIFO --overwrite: one line naming it, exit 1, whether it is read.
+
+    Without a reader it used to wait in open() for ever, deaf to Ctrl-C and
+    SIGTERM (their handler only sets the stop flag): only SIGKILL ended it.
+    With one it failed "cannot write ...: Illegal seek" (or hung as well).
+    """
+    fifo = tmp_path / "pipe.mcap"
+    os.mkfifo(fifo)
+    held = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK) if reader else None
+    process = record(config, fifo, "--duration", "1", "--overwrite")
+    try:
+        _, stderr = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        if held is not None:
+            os.close(held)
+    assert process.returncode == 1, stderr
+    assert stderr == (
+        f"armplan: error: {fifo} is a named pipe, not a file: a recording is "
+        "written to a file (its writer needs to know its position in it); "
+        "give a file's name\n"
+    )
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)  # left as it was
 
 
 def test_an_existing_recording_is_refused_unless_overwrite(tmp_path: Path) -> None:

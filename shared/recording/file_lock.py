@@ -85,6 +85,35 @@ def dangling_error(path: Path) -> RecordingError:
     )
 
 
+def pipe_error(path: Path, mode: int) -> RecordingError:
+    """The error for a named pipe or a socket at ``path`` (``mode``: its stat's).
+
+    A recording is written to a file it can tell its position in: into a
+    pipe with a reader it failed "Illegal seek"; without one, the open
+    waited for a reader for ever, deaf to Ctrl-C and SIGTERM.
+    """
+    kind = "a named pipe" if stat.S_ISFIFO(mode) else "a socket"
+    return RecordingError(
+        f"{path} is {kind}, not a file: a recording is written to a file "
+        "(its writer needs to know its position in it); give a file's name",
+        path=str(path),
+    )
+
+
+def _refuse_pipe(path: Path) -> None:
+    """Refuse ``path`` if it is (or links to) a named pipe or a socket.
+
+    Raises:
+        RecordingError: :func:`pipe_error`.
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:  # gone, or a link to nothing: the caller tells
+        return
+    if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
+        raise pipe_error(path, mode)
+
+
 def _lock(fd: int, path: Path) -> None:
     """Take the exclusive lock of ``fd`` without waiting; close it if held.
 
@@ -137,14 +166,16 @@ def _take_over(path: Path) -> int | None:
     descriptor.
 
     Raises:
-        RecordingError: if another writer holds it, or it is a symbolic
-            link to nothing (:func:`dangling_error`).
+        RecordingError: if another writer holds it, it is a symbolic link
+            to nothing (:func:`dangling_error`), or a named pipe or a socket
+            (:func:`pipe_error`), or links to one.
         OSError: if it cannot be opened.
     """
     try:
         mode = os.lstat(path).st_mode
     except FileNotFoundError:  # removed meanwhile: create it
         return None
+    _refuse_pipe(path)
     regular = stat.S_ISREG(mode)
     try:
         fd = os.open(path, os.O_RDONLY if regular else os.O_WRONLY)
