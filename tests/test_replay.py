@@ -361,6 +361,26 @@ def test_keys_before_the_file_say_where_the_file_went(
     assert "--keys bogus/key other/key;" in err  # repeated --keys add up
 
 
+def test_an_option_after_the_double_dash_is_named_not_looked_for(
+    recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`replay --keys K -- s.mcap --connect E`: after --, --connect and E are
+    files; it said "--connect: no such file". Refused naming the option and
+    where to put it, before any file is read or router looked for."""
+    from armplan.cli.main import main
+
+    path, _ = recording
+    endpoint = free_endpoint()
+    argv = ["replay", "--keys", "plan/trajectory", "--", str(path)]
+    assert main([*argv, "--connect", endpoint]) == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert err == (
+        "armplan: error: --connect was taken for a file: after --, every word "
+        "is a file; give the options before -- (e.g. --keys plan/trajectory "
+        "--connect tcp/HOST:PORT -- s.mcap)"
+    )
+
+
 def test_keys_that_take_a_later_part_say_so(
     recording: tuple[Path, list[float]], capsys: pytest.CaptureFixture[str]
 ) -> None:

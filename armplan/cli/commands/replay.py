@@ -25,6 +25,7 @@ import sys
 import threading
 import time
 from collections import Counter
+from pathlib import Path
 
 import zenoh
 
@@ -134,6 +135,7 @@ def _check_files(args: argparse.Namespace) -> None:
         for value in values or ()
         if value.endswith(".mcap")
     ]
+    _check_no_option_taken(args.files)
     if args.files and not took:
         return
     hint = (
@@ -147,6 +149,23 @@ def _check_files(args: argparse.Namespace) -> None:
         raise InvalidInputError(hint, field="files")
     what = f"; {hint}" if hint else ""
     raise InvalidInputError(f"no FILE.mcap to replay was given{what}", field="files")
+
+
+def _check_no_option_taken(files: list[str]) -> None:
+    """Raise if an option after ``--`` was taken for a file.
+
+    After ``--`` every word is a file: ``replay --keys plan/trajectory --
+    s.mcap --connect tcp/HOST:PORT`` said "--connect: no such file".
+    A file that exists under such a name is replayed as asked.
+    """
+    for word in files:
+        if word.startswith("-") and not Path(word).exists():
+            raise InvalidInputError(
+                f"{word} was taken for a file: after --, every word is a file; "
+                "give the options before -- (e.g. --keys plan/trajectory "
+                "--connect tcp/HOST:PORT -- s.mcap)",
+                field="files",
+            )
 
 
 def _check_wait(wait: float) -> None:
