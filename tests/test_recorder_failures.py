@@ -385,6 +385,25 @@ def test_record_into_a_folder_is_refused_as_a_folder(
     assert list(tmp_path.iterdir()) == []
 
 
+def test_record_into_a_missing_folder_is_refused_not_made_a_file(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """`armplan record -o newdir/` with no folder newdir: exit 1, one line;
+    it used to record into a file named newdir (the slash dropped)."""
+    command = record_command(config, tmp_path / "newdir", "--duration", "1")
+    command[command.index("-o") + 1] += "/"
+    process = subprocess.run(
+        command, capture_output=True, text=True, timeout=60, check=False
+    )
+    assert process.returncode == 1, process.stderr
+    assert process.stderr == (
+        f"armplan: error: {tmp_path}/newdir/ ends with /, as a folder's name, "
+        f"and there is no folder {tmp_path}/newdir: create it and name the "
+        f"recording's file, e.g. {tmp_path}/newdir/session.mcap\n"
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_sample_without_poses_loses_only_its_poses(tmp_path: Path) -> None:
     """A trajectory stamped a second before MCAP's clock ends (its poses
     would pass 2^64 ns) is written, its Foxglove poses skipped, and the

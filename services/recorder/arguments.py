@@ -12,7 +12,7 @@ from pathlib import Path
 from services.recorder.options import RecorderOptions, default_output
 from services.recorder.size_floor import warn_if_small
 from shared.bus.topics import topic_paths
-from shared.errors import InvalidInputError
+from shared.errors import InvalidInputError, RecordingError
 from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
 from shared.recording.writer import refuse_folder
 
@@ -147,6 +147,8 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         else parse_keep_parts(args.keep_parts),
     )
     warn_if_small(args.rotate_size, rotation.max_bytes, not args.no_foxglove)
+    if args.output:
+        refuse_folder_name(args.output)
     output = Path(args.output) if args.output else default_output()
     refuse_folder(output)  # before connecting: no router fixes this
     return RecorderOptions(
@@ -160,3 +162,22 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         commanded_prefix=args.commanded_prefix,
         overwrite=args.overwrite,
     )
+
+
+def refuse_folder_name(output: str) -> None:
+    """Refuse ``-o DIR/`` where no folder ``DIR`` exists.
+
+    ``Path`` drops the trailing slash: ``-o newdir/`` recorded into a file
+    named ``newdir``. (An existing folder is refused by ``refuse_folder``.)
+
+    Raises:
+        RecordingError: naming the path and how to give a file in it.
+    """
+    if output.endswith("/") and not Path(output).is_dir():
+        folder = output.rstrip("/") or "/"
+        raise RecordingError(
+            f"{output} ends with /, as a folder's name, and there is no folder "
+            f"{folder}: create it and name the recording's file, e.g. "
+            f"{Path(folder) / 'session.mcap'}",
+            path=output,
+        )
