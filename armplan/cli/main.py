@@ -27,6 +27,7 @@ from armplan.cli.termination import (
     TERMINATED_CODE,
     signal_of,
     stopped_by,
+    stops_unwinding,
 )
 
 
@@ -61,8 +62,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; returns the exit code.
 
     0 ok, 1 armplan error, 2 usage, 130 Ctrl-C, 143 SIGTERM, 129 SIGHUP
-    (where the command stops on them as on Ctrl-C; the commands that record
-    or serve until stopped exit 0 on each). Ctrl-C while the commands load
+    (every command unwinds on SIGTERM and SIGHUP as on Ctrl-C; the commands
+    that record or serve until stopped exit 0 on each). Ctrl-C while the commands load
     exits 130 once they have loaded, without a traceback.
     """
     with held_interrupt() as held:
@@ -72,7 +73,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _stopped(signal.SIGINT)
     from shared.offered_options import offering
 
-    with offering(chosen_options(parser, args)):  # for the hints of its errors
+    with (
+        stops_unwinding(),  # every command unwinds on SIGTERM as on Ctrl-C
+        offering(chosen_options(parser, args)),  # for the hints of its errors
+    ):
         return run_command(args.run, args)
 
 

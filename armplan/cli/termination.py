@@ -1,10 +1,13 @@
 """SIGTERM and SIGHUP stop a command as Ctrl-C does, and are reported as themselves.
 
-``armplan demo`` shuts down every process it started on Ctrl-C
-(``KeyboardInterrupt``); SIGTERM (``timeout``, systemd, ``docker stop``)
-must do the same clean-up, so it raises :class:`Terminated`, a kind of
-``KeyboardInterrupt``. The command then exits 143 ("terminated"), the code
-a shell gives a process ended by SIGTERM, not Ctrl-C's 130. SIGHUP (the
+Every command (:func:`stops_unwinding`, from ``armplan.cli.main``) cleans
+up on Ctrl-C (``KeyboardInterrupt``): ``armplan demo`` shuts down every
+process it started, an experiment or the bench leaves no partial files.
+SIGTERM (``timeout``, systemd, ``docker stop``) must do the same clean-up,
+so it raises :class:`Terminated`, a kind of ``KeyboardInterrupt`` (it
+killed the bench and the experiments outright, their partial files left).
+The command then exits 143 ("terminated"), the code a shell gives a
+process ended by SIGTERM, not Ctrl-C's 130. SIGHUP (the
 terminal closed, an ssh session dropped) raises :class:`HungUp`, and the
 command exits 129 ("hung up"); its default would have killed the demo
 with every process it started still running until they noticed.
@@ -20,6 +23,9 @@ whatever the exception became on its way out.
 from __future__ import annotations
 
 import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from types import FrameType
 
 #: Exit codes: 128 + the signal's number.
@@ -63,6 +69,28 @@ def terminate_on_sigterm() -> None:
     for signum in _RAISES:
         if signal.getsignal(signum) is not signal.SIG_IGN:  # kept, as inherited
             signal.signal(signum, stop)
+
+
+@contextmanager
+def stops_unwinding() -> Iterator[None]:
+    """:func:`terminate_on_sigterm` inside the block (in the main thread).
+
+    The handlers there before are put back after it: a command run in a
+    test's process leaves the test runner's own. Elsewhere than in the main
+    thread (which alone may set handlers) the block runs as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = {signum: signal.getsignal(signum) for signum in _RAISES}
+    forget_signals()  # an earlier command's, in this process
+    terminate_on_sigterm()
+    try:
+        yield
+    finally:
+        for signum, handler in before.items():
+            if handler is not None:  # None: set outside Python, not restorable
+                signal.signal(signum, handler)
 
 
 def signal_of(stop: KeyboardInterrupt) -> signal.Signals:
