@@ -192,15 +192,12 @@ def test_the_reader_ends_with_an_importer_killed_alone(tmp_path: pathlib.Path) -
                 os.kill(child, signal.SIGKILL)
 
 
-def test_the_reader_is_a_new_program_not_a_copy_of_the_importer(
-    tmp_path: pathlib.Path,
-) -> None:
-    """A fork copies the locks the importer's other threads hold (this test
-    runner's, Zenoh's, libqi's) with no one left to free them: a forked
-    reader of a pytest-xdist worker answered nothing for 60 s. The reader
-    runs ``c3d_child.py`` in a new interpreter, here caught waiting on a
-    FIFO while this process runs another thread, then killed: named."""
-    fifo = tmp_path / "never.c3d"
+def _signalled_reader(
+    fifo: pathlib.Path, signum: signal.Signals
+) -> tuple[list[str], str]:
+    """The command line of the reader of ``fifo`` (waiting on it, while this
+    process runs another thread), and the importer's error once ``signum``
+    ended that reader."""
     os.mkfifo(fifo)
     failed: list[DemoFileError] = []
 
@@ -218,16 +215,41 @@ def test_the_reader_is_a_new_program_not_a_copy_of_the_importer(
         time.sleep(0.05)
     try:
         command = pathlib.Path(f"/proc/{children[0]}/cmdline").read_bytes()
-        words = [word.decode() for word in command.split(b"\0") if word]
-        assert words[:4] == [sys.executable, "-I", str(CHILD), str(fifo)], words
     finally:
-        os.kill(children[0], signal.SIGKILL)
+        os.kill(children[0], signum)
         reader.join(timeout=30)
     assert not reader.is_alive()
-    assert [error.message for error in failed] == [
+    (error,) = failed
+    return [word.decode() for word in command.split(b"\0") if word], error.message
+
+
+def test_the_reader_is_a_new_program_not_a_copy_of_the_importer(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A fork copies the locks the importer's other threads hold (this test
+    runner's, Zenoh's, libqi's) with no one left to free them: a forked
+    reader of a pytest-xdist worker answered nothing for 60 s. The reader
+    runs ``c3d_child.py`` in a new interpreter, here caught waiting on a
+    FIFO while this process runs another thread, then killed: named."""
+    fifo = tmp_path / "never.c3d"
+    words, message = _signalled_reader(fifo, signal.SIGKILL)
+    assert words[:4] == [sys.executable, "-I", str(CHILD), str(fifo)], words
+    assert message == (
         f"{fifo}: not a readable C3D file: the C3D reader (ezc3d) crashed on it "
         "(SIGKILL), it is corrupt"
-    ]
+    )
+
+
+def test_a_reader_past_its_cpu_time_is_not_said_to_crash(
+    tmp_path: pathlib.Path,
+) -> None:
+    """SIGXCPU (the reader's CPU time limit) was "crashed on it (SIGXCPU),
+    it is corrupt"; it is the time the file took."""
+    fifo = tmp_path / "slow.c3d"
+    _, message = _signalled_reader(fifo, signal.SIGXCPU)
+    assert message == (
+        f"{fifo}: not a readable C3D file: reading it took over 60 s of CPU time"
+    )
 
 
 def _read_under_cpu_limit(path: pathlib.Path, seconds: int) -> str:
@@ -265,6 +287,30 @@ def test_a_cpu_time_limit_of_the_shell_is_kept_not_raised(
     (ezc3d) ended without an answer (exit 0)". It keeps the lower limit."""
     frames = ezc3d.c3d(str(reach))["data"]["points"].shape[2]
     assert _read_under_cpu_limit(reach, 50) == f"read (3, {len(MAP_NAMES)}, {frames})"
+
+
+@pytest.mark.parametrize(("shell", "said"), [(5, "(5, True)"), (None, "(60, False)")])
+def test_a_cpu_limit_the_shell_set_is_the_one_blamed(
+    shell: int | None, said: str
+) -> None:
+    """Under ``ulimit -t 5`` a reader past its CPU time hit the shell's limit
+    (the error says so: "the 5 s of CPU time this shell allows"), not its
+    own 60 s (the file's: "reading it took over 60 s of CPU time")."""
+    code = "from shared.demos.c3d_reading import _cpu_limit; print(_cpu_limit(60.0))"
+
+    def limit() -> None:
+        if shell is not None:
+            resource.setrlimit(resource.RLIMIT_CPU, (shell, shell))
+
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=limit,
+        check=True,
+    )
+    assert done.stdout.strip() == said
 
 
 def test_the_readers_own_failure_is_said_not_silent(tmp_path: pathlib.Path) -> None:

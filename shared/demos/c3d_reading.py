@@ -19,8 +19,10 @@ reader of a pytest-xdist worker once answered nothing for 60 s.
 
 from __future__ import annotations
 
+import math
 import os
 import pickle
+import resource
 import select
 import signal
 import subprocess
@@ -85,7 +87,16 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
             str(path),
             f"cannot be read: the C3D reader could not run (exit {code}){said}",
         )
-    if answer is None:
+    if code == -signal.SIGXCPU:  # past its CPU time limit
+        cpu, shell = _cpu_limit(seconds)
+        if shell:
+            raise DemoFileError(
+                str(path),
+                f"cannot be read: the C3D reader took over the {cpu} s of CPU "
+                "time this shell allows (ulimit -t)",
+            )
+        problem = f"reading it took over {cpu} s of CPU time"
+    elif answer is None:
         problem = f"reading it took over {seconds:.0f} s"
     elif code < 0:
         name = signal.Signals(-code).name
@@ -93,6 +104,18 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
     else:
         problem = f"the C3D reader (ezc3d) ended without an answer (exit {code})"
     raise DemoFileError(str(path), f"not a readable C3D file: {problem}{said}")
+
+
+def _cpu_limit(seconds: float) -> tuple[int, bool]:
+    """The child's CPU time limit [s] (``c3d_child``), and whether the shell set it.
+
+    The shell's is a hard ``ulimit -t`` below ``seconds`` [s].
+    """
+    cpu = math.ceil(seconds)
+    _, hard = resource.getrlimit(resource.RLIMIT_CPU)
+    if hard != resource.RLIM_INFINITY and hard < cpu:
+        return hard, True
+    return cpu, False
 
 
 def _answer(path: Path, answer: bytes, memory: int) -> dict[str, Any]:
