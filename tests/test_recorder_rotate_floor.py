@@ -18,6 +18,7 @@ import pytest
 
 from armplan.launch import free_endpoint
 from services.recorder import RecorderProcess
+from services.recorder.duration_floor import duration_note
 from services.recorder.options import RecorderOptions
 from services.recorder.replay import replay_items
 from services.recorder.size_floor import EMPTY_PART, size_note
@@ -130,3 +131,43 @@ def test_a_one_byte_size_is_named_in_the_singular() -> None:
     assert note is not None
     assert note.startswith("recorder: --rotate-size 1 (1 byte) is less than a part")
     assert "(2 bytes)" in (size_note("2", 2, foxglove=False) or "")
+
+
+def test_a_rotation_under_a_second_is_warned_about_and_still_recorded(
+    config: BusConfig, tmp_path: Path
+) -> None:
+    """``--rotate-duration 0.01`` made 73 files in 8 s with no word: warned
+    on stderr, recorded as asked, every message kept."""
+    out = tmp_path / "quick.mcap"
+    command = record_command(config, out, "--rotate-duration", "0.5", "--duration", "3")
+    process = subprocess.Popen(
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "ARMPLAN_ZENOH_CONFIG": ""},
+    )
+    try:
+        assert process.stdout is not None
+        assert "armplan record: recording" in process.stdout.readline()
+        publish_all(config, PAYLOADS)
+        _, stderr = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        process.wait(30)
+    assert process.returncode == 0, stderr
+    assert (
+        "recorder: --rotate-duration 0.5 starts a new file every 0.5 s, up to 7200 "
+        "files an hour" in stderr
+    )
+    parts = sorted(tmp_path.glob("quick-*.mcap"))
+    assert [(item.path, item.payload) for item in replay_items(parts)] == PAYLOADS
+
+
+@pytest.mark.parametrize(
+    ("seconds", "warned"), [(0.999, True), (1.0, False), (60.0, False)]
+)
+def test_only_a_rotation_under_a_second_is_warned_about(
+    seconds: float, warned: bool
+) -> None:
+    assert (duration_note(seconds) is not None) is warned

@@ -9,6 +9,7 @@ import argparse
 import re
 from pathlib import Path
 
+from services.recorder.duration_floor import warn_if_short
 from services.recorder.options import RecorderOptions, default_output
 from services.recorder.size_floor import warn_if_small
 from shared.bus.topics import topic_paths
@@ -133,7 +134,8 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
     """The recorder options the command line asks for.
 
     A ``--rotate-size`` below what a part weighs on its own is warned about
-    (:mod:`services.recorder.size_floor`), not refused.
+    (:mod:`services.recorder.size_floor`), not refused; so is a
+    ``--rotate-duration`` under a second (:mod:`services.recorder.duration_floor`).
 
     Raises:
         InvalidInputError: naming the option that is wrong.
@@ -147,6 +149,7 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         else parse_keep_parts(args.keep_parts),
     )
     warn_if_small(args.rotate_size, rotation.max_bytes, not args.no_foxglove)
+    warn_if_short(rotation.max_seconds)
     if args.output:
         refuse_folder_name(args.output)
     output = Path(args.output) if args.output else default_output()
