@@ -468,3 +468,14 @@ def test_messages_replay_does_not_send_are_not_said_to_be_sent(
         "armplan replay sends the 1 on its keys as they are, not the 2 on "
         "channels named /..."
     ) in out
+
+
+def test_an_empty_file_name_is_named_not_taken_for_the_folder_here(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """`inspect ""` said ". is a folder, not an MCAP file" (Path("") is ".")."""
+    for extra in ([], ["--recover"]):
+        assert main(["inspect", "", *extra]) == 1
+        assert capsys.readouterr().err == (
+            "armplan: error: the recording's name is empty: name an MCAP file\n"
+        )

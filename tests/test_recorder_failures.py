@@ -591,3 +591,35 @@ def test_a_stop_with_a_backlog_says_it_is_writing_it_out(
     assert "messages still queued (at most 30 s), then closing the file whole" in stderr
     assert "armplan record: 6 messages" in stdout
     assert len([r for r in read_records(out) if r.topic.endswith("trajectory")]) == 6
+
+
+@pytest.mark.parametrize(
+    ("extra", "said"),
+    [
+        (
+            ["-o", ""],
+            "-o is empty: name the recording's file (or leave -o out for "
+            "armplan-DATE-TIME.mcap here)",
+        ),
+        (["--flush-every", "0"], "--flush-every must be in (0, 10] s, got 0"),
+        (["--flush-every", "nan"], "--flush-every must be in (0, 10] s, got nan"),
+    ],
+    ids=["empty-output", "flush-0", "flush-nan"],
+)
+def test_a_bad_output_or_flush_is_named_by_its_option(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    extra: list[str],
+    said: str,
+) -> None:
+    """`-o ""` recorded under the default name as if -o were not given;
+    `--flush-every 0` was told as the options' field ("flush_every must
+    be ..."). Both refused before any router is looked for, naming the option."""
+    from armplan.cli.main import main
+
+    monkeypatch.chdir(tmp_path)
+    endpoint = free_endpoint()
+    assert main(["record", "--connect", endpoint, "--duration", "1", *extra]) == 1
+    assert capsys.readouterr().err == f"armplan: error: {said}\n"
+    assert list(tmp_path.iterdir()) == []

@@ -679,3 +679,15 @@ def test_a_recording_of_nothing_is_not_replayed_as_a_whole_one(
     assert f"{cut} is damaged after 0 readable messages (" in err
     assert "nothing of it is replayed; what came after is lost" in err
     assert f"nothing to replay: {cut} holds no readable recorded Zenoh" in err
+
+
+def test_an_empty_file_name_is_named_not_taken_for_the_folder_here(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """`replay ""` said ". is a folder, not an MCAP file" (Path("") is ".")."""
+    from armplan.cli.main import main
+
+    assert main(["replay", ""]) == 1
+    assert capsys.readouterr().err == (
+        "armplan: error: a file's name is empty (''): name each MCAP file\n"
+    )

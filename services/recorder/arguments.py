@@ -14,7 +14,7 @@ from services.recorder.options import RecorderOptions, default_output
 from services.recorder.size_floor import warn_if_small
 from shared.bus.topics import topic_paths
 from shared.errors import InvalidInputError, RecordingError
-from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
+from shared.recording.rotation import FLUSH_EVERY, MAX_FLUSH_EVERY, RotationPolicy
 from shared.recording.writer import refuse_folder
 
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kKmMgG]?)i?[bB]?\s*$")
@@ -150,6 +150,13 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
     )
     warn_if_small(args.rotate_size, rotation.max_bytes, not args.no_foxglove)
     warn_if_short(rotation.max_seconds)
+    _check_flush_every(args.flush_every)
+    if args.output is not None and not args.output:
+        raise InvalidInputError(
+            "-o is empty: name the recording's file (or leave -o out for "
+            "armplan-DATE-TIME.mcap here)",
+            field="output",
+        )
     if args.output:
         refuse_folder_name(args.output)
     output = Path(args.output) if args.output else default_output()
@@ -165,6 +172,18 @@ def options_from_args(args: argparse.Namespace) -> RecorderOptions:
         commanded_prefix=args.commanded_prefix,
         overwrite=args.overwrite,
     )
+
+
+def _check_flush_every(seconds: float) -> None:
+    """Refuse a ``--flush-every`` outside (0, :data:`MAX_FLUSH_EVERY`] [s], by name.
+
+    The options' own check names their field (``flush_every``), not the option.
+    """
+    if not 0.0 < seconds <= MAX_FLUSH_EVERY:
+        raise InvalidInputError(
+            f"--flush-every must be in (0, {MAX_FLUSH_EVERY:g}] s, got {seconds:g}",
+            field="flush_every",
+        )
 
 
 def refuse_folder_name(output: str) -> None:

@@ -10,7 +10,7 @@ import zenoh
 
 from shared.bus.topics import topic_paths
 from shared.errors import InvalidInputError
-from shared.recording.rotation import FLUSH_EVERY, RotationPolicy
+from shared.recording.rotation import FLUSH_EVERY, MAX_FLUSH_EVERY, RotationPolicy
 
 
 def default_output() -> Path:
@@ -89,8 +89,9 @@ class RecorderOptions:
     overwrite: bool = False
 
     def __post_init__(self) -> None:
-        if not 0 < self.flush_every <= 10.0:
+        if not 0 < self.flush_every <= MAX_FLUSH_EVERY:
             raise InvalidInputError(
-                f"flush_every must be in (0, 10] s, got {self.flush_every}",
+                f"flush_every must be in (0, {MAX_FLUSH_EVERY:g}] s, "
+                f"got {self.flush_every}",
                 field="flush_every",
             )

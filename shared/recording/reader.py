@@ -159,6 +159,10 @@ class Recording:
         *,
         keep_unread: bool = False,
     ) -> None:
+        if not str(path):  # Path("") is ".", and "." is a folder
+            raise RecordingError(
+                "the recording's name is empty: name an MCAP file", path=""
+            )
         self.path = Path(path)
         self.topics = None if topics is None else set(topics)
         self.keep_unread = keep_unread

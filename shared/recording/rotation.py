@@ -29,6 +29,9 @@ from shared.recording.writer import MessageWriter, refuse_folder
 
 #: Default longest time between flushes of a live file [s].
 FLUSH_EVERY = 0.2
+#: The longest time between flushes allowed [s]: more, and a killed recorder
+#: loses too much.
+MAX_FLUSH_EVERY = 10.0
 
 
 @dataclass(frozen=True)

@@ -152,13 +152,17 @@ def _check_files(args: argparse.Namespace) -> None:
 
 
 def _check_no_option_taken(files: list[str]) -> None:
-    """Raise if an option after ``--`` was taken for a file.
+    """Raise if an option after ``--`` was taken for a file, or a name is empty.
 
     After ``--`` every word is a file: ``replay --keys plan/trajectory --
     s.mcap --connect tcp/HOST:PORT`` said "--connect: no such file".
     A file that exists under such a name is replayed as asked.
     """
     for word in files:
+        if not word:  # Path("") is ".": "is a folder, not an MCAP file"
+            raise InvalidInputError(
+                "a file's name is empty (''): name each MCAP file", field="files"
+            )
         if word.startswith("-") and not Path(word).exists():
             raise InvalidInputError(
                 f"{word} was taken for a file: after --, every word is a file; "
