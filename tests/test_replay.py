@@ -691,3 +691,15 @@ def test_an_empty_file_name_is_named_not_taken_for_the_folder_here(
     assert capsys.readouterr().err == (
         "armplan: error: a file's name is empty (''): name each MCAP file\n"
     )
+
+
+def test_a_replay_stopped_early_counts_its_time_to_the_stop() -> None:
+    """Stopped 0.3 s after its first message, while waiting 10 s for the
+    second: it said "sent 1 of 2 messages in 0.000 s" (the time to its
+    last send)."""
+    items = [ReplayItem(o, "k", b"{}", "application/json") for o in (0.0, 10.0)]
+    stop = threading.Event()
+    timer = threading.Timer(0.3, stop.set)
+    stats = replay(items, lambda k, p, e: timer.start(), stop=stop)
+    assert stats.sent == 1
+    assert 0.3 <= stats.duration < 5.0

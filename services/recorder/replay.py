@@ -76,7 +76,9 @@ class ReplayStats(NamedTuple):
 
     Attributes:
         sent: Messages sent.
-        duration: Wall time from the first to the last send [s].
+        duration: Wall time from the start to the last send, or to the
+            stop of a replay stopped early [s] (one stopped after its first
+            message said "sent 1 of 2 messages in 0.000 s" after seconds).
         late: Largest delay of a send behind its scheduled time [s] (a
             send on time or early counts 0).
     """
@@ -298,6 +300,7 @@ def replay(
         check_speed(speed, item.offset)
         due = start + item.offset / speed
         if stop.wait(max(due - clock(), 0.0)):
+            last = clock()  # the time it ran, not its last send's
             break
         last = clock()
         late = max(late, last - due)
