@@ -501,3 +501,31 @@ def test_a_thumb_marker_lost_for_the_whole_take_is_named(
     )
     plain = MarkerMap.model_validate({k: v for k, v in MAP.items() if k != "thumb"})
     assert read_c3d(path, plain)[0].wrist_frame is None
+
+
+@pytest.mark.parametrize(
+    ("axes", "said"),
+    [
+        (["-z", "-x", "y"], None),  # the lab's own: Y up, -z forward
+        (["-z", "x", "-y"], "the elbow starts {above:.2f} m above the shoulder"),
+        (["z", "x", "y"], "the reach ends {behind:.2f} m behind the shoulder"),
+    ],
+    ids=["right", "upside-down", "backwards"],
+)
+def test_a_map_whose_axes_turn_the_arm_wrongly_is_noted(
+    c3d_file: pathlib.Path, recorded: Recorded, axes: list[str], said: str | None
+) -> None:
+    """A wrong rotation (up taken for down, backwards for forward) passes
+    every check of the map and imported without a word; the import notes
+    an elbow that starts above the shoulder or a reach that ends behind
+    it (a demonstration starts hanging and reaches in front). The figures
+    are the recorded arm's: its elbow's drop, its wrist's reach forward."""
+    notes: list[str] = []
+    markers = MarkerMap.model_validate({**MAP, "axes": axes})
+    read_c3d(c3d_file, markers, report=notes.append)
+    found = [n for n in notes if "is the marker map's" in n]
+    if said is None:
+        assert found == [], notes
+        return
+    above, behind = -recorded.elbow[0, 2], recorded.wrist[-1, 0]
+    assert [said.format(above=above, behind=behind) in n for n in found] == [True]

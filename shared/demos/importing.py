@@ -22,6 +22,7 @@ from shared.demos.anthropometry import Subject
 from shared.demos.goal_reach import goal_reach_problem
 from shared.demos.marker_gaps import LONGEST_GAP, fill_gaps
 from shared.demos.markers import UNIT_SCALE, MarkerMap
+from shared.demos.posture_sense import posture_notes
 from shared.demos.retarget import ArmTrack, nao_arm_size, retarget
 from shared.demos.rotations import FloatArray, unit
 from shared.demos.sample_lines import line_evidence, sample_line, trial_span
@@ -146,6 +147,9 @@ def trial_from_tracks(
     unreachable = goal_reach_problem(human, nao, markers.arm)
     if unreachable is not None and report is not None:
         report(f"{path}: {where}: {unreachable}")
+    if report is not None:
+        for note in posture_notes(human):
+            report(f"{path}: {where}: {note}")
     frames = None
     if "thumb" in points:
         thumb = points["thumb"]
