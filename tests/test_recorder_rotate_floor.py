@@ -9,8 +9,6 @@ A real router, real recorder processes (``python -m services.recorder`` and
 from __future__ import annotations
 
 import json
-import os
-import subprocess
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -24,7 +22,7 @@ from services.recorder.replay import replay_items
 from services.recorder.size_floor import EMPTY_PART, size_note
 from shared.bus import BusConfig, open_router
 from shared.recording.rotation import RotationPolicy
-from tests.record_cli import record_command
+from tests.record_cli import record_command, start_recording
 from tests.test_recorder import publish_all
 
 WARNING = "is less than a part needs"
@@ -52,6 +50,22 @@ def record_with(config: BusConfig, out: Path, max_bytes: int) -> tuple[list[Path
         finally:
             paths = recorder.stop()
     return paths, log_path.read_text()
+
+
+def record_cli(config: BusConfig, out: Path, *options: str) -> str:
+    """Run ``armplan record -o out OPTIONS`` for 3 s while ``PAYLOADS`` are
+    published; check it exits 0 with every payload in its parts; its stderr."""
+    process = start_recording(record_command(config, out, *options, "--duration", "3"))
+    try:
+        publish_all(config, PAYLOADS)
+        _, stderr = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        process.wait(30)
+    assert process.returncode == 0, stderr
+    parts = sorted(out.parent.glob(f"{out.stem}-*.mcap"))
+    assert [(item.path, item.payload) for item in replay_items(parts)] == PAYLOADS
+    return stderr
 
 
 def test_a_tiny_size_is_warned_about_and_still_recorded(
@@ -98,26 +112,7 @@ def test_a_normal_size_is_not_warned_about(config: BusConfig, tmp_path: Path) ->
 def test_armplan_record_warns_on_stderr_and_records(
     config: BusConfig, tmp_path: Path, size: str, extra: list[str], warned: str | None
 ) -> None:
-    out = tmp_path / "cli.mcap"
-    command = record_command(config, out, "--rotate-size", size, "--duration", "3")
-    process = subprocess.Popen(
-        [*command, *extra],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env={**os.environ, "ARMPLAN_ZENOH_CONFIG": ""},
-    )
-    try:
-        assert process.stdout is not None
-        assert "armplan record: recording" in process.stdout.readline()
-        publish_all(config, PAYLOADS)
-        _, stderr = process.communicate(timeout=60)
-    finally:
-        process.kill()
-        process.wait(30)
-    assert process.returncode == 0, stderr
-    parts = sorted(tmp_path.glob("cli-*.mcap"))
-    assert [(item.path, item.payload) for item in replay_items(parts)] == PAYLOADS
+    stderr = record_cli(config, tmp_path / "cli.mcap", "--rotate-size", size, *extra)
     if warned is None:
         assert WARNING not in stderr
         return
@@ -138,30 +133,11 @@ def test_a_rotation_under_a_second_is_warned_about_and_still_recorded(
 ) -> None:
     """``--rotate-duration 0.01`` made 73 files in 8 s with no word: warned
     on stderr, recorded as asked, every message kept."""
-    out = tmp_path / "quick.mcap"
-    command = record_command(config, out, "--rotate-duration", "0.5", "--duration", "3")
-    process = subprocess.Popen(
-        command,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env={**os.environ, "ARMPLAN_ZENOH_CONFIG": ""},
-    )
-    try:
-        assert process.stdout is not None
-        assert "armplan record: recording" in process.stdout.readline()
-        publish_all(config, PAYLOADS)
-        _, stderr = process.communicate(timeout=60)
-    finally:
-        process.kill()
-        process.wait(30)
-    assert process.returncode == 0, stderr
+    stderr = record_cli(config, tmp_path / "quick.mcap", "--rotate-duration", "0.5")
     assert (
         "recorder: --rotate-duration 0.5 starts a new file every 0.5 s, up to 7200 "
         "files an hour" in stderr
     )
-    parts = sorted(tmp_path.glob("quick-*.mcap"))
-    assert [(item.path, item.payload) for item in replay_items(parts)] == PAYLOADS
 
 
 @pytest.mark.parametrize(
