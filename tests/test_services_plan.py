@@ -9,6 +9,7 @@ import threading
 import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 from typing import IO, Any
 
 import numpy as np
@@ -567,20 +568,28 @@ def test_a_stopped_service_is_named_within_2_s_and_a_restart_heals(
     assert {n: c.pid for n, c in stack.services.items() if n != service} == others
 
 
+def _abandoned(log: IO[str]) -> int:
+    """How many plans the planner has stopped waiting for (its log in ``log``)."""
+    said = "every caller's session ended while a stage was asked"
+    return Path(log.name).read_text().count(said)
+
+
 @pytest.mark.parametrize(
     ("stop", "code"),
     [(signal.SIGINT, 130), (signal.SIGKILL, -signal.SIGKILL)],
     ids=["ctrl-c", "killed"],
 )
 def test_a_plan_whose_caller_was_interrupted_is_not_published(
-    stack: Launcher, bus: Bus, stop: signal.Signals, code: int
+    stack: Launcher, bus: Bus, log: IO[str], stop: signal.Signals, code: int
 ) -> None:
     """``armplan plan --remote --timeout 60`` interrupted with Ctrl-C (or
     killed) while the planner waits for a stage (timing paused): its
     deadline had not passed, so the planner published the plan when timing
     came back, and a following bridge would have played it for no one. The
     client's caller token goes with its session: the plan is not published.
-    A plan asked afterwards by a caller still there is."""
+    Nor does the planner wait for the stage any longer (it held a worker up
+    to STAGE_LIMIT, 60 s): it says so while timing is still paused. A plan
+    asked afterwards by a caller still there is."""
     published: list[bytes] = []
     asked = threading.Event()
     key = f"{NAMESPACE}/{TRAJECTORY_TOPIC}"
@@ -591,6 +600,7 @@ def test_a_plan_whose_caller_was_interrupted_is_not_published(
         f"{NAMESPACE}/{PLAN_REQUEST_TOPIC}", lambda _sample: asked.set()
     )
     timing = stack.services["timing"]
+    abandoned = _abandoned(log)  # by the tests before
     try:
         time.sleep(0.5)  # the router learns of the subscribers
         timing.signal(signal.SIGSTOP)
@@ -607,6 +617,10 @@ def test_a_plan_whose_caller_was_interrupted_is_not_published(
             client.send_signal(stop)
             _, err = client.communicate(timeout=30.0)
             assert client.returncode == code, err
+            deadline = time.monotonic() + 4.0  # timing paused < 10 s: its lease
+            while _abandoned(log) == abandoned:
+                assert time.monotonic() < deadline, "the planner still waits"
+                time.sleep(0.1)
         finally:
             timing.signal(signal.SIGCONT)
         time.sleep(3.0)  # timing answers; the plan is done well within this

@@ -22,9 +22,13 @@ though its caller still waited.
 from __future__ import annotations
 
 import time
-from typing import Any
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import Any, TypeVar
 
 from shared.bus import Bus, Route
+from shared.bus.caller import Check
 from shared.bus.deadline import REPLY_MARGIN, current_due
 from shared.bus.elsewhere import HINT_TIMEOUT, elsewhere_hint
 from shared.bus.routes import DECIDE, IK_PATH, TIMING
@@ -33,12 +37,15 @@ from shared.messages import (
     DecideRequest,
     Decision,
     JointPath,
+    Message,
     Method,
     PathIKRequest,
     PlanRequest,
     TimingRequest,
     Trajectory,
 )
+
+Rep = TypeVar("Rep", bound=Message)
 
 
 def needed_routes(request: PlanRequest) -> list[Route[Any, Any]]:
@@ -60,7 +67,8 @@ STAGE_MARGIN = 0.25
 #: Longest wait for one stage however long the caller waits [s] (unless the
 #: bus's timeout is longer): a stage service that hangs while connected
 #: holds a planner worker that long at most, not for a caller's day-long
-#: timeout (the planner does not see its caller go while it waits).
+#: timeout (a caller that stopped waiting may still ask again; one whose
+#: session ended is seen gone: :func:`checking`).
 STAGE_LIMIT = 60.0
 
 
@@ -71,6 +79,26 @@ def stage_margin(budget: float) -> float:
     :data:`~shared.bus.deadline.REPLY_MARGIN` and :data:`STAGE_MARGIN`.
     """
     return max(REPLY_MARGIN, min(STAGE_MARGIN, 0.1 * budget))
+
+
+#: What the stages' calls check while they wait (:func:`checking`).
+_check: ContextVar[Check | None] = ContextVar("stage_check", default=None)
+
+
+@contextmanager
+def checking(check: Check) -> Iterator[None]:
+    """Inside the block, each stage's wait calls ``check`` about twice a second.
+
+    What it raises ends the wait (the planner: every caller of the plan has
+    gone, so the stage is waited for no longer: a stage that hangs while
+    connected held a planner worker up to :data:`STAGE_LIMIT` for a caller
+    interrupted long before).
+    """
+    token = _check.set(check)
+    try:
+        yield
+    finally:
+        _check.reset(token)
 
 
 class RemoteStages:
@@ -129,13 +157,17 @@ class RemoteStages:
         return min(HINT_TIMEOUT, left)
 
     def decide(self, request: DecideRequest) -> Decision:
-        return self._bus.call(DECIDE, request, timeout=self._wait())
+        return self._ask(DECIDE, request)
 
     def ik(self, request: PathIKRequest) -> JointPath:
-        return self._bus.call(IK_PATH, request, timeout=self._wait())
+        return self._ask(IK_PATH, request)
 
     def timing(self, request: TimingRequest) -> Trajectory:
-        return self._bus.call(TIMING, request, timeout=self._wait())
+        return self._ask(TIMING, request)
+
+    def _ask(self, route: Route[Any, Rep], request: Message) -> Rep:
+        """A stage's answer, waited for :meth:`_wait` at most (see :func:`checking`)."""
+        return self._bus.call(route, request, timeout=self._wait(), check=_check.get())
 
     def _wait(self) -> float:
         """The next stage's longest wait [s]."""

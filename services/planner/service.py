@@ -26,12 +26,13 @@ topics (``shared.bus.topics``) keeps the whole session. Run it with
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from services.planner.answer_once import AnswerOnce
 from services.planner.pipeline import PlanResult, plan
-from services.planner.remote import RemoteStages
+from services.planner.remote import RemoteStages, checking
 from services.planner.waiting import Waiting
 from shared.bus import Bus, Endpoint
 from shared.bus.deadline import Due, current_due
@@ -42,6 +43,7 @@ from shared.messages import PlanRequest, Trajectory
 from shared.messages.target import MAX_TRAJECTORY_SAMPLES
 
 NAME = "planner"
+log = logging.getLogger("armplan.planner")
 #: Most trajectory samples the answers kept for repeats hold together: two
 #: trajectories of the most samples a message carries
 #: (``MAX_TRAJECTORY_SAMPLES``), about 100 MB as Python objects (a kept
@@ -62,7 +64,6 @@ def remote_planner(bus: Bus) -> Planner:
     def plan_and_publish(request: PlanRequest) -> Trajectory:
         bus.publish(PLAN_REQUEST_TOPIC, request)
         stages.require(request)
-        result = plan(request, stages)
         due = current_due()
 
         def refuse_if_gone(when: str) -> None:
@@ -70,6 +71,18 @@ def remote_planner(bus: Bus) -> Planner:
             if waiting.all_gone(request.request_id, due, bus.caller_gone):
                 raise _gone_error(bus, due, when)
 
+        def refuse_if_ended() -> None:
+            """Raise if every caller's session has ended: no one to plan for."""
+            if waiting.all_ended(request.request_id, due, bus.caller_gone):
+                log.warning(
+                    "plan %s: every caller's session ended while a stage was "
+                    "asked; the planner stopped waiting for it",
+                    request.request_id or "(no request_id)",
+                )
+                raise _gone_error(bus, due, "while its stages were asked")
+
+        with checking(refuse_if_ended):
+            result = plan(request, stages)
         refuse_if_gone("before the plan was ready")
         publish_parts(
             bus,

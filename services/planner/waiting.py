@@ -68,6 +68,20 @@ class Waiting:
             dues = list(self._dues.get(key, []))
         return bool(dues) and all(d is not None and _gone(d, ended) for d in dues)
 
+    def all_ended(self, key: str | None, due: Due | None, ended: Ended) -> bool:
+        """Whether every caller of ``key`` has ended its session (``ended``).
+
+        Its process was interrupted or killed: it can neither take an answer
+        nor ask again, whatever its deadline. A caller past its deadline
+        whose session runs may still ask again (:meth:`all_gone` counts it
+        gone). Without a ``key``: whether the one caller, due by ``due``, has.
+        """
+        if key is None:
+            return due is not None and ended(due.session)
+        with self._lock:
+            dues = list(self._dues.get(key, []))
+        return bool(dues) and all(d is not None and ended(d.session) for d in dues)
+
 
 def _gone(due: Due, ended: Ended) -> bool:
     """Whether the caller due by ``due`` stops waiting before an answer."""

@@ -16,7 +16,13 @@ from typing import Any
 
 import zenoh
 
-from shared.bus.caller import answered, join_forwarders, read_reply, service_timing
+from shared.bus.caller import (
+    Check,
+    answered,
+    join_forwarders,
+    read_reply,
+    service_timing,
+)
 from shared.bus.config import BusConfig
 from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, not_alive_error
 from shared.bus.gone_callers import GoneCallers
@@ -84,6 +90,7 @@ class Bus(Closes):
         timeout: float | None = None,
         repeat: bool | None = None,
         unseen: bool = False,
+        check: Check | None = None,
     ) -> Rep:
         """Ask ``route``'s service; its typed reply, or its typed error raised.
 
@@ -97,13 +104,15 @@ class Bus(Closes):
             unseen: Ask even if the service's liveliness token is not seen
                 (``armplan stop``); its absence is said only if no reply
                 comes.
+            check: Called about every half second while the answer is
+                waited for; what it raises ends the wait and is raised here.
 
         Raises:
             ServiceUnavailableError: if the service is not running.
             RequestTimeoutError: if it does not answer in time.
             ArmplanError: the service's own error, rebuilt with its kind.
         """
-        reply, wait = self._ask(route, request, timeout, repeat, unseen)
+        reply, wait = self._ask(route, request, timeout, repeat, unseen, check)
         return read_reply(route, reply, route.key(self.config.namespace), wait)
 
     def call_timed(
@@ -128,6 +137,7 @@ class Bus(Closes):
         timeout: float | None,
         repeat: bool | None,
         unseen: bool = False,
+        check: Check | None = None,
     ) -> tuple[zenoh.Reply, float]:
         """Zenoh's reply to ``request``, and the wait allowed [s]."""
         wait = self.config.timeout if timeout is None else timeout
@@ -141,6 +151,7 @@ class Bus(Closes):
             self.config.resend_after,
             route.repeatable if repeat is None else repeat,
             unseen,
+            check,
         )
         return reply, wait
 

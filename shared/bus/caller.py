@@ -78,6 +78,10 @@ EMPTY_PAUSE = 0.05
 #: Longest time after which a query that ends without any reply surely
 #: reached no queryable [s] (Zenoh ends one it routes nowhere in under 1 ms).
 NO_ROUTE_END = 0.05
+#: Longest time between two calls of a call's ``check`` while it waits [s].
+CHECK_EVERY = 0.5
+#: A call's check while it waits: raises to stop waiting.
+Check = Callable[[], None]
 #: Name of the threads that read a query's replies (``_forward``).
 FORWARDER = "zenoh-reply-forwarder"
 #: A query's number in its call (0: the first) and a reply to it, or
@@ -100,6 +104,7 @@ def answered(
     resend_after: float | None = None,
     repeat: bool | None = None,
     unseen: bool = False,
+    check: Check | None = None,
 ) -> zenoh.Reply:
     """Send ``request`` to ``route``; Zenoh's reply (an ``ok`` or an ``err``).
 
@@ -119,6 +124,10 @@ def answered(
         unseen: Send it even if the service's liveliness token is not seen
             (an operator's stop: a bridge whose token is lost may still
             serve); its absence is said only if no reply comes.
+        check: Called about every :data:`CHECK_EVERY` seconds while the
+            answer is waited for; what it raises ends the wait (the queries
+            are left to end on their own): the planner stops waiting for a
+            stage once every caller of its plan has gone.
 
     Raises:
         ServiceUnavailableError: if the route's service is not running.
@@ -136,7 +145,9 @@ def answered(
         alive.forget(route.service)
         return alive.is_alive(route.service, QUERY_TIMEOUT)
 
-    reply = _ask(session, key, encode(request), start + timeout, resend, still_there)
+    reply = _ask(
+        session, key, encode(request), start + timeout, resend, still_there, check
+    )
     if reply is not None:
         return reply
     if unseen and not alive.is_alive(route.service, QUERY_TIMEOUT):
@@ -166,6 +177,7 @@ def _ask(
     deadline: float,
     resend_after: float | None,
     still_there: Callable[[], bool] = lambda: False,
+    check: Check | None = None,
 ) -> zenoh.Reply | None:
     """The first answer to ``body`` at ``key`` before ``deadline`` (monotonic [s]).
 
@@ -217,9 +229,15 @@ def _ask(
 
     while open_queries:
         wait_until = deadline + 1.0 if resend_at is None else resend_at
+        left = max(wait_until - time.monotonic(), 0.0)
         try:
-            number, item = inbox.get(timeout=max(wait_until - time.monotonic(), 0.0))
+            number, item = inbox.get(
+                timeout=left if check is None else min(left, CHECK_EVERY)
+            )
         except queue.Empty:
+            if check is not None and time.monotonic() < wait_until:
+                check()  # raises to stop waiting
+                continue
             if resend_at is None:  # Zenoh never closed its query: give up
                 break
             resend_at = None
