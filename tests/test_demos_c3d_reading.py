@@ -313,6 +313,22 @@ def test_a_cpu_limit_the_shell_set_is_the_one_blamed(
     assert done.stdout.strip() == said
 
 
+def test_a_reader_the_kernel_killed_at_its_cpu_limit_is_not_said_to_crash(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A limit's soft and hard values are one (``ulimit -t 1`` sets both, as
+    the reader does its own), so at it Linux sends SIGKILL, not SIGXCPU: a
+    good 48 MB file the reader had no time for read "crashed on it
+    (SIGKILL), it is corrupt". Its CPU time says it ran out of it."""
+    path = tmp_path / "long.c3d"
+    labels = [f"M{i}" for i in range(60)]
+    _write_points(path, labels, [np.zeros((50_000, 3))] * len(labels))
+    assert _read_under_cpu_limit(path, 1) == (
+        f"{path}: cannot be read: the C3D reader took over the 1 s of CPU "
+        "time this shell allows (ulimit -t)"
+    )
+
+
 def test_the_readers_own_failure_is_said_not_silent(tmp_path: pathlib.Path) -> None:
     """A failure of the reader itself (here its arguments; before, setting
     its CPU limit) ended it with status 0 and no word, and the importer

@@ -76,7 +76,7 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
             raise
         finally:
             os.close(writing)
-        answer, code = _wait(child, reading, seconds)
+        answer, code, used = _wait(child, reading, seconds)
         errors.seek(0)
         said = " ".join(errors.read(MAX_SAID).decode(errors="replace").split())
     if answer and code == 0:  # a child killed as it wrote left part of one
@@ -87,8 +87,10 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
             str(path),
             f"cannot be read: the C3D reader could not run (exit {code}){said}",
         )
-    if code == -signal.SIGXCPU:  # past its CPU time limit
-        cpu, shell = _cpu_limit(seconds)
+    cpu, shell = _cpu_limit(seconds)
+    # past its CPU time limit: SIGXCPU, or the SIGKILL Linux sends instead
+    # when the soft limit is the hard one (the reader's, and ``ulimit -t``'s)
+    if code == -signal.SIGXCPU or (code == -signal.SIGKILL and used >= cpu):
         if shell:
             raise DemoFileError(
                 str(path),
@@ -151,23 +153,31 @@ def _start(
 
 def _wait(
     child: subprocess.Popen[bytes], reading: int, seconds: float
-) -> tuple[bytes | None, int]:
-    """The child's answer (``None`` if it took over ``seconds``) and exit code.
+) -> tuple[bytes | None, int, float]:
+    """The child's answer, exit code and the CPU time it used [s].
 
-    A negative exit code is the signal that ended the child.
+    The answer is ``None`` if it took over ``seconds`` [s]; a negative exit
+    code is the signal that ended the child.
     """
     code = None
     try:
         answer = _receive(reading, seconds)
         if answer is None:
             child.kill()
-        code = child.wait()
+        code, used = _reaped(child)
     finally:
         os.close(reading)
         if code is None:  # interrupted
             child.kill()
             child.wait()
-    return answer, code
+    return answer, code, used
+
+
+def _reaped(child: subprocess.Popen[bytes]) -> tuple[int, float]:
+    """``child``'s exit code once it ends, and the CPU time it used [s]."""
+    _, status, usage = os.wait4(child.pid, 0)
+    child.returncode = os.waitstatus_to_exitcode(status)
+    return child.returncode, usage.ru_utime + usage.ru_stime
 
 
 def _receive(reading: int, seconds: float) -> bytes | None:
