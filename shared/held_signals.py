@@ -14,9 +14,13 @@ from __future__ import annotations
 
 import signal
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from types import FrameType
+from typing import Any
+
+#: A signal's handler as ``signal.getsignal`` gives it (``None`` excepted).
+Handler = Callable[[int, FrameType | None], Any] | int
 
 #: The signals that stop a command: Ctrl-C, ``kill``/``timeout``, a closed terminal.
 STOPS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
@@ -37,13 +41,33 @@ def held_signals(signums: tuple[signal.Signals, ...] = STOPS) -> Iterator[None]:
         came.append(signum)  # no lock: a handler may interrupt its own thread
 
     before = {signum: signal.getsignal(signum) for signum in signums}
-    held = [s for s, handler in before.items() if handler not in (None, signal.SIG_IGN)]
-    for signum in held:
-        signal.signal(signum, note)
+    held = {s: h for s, h in before.items() if h not in (None, signal.SIG_IGN)}
     try:
+        for signum in held:
+            signal.signal(signum, note)
         yield
     finally:
-        for signum in held:
-            signal.signal(signum, before[signum])
+        stop = put_back(held)
         if came:
             signal.raise_signal(came[0])
+        if stop is not None:
+            raise stop
+
+
+def put_back(handlers: Mapping[signal.Signals, Handler]) -> KeyboardInterrupt | None:
+    """Set each signal's handler of ``handlers``, whatever signal comes meanwhile.
+
+    ``signal.signal`` first runs the handlers of the signals that came: one
+    set already could raise there (Ctrl-C's ``KeyboardInterrupt``), leaving
+    the next ones unset, a SIGTERM noted by nobody ever after. That stop is
+    kept, the setting goes on, and it is returned (to raise), or ``None``.
+    """
+    stop: KeyboardInterrupt | None = None
+    for signum, handler in handlers.items():
+        while True:
+            try:
+                signal.signal(signum, handler)
+                break
+            except KeyboardInterrupt as came:  # a handler set before raised
+                stop = stop or came
+    return stop
