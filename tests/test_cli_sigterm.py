@@ -13,6 +13,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -55,3 +56,42 @@ def test_an_experiment_stopped_by_a_signal_unwinds_and_says_so(
     assert stderr.endswith(f"armplan: {said}\n"), stderr
     assert "Traceback" not in stderr
     assert not out.exists() or list(out.iterdir()) == []
+
+
+#: The signals the CLI's handlers take over.
+STOPS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+def test_a_ctrl_c_as_the_handlers_are_put_back_is_said_and_leaves_them_all(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A command run in this process, and a real Ctrl-C right after its
+    handler was put back as the command ended: it raised in the middle of
+    putting them back, out of ``main`` (a traceback), and SIGHUP's handler
+    was left raising ``HungUp`` in this process. It is the command's
+    "interrupted" now, every handler the one before."""
+    from armplan.cli.main import main
+
+    before = {s: signal.getsignal(s) for s in STOPS}
+    set_handler = signal.signal
+
+    def then_ctrl_c(signum: int, handler: Any) -> Any:
+        was = set_handler(signum, handler)
+        if signum == signal.SIGINT and handler is before[signal.SIGINT]:
+            monkeypatch.undo()
+            signal.raise_signal(signal.SIGINT)  # its handler runs here
+        return was
+
+    monkeypatch.setattr(signal, "signal", then_ctrl_c)
+    code: int | None = None
+    try:
+        code = main(["fk", "--joints", "0", "0", "0", "0.5", "0"])
+    except KeyboardInterrupt:  # out of main, as it came before
+        pass
+    finally:
+        now = {s: signal.getsignal(s) for s in STOPS}
+        for signum, handler in before.items():
+            set_handler(signum, handler)
+    assert code == 130
+    assert capsys.readouterr().err == "armplan: interrupted\n"
+    assert now == before

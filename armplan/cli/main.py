@@ -73,10 +73,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _stopped(signal.SIGINT)
     from shared.offered_options import offering
 
-    with (
-        stops_unwinding(),  # every command unwinds on SIGTERM as on Ctrl-C
-        offering(chosen_options(parser, args)),  # for the hints of its errors
-    ):
+    with offering(chosen_options(parser, args)):  # for the hints of its errors
         return run_command(args.run, args)
 
 
@@ -102,15 +99,18 @@ def run_command(
 ) -> int:
     """``run(args)``'s exit code, with errors and signals reported on stderr.
 
-    An error raised after SIGTERM or Ctrl-C arrived is reported as that
-    signal: it is how the signal's exception came out (see
+    Every command unwinds on SIGTERM and SIGHUP as on Ctrl-C
+    (:func:`~armplan.cli.termination.stops_unwinding`: a signal that comes
+    as its handlers are set or put back is reported too, not raised out of
+    here). An error raised after SIGTERM or Ctrl-C arrived is reported as
+    that signal: it is how the signal's exception came out (see
     :mod:`armplan.cli.termination`), not a failure of the command.
     """
     from armplan.cli.output import report_error
     from shared.errors import ArmplanError
 
     try:
-        with guarded_stdout():
+        with stops_unwinding(), guarded_stdout():
             code = int(run(args))
             sys.stdout.flush()  # a buffered write fails here, not at exit
     except KeyboardInterrupt as stop:  # Terminated, HungUp: SIGTERM, SIGHUP (demo)

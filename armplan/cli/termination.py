@@ -75,22 +75,27 @@ def terminate_on_sigterm() -> None:
 def stops_unwinding() -> Iterator[None]:
     """:func:`terminate_on_sigterm` inside the block (in the main thread).
 
-    The handlers there before are put back after it: a command run in a
-    test's process leaves the test runner's own. Elsewhere than in the main
-    thread (which alone may set handlers) the block runs as it is.
+    The handlers there before are put back after it, each, even when a
+    signal comes meanwhile (its exception is raised once all are back): a
+    command run in a test's process leaves the test runner's own. Elsewhere
+    than in the main thread (which alone may set handlers) the block runs as
+    it is.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
+    from shared.held_signals import put_back  # loads libqi: not at import
+
     before = {signum: signal.getsignal(signum) for signum in _RAISES}
     forget_signals()  # an earlier command's, in this process
-    terminate_on_sigterm()
     try:
+        terminate_on_sigterm()
         yield
     finally:
-        for signum, handler in before.items():
-            if handler is not None:  # None: set outside Python, not restorable
-                signal.signal(signum, handler)
+        # None: set outside Python, not restorable
+        stop = put_back({s: h for s, h in before.items() if h is not None})
+        if stop is not None:
+            raise stop
 
 
 def signal_of(stop: KeyboardInterrupt) -> signal.Signals:
