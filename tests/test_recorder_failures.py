@@ -17,6 +17,7 @@ import resource
 import signal
 import stat
 import subprocess
+import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -617,3 +618,48 @@ def test_a_bad_output_or_flush_is_named_by_its_option(
     assert main(["record", "--connect", endpoint, "--duration", "1", *extra]) == 1
     assert capsys.readouterr().err == f"armplan: error: {said}\n"
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("reader", [False, True])
+def test_a_pipe_put_there_after_the_check_is_refused_not_waited_on(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, reader: bool
+) -> None:
+    """The path is checked, then opened: a named pipe put there in between
+    (here: the first check passed over) was opened blocking, and the
+    recorder waited for a reader for ever. Opened not blocking, it is seen
+    and refused."""
+    from shared.recording import file_lock
+
+    fifo = tmp_path / "pipe.mcap"
+    os.mkfifo(fifo)
+    held = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK) if reader else None
+    check = file_lock._refuse_pipe
+    calls: list[Path] = []
+
+    def late_check(path: Path) -> None:
+        calls.append(path)
+        if len(calls) > 1:  # the first: still a file then
+            check(path)
+
+    monkeypatch.setattr(file_lock, "_refuse_pipe", late_check)
+    outcome: list[BaseException | object] = []
+
+    def open_it() -> None:
+        try:
+            outcome.append(file_lock.open_locked(fifo, overwrite=True))
+        except BaseException as exc:
+            outcome.append(exc)
+
+    opener = threading.Thread(target=open_it, daemon=True)
+    opener.start()
+    opener.join(timeout=10)
+    try:
+        assert not opener.is_alive(), "it waits for a reader"
+    finally:
+        if opener.is_alive():  # set it free: a reader or a writer comes
+            os.close(os.open(fifo, os.O_RDWR))
+        if held is not None:
+            os.close(held)
+    (error,) = outcome
+    assert isinstance(error, RecordingError), error
+    assert error.message.startswith(f"{fifo} is a named pipe, not a file")

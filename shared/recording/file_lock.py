@@ -114,6 +114,23 @@ def _refuse_pipe(path: Path) -> None:
         raise pipe_error(path, mode)
 
 
+def _refuse_opened_pipe(fd: int, path: Path) -> None:
+    """Refuse the opened ``fd`` if it is a named pipe or a socket; else block.
+
+    ``path`` was checked before it was opened (:func:`_refuse_pipe`), but
+    could have been replaced since; ``fd`` was opened not blocking, so that
+    such a pipe is seen here, not waited on. Writes to ``fd`` block again.
+
+    Raises:
+        RecordingError: :func:`pipe_error` (``fd`` closed).
+    """
+    mode = os.fstat(fd).st_mode
+    if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
+        os.close(fd)
+        raise pipe_error(path, mode)
+    os.set_blocking(fd, True)
+
+
 def _lock(fd: int, path: Path) -> None:
     """Take the exclusive lock of ``fd`` without waiting; close it if held.
 
@@ -177,12 +194,16 @@ def _take_over(path: Path) -> int | None:
         return None
     _refuse_pipe(path)
     regular = stat.S_ISREG(mode)
-    try:
-        fd = os.open(path, os.O_RDONLY if regular else os.O_WRONLY)
+    try:  # not blocking: a pipe put there since the check would wait for ever
+        fd = os.open(path, (os.O_RDONLY if regular else os.O_WRONLY) | os.O_NONBLOCK)
     except FileNotFoundError:  # removed meanwhile, or a link to nothing
         if stat.S_ISLNK(mode) and os.path.islink(path):
             raise dangling_error(path) from None
         return None
+    except OSError as exc:  # ENXIO: a pipe with no reader, put there meanwhile
+        _refuse_pipe(path)
+        raise exc from None
+    _refuse_opened_pipe(fd, path)
     _lock(fd, path)
     try:
         if regular:
