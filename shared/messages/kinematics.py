@@ -14,6 +14,7 @@ from shared.messages.base import (
 from shared.messages.measure_params import MeasureParams
 from shared.messages.method import Method
 from shared.messages.palm_reached import PalmReached
+from shared.messages.swivel_goal import SwivelGoal
 from shared.robot.side import Side, SideAnyCase
 
 
@@ -42,7 +43,9 @@ class IKRequest(Message):
         swivel: Elbow swivel angle to move to, for the function primitive
             S_R E_P W_R [rad] (pi: elbow straight down, 0: up). Measured
             alike for both arms (``shared.geometry.swivel``), so the left
-            arm's mirror of a right-arm swivel phi is 2 pi - phi.
+            arm's mirror of a right-arm swivel phi is 2 pi - phi. Within
+            two turns of 0 either way: beyond, it reads as degrees
+            (``shared.messages.swivel_goal``).
         measures: Weights of the human performance measures (eq. 17-21).
     """
 
@@ -52,7 +55,7 @@ class IKRequest(Message):
     primitive: str | None = None
     method: Method = Method.MP
     start: JointVector | None = None
-    swivel: float | None = None
+    swivel: SwivelGoal | None = None
     measures: MeasureParams = Field(default_factory=MeasureParams)
 
 

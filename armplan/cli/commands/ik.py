@@ -67,7 +67,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help=(
             "elbow swivel angle to move to, for S_R E_P W_R [rad] (pi: elbow "
             "down, 0: up; measured alike for both arms, so the left arm's "
-            "mirror of a right-arm phi is 2*pi - phi)"
+            "mirror of a right-arm phi is 2*pi - phi; within two turns, 4*pi, "
+            "of 0)"
         ),
     )
     add_measure_options(parser)
