@@ -245,6 +245,34 @@ def test_a_posture_in_degrees_is_named_as_such(
     assert "degrees" not in caught.value.message
 
 
+def test_a_posture_of_the_other_arm_is_named_with_its_mirror(
+    arm: ArmModel, rng: np.random.Generator
+) -> None:
+    """A right-arm posture typed for the left arm (or the reverse) was refused
+    naming ElbowRoll's range, with no word of the signs. It is refused with
+    the mirror image, ShoulderPitch kept and the other joints negated, which
+    lies in every range; a posture whose mirror does not fit gets no such
+    word."""
+    other = load_arm(Side.LEFT if arm.side is Side.RIGHT else Side.RIGHT)
+    this, that = arm.side.value, other.side.value
+    for _ in range(20):
+        q = random_posture(other, rng)
+        with pytest.raises(JointLimitError) as caught:
+            arm.limits.check(q, where="in the start posture")
+        said = caught.value.message.split(
+            f"; if it is a posture of the {that} arm, the {this} arm's mirror of it "
+            "(ShoulderPitch kept, the other joints negated) is ("
+        )[1]
+        mirrored = [float(x) for x in said.split(")")[0].split(", ")]
+        assert np.allclose(mirrored, mirror(q), atol=1e-4)
+        assert arm.limits.contains(mirror(q))
+    unfit = arm.limits.middle.copy()  # ElbowRoll's sign wrong, WristYaw too far
+    unfit[3], unfit[4] = -unfit[3], 3.0
+    with pytest.raises(JointLimitError) as caught:
+        arm.limits.check(unfit)
+    assert "mirror" not in caught.value.message
+
+
 def test_unknown_arm_is_a_typed_error() -> None:
     """A wrong arm name raises UnknownArmError naming it."""
     with pytest.raises(UnknownArmError, match="unknown arm 'middle'"):

@@ -110,6 +110,19 @@ def test_ik_methods(method: str) -> None:
             "and (1.5708, -0.1745, 0.7854, 0.5236, 0.0000) rad is within every "
             "joint's range",
         ),
+        (
+            (
+                "plan",
+                "--arm",
+                "left",
+                *["--target", "0.12", "0.13", "0.05"],
+                *["--start", "1.5708", "-0.1", "1.5708", "0.2", "0"],
+            ),
+            "LElbowRoll = 0.20000 rad in the start posture is outside its range "
+            "[-1.54462, -0.03491] rad; if it is a posture of the right arm, the "
+            "left arm's mirror of it (ShoulderPitch kept, the other joints "
+            "negated) is (1.5708, 0.1000, -1.5708, -0.2000, 0.0000) rad",
+        ),
         (("sim", "--period", "0"), "control cycle 0.0 s must be 0.001..1 s"),
         (("sim", "--period", "nan"), "control cycle nan s must be"),
         (

@@ -7,6 +7,7 @@ from typing import NamedTuple
 import numpy as np
 
 from shared.errors import JointLimitError
+from shared.robot.postures import MIRROR
 
 #: Slack when checking a posture against its range [rad]: float round-off only.
 POSITION_SLACK = 1e-9
@@ -56,7 +57,8 @@ class JointLimits(NamedTuple):
             self.names, q, self.lower, self.upper, strict=False
         ):
             if not low - POSITION_SLACK <= value <= high + POSITION_SLACK:
-                raise JointLimitError(name, value, low, high, where, self._hint(q))
+                hint = self._hint(q) or self._other_arm_hint(q)
+                raise JointLimitError(name, value, low, high, where, hint)
 
     def _hint(self, q: np.ndarray) -> str:
         """``"; it looks like degrees ..."`` if ``q`` (shape (n,)) would fit so.
@@ -77,6 +79,29 @@ class JointLimits(NamedTuple):
         return (
             f"; it looks like degrees: angles are in radians, and ({said}) rad "
             "is within every joint's range"
+        )
+
+    def _other_arm_hint(self, q: np.ndarray) -> str:
+        """``"; if it is a posture of the right arm, ..."`` if it may be one.
+
+        A right-arm posture typed for the left arm (or the reverse) was
+        refused naming one joint out of range, with no word of the signs:
+        the mirror image keeps ShoulderPitch and negates the other four
+        (``shared.robot.postures.mirror``). Said only if ``q``, shape (5,),
+        mirrored lies within every range of this arm; as a possibility, since
+        one sign mistyped (ElbowRoll's, say) can look the same.
+        """
+        if len(q) != len(MIRROR) or len(self.names) != len(MIRROR):
+            return ""
+        mirrored = q * MIRROR
+        if not self.contains(mirrored):
+            return ""
+        this = "left" if self.names[0].startswith("L") else "right"
+        other = "right" if this == "left" else "left"
+        said = ", ".join(f"{x + 0.0:.4f}" for x in mirrored)  # + 0.0: no -0.0000
+        return (
+            f"; if it is a posture of the {other} arm, the {this} arm's mirror "
+            f"of it (ShoulderPitch kept, the other joints negated) is ({said}) rad"
         )
 
     def clip(self, q: np.ndarray) -> np.ndarray:
