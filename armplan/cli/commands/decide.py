@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armplan.cli.one_target import OneTarget
 from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_arm, add_json, finite
 from armplan.cli.remote import add_remote, is_remote
@@ -65,7 +66,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     add_arm(parser)
     what = parser.add_mutually_exclusive_group(required=True)
     what.add_argument(
-        "--target", type=float, nargs=3, metavar=("X", "Y", "Z"), help="wrist goal [m]"
+        "--target",
+        action=OneTarget,
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="wrist goal [m]",
     )
     what.add_argument(
         "--wrist-path", metavar="FILE.csv", help="timed wrist path, header t,x,y,z"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from armplan.cli.one_target import OneTarget
 from armplan.cli.output import angle_text, print_json, print_table
 from armplan.cli.palm_line import palm_line
 from armplan.cli.parsing import (
@@ -28,6 +29,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[ty
     add_arm(parser)
     parser.add_argument(
         "--target",
+        action=OneTarget,
         type=float,
         nargs=3,
         required=True,
