@@ -61,3 +61,38 @@ def test_swivel_in_radians_on_the_command_line_is_solved() -> None:
     out = armplan("ik", *HELD_WRIST, "--swivel", "1.5708")
     assert out.returncode == 0, out.stderr
     assert "elbow swivel 1.5708 rad reached (asked 1.5708 rad)" in out.stdout
+
+
+def test_the_left_arms_swivel_0_reads_as_reached_not_a_turn_off() -> None:
+    """Asked 0, the left arm's swivel came back as 2 pi - 4e-9 (in [0, 2 pi))
+    and the text said "6.2832 rad reached (asked 0.0000 rad)"."""
+    out = armplan(
+        "ik",
+        "--arm",
+        "left",
+        *("--target", "0.14092095", "0.13101531", "0.09501147"),
+        *("--start", "0.3", "0.3", "-1.0", "-0.9", "0.0"),
+        *("--primitive", "S_R E_P W_R", "--swivel", "0"),
+    )
+    assert out.returncode == 0, out.stderr
+    assert "elbow swivel 0.0000 rad reached (asked 0.0000 rad)" in out.stdout
+
+
+@pytest.mark.parametrize(
+    ("angle", "near", "shown"),
+    [
+        (2 * math.pi - 4e-9, 0.0, 0.0),
+        (4e-9, 2 * math.pi, 6.2832),
+        (1.5708, 1.5708 + 2 * math.pi, 7.854),
+        (3.0, -3.0, 3.0 - 2 * math.pi),
+    ],
+)
+def test_a_swivel_is_shown_in_the_turn_of_its_goal(
+    angle: float, near: float, shown: float
+) -> None:
+    from armplan.cli.commands.ik import nearest_turn
+
+    value = nearest_turn(angle, near)
+    assert value == pytest.approx(shown, abs=1e-4)
+    assert abs(value - near) <= math.pi + 1e-9
+    assert math.isclose(math.cos(value), math.cos(angle), abs_tol=1e-4)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 from armplan.cli.one_target import OneTarget
@@ -110,11 +111,24 @@ def run(args: argparse.Namespace) -> int:
     if result.palm_reached is not None:
         sys.stdout.write(palm_line(result.palm_reached) + "\n")
     if result.swivel_goal is not None and result.swivel_reached is not None:
+        reached = nearest_turn(result.swivel_reached, result.swivel_goal)
         sys.stdout.write(
-            f"elbow swivel {result.swivel_reached:.4f} rad reached "
+            f"elbow swivel {reached:.4f} rad reached "
             f"(asked {result.swivel_goal:.4f} rad)\n"
         )
     return 0
+
+
+def nearest_turn(angle: float, near: float) -> float:
+    """``angle`` [rad] plus the whole turns that bring it nearest ``near`` [rad].
+
+    The swivel reached is in [0, 2 pi): asked 0, the left arm's came back as
+    2 pi - 4e-9 and read "6.2832 rad reached (asked 0.0000 rad)", a turn off
+    to the eye; asked 6.2832, 0.0000. Rounded to the printed digits (no -0).
+    """
+    turn = 2.0 * math.pi
+    shifted = near + (angle - near + math.pi) % turn - math.pi
+    return round(shifted, 4) + 0.0
 
 
 def _angle_rows(result: IKResult) -> list[tuple[str, str]]:
