@@ -296,7 +296,7 @@ def test_a_cpu_limit_the_shell_set_is_the_one_blamed(
     """Under ``ulimit -t 5`` a reader past its CPU time hit the shell's limit
     (the error says so: "the 5 s of CPU time this shell allows"), not its
     own 60 s (the file's: "reading it took over 60 s of CPU time")."""
-    code = "from shared.demos.c3d_reading import _cpu_limit; print(_cpu_limit(60.0))"
+    code = "from shared.demos.c3d_child import cpu_limit; print(cpu_limit(60.0))"
 
     def limit() -> None:
         if shell is not None:

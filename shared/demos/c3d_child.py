@@ -78,11 +78,22 @@ def _end_with_parent(parent: int, seconds: float) -> None:
         libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
     if os.getppid() != parent:  # the parent ended before the request took
         os._exit(1)
+    cpu, _ = cpu_limit(seconds)
+    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu))
+
+
+def cpu_limit(seconds: float) -> tuple[int, bool]:
+    """The reader's CPU time limit [s], and whether the shell set it.
+
+    ``seconds`` [s] rounded up, unless a hard limit already set is lower (a
+    shell's ``ulimit -t``): that one is kept, not raised. The importer reads
+    a reader's end by the same limit (``c3d_reading``).
+    """
     cpu = math.ceil(seconds)
     _, hard = resource.getrlimit(resource.RLIMIT_CPU)
-    if hard != resource.RLIM_INFINITY:  # a shell's ``ulimit -t``: not raised
-        cpu = min(cpu, hard)
-    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu))
+    if hard != resource.RLIM_INFINITY and hard < cpu:
+        return hard, True
+    return cpu, False
 
 
 def _limit_memory(memory: int) -> None:

@@ -19,10 +19,8 @@ reader of a pytest-xdist worker once answered nothing for 60 s.
 
 from __future__ import annotations
 
-import math
 import os
 import pickle
-import resource
 import select
 import signal
 import subprocess
@@ -32,6 +30,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from shared.demos.c3d_child import cpu_limit
 from shared.errors import DemoFileError
 
 #: Address space the child may add per byte of the file: ezc3d and the
@@ -87,7 +86,7 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
             str(path),
             f"cannot be read: the C3D reader could not run (exit {code}){said}",
         )
-    cpu, shell = _cpu_limit(seconds)
+    cpu, shell = cpu_limit(seconds)
     # past its CPU time limit: SIGXCPU, or the SIGKILL Linux sends instead
     # when the soft limit is the hard one (the reader's, and ``ulimit -t``'s)
     if code == -signal.SIGXCPU or (code == -signal.SIGKILL and used >= cpu):
@@ -106,18 +105,6 @@ def read_c3d_file(path: Path) -> dict[str, Any]:
     else:
         problem = f"the C3D reader (ezc3d) ended without an answer (exit {code})"
     raise DemoFileError(str(path), f"not a readable C3D file: {problem}{said}")
-
-
-def _cpu_limit(seconds: float) -> tuple[int, bool]:
-    """The child's CPU time limit [s] (``c3d_child``), and whether the shell set it.
-
-    The shell's is a hard ``ulimit -t`` below ``seconds`` [s].
-    """
-    cpu = math.ceil(seconds)
-    _, hard = resource.getrlimit(resource.RLIMIT_CPU)
-    if hard != resource.RLIM_INFINITY and hard < cpu:
-        return hard, True
-    return cpu, False
 
 
 def _answer(path: Path, answer: bytes, memory: int) -> dict[str, Any]:
