@@ -191,6 +191,130 @@ class UnreachableTargetError(ArmplanError):
         self.residual = residual
 
 
+class TargetInBodyError(UnreachableTargetError):
+    """The target lies in NAO's own body, or nearer it than the hand may come.
+
+    Whatever the posture, the hand's end at the wrist (a ball of the hand's
+    radius) would be less than the body model's margin from a body part
+    (``shared.robot.body``). Read as out of reach: every ``UnreachableTargetError``
+    attribute is there (no residual, no palm).
+
+    Attributes:
+        body_part: ``"torso"``, ``"pelvis"`` or ``"head"``.
+        clearance: Distance between the hand's surface and the part's [m];
+            negative: that deep inside it.
+        margin: The least distance kept [m].
+    """
+
+    kind = "target_in_body"
+
+    def __init__(
+        self,
+        target: Sequence[float] | np.ndarray,
+        *,
+        arm: str,
+        distance: float,
+        reach: tuple[float, float],
+        body_part: str,
+        clearance: float,
+        margin: float,
+        at: str = "",
+    ) -> None:
+        prefix = f"{at}: " if at else ""
+        if clearance < 0:
+            deep = -clearance * 1000
+            how = (
+                f"inside NAO's {body_part}: the {arm} hand would be {deep:.1f} mm in it"
+            )
+        else:
+            how = (
+                f"{clearance * 1000:.1f} mm from NAO's {body_part} for the {arm} "
+                f"hand, nearer than the {margin * 1000:.1f} mm kept clear"
+            )
+        ArmplanError.__init__(
+            self,
+            f"{prefix}target {_fmt_vec(target)} m is {how}; the arm keeps clear "
+            "of the torso, pelvis and head (docs/robot.md, 'NAO's own body')",
+            target=[float(v) for v in target],
+            arm=arm,
+            distance=float(distance),
+            reach=[float(reach[0]), float(reach[1])],
+            residual=None,
+            at=at,
+            palm=None,
+            advice="",
+            body_part=body_part,
+            clearance=float(clearance),
+            margin=float(margin),
+        )
+        self.target = tuple(float(v) for v in target)
+        self.distance = float(distance)
+        self.reach = (float(reach[0]), float(reach[1]))
+        self.residual = None
+        self.body_part = body_part
+        self.clearance = float(clearance)
+        self.margin = float(margin)
+
+
+class BodyCollisionError(ArmplanError):
+    """A posture of a planned movement brings the arm into NAO's own body.
+
+    Attributes:
+        arm: ``"right"`` or ``"left"``.
+        arm_part: ``"upper arm"``, ``"forearm"`` or ``"hand"``.
+        body_part: ``"torso"``, ``"pelvis"`` or ``"head"``.
+        clearance: Distance between their surfaces [m]; negative: overlap.
+        margin: The least distance kept [m].
+        index: The sample (of the trajectory or path) where it is least.
+        time: Its time [s].
+    """
+
+    kind = "body_collision"
+
+    def __init__(
+        self,
+        *,
+        arm: str,
+        arm_part: str,
+        body_part: str,
+        clearance: float,
+        margin: float,
+        index: int,
+        time: float,
+        what: str = "the planned movement",
+    ) -> None:
+        super().__init__(
+            f"{what} brings the {arm} {arm_part} {body_words(clearance, margin)} "
+            f"NAO's {body_part} at sample {index} (t = {time:.3f} s); nothing of "
+            "it is kept: choose targets the arm reaches without crossing the "
+            "body (docs/robot.md, 'NAO's own body')",
+            arm=arm,
+            arm_part=arm_part,
+            body_part=body_part,
+            clearance=float(clearance),
+            margin=float(margin),
+            index=int(index),
+            time=float(time),
+        )
+        self.arm = arm
+        self.arm_part = arm_part
+        self.body_part = body_part
+        self.clearance = float(clearance)
+        self.margin = float(margin)
+        self.index = int(index)
+        self.time = float(time)
+
+
+def body_words(clearance: float, margin: float) -> str:
+    """How near an arm part is to a body part, ending before the part's name.
+
+    E.g. "12.3 mm into" or "3.1 mm (less than the 5.0 mm kept) from".
+    """
+    if clearance < 0:
+        return f"{-clearance * 1000:.1f} mm into"
+    return f"{clearance * 1000:.1f} mm (less than the {margin * 1000:.1f} mm kept) from"
+
+
 class OffPathError(ArmplanError):
     """The arm cannot follow a timed wrist path within the tolerance.
 

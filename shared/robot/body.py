@@ -1,0 +1,259 @@
+"""NAO's own body as the arm must keep clear of it: torso, pelvis and head.
+
+The robot description (``nao_arms.urdf``) holds the arms' kinematics but no
+shapes, and Aldebaran publishes none for its self-collision model (spheres
+and capsules, its documentation says, without their sizes). The shapes here
+are those of the NAO H25 model of the Webots simulator (Cyberbotics, "made
+according to the documentation provided by Aldebaran"), in NAOqi's
+FRAME_TORSO (x forward, y left, z up) [m]:
+
+- torso: a capsule of radius 55 mm around the segment from z = 40 mm to
+  z = 70 mm (it reaches from z = -15 mm to 125 mm, 55 mm to every side; the
+  chest's surface lies 53-58 mm ahead of the axis);
+- pelvis: a ball of radius 37 mm at z = -20 mm;
+- head: Webots' head is a capsule of radius 50 mm, 40 mm long across the
+  head, 55 mm above the neck joint (z = 126.5 mm). The head turns
+  (HeadYaw, ±119.5 degrees), which armplan does not command or know, so
+  the shape here is every way it can turn: a ball of radius 70 mm at
+  z = 181.5 mm. A head pitched forward or back (HeadPitch) moves its face
+  up to 34 mm ahead of or behind that ball: not in the model.
+
+The arm is three capsules between the points of :class:`ArmPoints`: the
+upper arm (shoulder to elbow, radius ``UPPER_ARM``), the forearm (elbow to
+wrist, ``FOREARM``) and the hand (wrist to the gripper frame, ``HAND``), the
+radii of the same Webots model (upper arm 24 mm, elbow 20 mm, forearm
+22 mm, the hand's 30 mm cylinder). An arm part is clear of a body part
+when their surfaces are ``MARGIN`` apart or more.
+
+Not in the model: the legs (where they are depends on the robot's stance:
+crouched, NAO's thighs lie under its hands), the other arm, and anything
+around the robot.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import numpy.typing as npt
+
+from shared.errors import BodyCollisionError, TargetInBodyError
+from shared.geometry.segments import segment_distance
+from shared.robot.arm_model import ArmModel
+
+#: Least distance kept between the arm's surface and the body's [m]: the
+#: shapes are a few millimetres rough (the chest's surface lies up to 3 mm
+#: outside the torso capsule), and the frames sent to the robot may stray
+#: up to a degree from the planned path between samples.
+MARGIN = 0.005
+#: Radii of the arm's capsules [m].
+UPPER_ARM = 0.024
+FOREARM = 0.022
+HAND = 0.030
+
+
+class BodyPart(NamedTuple):
+    """A capsule (a ball when both ends are one point) fixed to the torso.
+
+    Attributes:
+        name: What it is, e.g. ``"torso"``.
+        bottom: One end of its segment [m], shape (3,).
+        top: The other end [m], shape (3,).
+        radius: Its radius [m].
+    """
+
+    name: str
+    bottom: tuple[float, float, float]
+    top: tuple[float, float, float]
+    radius: float
+
+
+#: NAO's torso, pelvis and head in the torso frame (see the module's text).
+BODY: tuple[BodyPart, ...] = (
+    BodyPart("torso", (0.0, 0.0, 0.040), (0.0, 0.0, 0.070), 0.055),
+    BodyPart("pelvis", (0.0, 0.0, -0.020), (0.0, 0.0, -0.020), 0.037),
+    BodyPart("head", (0.0, 0.0, 0.1815), (0.0, 0.0, 0.1815), 0.070),
+)
+
+#: The arm's parts: name, the ends' names in ``ArmPoints``, and radius [m].
+ARM_PARTS: tuple[tuple[str, str, str, float], ...] = (
+    ("upper arm", "shoulder", "elbow", UPPER_ARM),
+    ("forearm", "elbow", "wrist", FOREARM),
+    ("hand", "wrist", "hand", HAND),
+)
+
+
+class Closest(NamedTuple):
+    """Where an arm comes nearest to the body.
+
+    Attributes:
+        sample: The posture (row of the postures given).
+        arm_part: ``"upper arm"``, ``"forearm"`` or ``"hand"``.
+        body_part: ``"torso"``, ``"pelvis"`` or ``"head"``.
+        clearance: Distance between their surfaces [m]; negative: that
+            deep inside.
+    """
+
+    sample: int
+    arm_part: str
+    body_part: str
+    clearance: float
+
+
+def arm_points(arm: ArmModel, q: npt.ArrayLike) -> dict[str, np.ndarray]:
+    """The arm's key points [m] for postures ``q`` [rad], shape (n, 5).
+
+    Returns:
+        ``ArmPoints``' fields, each shape (n, 3).
+    """
+    postures = np.atleast_2d(np.asarray(q, dtype=float))
+    points = [arm.fk(posture) for posture in postures]
+    return {
+        name: np.array([getattr(p, name) for p in points]).reshape(-1, 3)
+        for name in ("shoulder", "elbow", "wrist", "hand")
+    }
+
+
+def clearances(points: dict[str, np.ndarray]) -> np.ndarray:
+    """Distance [m] between each arm part's surface and each body part's.
+
+    Args:
+        points: The arm's key points (:func:`arm_points`), each shape (n, 3).
+
+    Returns:
+        Shape (n, len(ARM_PARTS), len(BODY)); negative: overlapping.
+    """
+    rows = []
+    for _, first, last, radius in ARM_PARTS:
+        a, b = points[first][:, None, :], points[last][:, None, :]
+        bottom = np.array([part.bottom for part in BODY])
+        top = np.array([part.top for part in BODY])
+        body_radius = np.array([part.radius for part in BODY])
+        rows.append(segment_distance(a, b, bottom, top) - radius - body_radius)
+    return np.stack(rows, axis=1)
+
+
+def closest(arm: ArmModel, q: npt.ArrayLike) -> Closest:
+    """Where the postures ``q`` [rad], shape (n, 5), come nearest the body."""
+    gaps = clearances(arm_points(arm, q))
+    return _at(gaps, int(np.argmin(gaps.min(axis=(1, 2)))))
+
+
+def first_near(
+    arm: ArmModel, q: npt.ArrayLike, margin: float = MARGIN
+) -> Closest | None:
+    """The first posture of ``q`` [rad], (n, 5), nearer the body than ``margin`` [m].
+
+    Returns:
+        Where it is nearest, or None if every posture keeps ``margin``.
+    """
+    gaps = clearances(arm_points(arm, q))
+    near = np.flatnonzero(gaps.min(axis=(1, 2)) < margin)
+    return None if near.size == 0 else _at(gaps, int(near[0]))
+
+
+def _at(gaps: np.ndarray, sample: int) -> Closest:
+    """The arm and body parts nearest each other in posture ``sample``."""
+    arm_part, body_part = np.unravel_index(int(np.argmin(gaps[sample])), gaps.shape[1:])
+    return Closest(
+        sample=sample,
+        arm_part=ARM_PARTS[arm_part][0],
+        body_part=BODY[body_part].name,
+        clearance=float(gaps[sample, arm_part, body_part]),
+    )
+
+
+def point_clearance(point: npt.ArrayLike, radius: float) -> tuple[str, float]:
+    """The body part nearest a ball of ``radius`` [m] at ``point`` [m], (3,).
+
+    Returns:
+        That part's name and the distance between the surfaces [m].
+    """
+    parts, gaps = points_clearance(np.reshape(point, (1, 3)), radius)
+    return parts[0], float(gaps[0])
+
+
+def points_clearance(
+    points: npt.ArrayLike, radius: float
+) -> tuple[list[str], np.ndarray]:
+    """The body part nearest each ball of ``radius`` [m] at ``points`` [m], (n, 3).
+
+    Returns:
+        Each one's nearest part, and the distances between the surfaces [m],
+        shape (n,).
+    """
+    centres = np.asarray(points, dtype=float)[:, None, :]
+    bottom = np.array([part.bottom for part in BODY])
+    top = np.array([part.top for part in BODY])
+    reach = radius + np.array([part.radius for part in BODY])
+    gaps = segment_distance(centres, centres, bottom, top) - reach
+    nearest = np.argmin(gaps, axis=1)
+    return [BODY[k].name for k in nearest], gaps.min(axis=1)
+
+
+def first_point_near(points: npt.ArrayLike) -> int | None:
+    """The first of ``points`` [m], (n, 3), no wrist may reach: none if None.
+
+    A wrist there puts the hand's ball (``HAND``) nearer the body than
+    ``MARGIN``, whatever the posture (:func:`check_target_clear`).
+    """
+    _, gaps = points_clearance(points, HAND)
+    near = np.flatnonzero(gaps < MARGIN)
+    return None if near.size == 0 else int(near[0])
+
+
+def check_target_clear(arm: ArmModel, target: npt.ArrayLike, at: str = "") -> None:
+    """Raise if no posture with its wrist at ``target`` [m], (3,), keeps clear.
+
+    The hand's capsule ends at the wrist in a ball of radius ``HAND``: if that
+    ball comes nearer the body than ``MARGIN``, so does every posture.
+
+    Raises:
+        TargetInBodyError: naming the body part and how near it is.
+    """
+    position = np.asarray(target, dtype=float)
+    part, gap = point_clearance(position, HAND)
+    if gap < MARGIN:
+        shoulder = arm.fk(np.zeros(5)).shoulder
+        raise TargetInBodyError(
+            position,
+            arm=arm.side.value,
+            distance=float(np.linalg.norm(position - shoulder)),
+            reach=arm.reach,
+            body_part=part,
+            clearance=gap,
+            margin=MARGIN,
+            at=at,
+        )
+
+
+def check_postures_clear(
+    arm: ArmModel,
+    q: npt.ArrayLike,
+    times: npt.ArrayLike,
+    what: str = "the planned movement",
+) -> None:
+    """Raise if a posture of ``q`` [rad], (n, 5), comes nearer the body than ``MARGIN``.
+
+    Args:
+        arm: The arm.
+        q: The postures.
+        times: Their times [s], shape (n,).
+        what: What the postures are, for the error.
+
+    Raises:
+        BodyCollisionError: naming the first such posture, its time, and
+            the arm's and the body's parts nearest each other in it.
+    """
+    near = first_near(arm, q)
+    if near is not None:
+        raise BodyCollisionError(
+            arm=arm.side.value,
+            arm_part=near.arm_part,
+            body_part=near.body_part,
+            clearance=near.clearance,
+            margin=MARGIN,
+            index=near.sample,
+            time=float(np.asarray(times, dtype=float)[near.sample]),
+            what=what,
+        )
