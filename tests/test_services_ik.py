@@ -25,6 +25,7 @@ from shared.errors import (
 )
 from shared.messages import IKRequest
 from shared.robot import load_arm
+from tests.clear_draws import clear_target
 
 #: The payload limit these tests configure [bytes].
 LIMIT = 4096
@@ -147,10 +148,7 @@ def test_fifty_concurrent_requests_all_succeed(bus: Bus) -> None:
     """50 threads of one client, each with its own target, all get their answer."""
     arm = load_arm("right")
     rng = np.random.default_rng(5)
-    targets = [
-        tuple(arm.fk(rng.uniform(arm.limits.lower, arm.limits.upper)).wrist)
-        for _ in range(50)
-    ]
+    targets = [tuple(clear_target(arm, rng)) for _ in range(50)]
     requests = [IKRequest(target=t) for t in targets]
     with ThreadPoolExecutor(50) as pool:
         replies = list(

@@ -20,7 +20,7 @@ from services.timing import time_path
 from services.timing.played_check import check_played, retime_limits
 from services.timing.played_curve import curve_maxima, played_curve
 from services.timing.trajectory import TimedTrajectory
-from shared.errors import LimitViolationError
+from shared.errors import BodyCollisionError, LimitViolationError, TargetInBodyError
 from shared.messages import PlanRequest, Trajectory
 from shared.robot import load_arm, motion_limits
 from shared.robot.motion_limits import MotionLimits
@@ -75,8 +75,10 @@ def test_the_hunts_plan_plays_within_the_acceleration_limit() -> None:
 def test_fastest_two_target_plans_play_within_the_limits() -> None:
     """Seeded fastest plans through two random reachable targets, both arms,
     at 16, 25 and 100 Hz: every one plays within its acceleration and jerk
-    limits (5 of these 24 did not: 2.8 % to 8 % over at 16 Hz)."""
+    limits (5 of these 24 did not: 2.8 % to 8 % over at 16 Hz). The few the
+    planner refuses as near NAO's body are left out."""
     rng = np.random.default_rng(0)
+    near_body = 0
     for i in range(24):
         side = ("right", "left")[i % 2]
         arm = load_arm(side)
@@ -89,7 +91,13 @@ def test_fastest_two_target_plans_play_within_the_limits() -> None:
         request = PlanRequest(
             arm=side, targets=targets, fastest=True, rate=rate, method=method
         )
-        assert_plays_within(plan(request).trajectory, motion_limits(arm.limits))
+        try:
+            trajectory = plan(request).trajectory
+        except (TargetInBodyError, BodyCollisionError):
+            near_body += 1  # refused to keep the arm off the body: nothing to play
+            continue
+        assert_plays_within(trajectory, motion_limits(arm.limits))
+    assert near_body <= 4
 
 
 def test_the_curve_maxima_are_the_played_curves() -> None:

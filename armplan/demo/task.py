@@ -205,13 +205,13 @@ def _plan_request_hint(text: bytes) -> str:
 
 def _check_reach(task: Task) -> None:
     """Raise, naming the phase, if a target is out of the arm's reach."""
-    from services.ik import check_reachable  # the IK stage's own check
+    from services.ik import check_target  # the IK stage's own check
 
     arm = load_arm(task.arm)
     for phase in task.phases:
         for target in phase.targets:
             try:
-                check_reachable(arm, np.array(target.position))
+                check_target(arm, np.array(target.position))
             except UnreachableTargetError as error:
                 raise InvalidInputError(
                     f"phase {phase.name!r}: {error.message}", field="targets"

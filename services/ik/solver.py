@@ -41,6 +41,7 @@ from shared.errors import (
 from shared.messages import IKRequest, IKResult, Method
 from shared.primitives import FULL_GRASP, FULL_REACH, IKMethod, Primitive, get_primitive
 from shared.robot.arm_model import ArmModel
+from shared.robot.body import check_target_clear
 from shared.robot.postures import rest
 
 ALL_JOINTS = (0, 1, 2, 3, 4)
@@ -89,6 +90,7 @@ def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
     """
     palm = None if request.palm is None else np.array(request.palm)
     start = rest(arm.side) if request.start is None else np.array(request.start)
+    check_target(arm, np.array(request.target))
     solution = solve(
         arm,
         np.array(request.target),
@@ -180,6 +182,23 @@ def check_reachable(arm: ArmModel, target: np.ndarray) -> None:
             reach=arm.reach,
             advice=reach_advice(arm, target),
         )
+
+
+def check_target(arm: ArmModel, target: np.ndarray) -> None:
+    """Raise if a target asked for is out of reach, or in NAO's body.
+
+    What a request's target must pass (the ik service, the planner, the
+    command line), beyond :func:`check_reachable`: the wrist there must
+    keep the hand clear of the torso, pelvis and head
+    (``shared.robot.body``). :func:`solve` itself does not check the body:
+    it is the solver, asked by the tracker for any point too.
+
+    Raises:
+        UnreachableTargetError: out of the reach shell; or
+            ``TargetInBodyError`` (one of them), in the body.
+    """
+    check_reachable(arm, target)
+    check_target_clear(arm, target)
 
 
 def _plan(

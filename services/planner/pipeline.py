@@ -37,12 +37,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from services.ik import check_reachable, solve
+from services.ik import check_target, solve
 from services.planner.build import trajectory_message, with_palms_reached
 from services.planner.decision_times import on_path_clock, timed_decisions
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
 from services.planner.grid_reach import check_grid_within_reach
-from services.planner.path_reach import STAGE_SLACK, check_path_within_reach
+from services.planner.path_reach import (
+    STAGE_SLACK,
+    check_path_clear,
+    check_path_within_reach,
+)
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
 from services.timing import reach_duration, time_given
@@ -69,6 +73,7 @@ from shared.messages import (
 from shared.messages.measure_params import MeasureParams
 from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
+from shared.robot.body import check_postures_clear
 from shared.robot.postures import rest
 
 log = logging.getLogger("armplan.planner")
@@ -120,7 +125,10 @@ def plan(request: PlanRequest, stages: Stages | None = None) -> PlanResult:
     Raises:
         ModelChangedError: the second plan's decisions also came from more
             than one model.
-        UnreachableTargetError: a target (or a wrist-path sample) beyond reach.
+        UnreachableTargetError: a target (or a wrist-path sample) beyond reach;
+            ``TargetInBodyError``: a target in NAO's body.
+        BodyCollisionError: a posture of the trajectory brings the arm into
+            NAO's body, or nearer it than ``shared.robot.body.MARGIN``.
         JointLimitError: a start posture outside the joint ranges.
         LimitViolationError: a wrist path timed faster than the limits allow.
         OffPathError: a wrist path the arm cannot follow within the tolerance.
@@ -154,7 +162,7 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
     if request.wrist_path is not None:
         return _follow_given(arm, request, request.wrist_path, start, stages)
     for target in request.targets:
-        check_reachable(arm, np.array(target.position))
+        check_target(arm, np.array(target.position))
     paths, joints, segments = [], [], []
     decisions: list[Decision] = []
     q = start
@@ -183,6 +191,7 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
         )
     )
     check_samples(len(trajectory.times), request.rate)
+    check_postures_clear(arm, trajectory.positions, trajectory.times)
     trajectory, decisions = timed_decisions(trajectory, decisions)
     trajectory = with_palms_reached(
         arm,
@@ -252,6 +261,7 @@ def _follow_given(
 ) -> PlanResult:
     """Joint angles at the wrist path's own times (no retiming), limits checked."""
     check_path_within_reach(arm, path)
+    check_path_clear(arm, path)
     start = start_on_path(arm, path, start, request.method)
     decisions: list[Decision] = []
     grid = None if tracked_as_given(path.times) else even_grid(path)
@@ -265,6 +275,7 @@ def _follow_given(
         limits = request_limits(arm.limits, request.limits)
         timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
         check_on_path(arm, path, timed.positions, request.path_tolerance)
+        check_postures_clear(arm, timed.positions, path.times)
     except LimitViolationError as error:
         raise error.advised(GIVEN_PATH_ADVICE) from None
     except OffPathError:

@@ -232,8 +232,8 @@ def _path(
     does already). A reach to ``--target`` lasts ``--duration``, or the
     planner's human pace for it (``_human_pace``, with ``decide``).
     """
-    from services.ik.solver import check_reachable
-    from services.planner.path_reach import check_path_within_reach
+    from services.ik.solver import check_target
+    from services.planner.path_reach import check_path_clear, check_path_within_reach
     from services.planner.pipeline import start_on_path
     from shared.messages import Method
 
@@ -244,6 +244,7 @@ def _path(
         if palm is not None:
             path = path.model_copy(update={"palm": tuple(float(v) for v in palm)})
         check_path_within_reach(arm, path)
+        check_path_clear(arm, path)
         start = start_on_path(arm, path, start, Method.MP)
         return np.array(path.times), np.array(path.positions), start
     from services.planner.wrist_path import reach_path
@@ -251,7 +252,7 @@ def _path(
     if args.duration is not None and not 0.05 <= args.duration <= 60.0:
         raise InvalidInputError("--duration must be 0.05..60 s", field="duration")
     target = np.array(finite(args.target, "target"))
-    check_reachable(arm, target)
+    check_target(arm, target)
     duration = args.duration
     if duration is None:
         duration = _human_pace(arm, start, target, palm, decide)
