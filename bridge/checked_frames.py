@@ -8,6 +8,7 @@ from functools import partial
 import numpy.typing as npt
 
 from bridge.bezier_curve import check_played_curve, played_curve
+from bridge.body_clearance import check_frames_clear, check_trajectory_clear
 from bridge.checks import check_frames, check_sample_range, refused_as_held
 from bridge.fidelity import ATTEMPTS, check_follows, follow_tolerance, offer_rate
 from bridge.frames import frame_velocities, frames_from_trajectory
@@ -33,7 +34,9 @@ def checked_frames(
 ) -> CommandFrames:
     """``trajectory`` as frames at ``rate`` [Hz], checked; nothing is sent.
 
-    The trajectory's own samples must lie in the joints' ranges, and its
+    The trajectory's own samples must lie in the joints' ranges, keep the
+    arm clear of NAO's body (:mod:`bridge.body_clearance`), as must the
+    frames, and its
     velocities agree with its positions (the curve through both within a
     degree, or a fast joint's chord gap at 25 fps, of the positions' own:
     :mod:`bridge.velocity_agreement`); the curve
@@ -76,6 +79,7 @@ def checked_frames(
     trajectory, limits = with_hand(trajectory, limits)
     check_sample_range(trajectory, limits)
     check_velocities(given, arm)
+    check_trajectory_clear(given)
     make = partial(_frames_at, trajectory, limits=limits, behavior=behavior)
     try:
         frames = _frames_at(trajectory, rate, limits)
@@ -102,6 +106,7 @@ def _frames_at(
     frames = frames_from_trajectory(hand_inside(trajectory, KEY_INSET), rate, inside)
     check_frames(frames, limits)
     check_follows(frames, trajectory, follow_tolerance(limits), inside)
+    check_frames_clear(frames)
     if behavior:
         check_behavior(frames, limits, frame_velocities(trajectory, frames))
     return frames

@@ -59,6 +59,7 @@ from bridge.approach import approach_frames
 from bridge.arm_state import check_at_start, check_still_stiff
 from bridge.at_rest import angles_at_rest
 from bridge.awake import check_awake
+from bridge.body_clearance import check_frames_clear
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.cut import Cut
@@ -415,6 +416,7 @@ class RobotBridge:
         move = approach_frames(frames.arm, current, start, limits, frames.rate)
         try:
             check_frames(move, limits)
+            check_frames_clear(move, "approach frame")
         except TrajectoryRefusedError as error:
             raise error.adding(
                 " (in the approach move from where the arm is)"

@@ -1,0 +1,80 @@
+"""Refuse what would bring the arm into NAO's own body (``shared.robot.body``).
+
+The planner refuses such a plan already; the bridge checks again whatever
+it is sent (a trajectory from anyone, a replayed recording, an approach
+from where the arm happens to be), on the trajectory's samples and on the
+command frames themselves, before anything moves. A refusal is a
+:class:`~shared.errors.TrajectoryRefusedError` of quantity
+``"clearance"``: its ``joint`` is the arm's part (``"right forearm"``), its
+value the distance kept [m] and its limit ``MARGIN``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from shared.errors import BodyCollisionError, TrajectoryRefusedError, body_words
+from shared.messages import CommandFrames, Trajectory
+from shared.robot import Side, load_arm
+from shared.robot.body import check_postures_clear
+
+
+def check_trajectory_clear(trajectory: Trajectory) -> None:
+    """Refuse ``trajectory`` if a sample's posture comes near the body.
+
+    Raises:
+        TrajectoryRefusedError: quantity ``"clearance"``, ``frame`` the sample.
+    """
+    _check(
+        trajectory.arm,
+        list(trajectory.joint_names),
+        trajectory.positions,
+        trajectory.times,
+        "sample",
+    )
+
+
+def check_frames_clear(frames: CommandFrames, what: str = "frame") -> None:
+    """Refuse ``frames`` if the start or a frame comes near the body.
+
+    Args:
+        frames: The command frames (their hand channel, if any, is left out).
+        what: What a frame is called in the refusal, e.g. "approach frame".
+
+    Raises:
+        TrajectoryRefusedError: quantity ``"clearance"``, ``frame`` the frame
+            (0: the start).
+    """
+    rows = [frames.start, *frames.positions]
+    _check(frames.arm, list(frames.joint_names), rows, [0.0, *frames.times], what)
+
+
+def _check(
+    side: Side | str,
+    names: list[str],
+    rows: npt.ArrayLike,
+    times: npt.ArrayLike,
+    what: str,
+) -> None:
+    """Refuse if a posture of ``rows`` [rad], (m, len(names)), is near the body."""
+    arm = load_arm(side)
+    columns = [names.index(name) for name in arm.side.joint_names]
+    postures = np.asarray(rows, dtype=float)[:, columns]
+    try:
+        check_postures_clear(arm, postures, times)
+    except BodyCollisionError as near:
+        raise TrajectoryRefusedError(
+            f"{near.arm} {near.arm_part}",
+            "clearance",
+            near.clearance,
+            near.margin,
+            frame=near.index,
+            time=near.time,
+            detail=(
+                f"comes {body_words(near.clearance, near.margin)} NAO's "
+                f"{near.body_part} at {what} {near.index} (t = {near.time:.3f} s): "
+                "the arm keeps clear of the torso, pelvis and head "
+                "(docs/robot.md, 'NAO's own body')"
+            ),
+        ) from None
