@@ -106,3 +106,23 @@ def test_every_plan_made_keeps_clear_of_the_body() -> None:
         near = closest(arm, result.trajectory.positions)
         assert near.clearance >= MARGIN, (target, near)
     assert made >= 15
+
+
+@pytest.mark.parametrize(
+    ("joints", "expected"),
+    [
+        ((1.5708, -0.1, 1.5708, 0.2, 0.0), "clear of NAO's body by 23.3 mm"),
+        ((0.0, 0.3, 0.0, 1.5, 0.0), "the planner refuses it"),
+        ((0.0, 0.3, 0.0, 1.54, 0.0), "in NAO's body: 3.4 mm deep (hand to torso)"),
+    ],
+)
+def test_fk_says_how_near_the_body_a_posture_is(joints, expected) -> None:
+    """The hanging arm, the hand folded back to within the margin of the
+    chest, and into it: fk's last line says which, with the model's
+    numbers (``closest``)."""
+    done = armplan("fk", "--joints", *(str(v) for v in joints))
+    assert done.returncode == 0, done.stderr
+    last = done.stdout.strip().splitlines()[-1]
+    assert expected in last
+    near = closest(load_arm("right"), [joints])
+    assert f"{abs(near.clearance) * 1000:.1f} mm" in last

@@ -10,6 +10,7 @@ from armplan.cli.output import print_json, print_table
 from armplan.cli.parsing import add_arm, add_json, finite
 from shared.messages import FKResult
 from shared.robot import load_arm
+from shared.robot.body import MARGIN, Closest, closest
 
 ORDER = 10
 HELP = "forward kinematics: shoulder, elbow, wrist and hand positions [m]"
@@ -45,4 +46,18 @@ def run(args: argparse.Namespace) -> int:
     else:
         rows = [(name, *getattr(result, name)) for name in FKResult.model_fields]
         print_table(("point", "x [m]", "y [m]", "z [m]"), rows)
+        print(body_line(closest(arm, [q])))
     return 0
+
+
+def body_line(near: Closest) -> str:
+    """How near the posture's arm comes to NAO's body, as one line."""
+    where = f"{near.arm_part} to {near.body_part}"
+    gap = near.clearance * 1000
+    if near.clearance < 0:
+        return f"in NAO's body: {-gap:.1f} mm deep ({where}); the planner refuses it"
+    refused = "; the planner refuses it" if near.clearance < MARGIN else ""
+    return (
+        f"clear of NAO's body by {gap:.1f} mm ({where}; "
+        f"at least {MARGIN * 1000:.1f} mm is kept{refused})"
+    )
