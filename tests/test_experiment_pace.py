@@ -36,6 +36,7 @@ from armplan.experiments.pace_report import (
 from shared.demos.nao_grid import nao_grid
 from shared.messages import Method
 from shared.robot import load_arm
+from shared.robot.body import MARGIN, closest, first_point_near
 from shared.robot.postures import mirror, rest
 
 SMALL = ["--reaches", "4", "--chains", "2"]
@@ -128,6 +129,20 @@ def test_random_tasks_are_reachable_seeded_and_as_described() -> None:
         assert task.palms is not None and len(task.palms) == CHAIN_LENGTH
         assert np.allclose(np.linalg.norm(task.palms, axis=1), 1.0)
         assert np.array_equal(task.start, rest(arm.side))
+
+
+def test_random_tasks_keep_clear_of_the_body_and_take_targets_the_planner_takes() -> (
+    None
+):
+    """Over many draws (about 6 % of uniform postures come within the
+    margin of NAO's body): every start keeps the margin, and no target lies
+    where the planner refuses it."""
+    for side in ("right", "left"):
+        arm = load_arm(side)
+        tasks = random_tasks(arm, 200, 20, seed=3)
+        assert min(closest(arm, [t.start]).clearance for t in tasks) >= MARGIN
+        targets = np.concatenate([t.targets for t in tasks])
+        assert first_point_near(targets) is None
 
 
 def test_the_left_arms_tasks_mirror_the_right_arms() -> None:

@@ -6,7 +6,10 @@ experiment looks where they do not go, with the real in-process planner:
 
 - ``reaches``: single reaches to random reachable targets (the wrist of a
   random posture within the joint ranges), half from the arm hanging at
-  rest, half from random postures; no palm.
+  rest, half from random postures; no palm. The postures keep clear of
+  NAO's body and the targets are ones the planner takes
+  (``shared.robot.body``); a reach whose way comes near the body is
+  refused, and counted as such.
 - ``chains``: tasks of ``CHAIN_LENGTH`` random targets, each with a random
   palm direction, from the arm at rest. A palm that no posture within the
   ranges can meet at its target is refused with the planner's error; that
@@ -37,6 +40,7 @@ from shared.errors import ArmplanError, InvalidInputError
 from shared.messages import Method, PlanRequest
 from shared.messages.measure_params import MeasureParams
 from shared.robot.arm_model import ArmModel, load_arm
+from shared.robot.body import MARGIN, closest, first_point_near
 from shared.robot.postures import mirror, rest
 from shared.robot.side import Side
 
@@ -90,18 +94,30 @@ class PaceRun(NamedTuple):
 
 
 def random_posture(arm: ArmModel, rng: np.random.Generator) -> np.ndarray:
-    """A posture drawn uniformly within the joint ranges [rad], shape (5,)."""
+    """A posture drawn uniformly within the joint ranges [rad], shape (5,).
+
+    Only a posture whose arm keeps clear of NAO's body is taken
+    (``shared.robot.body``).
+    """
     lower, upper = np.array(arm.limits.lower), np.array(arm.limits.upper)
-    return lower + rng.random(len(lower)) * (upper - lower)
+    while True:
+        q = lower + rng.random(len(lower)) * (upper - lower)
+        if closest(arm, [q]).clearance >= MARGIN:
+            return q
 
 
 def random_target(
     arm: ArmModel, here: np.ndarray, rng: np.random.Generator
 ) -> np.ndarray:
-    """The wrist of a random posture, at least ``LEAST_MOVE`` from ``here`` [m]."""
+    """The wrist of a random posture, at least ``LEAST_MOVE`` from ``here`` [m].
+
+    Only a target the planner takes (not in NAO's body) is drawn.
+    """
     while True:
         target = arm.fk(random_posture(arm, rng)).wrist
-        if np.linalg.norm(target - here) >= LEAST_MOVE:
+        if np.linalg.norm(target - here) < LEAST_MOVE:
+            continue
+        if first_point_near([target]) is None:
             return target
 
 
