@@ -27,6 +27,7 @@ from shared.robot.body import (
     first_near,
     point_clearance,
 )
+from shared.robot.fk_many import key_points
 from shared.robot.postures import forward, mirror, rest
 
 
@@ -191,3 +192,18 @@ def test_the_refusals_cross_the_wire_as_their_kinds() -> None:
         assert back.evidence == error.evidence
     assert isinstance(error_from_wire(target.value.to_wire()), UnreachableTargetError)
     assert movement.value.arm == "left"
+
+
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_many_postures_at_once_agree_with_pinocchio_one_at_a_time(side: str) -> None:
+    """``key_points`` composes the chain in numpy for all postures; pinocchio's
+    ``fk`` gives each posture's points: the two agree to round-off."""
+    arm = load_arm(side)
+    rng = np.random.default_rng(21)
+    q = rng.uniform(arm.limits.lower, arm.limits.upper, size=(300, 5))
+    points = key_points(arm, q)
+    for name in ("shoulder", "elbow", "wrist", "hand"):
+        one_by_one = np.array([getattr(arm.fk(posture), name) for posture in q])
+        np.testing.assert_allclose(points[name], one_by_one, rtol=0, atol=1e-12)
+    single = key_points(arm, q[0])
+    assert single["hand"].shape == (1, 3)

@@ -143,6 +143,11 @@ class ArmModel:
         return ArmModel(self.side, self.model)
 
     @property
+    def frame_ids(self) -> dict[str, int]:
+        """The pinocchio frame of each key point (``ArmPoints``' fields)."""
+        return dict(self._frames)
+
+    @property
     def joint_names(self) -> tuple[str, ...]:
         """NAO names of the five joints, e.g. ``RShoulderPitch``."""
         return self.limits.names

@@ -40,6 +40,7 @@ import numpy.typing as npt
 from shared.errors import BodyCollisionError, TargetInBodyError
 from shared.geometry.segments import segment_distance
 from shared.robot.arm_model import ArmModel
+from shared.robot.fk_many import key_points
 
 #: Least distance kept between the arm's surface and the body's [m]: the
 #: shapes are a few millimetres rough (the chest's surface lies up to 3 mm
@@ -104,14 +105,9 @@ def arm_points(arm: ArmModel, q: npt.ArrayLike) -> dict[str, np.ndarray]:
     """The arm's key points [m] for postures ``q`` [rad], shape (n, 5).
 
     Returns:
-        ``ArmPoints``' fields, each shape (n, 3).
+        ``ArmPoints``' fields, each shape (n, 3) (``shared.robot.fk_many``).
     """
-    postures = np.atleast_2d(np.asarray(q, dtype=float))
-    points = [arm.fk(posture) for posture in postures]
-    return {
-        name: np.array([getattr(p, name) for p in points]).reshape(-1, 3)
-        for name in ("shoulder", "elbow", "wrist", "hand")
-    }
+    return key_points(arm, q)
 
 
 def clearances(points: dict[str, np.ndarray]) -> np.ndarray:
