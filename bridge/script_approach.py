@@ -22,7 +22,9 @@ speed, acceleration and jerk within ``share`` of its limits, as
 the move ended short of the start (within ``bridge.start_gap.START_TOLERANCE``
 counts as there), as the bridge's ``bridge.arm_state.check_at_start`` does:
 both scripts used to play the trajectory from wherever a move killed by
-another client had left the arm.
+another client had left the arm. ``approach_keys`` refuses (RuntimeError,
+nothing sent) a move whose keys bring the arm near NAO's body
+(``bridge.script_body``).
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from __future__ import annotations
 from bridge.approach import MIN_DURATION
 from bridge.limits import FrameLimits
 from bridge.minimum_jerk import PEAK_ACCELERATION, PEAK_JERK, PEAK_SPEED
+from bridge.script_body import body_source
 from bridge.start_gap import START_TOLERANCE
 from shared.robot import Side
 
@@ -67,6 +70,7 @@ def approach_keys(names, current, target, share):
     ]
     keys = [[a + (b - a) * f for f in blend] for a, b in zip(current, target)]
     times = [duration * k / count for k in range(1, count + 1)]
+    check_clear(names, keys, [times] * len(keys))  # RuntimeError: nothing sent
     return keys, [times] * len(keys)
 
 
@@ -120,7 +124,7 @@ def approach_source(side: Side | str) -> str:
             limits.names, limits.velocity, limits.acceleration, limits.jerk, strict=True
         )
     }
-    return _SOURCE.format(
+    return body_source(side) + _SOURCE.format(
         limits=repr(table),
         rate=APPROACH_RATE,
         shortest=MIN_DURATION,
