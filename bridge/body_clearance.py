@@ -26,11 +26,12 @@ def check_trajectory_clear(trajectory: Trajectory) -> None:
     Raises:
         TrajectoryRefusedError: quantity ``"clearance"``, ``frame`` the sample.
     """
+    times = np.asarray(trajectory.times, dtype=float)
     _check(
         trajectory.arm,
         list(trajectory.joint_names),
         trajectory.positions,
-        trajectory.times,
+        times - times[0],  # from the start, as the other refusals count
         "sample",
     )
 

@@ -204,6 +204,7 @@ class TargetInBodyError(UnreachableTargetError):
         clearance: Distance between the hand's surface and the part's [m];
             negative: that deep inside it.
         margin: The least distance kept [m].
+        inside: The target itself lies in the body part.
     """
 
     kind = "target_in_body"
@@ -219,12 +220,19 @@ class TargetInBodyError(UnreachableTargetError):
         clearance: float,
         margin: float,
         at: str = "",
+        inside: bool = False,
     ) -> None:
         prefix = f"{at}: " if at else ""
-        if clearance < 0:
-            deep = -clearance * 1000
+        deep = -clearance * 1000
+        if inside:
             how = (
-                f"inside NAO's {body_part}: the {arm} hand would be {deep:.1f} mm in it"
+                f"inside NAO's {body_part}: the {arm} hand there would be "
+                f"{deep:.1f} mm in it"
+            )
+        elif clearance < 0:
+            how = (
+                f"too near NAO's {body_part}: the {arm} hand there would be "
+                f"{deep:.1f} mm inside it"
             )
         else:
             how = (
@@ -246,6 +254,7 @@ class TargetInBodyError(UnreachableTargetError):
             body_part=body_part,
             clearance=float(clearance),
             margin=float(margin),
+            inside=bool(inside),
         )
         self.target = tuple(float(v) for v in target)
         self.distance = float(distance)
@@ -254,10 +263,11 @@ class TargetInBodyError(UnreachableTargetError):
         self.body_part = body_part
         self.clearance = float(clearance)
         self.margin = float(margin)
+        self.inside = bool(inside)
 
 
 class BodyCollisionError(ArmplanError):
-    """A posture of a planned movement brings the arm into NAO's own body.
+    """A posture of a plan, or its start, brings the arm into NAO's own body.
 
     Attributes:
         arm: ``"right"`` or ``"left"``.
@@ -265,8 +275,9 @@ class BodyCollisionError(ArmplanError):
         body_part: ``"torso"``, ``"pelvis"`` or ``"head"``.
         clearance: Distance between their surfaces [m]; negative: overlap.
         margin: The least distance kept [m].
-        index: The sample (of the trajectory or path) where it is least.
-        time: Its time [s].
+        index: The first sample (of the trajectory) nearer than ``margin``;
+            0 for a start posture.
+        time: Its time from the start [s].
     """
 
     kind = "body_collision"
@@ -282,12 +293,16 @@ class BodyCollisionError(ArmplanError):
         index: int,
         time: float,
         what: str = "the planned movement",
+        at: str | None = None,
+        advice: str = (
+            "the plan is refused: choose targets the arm reaches without "
+            "crossing the body"
+        ),
     ) -> None:
+        where = f" at sample {index} (t = {time:.3f} s)" if at is None else at
         super().__init__(
             f"{what} brings the {arm} {arm_part} {body_words(clearance, margin)} "
-            f"NAO's {body_part} at sample {index} (t = {time:.3f} s); nothing of "
-            "it is kept: choose targets the arm reaches without crossing the "
-            "body (docs/robot.md, 'NAO's own body')",
+            f"NAO's {body_part}{where}; {advice} (docs/robot.md, 'NAO's own body')",
             arm=arm,
             arm_part=arm_part,
             body_part=body_part,

@@ -148,23 +148,29 @@ def test_the_first_posture_too_near_is_named_not_the_deepest() -> None:
 
 
 @pytest.mark.parametrize(
-    ("target", "part"),
+    ("target", "part", "words"),
     [
-        ((0.0, 0.0, 0.05), "torso"),  # the chest's axis
-        ((0.03, -0.03, 0.0), "torso"),  # within the arm's reach shell
-        ((0.0, -0.05, 0.25), "head"),
-        ((0.0, -0.04, -0.04), "pelvis"),
+        ((0.03, 0.0, 0.02), "torso", "is inside NAO's torso"),
+        ((0.03, -0.03, 0.0), "torso", "is too near NAO's torso"),  # 3 mm out
+        ((0.0, -0.03, 0.22), "head", "is inside NAO's head"),
+        ((0.0, -0.05, 0.25), "head", "is too near NAO's head"),
+        ((0.0, -0.02, -0.03), "pelvis", "is inside NAO's pelvis"),
+        ((0.0, -0.04, -0.04), "pelvis", "is too near NAO's pelvis"),
     ],
 )
-def test_a_target_in_the_body_is_refused_as_out_of_reach(target, part) -> None:
+def test_a_target_in_the_body_is_refused_as_out_of_reach(target, part, words) -> None:
+    """Within the arm's reach shell; "inside" only when the point itself is
+    in the part, "too near" when only the hand's ball would be."""
     arm = load_arm("right")
-    with pytest.raises(TargetInBodyError, match=f"inside NAO's {part}") as err:
+    with pytest.raises(TargetInBodyError, match=words) as err:
         check_target_clear(arm, target)
     assert isinstance(err.value, UnreachableTargetError)
     assert err.value.body_part == part
     assert err.value.clearance < 0
+    assert err.value.inside == ("inside" in words)
     # the hand's ball at the target: its clearance is the shapes' alone
     assert err.value.clearance == pytest.approx(point_clearance(target, HAND)[1])
+    assert arm.reach[0] < np.linalg.norm(np.subtract(target, (0, -0.098, 0.1)))
 
 
 def test_a_target_just_outside_the_margin_passes_and_just_inside_is_refused() -> None:

@@ -86,6 +86,32 @@ def test_a_trajectory_through_the_torso_is_refused_and_nothing_is_sent(
     assert refusal.time == pytest.approx(through.times[refusal.frame])
 
 
+def test_frames_between_two_clear_samples_are_checked() -> None:
+    """A trajectory of its two ends alone (2 s apart), both clear: the
+    frames the robot would be sent between them pass the head and cross
+    the torso, and are refused by frame."""
+    ends = minimum_jerk_trajectory("right", [AWAY, ACROSS], [2.0], rate=0.5)
+    assert len(ends.times) == 2
+    with pytest.raises(TrajectoryRefusedError, match=r"at frame \d+ \(t = ") as err:
+        checked_frames(ends, 50.0, FrameLimits.for_arm("right"))
+    assert err.value.quantity == "clearance"
+    assert 0 < err.value.time < 2.0
+
+
+def test_a_refusal_counts_time_from_the_trajectorys_start() -> None:
+    """The same trajectory 5 s later on its clock: the same sample and time."""
+    through = minimum_jerk_trajectory("right", [AWAY, ACROSS], [2.0])
+    later = through.model_copy(update={"times": [t + 5.0 for t in through.times]})
+    limits = FrameLimits.for_arm("right")
+    refusals = []
+    for trajectory in (through, later):
+        with pytest.raises(TrajectoryRefusedError) as err:
+            checked_frames(trajectory, 50.0, limits)
+        refusals.append((err.value.frame, err.value.time))
+    assert refusals[0] == pytest.approx(refusals[1])
+    assert refusals[0][1] < 2.0
+
+
 def test_frames_written_for_choregraphe_are_checked_the_same() -> None:
     through = minimum_jerk_trajectory("right", [AWAY, ACROSS], [2.0])
     with pytest.raises(TrajectoryRefusedError, match="clear of the torso"):

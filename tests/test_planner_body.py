@@ -21,7 +21,9 @@ from shared.robot.body import HAND, MARGIN, closest, point_clearance
 from tests.armplan_cli import armplan
 
 #: Within the right arm's reach shell, in the chest.
-IN_CHEST = (0.03, -0.03, 0.0)
+IN_CHEST = (0.03, 0.0, 0.02)
+#: The right hand folded back into the chest (3.4 mm into the torso).
+FOLDED = (0.0, 0.3, 0.0, 1.54, 0.0)
 
 
 def test_a_target_in_the_chest_is_refused_before_any_planning() -> None:
@@ -38,6 +40,20 @@ def test_the_command_line_says_which_part_of_the_body(command: str) -> None:
     assert done.returncode == 1, done.stderr
     assert "is inside NAO's torso" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_a_start_posture_in_the_body_is_refused_before_any_planning() -> None:
+    """The hand folded back into the chest: the start is named, not a target."""
+    request = PlanRequest(
+        arm="right", start=FOLDED, targets=[{"position": (0.15, -0.10, 0.05)}]
+    )
+    with pytest.raises(BodyCollisionError, match=r"^the start posture brings") as err:
+        plan(request)
+    assert "nothing was planned" in str(err.value)
+    assert err.value.body_part == "torso" and err.value.arm_part == "hand"
+    assert err.value.clearance == pytest.approx(
+        closest(load_arm("right"), [FOLDED]).clearance
+    )
 
 
 def test_a_wrist_path_into_the_chest_is_refused_at_its_first_sample_there() -> None:

@@ -73,7 +73,7 @@ from shared.messages import (
 from shared.messages.measure_params import MeasureParams
 from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
-from shared.robot.body import check_postures_clear
+from shared.robot.body import check_postures_clear, check_start_clear
 from shared.robot.postures import rest
 
 log = logging.getLogger("armplan.planner")
@@ -158,6 +158,7 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
     arm = load_arm(request.arm)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     arm.limits.check(start, where="in the start posture")
+    check_start_clear(arm, start)
     request_limits(arm.limits, request.limits)  # refused before any planning
     if request.wrist_path is not None:
         return _follow_given(arm, request, request.wrist_path, start, stages)
@@ -263,6 +264,9 @@ def _follow_given(
     check_path_within_reach(arm, path)
     check_path_clear(arm, path)
     start = start_on_path(arm, path, start, request.method)
+    check_start_clear(
+        arm, start, "the posture that puts the wrist on the path's first sample"
+    )
     decisions: list[Decision] = []
     grid = None if tracked_as_given(path.times) else even_grid(path)
     tracked = None

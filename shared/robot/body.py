@@ -44,8 +44,9 @@ from shared.robot.fk_many import key_points
 
 #: Least distance kept between the arm's surface and the body's [m]: the
 #: shapes are a few millimetres rough (the chest's surface lies up to 3 mm
-#: outside the torso capsule), and the frames sent to the robot may stray
-#: up to a degree from the planned path between samples.
+#: outside the torso capsule). The frames sent to the robot are checked
+#: themselves (``bridge.body_clearance``); between two frames, 20 ms apart
+#: at most at NAO's cycle, the arm moves a few millimetres at most.
 MARGIN = 0.005
 #: Radii of the arm's capsules [m].
 UPPER_ARM = 0.024
@@ -210,6 +211,8 @@ def check_target_clear(arm: ArmModel, target: npt.ArrayLike, at: str = "") -> No
     position = np.asarray(target, dtype=float)
     part, gap = point_clearance(position, HAND)
     if gap < MARGIN:
+        shape = next(each for each in BODY if each.name == part)
+        own = float(segment_distance(position, position, shape.bottom, shape.top))
         shoulder = arm.fk(np.zeros(5)).shoulder
         raise TargetInBodyError(
             position,
@@ -220,6 +223,32 @@ def check_target_clear(arm: ArmModel, target: npt.ArrayLike, at: str = "") -> No
             clearance=gap,
             margin=MARGIN,
             at=at,
+            inside=own < shape.radius,
+        )
+
+
+def check_start_clear(
+    arm: ArmModel, start: npt.ArrayLike, what: str = "the start posture"
+) -> None:
+    """Raise if the posture a plan starts from comes nearer the body than ``MARGIN``.
+
+    Raises:
+        BodyCollisionError: naming the parts nearest each other (index 0).
+    """
+    near = first_near(arm, np.atleast_2d(np.asarray(start, dtype=float)))
+    if near is not None:
+        raise BodyCollisionError(
+            arm=arm.side.value,
+            arm_part=near.arm_part,
+            body_part=near.body_part,
+            clearance=near.clearance,
+            margin=MARGIN,
+            index=0,
+            time=0.0,
+            what=what,
+            at="",
+            advice="nothing was planned: move the arm away from the body first, "
+            "or give another start",
         )
 
 
@@ -234,7 +263,7 @@ def check_postures_clear(
     Args:
         arm: The arm.
         q: The postures.
-        times: Their times [s], shape (n,).
+        times: Their times [s], shape (n,); the error counts from the first.
         what: What the postures are, for the error.
 
     Raises:
@@ -243,6 +272,7 @@ def check_postures_clear(
     """
     near = first_near(arm, q)
     if near is not None:
+        clock = np.asarray(times, dtype=float)
         raise BodyCollisionError(
             arm=arm.side.value,
             arm_part=near.arm_part,
@@ -250,6 +280,6 @@ def check_postures_clear(
             clearance=near.clearance,
             margin=MARGIN,
             index=near.sample,
-            time=float(np.asarray(times, dtype=float)[near.sample]),
+            time=float(clock[near.sample] - clock[0]),
             what=what,
         )
