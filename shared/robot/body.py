@@ -237,14 +237,10 @@ def check_start_clear(
     """
     near = first_near(arm, np.atleast_2d(np.asarray(start, dtype=float)))
     if near is not None:
-        raise BodyCollisionError(
-            arm=arm.side.value,
-            arm_part=near.arm_part,
-            body_part=near.body_part,
-            clearance=near.clearance,
-            margin=MARGIN,
-            index=0,
-            time=0.0,
+        raise _collision(
+            arm,
+            near,
+            0.0,
             what=what,
             at="",
             advice="nothing was planned: move the arm away from the body first, "
@@ -273,13 +269,20 @@ def check_postures_clear(
     near = first_near(arm, q)
     if near is not None:
         clock = np.asarray(times, dtype=float)
-        raise BodyCollisionError(
-            arm=arm.side.value,
-            arm_part=near.arm_part,
-            body_part=near.body_part,
-            clearance=near.clearance,
-            margin=MARGIN,
-            index=near.sample,
-            time=float(clock[near.sample] - clock[0]),
-            what=what,
-        )
+        raise _collision(arm, near, float(clock[near.sample] - clock[0]), what=what)
+
+
+def _collision(
+    arm: ArmModel, near: Closest, time: float, **words: str
+) -> BodyCollisionError:
+    """The error for ``near``, posture ``near.sample`` at ``time`` [s]."""
+    return BodyCollisionError(
+        arm=arm.side.value,
+        arm_part=near.arm_part,
+        body_part=near.body_part,
+        clearance=near.clearance,
+        margin=MARGIN,
+        index=near.sample,
+        time=time,
+        **words,
+    )
