@@ -1,6 +1,7 @@
-"""Ctrl-C while ``armplan sim`` starts: one line and exit 130, no traceback.
+"""A stop signal while ``armplan sim`` starts: one line and its exit code.
 
-Run as a real process, Ctrl-C is sent at two points of its start: while
+Run as a real process, Ctrl-C, SIGTERM or SIGHUP is sent at two points
+of its start: while
 ``armplan`` loads its commands (libqi is mapped, pinocchio not yet), and
 once it has become ``python -m bridge.sim`` (same process, new command
 line), which then loads libqi and pinocchio again. Each printed a
@@ -37,11 +38,24 @@ def _became_the_sim(pid: int) -> Callable[[], bool]:
     return lambda: b"bridge.sim" in Path(f"/proc/{pid}/cmdline").read_bytes()
 
 
+@pytest.mark.parametrize(
+    ("signum", "code", "said"),
+    [
+        (signal.SIGINT, 130, "interrupted"),
+        (signal.SIGTERM, 143, "terminated"),
+        (signal.SIGHUP, 129, "hung up"),
+    ],
+    ids=["ctrl-c", "sigterm", "sighup"],
+)
 @pytest.mark.parametrize("point", [_loading, _became_the_sim])
-def test_ctrl_c_while_the_sim_starts_is_one_line_and_130(
+def test_a_stop_signal_while_the_sim_starts_is_one_line_and_its_code(
     point: Callable[[int], Callable[[], bool]],
+    signum: signal.Signals,
+    code: int,
+    said: str,
 ) -> None:
-    """Ctrl-C at that point: ``armplan: interrupted``, exit 130, nothing served."""
+    """That signal at that point: ``armplan: <said>``, its exit code, nothing
+    served. (SIGTERM and SIGHUP killed it there with no word: -15, -1.)"""
     sim = subprocess.Popen(
         [sys.executable, "-m", "armplan", "sim", "--listen", "tcp://127.0.0.1:0"],
         stdin=subprocess.DEVNULL,
@@ -51,9 +65,9 @@ def test_ctrl_c_while_the_sim_starts_is_one_line_and_130(
     )
     try:
         _wait_for(point(sim.pid))
-        sim.send_signal(signal.SIGINT)
+        sim.send_signal(signum)
         out, err = sim.communicate(timeout=60)
     finally:
         sim.kill()
         sim.wait()
-    assert (sim.returncode, err, out) == (130, "armplan: interrupted\n", "")
+    assert (sim.returncode, err, out) == (code, f"armplan: {said}\n", "")

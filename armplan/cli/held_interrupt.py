@@ -1,15 +1,17 @@
-"""Ctrl-C while a command loads is held, then reported in one line.
+"""A stop signal while a command loads is held, then reported in one line.
 
 ``armplan`` imports every command before it parses its arguments (about
 0.7 s: libqi, pinocchio, pydantic, zenoh). A ``KeyboardInterrupt`` raised
 in the middle of that printed a traceback, or came out of a C extension's
-initialisation as an ``ImportError``. So SIGINT is blocked while the
+initialisation as an ``ImportError``; a SIGTERM or SIGHUP killed the
+command with no word (exit -15, -1). So the three are blocked while the
 commands load: one that arrives waits, pending, and is taken when the
-loading ends, and the command exits 130 ("interrupted") without running.
+loading ends, and the command exits 130 ("interrupted"), 143
+("terminated") or 129 ("hung up") without running.
 
 A blocked signal stays blocked, and pending, across ``exec``: ``armplan
-sim`` holds Ctrl-C so while it becomes ``python -m bridge.sim``, which
-takes it once it can stop cleanly (:func:`shared.stop_signals.stop_on_signals`).
+sim`` holds them so while it becomes ``python -m bridge.sim``, which
+takes them once it can stop cleanly (:func:`shared.stop_signals.stop_on_signals`).
 """
 
 from __future__ import annotations
@@ -18,41 +20,61 @@ import signal
 from collections.abc import Iterator
 from contextlib import contextmanager
 
+#: The signals held: Ctrl-C, SIGTERM and SIGHUP (they stop a command alike).
+HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
 
 class Held:
     """What a hold saw (a plain class: ``dataclasses`` takes 9 ms to import).
 
     Attributes:
-        came: A Ctrl-C arrived while it was held (it is taken: never raised).
+        signal: The first stop signal that arrived while it was held (it is
+            taken: never raised), or None.
     """
 
     def __init__(self) -> None:
-        self.came = False
+        self.signal: signal.Signals | None = None
+
+    @property
+    def came(self) -> bool:
+        """A stop signal arrived while it was held."""
+        return self.signal is not None
 
 
 def hold_interrupt() -> bool:
-    """Block SIGINT in this thread: from now on it waits, pending.
+    """Block SIGINT, SIGTERM and SIGHUP in this thread: from now on they wait.
 
-    Threads started while it is blocked keep it blocked; it stays blocked
-    across ``exec``. Returns whether it was blocked already.
+    One ignored (``nohup``, a script's ``cmd &``) is left alone: it is not
+    meant to stop the command. Threads started while they are blocked keep
+    them blocked; they stay blocked across ``exec``. Returns whether SIGINT
+    was blocked already (by whoever started this process).
     """
-    before = signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGINT])
+    held = [s for s in HELD_SIGNALS if signal.getsignal(s) is not signal.SIG_IGN]
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     return signal.SIGINT in before
 
 
-def take_interrupt() -> bool:
-    """Take a pending SIGINT, if one is held, and unblock it; True if one was."""
-    came = signal.sigtimedwait([signal.SIGINT], 0) is not None
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+def take_interrupt() -> signal.Signals | None:
+    """Take the stop signals held and pending, and unblock them.
+
+    Returns:
+        The first of them (SIGINT, then SIGTERM, then SIGHUP, if several
+        are pending), or None if none was.
+    """
+    came = None
+    for signum in HELD_SIGNALS:
+        if signal.sigtimedwait([signum], 0) is not None and came is None:
+            came = signal.Signals(signum)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, HELD_SIGNALS)
     return came
 
 
 @contextmanager
 def held_interrupt() -> Iterator[Held]:
-    """Hold Ctrl-C inside the block; ``Held.came`` says, after it, if one came.
+    """Hold the stop signals inside the block; ``Held.signal``: the one that came.
 
-    A SIGINT blocked before the block (by whoever started this process)
-    is left so. One ignored (a script's ``cmd &``: its Ctrl-C is not for
+    Signals blocked before the block (by whoever started this process) are
+    left so. An ignored Ctrl-C (a script's ``cmd &``: its Ctrl-C is not for
     this command) is not held: held, it stayed pending and was taken as a
     Ctrl-C, so the script's Ctrl-C ended the command it had left running.
     """
@@ -66,4 +88,4 @@ def held_interrupt() -> Iterator[Held]:
     try:
         yield held
     finally:
-        held.came = take_interrupt()
+        held.signal = take_interrupt()

@@ -63,14 +63,15 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     0 ok, 1 armplan error, 2 usage, 130 Ctrl-C, 143 SIGTERM, 129 SIGHUP
     (every command unwinds on SIGTERM and SIGHUP as on Ctrl-C; the commands
-    that record or serve until stopped exit 0 on each). Ctrl-C while the commands load
-    exits 130 once they have loaded, without a traceback.
+    that record or serve until stopped exit 0 on each). Ctrl-C, SIGTERM or
+    SIGHUP while the commands load exits so once they have loaded, without
+    a traceback.
     """
     with held_interrupt() as held:
         parser = build_parser()
         args = parser.parse_args(argv)
-    if held.came:
-        return _stopped(signal.SIGINT)
+    if held.signal is not None:
+        return _stopped(held.signal)
     from shared.offered_options import offering
 
     with offering(chosen_options(parser, args)):  # for the hints of its errors

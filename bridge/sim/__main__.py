@@ -23,6 +23,13 @@ from shared.stop_signals import StartInterrupted, stop_on_signals
 
 #: The exit code after Ctrl-C (128 + SIGINT), as ``armplan``'s.
 INTERRUPTED_CODE = 128 + signal.SIGINT
+#: What a stop signal held while it started is said as, and its exit code,
+#: as ``armplan``'s (``armplan sim`` holds them across its ``exec``).
+STOPPED = {
+    signal.SIGINT: ("interrupted", INTERRUPTED_CODE),
+    signal.SIGTERM: ("terminated", 128 + signal.SIGTERM),
+    signal.SIGHUP: ("hung up", 128 + signal.SIGHUP),
+}
 
 
 def parser() -> argparse.ArgumentParser:
@@ -93,7 +100,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     A malformed address or period, or a log file that cannot be written, is
     a usage error (exit 2); an address it cannot listen at exits 1 with the
     reason on one line. Ctrl-C held while it started exits 130, saying
-    ``interrupted``.
+    ``interrupted`` (SIGTERM 143, ``terminated``; SIGHUP 129, ``hung up``).
     """
     p = parser()
     args = p.parse_args(argv)
@@ -119,9 +126,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ArmplanError as error:  # e.g. the address is in use
         sys.stderr.write(f"{p.prog}: error: {error.message}\n")
         return 1
-    except StartInterrupted:
-        sys.stderr.write(f"{p.prog}: interrupted\n")
-        return INTERRUPTED_CODE
+    except StartInterrupted as stop:
+        said, code = STOPPED[stop.signal or signal.SIGINT]
+        sys.stderr.write(f"{p.prog}: {said}\n")
+        return code
 
 
 def exit_now(code: int) -> None:

@@ -38,9 +38,10 @@ def run(args: argparse.Namespace) -> int:
     loaded already (see shared/libqi.py). The address (well formed, free,
     local), the period, the sag, the grip and the log file are checked here
     first, so that a bad one is this command's typed error and nothing
-    starts. Ctrl-C is held across the ``exec`` (see
-    :mod:`armplan.cli.held_interrupt`): the sim takes it once it can stop,
-    and exits 130 ("interrupted") without a traceback.
+    starts. Ctrl-C, SIGTERM and SIGHUP are held across the ``exec`` (see
+    :mod:`armplan.cli.held_interrupt`): the sim takes them once it can
+    stop, and exits 130 ("interrupted"), 143 ("terminated") or 129 ("hung
+    up") without a traceback.
     """
     from armplan.cli.held_interrupt import hold_interrupt
     from bridge.address import check_listen_url
