@@ -64,3 +64,26 @@ def test_an_ignored_ctrl_c_is_not_taken(unblocked: None) -> None:
         assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
     finally:
         signal.signal(signal.SIGINT, before)
+
+
+def test_a_sigterm_inside_is_taken_and_named(unblocked: None) -> None:
+    """SIGTERM (and SIGHUP) while held: taken, not acted on, and named."""
+    for signum in (signal.SIGTERM, signal.SIGHUP):
+        with held_interrupt() as held:
+            signal.pthread_kill(threading.main_thread().ident or 0, signum)
+            assert held.signal is None
+        assert held.signal == signum
+        assert signum not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+
+
+def test_a_ctrl_c_blocked_before_leaves_sigterm_unblocked_after(
+    unblocked: None,
+) -> None:
+    """With SIGINT blocked by whoever started the process, the hold still
+    ends for SIGTERM and SIGHUP: left blocked, they would never stop it."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGINT])
+    with held_interrupt():
+        pass
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    assert signal.SIGINT in mask
+    assert signal.SIGTERM not in mask and signal.SIGHUP not in mask

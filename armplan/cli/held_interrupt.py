@@ -41,31 +41,34 @@ class Held:
         return self.signal is not None
 
 
-def hold_interrupt() -> bool:
+def hold_interrupt() -> frozenset[signal.Signals]:
     """Block SIGINT, SIGTERM and SIGHUP in this thread: from now on they wait.
 
     One ignored (``nohup``, a script's ``cmd &``) is left alone: it is not
     meant to stop the command. Threads started while they are blocked keep
-    them blocked; they stay blocked across ``exec``. Returns whether SIGINT
-    was blocked already (by whoever started this process).
+    them blocked; they stay blocked across ``exec``.
+
+    Returns:
+        Those this call blocked (not blocked before, by whoever started this
+        process): the ones to take and unblock (:func:`take_interrupt`).
     """
     held = [s for s in HELD_SIGNALS if signal.getsignal(s) is not signal.SIG_IGN]
     before = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    return signal.SIGINT in before
+    return frozenset(signal.Signals(s) for s in held if s not in before)
 
 
-def take_interrupt() -> signal.Signals | None:
-    """Take the stop signals held and pending, and unblock them.
+def take_interrupt(held: frozenset[signal.Signals]) -> signal.Signals | None:
+    """Take those of ``held`` pending, and unblock ``held``.
 
     Returns:
         The first of them (SIGINT, then SIGTERM, then SIGHUP, if several
         are pending), or None if none was.
     """
     came = None
-    for signum in HELD_SIGNALS:
+    for signum in (s for s in HELD_SIGNALS if s in held):
         if signal.sigtimedwait([signum], 0) is not None and came is None:
             came = signal.Signals(signum)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, HELD_SIGNALS)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
     return came
 
 
@@ -75,17 +78,16 @@ def held_interrupt() -> Iterator[Held]:
 
     Signals blocked before the block (by whoever started this process) are
     left so. An ignored Ctrl-C (a script's ``cmd &``: its Ctrl-C is not for
-    this command) is not held: held, it stayed pending and was taken as a
-    Ctrl-C, so the script's Ctrl-C ended the command it had left running.
+    this command) is not held, nor anything else: held, it stayed pending
+    and was taken as a Ctrl-C, so the script's Ctrl-C ended the command it
+    had left running.
     """
     held = Held()
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         yield held
         return
-    if hold_interrupt():
-        yield held
-        return
+    blocked = hold_interrupt()
     try:
         yield held
     finally:
-        held.signal = take_interrupt()
+        held.signal = take_interrupt(blocked)
