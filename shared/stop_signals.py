@@ -135,6 +135,7 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
     relay = _the_relay()
     stop = StopRequest()
     relay.events.add(stop)
+    installed = []
     for signum in signals:
         if signum != signal.SIGTERM and signal.getsignal(signum) is signal.SIG_IGN:
             # nohup, cmd &: that signal is not meant to stop it; one held
@@ -142,8 +143,16 @@ def stop_on_signals(signals: Iterable[int] = STOP_SIGNALS) -> StopRequest:
             signal.pthread_sigmask(signal.SIG_UNBLOCK, [signum])
             continue
         signal.signal(signum, relay.handler)
+        installed.append(signum)
+    for signum in sorted(installed, key=_take_order):  # as armplan's own hold
         _take_held(signum, stop)
     return stop
+
+
+def _take_order(signum: int) -> int:
+    """Held signals pending together are taken Ctrl-C first, then SIGTERM."""
+    order = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    return order.index(signum) if signum in order else len(order)
 
 
 def _take_held(signum: int, stop: StopRequest) -> None:

@@ -87,3 +87,20 @@ def test_a_ctrl_c_blocked_before_leaves_sigterm_unblocked_after(
     mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])
     assert signal.SIGINT in mask
     assert signal.SIGTERM not in mask and signal.SIGHUP not in mask
+
+
+def test_with_ctrl_c_ignored_sigterm_is_still_held(unblocked: None) -> None:
+    """``cmd &`` in a script ignores Ctrl-C; a SIGTERM while the commands
+    load is still held and named (it killed the command with no word)."""
+    delivered: list[int] = []  # not held, it would have come here, not killed
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    term = signal.signal(signal.SIGTERM, lambda signum, frame: delivered.append(signum))
+    try:
+        with held_interrupt() as held:
+            signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGTERM)
+        assert held.signal == signal.SIGTERM
+        assert delivered == []
+        assert signal.SIGTERM not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    finally:
+        signal.signal(signal.SIGINT, before)
+        signal.signal(signal.SIGTERM, term)

@@ -169,3 +169,26 @@ def test_an_ignored_signal_held_before_is_unblocked() -> None:
     )
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["False", "False", "False"]
+
+
+def test_held_signals_pending_together_are_taken_ctrl_c_first() -> None:
+    """SIGTERM and Ctrl-C both held across ``armplan sim``'s exec: the stop
+    request names Ctrl-C, as ``armplan``'s own hold does
+    (``armplan.cli.held_interrupt``), whatever order they came in."""
+    script = textwrap.dedent(
+        """
+        import signal
+        from shared.stop_signals import stop_on_signals
+        held = [signal.SIGINT, signal.SIGTERM, signal.SIGHUP]
+        signal.pthread_sigmask(signal.SIG_BLOCK, held)
+        signal.raise_signal(signal.SIGTERM)
+        signal.raise_signal(signal.SIGINT)
+        stop = stop_on_signals()
+        print(stop.signal.name, flush=True)
+        """
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["SIGINT"]

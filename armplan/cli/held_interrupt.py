@@ -77,15 +77,12 @@ def held_interrupt() -> Iterator[Held]:
     """Hold the stop signals inside the block; ``Held.signal``: the one that came.
 
     Signals blocked before the block (by whoever started this process) are
-    left so. An ignored Ctrl-C (a script's ``cmd &``: its Ctrl-C is not for
-    this command) is not held, nor anything else: held, it stayed pending
-    and was taken as a Ctrl-C, so the script's Ctrl-C ended the command it
-    had left running.
+    left so. An ignored one (a script's ``cmd &`` ignores Ctrl-C: the
+    script's Ctrl-C is not for this command) is not held: held, it stayed
+    pending and was taken as a Ctrl-C, so the script's Ctrl-C ended the
+    command it had left running. The others are held all the same.
     """
     held = Held()
-    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
-        yield held
-        return
     blocked = hold_interrupt()
     try:
         yield held
