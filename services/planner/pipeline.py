@@ -265,7 +265,10 @@ def _follow_given(
     check_path_clear(arm, path)
     start = start_on_path(arm, path, start, request.method)
     check_start_clear(
-        arm, start, "the posture that puts the wrist on the path's first sample"
+        arm,
+        start,
+        "the posture that puts the wrist on the path's first sample",
+        "start the path farther from the body, or give a start posture on it",
     )
     decisions: list[Decision] = []
     grid = None if tracked_as_given(path.times) else even_grid(path)

@@ -228,7 +228,10 @@ def check_target_clear(arm: ArmModel, target: npt.ArrayLike, at: str = "") -> No
 
 
 def check_start_clear(
-    arm: ArmModel, start: npt.ArrayLike, what: str = "the start posture"
+    arm: ArmModel,
+    start: npt.ArrayLike,
+    what: str = "the start posture",
+    advice: str = "move the arm away from the body first, or give another start",
 ) -> None:
     """Raise if the posture a plan starts from comes nearer the body than ``MARGIN``.
 
@@ -243,8 +246,7 @@ def check_start_clear(
             0.0,
             what=what,
             at="",
-            advice="nothing was planned: move the arm away from the body first, "
-            "or give another start",
+            advice=f"nothing was planned: {advice}",
         )
 
 
