@@ -156,7 +156,7 @@ def _stages_reach(arm: ArmModel, request: PlanRequest) -> tuple[np.ndarray, Traj
 
 
 def test_the_fold_goal_is_refused_for_the_body() -> None:
-    with pytest.raises(TargetInBodyError, match="inside NAO's head"):
+    with pytest.raises(TargetInBodyError, match="too near NAO's head"):
         plan(_request(load_arm("right"), {"position": FOLD_GOAL}))
 
 
