@@ -17,11 +17,16 @@ import numpy.typing as npt
 from shared.errors import BodyCollisionError, TrajectoryRefusedError, body_words
 from shared.messages import CommandFrames, Trajectory
 from shared.robot import Side, load_arm
-from shared.robot.body import check_postures_clear
+from shared.robot.body import BODY, BodyPart, check_postures_clear, other_arm
 
 
-def check_trajectory_clear(trajectory: Trajectory) -> None:
+def check_trajectory_clear(
+    trajectory: Trajectory, parts: tuple[BodyPart, ...] = BODY
+) -> None:
     """Refuse ``trajectory`` if a sample's posture comes near the body.
+
+    ``parts``: what to keep clear of, NAO's body by default (the bridge adds
+    the other arm where the robot holds it: :func:`with_other_arm`).
 
     Raises:
         TrajectoryRefusedError: quantity ``"clearance"``, ``frame`` the sample.
@@ -33,22 +38,38 @@ def check_trajectory_clear(trajectory: Trajectory) -> None:
         trajectory.positions,
         times - times[0],  # from the start, as the other refusals count
         "sample",
+        parts,
     )
 
 
-def check_frames_clear(frames: CommandFrames, what: str = "frame") -> None:
+def check_frames_clear(
+    frames: CommandFrames, what: str = "frame", parts: tuple[BodyPart, ...] = BODY
+) -> None:
     """Refuse ``frames`` if the start or a frame comes near the body.
 
     Args:
         frames: The command frames (their hand channel, if any, is left out).
         what: What a frame is called in the refusal, e.g. "approach frame".
+        parts: What to keep clear of, NAO's body by default.
 
     Raises:
         TrajectoryRefusedError: quantity ``"clearance"``, ``frame`` the frame
             (0: the start).
     """
     rows = [frames.start, *frames.positions]
-    _check(frames.arm, list(frames.joint_names), rows, [0.0, *frames.times], what)
+    times = [0.0, *frames.times]
+    _check(frames.arm, list(frames.joint_names), rows, times, what, parts)
+
+
+def with_other_arm(side: Side | str, other: npt.ArrayLike) -> tuple[BodyPart, ...]:
+    """NAO's body and its other arm, held at ``other`` [rad], (5,), to keep clear of.
+
+    ``side`` is the arm that moves; ``other`` the other arm's posture (its
+    five joints in their order), where the robot holds it.
+    """
+    moving = Side.parse(side)
+    still = Side.LEFT if moving is Side.RIGHT else Side.RIGHT
+    return BODY + other_arm(load_arm(still), other)
 
 
 def _check(
@@ -57,13 +78,14 @@ def _check(
     rows: npt.ArrayLike,
     times: npt.ArrayLike,
     what: str,
+    parts: tuple[BodyPart, ...],
 ) -> None:
-    """Refuse if a posture of ``rows`` [rad], (m, len(names)), is near the body."""
+    """Refuse if a posture of ``rows`` [rad], (m, len(names)), is near ``parts``."""
     arm = load_arm(side)
     columns = [names.index(name) for name in arm.side.joint_names]
     postures = np.asarray(rows, dtype=float)[:, columns]
     try:
-        check_postures_clear(arm, postures, times)
+        check_postures_clear(arm, postures, times, parts=parts)
     except BodyCollisionError as near:
         raise TrajectoryRefusedError(
             f"{near.arm} {near.arm_part}",
@@ -75,7 +97,7 @@ def _check(
             detail=(
                 f"comes {body_words(near.clearance, near.margin)} NAO's "
                 f"{near.body_part} at {what} {near.index} (t = {near.time:.3f} s): "
-                "the arm keeps clear of the torso, pelvis and head "
-                "(docs/robot.md, 'NAO's own body')"
+                "the arm keeps clear of the torso, pelvis, head and the other "
+                "arm where it is (docs/robot.md, 'NAO's own body')"
             ),
         ) from None

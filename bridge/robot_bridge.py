@@ -59,7 +59,7 @@ from bridge.approach import approach_frames
 from bridge.arm_state import check_at_start, check_still_stiff
 from bridge.at_rest import angles_at_rest
 from bridge.awake import check_awake
-from bridge.body_clearance import check_frames_clear
+from bridge.body_clearance import check_frames_clear, with_other_arm
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.cut import Cut
@@ -86,6 +86,7 @@ from shared.messages import (
     Trajectory,
 )
 from shared.robot import Side
+from shared.robot.body import BODY, BodyPart
 
 #: What became of a trajectory refused once the approach brought the arm there.
 ARRIVED = "the arm is at the trajectory's start; nothing of the trajectory was sent"
@@ -312,8 +313,11 @@ class RobotBridge:
         limp = limp_posture(self.client, names)
         if limp is not None:  # stiffened, it would snap back to its command
             current = limp
+        clear_of = self._keep_clear(frames, "nothing was sent")
         # all checked before the hold and the stiffening: a refusal sends nothing
-        move = self._start_move(frames, current, limits, approach, limp is not None)
+        move = self._start_move(
+            frames, current, limits, approach, limp is not None, clear_of=clear_of
+        )
         self.refuse_if_stopping("nothing was sent")
         order.check(url, "nothing was sent")
         check_connection(self.client, checked, "nothing was sent")
@@ -323,7 +327,10 @@ class RobotBridge:
         if self.client.stiffen(names):  # another client may have moved it meanwhile
             sent = HELD if limp is not None else STIFFENED
             current = angles_at_rest(self.client, names)
-            move = self._start_move(frames, current, limits, approach, False, sent)
+            clear_of = self._keep_clear(frames, sent)
+            move = self._start_move(
+                frames, current, limits, approach, False, sent, clear_of
+            )
         approach_time = 0.0 if move is None else move.duration
         check_in_time(url, until, approach_time, duration, sent, overhead, gone)
         self.refuse_if_stopping(sent)
@@ -380,12 +387,14 @@ class RobotBridge:
         approach: bool,
         limp: bool,
         sent: str = "nothing was sent",
+        clear_of: tuple[BodyPart, ...] = BODY,
     ) -> CommandFrames | None:
         """The checked approach from ``current`` [rad] (n,), or None if none is needed.
 
         ``limits`` are the frames' joints' (the hand's too, if they move
         it); ``limp``: ``current`` is where a limp arm hangs (measured);
-        ``sent``: what was sent so far, for the errors.
+        ``sent``: what was sent so far, for the errors; ``clear_of``: what
+        the approach keeps clear of (NAO's body, and the other arm).
 
         Raises:
             RobotStateError: a joint at ``current`` is outside its range.
@@ -397,12 +406,35 @@ class RobotBridge:
         try:
             if not needs_approach(frames, current, limits, approach):
                 return None
-            return self._approach_move(frames, current, limits)
+            return self._approach_move(frames, current, limits, clear_of)
         except TrajectoryRefusedError as error:
             raise error.instead(sent) from None
 
+    def _keep_clear(self, frames: CommandFrames, sent: str) -> tuple[BodyPart, ...]:
+        """NAO's body and the other arm where it is; ``frames`` checked against them.
+
+        The other arm is read as measured (a limp arm is where it hangs, not
+        where it was commanded) and taken to stay there while this one moves.
+
+        Raises:
+            TrajectoryRefusedError: a frame comes near the other arm
+                (``sent``: what was sent so far).
+        """
+        other = Side.LEFT if Side.parse(frames.arm) is Side.RIGHT else Side.RIGHT
+        still = self.client.get_angles(list(other.joint_names), True)
+        clear_of = with_other_arm(frames.arm, still)
+        try:
+            check_frames_clear(frames, "frame", clear_of)
+        except TrajectoryRefusedError as error:
+            raise error.instead(sent) from None
+        return clear_of
+
     def _approach_move(
-        self, frames: CommandFrames, current: np.ndarray, limits: FrameLimits
+        self,
+        frames: CommandFrames,
+        current: np.ndarray,
+        limits: FrameLimits,
+        clear_of: tuple[BodyPart, ...] = BODY,
     ) -> CommandFrames:
         """The checked move from ``current`` [rad] to the frames' start.
 
@@ -416,7 +448,7 @@ class RobotBridge:
         move = approach_frames(frames.arm, current, start, limits, frames.rate)
         try:
             check_frames(move, limits)
-            check_frames_clear(move, "approach frame")
+            check_frames_clear(move, "approach frame", clear_of)
         except TrajectoryRefusedError as error:
             raise error.adding(
                 " (in the approach move from where the arm is)"

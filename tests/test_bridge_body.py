@@ -135,3 +135,46 @@ def test_an_approach_through_the_torso_is_refused_and_from_rest_it_plays(
     reply = bridge.execute(hold, rate=50.0)
     assert reply.approach_duration > 0
     assert calls(sim) == before + 4  # to rest and its hold, to ACROSS and its hold
+
+
+#: A right-arm way in front of the chest, clear of NAO's body and of the
+#: left arm hanging at rest, and a left-arm posture that lies across it.
+SWEEP_FROM = np.array([-0.64, -0.43, 1.85, 0.32, 1.04])
+SWEEP_TO = np.array([0.31, 0.03, -0.56, 1.42, -0.16])
+LEFT_ACROSS = np.array([0.54, -0.09, -0.56, -1.05, -1.54])
+
+
+def test_a_trajectory_through_the_other_arm_is_refused_where_that_arm_is(
+    sim: SimProcess,
+) -> None:
+    """The left arm held across the right arm's way: the right arm's
+    trajectory is refused naming the left arm's part, nothing sent; with
+    the left arm back at rest the same trajectory plays."""
+    robot = RobotBridge(NaoqiClient(sim.url))
+    robot.execute(minimum_jerk_trajectory("left", [LEFT_ACROSS] * 2, [0.5]))
+    robot.execute(minimum_jerk_trajectory("right", [SWEEP_FROM] * 2, [0.5]))
+    sweep = minimum_jerk_trajectory("right", [SWEEP_FROM, SWEEP_TO], [2.0])
+    before = calls(sim)
+    with pytest.raises(TrajectoryRefusedError, match=r"NAO's left \w+") as err:
+        robot.execute(sweep, rate=50.0)
+    assert err.value.quantity == "clearance"
+    assert str(err.value).startswith("trajectory refused, nothing was sent")
+    assert calls(sim) == before
+    robot.execute(minimum_jerk_trajectory("left", [rest("left")] * 2, [0.5]))
+    reply = robot.execute(sweep, rate=50.0)
+    assert reply.approach_duration == 0.0
+    assert calls(sim) == before + 3  # the left arm to rest and its hold, the sweep
+
+
+def test_an_approach_through_the_other_arm_is_refused(sim: SimProcess) -> None:
+    """The left arm held across the way; the right arm asked to hold at
+    the way's other end: the approach there is refused, nothing sent."""
+    robot = RobotBridge(NaoqiClient(sim.url))
+    robot.execute(minimum_jerk_trajectory("left", [LEFT_ACROSS] * 2, [0.5]))
+    robot.execute(minimum_jerk_trajectory("right", [SWEEP_FROM] * 2, [0.5]))
+    before = calls(sim)
+    hold = minimum_jerk_trajectory("right", [SWEEP_TO] * 2, [0.5])
+    with pytest.raises(TrajectoryRefusedError, match="at approach frame") as err:
+        robot.execute(hold, rate=50.0)
+    assert "NAO's left " in str(err.value)
+    assert calls(sim) == before

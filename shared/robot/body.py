@@ -25,9 +25,10 @@ radii of the same Webots model (upper arm 24 mm, elbow 20 mm, forearm
 22 mm, the hand's 30 mm cylinder). An arm part is clear of a body part
 when their surfaces are ``MARGIN`` apart or more.
 
-Not in the model: the legs (where they are depends on the robot's stance:
-crouched, NAO's thighs lie under its hands), the other arm, and anything
-around the robot.
+The other arm is kept clear of where it is by the bridge, which reads it
+(:func:`other_arm`). Not in the model: the legs (where they are depends on
+the robot's stance: crouched, NAO's thighs lie under its hands), and
+anything around the robot.
 """
 
 from __future__ import annotations
@@ -111,53 +112,85 @@ def arm_points(arm: ArmModel, q: npt.ArrayLike) -> dict[str, np.ndarray]:
     return key_points(arm, q)
 
 
-def clearances(points: dict[str, np.ndarray]) -> np.ndarray:
+def clearances(
+    points: dict[str, np.ndarray], parts: tuple[BodyPart, ...] = BODY
+) -> np.ndarray:
     """Distance [m] between each arm part's surface and each body part's.
 
     Args:
         points: The arm's key points (:func:`arm_points`), each shape (n, 3).
+        parts: What to keep clear of; default NAO's body (``BODY``), or
+            that and the other arm (:func:`other_arm`).
 
     Returns:
-        Shape (n, len(ARM_PARTS), len(BODY)); negative: overlapping.
+        Shape (n, len(ARM_PARTS), len(parts)); negative: overlapping.
     """
+    bottom = np.array([part.bottom for part in parts])
+    top = np.array([part.top for part in parts])
+    radii = np.array([part.radius for part in parts])
     rows = []
     for _, first, last, radius in ARM_PARTS:
         a, b = points[first][:, None, :], points[last][:, None, :]
-        bottom = np.array([part.bottom for part in BODY])
-        top = np.array([part.top for part in BODY])
-        body_radius = np.array([part.radius for part in BODY])
-        rows.append(segment_distance(a, b, bottom, top) - radius - body_radius)
+        rows.append(segment_distance(a, b, bottom, top) - radius - radii)
     return np.stack(rows, axis=1)
 
 
-def closest(arm: ArmModel, q: npt.ArrayLike) -> Closest:
-    """Where the postures ``q`` [rad], shape (n, 5), come nearest the body."""
-    gaps = clearances(arm_points(arm, q))
-    return _at(gaps, int(np.argmin(gaps.min(axis=(1, 2)))))
+def closest(
+    arm: ArmModel, q: npt.ArrayLike, parts: tuple[BodyPart, ...] = BODY
+) -> Closest:
+    """Where the postures ``q`` [rad], shape (n, 5), come nearest ``parts``."""
+    gaps = clearances(arm_points(arm, q), parts)
+    return _at(gaps, int(np.argmin(gaps.min(axis=(1, 2)))), parts)
 
 
 def first_near(
-    arm: ArmModel, q: npt.ArrayLike, margin: float = MARGIN
+    arm: ArmModel,
+    q: npt.ArrayLike,
+    margin: float = MARGIN,
+    parts: tuple[BodyPart, ...] = BODY,
 ) -> Closest | None:
-    """The first posture of ``q`` [rad], (n, 5), nearer the body than ``margin`` [m].
+    """The first posture of ``q`` [rad], (n, 5), nearer ``parts`` than ``margin`` [m].
 
     Returns:
         Where it is nearest, or None if every posture keeps ``margin``.
     """
-    gaps = clearances(arm_points(arm, q))
+    gaps = clearances(arm_points(arm, q), parts)
     near = np.flatnonzero(gaps.min(axis=(1, 2)) < margin)
-    return None if near.size == 0 else _at(gaps, int(near[0]))
+    return None if near.size == 0 else _at(gaps, int(near[0]), parts)
 
 
-def _at(gaps: np.ndarray, sample: int) -> Closest:
-    """The arm and body parts nearest each other in posture ``sample``."""
+def _at(gaps: np.ndarray, sample: int, parts: tuple[BodyPart, ...]) -> Closest:
+    """The arm's part and the part of ``parts`` nearest each other in ``sample``."""
     arm_part, body_part = np.unravel_index(int(np.argmin(gaps[sample])), gaps.shape[1:])
     return Closest(
         sample=sample,
         arm_part=ARM_PARTS[arm_part][0],
-        body_part=BODY[body_part].name,
+        body_part=parts[body_part].name,
         clearance=float(gaps[sample, arm_part, body_part]),
     )
+
+
+def other_arm(arm: ArmModel, q: npt.ArrayLike) -> tuple[BodyPart, ...]:
+    """The arm of ``arm``'s posture ``q`` [rad], (5,), as parts to keep clear of.
+
+    Its capsules are the arm's own (``ARM_PARTS``), named with its side
+    (``"left forearm"``): what the other arm must keep clear of while this
+    one holds still.
+    """
+    points = arm_points(arm, np.atleast_2d(np.asarray(q, dtype=float)))
+    return tuple(
+        BodyPart(
+            f"{arm.side.value} {name}",
+            _point(points[first][0]),
+            _point(points[last][0]),
+            radius,
+        )
+        for name, first, last, radius in ARM_PARTS
+    )
+
+
+def _point(v: np.ndarray) -> tuple[float, float, float]:
+    return float(v[0]), float(v[1]), float(v[2])
 
 
 def point_clearance(point: npt.ArrayLike, radius: float) -> tuple[str, float]:
@@ -255,6 +288,7 @@ def check_postures_clear(
     q: npt.ArrayLike,
     times: npt.ArrayLike,
     what: str = "the planned movement",
+    parts: tuple[BodyPart, ...] = BODY,
 ) -> None:
     """Raise if a posture of ``q`` [rad], (n, 5), comes nearer the body than ``MARGIN``.
 
@@ -263,12 +297,13 @@ def check_postures_clear(
         q: The postures.
         times: Their times [s], shape (n,); the error counts from the first.
         what: What the postures are, for the error.
+        parts: What to keep clear of (default NAO's body).
 
     Raises:
         BodyCollisionError: naming the first such posture, its time, and
             the arm's and the body's parts nearest each other in it.
     """
-    near = first_near(arm, q)
+    near = first_near(arm, q, parts=parts)
     if near is not None:
         clock = np.asarray(times, dtype=float)
         raise _collision(arm, near, float(clock[near.sample] - clock[0]), what=what)
