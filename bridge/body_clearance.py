@@ -14,7 +14,12 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from shared.errors import BodyCollisionError, TrajectoryRefusedError, body_words
+from shared.errors import (
+    BodyCollisionError,
+    InvalidInputError,
+    TrajectoryRefusedError,
+    body_words,
+)
 from shared.messages import CommandFrames, Trajectory
 from shared.robot import Side, load_arm
 from shared.robot.body import BODY, BodyPart, check_postures_clear, other_arm
@@ -66,10 +71,21 @@ def with_other_arm(side: Side | str, other: npt.ArrayLike) -> tuple[BodyPart, ..
 
     ``side`` is the arm that moves; ``other`` the other arm's posture (its
     five joints in their order), where the robot holds it.
+
+    Raises:
+        InvalidInputError: ``other`` is not 5 finite angles (a NaN would
+            make every distance NaN, and NaN is never "too near").
     """
     moving = Side.parse(side)
     still = Side.LEFT if moving is Side.RIGHT else Side.RIGHT
-    return BODY + other_arm(load_arm(still), other)
+    posture = np.asarray(other, dtype=float)
+    if posture.shape != (5,) or not np.all(np.isfinite(posture)):
+        raise InvalidInputError(
+            f"the {still.value} arm's posture must be 5 finite angles [rad], "
+            f"got {posture.tolist()}",
+            field="other",
+        )
+    return BODY + other_arm(load_arm(still), posture)
 
 
 def _check(

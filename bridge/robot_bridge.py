@@ -57,7 +57,7 @@ import numpy as np
 from bridge.almotion import angle_interpolation_call
 from bridge.approach import approach_frames
 from bridge.arm_state import check_at_start, check_still_stiff
-from bridge.at_rest import angles_at_rest
+from bridge.at_rest import angles_at_rest, read_angles
 from bridge.awake import check_awake
 from bridge.body_clearance import check_frames_clear, with_other_arm
 from bridge.checked_frames import checked_frames
@@ -419,9 +419,10 @@ class RobotBridge:
         Raises:
             TrajectoryRefusedError: a frame comes near the other arm
                 (``sent``: what was sent so far).
+            RobotCommandError: the robot gave angles that are not numbers.
         """
         other = Side.LEFT if Side.parse(frames.arm) is Side.RIGHT else Side.RIGHT
-        still = self.client.get_angles(list(other.joint_names), True)
+        still = read_angles(self.client, list(other.joint_names), True)
         clear_of = with_other_arm(frames.arm, still)
         try:
             check_frames_clear(frames, "frame", clear_of)

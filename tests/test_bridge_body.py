@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from bridge.body_clearance import with_other_arm
 from bridge.checked_frames import checked_frames
 from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
@@ -22,7 +23,7 @@ from bridge.naoqi_client import NaoqiClient
 from bridge.robot_bridge import RobotBridge
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
-from shared.errors import TrajectoryRefusedError
+from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.robot import load_arm
 from shared.robot.body import MARGIN, arm_points, clearances
 from shared.robot.postures import rest
@@ -178,3 +179,12 @@ def test_an_approach_through_the_other_arm_is_refused(sim: SimProcess) -> None:
         robot.execute(hold, rate=50.0)
     assert "NAO's left " in str(err.value)
     assert calls(sim) == before
+
+
+@pytest.mark.parametrize(
+    "posture", [[float("nan"), 0.0, 0.0, -0.5, 0.0], [0.0, 0.0, 0.0, -0.5]]
+)
+def test_an_other_arm_posture_that_is_no_posture_is_refused(posture) -> None:
+    """A NaN would make every distance NaN, which is never "too near"."""
+    with pytest.raises(InvalidInputError, match="left arm's posture must be 5 finite"):
+        with_other_arm("right", posture)
