@@ -25,6 +25,7 @@ from shared.robot.body import (
     clearances,
     closest,
     first_near,
+    first_point_near,
     point_clearance,
 )
 from shared.robot.fk_many import key_points
@@ -213,3 +214,15 @@ def test_many_postures_at_once_agree_with_pinocchio_one_at_a_time(side: str) -> 
         np.testing.assert_allclose(points[name], one_by_one, rtol=0, atol=1e-12)
     single = key_points(arm, q[0])
     assert single["hand"].shape == (1, 3)
+
+
+def test_a_posture_that_is_no_number_counts_as_near() -> None:
+    """NaN compares false with everything: were it taken as clear, a NaN
+    posture from anywhere would pass every check."""
+    arm = load_arm("right")
+    nan = np.array([np.nan, 0.0, 0.0, 0.5, 0.0])
+    near = first_near(arm, [rest("right"), nan])
+    assert near is not None and near.sample == 1
+    assert first_point_near([[0.15, -0.1, 0.05], [np.nan, 0.0, 0.0]]) == 1
+    with pytest.raises(TargetInBodyError):
+        check_target_clear(arm, (np.nan, 0.0, 0.0))

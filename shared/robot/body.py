@@ -155,7 +155,7 @@ def first_near(
         Where it is nearest, or None if every posture keeps ``margin``.
     """
     gaps = clearances(arm_points(arm, q), parts)
-    near = np.flatnonzero(gaps.min(axis=(1, 2)) < margin)
+    near = np.flatnonzero(~(gaps.min(axis=(1, 2)) >= margin))  # NaN: near
     return None if near.size == 0 else _at(gaps, int(near[0]), parts)
 
 
@@ -228,7 +228,7 @@ def first_point_near(points: npt.ArrayLike) -> int | None:
     ``MARGIN``, whatever the posture (:func:`check_target_clear`).
     """
     _, gaps = points_clearance(points, HAND)
-    near = np.flatnonzero(gaps < MARGIN)
+    near = np.flatnonzero(~(gaps >= MARGIN))  # NaN: near
     return None if near.size == 0 else int(near[0])
 
 
@@ -243,7 +243,7 @@ def check_target_clear(arm: ArmModel, target: npt.ArrayLike, at: str = "") -> No
     """
     position = np.asarray(target, dtype=float)
     part, gap = point_clearance(position, HAND)
-    if gap < MARGIN:
+    if not gap >= MARGIN:  # NaN: refused
         shape = next(each for each in BODY if each.name == part)
         own = float(segment_distance(position, position, shape.bottom, shape.top))
         shoulder = arm.fk(np.zeros(5)).shoulder
