@@ -115,7 +115,7 @@ def check_clear(names, keys, times, move="the move to the start"):
                 gap -= radius + body_radius
                 if worst is None or gap < worst[0]:
                     worst = (gap, part, body)
-        if worst[0] < BODY_MARGIN:
+        if not worst[0] >= BODY_MARGIN:  # NaN: refused
             gap, part, body = worst
             if gap < 0:
                 near = "%.1f mm into" % (-gap * 1000)

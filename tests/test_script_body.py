@@ -147,3 +147,11 @@ def play(path: Path, url: str) -> subprocess.CompletedProcess[str]:
         timeout=60,
         check=False,
     )
+
+
+def test_a_key_that_is_no_number_is_refused() -> None:
+    """NaN compares false with everything: taken as clear, it would pass."""
+    namespace = script_namespace("right")
+    keys = [[float("nan")], [0.0], [0.0], [0.5], [0.0]]
+    with pytest.raises(RuntimeError, match="at key 1"):
+        namespace["check_clear"](NAMES, keys, [[0.5]] * 5)
