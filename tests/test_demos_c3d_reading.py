@@ -192,6 +192,17 @@ def test_the_reader_ends_with_an_importer_killed_alone(tmp_path: pathlib.Path) -
                 os.kill(child, signal.SIGKILL)
 
 
+def _command_line(pid: int, deadline: float) -> bytes:
+    """``pid``'s command line once it has become the reader (its ``exec``
+    done: read in the middle of it, the command line is empty), or as it
+    is at ``deadline`` [s, monotonic]."""
+    while True:
+        command = pathlib.Path(f"/proc/{pid}/cmdline").read_bytes()
+        if str(CHILD).encode() in command or time.monotonic() >= deadline:
+            return command
+        time.sleep(0.01)
+
+
 def _signalled_reader(
     fifo: pathlib.Path, signum: signal.Signals
 ) -> tuple[list[str], str]:
@@ -214,7 +225,7 @@ def _signalled_reader(
         assert time.monotonic() < deadline, "no reader started"
         time.sleep(0.05)
     try:
-        command = pathlib.Path(f"/proc/{children[0]}/cmdline").read_bytes()
+        command = _command_line(children[0], deadline)
     finally:
         os.kill(children[0], signum)
         reader.join(timeout=30)
