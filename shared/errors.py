@@ -266,6 +266,74 @@ class TargetInBodyError(UnreachableTargetError):
         self.inside = bool(inside)
 
 
+class PalmRollOutOfRangeError(UnreachableTargetError):
+    """The target is reached, but no roll within WristYaw's range faces the palm.
+
+    The IK turns the palm by its roll about the forearm, NAO's WristYaw. A
+    posture that reaches the target without the palm was found, and the roll
+    that would face the palm there lies outside WristYaw's range. Read as
+    out of reach with that palm: every ``UnreachableTargetError`` attribute is
+    there (the residual is the posture's, within the IK's tolerance).
+
+    Attributes:
+        palm: The palm direction asked (unit).
+        wrist_yaw: The WristYaw the roll needs there [rad] (nearest the range).
+        wrist_yaw_range: WristYaw's range [rad].
+        posture: The posture that reaches the target [rad], 5 values.
+        nearest_angle: Angle between the palm and ``palm`` with WristYaw at
+            the bound nearest the roll needed [rad].
+    """
+
+    kind = "palm_roll_out_of_range"
+
+    def __init__(
+        self,
+        target: Sequence[float] | np.ndarray,
+        *,
+        arm: str,
+        distance: float,
+        reach: tuple[float, float],
+        residual: float,
+        palm: Sequence[float] | np.ndarray,
+        wrist_yaw: float,
+        wrist_yaw_range: tuple[float, float],
+        posture: Sequence[float] | np.ndarray,
+        nearest_angle: float,
+    ) -> None:
+        low, high = wrist_yaw_range
+        ArmplanError.__init__(
+            self,
+            f"target {_fmt_vec(target)} m is within the {arm} arm's reach, but "
+            f"the palm cannot be turned towards {_fmt_vec(palm)} there: in the "
+            f"posture that reaches it, {_fmt_vec(posture)} rad, the roll about "
+            f"the forearm that faces the palm needs WristYaw = {wrist_yaw:.3f} "
+            f"rad, outside its range {low:.3f}..{high:.3f} rad (with WristYaw at "
+            f"its nearest bound the palm is {math.degrees(nearest_angle):.1f} deg "
+            "from that direction); give another palm direction, or none",
+            target=[float(v) for v in target],
+            arm=arm,
+            distance=float(distance),
+            reach=[float(reach[0]), float(reach[1])],
+            residual=float(residual),
+            at="",
+            palm=[float(v) for v in palm],
+            advice="",
+            wrist_yaw=float(wrist_yaw),
+            wrist_yaw_range=[float(low), float(high)],
+            posture=[float(v) for v in posture],
+            nearest_angle=float(nearest_angle),
+        )
+        self.target = tuple(float(v) for v in target)
+        self.distance = float(distance)
+        self.reach = (float(reach[0]), float(reach[1]))
+        self.residual = float(residual)
+        self.palm = tuple(float(v) for v in palm)
+        self.wrist_yaw = float(wrist_yaw)
+        self.wrist_yaw_range = (float(low), float(high))
+        self.posture = tuple(float(v) for v in posture)
+        self.nearest_angle = float(nearest_angle)
+
+
 class BodyCollisionError(ArmplanError):
     """A posture of a plan, or its start, brings the arm into NAO's own body.
 

@@ -193,7 +193,8 @@ def test_a_palm_no_posture_meets_is_refused_and_named() -> None:
     run = run_task(arm, task, Method.LEAST_NORM)
     assert run.ratio is None and not run.near_limit
     assert run.error is not None
-    assert "with the palm's roll turned towards (-0.7426" in run.error
+    assert "the palm cannot be turned towards (-0.7426" in run.error
+    assert "WristYaw" in run.error
 
 
 def test_near_limit_counts_only_a_limit_approached() -> None:

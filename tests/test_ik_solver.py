@@ -18,6 +18,7 @@ from services.ik.measures import MeasureParams, SwivelGoal, TotalPotentialEnergy
 from shared.errors import (
     InvalidInputError,
     JointLimitError,
+    PalmRollOutOfRangeError,
     PrimitiveCannotReachError,
     SwivelNotReachedError,
     UnreachableTargetError,
@@ -258,16 +259,20 @@ def test_target_behind_the_back_is_unreachable() -> None:
 def test_a_palm_no_posture_can_meet_is_named() -> None:
     """A target within reach with a palm no posture in range turns that way
     there (the right palm facing forward, 0.78 rad of roll short at best by
-    sampling): the error names the palm, not only the target, as the
-    direction the palm's roll is turned towards (only the roll about the
-    forearm is controlled: it said "with the palm facing")."""
+    sampling): the error says the target is reached and names the palm and
+    the WristYaw it needs (it said the solver stopped some millimetres from
+    the target, as if the target were out of reach)."""
     arm, target = load_arm("right"), np.array([0.12, -0.13, 0.05])
     assert solve(arm, target).error < 1e-5
     with pytest.raises(
-        UnreachableTargetError,
-        match=r"mm from it with the palm's roll turned towards \(1, 0, 0\)$",
-    ):
+        PalmRollOutOfRangeError,
+        match=r"is within the right arm's reach, but the palm cannot be turned "
+        r"towards \(1, 0, 0\) there: .* needs WristYaw = -?\d\.\d{3} rad, outside "
+        r"its range -1\.824\.\.1\.824 rad",
+    ) as refused:
         solve(arm, target, palm=np.array([1.0, 0.0, 0.0]))
+    assert isinstance(refused.value, UnreachableTargetError)
+    assert refused.value.kind == "palm_roll_out_of_range"
 
 
 def test_a_roll_the_primitive_cannot_make_is_named_as_a_roll() -> None:

@@ -31,6 +31,7 @@ from services.ik.measures import factory as measure_factory
 from services.ik.measures.factory import MeasureFactory
 from services.ik.palm_reached import palm_reached
 from services.ik.reach_advice import reach_advice
+from services.ik.reach_then_turn import turn_wrist
 from services.ik.swivel_reach import check_swivel
 from services.ik.task import WristTask
 from shared.errors import (
@@ -143,7 +144,11 @@ def solve(
 
     Raises:
         JointLimitError: if ``start`` is outside the joint ranges.
-        UnreachableTargetError: if no posture within the limits reaches it.
+        UnreachableTargetError: if no posture within the limits reaches it;
+            ``PalmRollOutOfRangeError`` (one of them): a posture reaches it,
+            but the roll that faces ``palm`` there lies beyond WristYaw's
+            range (``services.ik.reach_then_turn``; with the palm the
+            solver had stopped short of the target).
         PrimitiveCannotReachError: if the primitive's joints cannot reach it.
         SwivelNotReachedError: if S_R E_P W_R holds the wrist but a joint
             limit stops the elbow short of ``swivel`` (``swivel_reach``).
@@ -163,10 +168,39 @@ def solve(
         _check_held(arm, plan.primitive, start, target)
     measure = plan.measure(chain_for(arm).state(start))
     q, iterations = solve_gpm(arm, task, plan.active, measure, start)
-    solution = _accept(arm, plan, task, q, method, iterations)
+    try:
+        solution = _accept(arm, plan, task, q, method, iterations)
+    except UnreachableTargetError:
+        if palm is None or plan.primitive not in (None, FULL_GRASP):
+            raise
+        solution = _reach_then_turn(arm, target, palm, method, start, params)
     if swivel is None:
         return solution
     return solution._replace(swivel=check_swivel(arm, plan.active, q, swivel))
+
+
+def _reach_then_turn(
+    arm: ArmModel,
+    target: np.ndarray,
+    palm: np.ndarray,
+    method: Method,
+    start: np.ndarray,
+    params: MeasureParams,
+) -> IKSolution:
+    """The target reached without the palm, then WristYaw turned to face it.
+
+    For when the solve with the palm stopped short of the target
+    (``services.ik.reach_then_turn``): the answer is a posture that does
+    both, or the error that the palm cannot be faced there.
+
+    Raises:
+        UnreachableTargetError: no posture reaches the target either.
+        PalmRollOutOfRangeError: it is reached, but WristYaw cannot face the palm.
+    """
+    reached = solve(arm, target, method=method, start=start, params=params)
+    q = turn_wrist(arm, reached.q, target, palm)
+    label = FULL_GRASP.name if method is Method.MP else None
+    return reached._replace(q=q, wrist=arm.fk(q).wrist, primitive=label)
 
 
 def check_reachable(arm: ArmModel, target: np.ndarray) -> None:
