@@ -3,8 +3,9 @@
 A target in the body is refused before any planning, by ``plan`` and ``ik``
 alike and from the command line; a wrist path with a sample there is
 refused naming that sample; a reach whose every end is clear but whose
-movement is not is refused naming the first sample too near; and every
-plan that is made keeps clear, over random reaches.
+arm comes near the body on the way turns its elbow clear, or is refused
+naming the first sample too near; and every plan that is made keeps
+clear, over random reaches.
 """
 
 from __future__ import annotations
@@ -13,11 +14,15 @@ import numpy as np
 import pytest
 
 from services.ik import solve_request
-from services.planner.pipeline import plan
+from services.planner.pipeline import LocalStages, plan, track_movement
+from services.planner.reach_path import reach_wrist_path
 from shared.errors import ArmplanError, BodyCollisionError, TargetInBodyError
-from shared.messages import IKRequest, PlanRequest
+from shared.messages import IKRequest, Method, PlanRequest, ReachTarget
+from shared.primitives import FULL_REACH
 from shared.robot import load_arm
 from shared.robot.body import HAND, MARGIN, closest, point_clearance
+from shared.robot.fk_many import key_points
+from shared.robot.postures import mirror
 from tests.armplan_cli import armplan
 
 #: Within the right arm's reach shell, in the chest.
@@ -77,19 +82,69 @@ def test_a_wrist_path_into_the_chest_is_refused_at_its_first_sample_there() -> N
     assert err.value.clearance == pytest.approx(gaps[first])
 
 
-def test_a_reach_whose_wrist_path_is_clear_but_whose_arm_is_not_is_refused() -> None:
-    """From the arm low and turned out to a target beside the head: every
-    sample of the wrist path is clear of the body, but the upper arm comes
-    within the margin of the head on the way."""
-    start = [1.733, -0.603, -1.809, 0.562, 0.09]
-    target = [0.0794, -0.0986, 0.1966]
-    arm = load_arm("right")
+#: From the arm low and turned out to a target beside the head: every
+#: sample of the wrist path is clear of the body, but the upper arm, as the
+#: stages track it, comes within the margin of the head on the way.
+NEAR_HEAD = ([1.733, -0.603, -1.809, 0.562, 0.09], [0.0794, -0.0986, 0.1966])
+#: From a clear posture to a target low beside the pelvis: the hand, which
+#: points along the forearm, ends 38 mm into the pelvis, and no swivel tried
+#: takes it out.
+INTO_PELVIS = (
+    [-1.9535, -0.9124, 1.5086, 0.5785, 1.5343],
+    [-0.0482, -0.0653, -0.0109],
+)
+
+
+def _tracked(side: str, start: list[float], target: list[float]) -> np.ndarray:
+    """The stages' own joint path for the reach, before the planner's check."""
+    arm = load_arm(side)
+    path = reach_wrist_path(arm, np.array(start), ReachTarget(position=target))
+    joint_path, _ = track_movement(
+        LocalStages(), path, np.array(start), Method.MP, None
+    )
+    return np.array(joint_path.positions)
+
+
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_a_reach_whose_arm_comes_near_the_body_turns_its_elbow_clear(side) -> None:
+    """The stages' joint path brings the upper arm within the margin of the
+        head; the planner turns the elbow about the wrist's path (its swivel)
+        and plans it: every sample keeps the margin, the wrist stays on the
+        wrist path the plan reports, the arm starts where it is, the turned
+        samples say every joint moves, and the elbow did turn (the wrist is
+    where the stages put it). The left arm's
+        mirror image does the same."""
+    arm = load_arm(side)
+    start, target = NEAR_HEAD
+    if side == "left":
+        start, target = (
+            mirror(np.array(start)).tolist(),
+            [target[0], -target[1], target[2]],
+        )
     assert closest(arm, [start]).clearance > MARGIN
     assert point_clearance(target, HAND)[1] > MARGIN
+    assert closest(arm, _tracked(side, start, target)).clearance < MARGIN
+    result = plan(PlanRequest(arm=side, start=start, targets=[{"position": target}]))
+    assert closest(arm, result.trajectory.positions).clearance >= MARGIN
+    turned, before = (
+        key_points(arm, result.joint_paths[0].positions),
+        key_points(arm, _tracked(side, start, target)),
+    )
+    assert np.abs(turned["wrist"] - before["wrist"]).max() < 1e-4
+    assert np.allclose(result.trajectory.positions[0], start)
+    assert FULL_REACH.name in result.joint_paths[0].primitives
+    assert np.linalg.norm(turned["elbow"] - before["elbow"], axis=1).max() > 0.005
+
+
+def test_a_reach_no_swivel_takes_clear_is_refused_saying_so() -> None:
+    """The hand into the pelvis at the goal: refused as before, the error
+    saying that turning the elbow was tried."""
+    start, target = INTO_PELVIS
+    assert closest(load_arm("right"), [start]).clearance > MARGIN
     request = PlanRequest(arm="right", start=start, targets=[{"position": target}])
-    with pytest.raises(BodyCollisionError, match=r"upper arm .* NAO's head") as err:
+    with pytest.raises(BodyCollisionError, match=r"hand .* NAO's pelvis") as err:
         plan(request)
-    assert err.value.arm_part == "upper arm"
+    assert "turning the elbow about the wrist's path" in str(err.value)
     assert err.value.clearance < MARGIN
     assert err.value.time == pytest.approx(err.value.index / request.rate)
 

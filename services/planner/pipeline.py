@@ -39,6 +39,7 @@ import numpy as np
 
 from services.ik import check_target, solve
 from services.planner.build import trajectory_message, with_palms_reached
+from services.planner.clear_swivel import REFUSED_TRIED, keep_clear
 from services.planner.decision_times import on_path_clock, timed_decisions
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
 from services.planner.grid_reach import check_grid_within_reach
@@ -167,9 +168,12 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
     paths, joints, segments = [], [], []
     decisions: list[Decision] = []
     q = start
+    tried = False
     for target in request.targets:
         path = reach_wrist_path(arm, q, target)
         joint_path = _movement(stages, request, path, q, decisions)
+        joint_path, near = keep_clear(arm, joint_path, target.palm, request.method)
+        tried = tried or near
         paths.append(path)
         joints.append(joint_path)
         end = np.array(joint_path.positions[-1])
@@ -192,7 +196,12 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
         )
     )
     check_samples(len(trajectory.times), request.rate)
-    check_postures_clear(arm, trajectory.positions, trajectory.times)
+    check_postures_clear(
+        arm,
+        trajectory.positions,
+        trajectory.times,
+        advice=REFUSED_TRIED if tried else "",
+    )
     trajectory, decisions = timed_decisions(trajectory, decisions)
     trajectory = with_palms_reached(
         arm,

@@ -289,6 +289,7 @@ def check_postures_clear(
     times: npt.ArrayLike,
     what: str = "the planned movement",
     parts: tuple[BodyPart, ...] = BODY,
+    advice: str = "",
 ) -> None:
     """Raise if a posture of ``q`` [rad], (n, 5), comes nearer the body than ``MARGIN``.
 
@@ -298,6 +299,7 @@ def check_postures_clear(
         times: Their times [s], shape (n,); the error counts from the first.
         what: What the postures are, for the error.
         parts: What to keep clear of (default NAO's body).
+        advice: What the error advises; "" for ``BodyCollisionError``'s own.
 
     Raises:
         BodyCollisionError: naming the first such posture, its time, and
@@ -306,7 +308,8 @@ def check_postures_clear(
     near = first_near(arm, q, parts=parts)
     if near is not None:
         clock = np.asarray(times, dtype=float)
-        raise _collision(arm, near, float(clock[near.sample] - clock[0]), what=what)
+        words = {"what": what, "advice": advice} if advice else {"what": what}
+        raise _collision(arm, near, float(clock[near.sample] - clock[0]), **words)
 
 
 def _collision(

@@ -1,0 +1,287 @@
+"""A reach that comes near NAO's body, taken clear by turning the elbow.
+
+The planner refuses a trajectory that brings the arm within
+``shared.robot.body.MARGIN`` of the torso, pelvis or head. Often the wrist's
+path is fine and the arm's shape is not: the hand (which points along the
+forearm), the forearm or the upper arm swings into the body while the wrist
+stays clear. NAO's arm keeps its wrist where it is when the elbow turns
+about the line from the shoulder to the wrist (the elbow's swivel; with
+NAO's elbow offset the joints that do it are found by least squares,
+``shared.demos.posture_from_points``), so the arm can be taken clear
+without leaving the wrist path.
+
+:func:`keep_clear` does that for one movement's joint path that comes
+nearer the body than the margin: over the samples that come within
+``AIM`` (twice the margin) it turns the elbow by a swivel that rises and
+falls smoothly (minimum-jerk ramps of ``RAMP`` of the path's time; held to
+the end when the near samples reach it, so the goal posture turns too),
+trying ``SWIVELS`` each way, smallest first (each screened on every
+``SCREEN_STRIDE``-th sample first), and takes the first that keeps ``AIM``
+at every sample, else the one that keeps the margin with most room. A
+wanted palm keeps its roll: WristYaw turns by what the swivel changed of it
+(on the way it stops at its range if it must; at the goal it may not).
+Samples turned are labelled with the full primitive (every joint moves
+there). A path already clear, the start posture, and the wrist path are
+never changed; a path no swivel tried takes clear is returned as it was,
+and the planner refuses it as before.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import NamedTuple
+
+import numpy as np
+
+from services.ik.iterate import TOLERANCE
+from shared.demos.posture_from_points import joints_from_points
+from shared.geometry.palm import roll_error
+from shared.messages import JointPath, Method
+from shared.primitives import FULL_GRASP, FULL_REACH
+from shared.robot.arm_model import ArmModel
+from shared.robot.body import MARGIN, clearances
+from shared.robot.fk_many import key_points
+
+#: Clearance the turned arm aims for [m]: twice the margin, so that the
+#: timing's curve between path points stays clear too.
+AIM = 2.0 * MARGIN
+#: Swivels tried, each way, smallest first [rad].
+SWIVELS = (0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4)
+#: Time the swivel takes to rise and to fall [s] of the path's time.
+RAMP = 0.15
+#: Fewest samples a ramp spans.
+RAMP_SAMPLES = 3
+#: A swivel is first tried on every this many samples it turns (and the
+#: last): a path whose screened samples do not keep the margin is not
+#: turned whole. Turning a sample costs about 4 ms (a least-squares fit).
+SCREEN_STRIDE = 5
+WRIST_YAW = 4
+
+#: The planner's advice in a refusal once keep_clear has tried.
+REFUSED_TRIED = (
+    f"turning the elbow about the wrist's path (up to {SWIVELS[-1]:g} rad "
+    "either way) did not take it clear, so the plan is refused: choose "
+    "targets the arm reaches without crossing the body"
+)
+
+
+class Turned(NamedTuple):
+    """A joint path with the elbow turned.
+
+    Attributes:
+        positions: Joint angles [rad], shape (n, 5).
+        least: Its least clearance from the body [m].
+    """
+
+    positions: np.ndarray
+    least: float
+
+
+class Kept(NamedTuple):
+    """What :func:`keep_clear` made of a joint path.
+
+    Attributes:
+        path: The joint path, turned or as it was.
+        tried: Whether it came nearer the body than the margin, so that
+            swivels were tried.
+    """
+
+    path: JointPath
+    tried: bool
+
+
+def keep_clear(
+    arm: ArmModel,
+    path: JointPath,
+    palm: Sequence[float] | None,
+    method: Method,
+) -> Kept:
+    """``path`` taken clear of the body by the elbow's swivel (see the module).
+
+    Args:
+        arm: The arm.
+        path: One movement's joint path; its first posture is where the arm is.
+        palm: The wanted palm direction (unit), or None.
+        method: The method that tracked it (sets the turned samples' label).
+
+    Returns:
+        ``path`` itself if it keeps the margin, or if no swivel tried does;
+        else the path with the elbow turned.
+    """
+    q = np.asarray(path.positions, dtype=float)
+    gaps = _least(arm, q)
+    if bool(np.all(gaps >= MARGIN)):
+        return Kept(path, tried=False)
+    weight = swivel_profile(np.asarray(path.times), ~(gaps >= AIM))
+    best: Turned | None = None
+    for size in SWIVELS:
+        for sign in (1.0, -1.0):
+            swivel = sign * size * weight
+            screened = turn_elbow(arm, q, swivel, palm, stride=SCREEN_STRIDE)
+            if screened is None or not screened.least >= MARGIN:
+                continue  # the whole path comes no farther than these samples
+            turned = turn_elbow(arm, q, swivel, palm)
+            if turned is None:
+                continue
+            if turned.least >= AIM:
+                return Kept(
+                    _with(arm, path, turned.positions, weight, palm, method), True
+                )
+            if turned.least >= MARGIN and (best is None or turned.least > best.least):
+                best = turned
+    if best is None:
+        return Kept(path, tried=True)
+    return Kept(_with(arm, path, best.positions, weight, palm, method), tried=True)
+
+
+def swivel_profile(times: np.ndarray, near: np.ndarray) -> np.ndarray:
+    """How much of the swivel each sample turns, 0..1, shape (n,).
+
+    1 from the first to the last ``near`` sample, with minimum-jerk ramps of
+    ``RAMP`` [s] (at least ``RAMP_SAMPLES`` samples) on either side. The
+    first sample, where the arm is, stays at 0: a ramp that would not fit
+    before the first near sample rises from the start over ``RAMP`` instead,
+    so the samples near the start turn less. The swivel is held to the end
+    when the falling ramp would not fit before it.
+
+    Args:
+        times: Sample times [s], shape (n,), increasing.
+        near: Which samples need the swivel, shape (n,), at least one.
+    """
+    index = np.flatnonzero(near)
+    first, last, n = int(index[0]), int(index[-1]), len(times)
+    rise, fall = np.ones(n), np.ones(n)
+    rise_from, rise_to = min(_back(times, first, RAMP), first - RAMP_SAMPLES), first
+    if rise_from < 0 or times[first] - times[0] < RAMP:
+        rise_from = 0
+        rise_to = min(max(first, _ahead(times, 0, RAMP), RAMP_SAMPLES), n - 1)
+    span = times[rise_to] - times[rise_from]
+    rise[:rise_to] = _minimum_jerk((times[:rise_to] - times[rise_from]) / span)
+    fall_to = max(_ahead(times, last, RAMP), last + RAMP_SAMPLES)
+    if fall_to < n:
+        span = times[fall_to] - times[last]
+        fall[last + 1 :] = _minimum_jerk((times[fall_to] - times[last + 1 :]) / span)
+    weight = np.minimum(rise, fall)
+    weight[0] = 0.0
+    return weight
+
+
+def turn_elbow(
+    arm: ArmModel,
+    q: np.ndarray,
+    swivel: np.ndarray,
+    palm: Sequence[float] | None,
+    stride: int = 1,
+) -> Turned | None:
+    """The postures ``q`` [rad], (n, 5), with the elbow turned by ``swivel`` [rad].
+
+    Each sample's elbow turns by its swivel about the line from the shoulder
+    to the wrist (right-handed); the four arm joints that put it there with
+    the wrist in place are solved within their ranges from the sample's own
+    posture. A wanted ``palm`` keeps its roll error (WristYaw turns by what
+    the swivel changed of it, stopping at its range on the way); else
+    WristYaw stays.
+
+    With ``stride`` over 1 only every ``stride``-th sample with a swivel
+    (and the last one) is turned and measured: a quick screen.
+
+    Returns:
+        The turned postures and their least clearance (over the samples
+        turned, with a stride), or None if a sample's wrist moved more than
+        the IK's tolerance or the goal's WristYaw would leave its range (the
+        palm would miss its roll there).
+    """
+    points = key_points(arm, q)
+    out = q.copy()
+    low, high = arm.limits.lower[WRIST_YAW], arm.limits.upper[WRIST_YAW]
+    turn = np.flatnonzero(swivel)
+    if stride > 1:
+        turn = np.union1d(turn[::stride], turn[-1:])
+    for i in turn:
+        shoulder, wrist = points["shoulder"][i], points["wrist"][i]
+        elbow = shoulder + rotate(
+            points["elbow"][i] - shoulder, wrist - shoulder, swivel[i]
+        )
+        turned = joints_from_points(arm, elbow, wrist, guess=q[i])
+        if palm is not None:
+            turned[WRIST_YAW] += _roll_change(arm, q[i], turned, palm)
+        if not low <= turned[WRIST_YAW] <= high:
+            if i == len(q) - 1:
+                return None  # the palm would miss its roll at the goal
+            turned[WRIST_YAW] = min(max(turned[WRIST_YAW], low), high)
+        out[i] = turned
+    measured = turn if stride > 1 else np.arange(len(q))
+    moved = np.linalg.norm(
+        key_points(arm, out[measured])["wrist"] - points["wrist"][measured], axis=1
+    )
+    if not bool(np.all(moved <= TOLERANCE)):
+        return None
+    return Turned(out, float(_least(arm, out[measured]).min()))
+
+
+def rotate(v: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
+    """``v`` [m], (3,), turned by ``angle`` [rad] about ``axis`` (Rodrigues)."""
+    k = axis / np.linalg.norm(axis)
+    return (
+        v * math.cos(angle)
+        + np.cross(k, v) * math.sin(angle)
+        + k * float(k @ v) * (1.0 - math.cos(angle))
+    )
+
+
+def _roll_change(
+    arm: ArmModel, before: np.ndarray, after: np.ndarray, palm: Sequence[float]
+) -> float:
+    """The WristYaw turn [rad] that keeps ``before``'s palm roll error in ``after``."""
+    sign = arm.side.sign
+    change = roll_error(arm.rotation(after, "wrist"), sign, palm) - roll_error(
+        arm.rotation(before, "wrist"), sign, palm
+    )
+    return math.remainder(change, 2.0 * math.pi)
+
+
+def _with(
+    arm: ArmModel,
+    path: JointPath,
+    positions: np.ndarray,
+    weight: np.ndarray,
+    palm: Sequence[float] | None,
+    method: Method,
+) -> JointPath:
+    """``path`` with ``positions``; the turned samples relabelled."""
+    full = (FULL_GRASP if palm is not None else FULL_REACH).name
+    labels = [
+        full if method is Method.MP and w > 0.0 else label
+        for label, w in zip(path.primitives, weight, strict=True)
+    ]
+    wrists = key_points(arm, positions)["wrist"]
+    return path.model_copy(
+        update={
+            "positions": [tuple(row) for row in positions.tolist()],
+            "primitives": labels,
+            "wrist": [tuple(row) for row in wrists.tolist()],
+        }
+    )
+
+
+def _least(arm: ArmModel, q: np.ndarray) -> np.ndarray:
+    """Each posture's least clearance from the body [m], shape (n,); NaN: -inf."""
+    gaps = clearances(key_points(arm, q)).min(axis=(1, 2))
+    return np.where(np.isnan(gaps), -np.inf, gaps)
+
+
+def _back(times: np.ndarray, i: int, span: float) -> int:
+    """The last sample at least ``span`` [s] before sample ``i`` (or 0)."""
+    return max(int(np.searchsorted(times, times[i] - span, side="right")) - 1, 0)
+
+
+def _ahead(times: np.ndarray, i: int, span: float) -> int:
+    """The first sample at least ``span`` [s] after sample ``i`` (or n)."""
+    return int(np.searchsorted(times, times[i] + span, side="left"))
+
+
+def _minimum_jerk(x: np.ndarray) -> np.ndarray:
+    """10 x^3 - 15 x^4 + 6 x^5 on x clipped to 0..1."""
+    x = np.clip(x, 0.0, 1.0)
+    return x**3 * (10.0 - 15.0 * x + 6.0 * x**2)
