@@ -16,13 +16,12 @@ import numpy.typing as npt
 
 from shared.errors import (
     BodyCollisionError,
-    InvalidInputError,
     TrajectoryRefusedError,
     body_words,
 )
 from shared.messages import CommandFrames, Trajectory
 from shared.robot import Side, load_arm
-from shared.robot.body import BODY, BodyPart, check_postures_clear, other_arm
+from shared.robot.body import BODY, BodyPart, check_postures_clear
 
 
 def check_trajectory_clear(
@@ -31,7 +30,8 @@ def check_trajectory_clear(
     """Refuse ``trajectory`` if a sample's posture comes near the body.
 
     ``parts``: what to keep clear of, NAO's body by default (the bridge adds
-    the other arm where the robot holds it: :func:`with_other_arm`).
+    the other arm where the robot holds it:
+    ``shared.robot.other_arm.with_other_arm``).
 
     Raises:
         TrajectoryRefusedError: quantity ``"clearance"``, ``frame`` the sample.
@@ -64,28 +64,6 @@ def check_frames_clear(
     rows = [frames.start, *frames.positions]
     times = [0.0, *frames.times]
     _check(frames.arm, list(frames.joint_names), rows, times, what, parts)
-
-
-def with_other_arm(side: Side | str, other: npt.ArrayLike) -> tuple[BodyPart, ...]:
-    """NAO's body and its other arm, held at ``other`` [rad], (5,), to keep clear of.
-
-    ``side`` is the arm that moves; ``other`` the other arm's posture (its
-    five joints in their order), where the robot holds it.
-
-    Raises:
-        InvalidInputError: ``other`` is not 5 finite angles (a NaN would
-            make every distance NaN, and NaN is never "too near").
-    """
-    moving = Side.parse(side)
-    still = Side.LEFT if moving is Side.RIGHT else Side.RIGHT
-    posture = np.asarray(other, dtype=float)
-    if posture.shape != (5,) or not np.all(np.isfinite(posture)):
-        raise InvalidInputError(
-            f"the {still.value} arm's posture must be 5 finite angles [rad], "
-            f"got {posture.tolist()}",
-            field="other",
-        )
-    return BODY + other_arm(load_arm(still), posture)
 
 
 def _check(

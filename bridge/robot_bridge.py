@@ -59,7 +59,7 @@ from bridge.approach import approach_frames
 from bridge.arm_state import check_at_start, check_still_stiff
 from bridge.at_rest import angles_at_rest, read_angles
 from bridge.awake import check_awake
-from bridge.body_clearance import check_frames_clear, with_other_arm
+from bridge.body_clearance import check_frames_clear
 from bridge.checked_frames import checked_frames
 from bridge.checks import check_frames
 from bridge.cut import Cut
@@ -87,6 +87,7 @@ from shared.messages import (
 )
 from shared.robot import Side
 from shared.robot.body import BODY, BodyPart
+from shared.robot.other_arm import with_other_arm
 
 #: What became of a trajectory refused once the approach brought the arm there.
 ARRIVED = "the arm is at the trajectory's start; nothing of the trajectory was sent"

@@ -200,7 +200,8 @@ class TargetInBodyError(UnreachableTargetError):
     attribute is there (no residual, no palm).
 
     Attributes:
-        body_part: ``"torso"``, ``"pelvis"`` or ``"head"``.
+        body_part: ``"torso"``, ``"pelvis"`` or ``"head"``; or the other
+            arm's part (``"left forearm"``) where a plan request gives it.
         clearance: Distance between the hand's surface and the part's [m];
             negative: that deep inside it.
         margin: The least distance kept [m].
@@ -239,10 +240,15 @@ class TargetInBodyError(UnreachableTargetError):
                 f"{clearance * 1000:.1f} mm from NAO's {body_part} for the {arm} "
                 f"hand, nearer than the {margin * 1000:.1f} mm kept clear"
             )
+        kept = (
+            "the torso, pelvis and head"
+            if body_part in ("torso", "pelvis", "head")
+            else "the other arm where the request holds it"
+        )
         ArmplanError.__init__(
             self,
             f"{prefix}target {_fmt_vec(target)} m is {how}; the arm keeps clear "
-            "of the torso, pelvis and head (docs/robot.md, 'NAO's own body')",
+            f"of {kept} (docs/robot.md, 'NAO's own body')",
             target=[float(v) for v in target],
             arm=arm,
             distance=float(distance),
@@ -340,7 +346,8 @@ class BodyCollisionError(ArmplanError):
     Attributes:
         arm: ``"right"`` or ``"left"``.
         arm_part: ``"upper arm"``, ``"forearm"`` or ``"hand"``.
-        body_part: ``"torso"``, ``"pelvis"`` or ``"head"``.
+        body_part: ``"torso"``, ``"pelvis"`` or ``"head"``; or the other
+            arm's part (``"left forearm"``) where a plan request gives it.
         clearance: Distance between their surfaces [m]; negative: overlap.
         margin: The least distance kept [m].
         index: The first sample (of the trajectory) nearer than ``margin``;

@@ -15,7 +15,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bridge.body_clearance import with_other_arm
 from bridge.checked_frames import checked_frames
 from bridge.limits import FrameLimits
 from bridge.minimum_jerk import minimum_jerk_trajectory
@@ -26,6 +25,7 @@ from bridge.sim.log import read_log
 from shared.errors import InvalidInputError, TrajectoryRefusedError
 from shared.robot import load_arm
 from shared.robot.body import MARGIN, arm_points, clearances
+from shared.robot.other_arm import with_other_arm
 from shared.robot.postures import rest
 
 #: Two postures clear of the body whose straight way in joint space is not:

@@ -150,6 +150,9 @@ def _how(args: argparse.Namespace) -> dict[str, Any]:
         fields["rate"] = _finite(args.rate, "--rate")
     if args.start is not None:
         fields["start"] = _finite(args.start, "--start")
+    other = getattr(args, "other_arm", None)
+    if other is not None:
+        fields["other_arm"] = _finite(other, "--other-arm")
     tolerance = getattr(args, "path_tolerance", None)
     if tolerance is not None:
         fields["path_tolerance"] = _finite(tolerance, "--path-tolerance")

@@ -8,7 +8,9 @@ stays clear. NAO's arm keeps its wrist where it is when the elbow turns
 about the line from the shoulder to the wrist (the elbow's swivel; with
 NAO's elbow offset the joints that do it are found by least squares,
 ``shared.demos.posture_from_points``), so the arm can be taken clear
-without leaving the wrist path.
+without leaving the wrist path. That is the paper's function primitive
+S_R E_P W_R (Table 1: "obstacle avoidance movements", the wrist fixed, the
+elbow swivelling round it), here laid over the reach that moves the wrist.
 
 :func:`keep_clear` does that for one movement's joint path that comes
 nearer the body than the margin: over the samples that come within
@@ -40,7 +42,7 @@ from shared.geometry.palm import roll_error
 from shared.messages import JointPath, Method
 from shared.primitives import FULL_GRASP, FULL_REACH
 from shared.robot.arm_model import ArmModel
-from shared.robot.body import MARGIN, clearances
+from shared.robot.body import BODY, MARGIN, BodyPart, clearances
 from shared.robot.fk_many import key_points
 
 #: Clearance the turned arm aims for [m]: twice the margin, so that the
@@ -96,6 +98,7 @@ def keep_clear(
     path: JointPath,
     palm: Sequence[float] | None,
     method: Method,
+    parts: tuple[BodyPart, ...] = BODY,
 ) -> Kept:
     """``path`` taken clear of the body by the elbow's swivel (see the module).
 
@@ -104,13 +107,15 @@ def keep_clear(
         path: One movement's joint path; its first posture is where the arm is.
         palm: The wanted palm direction (unit), or None.
         method: The method that tracked it (sets the turned samples' label).
+        parts: What to keep clear of: NAO's body by default (and the other
+            arm where the request holds it).
 
     Returns:
         ``path`` itself if it keeps the margin, or if no swivel tried does;
         else the path with the elbow turned.
     """
     q = np.asarray(path.positions, dtype=float)
-    gaps = _least(arm, q)
+    gaps = _least(arm, q, parts)
     if bool(np.all(gaps >= MARGIN)):
         return Kept(path, tried=False)
     weight = swivel_profile(np.asarray(path.times), ~(gaps >= AIM))
@@ -118,10 +123,10 @@ def keep_clear(
     for size in SWIVELS:
         for sign in (1.0, -1.0):
             swivel = sign * size * weight
-            screened = turn_elbow(arm, q, swivel, palm, stride=SCREEN_STRIDE)
+            screened = turn_elbow(arm, q, swivel, palm, SCREEN_STRIDE, parts)
             if screened is None or not screened.least >= MARGIN:
                 continue  # the whole path comes no farther than these samples
-            turned = turn_elbow(arm, q, swivel, palm)
+            turned = turn_elbow(arm, q, swivel, palm, parts=parts)
             if turned is None:
                 continue
             if turned.least >= AIM:
@@ -173,6 +178,7 @@ def turn_elbow(
     swivel: np.ndarray,
     palm: Sequence[float] | None,
     stride: int = 1,
+    parts: tuple[BodyPart, ...] = BODY,
 ) -> Turned | None:
     """The postures ``q`` [rad], (n, 5), with the elbow turned by ``swivel`` [rad].
 
@@ -217,7 +223,7 @@ def turn_elbow(
     )
     if not bool(np.all(moved <= TOLERANCE)):
         return None
-    return Turned(out, float(_least(arm, out[measured]).min()))
+    return Turned(out, float(_least(arm, out[measured], parts).min()))
 
 
 def rotate(v: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
@@ -265,9 +271,11 @@ def _with(
     )
 
 
-def _least(arm: ArmModel, q: np.ndarray) -> np.ndarray:
-    """Each posture's least clearance from the body [m], shape (n,); NaN: -inf."""
-    gaps = clearances(key_points(arm, q)).min(axis=(1, 2))
+def _least(
+    arm: ArmModel, q: np.ndarray, parts: tuple[BodyPart, ...] = BODY
+) -> np.ndarray:
+    """Each posture's least clearance from ``parts`` [m], shape (n,); NaN: -inf."""
+    gaps = clearances(key_points(arm, q), parts).min(axis=(1, 2))
     return np.where(np.isnan(gaps), -np.inf, gaps)
 
 

@@ -26,7 +26,7 @@ from services.ik.reach_advice import reach_advice
 from shared.errors import UnreachableTargetError
 from shared.messages import WristPath
 from shared.robot.arm_model import ArmModel
-from shared.robot.body import check_target_clear, first_point_near
+from shared.robot.body import BODY, BodyPart, check_target_clear, first_point_near
 from shared.robot.postures import rest
 
 #: How far out of the reach shell a sample of a path given to the decide or
@@ -72,24 +72,29 @@ def check_path_within_reach(
     )
 
 
-def check_path_clear(arm: ArmModel, path: WristPath) -> None:
+def check_path_clear(
+    arm: ArmModel, path: WristPath, parts: tuple[BodyPart, ...] = BODY
+) -> None:
     """Raise, naming the sample, if a sample lies where no wrist may be.
 
     What a wrist path given to the planner or ``armplan decide`` must pass
     beside :func:`check_path_within_reach`. The decide and ik stages do
     not check it: they compute, and the planner checks every posture of
-    what it plans (``shared.robot.body``).
+    what it plans (``shared.robot.body``). ``parts``: what the arm keeps
+    clear of, NAO's body by default (and the other arm where a plan request
+    holds it).
 
     Raises:
         TargetInBodyError: at the first sample in NAO's body (or nearer it
             than the hand keeps: ``shared.robot.body``).
     """
-    k = first_point_near(path.positions)
+    k = first_point_near(path.positions, parts)
     if k is not None:
         check_target_clear(
             arm,
             path.positions[k],
             at=f"wrist-path sample {k} (t = {path.times[k]:.3f} s)",
+            parts=parts,
         )
 
 

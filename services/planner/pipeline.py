@@ -39,6 +39,7 @@ import numpy as np
 
 from services.ik import check_target, solve
 from services.planner.build import trajectory_message, with_palms_reached
+from services.planner.clear_of import kept_clear_of
 from services.planner.clear_swivel import REFUSED_TRIED, keep_clear
 from services.planner.decision_times import on_path_clock, timed_decisions
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
@@ -74,7 +75,12 @@ from shared.messages import (
 from shared.messages.measure_params import MeasureParams
 from shared.robot import load_arm
 from shared.robot.arm_model import ArmModel
-from shared.robot.body import check_postures_clear, check_start_clear
+from shared.robot.body import (
+    BodyPart,
+    check_postures_clear,
+    check_start_clear,
+    check_target_clear,
+)
 from shared.robot.postures import rest
 
 log = logging.getLogger("armplan.planner")
@@ -159,12 +165,14 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
     arm = load_arm(request.arm)
     start = rest(arm.side) if request.start is None else np.array(request.start)
     arm.limits.check(start, where="in the start posture")
-    check_start_clear(arm, start)
+    parts = kept_clear_of(arm, request)
+    check_start_clear(arm, start, parts=parts)
     request_limits(arm.limits, request.limits)  # refused before any planning
     if request.wrist_path is not None:
-        return _follow_given(arm, request, request.wrist_path, start, stages)
+        return _follow_given(arm, request, request.wrist_path, start, stages, parts)
     for target in request.targets:
         check_target(arm, np.array(target.position))
+        check_target_clear(arm, target.position, parts=parts)  # the other arm
     paths, joints, segments = [], [], []
     decisions: list[Decision] = []
     q = start
@@ -172,7 +180,9 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
     for target in request.targets:
         path = reach_wrist_path(arm, q, target)
         joint_path = _movement(stages, request, path, q, decisions)
-        joint_path, near = keep_clear(arm, joint_path, target.palm, request.method)
+        joint_path, near = keep_clear(
+            arm, joint_path, target.palm, request.method, parts
+        )
         tried = tried or near
         paths.append(path)
         joints.append(joint_path)
@@ -200,6 +210,7 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
         arm,
         trajectory.positions,
         trajectory.times,
+        parts=parts,
         advice=REFUSED_TRIED if tried else "",
     )
     trajectory, decisions = timed_decisions(trajectory, decisions)
@@ -268,16 +279,21 @@ def _follow_given(
     path: WristPath,
     start: np.ndarray,
     stages: Stages,
+    parts: tuple[BodyPart, ...],
 ) -> PlanResult:
-    """Joint angles at the wrist path's own times (no retiming), limits checked."""
+    """Joint angles at the wrist path's own times (no retiming), limits checked.
+
+    ``parts``: what the arm keeps clear of (``clear_of.kept_clear_of``).
+    """
     check_path_within_reach(arm, path)
-    check_path_clear(arm, path)
+    check_path_clear(arm, path, parts)
     start = start_on_path(arm, path, start, request.method)
     check_start_clear(
         arm,
         start,
         "the posture that puts the wrist on the path's first sample",
         "start the path farther from the body, or give a start posture on it",
+        parts,
     )
     decisions: list[Decision] = []
     grid = None if tracked_as_given(path.times) else even_grid(path)
@@ -291,7 +307,7 @@ def _follow_given(
         limits = request_limits(arm.limits, request.limits)
         timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
         check_on_path(arm, path, timed.positions, request.path_tolerance)
-        check_postures_clear(arm, timed.positions, path.times)
+        check_postures_clear(arm, timed.positions, path.times, parts=parts)
     except LimitViolationError as error:
         raise error.advised(GIVEN_PATH_ADVICE) from None
     except OffPathError:

@@ -89,9 +89,14 @@ class PlanRequest(OptionalFieldsMessage):
             path the arm cannot follow that closely is refused
             (``OffPathError``). ``None`` (left out of the JSON): the
             planner's ``PATH_TOLERANCE``, 1 mm.
+        other_arm: Where the other arm is held while this one moves [rad],
+            its five joints (within its own ranges): the plan keeps clear of
+            it as of NAO's body (``shared.robot.body.other_arm``). ``None``
+            (left out of the JSON): the planner does not know where it is
+            (the robot bridge still keeps clear of it as measured).
     """
 
-    omitted_when_none = ("path_tolerance",)
+    omitted_when_none = ("path_tolerance", "other_arm")
 
     arm: SideAnyCase = Side.RIGHT
     targets: list[ReachTarget] = Field(default_factory=list, max_length=MAX_TARGETS)
@@ -104,6 +109,7 @@ class PlanRequest(OptionalFieldsMessage):
     measures: MeasureParams | None = None
     request_id: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.-]{1,64}$")
     path_tolerance: float | None = Field(default=None, gt=0.0, le=0.1)
+    other_arm: JointVector | None = None
 
     @field_validator("rate")
     @classmethod

@@ -193,58 +193,74 @@ def _point(v: np.ndarray) -> tuple[float, float, float]:
     return float(v[0]), float(v[1]), float(v[2])
 
 
-def point_clearance(point: npt.ArrayLike, radius: float) -> tuple[str, float]:
-    """The body part nearest a ball of ``radius`` [m] at ``point`` [m], (3,).
+def point_clearance(
+    point: npt.ArrayLike, radius: float, parts: tuple[BodyPart, ...] = BODY
+) -> tuple[str, float]:
+    """The part of ``parts`` nearest a ball of ``radius`` [m] at ``point`` [m], (3,).
 
     Returns:
         That part's name and the distance between the surfaces [m].
     """
-    parts, gaps = points_clearance(np.reshape(point, (1, 3)), radius)
-    return parts[0], float(gaps[0])
+    names, gaps = points_clearance(np.reshape(point, (1, 3)), radius, parts)
+    return names[0], float(gaps[0])
 
 
 def points_clearance(
-    points: npt.ArrayLike, radius: float
+    points: npt.ArrayLike, radius: float, parts: tuple[BodyPart, ...] = BODY
 ) -> tuple[list[str], np.ndarray]:
-    """The body part nearest each ball of ``radius`` [m] at ``points`` [m], (n, 3).
+    """The part of ``parts`` nearest each ball of ``radius`` [m] at ``points`` [m].
+
+    Args:
+        points: The balls' centres [m], shape (n, 3).
+        radius: Their radius [m].
+        parts: What to keep clear of; default NAO's body.
 
     Returns:
         Each one's nearest part, and the distances between the surfaces [m],
         shape (n,).
     """
     centres = np.asarray(points, dtype=float)[:, None, :]
-    bottom = np.array([part.bottom for part in BODY])
-    top = np.array([part.top for part in BODY])
-    reach = radius + np.array([part.radius for part in BODY])
+    bottom = np.array([part.bottom for part in parts])
+    top = np.array([part.top for part in parts])
+    reach = radius + np.array([part.radius for part in parts])
     gaps = segment_distance(centres, centres, bottom, top) - reach
     nearest = np.argmin(gaps, axis=1)
-    return [BODY[k].name for k in nearest], gaps.min(axis=1)
+    return [parts[k].name for k in nearest], gaps.min(axis=1)
 
 
-def first_point_near(points: npt.ArrayLike) -> int | None:
+def first_point_near(
+    points: npt.ArrayLike, parts: tuple[BodyPart, ...] = BODY
+) -> int | None:
     """The first of ``points`` [m], (n, 3), no wrist may reach: none if None.
 
-    A wrist there puts the hand's ball (``HAND``) nearer the body than
-    ``MARGIN``, whatever the posture (:func:`check_target_clear`).
+    A wrist there puts the hand's ball (``HAND``) nearer ``parts`` (default
+    NAO's body) than ``MARGIN``, whatever the posture
+    (:func:`check_target_clear`).
     """
-    _, gaps = points_clearance(points, HAND)
+    _, gaps = points_clearance(points, HAND, parts)
     near = np.flatnonzero(~(gaps >= MARGIN))  # NaN: near
     return None if near.size == 0 else int(near[0])
 
 
-def check_target_clear(arm: ArmModel, target: npt.ArrayLike, at: str = "") -> None:
+def check_target_clear(
+    arm: ArmModel,
+    target: npt.ArrayLike,
+    at: str = "",
+    parts: tuple[BodyPart, ...] = BODY,
+) -> None:
     """Raise if no posture with its wrist at ``target`` [m], (3,), keeps clear.
 
     The hand's capsule ends at the wrist in a ball of radius ``HAND``: if that
-    ball comes nearer the body than ``MARGIN``, so does every posture.
+    ball comes nearer ``parts`` (default NAO's body) than ``MARGIN``, so does
+    every posture.
 
     Raises:
-        TargetInBodyError: naming the body part and how near it is.
+        TargetInBodyError: naming the part and how near it is.
     """
     position = np.asarray(target, dtype=float)
-    part, gap = point_clearance(position, HAND)
+    part, gap = point_clearance(position, HAND, parts)
     if not gap >= MARGIN:  # NaN: refused
-        shape = next(each for each in BODY if each.name == part)
+        shape = next(each for each in parts if each.name == part)
         own = float(segment_distance(position, position, shape.bottom, shape.top))
         shoulder = arm.fk(np.zeros(5)).shoulder
         raise TargetInBodyError(
@@ -265,13 +281,16 @@ def check_start_clear(
     start: npt.ArrayLike,
     what: str = "the start posture",
     advice: str = "move the arm away from the body first, or give another start",
+    parts: tuple[BodyPart, ...] = BODY,
 ) -> None:
-    """Raise if the posture a plan starts from comes nearer the body than ``MARGIN``.
+    """Raise if the posture a plan starts from comes nearer ``parts`` than ``MARGIN``.
+
+    ``parts``: default NAO's body.
 
     Raises:
         BodyCollisionError: naming the parts nearest each other (index 0).
     """
-    near = first_near(arm, np.atleast_2d(np.asarray(start, dtype=float)))
+    near = first_near(arm, np.atleast_2d(np.asarray(start, dtype=float)), parts=parts)
     if near is not None:
         raise _collision(
             arm,

@@ -3,7 +3,7 @@
     armplan plan --target X Y Z [--dwell S] [--palm X Y Z] [--hand open|close]
                  [--target ...]
                  [--arm right|left] [--method mp|least-norm|single]
-                 [--fastest] [--rate HZ] [--start Q1..Q5]
+                 [--fastest] [--rate HZ] [--start Q1..Q5] [--other-arm Q1..Q5]
                  [--max-acceleration A [A x4]] [--max-jerk J [J x4]]
                  [--model FILE] [--json]
     armplan plan --wrist-path FILE.csv [--arm ...] [--method ...]
@@ -147,6 +147,15 @@ def _add_how(parser: argparse.ArgumentParser) -> None:
         nargs=5,
         metavar="Q",
         help="start posture [rad] (default: arm hanging at rest)",
+    )
+    parser.add_argument(
+        "--other-arm",
+        type=float,
+        nargs=5,
+        metavar="Q",
+        help="where the other arm is held while this one moves [rad], its five "
+        "joints: the plan keeps clear of it as of NAO's body (default: not "
+        "known to the planner; the robot bridge keeps clear of it as measured)",
     )
     _add_limits(parser)
     add_measure_options(parser)
