@@ -1,5 +1,6 @@
 """Turning the elbow about the wrist's path to keep clear of the body
-(services/planner/clear_swivel.py): the profile, the rotation, the turn."""
+(services/planner/clear_swivel.py, services/ik/elbow_turn.py): the profile,
+the rotation, the turn."""
 
 from __future__ import annotations
 
@@ -9,13 +10,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation  # type: ignore[import-untyped]
 
-from services.planner.clear_swivel import (
-    RAMP,
-    keep_clear,
-    rotate,
-    swivel_profile,
-    turn_elbow,
-)
+from services.ik.elbow_turn import rotate, turn_elbow
+from services.planner.clear_swivel import RAMP, keep_clear, swivel_profile
 from services.planner.pipeline import LocalStages, track_movement
 from services.planner.reach_path import reach_wrist_path
 from shared.geometry.palm import roll_error

@@ -19,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from services.ik.elbow_turn import SWIVELS, turned_clear
 from services.ik.geometric import (
     solve_elbow_triangle,
     solve_shoulder_rotation,
@@ -42,7 +43,7 @@ from shared.errors import (
 from shared.messages import IKRequest, IKResult, Method
 from shared.primitives import FULL_GRASP, FULL_REACH, IKMethod, Primitive, get_primitive
 from shared.robot.arm_model import ArmModel
-from shared.robot.body import check_target_clear
+from shared.robot.body import check_target_clear, collision_error, first_near
 from shared.robot.postures import rest
 
 ALL_JOINTS = (0, 1, 2, 3, 4)
@@ -102,6 +103,7 @@ def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
         swivel=request.swivel,
         params=request.measures,
     )
+    solution = _clear_of_body(arm, solution, palm, request.primitive is not None)
     return IKResult(
         arm=arm.side,
         joints=dict(zip(arm.joint_names, (float(v) for v in solution.q), strict=False)),
@@ -116,6 +118,42 @@ def solve_request(arm: ArmModel, request: IKRequest) -> IKResult:
         palm_reached=None
         if request.palm is None
         else palm_reached(arm, solution.q, request.palm),
+    )
+
+
+def _clear_of_body(
+    arm: ArmModel, solution: IKSolution, palm: np.ndarray | None, named: bool
+) -> IKSolution:
+    """``solution``, its elbow turned if its posture comes near NAO's body.
+
+    The target check keeps the hand's ball at the wrist clear; the rest of
+    the arm can still come near (``services.ik.elbow_turn``). A primitive
+    the caller named is not turned (its inactive joints would move).
+
+    Raises:
+        BodyCollisionError: no swivel tried takes it clear, or a named
+            primitive's posture is near.
+    """
+    near = first_near(arm, solution.q[None, :])
+    if near is None:
+        return solution
+    q = None if named else turned_clear(arm, solution.q, palm)
+    if q is None:
+        advice = (
+            "a named primitive's posture is not turned: ask without it, or for "
+            "another target"
+            if named
+            else f"turning its elbow about the wrist (up to {SWIVELS[-1]:g} rad "
+            "either way) did not take it clear: ask for another target"
+        )
+        raise collision_error(
+            arm, near, 0.0, what="the posture the IK found", at="", advice=advice
+        )
+    label = (FULL_GRASP if palm is not None else FULL_REACH).name
+    return solution._replace(
+        q=q,
+        wrist=arm.fk(q).wrist,
+        primitive=label if solution.method is Method.MP else solution.primitive,
     )
 
 

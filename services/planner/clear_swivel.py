@@ -30,26 +30,18 @@ and the planner refuses it as before.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
 
-from services.ik.iterate import TOLERANCE
-from shared.demos.posture_from_points import joints_from_points
-from shared.geometry.palm import roll_error
+from services.ik.elbow_turn import AIM, SWIVELS, Turned, least_clearances, turn_elbow
 from shared.messages import JointPath, Method
 from shared.primitives import FULL_GRASP, FULL_REACH
 from shared.robot.arm_model import ArmModel
-from shared.robot.body import BODY, MARGIN, BodyPart, clearances
+from shared.robot.body import BODY, MARGIN, BodyPart
 from shared.robot.fk_many import key_points
 
-#: Clearance the turned arm aims for [m]: twice the margin, so that the
-#: timing's curve between path points stays clear too.
-AIM = 2.0 * MARGIN
-#: Swivels tried, each way, smallest first [rad].
-SWIVELS = (0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4)
 #: Time the swivel takes to rise and to fall [s] of the path's time.
 RAMP = 0.15
 #: Fewest samples a ramp spans.
@@ -58,7 +50,6 @@ RAMP_SAMPLES = 3
 #: last): a path whose screened samples do not keep the margin is not
 #: turned whole. Turning a sample costs about 4 ms (a least-squares fit).
 SCREEN_STRIDE = 5
-WRIST_YAW = 4
 
 #: The planner's advice in a refusal once keep_clear has tried.
 REFUSED_TRIED = (
@@ -66,18 +57,6 @@ REFUSED_TRIED = (
     "either way) did not take it clear, so the plan is refused: choose "
     "targets the arm reaches without crossing the body"
 )
-
-
-class Turned(NamedTuple):
-    """A joint path with the elbow turned.
-
-    Attributes:
-        positions: Joint angles [rad], shape (n, 5).
-        least: Its least clearance from the body [m].
-    """
-
-    positions: np.ndarray
-    least: float
 
 
 class Kept(NamedTuple):
@@ -115,7 +94,7 @@ def keep_clear(
         else the path with the elbow turned.
     """
     q = np.asarray(path.positions, dtype=float)
-    gaps = _least(arm, q, parts)
+    gaps = least_clearances(arm, q, parts)
     if bool(np.all(gaps >= MARGIN)):
         return Kept(path, tried=False)
     weight = swivel_profile(np.asarray(path.times), ~(gaps >= AIM))
@@ -172,81 +151,6 @@ def swivel_profile(times: np.ndarray, near: np.ndarray) -> np.ndarray:
     return weight
 
 
-def turn_elbow(
-    arm: ArmModel,
-    q: np.ndarray,
-    swivel: np.ndarray,
-    palm: Sequence[float] | None,
-    stride: int = 1,
-    parts: tuple[BodyPart, ...] = BODY,
-) -> Turned | None:
-    """The postures ``q`` [rad], (n, 5), with the elbow turned by ``swivel`` [rad].
-
-    Each sample's elbow turns by its swivel about the line from the shoulder
-    to the wrist (right-handed); the four arm joints that put it there with
-    the wrist in place are solved within their ranges from the sample's own
-    posture. A wanted ``palm`` keeps its roll error (WristYaw turns by what
-    the swivel changed of it, stopping at its range on the way); else
-    WristYaw stays.
-
-    With ``stride`` over 1 only every ``stride``-th sample with a swivel
-    (and the last one) is turned and measured: a quick screen.
-
-    Returns:
-        The turned postures and their least clearance (over the samples
-        turned, with a stride), or None if a sample's wrist moved more than
-        the IK's tolerance or the goal's WristYaw would leave its range (the
-        palm would miss its roll there).
-    """
-    points = key_points(arm, q)
-    out = q.copy()
-    low, high = arm.limits.lower[WRIST_YAW], arm.limits.upper[WRIST_YAW]
-    turn = np.flatnonzero(swivel)
-    if stride > 1:
-        turn = np.union1d(turn[::stride], turn[-1:])
-    for i in turn:
-        shoulder, wrist = points["shoulder"][i], points["wrist"][i]
-        elbow = shoulder + rotate(
-            points["elbow"][i] - shoulder, wrist - shoulder, swivel[i]
-        )
-        turned = joints_from_points(arm, elbow, wrist, guess=q[i])
-        if palm is not None:
-            turned[WRIST_YAW] += _roll_change(arm, q[i], turned, palm)
-        if not low <= turned[WRIST_YAW] <= high:
-            if i == len(q) - 1:
-                return None  # the palm would miss its roll at the goal
-            turned[WRIST_YAW] = min(max(turned[WRIST_YAW], low), high)
-        out[i] = turned
-    measured = turn if stride > 1 else np.arange(len(q))
-    moved = np.linalg.norm(
-        key_points(arm, out[measured])["wrist"] - points["wrist"][measured], axis=1
-    )
-    if not bool(np.all(moved <= TOLERANCE)):
-        return None
-    return Turned(out, float(_least(arm, out[measured], parts).min()))
-
-
-def rotate(v: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
-    """``v`` [m], (3,), turned by ``angle`` [rad] about ``axis`` (Rodrigues)."""
-    k = axis / np.linalg.norm(axis)
-    return (
-        v * math.cos(angle)
-        + np.cross(k, v) * math.sin(angle)
-        + k * float(k @ v) * (1.0 - math.cos(angle))
-    )
-
-
-def _roll_change(
-    arm: ArmModel, before: np.ndarray, after: np.ndarray, palm: Sequence[float]
-) -> float:
-    """The WristYaw turn [rad] that keeps ``before``'s palm roll error in ``after``."""
-    sign = arm.side.sign
-    change = roll_error(arm.rotation(after, "wrist"), sign, palm) - roll_error(
-        arm.rotation(before, "wrist"), sign, palm
-    )
-    return math.remainder(change, 2.0 * math.pi)
-
-
 def _with(
     arm: ArmModel,
     path: JointPath,
@@ -269,14 +173,6 @@ def _with(
             "wrist": [tuple(row) for row in wrists.tolist()],
         }
     )
-
-
-def _least(
-    arm: ArmModel, q: np.ndarray, parts: tuple[BodyPart, ...] = BODY
-) -> np.ndarray:
-    """Each posture's least clearance from ``parts`` [m], shape (n,); NaN: -inf."""
-    gaps = clearances(key_points(arm, q), parts).min(axis=(1, 2))
-    return np.where(np.isnan(gaps), -np.inf, gaps)
 
 
 def _back(times: np.ndarray, i: int, span: float) -> int:

@@ -292,7 +292,7 @@ def check_start_clear(
     """
     near = first_near(arm, np.atleast_2d(np.asarray(start, dtype=float)), parts=parts)
     if near is not None:
-        raise _collision(
+        raise collision_error(
             arm,
             near,
             0.0,
@@ -328,10 +328,10 @@ def check_postures_clear(
     if near is not None:
         clock = np.asarray(times, dtype=float)
         words = {"what": what, "advice": advice} if advice else {"what": what}
-        raise _collision(arm, near, float(clock[near.sample] - clock[0]), **words)
+        raise collision_error(arm, near, float(clock[near.sample] - clock[0]), **words)
 
 
-def _collision(
+def collision_error(
     arm: ArmModel, near: Closest, time: float, **words: str
 ) -> BodyCollisionError:
     """The error for ``near``, posture ``near.sample`` at ``time`` [s]."""
