@@ -136,10 +136,14 @@ class UnreachableTargetError(ArmplanError):
         reach: Interval of shoulder-to-wrist distances the arm can make [m].
         at: Where the target came from, e.g. "wrist-path sample 37 (t = ...)".
         palm: The wanted palm direction the posture also had to meet, or
-            None: with one, a target within reach may still be missed (no
-            posture within the limits turns the palm that way there). Only
-            the palm's roll about the forearm is turned towards it, so the
-            message says so, not that the palm faces it.
+            None. The IK's solver (``services.ik.solve``) raises with a palm
+            only from a primitive the caller named (other than the full
+            grasp, S_R E_PR W_PR); otherwise a missed target
+            with a palm is solved again without it, and the error is either
+            that one's (palm None: the target itself is out of reach) or a
+            ``PalmRollOutOfRangeError``. Only the palm's roll about the
+            forearm is turned towards it, so the message says so, not that
+            the palm faces it.
         advice: What to change, after the message (e.g. add samples), or "".
     """
 

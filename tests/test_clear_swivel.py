@@ -10,14 +10,15 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation  # type: ignore[import-untyped]
 
-from services.ik.elbow_turn import rotate, turn_elbow
-from services.planner.clear_swivel import RAMP, keep_clear, swivel_profile
+from services.ik.elbow_turn import least_clearances, rotate, turn_elbow
+from services.planner.clear_swivel import RAMP, STEP, keep_clear, swivel_profile
 from services.planner.pipeline import LocalStages, track_movement
 from services.planner.reach_path import reach_wrist_path
 from shared.geometry.palm import roll_error
 from shared.geometry.swivel import swivel_angle
 from shared.messages import Method, ReachTarget
 from shared.robot import load_arm
+from shared.robot.body import MARGIN
 from shared.robot.fk_many import key_points
 from tests.clear_draws import clear_posture
 
@@ -30,7 +31,9 @@ def _near(first: int, last: int, n: int = len(TIMES)) -> np.ndarray:
     return near
 
 
-@pytest.mark.parametrize(("first", "last"), [(40, 60), (2, 30), (70, 100), (0, 100)])
+@pytest.mark.parametrize(
+    ("first", "last"), [(40, 60), (2, 30), (70, 100), (0, 100), (1, 3)]
+)
 def test_the_profile_is_full_where_near_and_rises_smoothly_from_the_start(
     first: int, last: int
 ) -> None:
@@ -39,6 +42,7 @@ def test_the_profile_is_full_where_near_and_rises_smoothly_from_the_start(
     the near samples a ramp fits before, and held full to the end when the
     near samples reach it."""
     weight = swivel_profile(TIMES, _near(first, last))
+    assert weight.max() == 1.0  # near samples early on: full once the ramp ends
     assert weight[0] == 0.0
     assert np.all((weight >= 0.0) & (weight <= 1.0))
     slope = np.abs(np.diff(weight)) / np.diff(TIMES)
@@ -132,3 +136,62 @@ def test_a_path_already_clear_is_returned_as_it_was() -> None:
     joint_path, _ = track_movement(LocalStages(), path, start, Method.MP, None)
     kept = keep_clear(arm, joint_path, None, Method.MP)
     assert kept.path is joint_path and not kept.tried
+
+
+def _near_head() -> tuple:
+    """The stages' joint path of test_planner_body's NEAR_HEAD reach."""
+    arm = load_arm("right")
+    start = np.array([1.733, -0.603, -1.809, 0.562, 0.09])
+    target = ReachTarget(position=(0.0794, -0.0986, 0.1966))
+    path = reach_wrist_path(arm, start, target)
+    joint_path, _ = track_movement(LocalStages(), path, start, Method.MP, None)
+    return arm, joint_path
+
+
+def test_only_the_turned_samples_are_relabelled() -> None:
+    """The tracked path labelled S_R E_P W_P throughout: after the turn, the
+    samples the swivel moved say the full primitive (every joint moves
+    there) and the others keep their label."""
+    arm, joint_path = _near_head()
+    labelled = joint_path.model_copy(
+        update={"primitives": ["S_R E_P W_P"] * len(joint_path.times)}
+    )
+    kept = keep_clear(arm, labelled, None, Method.MP)
+    assert kept.tried and kept.path is not labelled
+    moved = (
+        np.abs(np.array(kept.path.positions) - np.array(labelled.positions)).max(axis=1)
+        > 0.0
+    )
+    labels = np.array(kept.path.primitives)
+    assert moved.any() and not moved.all()
+    assert set(labels[moved]) == {"S_R E_PR W_P"}
+    assert set(labels[~moved]) <= {"S_R E_PR W_P", "S_R E_P W_P"}
+    assert labels[0] == "S_R E_P W_P"
+
+
+@pytest.mark.parametrize("tilt", [2.0, 5.0, 10.0])
+def test_a_palm_near_the_forearm_axis_does_not_swing_the_wrist(tilt: float) -> None:
+    """A palm a few degrees off the forearm's axis, where its roll swings
+    with the swivel: a turned path never steps a joint further than STEP (or
+    than the tracked path did). WristYaw jumped 2.4 rad in one step at 2
+    degrees, before the steps were checked and the roll unwrapped."""
+    arm = load_arm("right")
+    rng = np.random.default_rng(7)
+    for _ in range(115):  # the 115th reach of this draw comes near the body
+        start, goal = clear_posture(arm, rng), arm.fk(clear_posture(arm, rng)).wrist
+    path = reach_wrist_path(arm, start, ReachTarget(position=tuple(goal)))
+    joint_path, _ = track_movement(LocalStages(), path, start, Method.MP, None)
+    q = np.array(joint_path.positions)
+    assert least_clearances(arm, q).min() < MARGIN
+    axis = np.asarray(arm.rotation(q[np.argmin(least_clearances(arm, q))], "wrist"))[
+        :, 0
+    ]
+    across = np.cross(axis, [0.0, 0.0, 1.0])
+    across /= np.linalg.norm(across)
+    palm = axis * math.cos(math.radians(tilt)) + across * math.sin(math.radians(tilt))
+    kept = keep_clear(arm, joint_path, tuple(palm), Method.MP)
+    turned = np.array(kept.path.positions)
+    own = np.abs(np.diff(q, axis=0)).max()
+    assert np.abs(np.diff(turned, axis=0)).max() <= max(STEP, own) + 1e-12
+    if kept.path is not joint_path:
+        assert least_clearances(arm, turned).min() >= MARGIN

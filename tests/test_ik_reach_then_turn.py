@@ -13,7 +13,6 @@ from services.ik.palm_reached import palm_reached
 from services.ik.reach_then_turn import WRIST_YAW, turn_wrist
 from services.ik.solver import solve
 from shared.errors import (
-    ArmplanError,
     PalmRollOutOfRangeError,
     UnreachableTargetError,
     error_from_wire,
@@ -143,12 +142,16 @@ def test_the_commands_say_the_palm_not_the_reach(command: str) -> None:
     assert "the IK solver stopped" not in error["message"]
 
 
-def test_a_target_out_of_reach_with_a_palm_stays_out_of_reach() -> None:
-    """Beyond the reach shell the palm is not blamed: the target is."""
+def test_a_target_the_arm_cannot_reach_with_a_palm_stays_out_of_reach() -> None:
+    """Within the reach shell, but no posture puts the wrist there (the
+    solver stops short without a palm too): the target is blamed, not the
+    palm, whatever the palm."""
     arm = load_arm("right")
-    shoulder = arm.fk(np.zeros(5)).shoulder
-    far = shoulder + np.array([0.2, 0.0, 0.0])
-    with pytest.raises(UnreachableTargetError) as refused:
-        solve(arm, far, palm=FORWARD)
-    assert not isinstance(refused.value, PalmRollOutOfRangeError)
-    assert isinstance(refused.value, ArmplanError)
+    target = np.array([-0.15, -0.098, 0.1])
+    with pytest.raises(UnreachableTargetError):
+        solve(arm, target)  # no palm: out of reach already
+    for palm in (FORWARD, np.array([0.0, 0.0, 1.0]), np.array([0.0, -1.0, 0.0])):
+        with pytest.raises(UnreachableTargetError) as refused:
+            solve(arm, target, palm=palm)
+        assert not isinstance(refused.value, PalmRollOutOfRangeError)
+        assert "the IK solver stopped" in str(refused.value)

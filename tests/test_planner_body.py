@@ -18,7 +18,6 @@ from services.planner.pipeline import LocalStages, plan, track_movement
 from services.planner.reach_path import reach_wrist_path
 from shared.errors import ArmplanError, BodyCollisionError, TargetInBodyError
 from shared.messages import IKRequest, Method, PlanRequest, ReachTarget
-from shared.primitives import FULL_REACH
 from shared.robot import load_arm
 from shared.robot.body import HAND, MARGIN, closest, point_clearance
 from shared.robot.fk_many import key_points
@@ -108,12 +107,10 @@ def _tracked(side: str, start: list[float], target: list[float]) -> np.ndarray:
 @pytest.mark.parametrize("side", ["right", "left"])
 def test_a_reach_whose_arm_comes_near_the_body_turns_its_elbow_clear(side) -> None:
     """The stages' joint path brings the upper arm within the margin of the
-        head; the planner turns the elbow about the wrist's path (its swivel)
-        and plans it: every sample keeps the margin, the wrist stays on the
-        wrist path the plan reports, the arm starts where it is, the turned
-        samples say every joint moves, and the elbow did turn (the wrist is
-    where the stages put it). The left arm's
-        mirror image does the same."""
+    head; the planner turns the elbow about the wrist's path (its swivel)
+    and plans it: every sample keeps the margin, the wrist stays where the
+    stages put it, the arm starts where it is, and the elbow did turn. The
+    left arm's mirror image does the same."""
     arm = load_arm(side)
     start, target = NEAR_HEAD
     if side == "left":
@@ -132,8 +129,24 @@ def test_a_reach_whose_arm_comes_near_the_body_turns_its_elbow_clear(side) -> No
     )
     assert np.abs(turned["wrist"] - before["wrist"]).max() < 1e-4
     assert np.allclose(result.trajectory.positions[0], start)
-    assert FULL_REACH.name in result.joint_paths[0].primitives
     assert np.linalg.norm(turned["elbow"] - before["elbow"], axis=1).max() > 0.005
+
+
+def test_the_refusal_names_the_movement_the_turn_failed_for() -> None:
+    """Two reaches: the first is taken clear by the swivel, the second
+    (into the pelvis) is not; the refusal's sample lies in the second
+    movement and says the turn was tried."""
+    start, first = NEAR_HEAD
+    request = PlanRequest(
+        arm="right",
+        start=start,
+        targets=[{"position": first}, {"position": INTO_PELVIS[1]}],
+    )
+    with pytest.raises(BodyCollisionError, match=r"NAO's pelvis") as err:
+        plan(request)
+    alone = plan(PlanRequest(arm="right", start=start, targets=[{"position": first}]))
+    assert err.value.time > alone.trajectory.times[-1]
+    assert "turning the elbow about the wrist's path" in str(err.value)
 
 
 def test_a_reach_no_swivel_takes_clear_is_refused_saying_so() -> None:

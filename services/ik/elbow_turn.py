@@ -77,6 +77,7 @@ def turn_elbow(
     turn = np.flatnonzero(swivel)
     if stride > 1:
         turn = np.union1d(turn[::stride], turn[-1:])
+    change = 0.0  # the roll change of the sample before, to unwrap from
     for i in turn:
         shoulder, wrist = points["shoulder"][i], points["wrist"][i]
         elbow = shoulder + rotate(
@@ -84,7 +85,8 @@ def turn_elbow(
         )
         turned = joints_from_points(arm, elbow, wrist, guess=q[i])
         if palm is not None:
-            turned[WRIST_YAW] += _roll_change(arm, q[i], turned, palm)
+            change += _roll_change(arm, q[i], turned, palm, change)
+            turned[WRIST_YAW] += change
         if not low <= turned[WRIST_YAW] <= high:
             if i == len(q) - 1:
                 return None  # the palm would miss its roll at the goal
@@ -114,13 +116,19 @@ def _roll_change(
     before: np.ndarray,
     after: np.ndarray,
     palm: Sequence[float] | np.ndarray,
+    near: float,
 ) -> float:
-    """The WristYaw turn [rad] that keeps ``before``'s palm roll error in ``after``."""
+    """The WristYaw turn [rad] keeping ``before``'s palm roll error in ``after``.
+
+    Less ``near`` and within half a turn of 0: the turn nearest ``near``
+    (the sample before's), so that WristYaw does not jump a turn between
+    samples where the roll wraps round.
+    """
     sign = arm.side.sign
     change = roll_error(arm.rotation(after, "wrist"), sign, palm) - roll_error(
         arm.rotation(before, "wrist"), sign, palm
     )
-    return math.remainder(change, 2.0 * math.pi)
+    return math.remainder(change - near, 2.0 * math.pi)
 
 
 def least_clearances(

@@ -46,6 +46,13 @@ from shared.robot.fk_many import key_points
 RAMP = 0.15
 #: Fewest samples a ramp spans.
 RAMP_SAMPLES = 3
+#: Largest joint step between two samples a turned path may take [rad],
+#: unless the path as tracked had a larger one: one and a half times the
+#: tracker's own largest (0.1 rad, docs/planning.md, "Known limits"; a
+#: swivel of 0.7 rad over 0.15 s makes about 0.12). A palm near the
+#: forearm's axis makes its roll, and so WristYaw, swing with the swivel:
+#: 2.4 rad in one step, before this was checked.
+STEP = 0.15
 #: A swivel is first tried on every this many samples it turns (and the
 #: last): a path whose screened samples do not keep the margin is not
 #: turned whole. Turning a sample costs about 4 ms (a least-squares fit).
@@ -97,7 +104,11 @@ def keep_clear(
     gaps = least_clearances(arm, q, parts)
     if bool(np.all(gaps >= MARGIN)):
         return Kept(path, tried=False)
-    weight = swivel_profile(np.asarray(path.times), ~(gaps >= AIM))
+    near = ~(gaps >= AIM)
+    near[0] = False  # where the arm is: never turned
+    weight = swivel_profile(np.asarray(path.times), near)
+    aim = min(AIM, float(gaps[0]))  # a start nearer than AIM stays so
+    steepest = max(STEP, _largest_step(q))
     best: Turned | None = None
     for size in SWIVELS:
         for sign in (1.0, -1.0):
@@ -106,9 +117,9 @@ def keep_clear(
             if screened is None or not screened.least >= MARGIN:
                 continue  # the whole path comes no farther than these samples
             turned = turn_elbow(arm, q, swivel, palm, parts=parts)
-            if turned is None:
+            if turned is None or _largest_step(turned.positions) > steepest:
                 continue
-            if turned.least >= AIM:
+            if turned.least >= aim:
                 return Kept(
                     _with(arm, path, turned.positions, weight, palm, method), True
                 )
@@ -142,6 +153,7 @@ def swivel_profile(times: np.ndarray, near: np.ndarray) -> np.ndarray:
         rise_to = min(max(first, _ahead(times, 0, RAMP), RAMP_SAMPLES), n - 1)
     span = times[rise_to] - times[rise_from]
     rise[:rise_to] = _minimum_jerk((times[:rise_to] - times[rise_from]) / span)
+    last = max(last, rise_to)  # a late rise: full there before it falls
     fall_to = max(_ahead(times, last, RAMP), last + RAMP_SAMPLES)
     if fall_to < n:
         span = times[fall_to] - times[last]
@@ -173,6 +185,11 @@ def _with(
             "wrist": [tuple(row) for row in wrists.tolist()],
         }
     )
+
+
+def _largest_step(q: np.ndarray) -> float:
+    """The largest change of a joint between two samples of ``q`` [rad], (n, 5)."""
+    return float(np.abs(np.diff(q, axis=0)).max()) if len(q) > 1 else 0.0
 
 
 def _back(times: np.ndarray, i: int, span: float) -> int:

@@ -32,6 +32,7 @@ on the wrist path, not on where it was sampled.
 
 from __future__ import annotations
 
+import bisect
 import logging
 from typing import NamedTuple
 
@@ -80,6 +81,7 @@ from shared.robot.body import (
     check_postures_clear,
     check_start_clear,
     check_target_clear,
+    first_near,
 )
 from shared.robot.postures import rest
 
@@ -176,14 +178,14 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
     paths, joints, segments = [], [], []
     decisions: list[Decision] = []
     q = start
-    tried = False
+    tried: list[bool] = []  # per movement: whether its elbow was turned
     for target in request.targets:
         path = reach_wrist_path(arm, q, target)
         joint_path = _movement(stages, request, path, q, decisions)
         joint_path, near = keep_clear(
             arm, joint_path, target.palm, request.method, parts
         )
-        tried = tried or near
+        tried.append(near)
         paths.append(path)
         joints.append(joint_path)
         end = np.array(joint_path.positions[-1])
@@ -206,13 +208,7 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
         )
     )
     check_samples(len(trajectory.times), request.rate)
-    check_postures_clear(
-        arm,
-        trajectory.positions,
-        trajectory.times,
-        parts=parts,
-        advice=REFUSED_TRIED if tried else "",
-    )
+    _check_plan_clear(arm, trajectory, parts, tried)
     trajectory, decisions = timed_decisions(trajectory, decisions)
     trajectory = with_palms_reached(
         arm,
@@ -222,6 +218,34 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
     )
     check_payload(trajectory)
     return PlanResult(trajectory, paths, decisions, joints)
+
+
+def _check_plan_clear(
+    arm: ArmModel,
+    trajectory: Trajectory,
+    parts: tuple[BodyPart, ...],
+    tried: list[bool],
+) -> None:
+    """``check_postures_clear`` on the plan, its advice the near movement's.
+
+    Where the first posture too near belongs to a movement whose elbow was
+    turned in vain (``tried``, one per movement), the refusal says so.
+    """
+    near = first_near(arm, trajectory.positions, parts=parts)
+    if near is None:
+        return
+    times = trajectory.times
+    at = times[near.sample] - times[0]
+    starts = [segment[0] for segment in trajectory.point_times or [] if segment]
+    movement = max(0, bisect.bisect_right(starts, at) - 1)
+    turned = tried[movement] if len(starts) == len(tried) else any(tried)
+    check_postures_clear(
+        arm,
+        trajectory.positions,
+        times,
+        parts=parts,
+        advice=REFUSED_TRIED if turned else "",
+    )
 
 
 def track_movement(
