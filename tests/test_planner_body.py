@@ -210,3 +210,33 @@ def test_fk_says_how_near_the_body_a_posture_is(joints, expected) -> None:
     assert expected in last
     near = closest(load_arm("right"), [joints])
     assert f"{abs(near.clearance) * 1000:.1f} mm" in last
+
+
+#: A reach whose tracked arm comes 4 mm from the pelvis (the hand) while its
+#: wrist path keeps clear; 0.3 s long as planned, 31 samples.
+NEAR_PELVIS = ([1.3115, -0.6736, -0.1352, 1.2465, 0.641], (0.058, -0.084, -0.0073))
+
+
+@pytest.mark.parametrize(("slower", "made"), [(5.0, True), (3.0, False)])
+def test_a_given_wrist_path_turns_its_elbow_if_its_times_allow(
+    slower: float, made: bool
+) -> None:
+    """The reach's wrist path given to plan at its times slowed 5 times: the
+    elbow is turned and the plan keeps the margin, the wrist on the path;
+    slowed only 3 times the turn would need more speed than the times
+    allow, and the refusal says so."""
+    arm = load_arm("right")
+    start, target = NEAR_PELVIS
+    path = reach_wrist_path(arm, np.array(start), ReachTarget(position=target))
+    path = path.model_copy(update={"times": [t * slower for t in path.times]})
+    assert closest(arm, _tracked("right", start, list(target))).clearance < MARGIN
+    request = PlanRequest(arm="right", start=start, wrist_path=path)
+    if not made:
+        with pytest.raises(BodyCollisionError, match="needs more speed than the"):
+            plan(request)
+        return
+    result = plan(request)
+    assert closest(arm, result.trajectory.positions).clearance >= MARGIN
+    wrists = key_points(arm, result.trajectory.positions)["wrist"]
+    assert np.abs(wrists - np.array(path.positions)).max() < 1e-3
+    assert result.trajectory.times == pytest.approx(path.times)

@@ -64,6 +64,13 @@ REFUSED_TRIED = (
     "either way) did not take it clear, so the plan is refused: choose "
     "targets the arm reaches without crossing the body"
 )
+#: The advice when a given wrist path's turn would have taken it clear but
+#: its times are too short for it.
+REFUSED_TOO_FAST = (
+    "turning the elbow about the wrist's path would take it clear but needs "
+    "more speed than the path's times allow, so the plan is refused: slow "
+    "the path down, or move it away from the body"
+)
 
 
 class Kept(NamedTuple):

@@ -44,6 +44,7 @@ from services.planner.clear_of import kept_clear_of
 from services.planner.clear_swivel import REFUSED_TRIED, keep_clear
 from services.planner.decision_times import on_path_clock, timed_decisions
 from services.planner.even_path import at_path_times, even_grid, tracked_as_given
+from services.planner.given_clear import timed_clear
 from services.planner.grid_reach import check_grid_within_reach
 from services.planner.path_reach import (
     STAGE_SLACK,
@@ -52,7 +53,7 @@ from services.planner.path_reach import (
 )
 from services.planner.reach_path import reach_wrist_path
 from services.planner.stages import LocalStages, Stages
-from services.timing import reach_duration, time_given
+from services.timing import reach_duration
 from services.timing.request_limits import request_limits
 from services.timing.sample_cap import FEWER_SAMPLES, check_payload, check_samples
 from shared.errors import (
@@ -329,9 +330,13 @@ def _follow_given(
             tracked = _track_grid(arm, stages, request, path, grid, start, decisions)
             joint_path = at_path_times(arm, path, tracked)
         limits = request_limits(arm.limits, request.limits)
-        timed = time_given(np.array(path.times), np.array(joint_path.positions), limits)
+        joint_path, timed, advice = timed_clear(
+            arm, path, joint_path, request.method, limits, parts
+        )
         check_on_path(arm, path, timed.positions, request.path_tolerance)
-        check_postures_clear(arm, timed.positions, path.times, parts=parts)
+        check_postures_clear(
+            arm, timed.positions, path.times, parts=parts, advice=advice
+        )
     except LimitViolationError as error:
         raise error.advised(GIVEN_PATH_ADVICE) from None
     except OffPathError:
