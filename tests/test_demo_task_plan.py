@@ -71,13 +71,16 @@ def test_a_target_the_ik_misses_is_refused_before_anything_starts(
 def test_a_palm_the_ik_cannot_turn_to_is_refused_naming_the_phase(
     tmp_path: Path,
 ) -> None:
-    """The shipped task with the palm (1, 0, 0) at its first target."""
+    """The shipped task with the palm (1, 0, 0) at its first target: the
+    palm's roll is named, with the WristYaw it needs."""
     task = json.loads(DEFAULT_TASK.read_text())
     task["phases"][0]["targets"][0]["palm"] = [1, 0, 0]
     path = task_file(tmp_path, task)
     name = task["phases"][0]["name"]
     with pytest.raises(
-        InvalidInputError, match=rf"^{path}: phase '{name}', target 1: .*palm's roll"
+        InvalidInputError,
+        match=rf"^{path}: phase '{name}', target 1: .*the palm cannot be turned "
+        r"towards \(1, 0, 0\) there: .* needs WristYaw",
     ):
         check_task_plans(load_task(path), path)
 
