@@ -337,8 +337,13 @@ def test_the_commanded_arm_overlays_the_executed_one(finished: Finished) -> None
     """In Foxglove, /tf/commanded (the bridge's frames, from when the movement
     starts: one pose per frame and the start) and /tf/executed (the measured
     states) are on the robot's clock: each state's gripper is a few mm from
-    the commanded one at its stamp. /tf/planned runs earlier, by the time
-    between plan and play, and is far off at the same stamps."""
+    the commanded one at its stamp (the command between two frames, 40 ms
+    apart, read on the line between them: the next frame, as this test took
+    before, leads the state by up to a frame; in one unloaded run here the
+    median gap was 3.2 mm that way and 2.3 mm on the line, and on a loaded
+    machine the next frame's read 5.3 and 6.3 mm). /tf/planned runs
+    earlier, by the time between plan and play, and is far off at the same
+    stamps."""
     path = finished.out / "session.mcap"
     (frames,) = read_records(path, topics=["armplan/bridge/frames"])
     executed_at, executed = gripper_track(path, "/tf/executed")
@@ -347,8 +352,9 @@ def test_the_commanded_arm_overlays_the_executed_one(finished: Finished) -> None
         stamps, points = gripper_track(path, topic)
         inside = (executed_at >= stamps[0]) & (executed_at <= stamps[-1])
         assert inside.sum() > 100, topic
-        nearest = np.searchsorted(stamps, executed_at[inside])
-        gaps = np.linalg.norm(points[nearest] - executed[inside], axis=1)
+        at = executed_at[inside]
+        commanded = np.stack([np.interp(at, stamps, points[:, k]) for k in range(3)], 1)
+        gaps = np.linalg.norm(commanded - executed[inside], axis=1)
         median_gap[topic] = float(np.median(gaps))
     assert len(gripper_track(path, "/tf/commanded")[0]) == len(frames.data["times"]) + 1
     assert median_gap["/tf/commanded"] < 0.005, median_gap  # [m]
