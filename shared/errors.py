@@ -178,7 +178,38 @@ class UnreachableTargetError(ArmplanError):
                 message += f" with the palm's roll turned towards {_fmt_vec(palm)}"
         if advice:
             message += f": {advice}"
-        super().__init__(
+        self._with_reach(
+            message,
+            target,
+            arm=arm,
+            distance=distance,
+            reach=reach,
+            residual=residual,
+            at=at,
+            palm=palm,
+            advice=advice,
+        )
+
+    def _with_reach(
+        self,
+        message: str,
+        target: Sequence[float] | np.ndarray,
+        *,
+        arm: str,
+        distance: float,
+        reach: tuple[float, float],
+        residual: float | None,
+        at: str,
+        palm: Sequence[float] | np.ndarray | None,
+        advice: str,
+        **more: Any,
+    ) -> None:
+        """The root's init with the facts every kind of this error carries.
+
+        ``more``: a kind's own facts, added to the evidence.
+        """
+        ArmplanError.__init__(
+            self,
             message,
             target=[float(v) for v in target],
             arm=arm,
@@ -188,11 +219,12 @@ class UnreachableTargetError(ArmplanError):
             at=at,
             palm=None if palm is None else [float(v) for v in palm],
             advice=advice,
+            **more,
         )
         self.target = tuple(float(v) for v in target)
         self.distance = float(distance)
         self.reach = (float(reach[0]), float(reach[1]))
-        self.residual = residual
+        self.residual = None if residual is None else float(residual)
 
 
 class TargetInBodyError(UnreachableTargetError):
@@ -249,14 +281,13 @@ class TargetInBodyError(UnreachableTargetError):
             if body_part in ("torso", "pelvis", "head")
             else "the other arm where the request holds it"
         )
-        ArmplanError.__init__(
-            self,
+        self._with_reach(
             f"{prefix}target {_fmt_vec(target)} m is {how}; the arm keeps clear "
             f"of {kept} (docs/robot.md, 'NAO's own body')",
-            target=[float(v) for v in target],
+            target,
             arm=arm,
-            distance=float(distance),
-            reach=[float(reach[0]), float(reach[1])],
+            distance=distance,
+            reach=reach,
             residual=None,
             at=at,
             palm=None,
@@ -266,10 +297,6 @@ class TargetInBodyError(UnreachableTargetError):
             margin=float(margin),
             inside=bool(inside),
         )
-        self.target = tuple(float(v) for v in target)
-        self.distance = float(distance)
-        self.reach = (float(reach[0]), float(reach[1]))
-        self.residual = None
         self.body_part = body_part
         self.clearance = float(clearance)
         self.margin = float(margin)
@@ -311,8 +338,7 @@ class PalmRollOutOfRangeError(UnreachableTargetError):
         nearest_angle: float,
     ) -> None:
         low, high = wrist_yaw_range
-        ArmplanError.__init__(
-            self,
+        self._with_reach(
             f"target {_fmt_vec(target)} m is within the {arm} arm's reach, but "
             f"the palm cannot be turned towards {_fmt_vec(palm)} there: in the "
             f"posture that reaches it, {_fmt_vec(posture)} rad, the roll about "
@@ -320,23 +346,19 @@ class PalmRollOutOfRangeError(UnreachableTargetError):
             f"rad, outside its range {low:.3f}..{high:.3f} rad (with WristYaw at "
             f"its nearest bound the palm is {math.degrees(nearest_angle):.1f} deg "
             "from that direction); give another palm direction, or none",
-            target=[float(v) for v in target],
+            target,
             arm=arm,
-            distance=float(distance),
-            reach=[float(reach[0]), float(reach[1])],
-            residual=float(residual),
+            distance=distance,
+            reach=reach,
+            residual=residual,
             at="",
-            palm=[float(v) for v in palm],
+            palm=palm,
             advice="",
             wrist_yaw=float(wrist_yaw),
             wrist_yaw_range=[float(low), float(high)],
             posture=[float(v) for v in posture],
             nearest_angle=float(nearest_angle),
         )
-        self.target = tuple(float(v) for v in target)
-        self.distance = float(distance)
-        self.reach = (float(reach[0]), float(reach[1]))
-        self.residual = float(residual)
         self.palm = tuple(float(v) for v in palm)
         self.wrist_yaw = float(wrist_yaw)
         self.wrist_yaw_range = (float(low), float(high))
