@@ -175,7 +175,8 @@ def _plan(request: PlanRequest, stages: Stages) -> PlanResult:
         return _follow_given(arm, request, request.wrist_path, start, stages, parts)
     for target in request.targets:
         check_target(arm, np.array(target.position))
-        check_target_clear(arm, target.position, parts=parts)  # the other arm
+        if request.other_arm is not None:  # check_target kept it clear of the body
+            check_target_clear(arm, target.position, parts=parts)
     timed = _movements(arm, request, stages, start, None)
     if first_near(arm, timed.trajectory.positions, parts=parts) is not None:
         timed = _movements(arm, request, stages, start, parts)  # go round
