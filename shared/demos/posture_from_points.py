@@ -7,8 +7,8 @@ neither the elbow nor the wrist (the wrist is its origin):
 
 1. the four arm joints put NAO's elbow and wrist on the points, by bounded
    least squares on (elbow error [m], wrist error [m]) (scipy's
-   trust-region reflective solver), so they stay within the robot file's
-   ranges;
+   trust-region reflective solver, given the points' Jacobians), so they
+   stay within the robot file's ranges;
 2. WristYaw turns the palm normal nearest the human one, in closed form,
    if a frame is given (else it keeps its warm start).
 
@@ -64,8 +64,19 @@ def joints_from_points(
         points = arm.fk(np.concatenate((joints, q[WRIST_YAW:])))
         return np.concatenate((points.elbow - elbow, points.wrist - wrist))
 
+    def point_jacobian(joints: np.ndarray) -> np.ndarray:
+        """d(point_error)/d(joints) [m/rad], shape (6, 4)."""
+        posture = np.concatenate((joints, q[WRIST_YAW:]))
+        return np.vstack(
+            [arm.jacobian(posture, point)[:, ARM] for point in ("elbow", "wrist")]
+        )
+
     fit = least_squares(
-        point_error, q[ARM], bounds=(lower[ARM], upper[ARM]), xtol=1e-12
+        point_error,
+        q[ARM],
+        jac=point_jacobian,
+        bounds=(lower[ARM], upper[ARM]),
+        xtol=1e-12,
     )
     q = np.concatenate((fit.x, q[WRIST_YAW:]))
     if palm is None:
