@@ -86,6 +86,10 @@ ARM_PARTS: tuple[tuple[str, str, str, float], ...] = (
 )
 
 
+#: The arm parts' radii [m], shape (A,), in ``ARM_PARTS``' order.
+ARM_RADII = np.array([radius for *_, radius in ARM_PARTS])
+
+
 class Closest(NamedTuple):
     """Where an arm comes nearest to the body.
 
@@ -125,14 +129,13 @@ def clearances(
     Returns:
         Shape (n, len(ARM_PARTS), len(parts)); negative: overlapping.
     """
-    bottom = np.array([part.bottom for part in parts])
+    bottom = np.array([part.bottom for part in parts])  # (P, 3)
     top = np.array([part.top for part in parts])
-    radii = np.array([part.radius for part in parts])
-    rows = []
-    for _, first, last, radius in ARM_PARTS:
-        a, b = points[first][:, None, :], points[last][:, None, :]
-        rows.append(segment_distance(a, b, bottom, top) - radius - radii)
-    return np.stack(rows, axis=1)
+    radii = np.array([part.radius for part in parts])  # (P,)
+    starts = np.stack([points[first] for _, first, _, _ in ARM_PARTS], axis=1)
+    ends = np.stack([points[last] for _, _, last, _ in ARM_PARTS], axis=1)
+    between = segment_distance(starts[:, :, None], ends[:, :, None], bottom, top)
+    return between - ARM_RADII[:, None] - radii  # (n, A, P), one call for all
 
 
 def closest(
