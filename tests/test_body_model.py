@@ -28,7 +28,7 @@ from shared.robot.body import (
     first_point_near,
     point_clearance,
 )
-from shared.robot.fk_many import key_points
+from shared.robot.fk_many import ONE_BY_ONE, key_points
 from shared.robot.postures import forward, mirror, rest
 
 
@@ -212,6 +212,11 @@ def test_many_postures_at_once_agree_with_pinocchio_one_at_a_time(side: str) -> 
     for name in ("shoulder", "elbow", "wrist", "hand"):
         one_by_one = np.array([getattr(arm.fk(posture), name) for posture in q])
         np.testing.assert_allclose(points[name], one_by_one, rtol=0, atol=1e-12)
+    for few in range(ONE_BY_ONE + 1):  # pinocchio's answers below, numpy's at
+        some = key_points(arm, q[:few])
+        for name in ("shoulder", "elbow", "wrist", "hand"):
+            assert some[name].shape == (few, 3)
+            np.testing.assert_allclose(some[name], points[name][:few], atol=1e-12)
     single = key_points(arm, q[0])
     assert single["hand"].shape == (1, 3)
 
