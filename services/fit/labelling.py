@@ -15,7 +15,6 @@ backwards), the usual treatment of arm markers (Winter 2009, ch. 3).
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import butter, filtfilt
 
 from shared.demos.labels import labels_from_motion
 from shared.demos.rotations import unit
@@ -82,5 +81,10 @@ def smooth(values: np.ndarray, times: np.ndarray) -> np.ndarray:
     rate = (len(times) - 1) / float(times[-1] - times[0])
     if len(times) < 16 or rate <= 2.0 * CUTOFF:
         return values
+    # Imported here: scipy.signal takes about 0.6 s to import, and every
+    # process that reads a motion model (planner, decide) imports this
+    # package, but only a fit filters.
+    from scipy.signal import butter, filtfilt
+
     b, a = butter(2, CUTOFF / (rate / 2.0))
     return np.asarray(filtfilt(b, a, values, axis=0), dtype=float)
