@@ -11,7 +11,10 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 from armplan.launch import Launcher, free_endpoint
+from armplan.launch.child import Child
 from services.recorder import RecorderProcess
 from shared.bus import Bus, BusConfig, load_config, open_router
 
@@ -46,24 +49,47 @@ def test_a_second_service_in_the_namespace_refuses_to_start() -> None:
             assert "timing" in bus.alive()
 
 
-def test_a_killed_service_started_again_at_once_is_not_refused() -> None:
+def test_a_killed_service_started_again_at_once_is_not_refused(
+    capfd: pytest.CaptureFixture[str],
+) -> None:
     """``armplan faults`` SIGKILLs a service and starts it again at once: the
     router drops the dead one's token when its connection closes (about
     20 ms on loopback), long before the new process has started and asks,
-    so the new one serves."""
+    so the new one serves.
+
+    The test waits for the new process to say it serves, not for a token:
+    on a loaded machine (three test workers on two CPUs) the dead one's
+    token lingered long enough to satisfy ``wait_alive``, and the check a
+    second later fell between it and the new one's."""
     config = load_config(None, (free_endpoint(),))
     with Launcher(config, ["timing"]) as stack:
         killed = stack.services["timing"]
         killed.signal(signal.SIGKILL)
         killed.process.wait(EXIT_TIMEOUT)
         again = stack.start_service("timing")
+        ready = f"armplan.bus[{again.pid}] INFO service timing ready"
+        said = _wait_said(capfd, ready, again, EXIT_TIMEOUT)
+        assert ready in said, said[-2000:]
         with Bus.connect(config) as bus:
-            assert bus.wait_alive(["timing"], EXIT_TIMEOUT) == []
-            assert again.process.poll() is None
             # it is the new one that holds the token, and it stays
             time.sleep(1.0)
             assert again.process.poll() is None
             assert "timing" in bus.alive()
+
+
+def _wait_said(
+    capfd: pytest.CaptureFixture[str], line: str, child: Child, timeout: float
+) -> str:
+    """The standard error captured until ``line`` appears, ``child`` exits or
+    ``timeout`` [s] passes."""
+    said = ""
+    deadline = time.monotonic() + timeout
+    while line not in said and child.process.poll() is None:
+        if time.monotonic() > deadline:
+            break
+        time.sleep(0.05)
+        said += capfd.readouterr().err
+    return said + capfd.readouterr().err
 
 
 def test_recorders_run_side_by_side_in_one_namespace(tmp_path: Path) -> None:
