@@ -290,6 +290,32 @@ def _wait_gone(client: Bus, service: str) -> None:
     assert service not in client.alive()
 
 
+def test_a_call_waiting_when_the_router_goes_is_told_at_once() -> None:
+    """A query held by its service when the router closes: the caller's
+    wait ends within seconds, naming the lost router, not at its timeout."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="test")
+    router = open_router(config)
+    with (
+        Bus.connect(config) as service_bus,
+        Bus.connect(config) as client,
+        Swallower(service_bus, LOSSY_ONCE_ONLY, lose=1) as lossy,
+        ThreadPoolExecutor(1) as pool,
+    ):
+        assert client.wait_alive(["lossy"], 5.0) == []
+        waiting = pool.submit(
+            client.call, LOSSY_ONCE_ONLY, Text(text="x"), timeout=30.0
+        )
+        deadline = time.monotonic() + 5.0
+        while lossy.count == 0 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert lossy.count == 1 and not waiting.done()
+        closed = time.monotonic()
+        router.close()  # type: ignore[no-untyped-call]
+        with pytest.raises(ServiceUnavailableError, match="connection"):
+            waiting.result(timeout=10.0)
+        assert time.monotonic() - closed < 5.0
+
+
 def test_a_lost_query_of_a_repeatable_route_is_asked_again(
     quick_resend: tuple[Bus, Bus],
 ) -> None:

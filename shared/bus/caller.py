@@ -1,7 +1,8 @@
 """Ask a service over Zenoh and get its typed reply, or its typed error.
 
 The caller never hangs: it checks the service's liveliness token first (so a
-stopped service is reported at once), and every ``get`` carries a timeout.
+stopped service is reported at once), every ``get`` carries a timeout, and a
+wait ends as soon as the process has lost its router (``_watching``).
 
 A repeatable route (``Route.repeatable``: the answer depends on the request
 alone) is asked once more if no answer has come after ``resend_after``
@@ -61,7 +62,7 @@ from shared.bus.keys import alive_key
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices
 from shared.bus.robot_routes import BRIDGE
 from shared.bus.route import Rep, Route
-from shared.bus.session import has_router
+from shared.bus.session import has_router, has_router_or_peer
 from shared.errors import (
     InvalidInputError,
     RemoteError,
@@ -164,8 +165,9 @@ def answered(
             time.sleep(EMPTY_PAUSE)
         return False
 
+    watch = _watching(session, route.service, key, check)
     reply = _ask(
-        session, key, encode(request), start + timeout, resend, still_there, check
+        session, key, encode(request), start + timeout, resend, still_there, watch
     )
     if reply is not None:
         return reply
@@ -286,6 +288,33 @@ def _ask(
         else:
             return item
     return timed_out or busy
+
+
+def _watching(
+    session: zenoh.Session, service: str, key: str, check: Check | None
+) -> Check:
+    """``check``, then a stop once ``session`` has no connection left.
+
+    A query whose connection closes can never be answered: its reply would
+    come back the way it went. Zenoh ends such a query at once, but not
+    always: in one CI run, a plan sent as the router was killed waited its
+    whole 30 s timeout while the calls beside it were told at once that the
+    router was lost. Without a router or a peer, the wait ends within
+    :data:`CHECK_EVERY`, with the same error.
+    """
+
+    def watch() -> None:
+        if check is not None:
+            check()
+        if not has_router_or_peer(session):
+            raise ServiceUnavailableError(
+                service,
+                key=key,
+                reason="this process lost its connection to the Zenoh router "
+                "while it waited for the answer",
+            )
+
+    return watch
 
 
 def _start_forwarder(
