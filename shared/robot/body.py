@@ -33,6 +33,7 @@ anything around the robot.
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -129,13 +130,28 @@ def clearances(
     Returns:
         Shape (n, len(ARM_PARTS), len(parts)); negative: overlapping.
     """
-    bottom = np.array([part.bottom for part in parts])  # (P, 3)
-    top = np.array([part.top for part in parts])
-    radii = np.array([part.radius for part in parts])  # (P,)
+    bottom, top, radii = _capsules(parts)
     starts = np.stack([points[first] for _, first, _, _ in ARM_PARTS], axis=1)
     ends = np.stack([points[last] for _, _, last, _ in ARM_PARTS], axis=1)
     between = segment_distance(starts[:, :, None], ends[:, :, None], bottom, top)
     return between - ARM_RADII[:, None] - radii  # (n, A, P), one call for all
+
+
+@functools.lru_cache(maxsize=64)
+def _capsules(parts: tuple[BodyPart, ...]) -> tuple[np.ndarray, ...]:
+    """``parts``' ends [m], each shape (P, 3), and radii [m], shape (P,).
+
+    Kept for the parts asked last (read-only): ``BODY`` and the other arm
+    held still are asked again at every check of a plan.
+    """
+    arrays = (
+        np.array([part.bottom for part in parts], dtype=float).reshape(-1, 3),
+        np.array([part.top for part in parts], dtype=float).reshape(-1, 3),
+        np.array([part.radius for part in parts], dtype=float),
+    )
+    for array in arrays:
+        array.flags.writeable = False
+    return arrays
 
 
 def closest(
@@ -223,10 +239,8 @@ def points_clearance(
         shape (n,).
     """
     centres = np.asarray(points, dtype=float)[:, None, :]
-    bottom = np.array([part.bottom for part in parts])
-    top = np.array([part.top for part in parts])
-    reach = radius + np.array([part.radius for part in parts])
-    gaps = segment_distance(centres, centres, bottom, top) - reach
+    bottom, top, radii = _capsules(parts)
+    gaps = segment_distance(centres, centres, bottom, top) - radius - radii
     nearest = np.argmin(gaps, axis=1)
     return [parts[k].name for k in nearest], gaps.min(axis=1)
 
