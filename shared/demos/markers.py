@@ -8,7 +8,9 @@ A JSON file, read by ``armplan demos import ... --markers MAP.json``::
       "wrist": "RWRB",         marker on the wrist (ulnar styloid)
       "thumb": "RWRA",         optional: thumb-side wrist marker (radial
                                styloid); gives the forearm's roll
-      "arm": "right",          optional: which arm (default right)
+      "arm": "right",          optional: which arm (default right; left
+                               markers without it are refused,
+                               ``shared.demos.marker_side``)
       "units": "mm",           optional: m, cm or mm; default the file's own
                                (C3D POINT:UNITS) or m for CSV
       "time_units": "ms",      optional, CSV only: s or ms, the unit of the
@@ -41,6 +43,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
+from shared.demos.marker_side import other_side_named
 from shared.demos.rotations import FloatArray
 from shared.errors import DemoFileError, InvalidInputError
 from shared.input_files import read_at_most
@@ -139,7 +142,8 @@ def read_marker_map(path: str | Path) -> MarkerMap:
 
     Raises:
         DemoFileError: if the file is missing, not JSON (or not text), not a marker map
-            (naming the field that is wrong), or gives one marker to two roles.
+            (naming the field that is wrong), gives one marker to two roles,
+            or gives no ``arm`` with markers named like the left arm's.
     """
     path = Path(path)
     try:
@@ -163,7 +167,30 @@ def read_marker_map(path: str | Path) -> MarkerMap:
     except InvalidInputError as exc:
         raise DemoFileError(str(path), exc.message) from None
     _check_distinct(markers, str(path))
+    _check_arm_given(markers, str(path))
     return markers
+
+
+def _check_arm_given(markers: MarkerMap, path: str) -> None:
+    """Raise DemoFileError if the map gives no arm and its names say the left.
+
+    Without ``arm`` the map means the right arm; markers named like the
+    left arm's (``LSHO``, ``LELB``, ``LWRB``) would be imported as a right
+    arm's (``shared.demos.marker_side``). A map that gives ``arm`` is taken
+    at its word (the import notes the disagreement).
+    """
+    if "arm" in markers.model_fields_set:
+        return
+    named = other_side_named(markers.names, markers.arm)
+    if named is not None:
+        raise DemoFileError(
+            path,
+            f'{named}, but the map gives no "arm", which means the right arm: '
+            'give "arm": "left" if they are the left arm\'s (or "arm": "right" '
+            "if they are not)",
+            arm=markers.arm.value,
+            markers=list(markers.names.values()),
+        )
 
 
 def _check_distinct(markers: MarkerMap, path: str) -> None:

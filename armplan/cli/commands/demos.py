@@ -141,6 +141,7 @@ def _import(args: argparse.Namespace) -> int:
     from shared.demos import DemoSet, write_demos
     from shared.demos.c3d_import import read_c3d
     from shared.demos.csv_import import read_csv
+    from shared.demos.marker_side import other_side_named
     from shared.demos.markers import read_marker_map
     from shared.demos.paths import check_distinct
     from shared.demos.repeats import Register
@@ -151,6 +152,13 @@ def _import(args: argparse.Namespace) -> int:
     for name in args.files:
         _check_capture_name(Path(name))
     markers = read_marker_map(args.markers)
+    named = other_side_named(markers.names, markers.arm)
+    if named is not None:  # the map gives its arm: taken at its word
+        _note(
+            f'{args.markers}: {named}, but the map\'s "arm" is '
+            f"{markers.arm.value}: retargeted to NAO's {markers.arm.value} arm, "
+            "as the map says"
+        )
     for name in args.files:  # a name too long for a subject, before any work
         markers.subject_of(Path(name))
     subjects: dict[str, Subject] = {}
