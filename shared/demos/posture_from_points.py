@@ -5,10 +5,12 @@ frame, at NAO's segment lengths) and, where the data have it, the wrist
 frame. It becomes NAO joint angles in two steps, because WristYaw moves
 neither the elbow nor the wrist (the wrist is its origin):
 
-1. the four arm joints put NAO's elbow and wrist on the points, by bounded
-   least squares on (elbow error [m], wrist error [m]) (scipy's
+1. the four arm joints put NAO's elbow and wrist on the points: in closed
+   form where the points are at NAO's lengths and the posture within the
+   robot file's ranges (``shared.robot.elbow_wrist_joints``), else by
+   bounded least squares on (elbow error [m], wrist error [m]) (scipy's
    trust-region reflective solver, given the points' Jacobians), so they
-   stay within the robot file's ranges;
+   stay within the ranges;
 2. WristYaw turns the palm normal nearest the human one, in closed form,
    if a frame is given (else it keeps its warm start).
 
@@ -26,6 +28,7 @@ from scipy.optimize import least_squares  # type: ignore[import-untyped]
 
 from shared.errors import InvalidInputError
 from shared.robot.arm_model import ArmModel
+from shared.robot.elbow_wrist_joints import elbow_wrist_joints
 from shared.robot.postures import rest
 
 #: The arm joints that place elbow and wrist, and the wrist's own joint.
@@ -59,6 +62,9 @@ def joints_from_points(
     lower, upper = arm.limits.lower, arm.limits.upper
     q = rest(arm.side) if guess is None else np.asarray(guess, dtype=float)
     q = np.clip(q, lower + 1e-9, upper - 1e-9)
+    exact = elbow_wrist_joints(arm, elbow, wrist, q)
+    if exact is not None:
+        return _with_palm(arm, np.concatenate((exact, q[WRIST_YAW:])), palm)
 
     def point_error(joints: np.ndarray) -> np.ndarray:
         points = arm.fk(np.concatenate((joints, q[WRIST_YAW:])))
@@ -78,10 +84,13 @@ def joints_from_points(
         bounds=(lower[ARM], upper[ARM]),
         xtol=1e-12,
     )
-    q = np.concatenate((fit.x, q[WRIST_YAW:]))
-    if palm is None:
-        return q
-    q[WRIST_YAW] = wrist_yaw_for_palm(arm, q, palm)
+    return _with_palm(arm, np.concatenate((fit.x, q[WRIST_YAW:])), palm)
+
+
+def _with_palm(arm: ArmModel, q: np.ndarray, palm: np.ndarray | None) -> np.ndarray:
+    """Posture ``q`` [rad], (5,), its WristYaw turned to ``palm`` if one is given."""
+    if palm is not None:
+        q[WRIST_YAW] = wrist_yaw_for_palm(arm, q, palm)
     return q
 
 

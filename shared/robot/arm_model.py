@@ -158,6 +158,11 @@ class ArmModel:
         return float(np.linalg.norm(self.elbow_offset))
 
     @property
+    def shoulder_position(self) -> np.ndarray:
+        """ShoulderPitch's origin in the torso frame [m], shape (3,)."""
+        return self.model.jointPlacements[self._joint_ids[0]].translation.copy()
+
+    @property
     def elbow_offset(self) -> np.ndarray:
         """Elbow origin in the ShoulderRoll frame [m], shape (3,)."""
         return self.model.jointPlacements[self._joint_ids[2]].translation.copy()
