@@ -68,6 +68,7 @@ from shared.demos.rotations import (
     interpolate_frames,
     matrix_from_rotation_vector,
     rotation_angle,
+    rotation_vector_from_matrix,
 )
 
 #: Upper-arm direction of the hanging right arm (slightly forward, abducted).
@@ -250,30 +251,54 @@ def pointing_error(
     wrist would be with the upper-arm frame ``progress`` of the way from
     ``start`` to ``goal`` and the elbow already at its final flexion.
     """
-    bend = goal.flexion
-    shape = np.array(  # the final arm's wrist in the upper-arm frame
-        (
-            subject.upper_arm + subject.forearm * math.cos(bend),
-            0.0,
-            -subject.forearm * math.sin(bend),
+    return _Pointing(start, goal, subject).error(progress)
+
+
+class _Pointing:
+    """:func:`pointing_error` along one reach, its fixed parts computed once.
+
+    The search for the elbow's start asks it 31 times a trial; building the
+    two frames of ``interpolate_frames`` each time was two thirds of the
+    synthetic set's making.
+    """
+
+    def __init__(self, start: ArmPose, goal: ArmPose, subject: Subject) -> None:
+        bend = goal.flexion
+        self._shape = np.array(  # the final arm's wrist in the upper-arm frame
+            (
+                subject.upper_arm + subject.forearm * math.cos(bend),
+                0.0,
+                -subject.forearm * math.sin(bend),
+            )
         )
-    )
-    frames = interpolate_frames(start.frame, goal.frame, np.array([progress, 1.0]))
-    now, end = frames[0] @ shape, frames[1] @ shape
-    cos = float(now @ end) / float(np.linalg.norm(now) * np.linalg.norm(end))
-    return math.acos(min(max(cos, -1.0), 1.0))
+        self._start = start.frame
+        self._step = rotation_vector_from_matrix(start.frame.T @ goal.frame)
+        self._end = self._wrist(1.0)
+        self._end_norm = float(np.linalg.norm(self._end))
+
+    def _wrist(self, progress: float) -> np.ndarray:
+        """The bent arm's wrist with the frame ``progress`` of the way [m], (3,)."""
+        turn = matrix_from_rotation_vector(progress * self._step)
+        return np.asarray((self._start @ turn) @ self._shape)
+
+    def error(self, progress: float) -> float:
+        """The pointing error at ``progress`` of the shoulder's way [rad]."""
+        now = self._wrist(progress)
+        cos = float(now @ self._end) / float(np.linalg.norm(now) * self._end_norm)
+        return math.acos(min(max(cos, -1.0), 1.0))
 
 
 def _swing_left_at(
     start: ArmPose, goal: ArmPose, swing: float, subject: Subject
 ) -> float:
     """Shoulder progress at which the pointing error falls to ``swing`` [rad]."""
-    if pointing_error(start, goal, 0.0, subject) <= swing:
+    pointing = _Pointing(start, goal, subject)
+    if pointing.error(0.0) <= swing:
         return 0.0
     low, high = 0.0, 1.0
     for _ in range(30):  # the error falls steadily along the geodesic
         mid = 0.5 * (low + high)
-        if pointing_error(start, goal, mid, subject) > swing:
+        if pointing.error(mid) > swing:
             low = mid
         else:
             high = mid

@@ -17,13 +17,11 @@ _EPS = 1e-12
 def skew(v: FloatArray) -> FloatArray:
     """Cross-product matrices [v]x of vectors, shape (..., 3) -> (..., 3, 3)."""
     x, y, z = v[..., 0], v[..., 1], v[..., 2]
-    zero = np.zeros_like(x)
-    rows = (
-        np.stack((zero, -z, y), axis=-1),
-        np.stack((z, zero, -x), axis=-1),
-        np.stack((-y, x, zero), axis=-1),
-    )
-    return np.stack(rows, axis=-2)
+    k = np.zeros((*np.shape(x), 3, 3), dtype=np.result_type(v, 0.0))
+    k[..., 0, 1], k[..., 0, 2] = -z, y
+    k[..., 1, 0], k[..., 1, 2] = z, -x
+    k[..., 2, 0], k[..., 2, 1] = -y, x
+    return k
 
 
 def matrix_from_rotation_vector(rv: FloatArray) -> FloatArray:
