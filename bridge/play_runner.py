@@ -19,6 +19,11 @@ traceback), a port that accepted TCP but never answered hung it forever in
   signal is handled at once). A call may last its known duration (its
   keys' last time, the move to the start's too) and ``MARGIN`` more;
   then the arm is stopped and the script exits 1 naming the call.
+- Before anything is sent, the script reads where the robot holds the
+  other arm (``getAngles`` of its joints, from the sensors) and refuses,
+  exit 1, a trajectory or a move to the start whose keys bring this arm
+  within the body's margin of it (``bridge.script_body``): a plan made
+  without ``other_arm`` knows nothing of that arm.
 - The trajectory goes out only once the move to the start has brought the
   arm's command there (``check_arrived``, ``bridge.script_approach``): a
   move another client ended, its call returning without an error, exits 1;
@@ -64,6 +69,10 @@ SPEED = {speed!r}
 CONNECT_TIMEOUT, MARGIN, POLL = {connect_timeout!r}, {margin!r}, {poll!r}
 STOP_WAIT, STOP_PERIOD, STOP_SETTLE = {stop_wait!r}, {stop_period!r}, {stop_settle!r}
 MOVES = ("angleInterpolation", "stiffnessInterpolation")
+OTHER_ARM_ADVICE = (
+    "the plan did not keep clear of the other arm where the robot holds it: "
+    "move that arm, or plan again saying where it is (armplan plan --other-arm)"
+)
 HOST_CHARACTERS = (
     "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-"
 )
@@ -125,11 +134,13 @@ class Motion(object):
 
         return call
 
-    def move_to(self, targets, share):
+    def move_to(self, targets, share, others=()):
         """Move from the command to ``targets`` [rad]: minimum-jerk keys
-        within ``share`` of the limits (approach_keys), angleInterpolation;
-        then RuntimeError unless the command is there (check_arrived)."""
-        keys, times = approach_keys(names, self.getAngles(names, False), targets, share)
+        within ``share`` of the limits, clear of the body and ``others``
+        (approach_keys), angleInterpolation; then RuntimeError unless the
+        command is there (check_arrived)."""
+        now = self.getAngles(names, False)
+        keys, times = approach_keys(names, now, targets, share, others)
         self.angleInterpolation(names, keys, times, True)
         check_arrived(names, self.getAngles(names, False), targets)
 
@@ -315,8 +326,10 @@ def play(url, timeout):
     motion = None
     try:
         motion = connect(url, timeout)
+        others = other_arm_parts(motion.getAngles(OTHER_JOINTS, True))
+        check_clear(names, keys, times, "the trajectory", others, OTHER_ARM_ADVICE)
         stiffen_where_it_is(motion, names)
-        motion.move_to(start, SPEED)
+        motion.move_to(start, SPEED, others)
         motion.angleInterpolation(names, keys, times, True)
         ends = [joint_keys[-1] for joint_keys in keys]
         check_arrived(

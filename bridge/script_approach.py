@@ -44,12 +44,14 @@ _SOURCE = '''
 LIMITS = {limits}  # joint: (speed [rad/s], acceleration [rad/s^2], jerk [rad/s^3])
 
 
-def approach_keys(names, current, target, share):
+def approach_keys(names, current, target, share, others=()):
     """(keys, times) of a minimum-jerk move from ``current`` to ``target`` [rad].
 
     ``keys``: one list per joint [rad]; ``times``: one list per joint [s],
     every 1/{rate!r} s. Its length keeps each joint's peak speed,
     acceleration and jerk within ``share`` of LIMITS (at least {shortest!r} s).
+    ``others``: parts besides the body the move keeps clear of (the other
+    arm where the robot holds it, ``other_arm_parts``).
     """
     import math
 
@@ -70,7 +72,7 @@ def approach_keys(names, current, target, share):
     ]
     keys = [[a + (b - a) * f for f in blend] for a, b in zip(current, target)]
     times = [duration * k / count for k in range(1, count + 1)]
-    check_clear(names, keys, [times] * len(keys))  # RuntimeError: nothing sent
+    check_clear(names, keys, [times] * len(keys), others=others)  # nothing sent
     return keys, [times] * len(keys)
 
 

@@ -9,13 +9,24 @@ body model (``shared.robot.body``) and of the arm's chain, in plain Python
 2 and 3: :func:`body_source` is ``check_clear(names, keys, times)``, which
 raises RuntimeError, before anything is sent, naming the first key that
 brings an arm part within the margin of a body part.
+
+The other arm is not in the exported plan (a plan knows it only if its
+request gave ``other_arm``), so the scripts also carry that arm's chain:
+``other_arm_parts(q)`` makes its capsules from the angles the robot
+measures when the script runs, and ``check_clear(..., others=...)`` keeps
+clear of them as of the body. ``play.py`` checks its trajectory and its
+move to the start so; the start box its move to the start (the timeline
+itself is Choregraphe's to play).
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from shared.robot import Side, load_arm
+from shared.robot.arm_model import ArmModel
 from shared.robot.body import ARM_PARTS, BODY, MARGIN
 from shared.robot.fk_many import AXES
 
@@ -25,6 +36,10 @@ ARM_SIDE = {side!r}
 ARM_JOINTS = {joints}  # the arm's joints, in the chain's order
 CHAIN = {chain}  # per joint: (axis 0/1/2 for x/y/z, offset in its parent [m])
 POINTS = {points}  # key point: (joint it hangs on, 1-based; offset [m])
+OTHER_SIDE = {other_side!r}  # the other arm, as the robot measures it
+OTHER_JOINTS = {other_joints}
+OTHER_CHAIN = {other_chain}
+OTHER_POINTS = {other_points}
 ARM_PARTS = {parts}  # (part, from point, to point, radius [m])
 BODY = {body}  # (part, bottom [m], top [m], radius [m]) in the torso frame
 BODY_MARGIN = {margin!r}  # least distance kept between surfaces [m]
@@ -50,11 +65,16 @@ def _apply(frame, vector):
     ]
 
 
-def _arm_points(q):
-    """The arm's key points [m] for angles ``q`` [rad] of ARM_JOINTS."""
+def _arm_points(q, chain=None, points=None):
+    """The arm's key points [m] for angles ``q`` [rad] of ARM_JOINTS.
+
+    ``chain`` and ``points``: another arm's (OTHER_CHAIN, OTHER_POINTS).
+    """
+    chain = CHAIN if chain is None else chain
+    points = POINTS if points is None else points
     unit = [[float(i == j) for j in range(3)] for i in range(3)]
     frames = [(unit, [0.0, 0.0, 0.0])]
-    for (axis, offset), angle in zip(CHAIN, q):
+    for (axis, offset), angle in zip(chain, q):
         axes, origin = frames[-1]
         columns = [_turn(axis, angle, unit[j]) for j in range(3)]
         turned = [
@@ -64,8 +84,20 @@ def _arm_points(q):
         frames.append((turned, _apply((axes, origin), offset)))
     return dict(
         (name, _apply(frames[joint], offset))
-        for name, (joint, offset) in POINTS.items()
+        for name, (joint, offset) in points.items()
     )
+
+
+def other_arm_parts(q):
+    """The other arm at angles ``q`` [rad] of OTHER_JOINTS, as parts like BODY's.
+
+    Its capsules are ARM_PARTS, named with its side (``left forearm``).
+    """
+    points = _arm_points(q, OTHER_CHAIN, OTHER_POINTS)
+    return [
+        ("%s %s" % (OTHER_SIDE, part), points[first], points[last], radius)
+        for part, first, last, radius in ARM_PARTS
+    ]
 
 
 def _segment_distance(p0, p1, q0, q1):
@@ -99,18 +131,27 @@ def _segment_distance(p0, p1, q0, q1):
     return dot(gap, gap) ** 0.5
 
 
-def check_clear(names, keys, times, move="the move to the start"):
+def check_clear(
+    names,
+    keys,
+    times,
+    move="the move to the start",
+    others=(),
+    advice="move the arm away from the body first",
+):
     """Raise RuntimeError at the first key that brings the arm near the body.
 
-    ``keys``: one list per joint of ``names`` [rad]; ``times``: theirs [s].
-    Nothing is sent when it raises.
+    ``keys``: one list per joint of ``names`` [rad]; ``times``: theirs [s];
+    ``others``: more parts to keep clear of (``other_arm_parts``);
+    ``advice``: what the error tells to do. Nothing is sent when it raises.
     """
     columns = [names.index(name) for name in ARM_JOINTS]
+    parts = list(BODY) + list(others)
     for k in range(len(keys[columns[0]])):
         points = _arm_points([keys[j][k] for j in columns])
         worst = None
         for part, first, last, radius in ARM_PARTS:
-            for body, bottom, top, body_radius in BODY:
+            for body, bottom, top, body_radius in parts:
                 gap = _segment_distance(points[first], points[last], bottom, top)
                 gap -= radius + body_radius
                 if worst is None or gap < worst[0]:
@@ -124,8 +165,9 @@ def check_clear(names, keys, times, move="the move to the start"):
                     gap * 1000, BODY_MARGIN * 1000)
             raise RuntimeError(
                 "%s would bring the %s %s %s NAO's %s at key %d (t = %.3f s); "
-                "nothing of it was sent: move the arm away from the body first"
-                % (move, ARM_SIDE, part, near, body, k + 1, times[columns[0]][k])
+                "nothing of it was sent: %s"
+                % (move, ARM_SIDE, part, near, body, k + 1, times[columns[0]][k],
+                   advice)
             )
 '''
 
@@ -138,6 +180,31 @@ def body_source(side: Side | str) -> str:
             parent (the scripts' chain keeps only offsets and axes).
     """
     arm = load_arm(side)
+    other = load_arm(Side.LEFT if arm.side is Side.RIGHT else Side.RIGHT)
+    joints, chain, points = _chain(arm)
+    other_joints, other_chain, other_points = _chain(other)
+    body = [(part.name, part.bottom, part.top, part.radius) for part in BODY]
+    return _SOURCE.format(
+        side=arm.side.value,
+        joints=repr(joints),
+        chain=repr(chain),
+        points=repr(points),
+        other_side=other.side.value,
+        other_joints=repr(other_joints),
+        other_chain=repr(other_chain),
+        other_points=repr(other_points),
+        parts=repr([tuple(part) for part in ARM_PARTS]),
+        body=repr(body),
+        margin=MARGIN,
+    )
+
+
+def _chain(arm: ArmModel) -> tuple[list[str], list[Any], dict[str, Any]]:
+    """The arm's joint names, chain and key points, as the scripts hold them.
+
+    Raises:
+        ValueError: a joint's frame is turned in its parent.
+    """
     model = arm.model
     chain = []
     for joint in range(1, model.njoints):
@@ -151,16 +218,7 @@ def body_source(side: Side | str) -> str:
         frame = model.frames[frame_id]
         offset = tuple(float(v) for v in frame.placement.translation)
         points[name] = (int(frame.parentJoint), offset)
-    body = [(part.name, part.bottom, part.top, part.radius) for part in BODY]
-    return _SOURCE.format(
-        side=arm.side.value,
-        joints=repr([model.names[j] for j in range(1, model.njoints)]),
-        chain=repr(chain),
-        points=repr(points),
-        parts=repr([tuple(part) for part in ARM_PARTS]),
-        body=repr(body),
-        margin=MARGIN,
-    )
+    return [model.names[j] for j in range(1, model.njoints)], chain, points
 
 
 __all__ = ["body_source"]

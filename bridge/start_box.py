@@ -11,7 +11,9 @@ limp arm's command first moved to where it hangs, so it does not snap back;
 a robot not awake refused: ``bridge.script_stiffen``), moves them to the
 start posture with ``ALMotion.angleInterpolation`` of minimum-jerk keys
 within ``START_SPEED`` of their speed, acceleration and jerk limits
-(``bridge.script_approach``, as ``play.py`` does), then, once the arm's
+(``bridge.script_approach``, as ``play.py`` does; keys that would bring the
+arm near the body, or near the other arm where the robot measures it, are
+refused before anything moves), then, once the arm's
 command is at the start (``check_arrived``: a move another client ended
 is refused), fires its ``onStopped`` output, linked to the timeline box's
 ``onStart``. Refused,
@@ -70,8 +72,9 @@ _SCRIPT = '''class MyClass(GeneratedClass):
             stiffen_where_it_is(self.motion, self.joint_names)
             if not self.stopping:
                 now = self.motion.getAngles(self.joint_names, False)
+                others = other_arm_parts(self.motion.getAngles(OTHER_JOINTS, True))
                 keys, times = approach_keys(
-                    self.joint_names, now, self.first_key, {speed}
+                    self.joint_names, now, self.first_key, {speed}, others
                 )
                 self.motion.angleInterpolation(self.joint_names, keys, times, True)
                 now = self.motion.getAngles(self.joint_names, False)

@@ -30,12 +30,16 @@ from bridge.minimum_jerk import minimum_jerk_trajectory
 from bridge.sim import SimProcess
 from bridge.sim.log import read_log
 from bridge.timeline_keys import END_MARGIN
+from services.planner.pipeline import plan
 from shared.errors import InvalidInputError
 from shared.libqi import qi
-from shared.messages import CommandFrames, Trajectory
+from shared.messages import CommandFrames, PlanRequest, Trajectory
 from shared.robot import load_arm
+from shared.robot.body import MARGIN, closest
+from shared.robot.other_arm import with_other_arm
 from shared.robot.postures import forward, rest
 from tests.limp_arm_run import let_go
+from tests.test_planner_other_arm import LEFT_ACROSS, START, TARGET
 
 
 def script_box(xml: str, session: Any, on_stopped: Callable[[], None]) -> Any:
@@ -579,3 +583,49 @@ def test_the_start_box_leaves_an_arm_another_client_moves_alone(
     assert stopped == []
     assert str(caught.value).startswith("the arm is moving, or held by another")
     assert sent == ["angleInterpolation"]  # the other client's
+
+
+def test_the_start_box_refuses_a_move_into_the_other_arm(tmp_path: Path) -> None:
+    """The simulated NAO holds its left arm across; a behavior whose first key
+    puts the right arm within the margin of that arm (but clear of the body):
+    the box raises naming the left arm, moves nothing and never fires
+    ``onStopped``. With the left arm at rest the same box moves."""
+    arm = load_arm("right")
+    blind = plan(
+        PlanRequest(arm="right", start=START, targets=[{"position": TARGET}])
+    ).trajectory
+    parts = with_other_arm("right", LEFT_ACROSS)
+    near = closest(arm, blind.positions, parts)
+    assert near.clearance < MARGIN and near.body_part.startswith("left ")
+    key = np.array(blind.positions[near.sample])
+    assert closest(arm, [key]).clearance >= MARGIN  # clear of the body alone
+    trajectory = minimum_jerk_trajectory("right", [key, key], [0.6])
+    xml = xml_of(trajectory, frames_from_trajectory(trajectory))
+    left = ["L" + name[1:] for name in trajectory.joint_names]
+    log = tmp_path / "sim.jsonl"
+    stopped: list[bool] = []
+    with SimProcess(log_path=log) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        motion.angleInterpolationWithSpeed(left, LEFT_ACROSS, 0.5)
+        moved = _moves(log)
+        with pytest.raises(RuntimeError, match=r"NAO's left \w+") as refused:
+            script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
+        after_refusal = _moves(log)
+        motion.angleInterpolationWithSpeed(left, rest("left").tolist(), 0.5)
+        script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
+        session.close()
+    assert "the move to the start would bring the right" in str(refused.value)
+    assert after_refusal == moved
+    assert stopped == [True]  # only the second box reached the start
+    assert _moves(log) > after_refusal
+
+
+def _moves(log: Path) -> int:
+    """angleInterpolation calls in the sim's log."""
+    return sum(
+        1
+        for e in read_log(log)
+        if e["event"] == "call" and e["method"] == "angleInterpolation"
+    )
