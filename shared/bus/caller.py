@@ -296,11 +296,12 @@ def _watching(
     """``check``, then a stop once ``session`` has no connection left.
 
     A query whose connection closes can never be answered: its reply would
-    come back the way it went. Zenoh ends such a query at once, but not
-    always: in one CI run, a plan sent as the router was killed waited its
-    whole 30 s timeout while the calls beside it were told at once that the
-    router was lost. Without a router or a peer, the wait ends within
-    :data:`CHECK_EVERY`, with the same error.
+    come back the way it went. Zenoh ended every such query at once in the
+    runs we made by hand, yet in one CI run a plan sent as the router was
+    killed waited its whole 30 s timeout (why is not known) while the calls
+    beside it were told at once that the router was lost. Without a router
+    or a peer, the wait now ends within :data:`CHECK_EVERY`, with the same
+    error (``docs/faults.md``).
     """
 
     def watch() -> None:
