@@ -354,17 +354,17 @@ def test_the_end_posture_line_is_the_next_plans_start(
     """The table is in degrees and --start takes radians: a user chaining
     plans pasted the last row and was refused (39.31 rad), or, near zero,
     started 57 times off. The summary now prints the last posture in
-    radians; given to --start, the next plan starts there."""
+    radians, each angle in full; given to --start, the next plan starts
+    exactly there (with six decimals it started up to 5e-7 rad away)."""
     first = plan_json(capsys, "--target", *AT_GOAL)
     assert main(["plan", "--target", *AT_GOAL]) == 0
     line = re.search(r"end posture \[rad\] \(the next plan's --start\): (.+)",
                      capsys.readouterr().out)  # fmt: skip
     assert line is not None
     words = line[1].split()
-    np.testing.assert_allclose([float(w) for w in words], first.positions[-1],
-                               atol=5e-7)  # fmt: skip
+    assert [float(w) for w in words] == list(first.positions[-1])
     second = plan_json(capsys, "--target", *AT_OTHER, "--start", *words)
-    np.testing.assert_allclose(second.positions[0], first.positions[-1], atol=5e-7)
+    assert list(second.positions[0]) == list(first.positions[-1])
 
 
 def test_a_coarse_rate_says_it_lengthens_the_reach(
