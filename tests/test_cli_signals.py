@@ -12,7 +12,10 @@ from __future__ import annotations
 import argparse
 import os
 import signal
-from collections.abc import Iterator
+import sys
+import time
+import weakref
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import pydantic
@@ -134,3 +137,89 @@ def test_a_signal_ignored_at_start_stays_ignored() -> None:
         for signum, handler in held.items():
             signal.signal(signum, handler)
         forget_signals()
+
+
+class _Finalized:
+    """An object that receives ``signum`` as it is finalized."""
+
+    def __init__(self, signum: signal.Signals) -> None:
+        self.signum = signum
+
+    def __del__(self) -> None:
+        os.kill(os.getpid(), self.signum)
+
+
+def _dropping(how: str, signum: signal.Signals) -> Callable[[], None]:
+    """Drop an object whose finalizer (``__del__``, or a weakref callback as
+    importlib's module locks have) receives ``signum``."""
+
+    def by_del() -> None:
+        _Finalized(signum)
+
+    def by_weakref() -> None:
+        target = argparse.Namespace()
+        kept = weakref.ref(target, lambda _: os.kill(os.getpid(), signum))
+        del target
+        assert kept() is None
+
+    return {"__del__": by_del, "weakref": by_weakref}[how]
+
+
+@pytest.mark.parametrize("how", ["__del__", "weakref"])
+@pytest.mark.parametrize(
+    ("signum", "code", "said"),
+    [
+        (signal.SIGTERM, 143, "armplan: terminated\n"),
+        (signal.SIGINT, 130, "armplan: interrupted\n"),
+        (signal.SIGHUP, 129, "armplan: hung up\n"),
+    ],
+)
+def test_a_signal_landing_in_a_finalizer_still_stops_the_command(
+    capsys: pytest.CaptureFixture[str],
+    how: str,
+    signum: signal.Signals,
+    code: int,
+    said: str,
+) -> None:
+    """Python swallows an exception raised in a finalizer ("Exception ignored
+    in ..."): a SIGHUP that landed in importlib's weakref callback let an
+    experiment run to its end. The command stops at once all the same, and
+    the test runner's unraisable hook is put back."""
+    hook = sys.unraisablehook
+    went_on: list[int] = []
+
+    def run(args: argparse.Namespace) -> int:
+        _dropping(how, signum)()
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:
+            time.sleep(0.01)
+        went_on.append(1)
+        return 0
+
+    assert run_command(run, argparse.Namespace(json=False)) == code
+    assert not went_on
+    assert capsys.readouterr().err == said
+    assert sys.unraisablehook is hook
+    forget_signals()
+
+
+def test_an_exception_swallowed_that_is_no_stop_goes_to_the_hook_before() -> None:
+    """Another exception raised in a finalizer is still reported as Python
+    reports it (by the hook that was there), and the command goes on."""
+    seen: list[BaseException | None] = []
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: seen.append(unraisable.exc_value)
+
+    class Failing:
+        def __del__(self) -> None:
+            raise ValueError("a finalizer's own error")
+
+    def run(args: argparse.Namespace) -> int:
+        Failing()
+        return 0
+
+    try:
+        assert run_command(run, argparse.Namespace(json=False)) == 0
+    finally:
+        sys.unraisablehook = hook
+    assert [type(error) for error in seen] == [ValueError]

@@ -17,7 +17,9 @@ some code turns it into another error: pydantic-core, for one, reports a
 ``KeyboardInterrupt`` raised inside a serializer as a
 ``PydanticSerializationError``. So the handlers also remember the signal,
 and :func:`stopped_by` tells the command's caller which one ended the run,
-whatever the exception became on its way out.
+whatever the exception became on its way out. Some code swallows it
+outright (a finalizer, a weakref callback): inside :func:`stops_unwinding`
+it is delivered again (:mod:`armplan.cli.swallowed_stops`).
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from types import FrameType
+
+from armplan.cli.swallowed_stops import SwallowedStops
 
 #: Exit codes: 128 + the signal's number.
 INTERRUPTED_CODE = 128 + signal.SIGINT
@@ -87,13 +91,16 @@ def stops_unwinding() -> Iterator[None]:
     from shared.held_signals import put_back  # loads libqi: not at import
 
     before = {signum: signal.getsignal(signum) for signum in _RAISES}
+    swallowed = SwallowedStops({raised: signum for signum, raised in _RAISES.items()})
     forget_signals()  # an earlier command's, in this process
     try:
+        swallowed.install()
         terminate_on_sigterm()
         yield
     finally:
+        came = swallowed.release()
         # None: set outside Python, not restorable
-        stop = put_back({s: h for s, h in before.items() if h is not None})
+        stop = put_back({s: h for s, h in before.items() if h is not None}) or came
         if stop is not None:
             raise stop
 
