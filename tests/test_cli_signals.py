@@ -28,6 +28,12 @@ from shared.errors import InvalidInputError
 
 #: The signals the CLI's handlers take over.
 STOPS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+#: Each signal, the exit code and what the CLI says of it.
+STOPPED = [
+    (signal.SIGTERM, 143, "armplan: terminated\n"),
+    (signal.SIGINT, 130, "armplan: interrupted\n"),
+    (signal.SIGHUP, 129, "armplan: hung up\n"),
+]
 
 
 @pytest.fixture
@@ -63,14 +69,7 @@ def _serializing(signum: signal.Signals) -> Any:
     return run
 
 
-@pytest.mark.parametrize(
-    ("signum", "code", "said"),
-    [
-        (signal.SIGTERM, 143, "armplan: terminated\n"),
-        (signal.SIGINT, 130, "armplan: interrupted\n"),
-        (signal.SIGHUP, 129, "armplan: hung up\n"),
-    ],
-)
+@pytest.mark.parametrize(("signum", "code", "said"), STOPPED)
 def test_a_signal_inside_a_serializer_is_reported_as_the_signal(
     handlers: None,
     capsys: pytest.CaptureFixture[str],
@@ -166,14 +165,7 @@ def _dropping(how: str, signum: signal.Signals) -> Callable[[], None]:
 
 
 @pytest.mark.parametrize("how", ["__del__", "weakref"])
-@pytest.mark.parametrize(
-    ("signum", "code", "said"),
-    [
-        (signal.SIGTERM, 143, "armplan: terminated\n"),
-        (signal.SIGINT, 130, "armplan: interrupted\n"),
-        (signal.SIGHUP, 129, "armplan: hung up\n"),
-    ],
-)
+@pytest.mark.parametrize(("signum", "code", "said"), STOPPED)
 def test_a_signal_landing_in_a_finalizer_still_stops_the_command(
     capsys: pytest.CaptureFixture[str],
     how: str,
