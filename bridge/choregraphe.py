@@ -163,7 +163,8 @@ def _tangent(side: str, handle: np.ndarray, ind: str) -> str:
 
 def _start_box(keys: TimelineKeys, indent: str) -> str:
     """The script box that brings the arm to the first key (``bridge.start_box``)."""
-    start = [float(keys.angles(name)[0]) for name in keys.names]
+    timeline = [keys.angles(name).tolist() for name in keys.names]
+    times = [keys.times(name).tolist() for name in keys.names]
     tip = "Moves the arm to the trajectory's start at 20 % of its speed limits."
     return (
         _box_head(
@@ -173,7 +174,7 @@ def _start_box(keys: TimelineKeys, indent: str) -> str:
             tip,
             'x="80" y="60"',
             indent,
-            start_script(keys.names, start),
+            start_script(keys.names, timeline, times),
         )
         + f"{indent}</Box>\n"
     )

@@ -69,10 +69,6 @@ SPEED = {speed!r}
 CONNECT_TIMEOUT, MARGIN, POLL = {connect_timeout!r}, {margin!r}, {poll!r}
 STOP_WAIT, STOP_PERIOD, STOP_SETTLE = {stop_wait!r}, {stop_period!r}, {stop_settle!r}
 MOVES = ("angleInterpolation", "stiffnessInterpolation")
-OTHER_ARM_ADVICE = (
-    "the plan did not keep clear of the other arm where the robot holds it: "
-    "move that arm, or plan again saying where it is (armplan plan --other-arm)"
-)
 HOST_CHARACTERS = (
     "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-"
 )

@@ -14,9 +14,10 @@ The other arm is not in the exported plan (a plan knows it only if its
 request gave ``other_arm``), so the scripts also carry that arm's chain:
 ``other_arm_parts(q)`` makes its capsules from the angles the robot
 measures when the script runs, and ``check_clear(..., others=...)`` keeps
-clear of them as of the body. ``play.py`` checks its trajectory and its
-move to the start so; the start box its move to the start (the timeline
-itself is Choregraphe's to play).
+clear of them as of the body (``OTHER_ARM_ADVICE`` says what to do when
+the plan does not). ``play.py`` checks its trajectory and its move to the
+start so; the start box its move to the start and the timeline's keys,
+before the timeline starts.
 """
 
 from __future__ import annotations
@@ -43,6 +44,10 @@ OTHER_POINTS = {other_points}
 ARM_PARTS = {parts}  # (part, from point, to point, radius [m])
 BODY = {body}  # (part, bottom [m], top [m], radius [m]) in the torso frame
 BODY_MARGIN = {margin!r}  # least distance kept between surfaces [m]
+OTHER_ARM_ADVICE = (
+    "the plan did not keep clear of the other arm where the robot holds it: "
+    "move that arm, or plan again saying where it is (armplan plan --other-arm)"
+)
 
 
 def _turn(axis, angle, vector):

@@ -13,7 +13,8 @@ start posture with ``ALMotion.angleInterpolation`` of minimum-jerk keys
 within ``START_SPEED`` of their speed, acceleration and jerk limits
 (``bridge.script_approach``, as ``play.py`` does; keys that would bring the
 arm near the body, or near the other arm where the robot measures it, are
-refused before anything moves), then, once the arm's
+refused before anything moves, and so is a timeline whose keys would: a plan
+made without ``other_arm`` knows nothing of that arm), then, once the arm's
 command is at the start (``check_arrived``: a move another client ended
 is refused), fires its ``onStopped`` output, linked to the timeline box's
 ``onStart``. Refused,
@@ -56,6 +57,8 @@ _SCRIPT = '''class MyClass(GeneratedClass):
         GeneratedClass.__init__(self)
         self.joint_names = {names}
         self.first_key = {start}  # the timeline's first key [rad]
+        self.timeline = {timeline}  # its keys: one list per joint [rad]
+        self.timeline_times = {timeline_times}  # theirs [s]
         self.stopping = False
         self.moving = False
 
@@ -75,6 +78,14 @@ _SCRIPT = '''class MyClass(GeneratedClass):
                 others = other_arm_parts(self.motion.getAngles(OTHER_JOINTS, True))
                 keys, times = approach_keys(
                     self.joint_names, now, self.first_key, {speed}, others
+                )
+                check_clear(
+                    self.joint_names,
+                    self.timeline,
+                    self.timeline_times,
+                    "the timeline",
+                    others,
+                    OTHER_ARM_ADVICE,
                 )
                 self.motion.angleInterpolation(self.joint_names, keys, times, True)
                 now = self.motion.getAngles(self.joint_names, False)
@@ -100,18 +111,32 @@ _SCRIPT = '''class MyClass(GeneratedClass):
 '''
 
 
-def start_script(names: Sequence[str], start: Sequence[float]) -> str:
-    """The box's Python: move ``names`` to ``start`` [rad], then ``onStopped``.
+def start_script(
+    names: Sequence[str],
+    timeline: Sequence[Sequence[float]],
+    times: Sequence[Sequence[float]],
+) -> str:
+    """The box's Python: move ``names`` to the timeline's start, then ``onStopped``.
 
-    Its ``onStop`` ends the move and keeps ``onStopped`` from firing. The
-    class is followed by the ``stiffen_where_it_is`` and ``approach_keys``
-    it calls (``bridge.script_stiffen``, ``bridge.script_approach``).
+    ``timeline``: the keys the timeline plays, one sequence per joint of
+    ``names`` [rad; a hand's open fraction], ``times`` theirs [s]; the
+    first key of each is the start. Its ``onStop`` ends the move and keeps
+    ``onStopped`` from firing. The class is followed by the
+    ``stiffen_where_it_is``, ``approach_keys`` and ``check_clear`` it calls
+    (``bridge.script_stiffen``, ``bridge.script_approach``).
     """
     box = _SCRIPT.format(
         names="[" + ", ".join(f'"{name}"' for name in names) + "]",
-        start="[" + ", ".join(repr(float(v)) for v in start) + "]",
+        start=_floats([joint[0] for joint in timeline]),
+        timeline="[" + ", ".join(_floats(joint) for joint in timeline) + "]",
+        timeline_times="[" + ", ".join(_floats(joint) for joint in times) + "]",
         speed=START_SPEED,
         period=STOP_PERIOD,
     )
     side = Side.LEFT if names[0].startswith("L") else Side.RIGHT
     return box + STIFFEN_SOURCE + approach_source(side)
+
+
+def _floats(values: Sequence[float]) -> str:
+    """``values`` as a Python list, each written in full."""
+    return "[" + ", ".join(repr(float(v)) for v in values) + "]"

@@ -622,6 +622,44 @@ def test_the_start_box_refuses_a_move_into_the_other_arm(tmp_path: Path) -> None
     assert _moves(log) > after_refusal
 
 
+def test_the_start_box_refuses_a_timeline_through_the_other_arm(
+    tmp_path: Path,
+) -> None:
+    """A plan made without ``other_arm`` passes through where the simulated
+    NAO holds its left arm; its start is clear of that arm. Exported as a
+    behavior, its start box raises naming the left arm and the timeline
+    before anything moves, and never fires ``onStopped`` (the timeline's
+    start). With the left arm at rest the same box moves to the start."""
+    arm = load_arm("right")
+    blind = plan(
+        PlanRequest(arm="right", start=START, targets=[{"position": TARGET}])
+    ).trajectory
+    parts = with_other_arm("right", LEFT_ACROSS)
+    assert closest(arm, blind.positions, parts).clearance < MARGIN
+    assert closest(arm, blind.positions[:1], parts).clearance >= MARGIN
+    xml = xml_of(blind, frames_from_trajectory(blind))
+    left = ["L" + name[1:] for name in blind.joint_names]
+    log = tmp_path / "sim.jsonl"
+    stopped: list[bool] = []
+    with SimProcess(log_path=log) as sim:
+        session = qi.Session()
+        session.connect(sim.url)
+        motion = session.service("ALMotion")
+        motion.angleInterpolationWithSpeed(left, LEFT_ACROSS, 0.5)
+        moved = _moves(log)
+        with pytest.raises(RuntimeError, match=r"NAO's left \w+") as refused:
+            script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
+        after_refusal = _moves(log)
+        motion.angleInterpolationWithSpeed(left, rest("left").tolist(), 0.5)
+        script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
+        session.close()
+    assert str(refused.value).startswith("the timeline would bring the right")
+    assert "armplan plan --other-arm" in str(refused.value)
+    assert after_refusal == moved
+    assert stopped == [True]  # only the second box reached the start
+    assert _moves(log) > after_refusal
+
+
 def _moves(log: Path) -> int:
     """angleInterpolation calls in the sim's log."""
     return sum(
