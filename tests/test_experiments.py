@@ -530,6 +530,29 @@ def test_similarity_options_out_of_range_are_clear_errors(
     assert_invalid_input(["experiment", "similarity", *option], message, capsys)
 
 
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [(["--samples", "2"], "need 11 to 10001 samples of normalised time, got 2"),
+     (["--mu", "-1"], "mu"),
+     (["--model", "absent-model.json"], "absent-model.json")],
+)  # fmt: skip
+def test_options_are_refused_before_the_demonstrations_are_read(
+    option: list[str], message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A bad option with demonstrations that do not exist: the option is
+    named, not the file (they were checked only after the demonstrations
+    were read or made: 9 s of synthesis for a typo)."""
+    missing = str(tmp_path / "absent.mcap")
+    out = tmp_path / "results"
+    code = main(
+        ["experiment", "similarity", "--demos", missing, *option, "--out", str(out)]
+    )
+    error = capsys.readouterr().err
+    assert code == 1
+    assert message in error and "absent.mcap" not in error
+    assert not out.exists()
+
+
 def test_synthetic_options_with_demonstration_files_are_clear_errors(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

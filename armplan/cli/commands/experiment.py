@@ -188,15 +188,18 @@ def _pace_parser(which: argparse._SubParsersAction) -> None:  # type: ignore[typ
 def run_similarity(args: argparse.Namespace) -> int:
     """Run the similarity experiment, write and print its results."""
     from armplan.experiments.nao_reach import PathSource
+    from armplan.experiments.normalised_time import tau_grid
     from armplan.experiments.similarity import Skipped
     from armplan.experiments.similarity import run_similarity as run
     from armplan.experiments.similarity_report import tables, write_report
     from armplan.experiments.similarity_summary import summary
 
-    demos, source = _demos(args)
+    # every option is checked before the demonstrations are read or made
+    tau_grid(args.samples)
     _output_folder(args.out)
     stages = _stages(args.model)
     measures = measures_from_args(args, stages.decider.model.measures())
+    demos, source = _demos(args)
     skipped: list[Skipped] = []
     with _progress(args.json) as progress:
         task = progress.add_task("planning the reaches", total=None)
