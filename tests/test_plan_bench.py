@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
@@ -52,18 +51,6 @@ def test_figures_of_a_short_reach() -> None:
     assert figures["plan_points"] == cost.points == cost.parts.points
     assert figures["ikpy_reached_fraction"] > 0.9
     assert cost.plans.keys() == {"mp", "least-norm", "single"}
-
-
-def test_bench_json_holds_both_benchmarks(capsys: pytest.CaptureFixture[str]) -> None:
-    """armplan bench --no-services --json on a tiny configuration: the IK
-    figures and the planning figures, ratios positive."""
-    tiny = ["--targets", "1", "--repeats", "1", "--no-services", "--json"]
-    assert main(["bench", *tiny]) == 0
-    figures = json.loads(capsys.readouterr().out)
-    assert figures["speedup_vs_slsqp"] > 0.0
-    for key in RATIOS:
-        assert figures[key] > 0.0, key
-    assert figures["plan_points"] > 90  # the one-second reach at 100 Hz
 
 
 def test_bad_counts_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
