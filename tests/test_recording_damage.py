@@ -1,7 +1,8 @@
 """Damaged MCAP files: a clear RecordingError or the readable prefix, nothing else.
 
-Every truncation length of a small live file and of a chunked one, and
-seeded random corruption, is read back: without ``recover`` the reader
+Truncations of a small live file and of a chunked one (at every byte near
+each record's boundaries, every ``STRIDE``-th byte inside a record), and
+seeded random corruption, are read back: without ``recover`` the reader
 returns every message or raises ``RecordingError``; with ``recover`` it
 returns a prefix of the messages written. Any other exception fails.
 """
@@ -22,6 +23,35 @@ from shared.recording.metadata import read_metadata
 from shared.recording.reader import MAGIC, Recording
 
 N = 12
+#: Cuts at every byte this near a record's start or end [bytes]: its opcode,
+#: its length field and the first bytes of its content.
+NEAR = 24
+#: Cuts every this many bytes inside a record (most of one file is the
+#: message schema, where each cut is alike) [bytes].
+STRIDE = 31
+
+
+def record_bounds(data: bytes) -> list[int]:
+    """Where each MCAP record of ``data`` starts, and where the file ends.
+
+    A record is an opcode (1 byte), a content length (8 bytes, little
+    endian) and the content, after the 8-byte magic.
+    """
+    bounds, at = [len(MAGIC)], len(MAGIC)
+    while at + 9 <= len(data) - len(MAGIC):
+        at += 9 + int.from_bytes(data[at + 1 : at + 9], "little")
+        bounds.append(at)
+    return [*bounds, len(data)]
+
+
+def cut_lengths(data: bytes) -> list[int]:
+    """The truncation lengths tried: every byte near a boundary, a stride inside."""
+    near = {b + d for b in record_bounds(data) for d in range(-NEAR, NEAR + 1)}
+    return sorted(
+        length
+        for length in near | set(range(1, len(data), STRIDE)) | set(range(1, 16))
+        if 1 <= length < len(data)
+    )
 
 
 def write(path: Path, chunked: bool) -> list[bytes]:
@@ -57,11 +87,12 @@ def original(
 def test_every_truncation_reads_a_prefix_or_fails_clearly(
     original: tuple[bytes, list[bytes]], tmp_path: Path
 ) -> None:
-    """Cut at every byte: a prefix with recover, else all of it or RecordingError;
+    """Cut anywhere: a prefix with recover, else all of it or RecordingError;
     cut inside the magic, nothing was recorded: an error even with recover."""
     data, messages = original
     path = tmp_path / "cut.mcap"
-    for length in range(1, len(data)):
+    assert record_bounds(data)[-2] == len(data) - len(MAGIC)  # the footer's end
+    for length in cut_lengths(data):
         path.write_bytes(data[:length])
         if length < len(MAGIC):
             with pytest.raises(RecordingError, match="ends inside the MCAP magic"):
