@@ -7,6 +7,9 @@ process; tests/test_services_ik.py runs them as separate processes.
 from __future__ import annotations
 
 import dataclasses
+import signal
+import subprocess
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -314,6 +317,42 @@ def test_a_call_waiting_when_the_router_goes_is_told_at_once() -> None:
         with pytest.raises(ServiceUnavailableError, match="connection"):
             waiting.result(timeout=10.0)
         assert time.monotonic() - closed < 5.0
+
+
+def test_a_router_slow_to_answer_does_not_make_a_live_service_absent() -> None:
+    """The router (its own process) paused 1.2 s as a call asks it whether
+    the service's token is there, as a loaded machine delays it: the call
+    waits for the answer and gets the service's reply. It waited 0.5 s, and
+    a fresh-clone CI run told a live service "no liveliness token"."""
+    config = BusConfig(endpoints=(free_endpoint(),), namespace="test")
+    router = subprocess.Popen(
+        [sys.executable, "-m", "shared.bus.router", "--listen", config.endpoint],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        with (
+            Bus.connect(config, wait=30.0) as service_bus,
+            Swallower(service_bus, LOSSY_ONCE_ONLY, lose=0) as served,
+            Bus.connect(config, wait=30.0) as client,  # its token not yet seen
+            ThreadPoolExecutor(1) as pool,
+        ):
+            # the router has the token; the client, connected after it was
+            # declared, has not seen it: its call must ask the router
+            assert service_bus.wait_alive(["lossy"], 10.0) == []
+            router.send_signal(signal.SIGSTOP)
+            try:
+                call = pool.submit(
+                    client.call, LOSSY_ONCE_ONLY, Text(text="x"), timeout=20.0
+                )
+                time.sleep(1.2)
+            finally:
+                router.send_signal(signal.SIGCONT)
+            assert call.result(timeout=30.0).text == "answered"
+            assert served.count == 1
+    finally:
+        router.terminate()
+        router.wait(30)
 
 
 def test_a_lost_query_of_a_repeatable_route_is_asked_again(

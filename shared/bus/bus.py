@@ -27,7 +27,7 @@ from shared.bus.config import BusConfig
 from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, not_alive_error
 from shared.bus.gone_callers import GoneCallers
 from shared.bus.keys import caller_key, service_key
-from shared.bus.liveness import AliveServices, list_alive
+from shared.bus.liveness import QUERY_TIMEOUT, AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
 from shared.bus.topics import droppable
@@ -198,9 +198,13 @@ class Bus(Closes):
         """Whether ``service`` holds its liveliness token (cached; fast)."""
         return self._alive.is_alive(service)
 
-    def alive(self) -> list[str]:
-        """Names of the services running now, sorted."""
-        return list_alive(self.session, self.config.namespace)
+    def alive(self, timeout: float = QUERY_TIMEOUT) -> list[str]:
+        """Names of the services running now, sorted.
+
+        Args:
+            timeout: Longest wait for the router's answer [s].
+        """
+        return list_alive(self.session, self.config.namespace, timeout)
 
     def wait_alive(
         self,
@@ -221,7 +225,8 @@ class Bus(Closes):
         stop = stop or threading.Event()
         deadline = time.monotonic() + timeout
         while True:
-            missing = sorted(set(services) - set(self.alive()))
+            left = max(deadline - time.monotonic(), WAIT_POLL)
+            missing = sorted(set(services) - set(self.alive(min(QUERY_TIMEOUT, left))))
             if not missing or time.monotonic() >= deadline or stop.is_set():
                 return missing
             stop.wait(min(WAIT_POLL, max(deadline - time.monotonic(), 0.0)))
