@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pathlib
 import subprocess
-import sys
 
 ROOT = pathlib.Path(__file__).parent.parent
 
@@ -39,20 +38,3 @@ def test_ci_runs_the_readme_test_command() -> None:
         check=True,
     )
     assert out.stdout.strip() == _readme_commands()[1]
-
-
-def test_bench_reports_its_figures_beside_the_peer() -> None:
-    """armplan bench runs on a small set and reports ours, the peer and the ratio."""
-    import json
-
-    small = ["--targets", "3", "--no-services", "--repeats", "3", "--json"]
-    out = subprocess.run(
-        [sys.executable, "-m", "armplan", "bench", *small],
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
-    assert out.returncode == 0, out.stderr
-    figures = json.loads(out.stdout)
-    assert figures["speedup_vs_slsqp"] > 0 and figures["ik_reached_fraction"] == 1.0
