@@ -6,7 +6,7 @@ import re
 import threading
 import time
 import xml.etree.ElementTree as ET
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -601,25 +601,8 @@ def test_the_start_box_refuses_a_move_into_the_other_arm(tmp_path: Path) -> None
     assert closest(arm, [key]).clearance >= MARGIN  # clear of the body alone
     trajectory = minimum_jerk_trajectory("right", [key, key], [0.6])
     xml = xml_of(trajectory, frames_from_trajectory(trajectory))
-    left = ["L" + name[1:] for name in trajectory.joint_names]
-    log = tmp_path / "sim.jsonl"
-    stopped: list[bool] = []
-    with SimProcess(log_path=log) as sim:
-        session = qi.Session()
-        session.connect(sim.url)
-        motion = session.service("ALMotion")
-        motion.angleInterpolationWithSpeed(left, LEFT_ACROSS, 0.5)
-        moved = _moves(log)
-        with pytest.raises(RuntimeError, match=r"NAO's left \w+") as refused:
-            script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
-        after_refusal = _moves(log)
-        motion.angleInterpolationWithSpeed(left, rest("left").tolist(), 0.5)
-        script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
-        session.close()
-    assert "the move to the start would bring the right" in str(refused.value)
-    assert after_refusal == moved
-    assert stopped == [True]  # only the second box reached the start
-    assert _moves(log) > after_refusal
+    refused = _beside_the_left_arm(xml, trajectory.joint_names, tmp_path)
+    assert "the move to the start would bring the right" in refused
 
 
 def test_the_start_box_refuses_a_timeline_through_the_other_arm(
@@ -638,7 +621,20 @@ def test_the_start_box_refuses_a_timeline_through_the_other_arm(
     assert closest(arm, blind.positions, parts).clearance < MARGIN
     assert closest(arm, blind.positions[:1], parts).clearance >= MARGIN
     xml = xml_of(blind, frames_from_trajectory(blind))
-    left = ["L" + name[1:] for name in blind.joint_names]
+    refused = _beside_the_left_arm(xml, blind.joint_names, tmp_path)
+    assert refused.startswith("the timeline would bring the right")
+    assert "armplan plan --other-arm" in refused
+
+
+def _beside_the_left_arm(xml: str, names: Sequence[str], tmp_path: Path) -> str:
+    """Run the start box of ``xml`` (for the right arm's ``names``) on the
+    simulated NAO with its left arm held across, then at rest.
+
+    Asserts that the first box is refused naming the left arm with nothing
+    sent, and that the second moves and fires ``onStopped``, alone of the
+    two. Returns the refusal's message.
+    """
+    left = ["L" + name[1:] for name in names]
     log = tmp_path / "sim.jsonl"
     stopped: list[bool] = []
     with SimProcess(log_path=log) as sim:
@@ -653,11 +649,10 @@ def test_the_start_box_refuses_a_timeline_through_the_other_arm(
         motion.angleInterpolationWithSpeed(left, rest("left").tolist(), 0.5)
         script_box(xml, session, lambda: stopped.append(True)).onInput_onStart()
         session.close()
-    assert str(refused.value).startswith("the timeline would bring the right")
-    assert "armplan plan --other-arm" in str(refused.value)
     assert after_refusal == moved
     assert stopped == [True]  # only the second box reached the start
     assert _moves(log) > after_refusal
+    return str(refused.value)
 
 
 def _moves(log: Path) -> int:
