@@ -30,7 +30,7 @@ from services.recorder.arguments import (
 from services.recorder.service import NAME, Recorder
 from shared.bus import Bus
 from shared.bus.options import add_connect_options, add_router_wait_option
-from shared.bus.process import add_common_arguments, start_process
+from shared.bus.process import add_common_arguments, freeze_set_up, start_process
 from shared.bus.process_config import process_config
 from shared.command_line import ArgumentParser
 from shared.errors import ArmplanError, ServiceUnavailableError
@@ -58,6 +58,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             keys = " ".join(rec.keys)
             sys.stdout.write(f"{READY_PREFIX}{keys} to {rec.sink.paths[0]}\n")
             sys.stdout.flush()
+            freeze_set_up()
             rec.wait(stop)
     except ArmplanError as error:
         if stop.is_set() and isinstance(error, ServiceUnavailableError):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import gc
 import logging
 import sys
 import threading
@@ -34,9 +35,29 @@ def start_process(level: str = "INFO") -> threading.Event:
 
 
 def wait_for(stop: threading.Event) -> None:
-    """Block until ``stop`` is set (signals stay responsive)."""
+    """Block until ``stop`` is set (signals stay responsive).
+
+    Called once the process has set up: what it made until then is frozen
+    first (:func:`freeze_set_up`).
+    """
+    freeze_set_up()
     while not stop.wait(POLL):
         pass
+
+
+def freeze_set_up() -> None:
+    """Keep what the process made so far out of the garbage collector's scans.
+
+    A service's imports and set-up (numpy, pinocchio, pydantic's schemas,
+    the motion model, the Zenoh session) leave about 90 000 objects that
+    live as long as the process. CPython's first full collection scans
+    them all: 64-80 ms, measured in a planner process around its 25th
+    one-second reach, a hitch in a 20 ms plan. Frozen (``gc.freeze``), they
+    are never scanned again; what the process makes later still is, and
+    cycles among it are still collected.
+    """
+    gc.collect()
+    gc.freeze()
 
 
 def add_common_arguments(parser: argparse.ArgumentParser) -> None:

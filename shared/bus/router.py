@@ -23,7 +23,12 @@ from datetime import UTC, datetime
 
 from shared.bus.certificate_watch import CHECK_EVERY, watch_certificate
 from shared.bus.config_file import load_config
-from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.process import (
+    add_common_arguments,
+    freeze_set_up,
+    start_process,
+    wait_for,
+)
 from shared.bus.secured import secured_settings
 from shared.bus.session import open_router
 from shared.bus.zenoh_log import start_zenoh_log
@@ -46,6 +51,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             if watch is None:
                 wait_for(stop)
             else:
+                freeze_set_up()
                 watch.wait(stop, args.check_certificate_every)
     except ArmplanError as error:
         log.error("router: %s", error.message)
