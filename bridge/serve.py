@@ -40,7 +40,12 @@ from bridge.robot_bridge import RobotBridge
 from bridge.service import BridgeService
 from shared.bus import Bus, ServiceHost
 from shared.bus.options import add_connect_options, add_router_wait_option
-from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.process import (
+    add_common_arguments,
+    freeze_set_up,
+    start_process,
+    wait_for,
+)
 from shared.bus.process_config import process_config
 from shared.bus.robot_routes import BRIDGE
 from shared.command_line import ArgumentParser
@@ -103,6 +108,7 @@ def run(args: argparse.Namespace) -> None:
             )
             service = BridgeService(bus, bridge)
             follower = TrajectoryFollower(service, args.rate) if args.follow else None
+            freeze_set_up()  # before the token: no caller waits for it
             with ServiceHost(bus, BRIDGE, service.endpoints()):
                 log.info("bridge: robot at %s", url)
                 if follower is not None:

@@ -38,7 +38,8 @@ def wait_for(stop: threading.Event) -> None:
     """Block until ``stop`` is set (signals stay responsive).
 
     Called once the process has set up: what it made until then is frozen
-    first (:func:`freeze_set_up`).
+    first (:func:`freeze_set_up`; the services and the bridge have frozen
+    already, before their liveliness token, and this finds little new).
     """
     freeze_set_up()
     while not stop.wait(POLL):

@@ -21,7 +21,12 @@ from typing import Any, NamedTuple
 
 from shared.bus.bus import Bus
 from shared.bus.options import add_connect_options, add_router_wait_option
-from shared.bus.process import add_common_arguments, start_process, wait_for
+from shared.bus.process import (
+    add_common_arguments,
+    freeze_set_up,
+    start_process,
+    wait_for,
+)
 from shared.bus.process_config import process_config
 from shared.bus.route import Endpoint
 from shared.bus.service import ServiceHost
@@ -98,6 +103,7 @@ def serve(
             check_alone(bus, name)
             built = factory(bus)
             served = built if isinstance(built, Served) else Served(built)
+            freeze_set_up()  # before the token: no caller waits for it
             try:
                 with ServiceHost(bus, name, served.endpoints, served.ready):
                     wait_for(stop)
