@@ -24,7 +24,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import least_squares  # type: ignore[import-untyped]
 
 from shared.errors import InvalidInputError
 from shared.robot.arm_model import ArmModel
@@ -76,6 +75,11 @@ def joints_from_points(
         return np.vstack(
             [arm.jacobian(posture, point)[:, ARM] for point in ("elbow", "wrist")]
         )
+
+    # Imported here: scipy.optimize takes about 0.6 s to import, and the IK
+    # (``armplan ik``, the ik service) imports this module for its elbow
+    # turns, which mostly have a closed form.
+    from scipy.optimize import least_squares  # type: ignore[import-untyped]
 
     fit = least_squares(
         point_error,
