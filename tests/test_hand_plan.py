@@ -9,7 +9,7 @@ import pytest
 
 from armplan.cli.main import main
 from services.planner.pipeline import plan
-from services.planner.stages import timing
+from services.planner.timing_stage import timing
 from services.timing import check_limits
 from services.timing.hand import hand_duration
 from shared.messages import PlanRequest, ReachTarget, TimingRequest, Trajectory, parse

@@ -483,7 +483,7 @@ def test_the_timing_stage_refuses_what_no_robot_could_take() -> None:
     """Asked directly (as the timing service is), a 600 s movement at 1000 Hz
     is refused before any timing (it made 600 001 samples, 218 MB), and a
     joint path naming other joints than the arm's is refused, naming them."""
-    from services.planner.stages import timing
+    from services.planner.timing_stage import timing
     from shared.errors import InvalidInputError
     from shared.messages import TimingRequest, TimingSegment
 

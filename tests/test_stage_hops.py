@@ -6,7 +6,7 @@ import pytest
 
 from armplan.bench.service_latency import one_second_reach
 from armplan.bench.stage_hops import STAGES, stage_requests
-from services.planner import stages
+from services.planner import stages, timing_stage
 from services.planner.pipeline import plan
 from shared.messages import Decision, JointPath, PlanRequest
 
@@ -24,7 +24,7 @@ def test_the_three_requests_replayed_give_the_plan_itself() -> None:
     joint_path = stages.path_ik(sent["ik"])  # type: ignore[arg-type]
     assert isinstance(joint_path, JointPath)
     assert sent["timing"].segments[0].joint_path == joint_path  # type: ignore[attr-defined]
-    trajectory = stages.timing(sent["timing"])  # type: ignore[arg-type]
+    trajectory = timing_stage.timing(sent["timing"])  # type: ignore[arg-type]
     planned = plan(request)
     assert trajectory.point_times == [planned.decisions[0].trajectory_times]
     plain = trajectory.model_copy(update={"point_times": None})

@@ -35,7 +35,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from armplan.bench.timer import Timing, time_rounds
-from services.planner import stages
+from services.planner import stages, timing_stage
 from services.planner.keeping_stages import KeepingStages
 from services.planner.pipeline import plan
 from shared.bus import Bus, Route
@@ -104,7 +104,7 @@ def _here(name: str, request: Any) -> Callable[[], object]:
         return partial(stages.decide, stages.default_decider(), request)
     if name == "ik":
         return partial(stages.path_ik, request)
-    return partial(stages.timing, request)
+    return partial(timing_stage.timing, request)
 
 
 def steps(rounds: int) -> int:

@@ -43,7 +43,6 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from scipy.optimize import nnls  # type: ignore[import-untyped]
 
 from services.ik.kernel.chain import Chain, chain_for
 from services.ik.measures.tpe import TotalPotentialEnergy
@@ -108,6 +107,11 @@ def regress(rows: np.ndarray, oriented: bool) -> FittedWeights:
 
     Each row is one null direction's components of the three gradients.
     """
+    # Imported here: scipy.optimize takes about 0.6 s to import, and every
+    # process that reads a motion model imports this package; only a fit
+    # regresses.
+    from scipy.optimize import nnls  # type: ignore[import-untyped]
+
     gravity = rows[:, 0]
     columns = rows[:, 1:3] if oriented else rows[:, 1:2]
     weights, residual = nnls(columns, -gravity)

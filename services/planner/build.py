@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -10,9 +11,12 @@ from services.ik.kernel.chain import chain_for
 from services.ik.palm_reached import palm_reached
 from services.ik.track import TrackedPath
 from services.ik.wrists import wrist_positions
-from services.timing import TimedTrajectory
 from shared.messages import JointPath, Method, PalmReached, Trajectory
 from shared.robot.arm_model import ArmModel
+
+if TYPE_CHECKING:  # the timing package loads scipy.interpolate (about 0.7 s),
+    # which the IK and decide services, importing this module, never use
+    from services.timing import TimedTrajectory
 
 
 def joint_path_message(

@@ -3,7 +3,7 @@
 Keys (namespace ``armplan`` by default):
     ``armplan/timing``  TimingRequest -> Trajectory (``shared.bus.routes.TIMING``)
 
-The handler is the planner's timing stage (``services.planner.stages.timing``):
+The handler is the planner's timing stage (``services.planner.timing_stage.timing``):
 a task's joint paths, each at its wanted duration, as one jerk-limited
 trajectory within the arm's limits. Run it with ``python -m services.timing``
 (``armplan up`` does).
@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from services.planner.stages import timing
+from services.planner.timing_stage import timing
 from shared.bus import Bus, Endpoint
 from shared.bus.routes import TIMING
 from shared.messages import TimingRequest, Trajectory

@@ -40,7 +40,7 @@ IK_PATH = Route("ik", "ik/path", PathIKRequest, JointPath, repeatable=True)
 PLAN = Route("planner", "plan", PlanRequest, Trajectory)
 #: Motion decision along a wrist path (``services.planner.stages.decide``).
 DECIDE = Route("decide", "decide", DecideRequest, Decision, repeatable=True)
-#: Ruckig time-parameterisation of a task's joint paths (``stages.timing``).
+#: Ruckig time-parameterisation of a task's joint paths (``timing_stage.timing``).
 TIMING = Route("timing", "timing", TimingRequest, Trajectory, repeatable=True)
 #: The motion model the fit service serves now.
 FIT_MODEL = Route("fit", "fit/model", NoArguments, MotionModel, repeatable=True)
