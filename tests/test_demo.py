@@ -27,6 +27,7 @@ from typing import Any, NamedTuple
 import numpy as np
 import pytest
 from frame_chain import chain_poses
+from hang_report import hang_report
 
 from armplan.demo import DEFAULT_TASK, DemoOptions, load_task, run_demo
 from armplan.demo.folder_claim import CLAIM_FILE, claimed_folder
@@ -105,6 +106,9 @@ class Demo:
             stderr=subprocess.PIPE,
             text=True,
         )
+        out = Path(args[args.index("--out") + 1]) if "--out" in args else None
+        #: Where its processes log (``--out``'s ``logs``), for a hang's report.
+        self.logs = None if out is None else (cwd or Path.cwd()) / out / "logs"
         self.lines: queue.Queue[str] = queue.Queue()
         self.errors: list[str] = []
         self.seen: set[tuple[int, str]] = set()
@@ -148,9 +152,20 @@ class Demo:
         raise AssertionError(f"no line {start!r} in {timeout} s: {read}")
 
     def finish(self, timeout: float) -> tuple[int, list[str], str]:
-        """Exit code, remaining stdout lines and stderr once it has exited."""
+        """Exit code, remaining stdout lines and stderr once it has exited.
+
+        Raises:
+            AssertionError: it did not exit within ``timeout`` [s]; the
+                message is :func:`hang_report`'s, taken before the kill.
+        """
         try:
             self.process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            logs = [] if self.logs is None else list(self.logs.glob("*.log"))
+            report = hang_report(self.process.pid, logs, "".join(self.errors))
+            raise AssertionError(
+                f"the demo did not exit within {timeout} s\n{report}"
+            ) from None
         finally:
             self._done.set()
             if self.process.poll() is None:
