@@ -319,11 +319,15 @@ def test_a_call_waiting_when_the_router_goes_is_told_at_once() -> None:
         assert time.monotonic() - closed < 5.0
 
 
-def test_a_router_slow_to_answer_does_not_make_a_live_service_absent() -> None:
-    """The router (its own process) paused 1.2 s as a call asks it whether
-    the service's token is there, as a loaded machine delays it: the call
-    waits for the answer and gets the service's reply. It waited 0.5 s, and
-    a fresh-clone CI run told a live service "no liveliness token"."""
+def _call_through_a_paused_router(timeout: float) -> tuple[Any, int]:
+    """A new client's call of a live service, its router (its own process)
+    paused 1.2 s with SIGSTOP as the call asks it whether the service's token
+    is there, as a loaded machine delays it.
+
+    Returns:
+        The call's reply, or the exception it raised; and how many requests
+        the service received.
+    """
     config = BusConfig(endpoints=(free_endpoint(),), namespace="test")
     router = subprocess.Popen(
         [sys.executable, "-m", "shared.bus.router", "--listen", config.endpoint],
@@ -343,16 +347,36 @@ def test_a_router_slow_to_answer_does_not_make_a_live_service_absent() -> None:
             router.send_signal(signal.SIGSTOP)
             try:
                 call = pool.submit(
-                    client.call, LOSSY_ONCE_ONLY, Text(text="x"), timeout=20.0
+                    client.call, LOSSY_ONCE_ONLY, Text(text="x"), timeout=timeout
                 )
                 time.sleep(1.2)
             finally:
                 router.send_signal(signal.SIGCONT)
-            assert call.result(timeout=30.0).text == "answered"
-            assert served.count == 1
+            error = call.exception(timeout=30.0)
+            return (call.result() if error is None else error), served.count
     finally:
         router.terminate()
         router.wait(30)
+
+
+def test_a_router_slow_to_answer_does_not_make_a_live_service_absent() -> None:
+    """The call waits for the paused router's answer and gets the service's
+    reply. It waited 0.5 s, and a fresh-clone CI run told a live service "no
+    liveliness token"."""
+    reply, served = _call_through_a_paused_router(timeout=20.0)
+    assert reply.text == "answered"
+    assert served == 1
+
+
+def test_a_call_whose_time_runs_out_asking_the_router_is_a_timeout() -> None:
+    """A call of 0.5 s whose time runs out while the paused router has not
+    said whether the service's token is there: a timeout (a longer wait
+    would do), not "no liveliness token"; CI saw `armplan fit --timeout
+    0.001` told the fit service was not running."""
+    error, served = _call_through_a_paused_router(timeout=0.5)
+    assert isinstance(error, RequestTimeoutError), error
+    assert "did not answer test/test/lossy within 0.500 s" in str(error)
+    assert served == 0
 
 
 def test_a_lost_query_of_a_repeatable_route_is_asked_again(

@@ -146,6 +146,11 @@ def answered(
     key = route.key(namespace)
     start = time.monotonic()
     if not unseen and not alive.is_alive(route.service, min(QUERY_TIMEOUT, timeout)):
+        if timeout < QUERY_TIMEOUT and time.monotonic() - start >= 0.9 * timeout:
+            # the router's answer did not come within the call's own time: a
+            # timed-out liveliness query reads as no token, yet nothing was
+            # learnt (--timeout 0.001 on a loaded machine was told "absent")
+            raise RequestTimeoutError(route.service, key=key, timeout=timeout)
         raise _absent(session, namespace, route, start + timeout)
     repeatable = route.repeatable if repeat is None else repeat
     resend = resend_after if repeatable else None
