@@ -348,32 +348,44 @@ def gripper_track(path: Path, topic: str) -> tuple[np.ndarray, np.ndarray]:
     return np.array(stamps), np.array(points)
 
 
+#: Lags of the executed track behind another one tried [ns]: -300 to 300 ms.
+LAGS = np.arange(-300, 301, 5) * 1_000_000
+
+
+def median_gaps(path: Path, topic: str) -> np.ndarray:
+    """Median gap [m] between /tf/executed and ``topic``'s gripper, read at
+    each state's stamp minus each of :data:`LAGS`; shape (len(LAGS),)."""
+    executed_at, executed = gripper_track(path, "/tf/executed")
+    stamps, points = gripper_track(path, topic)
+    inside = (executed_at >= stamps[0] + 300_000_000) & (
+        executed_at <= stamps[-1] - 300_000_000
+    )
+    assert inside.sum() > 100, topic
+    gaps = []
+    for lag in LAGS:
+        at = executed_at[inside] - lag
+        other = np.stack([np.interp(at, stamps, points[:, k]) for k in range(3)], 1)
+        gaps.append(np.median(np.linalg.norm(other - executed[inside], axis=1)))
+    return np.array(gaps)
+
+
 def test_the_commanded_arm_overlays_the_executed_one(finished: Finished) -> None:
     """In Foxglove, /tf/commanded (the bridge's frames, from when the movement
     starts: one pose per frame and the start) and /tf/executed (the measured
-    states) are on the robot's clock: each state's gripper is a few mm from
-    the commanded one at its stamp (the command between two frames, 40 ms
-    apart, read on the line between them: the next frame, as this test took
-    before, leads the state by up to a frame; in one unloaded run here the
-    median gap was 3.2 mm that way and 2.3 mm on the line, and on a loaded
-    machine the next frame's read 5.3 and 6.3 mm). /tf/planned runs
-    earlier, by the time between plan and play, and is far off at the same
-    stamps."""
+    states) are on one clock: the executed gripper follows the commanded one
+    within 0.2 mm (median) once the robot's delay is allowed for, and that
+    delay is short: the sim's 20 ms cycle in an unloaded run here, 75 ms in a
+    loaded CI run (whose median gap at no delay, 5.2 mm, failed a 5 mm bound
+    this test had). /tf/planned runs earlier, by the time between plan and
+    play: no delay within 300 ms brings it within 5 cm."""
     path = finished.out / "session.mcap"
     (frames,) = read_records(path, topics=["armplan/bridge/frames"])
-    executed_at, executed = gripper_track(path, "/tf/executed")
-    median_gap = {}
-    for topic in ("/tf/commanded", "/tf/planned"):
-        stamps, points = gripper_track(path, topic)
-        inside = (executed_at >= stamps[0]) & (executed_at <= stamps[-1])
-        assert inside.sum() > 100, topic
-        at = executed_at[inside]
-        commanded = np.stack([np.interp(at, stamps, points[:, k]) for k in range(3)], 1)
-        gaps = np.linalg.norm(commanded - executed[inside], axis=1)
-        median_gap[topic] = float(np.median(gaps))
     assert len(gripper_track(path, "/tf/commanded")[0]) == len(frames.data["times"]) + 1
-    assert median_gap["/tf/commanded"] < 0.005, median_gap  # [m]
-    assert median_gap["/tf/planned"] > 0.05, median_gap
+    commanded = median_gaps(path, "/tf/commanded")
+    best = int(np.argmin(commanded))
+    assert commanded[best] < 0.001, (LAGS[best], commanded[best])  # [m]
+    assert -40_000_000 <= LAGS[best] <= 200_000_000, (LAGS[best], commanded[best])
+    assert median_gaps(path, "/tf/planned").min() > 0.05
 
 
 def test_ctrl_c_stops_everything(tmp_path: Path) -> None:
