@@ -27,6 +27,7 @@ from shared.bus.config import BusConfig
 from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, not_alive_error
 from shared.bus.gone_callers import GoneCallers
 from shared.bus.keys import caller_key, service_key
+from shared.bus.left_open import released
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
@@ -76,7 +77,13 @@ class Bus(Closes):
             ServiceUnavailableError: naming the router's endpoints if none
                 answers, or if ``stop`` was set before one did.
         """
-        return cls(open_client(config, wait, stop), config)
+        session = open_client(config, wait, stop)
+        try:
+            return cls(session, config)
+        except BaseException:  # Ctrl-C too: nothing else would close it
+            session.close()  # type: ignore[no-untyped-call]
+            released(session)
+            raise
 
     def key(self, path: str) -> str:
         """The full key of ``path``, e.g. ``armplan/plan/trajectory``."""
@@ -266,4 +273,5 @@ class Bus(Closes):
                 self._gone.close()
         self._caller.undeclare()  # type: ignore[no-untyped-call]
         self.session.close()  # type: ignore[no-untyped-call]
+        released(self.session)
         join_forwarders(self.session, FORWARDERS_GRACE)

@@ -13,6 +13,7 @@ import time
 import zenoh
 
 from shared.bus.config import BusConfig
+from shared.bus.left_open import held
 from shared.bus.named_files import check_named_files
 from shared.bus.secured import secured_settings
 from shared.bus.zenoh_config import client_config, router_config
@@ -45,7 +46,7 @@ def open_client(
     deadline = time.monotonic() + wait
     while True:
         try:
-            return zenoh.open(client_config(config))
+            return held(zenoh.open(client_config(config)))  # see left_open
         except zenoh.ZError as error:
             if time.monotonic() + RETRY_EVERY > deadline or stop.wait(RETRY_EVERY):
                 raise ServiceUnavailableError(
