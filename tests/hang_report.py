@@ -29,9 +29,9 @@ def hang_report(root: int, logs: Iterable[Path] = (), stderr: str = "") -> str:
     Args:
         root: The PID waited for (still running).
         logs: Files whose tails to add (e.g. the demo's ``logs/*.log``).
-        stderr: What ``root`` wrote on stderr so far.
+        stderr: What ``root`` wrote on stderr so far (left out if empty).
     """
-    parts = [f"--- stderr of {root} (tail) ---\n{stderr[-TAIL:]}"]
+    parts = [f"--- stderr of {root} (tail) ---\n{stderr[-TAIL:]}"] if stderr else []
     for pid in [root, *sorted(_below(root))]:
         command = _command(pid)
         if command is None:

@@ -53,9 +53,11 @@ def test_a_report_names_every_process_its_stack_and_the_logs(tmp_path: Path) -> 
 
 
 def test_a_process_gone_is_left_out(tmp_path: Path) -> None:
-    """A PID that no longer runs gives only the stderr part, no process."""
+    """A PID that no longer runs gives no process part; no stderr given, no
+    stderr part; a log that cannot be read says so."""
     gone = subprocess.Popen([sys.executable, "-c", "pass"])
     gone.wait(10)
     report = hang_report(gone.pid, [tmp_path / "missing.log"])
     assert "--- process" not in report
+    assert "--- stderr" not in report
     assert "unreadable" in report
