@@ -27,7 +27,7 @@ from shared.bus.config import BusConfig
 from shared.bus.elsewhere import HINT_TIMEOUT, alive_elsewhere, not_alive_error
 from shared.bus.gone_callers import GoneCallers
 from shared.bus.keys import caller_key, service_key
-from shared.bus.left_open import released
+from shared.bus.left_open import close as close_session
 from shared.bus.liveness import QUERY_TIMEOUT, AliveServices, list_alive
 from shared.bus.route import Rep, Req, Route
 from shared.bus.session import open_client
@@ -81,8 +81,7 @@ class Bus(Closes):
         try:
             return cls(session, config)
         except BaseException:  # Ctrl-C too: nothing else would close it
-            session.close()  # type: ignore[no-untyped-call]
-            released(session)
+            close_session(session)
             raise
 
     def key(self, path: str) -> str:
@@ -272,6 +271,5 @@ class Bus(Closes):
             if self._gone is not None:
                 self._gone.close()
         self._caller.undeclare()  # type: ignore[no-untyped-call]
-        self.session.close()  # type: ignore[no-untyped-call]
-        released(self.session)
+        close_session(self.session)
         join_forwarders(self.session, FORWARDERS_GRACE)

@@ -5,12 +5,13 @@ liveliness tokens so) gets a reader thread from zenoh-python, not a daemon,
 that ends only when its session closes; and Python waits for every such
 thread before it exits. A session left open so hung its process at exit for
 ever: a script that opened a ``Bus`` and ended without closing it ran until
-killed. A demo reached by SIGTERM just as it connected did so in one CI run:
-the signal's exception came out after the session had opened and before the
-``with`` block held it, so no one closed it.
+killed. So did ``armplan demo`` sent SIGTERM just as it connected to plan
+(1 run in 40 here): the signal's exception came out after the session had
+opened and before the ``with`` block held it, so no one closed it; a demo
+in one CI run did not exit within 90 s of SIGTERM, likely so.
 
 :func:`held` records a session as it opens, before anything is declared on
-it; :func:`released` forgets it once closed. What is still held when the
+it; :func:`close` closes one and forgets it. What is still held when the
 interpreter exits is closed by threading's own exit hook, which runs before
 the threads are joined (``concurrent.futures`` stops its workers the same
 way), and the process ends.
@@ -34,8 +35,9 @@ def held(session: zenoh.Session) -> zenoh.Session:
     return session
 
 
-def released(session: zenoh.Session) -> None:
-    """Forget ``session`` (its owner has closed it)."""
+def close(session: zenoh.Session) -> None:
+    """Close ``session`` and forget it."""
+    session.close()  # type: ignore[no-untyped-call]
     with _lock:
         _held.discard(session)
 
